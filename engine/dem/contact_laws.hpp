@@ -1,0 +1,106 @@
+// Contact laws as pure functions. Conventions: `overlap` = r_i + r_j - |x_i - x_j| > 0 in
+// contact; `overlap_rate` = d(overlap)/dt (> 0 while approaching); m_eff = m_i m_j / (m_i + m_j),
+// with m_eff = m_i against a wall or a frozen grain (infinite mass). Forces are repulsive when
+// positive. SI units throughout (in 2D, masses and stiffnesses are per unit thickness).
+#pragma once
+
+#include <cmath>
+
+#include "silt/model.hpp"
+
+namespace silt::dem {
+
+struct NormalForce {
+  double fn;      // normal force magnitude along n (repulsive > 0) [N]
+  double k;       // current normal stiffness dF/d(overlap) [N/m], for the tangential spring
+};
+
+// Linear spring-dashpot stiffness and dashpot from a restitution e and a contact time t_c.
+// Izard (2014) eq. 3.16-3.17 (Schafer et al. 1996):
+//   gamma_n = -(2 m*/t_c) ln e,   k_n = m* pi^2 / t_c^2 + gamma_n^2 / (4 m*).
+// With this choice the half period of the damped oscillator is exactly t_c and the rebound
+// velocity is exactly e times the impact velocity (without clipping). Valid 0 < e <= 1.
+struct LinearCoeffs {
+  double k, c;
+};
+inline LinearCoeffs spring_dashpot_coeffs(double e, double t_c, double m_eff) {
+  const double pi = 3.14159265358979323846;
+  const double c = -2.0 * m_eff / t_c * std::log(e);
+  const double k = m_eff * pi * pi / (t_c * t_c) + c * c / (4.0 * m_eff);
+  return {k, c};
+}
+
+// The linear family (spring_dashpot, hooke, linear): F_n = k_n overlap + c_n overlap_rate with
+//   k_n = k0 + k1 m*,  c_n = c1 m* + 2 zeta sqrt(m* k_n).
+// hooke is LAMMPS gran/hooke (dashpot m* gamma_n); linear is Peyneau (2009) eq. 1.23 for disks
+// with a dashpot at a fraction zeta of critical damping.
+inline LinearCoeffs linear_coeffs(const ContactParams& p, double m_eff) {
+  const double k = p.k0 + p.k1 * m_eff;
+  double c = p.c1 * m_eff;
+  if (p.zeta > 0) c += 2.0 * p.zeta * std::sqrt(m_eff * k);
+  return {k, c};
+}
+inline NormalForce linear_normal(const LinearCoeffs& kc, double overlap, double overlap_rate) {
+  return {kc.k * overlap + kc.c * overlap_rate, kc.k};
+}
+
+// Hertz with a viscous dashpot, Peyneau (2009) eq. 1.22 and 3.1-3.3:
+//   F_e = (E~/3) sqrt(2 R_eq) h^(3/2),   K_N = dF_e/dh = (E~/2) sqrt(2 R_eq h),
+//   F_v = zeta sqrt(2 m K_N) dh/dt  for two grains of mass m, i.e. 2 zeta sqrt(m* K_N) dh/dt,
+// with E~ = E/(1 - nu^2) and 2/R_eq = 1/R_i + 1/R_j (R_eq = 2 R_i against a wall).
+inline NormalForce hertz_normal(double e_tilde, double r_eq, double zeta, double m_eff, double overlap,
+                                double overlap_rate) {
+  const double s = std::sqrt(2.0 * r_eq * overlap);
+  const double k = 0.5 * e_tilde * s;
+  const double fe = (e_tilde / 3.0) * s * overlap;
+  return {fe + 2.0 * zeta * std::sqrt(m_eff * k) * overlap_rate, k};
+}
+
+// Reduced radius of Peyneau (2009) eq. 1.22: 2/R_eq = 1/R_i + 1/R_j.
+inline double reduced_radius(double ri, double rj) { return 2.0 * ri * rj / (ri + rj); }
+
+// Izard (2014) eq. 3.13: the dashpot may not pull the grains together.
+inline double clip_attractive(double fn) { return fn > 0.0 ? fn : 0.0; }
+
+// Normal force of the scene's law for one contact.
+inline NormalForce normal_force(const ContactParams& p, double m_eff, double r_eq, double overlap,
+                                double overlap_rate) {
+  NormalForce f = p.law == NormalLaw::kHertz
+                      ? hertz_normal(p.e_tilde, r_eq, p.zeta, m_eff, overlap, overlap_rate)
+                      : linear_normal(linear_coeffs(p, m_eff), overlap, overlap_rate);
+  if (p.clip_attractive) f.fn = clip_attractive(f.fn);
+  return f;
+}
+
+// Tangential elastic-perfectly-plastic spring capped by Coulomb friction (Peyneau 2009 eq.
+// 1.25; the history form of LAMMPS gran/*/history and Cundall & Strack 1979), with an optional
+// dashpot c_t in parallel with the spring:
+//   xi += v_t dt;  xi -= (xi . n) n  (keep the elongation in the tangent plane);
+//   F_t = -k_t xi - c_t v_t;
+//   if |F_t| > mu |F_n|: F_t *= mu |F_n| / |F_t| and xi = -(F_t + c_t v_t) / k_t (slip),
+// so that the spring holds what the cap leaves to it. `xi` is the per-contact history, `vt` the
+// tangential relative velocity at the contact point. Returns F_t (force on i).
+template <class V>
+inline V tangential_force(V& xi, const V& n, const V& vt, double dt, double k_t, double mu_fn, double c_t = 0.0) {
+  xi += vt * dt;
+  xi -= xi.dot(n) * n;
+  V ft = -k_t * xi;
+  if (c_t > 0) ft -= c_t * vt;
+  const double f2 = ft.squaredNorm();
+  if (f2 > mu_fn * mu_fn) {
+    const double scale = f2 > 0 ? mu_fn / std::sqrt(f2) : 0.0;
+    ft *= scale;
+    if (c_t > 0 && k_t > 0)
+      xi = -(ft + c_t * vt) / k_t;
+    else
+      xi *= scale;
+  }
+  return ft;
+}
+
+// Tangential dashpot 2 zeta_t sqrt(m* k_t).
+inline double tangential_dashpot(double zeta_t, double m_eff, double k_t) {
+  return zeta_t > 0 ? 2.0 * zeta_t * std::sqrt(m_eff * k_t) : 0.0;
+}
+
+}  // namespace silt::dem

@@ -1,0 +1,167 @@
+// Velocity Verlet, split around the force stages (Allen & Tildesley 1987, sec. 3.2.1):
+//   kick_drift:   v(t + dt/2) = v(t) + dt/2 a(t);   x(t + dt) = x(t) + dt v(t + dt/2)
+//   ... forces at (x(t + dt), v(t + dt/2)) ...
+//   gather_kick:  v(t + dt) = v(t + dt/2) + dt/2 a(t + dt)
+// Angular velocities follow the same kicks (grains are spheres or disks: no orientation is
+// needed). Velocity-dependent forces see the half-step velocity, as in LAMMPS fix nve/sphere.
+//
+// Controlled box lengths (Peyneau 2009 eq. 3.9-3.11) are integrated with the same scheme. With
+// reduced coordinates s = L^-1 x and v = L ds/dt (the velocity relative to the affine flow),
+// a drift at constant ds/dt is x <- lo + lambda (x - lo + dt v) and v <- lambda v with
+// lambda = L(t + dt) / L(t); lambda = 1 when no length moves, and the scheme is plain Verlet.
+#include <cmath>
+
+#include "core/parallel.hpp"
+#include "dem/box_geometry.hpp"
+#include "dem/stages.hpp"
+
+namespace silt::dem {
+namespace {
+
+constexpr int64_t kGrain = 1024;
+
+template <int D>
+void kick_drift_dim(const Model& m, State& s) {
+  constexpr int R = kRotDim<D>;
+  const double dt = s.dt, h = 0.5 * dt;
+  // Box: half kick from the stress of the previous step, then drift of the lengths.
+  bool scaled = false;
+  double lambda[3] = {1, 1, 1};
+  if (m.box_control.on) {
+    double vol = 1;
+    for (int k = 0; k < D; ++k) vol *= s.box.len[k];
+    for (int k = 0; k < D; ++k) {
+      if (!m.box_control.controlled[k]) continue;
+      s.box_rate[k] += h * (vol / s.box.len[k]) * (s.box_stress[k] - m.box_control.pressure) / m.box_control.mass;
+      const double next = s.box.len[k] + dt * s.box_rate[k];
+      lambda[k] = next / s.box.len[k];
+      s.box.len[k] = next;
+      scaled = true;
+    }
+  }
+  const PeriodicImage<D> img(s.box);
+  const Vec<D> g = m.gravity.head<D>();
+  const Box box = s.box;
+  double* __restrict x = s.particle_x.data();
+  double* __restrict v = s.particle_v.data();
+  double* __restrict w = s.particle_w.data();
+  const double* __restrict f = s.particle_f.data();
+  const double* __restrict t = s.particle_t.data();
+  const double* __restrict xref = s.particle_x_ref.data();
+  const double* __restrict inv_m = s.particle_inv_m.data();
+  const double* __restrict inv_i = s.particle_inv_i.data();
+  const uint8_t* __restrict frozen = s.particle_frozen.data();
+  const double max_d2 = parallel_max(s.n, kGrain, [&, x, v, w, f, t, xref, inv_m, inv_i, frozen](int64_t b, int64_t e) {
+    double worst = 0;
+    for (int64_t i = b; i < e; ++i) {
+      if (frozen[i]) continue;
+      Vec<D> vi = at<D>(v, i);
+      Vec<D> xi = at<D>(x, i);
+      vi += h * (at<D>(f, i) * inv_m[i] + g);
+      for (int k = 0; k < R; ++k) w[R * i + k] += h * t[R * i + k] * inv_i[i];
+      if (scaled) {
+        for (int k = 0; k < D; ++k) {
+          xi[k] = box.lo[k] + lambda[k] * (xi[k] - box.lo[k] + dt * vi[k]);
+          vi[k] *= lambda[k];
+        }
+      } else {
+        xi += dt * vi;
+      }
+      img.wrap(xi, box);
+      at<D>(v, i) = vi;
+      at<D>(x, i) = xi;
+      Vec<D> disp = xi - at<D>(xref, i);
+      img.apply(disp);
+      worst = std::max(worst, disp.squaredNorm());
+    }
+    return worst;
+  });
+  s.nbr_max_disp = std::sqrt(max_d2);
+}
+
+template <int D, bool Kick, bool Walls, bool Torque>
+void gather_dim(const Model& m, State& s) {
+  constexpr int R = kRotDim<D>;
+  const double h = 0.5 * s.dt;
+  const Vec<D> g = m.gravity.head<D>();
+  const double* __restrict pf = s.pair_f.data();
+  const double* __restrict ptc = s.pair_tc.data();
+  const int32_t* __restrict in_start = s.in_start.data();
+  const int32_t* __restrict in_pair = s.in_pair.data();
+  const double* __restrict radius = s.particle_r.data();
+  const double* __restrict fwall = s.particle_f_wall.data();
+  const double* __restrict twall = s.particle_t_wall.data();
+  const double* __restrict inv_m = s.particle_inv_m.data();
+  const double* __restrict inv_i = s.particle_inv_i.data();
+  const uint8_t* __restrict frozen = s.particle_frozen.data();
+  const double* __restrict x = s.particle_x.data();
+  double* __restrict force = s.particle_f.data();
+  double* __restrict torq = s.particle_t.data();
+  double* __restrict v = s.particle_v.data();
+  double* __restrict w = s.particle_w.data();
+  Alarm& nonfinite = s.alarm_nonfinite;
+  parallel_for(s.n, kGrain, [&, pf, ptc, in_start, in_pair, radius, fwall, twall, inv_m, inv_i, frozen, x, force,
+                             torq, v, w](int64_t b, int64_t e) {
+    for (int64_t i = b; i < e; ++i) {
+      // contact_forces left the sum over row i (pairs where i is first) in particle_f/t.
+      Vec<D> f = at<D>(force, i);
+      Omega<D> tc{};
+      if constexpr (D == 3) tc = Vec3::Zero();
+      for (int32_t q = in_start[i]; q < in_start[i + 1]; ++q) {
+        const int32_t p = in_pair[q];
+        f -= at<D>(pf, p);
+        if constexpr (Torque) tc += omega_at<D>(ptc, p);
+      }
+      // Torque from a pair on either grain is -r (n x F_t): see contact_forces.cpp.
+      Omega<D> torque{};
+      if constexpr (D == 3) torque = Vec3::Zero();
+      if constexpr (Torque) torque = omega_at<D>(torq, i) - radius[i] * tc;
+      if constexpr (Walls) {
+        f += at<D>(fwall, i);
+        torque += omega_at<D>(twall, i);
+      }
+      at<D>(force, i) = f;
+      omega_store<D>(torq, i, torque);
+      if constexpr (Kick) {
+        if (frozen[i]) continue;
+        Vec<D> vi = at<D>(v, i) + h * (f * inv_m[i] + g);
+        at<D>(v, i) = vi;
+        double* wi = w + R * i;
+        const double* ti = torq + R * i;
+        for (int k = 0; k < R; ++k) wi[k] += h * ti[k] * inv_i[i];
+        bool finite = vi.allFinite() && at<D>(x, i).allFinite();
+        for (int k = 0; k < R; ++k) finite = finite && std::isfinite(wi[k]);
+        if (!finite) nonfinite.raise(i, 0);
+      }
+    }
+  });
+}
+
+template <int D, bool Kick>
+void gather(const Model& m, State& s) {
+  const bool walls = s.n_walls > 0;
+  const bool torque = m.contact.friction > 0;  // pair_tc is not written without friction
+  if (walls && torque) gather_dim<D, Kick, true, true>(m, s);
+  else if (walls) gather_dim<D, Kick, true, false>(m, s);
+  else if (torque) gather_dim<D, Kick, false, true>(m, s);
+  else gather_dim<D, Kick, false, false>(m, s);
+}
+
+}  // namespace
+
+void kick_drift(const Model& m, State& s) {
+  if (m.dim == 2) kick_drift_dim<2>(m, s);
+  else kick_drift_dim<3>(m, s);
+}
+
+void gather_kick(const Model& m, State& s) {
+  if (m.dim == 2) gather<2, true>(m, s);
+  else gather<3, true>(m, s);
+}
+
+void gather_forces(const Model& m, State& s) {
+  if (m.dim == 2) gather<2, false>(m, s);
+  else gather<3, false>(m, s);
+}
+
+}  // namespace silt::dem

@@ -1,0 +1,223 @@
+// Verlet neighbour lists built from a cell list (Allen & Tildesley 1987, sec. 5.3).
+//
+// A pair (i, j), i < j, is listed when |d_ij| < r_i + r_j + skin; the list stays valid until
+// twice the largest displacement since the build, plus the change of the periodic lengths,
+// exceeds the skin. Rows are sorted by j, so the list, and everything summed over it, is the
+// same whatever the number of threads. Pairs of two frozen grains are never listed.
+#include <algorithm>
+#include <cmath>
+
+#include "core/parallel.hpp"
+#include "dem/box_geometry.hpp"
+#include "dem/stages.hpp"
+
+namespace silt::dem {
+namespace {
+
+struct CellGrid {
+  int n[3] = {1, 1, 1};
+  double lo[3] = {0, 0, 0};
+  double inv_size[3] = {1, 1, 1};
+  bool wrap[3] = {false, false, false};
+  int64_t count() const { return int64_t{n[0]} * n[1] * n[2]; }
+};
+
+template <int D>
+CellGrid make_grid(const Model& m, const State& s, double cutoff) {
+  CellGrid g;
+  // Extent of the grains in the open directions (they may leave the nominal domain).
+  double xmin[3], xmax[3];
+  for (int k = 0; k < D; ++k) {
+    xmin[k] = 1e308;
+    xmax[k] = -1e308;
+  }
+  for (int64_t i = 0; i < s.n; ++i)
+    for (int k = 0; k < D; ++k) {
+      xmin[k] = std::min(xmin[k], s.particle_x[D * i + k]);
+      xmax[k] = std::max(xmax[k], s.particle_x[D * i + k]);
+    }
+  // Keep the total number of cells bounded (a grain flying away must not allocate a huge grid):
+  // at most about 4 cells per grain plus a constant, by enlarging cells in the open directions.
+  const double cap = 4.0 * static_cast<double>(s.n) + 4096.0;
+  double size[3] = {cutoff, cutoff, cutoff};
+  for (int grow = 0; grow < 64; ++grow) {
+    double total = 1;
+    for (int k = 0; k < D; ++k) {
+      if (s.box.periodic[k]) {
+        g.wrap[k] = true;
+        g.n[k] = std::max(1, static_cast<int>(std::floor(s.box.len[k] / cutoff)));
+        g.lo[k] = s.box.lo[k];
+        g.inv_size[k] = g.n[k] / s.box.len[k];
+      } else {
+        g.lo[k] = xmin[k];
+        const double span = std::max(0.0, xmax[k] - xmin[k]);
+        g.n[k] = static_cast<int>(std::min(1e9, std::floor(span / size[k]))) + 1;
+        g.inv_size[k] = 1.0 / size[k];
+      }
+      total *= g.n[k];
+    }
+    if (total <= cap) break;
+    for (int k = 0; k < D; ++k)
+      if (!s.box.periodic[k]) size[k] *= 2;
+  }
+  (void)m;
+  return g;
+}
+
+template <int D>
+int32_t cell_index(const CellGrid& g, const double* x) {
+  int c[3] = {0, 0, 0};
+  for (int k = 0; k < D; ++k) {
+    int q = static_cast<int>(std::floor((x[k] - g.lo[k]) * g.inv_size[k]));
+    if (g.wrap[k]) {
+      q %= g.n[k];
+      if (q < 0) q += g.n[k];
+    } else {
+      q = std::clamp(q, 0, g.n[k] - 1);
+    }
+    c[k] = q;
+  }
+  return static_cast<int32_t>((int64_t{c[2]} * g.n[1] + c[1]) * g.n[0] + c[0]);
+}
+
+// The distinct cells around cell `c` (fewer than 3^D when a periodic direction has < 3 cells).
+template <int D>
+int stencil(const CellGrid& g, int32_t c, int32_t* out) {
+  int cc[3] = {static_cast<int>(c % g.n[0]), static_cast<int>((c / g.n[0]) % g.n[1]),
+               static_cast<int>(c / (int64_t{g.n[0]} * g.n[1]))};
+  int count = 0;
+  const int zr = D == 3 ? 1 : 0;
+  for (int dz = -zr; dz <= zr; ++dz)
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx) {
+        int q[3] = {cc[0] + dx, cc[1] + dy, cc[2] + dz};
+        bool ok = true;
+        for (int k = 0; k < D; ++k) {
+          if (q[k] < 0 || q[k] >= g.n[k]) {
+            if (!g.wrap[k]) {
+              ok = false;
+              break;
+            }
+            q[k] = (q[k] + g.n[k]) % g.n[k];
+          }
+        }
+        if (!ok) continue;
+        const int32_t id = static_cast<int32_t>((int64_t{q[2]} * g.n[1] + q[1]) * g.n[0] + q[0]);
+        if (std::find(out, out + count, id) == out + count) out[count++] = id;
+      }
+  return count;
+}
+
+template <int D>
+void rebuild(const Model& m, State& s) {
+  const int64_t n = s.n;
+  const double skin = m.skin;
+  const double cutoff = 2 * m.r_max + skin;
+  const CellGrid g = make_grid<D>(m, s, cutoff);
+  auto& sc = s.scratch;
+  // Counting sort of grains by cell; grains in a cell stay in index order.
+  sc.cell_of.resize(n);
+  sc.cell_start.assign(g.count() + 1, 0);
+  parallel_for(n, 4096, [&](int64_t b, int64_t e) {
+    for (int64_t i = b; i < e; ++i) sc.cell_of[i] = cell_index<D>(g, &s.particle_x[D * i]);
+  });
+  for (int64_t i = 0; i < n; ++i) ++sc.cell_start[sc.cell_of[i] + 1];
+  for (int64_t c = 0; c < g.count(); ++c) sc.cell_start[c + 1] += sc.cell_start[c];
+  sc.cell_items.resize(n);
+  {
+    std::vector<int32_t> pos(sc.cell_start.begin(), sc.cell_start.end() - 1);
+    for (int64_t i = 0; i < n; ++i) sc.cell_items[pos[sc.cell_of[i]]++] = static_cast<int32_t>(i);
+  }
+  // Keep the old list for the tangential histories.
+  std::swap(sc.old_start, s.nbr_start);
+  std::swap(sc.old_j, s.pair_j);
+  std::swap(sc.old_hist, s.pair_hist);
+  const bool had_list = static_cast<int64_t>(sc.old_start.size()) == n + 1;
+  const PeriodicImage<D> img(s.box);
+  // visit(i, f): calls f(j) for every listed partner j > i, in no particular order.
+  auto visit = [&](int64_t i, auto&& f) {
+    int32_t cells[27];
+    const int nc = stencil<D>(g, sc.cell_of[i], cells);
+    const auto xi = at<D>(s.particle_x.data(), i);
+    const double ri = s.particle_r[i];
+    const bool fi = s.particle_frozen[i];
+    for (int q = 0; q < nc; ++q) {
+      for (int32_t t = sc.cell_start[cells[q]]; t < sc.cell_start[cells[q] + 1]; ++t) {
+        const int32_t j = sc.cell_items[t];
+        if (j <= i || (fi && s.particle_frozen[j])) continue;
+        Vec<D> d = xi - at<D>(s.particle_x.data(), j);
+        img.apply(d);
+        const double reach = ri + s.particle_r[j] + skin;
+        if (d.squaredNorm() < reach * reach) f(j);
+      }
+    }
+  };
+  sc.row_count.resize(n);
+  parallel_for(n, 512, [&](int64_t b, int64_t e) {
+    for (int64_t i = b; i < e; ++i) {
+      int32_t c = 0;
+      visit(i, [&](int32_t) { ++c; });
+      sc.row_count[i] = c;
+    }
+  });
+  s.nbr_start.assign(n + 1, 0);
+  for (int64_t i = 0; i < n; ++i) s.nbr_start[i + 1] = s.nbr_start[i] + sc.row_count[i];
+  const int64_t np = s.nbr_start[n];
+  s.pair_j.resize(np);
+  s.pair_hist.assign(np * D, 0.0);
+  parallel_for(n, 512, [&](int64_t b, int64_t e) {
+    for (int64_t i = b; i < e; ++i) {
+      int32_t* row = s.pair_j.data() + s.nbr_start[i];
+      int32_t c = 0;
+      visit(i, [&](int32_t j) { row[c++] = j; });
+      std::sort(row, row + c);
+      if (!had_list) continue;
+      // Carry the tangential spring of pairs that were already listed (old row is sorted).
+      const int32_t* ob = sc.old_j.data() + sc.old_start[i];
+      const int32_t* oe = sc.old_j.data() + sc.old_start[i + 1];
+      for (int32_t q = 0; q < c; ++q) {
+        const int32_t* hit = std::lower_bound(ob, oe, row[q]);
+        if (hit != oe && *hit == row[q]) {
+          const int64_t op = hit - sc.old_j.data();
+          for (int k = 0; k < D; ++k) s.pair_hist[D * (s.nbr_start[i] + q) + k] = sc.old_hist[D * op + k];
+        }
+      }
+    }
+  });
+  // Incoming pairs of every grain, in row order (the gather sums them in this order).
+  s.in_start.assign(n + 1, 0);
+  for (int64_t p = 0; p < np; ++p) ++s.in_start[s.pair_j[p] + 1];
+  for (int64_t i = 0; i < n; ++i) s.in_start[i + 1] += s.in_start[i];
+  s.in_pair.resize(np);
+  {
+    std::vector<int32_t> pos(s.in_start.begin(), s.in_start.end() - 1);
+    for (int64_t i = 0; i < n; ++i)
+      for (int32_t p = s.nbr_start[i]; p < s.nbr_start[i + 1]; ++p) s.in_pair[pos[s.pair_j[p]]++] = p;
+  }
+  s.pair_f.assign(np * D, 0.0);
+  s.pair_tc.assign(np * kRotDim<D>, 0.0);
+  s.particle_x_ref = s.particle_x;
+  s.box_len_ref = s.box.len;
+  s.nbr_max_disp = 0;
+  s.nbr_valid = true;
+  ++s.nbr_builds;
+}
+
+template <int D>
+void update(const Model& m, State& s) {
+  double dl2 = 0;
+  for (int k = 0; k < D; ++k) dl2 += (s.box.len[k] - s.box_len_ref[k]) * (s.box.len[k] - s.box_len_ref[k]);
+  if (s.nbr_valid && 2 * s.nbr_max_disp + std::sqrt(dl2) <= m.skin) return;
+  rebuild<D>(m, s);
+}
+
+}  // namespace
+
+void update_neighbors(const Model& m, State& s) {
+  if (m.dim == 2)
+    update<2>(m, s);
+  else
+    update<3>(m, s);
+}
+
+}  // namespace silt::dem

@@ -1,0 +1,47 @@
+// The DEM stages of a step. Each is `void stage(const Model&, State&)`; the first comment line
+// of each is its contract: (what it reads) => (what it writes). They are wired together in
+// engine/graph/step_graph.cpp.
+#pragma once
+
+#include "silt/model.hpp"
+#include "silt/state.hpp"
+
+namespace silt::dem {
+
+// (particle_v, particle_f, particle_t, particle_x, box_stress) => (particle_v, particle_w,
+//  particle_x, box, box_rate, nbr_max_disp)
+// First half kick v += dt/2 a, drift x += dt v (affinely rescaled when box lengths move), wrap
+// into the periodic box, and the largest displacement since the last neighbour build.
+void kick_drift(const Model& m, State& s);
+
+// (particle_x, particle_r, nbr_max_disp, box) => (nbr_start, pair_j, pair_hist, in_start,
+//  in_pair, particle_x_ref)
+// Rebuild the half Verlet list (cell list, pairs within r_i + r_j + skin) only when a grain
+// moved more than skin/2 since the last build; tangential histories of surviving pairs are kept.
+void update_neighbors(const Model& m, State& s);
+
+// (particle_x, particle_v, particle_w, pair_j, pair_hist) => (pair_f, pair_tc, pair_hist,
+//  particle_f, particle_t, alarm_overlap)
+// Normal law + tangential spring for every listed pair; force on i stored per pair, and the sum
+// over row i (pairs where i is first) left in particle_f / particle_t for gather_kick.
+void contact_forces(const Model& m, State& s);
+
+// (particle_x, particle_v, particle_w, wall_hist) => (particle_f_wall, particle_t_wall,
+//  wall_hist, alarm_overlap)
+void wall_forces(const Model& m, State& s);
+
+// (particle_f, particle_t [row sums], pair_f, pair_tc, in_pair, particle_f_wall) =>
+//  (particle_f, particle_t, particle_v, particle_w, alarm_nonfinite)
+// Add the pairs where each grain is second, in a fixed order, and the walls; then the second
+// half kick.
+void gather_kick(const Model& m, State& s);
+// Same sum without the kick, to start a run with the forces of t = 0.
+void gather_forces(const Model& m, State& s);
+
+// (pair_f, particle_v, particle_x) => (box_stress, box_rate)
+// Stress along the controlled box lengths and the second half kick of the box (Peyneau eq. 3.11).
+void box_kick(const Model& m, State& s);
+// Same stress without the kick.
+void box_stress(const Model& m, State& s);
+
+}  // namespace silt::dem

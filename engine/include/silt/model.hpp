@@ -1,0 +1,133 @@
+// Model: everything constant for a run, compiled once from a SceneDesc (MuJoCo's mjModel).
+//
+// Read-only during a step. Steerable parameters (gravity, friction, time step, imposed
+// pressure) are changed between steps by replacing values here; every stage reads them afresh.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "silt/scene.hpp"
+#include "silt/vec.hpp"
+
+namespace silt {
+
+enum class NormalLaw : uint8_t {
+  kSpringDashpot,  // Izard (2014) eq. 3.13-3.17: k_n, gamma_n from restitution and contact time
+  kHooke,          // LAMMPS gran/hooke: constant k_n, dashpot m* gamma_n
+  kHertz,          // Peyneau (2009) eq. 1.22 / 3.1-3.3: Hertz with dashpot 2 zeta sqrt(m* K_N)
+  kLinear,         // Peyneau (2009) eq. 1.23 (2D disks): constant k_n, dashpot 2 zeta sqrt(m* k_n)
+};
+const char* normal_law_name(NormalLaw law);
+
+// Contact law parameters. For the linear family the pair stiffness and dashpot are
+//   k_n(m*) = k0 + k1 m*,   c_n(m*) = c1 m* + 2 zeta sqrt(m* k_n(m*)),
+// which covers spring_dashpot (k0 = 0, zeta = 0), hooke (k1 = 0, zeta = 0) and linear (c1 = 0).
+struct ContactParams {
+  NormalLaw law = NormalLaw::kHooke;
+  double k0 = 0, k1 = 0, c1 = 0, zeta = 0;
+  double e_tilde = 0;               // Hertz: E / (1 - nu^2) [Pa]
+  bool clip_attractive = false;     // Izard eq. 3.13
+  double friction = 0;              // Coulomb mu between grains (steerable)
+  double kt_ratio = 2.0 / 7.0;      // k_t / k_n
+  double zeta_t = 0;                // tangential dashpot, fraction of critical damping
+  // As given, for reports.
+  double restitution = 0, contact_time_given = 0, hertz_ref_overlap = 0.01;
+};
+
+struct Wall {
+  Vec3 point = Vec3::Zero();
+  Vec3 normal = Vec3::UnitZ();  // unit, pointing into the domain
+  double friction = 0;          // grain-wall Coulomb coefficient (steerable)
+};
+
+// The periodic box. Its lengths may change in time (stress control), so State holds the
+// current box; the Model holds the initial one.
+struct Box {
+  std::array<double, 3> lo{0, 0, 0};
+  std::array<double, 3> len{1, 1, 1};
+  std::array<bool, 3> periodic{false, false, false};
+};
+
+// Stress-controlled box lengths (Peyneau 2009 eq. 3.11): M d2L/dt2 = (Omega/L)(sigma - P).
+struct BoxControl {
+  bool on = false;
+  std::array<bool, 3> controlled{false, false, false};
+  double pressure = 0;     // imposed sigma_aa [Pa], compression positive (steerable)
+  double mass_factor = 1;  // M = mass_factor * total free grain mass (steerable)
+  double mass = 0;         // M [kg]
+};
+
+// Initial grains, as placed by compile(); State is made from them.
+struct GrainInit {
+  std::vector<double> x, v, w;   // N*D, N*D, N*kRotDim
+  std::vector<double> radius, mass, inertia;
+  std::vector<uint8_t> frozen;
+  std::vector<int32_t> group;
+};
+
+struct RunLimits {
+  double max_overlap = 0.2;    // fraction of the smaller radius
+  double energy_factor = 100;  // runaway when ke > energy_factor * energy_scale
+  double energy_scale = 0;     // energy the scene can supply [J], computed by compile()
+  int64_t check_every = 100;
+};
+
+struct StaticCriterion {
+  bool on = false;
+  double force_tol = 1e-4, stress_tol = 1e-4, ke_tol = 1e-8;
+};
+
+struct Model {
+  // Provenance.
+  std::string scene_file, scene_name;
+  uint64_t scene_hash = 0;  // of the scene text and overrides: checkpoints refuse other scenes
+  SceneDesc desc;           // what the file said (for `check`, `params`, `get`)
+
+  int dim = 3;
+  int rot = 3;  // rotational degrees of freedom per grain
+  int64_t n_grains = 0, n_frozen = 0;
+  std::vector<std::string> group_names;
+  GrainInit init;
+  double r_min = 0, r_max = 0, r_mean = 0, m_min = 0, m_mean = 0;
+  double a_max = 0;  // largest diameter, the length unit of Peyneau's criteria
+
+  Box box;
+  BoxControl box_control;
+  std::vector<Wall> walls;
+  ContactParams contact;
+  Vec3 gravity = Vec3::Zero();  // steerable
+
+  // Time stepping.
+  double dt = 0;            // steerable
+  double t_contact = 0;     // contact time of the lightest, stiffest pair [s]: the given t_c
+                            // (spring_dashpot), else the elastic time pi sqrt(m*/k) (Hertz: at
+                            // contact.hertz_ref_overlap)
+  double zeta_max = 0;      // damping ratio of that pair
+  double dt_stable = 0;     // velocity-Verlet stability limit of that pair [s]
+  double m_eff_min = 0;     // lightest reduced mass of a possible contact [kg]
+  double k_max = 0;         // stiffest normal contact (Hertz: at the largest allowed overlap)
+  int64_t run_steps = 0;    // from [run] (steps or time / dt), overridable on the command line
+  StaticCriterion until_static;
+
+  double skin = 0;          // Verlet skin [m]
+
+  std::vector<std::string> observe;  // stats columns
+  int64_t sample_every = 100;
+  RunLimits limits;
+};
+
+// Compile a validated scene into a Model. Throws SceneError with the location of the value that
+// makes the scene impossible to simulate (bad geometry, overlaps, unstable time step, ...).
+Model compile(const SceneDesc& desc);
+
+// Human-readable description of a compiled model (`silt check`).
+std::string describe(const Model& m);
+
+// Stability bound of velocity Verlet for a damped oscillator of pulsation w0 and damping ratio
+// zeta: dt < (2/w0)(sqrt(1 + zeta^2) - zeta).
+double verlet_stability_limit(double w0, double zeta);
+
+}  // namespace silt

@@ -1,0 +1,55 @@
+// Observables of INTERFACE.md: names, validation against a Model, and sampling from a State.
+#pragma once
+
+#include <array>
+#include <string>
+#include <vector>
+
+#include "silt/model.hpp"
+#include "silt/state.hpp"
+
+namespace silt {
+
+// Bulk measurements of one configuration. Sums run serially in grain and pair order, so the
+// values do not depend on the number of threads.
+struct Measurements {
+  double ke = 0;           // translational + rotational kinetic energy of free grains [J]
+  double ke_rot = 0;
+  double phi = 0;          // grain volume / box volume
+  double volume = 0;       // box volume (area in 2D)
+  int64_t n_contacts = 0;  // touching pairs (grain-grain) + grain-wall contacts
+  double z = 0;            // contacts per free grain
+  double z_star = 0;       // same, rattlers removed (fewer than 2 contacts with friction, D+1 without)
+  int64_t n_rattlers = 0;
+  std::array<std::array<double, 3>, 3> stress{};  // contact + kinetic, compression positive [Pa]
+  double pressure = 0;     // trace / D
+  double max_net_force = 0;  // largest |contact + wall + gravity force| on a free grain [N]
+};
+Measurements measure(const Model& m, const State& s);
+
+// Returns "" when `name` is an observable of this model, else the reason (with a suggestion).
+std::string check_observable(const std::string& name, const Model& m);
+// Every observable name that applies to this model (for help and completion).
+std::vector<std::string> observable_names(const Model& m);
+
+// A compiled list of observables.
+class Observer {
+ public:
+  // Throws std::invalid_argument naming the first bad observable.
+  Observer(const Model& m, std::vector<std::string> names);
+  const std::vector<std::string>& names() const { return names_; }
+  // Values in the order of names().
+  std::vector<double> sample(const Model& m, const State& s) const;
+
+ private:
+  struct Item {
+    int kind;       // see observables.cpp
+    int component;  // axis or tensor index
+    int64_t grain;  // for p[K].*
+  };
+  std::vector<std::string> names_;
+  std::vector<Item> items_;
+  bool needs_measure_ = false;
+};
+
+}  // namespace silt

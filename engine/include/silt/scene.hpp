@@ -1,0 +1,110 @@
+// The scene language: one schema, and SceneDesc, what a scene file said.
+//
+// Every key a scene may hold is declared once in the schema (engine/scene/schema.cpp) with its
+// type, default, range, unit, whether it may change while a run goes on, and one line of doc.
+// Reading a scene validates every value against it; SceneDesc keeps each value with its
+// file:line:col so that compile() can point at the value it refuses. A value that was given but
+// never read by compile() is an error too (it would otherwise be silently ignored).
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <variant>
+#include <vector>
+
+#include "silt/errors.hpp"
+
+namespace silt {
+
+enum class KeyType { kBool, kInt, kReal, kString, kRealList, kRealMatrix, kBoolList, kStringList };
+const char* key_type_name(KeyType t);
+
+using Value = std::variant<bool, int64_t, double, std::string, std::vector<double>,
+                           std::vector<std::vector<double>>, std::vector<bool>,
+                           std::vector<std::string>>;
+
+// An inclusive or open interval for a number (or for every entry of a list of numbers).
+struct Range {
+  double lo = -1e308, hi = 1e308;
+  bool lo_open = false, hi_open = false;
+  bool contains(double x) const;
+  std::string str() const;  // "[0, 1)", "> 0", ...
+};
+
+struct KeySpec {
+  std::string path;            // dotted; an array of tables is written "grains[]"
+  KeyType type;
+  std::optional<Value> def;    // no default: required, or one of several alternatives
+  Range range;
+  std::string unit;            // "" for dimensionless
+  bool steerable = false;      // may change between two steps of a running simulation
+  std::vector<std::string> choices;  // allowed strings (kString, kStringList), empty = any
+  std::string doc;
+};
+
+const std::vector<KeySpec>& scene_schema();
+// The spec of a key path, with array indices normalised ("grains[3].radius" -> "grains[]...").
+const KeySpec* find_key_spec(std::string_view path);
+std::string normalise_key(std::string_view path);
+// The closest known key to a misspelt one, or "" when nothing is close.
+std::string suggest_key(std::string_view bad_path);
+std::string value_to_string(const Value& v);
+
+struct SceneEntry {
+  Value value;
+  FileLoc loc;
+  const KeySpec* spec = nullptr;
+};
+
+class SceneDesc {
+ public:
+  std::string file;  // the scene file ("" for a string scene)
+  std::string text;  // its full text, hashed into checkpoints
+  std::map<std::string, SceneEntry> entries;  // concrete paths: "grains[0].radius"
+  std::map<std::string, int> group_counts;    // "grains" -> number of [[grains]] tables
+
+  bool has(std::string_view path) const;
+  int group_count(std::string_view group) const;
+  FileLoc loc(std::string_view path) const;  // the value's location, else the file's
+
+  // Typed access to a value or its schema default; throws SceneError when absent and without
+  // default. Marks the entry used.
+  bool boolean(std::string_view path) const;
+  int64_t integer(std::string_view path) const;
+  double real(std::string_view path) const;
+  std::string string(std::string_view path) const;
+  std::vector<double> reals(std::string_view path) const;
+  std::vector<std::vector<double>> matrix(std::string_view path) const;
+  std::vector<bool> booleans(std::string_view path) const;
+  std::vector<std::string> strings(std::string_view path) const;
+
+  // A SceneError at the location of `path`.
+  [[noreturn]] void fail(std::string_view path, const std::string& message) const;
+  // Refuse values that were given but never read (pbrt's rule).
+  void check_all_used() const;
+
+ private:
+  const Value* lookup(std::string_view path, KeyType want) const;
+  mutable std::map<std::string, bool, std::less<>> used_;
+};
+
+// A `--set KEY=VALUE` override; VALUE is TOML (a bare word is taken as a string).
+struct Override {
+  std::string key;
+  std::string value;
+};
+Override parse_override(const std::string& key_eq_value);  // throws SceneError
+
+// Read and validate a scene. Throws SceneError ("file:line:col: message") on any bad input;
+// throws IoError when the file cannot be read.
+SceneDesc load_scene_file(const std::string& path, const std::vector<Override>& overrides = {});
+SceneDesc parse_scene(const std::string& text, const std::string& name,
+                      const std::vector<Override>& overrides = {});
+
+// The schema as a Markdown table (README) or aligned text (help).
+std::string schema_markdown();
+
+}  // namespace silt

@@ -1,0 +1,76 @@
+// Simulation: a Model, its State, and the step graph that advances it.
+#pragma once
+
+#include <atomic>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "silt/model.hpp"
+#include "silt/state.hpp"
+
+namespace silt {
+
+enum class RunEnd { kDone, kStatic, kInterrupted, kFailed };
+
+struct RunOptions {
+  int64_t steps = 0;         // steps to do from the current state
+  int64_t sample_every = 0;  // 0: never sample
+  std::function<void(const State&)> on_sample;    // at the first state and every sample_every
+  std::function<void(const State&)> on_progress;  // a few times per second
+  const std::atomic<bool>* interrupt = nullptr;   // checked at every step boundary
+  bool stop_when_static = false;                  // Model::until_static criterion
+};
+
+struct RunReport {
+  RunEnd end = RunEnd::kDone;
+  int64_t steps_done = 0;
+  double wall_s = 0;
+};
+
+class Simulation {
+ public:
+  // threads <= 0: all cores. One thread runs the serial reference executor.
+  Simulation(Model model, int threads);
+  ~Simulation();
+  Simulation(const Simulation&) = delete;
+  Simulation& operator=(const Simulation&) = delete;
+
+  const Model& model() const { return model_; }
+  // Between steps only: steerable parameters may be changed here.
+  Model& model_for_steering() { return model_; }
+  const State& state() const { return state_; }
+  State& state() { return state_; }
+  int threads() const { return threads_; }
+
+  // Advance one step. False on a numerical failure; state().failure says why, and
+  // last_good_state() gives the state before the failing step.
+  bool step();
+  // Neighbour lists and forces of the current state (done by the first step if not called).
+  void prepare();
+  // Continue from a saved state (a checkpoint of this model): its forces, lists and tangential
+  // histories are used as they are, so the continuation is bitwise that of the original run.
+  void restore(State s);
+  RunReport run(const RunOptions& opt);
+
+  // The state after the last step that completed without failure (replayed deterministically
+  // from the last restart point, taken every limits.check_every steps).
+  State last_good_state();
+  // Equilibrium test of Model::until_static on the current state.
+  bool is_static() const;
+
+  std::vector<std::string> stage_names() const;
+  std::string describe_graph() const;
+
+ private:
+  struct Impl;
+  void advance(State& s);
+  bool check(State& s);
+  Model model_;
+  State state_;
+  int threads_;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace silt

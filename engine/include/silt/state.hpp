@@ -1,0 +1,150 @@
+// State: everything that changes during a run, as flat arrays (structure of arrays).
+//
+// The array list is declared once (SILT_STATE_ARRAYS) and allocation, hashing, checkpoints and
+// printing are derived from it. Arrays are named <entity>_<quantity>; each line gives its shape,
+// unit, and the stage that writes it. Vectors are stored interleaved (x0 y0 z0 x1 ...): D
+// entries per grain, with D = Model::dim; rotations have R = Model::rot entries (1 in 2D).
+// Several States can share one Model (snapshots, restore, determinism tests).
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <limits>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "silt/model.hpp"
+
+namespace silt {
+
+// clang-format off
+#define SILT_STATE_ARRAYS(X)                                                                                   \
+  /* hot per-grain arrays */                                                                                   \
+  X(double,  particle_x,      "N*D", "m",     "centre, wrapped into periodic directions; kick_drift")            \
+  X(double,  particle_v,      "N*D", "m/s",   "velocity relative to the affine box flow; kick_drift, gather_kick") \
+  X(double,  particle_w,      "N*R", "rad/s", "angular velocity; kick_drift, gather_kick")                       \
+  X(double,  particle_f,      "N*D", "N",     "contact + wall force (gravity excluded); gather_kick")            \
+  X(double,  particle_t,      "N*R", "N m",   "torque; gather_kick")                                             \
+  X(double,  particle_r,      "N",   "m",     "radius; compile")                                                 \
+  X(double,  particle_inv_m,  "N",   "1/kg",  "inverse mass, 0 for frozen grains; compile")                      \
+  X(double,  particle_inv_i,  "N",   "1/(kg m^2)", "inverse moment of inertia, 0 for frozen grains; compile")    \
+  X(double,  particle_x_ref,  "N*D", "m",     "centre at the last neighbour build; update_neighbors")            \
+  /* walls */                                                                                                  \
+  X(double,  particle_f_wall, "N*D", "N",     "force from the walls this step; wall_forces")                     \
+  X(double,  particle_t_wall, "N*R", "N m",   "torque from the walls this step; wall_forces")                    \
+  X(double,  wall_hist,       "N*W*D", "m",   "grain-wall tangential spring elongation; wall_forces")            \
+  /* neighbour pairs: half Verlet list in CSR form, row i holds j > i sorted */                               \
+  X(int32_t, nbr_start,       "N+1", "",      "first pair of row i; update_neighbors")                           \
+  X(int32_t, pair_j,          "P",   "",      "second grain of the pair; update_neighbors")                      \
+  X(double,  pair_hist,       "P*D", "m",     "tangential spring elongation, kept while the pair is listed; contact_forces") \
+  X(double,  pair_f,          "P*D", "N",     "force on i from j (0 when apart); contact_forces")                \
+  X(double,  pair_tc,         "P*R", "N",     "n x F_t: torque on i is -r_i pair_tc, on j -r_j pair_tc; contact_forces") \
+  X(int32_t, in_start,        "N+1", "",      "first incoming pair of grain j; update_neighbors")                \
+  X(int32_t, in_pair,         "P",   "",      "pairs whose second grain is j, in row order; update_neighbors")   \
+  /* cold per-grain arrays */                                                                                  \
+  X(uint8_t, particle_frozen, "N",   "",      "1 for frozen grains; compile")                                    \
+  X(int32_t, particle_id,     "N",   "",      "stable identity (index in the scene); compile")                   \
+  X(int32_t, particle_group,  "N",   "",      "index of the [[grains]] table; compile")
+// clang-format on
+
+// Where a numerical event was first seen in a step (lowest index wins: deterministic).
+struct Alarm {
+  std::atomic<int64_t> first{std::numeric_limits<int64_t>::max()};
+  std::atomic<double> value{0};
+  Alarm() = default;
+  Alarm(const Alarm& o) : first(o.first.load()), value(o.value.load()) {}
+  Alarm& operator=(const Alarm& o) {
+    first = o.first.load();
+    value = o.value.load();
+    return *this;
+  }
+  bool raised() const { return first.load() != std::numeric_limits<int64_t>::max(); }
+  void raise(int64_t index, double v);
+  void clear() { first = std::numeric_limits<int64_t>::max(); }
+};
+
+// Why a run stopped on a numerical failure (exit code 3).
+struct StepFailure {
+  bool failed = false;
+  int64_t step = 0;
+  std::string stage;      // stage that detected it
+  int64_t particle = -1;  // grain id, when one is to blame
+  std::string parameter;  // the parameter to change
+  std::string message;    // full sentence
+};
+
+struct StageTime {
+  double seconds = 0;
+  int64_t calls = 0;
+};
+
+struct State {
+#define SILT_DECLARE_ARRAY(type, name, shape, unit, doc) std::vector<type> name;
+  SILT_STATE_ARRAYS(SILT_DECLARE_ARRAY)
+#undef SILT_DECLARE_ARRAY
+
+  int dim = 3, rot = 3;
+  int64_t n = 0;      // grains
+  int n_walls = 0;
+
+  double t = 0;       // simulated time [s]
+  int64_t step = 0;   // steps done
+  double dt = 0;      // step in use [s]
+
+  Box box;                                    // current box; lengths change under stress control
+  std::array<double, 3> box_rate{0, 0, 0};    // dL/dt [m/s]; kick_drift, box_kick
+  std::array<double, 3> box_stress{0, 0, 0};  // sigma_aa driving the box [Pa]; box_kick
+  std::array<double, 3> box_len_ref{1, 1, 1}; // lengths at the last neighbour build
+
+  // Neighbour-list bookkeeping.
+  bool nbr_valid = false;     // false forces a rebuild at the next update_neighbors
+  double nbr_max_disp = 0;    // largest displacement since the last build [m]; kick_drift
+  int64_t nbr_builds = 0;
+
+  // Numerical events raised by stages during the current step.
+  Alarm alarm_nonfinite;  // grain index with a NaN/Inf velocity or position
+  Alarm alarm_overlap;    // grain index of a pair overlapping beyond limits.max_overlap
+  StepFailure failure;
+
+  std::map<std::string, StageTime> profile;  // wall time per stage
+
+  // Scratch space of the stages (cell lists, previous neighbour lists). Not part of the state's
+  // identity: never hashed nor saved.
+  struct Scratch {
+    Scratch() = default;
+    Scratch(const Scratch&) {}                             // copies of a State start empty
+    Scratch& operator=(const Scratch&) { return *this; }  // and keep their own buffers
+    std::vector<int32_t> cell_of, cell_start, cell_items, row_count;
+    std::vector<int32_t> old_start, old_j;
+    std::vector<double> old_hist;
+  } scratch;
+
+  int64_t n_pairs() const { return static_cast<int64_t>(pair_j.size()); }
+};
+
+// A fresh State at t = 0 from the Model's initial grains.
+State make_state(const Model& m);
+
+// FNV-1a hash of every array and of t, step, dt and the box: equal hashes mean bitwise equal
+// states (the determinism test).
+uint64_t state_hash(const State& s);
+
+// Visit every array of the field list: f(name, std::vector<T>&).
+template <class F>
+void for_each_array(State& s, F&& f) {
+#define SILT_VISIT_ARRAY(type, name, shape, unit, doc) f(#name, s.name);
+  SILT_STATE_ARRAYS(SILT_VISIT_ARRAY)
+#undef SILT_VISIT_ARRAY
+}
+template <class F>
+void for_each_array(const State& s, F&& f) {
+#define SILT_VISIT_ARRAY(type, name, shape, unit, doc) f(#name, s.name);
+  SILT_STATE_ARRAYS(SILT_VISIT_ARRAY)
+#undef SILT_VISIT_ARRAY
+}
+
+// Bytes held by the State's arrays (capacity), for memory reports.
+size_t state_bytes(const State& s);
+
+}  // namespace silt

@@ -1,0 +1,72 @@
+#include <cmath>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "silt/io.hpp"
+
+namespace silt {
+
+void write_summary(const std::string& path, const SummaryInput& in, const Simulation& sim, const StatsWriter& stats) {
+  using nlohmann::json;
+  const Model& m = sim.model();
+  const State& s = sim.state();
+  json j;
+  j["scene"] = in.scene;
+  j["status"] = in.status;
+  j["exit_code"] = in.exit_code;
+  j["steps"] = s.step;
+  j["steps_run"] = in.steps_run;
+  j["sim_time"] = s.t;
+  j["wall_s"] = in.wall_s;
+  j["threads"] = sim.threads();
+  j["n_particles"] = m.n_grains;
+  j["n_frozen"] = m.n_frozen;
+  j["dimension"] = m.dim;
+  j["dt"] = s.dt;
+  j["particle_steps_per_s"] = in.wall_s > 0 ? static_cast<double>(m.n_grains) * in.steps_run / in.wall_s : 0.0;
+  j["neighbor_builds"] = s.nbr_builds;
+  j["memory_bytes"] = state_bytes(s);
+  json stages = json::object();
+  for (const auto& [name, st] : s.profile) stages[name] = st.seconds;
+  j["stages"] = stages;
+  json obs = json::object();
+  const auto& names = stats.names();
+  size_t t_col = names.size();
+  for (size_t k = 0; k < names.size(); ++k)
+    if (names[k] == "t") t_col = k;
+  for (size_t k = 0; k < names.size(); ++k) {
+    std::vector<double> series;
+    for (const auto& row : stats.rows())
+      if (t_col == names.size() || row[t_col] >= in.average_from) series.push_back(row[k]);
+    const BlockAverage b = block_average(series);
+    json o;
+    o["mean"] = b.n ? json(b.mean) : json(nullptr);
+    o["err"] = b.n > 1 ? json(b.err) : json(nullptr);
+    o["last"] = stats.rows().empty() ? json(nullptr) : json(stats.rows().back()[k]);
+    o["n"] = b.n;
+    o["block"] = b.block;
+    o["converged"] = b.converged;
+    obs[names[k]] = o;
+  }
+  j["observables"] = obs;
+  if (s.failure.failed) {
+    json f;
+    f["step"] = s.failure.step;
+    f["stage"] = s.failure.stage;
+    f["particle"] = s.failure.particle;
+    f["parameter"] = s.failure.parameter;
+    f["message"] = s.failure.message;
+    j["failure"] = f;
+  }
+  j["warnings"] = in.warnings;
+  const std::string tmp = path + ".tmp";
+  {
+    std::ofstream out(tmp);
+    if (!out) throw IoError("cannot write summary '" + path + "'");
+    out << j.dump(2) << "\n";
+    if (!out) throw IoError("cannot write summary '" + path + "'");
+  }
+  if (std::rename(tmp.c_str(), path.c_str()) != 0) throw IoError("cannot write summary '" + path + "'");
+}
+
+}  // namespace silt

@@ -1,0 +1,124 @@
+// Bulk measurements: kinetic energy, solid fraction, coordination, stress tensor.
+//
+// Stress (Peyneau 2009 eq. 1.4 with the kinetic term of eq. 3.11), compression positive:
+//   sigma = (1/V) [ sum_i m_i v_i (x) v_i  +  sum_contacts f_ij (x) d_ij ],
+// where f_ij is the force on i from j and d_ij = x_i - x_j (nearest image); for a repulsive
+// contact both point the same way, so compression is positive. Grain-wall contacts are not in
+// the sum (walls are outside the averaging volume).
+#include <algorithm>
+#include <cmath>
+
+#include "dem/box_geometry.hpp"
+#include "silt/observables.hpp"
+
+namespace silt {
+namespace {
+
+template <int D>
+Measurements measure_dim(const Model& m, const State& s) {
+  constexpr int R = kRotDim<D>;
+  Measurements out;
+  const int64_t n = s.n;
+  const dem::PeriodicImage<D> img(s.box);
+  double vol = 1;
+  for (int k = 0; k < D; ++k) vol *= s.box.len[k];
+  out.volume = vol;
+  std::vector<int32_t> contacts(n, 0);
+  double solid = 0;
+  int64_t n_free = 0;
+  for (int64_t i = 0; i < n; ++i) {
+    const double r = s.particle_r[i];
+    solid += D == 3 ? 4.18879020478639098 * r * r * r : 3.14159265358979324 * r * r;
+    if (s.particle_frozen[i]) continue;
+    ++n_free;
+    const double mass = 1.0 / s.particle_inv_m[i];
+    const auto v = at<D>(s.particle_v.data(), i);
+    out.ke += 0.5 * mass * v.squaredNorm();
+    double w2 = 0;
+    for (int k = 0; k < R; ++k) w2 += s.particle_w[R * i + k] * s.particle_w[R * i + k];
+    const double erot = 0.5 * w2 / s.particle_inv_i[i];
+    out.ke_rot += erot;
+    out.ke += erot;
+    for (int a = 0; a < D; ++a)
+      for (int b = 0; b < D; ++b) out.stress[a][b] += mass * v[a] * v[b];
+    Vec<D> f = at<D>(s.particle_f.data(), i) + mass * m.gravity.head<D>();
+    out.max_net_force = std::max(out.max_net_force, f.norm());
+  }
+  out.phi = solid / vol;
+  // Grain-grain contacts.
+  std::vector<std::pair<int32_t, int32_t>> touching;
+  for (int64_t i = 0; i < n; ++i) {
+    for (int32_t p = s.nbr_start[i]; p < s.nbr_start[i + 1]; ++p) {
+      const int32_t j = s.pair_j[p];
+      Vec<D> d = at<D>(s.particle_x.data(), i) - at<D>(s.particle_x.data(), j);
+      img.apply(d);
+      if (d.norm() >= s.particle_r[i] + s.particle_r[j]) continue;
+      ++out.n_contacts;
+      ++contacts[i];
+      ++contacts[j];
+      touching.push_back({static_cast<int32_t>(i), j});
+      const auto f = at<D>(s.pair_f.data(), p);
+      for (int a = 0; a < D; ++a)
+        for (int b = 0; b < D; ++b) out.stress[a][b] += f[a] * d[b];
+    }
+  }
+  // Grain-wall contacts count for coordination.
+  for (int64_t i = 0; i < n; ++i)
+    for (int w = 0; w < s.n_walls; ++w) {
+      const Wall& wall = m.walls[w];
+      const double gap = (at<D>(s.particle_x.data(), i) - wall.point.head<D>()).dot(wall.normal.head<D>()) - s.particle_r[i];
+      if (gap < 0) {
+        ++out.n_contacts;
+        ++contacts[i];
+      }
+    }
+  for (int a = 0; a < D; ++a)
+    for (int b = 0; b < D; ++b) out.stress[a][b] /= vol;
+  for (int a = 0; a < D; ++a) out.pressure += out.stress[a][a] / D;
+  int64_t sum = 0;
+  for (int64_t i = 0; i < n; ++i)
+    if (!s.particle_frozen[i]) sum += contacts[i];
+  out.z = n_free ? static_cast<double>(sum) / n_free : 0;
+  // Rattlers: free grains with too few contacts to be held, removed until none is left.
+  const int need = m.contact.friction > 0 ? 2 : D + 1;
+  std::vector<std::vector<int32_t>> adj(n);
+  for (auto [i, j] : touching) {
+    adj[i].push_back(j);
+    adj[j].push_back(i);
+  }
+  std::vector<uint8_t> rattler(n, 0);
+  std::vector<int32_t> stack;
+  for (int64_t i = 0; i < n; ++i)
+    if (!s.particle_frozen[i] && contacts[i] < need) stack.push_back(static_cast<int32_t>(i));
+  while (!stack.empty()) {
+    const int32_t i = stack.back();
+    stack.pop_back();
+    if (rattler[i]) continue;
+    rattler[i] = 1;
+    for (int32_t j : adj[i]) {
+      if (rattler[j]) continue;
+      if (--contacts[j] < need && !s.particle_frozen[j]) stack.push_back(j);
+    }
+    contacts[i] = 0;
+  }
+  int64_t kept = 0, ksum = 0;
+  for (int64_t i = 0; i < n; ++i) {
+    if (s.particle_frozen[i]) continue;
+    if (rattler[i]) {
+      ++out.n_rattlers;
+    } else {
+      ++kept;
+      ksum += contacts[i];
+    }
+  }
+  out.z_star = kept ? static_cast<double>(ksum) / kept : 0;
+  return out;
+}
+
+}  // namespace
+
+Measurements measure(const Model& m, const State& s) {
+  return m.dim == 2 ? measure_dim<2>(m, s) : measure_dim<3>(m, s);
+}
+
+}  // namespace silt

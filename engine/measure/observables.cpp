@@ -1,0 +1,173 @@
+// Observable names (INTERFACE.md) -> values.
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "silt/observables.hpp"
+
+namespace silt {
+namespace {
+
+enum Kind { kT, kStep, kDt, kKe, kKeRot, kPhi, kZ, kZStar, kNContacts, kStress, kPressure, kMu, kBoxL, kGrainX, kGrainV, kGrainW, kGrainF, kNBuilds };
+
+const char* kAxes = "xyz";
+
+struct Parsed {
+  int kind = -1, component = 0;
+  int64_t grain = -1;
+  std::string error;
+};
+
+// Names that exist in the contract but need a module this engine version does not have yet.
+bool needs_other_module(const std::string& name) {
+  static const char* later[] = {"I", "Vi", "gamma", "fluid.ke", "fluid.div_max", "solver.iters", "solver.residual"};
+  return std::any_of(std::begin(later), std::end(later), [&](const char* s) { return name == s; });
+}
+
+Parsed parse(const std::string& name, const Model& m) {
+  Parsed p;
+  const int D = m.dim;
+  static const std::pair<const char*, int> simple[] = {
+      {"t", kT}, {"step", kStep}, {"dt", kDt}, {"ke", kKe}, {"ke_rot", kKeRot}, {"phi", kPhi}, {"z", kZ},
+      {"z_star", kZStar}, {"n_contacts", kNContacts}, {"pressure", kPressure}, {"mu", kMu}, {"n_builds", kNBuilds}};
+  for (auto [s, k] : simple)
+    if (name == s) {
+      p.kind = k;
+      return p;
+    }
+  if (name.rfind("stress.", 0) == 0 && name.size() == 9) {
+    const char* a = std::strchr(kAxes, name[7]);
+    const char* b = std::strchr(kAxes, name[8]);
+    if (a && b && *a && *b && a - kAxes < D && b - kAxes < D) {
+      p.kind = kStress;
+      p.component = static_cast<int>((a - kAxes) * 3 + (b - kAxes));
+      return p;
+    }
+  }
+  if (name.rfind("box.L", 0) == 0 && name.size() == 6) {
+    const char* a = std::strchr(kAxes, name[5]);
+    if (a && *a && a - kAxes < D) {
+      p.kind = kBoxL;
+      p.component = static_cast<int>(a - kAxes);
+      return p;
+    }
+  }
+  if (name.rfind("p[", 0) == 0) {
+    const auto rb = name.find(']');
+    if (rb != std::string::npos && rb > 2 && rb + 2 < name.size() && name[rb + 1] == '.') {
+      const std::string idx = name.substr(2, rb - 2);
+      const std::string field = name.substr(rb + 2);
+      if (idx.find_first_not_of("0123456789") == std::string::npos && idx.size() < 12) {
+        p.grain = std::stoll(idx);
+        if (p.grain >= m.n_grains) {
+          p.error = "'" + name + "': there is no grain " + idx + " (the scene has " + std::to_string(m.n_grains) + ")";
+          return p;
+        }
+        const char* ax = field.size() >= 1 ? std::strchr(kAxes, field.back()) : nullptr;
+        const std::string head = field.substr(0, field.size() - 1);
+        if (ax && *ax) {
+          const int c = static_cast<int>(ax - kAxes);
+          if (head.empty() && c < D) p.kind = kGrainX;
+          else if (head == "v" && c < D) p.kind = kGrainV;
+          else if (head == "f" && c < D) p.kind = kGrainF;
+          else if (head == "w" && (D == 3 || c == 2)) p.kind = kGrainW;
+          p.component = (p.kind == kGrainW && D == 2) ? 0 : c;
+          if (p.kind >= 0) return p;
+        }
+      }
+    }
+  }
+  if (needs_other_module(name)) {
+    p.error = "observable '" + name + "' does not apply to this scene (it needs a module the scene does not enable)";
+    return p;
+  }
+  p.error = "unknown observable '" + name + "'";
+  // Suggest the closest valid name.
+  std::string best;
+  size_t best_d = 3;
+  for (const std::string& c : observable_names(m)) {
+    // Cheap distance: common-prefix aware Levenshtein.
+    std::vector<size_t> prev(c.size() + 1), cur(c.size() + 1);
+    for (size_t j = 0; j <= c.size(); ++j) prev[j] = j;
+    for (size_t i = 1; i <= name.size(); ++i) {
+      cur[0] = i;
+      for (size_t j = 1; j <= c.size(); ++j)
+        cur[j] = std::min({prev[j] + 1, cur[j - 1] + 1, prev[j - 1] + (name[i - 1] == c[j - 1] ? 0 : 1)});
+      std::swap(prev, cur);
+    }
+    if (prev[c.size()] < best_d) {
+      best_d = prev[c.size()];
+      best = c;
+    }
+  }
+  if (!best.empty()) p.error += "; did you mean '" + best + "'?";
+  return p;
+}
+
+}  // namespace
+
+std::vector<std::string> observable_names(const Model& m) {
+  std::vector<std::string> out = {"t", "step", "dt", "ke", "ke_rot", "phi", "z", "z_star", "n_contacts", "pressure", "mu", "n_builds"};
+  for (int a = 0; a < m.dim; ++a)
+    for (int b = 0; b < m.dim; ++b) out.push_back(std::string("stress.") + kAxes[a] + kAxes[b]);
+  for (int a = 0; a < m.dim; ++a) out.push_back(std::string("box.L") + kAxes[a]);
+  for (const char* f : {"", "v", "f"})
+    for (int a = 0; a < m.dim; ++a) out.push_back(std::string("p[0].") + f + kAxes[a]);
+  if (m.dim == 3)
+    for (int a = 0; a < 3; ++a) out.push_back(std::string("p[0].w") + kAxes[a]);
+  else
+    out.push_back("p[0].wz");
+  return out;
+}
+
+std::string check_observable(const std::string& name, const Model& m) { return parse(name, m).error; }
+
+Observer::Observer(const Model& m, std::vector<std::string> names) : names_(std::move(names)) {
+  for (const std::string& n : names_) {
+    Parsed p = parse(n, m);
+    if (!p.error.empty()) throw std::invalid_argument(p.error);
+    items_.push_back({p.kind, p.component, p.grain});
+    if (p.kind == kKe || p.kind == kKeRot || p.kind == kPhi || p.kind == kZ || p.kind == kZStar ||
+        p.kind == kNContacts || p.kind == kStress || p.kind == kPressure || p.kind == kMu)
+      needs_measure_ = true;
+  }
+}
+
+std::vector<double> Observer::sample(const Model& m, const State& s) const {
+  Measurements meas;
+  if (needs_measure_) meas = measure(m, s);
+  const int D = m.dim, R = m.rot;
+  std::vector<double> out;
+  out.reserve(items_.size());
+  for (const Item& it : items_) {
+    double v = 0;
+    switch (it.kind) {
+      case kT: v = s.t; break;
+      case kStep: v = static_cast<double>(s.step); break;
+      case kDt: v = s.dt; break;
+      case kKe: v = meas.ke; break;
+      case kKeRot: v = meas.ke_rot; break;
+      case kPhi: v = meas.phi; break;
+      case kZ: v = meas.z; break;
+      case kZStar: v = meas.z_star; break;
+      case kNContacts: v = static_cast<double>(meas.n_contacts); break;
+      case kStress: v = meas.stress[it.component / 3][it.component % 3]; break;
+      case kPressure: v = meas.pressure; break;
+      case kMu: v = meas.stress[1][1] != 0 ? std::abs(meas.stress[0][1]) / meas.stress[1][1] : 0; break;
+      case kBoxL: v = s.box.len[it.component]; break;
+      case kNBuilds: v = static_cast<double>(s.nbr_builds); break;
+      case kGrainX: v = s.particle_x[D * it.grain + it.component]; break;
+      case kGrainV: v = s.particle_v[D * it.grain + it.component]; break;
+      case kGrainW: v = s.particle_w[R * it.grain + it.component]; break;
+      case kGrainF: {
+        const double g = s.particle_frozen[it.grain] ? 0 : m.gravity[it.component] / s.particle_inv_m[it.grain];
+        v = s.particle_f[D * it.grain + it.component] + g;
+        break;
+      }
+    }
+    out.push_back(v);
+  }
+  return out;
+}
+
+}  // namespace silt

@@ -1,0 +1,156 @@
+// SceneDesc: typed access to what the scene said, with the schema's defaults, and the
+// "every given value was read" rule.
+#include <algorithm>
+#include <sstream>
+
+#include "silt/scene.hpp"
+
+namespace silt {
+
+std::string normalise_key(std::string_view path) {
+  std::string out;
+  out.reserve(path.size());
+  for (size_t i = 0; i < path.size(); ++i) {
+    if (path[i] == '[') {
+      out += "[]";
+      while (i < path.size() && path[i] != ']') ++i;
+    } else {
+      out += path[i];
+    }
+  }
+  return out;
+}
+
+const KeySpec* find_key_spec(std::string_view path) {
+  const std::string norm = normalise_key(path);
+  for (const KeySpec& k : scene_schema())
+    if (k.path == norm) return &k;
+  return nullptr;
+}
+
+static size_t edit_distance(std::string_view a, std::string_view b) {
+  std::vector<size_t> prev(b.size() + 1), cur(b.size() + 1);
+  for (size_t j = 0; j <= b.size(); ++j) prev[j] = j;
+  for (size_t i = 1; i <= a.size(); ++i) {
+    cur[0] = i;
+    for (size_t j = 1; j <= b.size(); ++j)
+      cur[j] = std::min({prev[j] + 1, cur[j - 1] + 1, prev[j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1)});
+    std::swap(prev, cur);
+  }
+  return prev[b.size()];
+}
+
+std::string suggest_key(std::string_view bad_path) {
+  const std::string norm = normalise_key(bad_path);
+  const auto dot = norm.rfind('.');
+  const std::string leaf = dot == std::string::npos ? norm : norm.substr(dot + 1);
+  std::string best;
+  size_t best_d = std::max<size_t>(2, norm.size() / 3) + 1;
+  for (const KeySpec& k : scene_schema()) {
+    // Compare whole paths, and leaves alone so that a key in the wrong table is found too.
+    const auto kdot = k.path.rfind('.');
+    const std::string kleaf = kdot == std::string::npos ? k.path : k.path.substr(kdot + 1);
+    const size_t d = std::min(edit_distance(norm, k.path), edit_distance(leaf, kleaf) + (norm == leaf ? 0 : 1));
+    if (d < best_d) {
+      best_d = d;
+      best = k.path;
+    }
+  }
+  // Report with the user's indices: "grains[2].raduis" -> "grains[2].radius".
+  if (const auto lb = bad_path.find('['); lb != std::string_view::npos && best.find("[]") != std::string::npos) {
+    const auto rb = bad_path.find(']', lb);
+    best.replace(best.find("[]"), 2, std::string(bad_path.substr(lb, rb - lb + 1)));
+  }
+  return best;
+}
+
+std::string value_to_string(const Value& v) {
+  std::ostringstream o;
+  o.precision(10);
+  std::visit(
+      [&](const auto& x) {
+        using T = std::decay_t<decltype(x)>;
+        if constexpr (std::is_same_v<T, bool>) o << (x ? "true" : "false");
+        else if constexpr (std::is_same_v<T, int64_t> || std::is_same_v<T, double>) o << x;
+        else if constexpr (std::is_same_v<T, std::string>) o << '"' << x << '"';
+        else if constexpr (std::is_same_v<T, std::vector<std::vector<double>>>) {
+          o << "[";
+          for (size_t i = 0; i < x.size(); ++i) {
+            o << (i ? ", [" : "[");
+            for (size_t j = 0; j < x[i].size(); ++j) o << (j ? ", " : "") << x[i][j];
+            o << "]";
+          }
+          o << "]";
+        } else {
+          o << "[";
+          for (size_t i = 0; i < x.size(); ++i) {
+            o << (i ? ", " : "");
+            if constexpr (std::is_same_v<T, std::vector<std::string>>) o << '"' << x[i] << '"';
+            else if constexpr (std::is_same_v<T, std::vector<bool>>) o << (x[i] ? "true" : "false");
+            else o << x[i];
+          }
+          o << "]";
+        }
+      },
+      v);
+  return o.str();
+}
+
+bool SceneDesc::has(std::string_view path) const { return entries.count(std::string(path)) > 0; }
+
+int SceneDesc::group_count(std::string_view group) const {
+  auto it = group_counts.find(std::string(group));
+  return it == group_counts.end() ? 0 : it->second;
+}
+
+FileLoc SceneDesc::loc(std::string_view path) const {
+  auto it = entries.find(std::string(path));
+  if (it != entries.end()) return it->second.loc;
+  return FileLoc{file, 0, 0};
+}
+
+void SceneDesc::fail(std::string_view path, const std::string& message) const {
+  throw SceneError(loc(path), message);
+}
+
+const Value* SceneDesc::lookup(std::string_view path, KeyType want) const {
+  const KeySpec* spec = find_key_spec(path);
+  if (!spec || spec->type != want)
+    throw std::logic_error("scene key '" + std::string(path) + "' read with the wrong type");
+  auto it = entries.find(std::string(path));
+  if (it != entries.end()) {
+    used_[std::string(path)] = true;
+    return &it->second.value;
+  }
+  if (spec->def) return &*spec->def;
+  throw SceneError(FileLoc{file, 0, 0}, "missing required key '" + std::string(path) + "'");
+}
+
+bool SceneDesc::boolean(std::string_view p) const { return std::get<bool>(*lookup(p, KeyType::kBool)); }
+int64_t SceneDesc::integer(std::string_view p) const { return std::get<int64_t>(*lookup(p, KeyType::kInt)); }
+double SceneDesc::real(std::string_view p) const { return std::get<double>(*lookup(p, KeyType::kReal)); }
+std::string SceneDesc::string(std::string_view p) const {
+  return std::get<std::string>(*lookup(p, KeyType::kString));
+}
+std::vector<double> SceneDesc::reals(std::string_view p) const {
+  return std::get<std::vector<double>>(*lookup(p, KeyType::kRealList));
+}
+std::vector<std::vector<double>> SceneDesc::matrix(std::string_view p) const {
+  return std::get<std::vector<std::vector<double>>>(*lookup(p, KeyType::kRealMatrix));
+}
+std::vector<bool> SceneDesc::booleans(std::string_view p) const {
+  return std::get<std::vector<bool>>(*lookup(p, KeyType::kBoolList));
+}
+std::vector<std::string> SceneDesc::strings(std::string_view p) const {
+  return std::get<std::vector<std::string>>(*lookup(p, KeyType::kStringList));
+}
+
+void SceneDesc::check_all_used() const {
+  for (const auto& [path, entry] : entries) {
+    if (used_.count(path)) continue;
+    throw SceneError(entry.loc, "'" + path + "' is set but not used by this scene " +
+                                    "(it does not apply to the chosen model or placement)");
+  }
+}
+
+}  // namespace silt

@@ -1,0 +1,271 @@
+// TOML text -> SceneDesc: every value checked against the schema and kept with its location.
+#include <toml++/toml.h>
+
+#include <fstream>
+#include <sstream>
+
+#include "silt/scene.hpp"
+
+namespace silt {
+namespace {
+
+FileLoc loc_of(const toml::source_region& r, const std::string& file) {
+  return FileLoc{file, static_cast<int>(r.begin.line), static_cast<int>(r.begin.column)};
+}
+
+bool is_group(std::string_view name) {
+  const std::string prefix = std::string(name) + "[]";
+  for (const KeySpec& k : scene_schema())
+    if (k.path.rfind(prefix, 0) == 0) return true;
+  return false;
+}
+
+bool is_table_prefix(std::string_view normalised) {
+  const std::string prefix = std::string(normalised) + ".";
+  for (const KeySpec& k : scene_schema())
+    if (k.path.rfind(prefix, 0) == 0) return true;
+  return false;
+}
+
+std::string unknown_key_message(const std::string& path) {
+  std::string msg = "unknown key '" + path + "'";
+  const std::string hint = suggest_key(path);
+  if (!hint.empty()) msg += "; did you mean '" + hint + "'?";
+  return msg;
+}
+
+std::optional<double> as_number(const toml::node& n) {
+  if (n.is_integer()) return static_cast<double>(*n.value<int64_t>());
+  if (n.is_floating_point()) return *n.value<double>();
+  return std::nullopt;
+}
+
+// Convert a TOML node to the schema's type; returns an error message or "".
+std::string convert(const toml::node& n, const KeySpec& spec, const std::string& path, Value& out,
+                    FileLoc& where, const std::string& file) {
+  auto type_error = [&] {
+    const std::string type = key_type_name(spec.type);
+    return "'" + path + "' must be " + (type[0] == 'i' ? "an " : "a ") + type;
+  };
+  auto check_range = [&](double x, const toml::node& at) -> std::string {
+    if (spec.range.contains(x)) return "";
+    where = loc_of(at.source(), file);
+    std::ostringstream o;
+    o << "'" << path << "' = " << x << " is out of range " << spec.range.str()
+      << (spec.unit.empty() ? "" : " " + spec.unit);
+    return o.str();
+  };
+  auto check_choice = [&](const std::string& s, const toml::node& at) -> std::string {
+    if (spec.choices.empty()) return "";
+    for (const auto& c : spec.choices)
+      if (c == s) return "";
+    where = loc_of(at.source(), file);
+    std::string msg = "'" + path + "' = \"" + s + "\" is not one of:";
+    for (const auto& c : spec.choices) msg += " " + c;
+    return msg;
+  };
+  switch (spec.type) {
+    case KeyType::kBool:
+      if (!n.is_boolean()) return type_error();
+      out = *n.value<bool>();
+      return "";
+    case KeyType::kInt: {
+      auto x = as_number(n);
+      if (!x || *x != static_cast<double>(static_cast<int64_t>(*x))) return type_error();
+      out = static_cast<int64_t>(*x);
+      return check_range(*x, n);
+    }
+    case KeyType::kReal: {
+      auto x = as_number(n);
+      if (!x) return type_error();
+      out = *x;
+      return check_range(*x, n);
+    }
+    case KeyType::kString:
+      if (!n.is_string()) return type_error();
+      out = std::string(*n.value<std::string_view>());
+      return check_choice(std::get<std::string>(out), n);
+    case KeyType::kRealList: {
+      if (!n.is_array()) return type_error();
+      std::vector<double> v;
+      for (const toml::node& e : *n.as_array()) {
+        auto x = as_number(e);
+        if (!x) return type_error();
+        if (auto err = check_range(*x, e); !err.empty()) return err;
+        v.push_back(*x);
+      }
+      out = std::move(v);
+      return "";
+    }
+    case KeyType::kRealMatrix: {
+      if (!n.is_array()) return type_error();
+      std::vector<std::vector<double>> m;
+      for (const toml::node& row : *n.as_array()) {
+        if (!row.is_array()) return type_error();
+        std::vector<double> v;
+        for (const toml::node& e : *row.as_array()) {
+          auto x = as_number(e);
+          if (!x) return type_error();
+          v.push_back(*x);
+        }
+        m.push_back(std::move(v));
+      }
+      out = std::move(m);
+      return "";
+    }
+    case KeyType::kBoolList: {
+      if (!n.is_array()) return type_error();
+      std::vector<bool> v;
+      for (const toml::node& e : *n.as_array()) {
+        if (!e.is_boolean()) return type_error();
+        v.push_back(*e.value<bool>());
+      }
+      out = std::move(v);
+      return "";
+    }
+    case KeyType::kStringList: {
+      if (!n.is_array()) return type_error();
+      std::vector<std::string> v;
+      for (const toml::node& e : *n.as_array()) {
+        if (!e.is_string()) return type_error();
+        v.emplace_back(*e.value<std::string_view>());
+        if (auto err = check_choice(v.back(), e); !err.empty()) return err;
+      }
+      out = std::move(v);
+      return "";
+    }
+  }
+  return type_error();
+}
+
+class Reader {
+ public:
+  Reader(SceneDesc& desc, std::string file) : desc_(desc), file_(std::move(file)) {}
+
+  void table(const toml::table& t, const std::string& prefix) {
+    for (auto&& [key, node] : t) {
+      const std::string name(key.str());
+      const std::string path = prefix.empty() ? name : prefix + "." + name;
+      const FileLoc where = loc_of(key.source(), file_);
+      const std::string norm = normalise_key(path);
+      if (node.is_table()) {
+        if (is_group(norm))
+          throw SceneError(where, "'" + path + "' is a list of tables: write [[" + path + "]]");
+        if (!is_table_prefix(norm)) throw SceneError(where, unknown_key_message(path));
+        table(*node.as_table(), path);
+      } else if (node.is_array_of_tables() && is_group(norm)) {
+        int index = 0;
+        for (const toml::node& e : *node.as_array())
+          table(*e.as_table(), path + "[" + std::to_string(index++) + "]");
+        desc_.group_counts[path] = index;
+      } else {
+        leaf(path, norm, node, where);
+      }
+    }
+  }
+
+  void leaf(const std::string& path, const std::string& norm, const toml::node& node,
+            const FileLoc& key_loc) {
+    const KeySpec* spec = find_key_spec(norm);
+    if (!spec) {
+      if (is_group(norm) || is_table_prefix(norm))
+        throw SceneError(key_loc, "'" + path + "' is a table, not a value");
+      throw SceneError(key_loc, unknown_key_message(path));
+    }
+    SceneEntry e;
+    e.spec = spec;
+    e.loc = loc_of(node.source(), file_);
+    FileLoc where = e.loc;
+    const std::string err = convert(node, *spec, path, e.value, where, file_);
+    if (!err.empty()) throw SceneError(where, err);
+    desc_.entries[path] = std::move(e);
+  }
+
+ private:
+  SceneDesc& desc_;
+  std::string file_;
+};
+
+// "grains.0.count" -> "grains[0].count"; "grains[0].count" unchanged.
+std::string canonical_override_key(const std::string& key) {
+  std::string out;
+  std::string part;
+  std::istringstream in(key);
+  while (std::getline(in, part, '.')) {
+    const bool index = !part.empty() && part.find_first_not_of("0123456789") == std::string::npos;
+    if (index && !out.empty())
+      out += "[" + part + "]";
+    else
+      out += (out.empty() ? "" : ".") + part;
+  }
+  return out;
+}
+
+void apply_override(SceneDesc& desc, const Override& o, int ordinal) {
+  const FileLoc where{"--set", ordinal, static_cast<int>(o.key.size()) + 2};
+  const std::string path = canonical_override_key(o.key);
+  const std::string norm = normalise_key(path);
+  const KeySpec* spec = find_key_spec(norm);
+  if (!spec) throw SceneError(where, unknown_key_message(path));
+  // Group index must exist.
+  if (auto lb = path.find('['); lb != std::string::npos) {
+    const std::string group = path.substr(0, lb);
+    const int index = std::stoi(path.substr(lb + 1));
+    if (index >= desc.group_count(group))
+      throw SceneError(where, "no " + group + "[" + std::to_string(index) + "] in the scene (it has " +
+                                  std::to_string(desc.group_count(group)) + ")");
+  }
+  toml::table t;
+  try {
+    t = toml::parse(std::string_view("v = " + o.value), std::string_view("--set"));
+  } catch (const toml::parse_error&) {
+    try {  // a bare word is a string
+      t = toml::parse(std::string_view("v = \"" + o.value + "\""), std::string_view("--set"));
+    } catch (const toml::parse_error& e) {
+      throw SceneError(where, "cannot read the value of " + o.key + ": " + std::string(e.description()));
+    }
+  }
+  SceneEntry e;
+  e.spec = spec;
+  e.loc = where;
+  FileLoc err_loc = where;
+  const std::string err = convert(*t.get("v"), *spec, path, e.value, err_loc, "--set");
+  if (!err.empty()) throw SceneError(where, err);
+  desc.entries[path] = std::move(e);
+}
+
+}  // namespace
+
+Override parse_override(const std::string& key_eq_value) {
+  const auto eq = key_eq_value.find('=');
+  if (eq == std::string::npos || eq == 0)
+    throw SceneError(FileLoc{"--set", 0, 0}, "expected KEY=VALUE, got '" + key_eq_value + "'");
+  return Override{key_eq_value.substr(0, eq), key_eq_value.substr(eq + 1)};
+}
+
+SceneDesc parse_scene(const std::string& text, const std::string& name,
+                      const std::vector<Override>& overrides) {
+  SceneDesc desc;
+  desc.file = name;
+  desc.text = text;
+  toml::table root;
+  try {
+    root = toml::parse(text, name);
+  } catch (const toml::parse_error& e) {
+    throw SceneError(loc_of(e.source(), name), std::string(e.description()));
+  }
+  Reader(desc, name).table(root, "");
+  int ordinal = 1;
+  for (const Override& o : overrides) apply_override(desc, o, ordinal++);
+  return desc;
+}
+
+SceneDesc load_scene_file(const std::string& path, const std::vector<Override>& overrides) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw IoError("cannot read scene file '" + path + "'");
+  std::ostringstream text;
+  text << in.rdbuf();
+  return parse_scene(text.str(), path, overrides);
+}
+
+}  // namespace silt

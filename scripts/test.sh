@@ -1,0 +1,14 @@
+#!/usr/bin/env bash
+# Build silt (Release) and run the unit tests; then the same tests under AddressSanitizer and
+# UndefinedBehaviorSanitizer in a Debug build.
+# Usage: scripts/test.sh [--no-sanitize]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+scripts/setup.sh build
+ctest --test-dir build --output-on-failure -j"$(nproc)"
+if [ "${1:-}" != "--no-sanitize" ]; then
+  cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=Debug -DSILT_SANITIZE=ON -DSILT_BUILD_BENCH=OFF > /dev/null
+  cmake --build build-asan -j"$(nproc)"
+  ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
+    ctest --test-dir build-asan --output-on-failure -j"$(nproc)"
+fi

@@ -1,0 +1,120 @@
+// `silt run`: the headless main job.
+#include <unistd.h>
+
+#include <csignal>
+#include <cmath>
+#include <iostream>
+#include <sstream>
+
+#include "shell/commands.hpp"
+#include "shell/progress.hpp"
+#include "shell/scene_loading.hpp"
+#include "silt/io.hpp"
+#include "silt/observables.hpp"
+#include "silt/simulation.hpp"
+
+namespace silt::cli {
+namespace {
+
+std::atomic<bool> g_interrupt{false};
+extern "C" void on_sigint(int) { g_interrupt.store(true); }
+
+std::vector<std::string> split_names(const std::string& list) {
+  std::vector<std::string> out;
+  std::string item;
+  std::istringstream in(list);
+  while (std::getline(in, item, ','))
+    if (!item.empty()) out.push_back(item);
+  return out;
+}
+
+std::string stem_of(const std::string& path) {
+  const auto dot = path.rfind('.');
+  const auto slash = path.rfind('/');
+  if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return path;
+  return path.substr(0, dot);
+}
+
+}  // namespace
+
+int run_command(const RunArgs& a) {
+  int code = 0;
+  auto loaded = load_model(a.scene, a.sets, code);
+  if (!loaded) return code;
+  Model& m = *loaded;
+  int64_t steps = m.run_steps;
+  if (a.steps >= 0) steps = a.steps;
+  if (a.time >= 0) steps = static_cast<int64_t>(std::ceil(a.time / m.dt - 1e-9));
+  if (steps <= 0 && a.steps != 0)
+    return report_error("no run length: give --steps or --time, or [run] steps or time in the scene", 1);
+  const std::vector<std::string> names = a.observe.empty() ? m.observe : split_names(a.observe);
+  std::optional<Observer> observer;
+  try {
+    observer.emplace(m, names);
+  } catch (const std::invalid_argument& e) {
+    return report_error(std::string("--observe: ") + e.what(), 1);
+  }
+  const int64_t every = a.every > 0 ? a.every : m.sample_every;
+  std::optional<StatsWriter> stats;
+  try {
+    stats.emplace(a.stats, names);
+  } catch (const IoError& e) {
+    return report_error(e.what(), 4);
+  }
+  const bool until_static = m.until_static.on;
+  Simulation sim(std::move(m), a.threads);
+  const Model& model = sim.model();
+
+  g_interrupt = false;
+  std::signal(SIGINT, on_sigint);
+  Progress progress(!a.quiet && ::isatty(2), sim.state().step, steps, model.n_grains);
+  RunOptions opt;
+  opt.steps = steps;
+  opt.sample_every = every;
+  opt.on_sample = [&](const State& s) { stats->add(observer->sample(model, s)); };
+  opt.on_progress = [&](const State& s) { progress.update(s); };
+  opt.interrupt = &g_interrupt;
+  opt.stop_when_static = until_static;
+  const RunReport rep = sim.run(opt);
+  progress.update(sim.state());
+  progress.finish();
+  std::signal(SIGINT, SIG_DFL);
+
+  SummaryInput sum;
+  sum.scene = a.scene;
+  sum.wall_s = rep.wall_s;
+  sum.steps_run = rep.steps_done;
+  sum.average_from = a.average_from;
+  switch (rep.end) {
+    case RunEnd::kDone: sum.status = "ok"; break;
+    case RunEnd::kStatic: sum.status = "static"; break;
+    case RunEnd::kInterrupted: sum.status = "interrupted"; code = 130; break;
+    case RunEnd::kFailed: sum.status = "failed"; code = 3; break;
+  }
+  if (until_static && rep.end == RunEnd::kDone)
+    sum.warnings.push_back("run.stop_when_static: no equilibrium within the run length");
+  sum.exit_code = code;
+  try {
+    stats->flush();
+    if (rep.end == RunEnd::kFailed) {
+      std::cerr << "silt: numerical failure at " << sim.state().failure.message << "\n";
+      const std::string base = !a.summary.empty() ? a.summary : a.stats;
+      if (!base.empty()) {
+        const std::string ck = stem_of(base) + ".last_good.ckpt";
+        const State good = sim.last_good_state();
+        write_checkpoint(ck, model, good);
+        std::cerr << "silt: last good state (step " << good.step << ") written to " << ck << "\n";
+      }
+    }
+    if (!a.summary.empty()) write_summary(a.summary, sum, sim, *stats);
+  } catch (const IoError& e) {
+    return report_error(e.what(), 4);
+  }
+  const double rate = rep.wall_s > 0 ? model.n_grains * static_cast<double>(rep.steps_done) / rep.wall_s : 0;
+  std::printf("%s: %lld steps (t = %.6g s) in %.3f s, %.4g grain-steps/s on %d thread(s); status %s\n",
+              a.scene.c_str(), static_cast<long long>(rep.steps_done), sim.state().t, rep.wall_s, rate, sim.threads(),
+              sum.status.c_str());
+  return code;
+}
+
+}  // namespace silt::cli

@@ -1,0 +1,33 @@
+// Subcommands of the `silt` executable (INTERFACE.md).
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace silt::cli {
+
+struct RunArgs {
+  std::string scene;
+  std::vector<std::string> sets;
+  int64_t steps = -1;
+  double time = -1;
+  int threads = 0;
+  std::string stats, summary, observe;
+  int64_t every = 0;
+  double average_from = 0;
+  bool quiet = false;
+};
+
+int run_command(const RunArgs& a);
+
+struct CheckArgs {
+  std::string scene;
+  std::vector<std::string> sets;
+  int threads = 0;
+};
+int check_command(const CheckArgs& a);
+
+// Print "silt: <message>" on stderr and return the exit code.
+int report_error(const std::string& message, int code);
+
+}  // namespace silt::cli

@@ -1,0 +1,62 @@
+// `silt`: command-line entry point. Usage errors exit 1, scene errors 2, numerical failures 3,
+// I/O errors 4 (INTERFACE.md).
+#include <CLI/CLI.hpp>
+#include <iostream>
+
+#include "shell/commands.hpp"
+#include "silt/scene.hpp"
+
+int main(int argc, char** argv) {
+  using namespace silt::cli;
+  CLI::App app{"silt: dense granular matter in a viscous fluid"};
+  app.set_version_flag("--version", std::string("silt ") + SILT_VERSION);
+  app.require_subcommand(1);
+
+  RunArgs run;
+  auto* r = app.add_subcommand("run", "Run a scene headless (the main job)");
+  r->add_option("scene", run.scene, "Scene file (TOML)")->required();
+  r->add_option("--set", run.sets, "Override a scene value: KEY=VALUE (dotted TOML path); repeatable");
+  auto* steps = r->add_option("--steps", run.steps, "Run length in steps (overrides [run])");
+  r->add_option("--time", run.time, "Run length in simulated seconds (overrides [run])")->excludes(steps);
+  r->add_option("--threads", run.threads, "Worker threads (default: all cores; 1 = serial reference)");
+  r->add_option("--stats", run.stats, "Time series of observables (CSV)");
+  r->add_option("--observe", run.observe, "Comma-separated observables (default: the scene's [output] list)");
+  r->add_option("--every", run.every, "Sample every N steps (default: the scene's)");
+  r->add_option("--summary", run.summary, "Summary JSON written at the end");
+  r->add_option("--average-from", run.average_from, "Means and errors over samples with t >= T");
+  r->add_flag("--quiet", run.quiet, "No progress line");
+
+  CheckArgs check;
+  auto* c = app.add_subcommand("check", "Validate a scene and print the compiled model");
+  c->add_option("scene", check.scene, "Scene file (TOML)")->required();
+  c->add_option("--set", check.sets, "Override a scene value: KEY=VALUE; repeatable");
+  c->add_option("--threads", check.threads, "Threads used to build the neighbour list");
+
+  bool markdown = false;
+  auto* p = app.add_subcommand("params", "List every scene key with type, default, range and unit");
+  p->add_flag("--markdown", markdown, "As a Markdown table");
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e);
+    return code == 0 ? 0 : 1;
+  }
+  try {
+    if (r->parsed()) return run_command(run);
+    if (c->parsed()) return check_command(check);
+    if (p->parsed()) {
+      if (markdown) {
+        std::cout << silt::schema_markdown();
+      } else {
+        for (const auto& k : silt::scene_schema())
+          std::cout << k.path << "  (" << silt::key_type_name(k.type) << (k.unit.empty() ? "" : ", " + k.unit)
+                    << (k.steerable ? ", live" : "") << ")  " << k.doc << "\n";
+      }
+      return 0;
+    }
+  } catch (const std::exception& e) {
+    return report_error(std::string("internal error: ") + e.what(), 1);
+  }
+  return 1;
+}

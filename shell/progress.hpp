@@ -1,0 +1,24 @@
+// A one-line progress report on a terminal: step, time, rate and remaining time.
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+
+#include "silt/state.hpp"
+
+namespace silt::cli {
+
+class Progress {
+ public:
+  Progress(bool enabled, int64_t first_step, int64_t total_steps, int64_t n_grains);
+  void update(const State& s);
+  void finish();
+
+ private:
+  bool enabled_;
+  int64_t first_, total_, n_;
+  std::chrono::steady_clock::time_point t0_;
+  bool drawn_ = false;
+};
+
+}  // namespace silt::cli

@@ -1,0 +1,167 @@
+// Normal contact laws against their closed forms: restitution and duration of a binary collision.
+#include <doctest/doctest.h>
+
+#include <cmath>
+
+#include "dem/contact_laws.hpp"
+#include "support/scenes.hpp"
+
+using namespace silt;
+
+namespace {
+
+const char* kPair = R"(
+[scene]
+dimension = 3
+[domain]
+lo = [-0.01, -0.01, -0.01]
+hi = [0.01, 0.01, 0.01]
+[contact]
+model = "spring_dashpot"
+restitution = {e}
+contact_time = 1e-4
+clip_attractive = {clip}
+[[grains]]
+radius = 1.5e-3
+density = 1319
+placement = "explicit"
+positions = [[-1.55e-3, 0, 0], [1.55e-3, 0, 0]]
+velocity = "explicit"
+velocities = [[0.5, 0, 0], [-0.5, 0, 0]]
+[run]
+dt_over_tc = {dt}
+)";
+
+std::string pair_scene(double e, bool clip, double dt_over_tc) {
+  std::string s = test::fill(kPair, {{"e", e}, {"dt", dt_over_tc}});
+  return s.replace(s.find("{clip}"), 6, clip ? "true" : "false");
+}
+
+// Clipped spring-dashpot: the force k d + c d' reaches zero at t* while the grains still overlap;
+// they then separate at constant speed. Returns {restitution, duration} of the exact solution.
+test::Collision clipped_closed_form(double e, double tc) {
+  const double pi = 3.14159265358979323846;
+  const double m = 1.0;  // the result does not depend on m*
+  const auto kc = dem::spring_dashpot_coeffs(e, tc, m);
+  const double beta = kc.c / (2 * m), wd = std::sqrt(kc.k / m - beta * beta);
+  const double ts = (pi - std::atan2(kc.c * wd, kc.k - kc.c * beta)) / wd;
+  const double d = std::exp(-beta * ts) * std::sin(wd * ts) / wd;                               // v0 = 1
+  const double ddot = std::exp(-beta * ts) * (wd * std::cos(wd * ts) - beta * std::sin(wd * ts)) / wd;
+  return {-ddot, ts + d / -ddot};
+}
+
+}  // namespace
+
+TEST_CASE("spring-dashpot: rebound is e and contact lasts t_c (Izard eq. 3.16-3.17)") {
+  // Velocity Verlet with the dashpot on half-step velocities is second order: at t_c/200 the
+  // restitution is within 0.3 % and the duration within two steps.
+  for (double e : {0.97, 0.87, 0.5, 0.3}) {
+    CAPTURE(e);
+    auto sim = test::simulation_from(pair_scene(e, false, 1.0 / 200));
+    const auto c = test::head_on_collision(*sim, 1.0);
+    CHECK(c.restitution == doctest::Approx(e).epsilon(3e-3));
+    CHECK(std::abs(c.duration - 1e-4) <= 2 * sim->state().dt + 1e-12);
+  }
+}
+
+TEST_CASE("spring-dashpot restitution converges at first order in dt") {
+  // The dashpot acts on the half-step velocity (as in LAMMPS), an O(dt) error in the
+  // dissipation: the error of e halves when dt halves, and is 0.7 % of e at t_c/100.
+  double err_prev = 0;
+  for (double dt : {1.0 / 25, 1.0 / 50, 1.0 / 100, 1.0 / 200}) {
+    auto sim = test::simulation_from(pair_scene(0.5, false, dt));
+    const double err = std::abs(test::head_on_collision(*sim, 1.0).restitution - 0.5);
+    if (err_prev > 0) CHECK(err / err_prev == doctest::Approx(0.5).epsilon(0.1));
+    err_prev = err;
+  }
+  CHECK(err_prev < 0.002);
+}
+
+TEST_CASE("clipping the attractive dashpot force (Izard eq. 3.13) raises e as in the closed form") {
+  for (double e : {0.97, 0.87, 0.5, 0.3}) {
+    CAPTURE(e);
+    const auto exact = clipped_closed_form(e, 1e-4);
+    auto sim = test::simulation_from(pair_scene(e, true, 1.0 / 500));
+    const auto c = test::head_on_collision(*sim, 1.0);
+    CHECK(c.restitution == doctest::Approx(exact.restitution).epsilon(2e-3));
+    CHECK(std::abs(c.duration - exact.duration) <= 2 * sim->state().dt + 1e-12);
+    CHECK(c.restitution >= e - 1e-3);  // never below the unclipped value
+  }
+  // The digest's table: about 0.39 at e = 0.3 and 0.55 at e = 0.5.
+  CHECK(clipped_closed_form(0.3, 1e-4).restitution == doctest::Approx(0.39).epsilon(0.03));
+  CHECK(clipped_closed_form(0.5, 1e-4).restitution == doctest::Approx(0.55).epsilon(0.03));
+}
+
+namespace {
+
+const char* kHertzPair = R"(
+[scene]
+dimension = 3
+[domain]
+lo = [-0.01, -0.01, -0.01]
+hi = [0.01, 0.01, 0.01]
+[contact]
+model = "hertz"
+young_modulus = 7e10
+poisson_ratio = 0.3
+damping = {zeta}
+[[grains]]
+radius = 1e-3
+density = 2500
+placement = "explicit"
+positions = [[-1.001e-3, 0, 0], [1.001e-3, 0, 0]]
+velocity = "explicit"
+velocities = [[{v}, 0, 0], [-{v}, 0, 0]]
+[run]
+dt = {dt}
+)";
+
+}  // namespace
+
+TEST_CASE("Hertz contact time scales as v^(-1/5) and matches 3.2145 (m*/k_h)^(2/5) v^(-1/5)") {
+  const double pi = 3.14159265358979323846;
+  const double r = 1e-3, m = 2500 * 4.0 / 3.0 * pi * r * r * r, m_eff = m / 2;
+  const double e_tilde = 7e10 / (1 - 0.09);
+  const double kh = e_tilde / 3 * std::sqrt(2 * r);  // R_eq = r for equal spheres
+  for (double v : {0.01, 0.1, 1.0}) {
+    CAPTURE(v);
+    const double tc = 3.2145 * std::pow(m_eff / kh, 0.4) * std::pow(2 * v, -0.2);
+    auto sim = test::simulation_from(test::fill(kHertzPair, {{"zeta", 0.0}, {"v", v}, {"dt", tc / 2000}}));
+    const auto c = test::head_on_collision(*sim, 2 * v);
+    CHECK(c.duration == doctest::Approx(tc).epsilon(2e-3));
+    CHECK(c.restitution == doctest::Approx(1.0).epsilon(1e-3));  // undamped: elastic
+  }
+}
+
+TEST_CASE("Hertz with a dashpot 2 zeta sqrt(m* K_N): restitution independent of the impact speed") {
+  // Peyneau (2009) sec. 3.1.1: with this damping e_N does not depend on the impact velocity.
+  double e_ref = -1;
+  for (double v : {0.01, 0.1, 1.0}) {
+    const double tc = 1e-5 * std::pow(v, -0.2);
+    auto sim = test::simulation_from(test::fill(kHertzPair, {{"zeta", 0.25}, {"v", v}, {"dt", tc / 2000}}));
+    const double e = test::head_on_collision(*sim, 2 * v).restitution;
+    CHECK(e > 0.3);
+    CHECK(e < 0.7);
+    if (e_ref < 0) e_ref = e;
+    CHECK(e == doctest::Approx(e_ref).epsilon(5e-3));
+  }
+}
+
+TEST_CASE("pure laws: linear family coefficients and reduced radius") {
+  ContactParams p;
+  p.k0 = 2e5;
+  p.c1 = 50;
+  const auto kc = dem::linear_coeffs(p, 0.5);
+  CHECK(kc.k == 2e5);
+  CHECK(kc.c == 25.0);  // LAMMPS: dashpot m* gamma_n
+  p = ContactParams{};
+  p.k0 = 1e4;
+  p.zeta = 0.5;
+  CHECK(dem::linear_coeffs(p, 2.0).c == doctest::Approx(2 * 0.5 * std::sqrt(2.0 * 1e4)));
+  CHECK(dem::reduced_radius(1.0, 1.0) == 1.0);
+  CHECK(dem::reduced_radius(1.0, 3.0) == doctest::Approx(1.5));
+  CHECK(dem::clip_attractive(-1.0) == 0.0);
+  const auto h = dem::hertz_normal(3.0, 0.5, 0.0, 1.0, 0.01, 0.0);
+  CHECK(h.fn == doctest::Approx(1.0 * std::sqrt(1.0) * std::pow(0.01, 1.5)));  // (E~/3) sqrt(2R) h^1.5
+  CHECK(h.k == doctest::Approx(1.5 * std::sqrt(0.01)));                        // (E~/2) sqrt(2R h)
+}

@@ -1,0 +1,126 @@
+// Bad scenes are refused with file:line:col and a useful message.
+#include <doctest/doctest.h>
+
+#include "silt/scene.hpp"
+#include "support/scenes.hpp"
+
+using namespace silt;
+
+namespace {
+
+const char* kGood = R"([scene]
+dimension = 3
+[domain]
+lo = [0, 0, 0]
+hi = [10, 10, 10]
+[contact]
+model = "hooke"
+k_n = 1e5
+[[grains]]
+count = 10
+radius = 0.5
+[run]
+dt = 1e-4
+)";
+
+std::string error_of(const std::string& text) {
+  try {
+    test::model_from(text, "bad.toml");
+  } catch (const SceneError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+std::string with(const std::string& from, const std::string& to) {
+  std::string s = kGood;
+  s.replace(s.find(from), from.size(), to);
+  return s;
+}
+
+}  // namespace
+
+TEST_CASE("a valid scene compiles") { CHECK(error_of(kGood).empty()); }
+
+TEST_CASE("unknown key: location and suggestion") {
+  const std::string e = error_of(with("k_n = 1e5", "k_n = 1e5\nfriciton = 0.3"));
+  CHECK(e.rfind("bad.toml:9:1: ", 0) == 0);
+  CHECK(e.find("unknown key 'contact.friciton'") != std::string::npos);
+  CHECK(e.find("did you mean 'contact.friction'") != std::string::npos);
+  // Unknown table, and a key of a group table.
+  CHECK(error_of(with("[run]", "[rnu]")).find("unknown key 'rnu") != std::string::npos);
+  const std::string g = error_of(with("radius = 0.5", "raduis = 0.5"));
+  CHECK(g.find("bad.toml:11:1") != std::string::npos);
+  CHECK(g.find("did you mean 'grains[0].radius'") != std::string::npos);
+}
+
+TEST_CASE("wrong type: location of the value") {
+  const std::string e = error_of(with("k_n = 1e5", "k_n = \"stiff\""));
+  CHECK(e.rfind("bad.toml:8:7: ", 0) == 0);
+  CHECK(e.find("'contact.k_n' must be a number") != std::string::npos);
+  CHECK(error_of(with("count = 10", "count = 10.5")).find("'grains[0].count' must be an integer") != std::string::npos);
+}
+
+TEST_CASE("out of range: the range and unit are named") {
+  const std::string e = error_of(with("k_n = 1e5", "k_n = -3"));
+  CHECK(e.rfind("bad.toml:8:7: ", 0) == 0);
+  CHECK(e.find("out of range > 0 N/m") != std::string::npos);
+  CHECK(error_of(with("dimension = 3", "dimension = 4")).find("[2, 3]") != std::string::npos);
+  const std::string c = error_of(with("model = \"hooke\"", "model = \"hookean\""));
+  CHECK(c.find("bad.toml:7:9") != std::string::npos);
+  CHECK(c.find("is not one of: spring_dashpot hooke hertz linear") != std::string::npos);
+}
+
+TEST_CASE("TOML syntax errors keep their location") {
+  const std::string e = error_of(with("k_n = 1e5", "k_n = = 1e5"));
+  CHECK(e.rfind("bad.toml:8:", 0) == 0);
+}
+
+TEST_CASE("values that do not apply are refused, not ignored") {
+  const std::string e = error_of(with("k_n = 1e5", "k_n = 1e5\nrestitution = 0.5"));
+  CHECK(e.rfind("bad.toml:9:15: ", 0) == 0);
+  CHECK(e.find("not used") != std::string::npos);
+}
+
+TEST_CASE("scenes that cannot be simulated are refused before the first step") {
+  // A time step above the stability limit names the parameter.
+  const std::string dt = error_of(with("dt = 1e-4", "dt = 0.1"));
+  CHECK(dt.find("bad.toml:13:6") != std::string::npos);
+  CHECK(dt.find("stability limit") != std::string::npos);
+  CHECK(dt.find("reduce run.dt") != std::string::npos);
+  // Too many grains for random placement.
+  CHECK(error_of(with("count = 10", "count = 5000")).find("could not place") != std::string::npos);
+  // Wrong vector length.
+  CHECK(error_of(with("lo = [0, 0, 0]", "lo = [0, 0]")).find("needs 3 entries") != std::string::npos);
+  // Overlapping explicit grains.
+  const std::string ov = error_of(with("count = 10\nradius = 0.5",
+                                       "radius = 0.5\nplacement = \"explicit\"\npositions = [[1, 1, 1], [1.2, 1, 1]]"));
+  CHECK(ov.find("overlap by") != std::string::npos);
+  // Unknown observable with a suggestion.
+  const std::string ob = error_of(with("[run]", "[output]\nobserve = [\"t\", \"kee\"]\n[run]"));
+  CHECK(ob.find("unknown observable 'kee'; did you mean 'ke'") != std::string::npos);
+}
+
+TEST_CASE("--set overrides: typed, located, and checked like the file") {
+  SceneDesc d = parse_scene(kGood, "bad.toml", {parse_override("contact.friction=0.25"), parse_override("grains.0.count=12")});
+  CHECK(d.real("contact.friction") == 0.25);
+  CHECK(d.integer("grains[0].count") == 12);
+  CHECK_THROWS_WITH_AS(parse_scene(kGood, "bad.toml", {parse_override("contact.friciton=0.25")}),
+                       doctest::Contains("did you mean 'contact.friction'"), SceneError);
+  CHECK_THROWS_WITH_AS(parse_scene(kGood, "bad.toml", {parse_override("contact.friction=-1")}),
+                       doctest::Contains("--set:1:"), SceneError);
+  CHECK_THROWS_AS(parse_scene(kGood, "bad.toml", {parse_override("grains.3.count=2")}), SceneError);
+  SceneDesc s = parse_scene(kGood, "bad.toml", {parse_override("contact.model=hertz")});
+  CHECK(s.string("contact.model") == "hertz");
+}
+
+TEST_CASE("the schema is consistent") {
+  for (const KeySpec& k : scene_schema()) {
+    CAPTURE(k.path);
+    CHECK(!k.doc.empty());
+    if (k.def && (k.type == KeyType::kReal))
+      CHECK(k.range.contains(std::get<double>(*k.def)));
+    CHECK(find_key_spec(k.path) == &k);
+  }
+  CHECK(schema_markdown().find("| `contact.friction` |") != std::string::npos);
+}

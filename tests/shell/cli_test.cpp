@@ -1,0 +1,116 @@
+// The command-line contract (INTERFACE.md): exit codes, messages, output files.
+#include <doctest/doctest.h>
+#include <sys/wait.h>
+
+#include <cstdio>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "support/scenes.hpp"
+
+namespace {
+
+struct Result {
+  int code = -1;
+  std::string out;  // stdout and stderr
+};
+
+Result silt_cli(const std::string& args) {
+  Result r;
+  const std::string cmd = silt::test::silt_binary() + " " + args + " 2>&1";
+  std::FILE* p = popen(cmd.c_str(), "r");
+  char buf[4096];
+  size_t n;
+  while ((n = std::fread(buf, 1, sizeof buf, p)) > 0) r.out.append(buf, n);
+  const int status = pclose(p);
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+std::string write_file(const std::string& name, const std::string& text) {
+  std::ofstream(name) << text;
+  return name;
+}
+
+std::string read_file(const std::string& name) {
+  std::ifstream in(name);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+}  // namespace
+
+TEST_CASE("silt check: a shipped scene, a bad one, a missing one") {
+  const Result ok = silt_cli("check " + silt::test::scene_path("collision_normal"));
+  CHECK(ok.code == 0);
+  CHECK(ok.out.find("dimension    3") != std::string::npos);
+  CHECK(ok.out.find("stability limit") != std::string::npos);
+  const std::string bad = write_file("cli_bad.toml", "[scene]\ndimension = 3\n[contact]\nmodle = \"hooke\"\n");
+  const Result b = silt_cli("check " + bad);
+  CHECK(b.code == 2);
+  CHECK(b.out.find("cli_bad.toml:4:1: unknown key 'contact.modle'; did you mean 'contact.model'?") != std::string::npos);
+  const Result missing = silt_cli("check no_such_scene.toml");
+  CHECK(missing.code == 4);
+  const Result set = silt_cli("check " + silt::test::scene_path("collision_normal") + " --set contact.restitution=2");
+  CHECK(set.code == 2);
+  CHECK(set.out.find("--set:1:") != std::string::npos);
+  CHECK(silt_cli("run").code == 1);
+  CHECK(silt_cli("run x.toml --steps abc").code == 1);
+  CHECK(silt_cli("frobnicate").code == 1);
+  CHECK(silt_cli("--version").code == 0);
+}
+
+TEST_CASE("silt run: stats CSV, summary JSON, --observe, --every") {
+  const Result r = silt_cli("run " + silt::test::scene_path("collision_normal") +
+                            " --quiet --stats cli_stats.csv --summary cli_summary.json --observe t,ke,p[1].vx --every 50 "
+                            "--average-from 5e-4 --threads 2");
+  CHECK(r.code == 0);
+  const std::string csv = read_file("cli_stats.csv");
+  CHECK(csv.rfind("t,ke,p[1].vx\n", 0) == 0);
+  CHECK(std::count(csv.begin(), csv.end(), '\n') == 1 + 1000 / 50 + 1);
+  const auto j = nlohmann::json::parse(read_file("cli_summary.json"));
+  CHECK(j["status"] == "ok");
+  CHECK(j["exit_code"] == 0);
+  CHECK(j["steps"] == 1000);
+  CHECK(j["threads"] == 2);
+  CHECK(j["n_particles"] == 2);
+  CHECK(j["stages"].contains("contact_forces"));
+  CHECK(j["observables"]["p[1].vx"]["last"].get<double>() == doctest::Approx(0.4349).epsilon(1e-3));
+  CHECK(j["observables"]["t"]["n"] == 11);  // samples with t >= 5e-4
+  CHECK(silt_cli("run " + silt::test::scene_path("collision_normal") + " --observe t,kee").code == 1);
+  CHECK(silt_cli("run " + silt::test::scene_path("collision_normal") + " --stats no_dir/x.csv").code == 4);
+}
+
+TEST_CASE("silt run: a numerical failure exits 3 and keeps the last good state") {
+  const std::string scene = write_file("cli_soft.toml", R"(
+[scene]
+dimension = 3
+[domain]
+lo = [-5, -5, -5]
+hi = [5, 5, 5]
+[contact]
+model = "hooke"
+k_n = 100
+[[grains]]
+radius = 0.5
+placement = "explicit"
+positions = [[-1, 0, 0], [1, 0, 0]]
+velocity = "explicit"
+velocities = [[10, 0, 0], [-10, 0, 0]]
+[run]
+dt = 1e-3
+steps = 1000
+)");
+  std::remove("cli_fail.last_good.ckpt");
+  const Result r = silt_cli("run " + scene + " --quiet --summary cli_fail.json");
+  CHECK(r.code == 3);
+  CHECK(r.out.find("stage contact_forces") != std::string::npos);
+  CHECK(r.out.find("contact.k_n") != std::string::npos);
+  CHECK(std::ifstream("cli_fail.last_good.ckpt").good());
+  const auto j = nlohmann::json::parse(read_file("cli_fail.json"));
+  CHECK(j["status"] == "failed");
+  CHECK(j["exit_code"] == 3);
+  CHECK(j["failure"]["parameter"] == "contact.k_n");
+}

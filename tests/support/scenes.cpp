@@ -1,0 +1,64 @@
+#include "support/scenes.hpp"
+
+#include "silt/scene.hpp"
+
+namespace silt::test {
+
+Model model_from(const std::string& toml, const std::string& name) { return compile(parse_scene(toml, name)); }
+
+std::unique_ptr<Simulation> simulation_from(const std::string& toml, int threads) {
+  return std::make_unique<Simulation>(model_from(toml), threads);
+}
+
+std::string scene_path(const std::string& name) { return std::string(SILT_SOURCE_DIR) + "/scenes/" + name + ".toml"; }
+
+std::string silt_binary() { return SILT_BINARY; }
+
+}  // namespace silt::test
+
+#include <cmath>
+#include <sstream>
+
+namespace silt::test {
+
+std::string fill(std::string text, std::initializer_list<std::pair<const char*, double>> values) {
+  for (const auto& [key, value] : values) {
+    std::ostringstream o;
+    o.precision(17);
+    o << value;
+    std::string v = o.str();
+    if (v.find_first_of(".e") == std::string::npos) v += ".0";
+    const std::string k = std::string("{") + key + "}";
+    for (size_t pos = text.find(k); pos != std::string::npos; pos = text.find(k, pos + v.size()))
+      text.replace(pos, k.size(), v);
+  }
+  return text;
+}
+
+Collision head_on_collision(Simulation& sim, double v_rel) {
+  Collision c;
+  const State& s = sim.state();
+  const int D = s.dim;
+  int64_t touching = 0;
+  bool started = false;
+  for (int64_t k = 0; k < 10'000'000; ++k) {
+    if (!sim.step()) break;
+    double d2 = 0;
+    for (int a = 0; a < D; ++a) {
+      const double d = s.particle_x[a] - s.particle_x[D + a];
+      d2 += d * d;
+    }
+    const bool touch = std::sqrt(d2) < s.particle_r[0] + s.particle_r[1];
+    if (touch) {
+      started = true;
+      ++touching;
+    } else if (started) {
+      break;
+    }
+  }
+  c.duration = touching * s.dt;
+  c.restitution = (s.particle_v[D] - s.particle_v[0]) / v_rel;  // grain 0 moves +x, grain 1 -x
+  return c;
+}
+
+}  // namespace silt::test

@@ -1,0 +1,39 @@
+// Test fixtures: scenes built from strings.
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "silt/model.hpp"
+#include "silt/simulation.hpp"
+
+namespace silt::test {
+
+// Parse and compile a scene given as TOML text (throws SceneError).
+Model model_from(const std::string& toml, const std::string& name = "test.toml");
+
+// A simulation of that scene.
+std::unique_ptr<Simulation> simulation_from(const std::string& toml, int threads = 1);
+
+// A scene file of the repository, by name ("chute" -> scenes/chute.toml).
+std::string scene_path(const std::string& name);
+
+// The built `silt` executable.
+std::string silt_binary();
+
+}  // namespace silt::test
+
+namespace silt::test {
+
+// Replace every "{key}" of `text` by its value: scene templates with parameters.
+std::string fill(std::string text, std::initializer_list<std::pair<const char*, double>> values);
+
+// Two equal grains approaching head-on along x at relative speed v (no gravity). Run the
+// simulation until they separate; returns {restitution, contact duration}.
+struct Collision {
+  double restitution = 0;
+  double duration = 0;
+};
+Collision head_on_collision(Simulation& sim, double v_rel);
+
+}  // namespace silt::test
