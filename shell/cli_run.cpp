@@ -64,6 +64,13 @@ int run_command(const RunArgs& a) {
   const bool until_static = m.until_static.on;
   Simulation sim(std::move(m), a.threads);
   const Model& model = sim.model();
+  if (!a.restore.empty()) {
+    try {
+      sim.restore(read_checkpoint(a.restore, model));
+    } catch (const IoError& e) {
+      return report_error(e.what(), 4);
+    }
+  }
 
   g_interrupt = false;
   std::signal(SIGINT, on_sigint);

@@ -12,7 +12,7 @@ struct RunArgs {
   int64_t steps = -1;
   double time = -1;
   int threads = 0;
-  std::string stats, summary, observe;
+  std::string stats, summary, observe, restore;
   int64_t every = 0;
   double average_from = 0;
   bool quiet = false;

@@ -67,6 +67,12 @@ uint64_t state_hash(const State& s) {
   return h;
 }
 
+std::vector<int64_t> index_of_ids(const State& s) {
+  std::vector<int64_t> out(s.n, -1);
+  for (int64_t i = 0; i < s.n; ++i) out[s.particle_id[i]] = i;
+  return out;
+}
+
 size_t state_bytes(const State& s) {
   size_t b = sizeof(State);
   for_each_array(s, [&](const char*, const auto& v) { b += v.capacity() * sizeof(v[0]); });

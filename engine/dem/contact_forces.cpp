@@ -12,8 +12,10 @@
 // The sum over row i (the pairs where i is the first grain) is accumulated here into
 // particle_f / particle_t; gather_kick adds the pairs where a grain is second.
 #include <cmath>
+#include <vector>
 
 #include "core/parallel.hpp"
+#include "core/small_vec.hpp"
 #include "dem/box_geometry.hpp"
 #include "dem/contact_laws.hpp"
 #include "dem/stages.hpp"
@@ -21,13 +23,31 @@
 namespace silt::dem {
 namespace {
 
+// Scratch of one task: the touching pairs of its rows, found by the first pass.
+template <int D>
+struct Touching {
+  std::vector<int32_t> pair;
+  std::vector<double> d;  // separation (nearest image), D per entry
+  void reserve(size_t n) {
+    if (pair.size() < n) {
+      pair.resize(n);
+      d.resize(D * n);
+    }
+  }
+};
+
+// Two passes per block of rows. The first tests every listed pair, zeroes the force and the
+// history of those apart, and packs the touching ones without a branch; the second computes the
+// laws for the packed list. In a flowing bed most listed pairs do not touch, in no predictable
+// pattern: one loop with an `if` mispredicts on most pairs and stalls the pipeline.
 template <int D, bool Hertz, bool Friction, bool Affine>
 void pair_forces(const Model& m, State& s) {
-  const ContactParams& cp = m.contact;
+  using V = SVec<D>;
+  const ContactParams cp = m.contact;  // a copy: the loop keeps the parameters in registers
   const PeriodicImage<D> img(s.box);
   const double dt = s.dt;
   const double max_overlap = m.limits.max_overlap;
-  Vec<D> grad = Vec<D>::Zero();  // affine velocity gradient (diagonal)
+  V grad = V::Zero();  // affine velocity gradient (diagonal)
   if constexpr (Affine)
     for (int k = 0; k < D; ++k) grad[k] = s.box_rate[k] / s.box.len[k];
   const double* __restrict x = s.particle_x.data();
@@ -36,67 +56,76 @@ void pair_forces(const Model& m, State& s) {
   const double* __restrict r = s.particle_r.data();
   const double* __restrict im = s.particle_inv_m.data();
   const int32_t* __restrict start = s.nbr_start.data();
+  const int32_t* __restrict pi = s.pair_i.data();
   const int32_t* __restrict pj = s.pair_j.data();
   double* __restrict pf = s.pair_f.data();
   double* __restrict ptc = s.pair_tc.data();
   double* __restrict hist = s.pair_hist.data();
   double* __restrict row_f = s.particle_f.data();
   double* __restrict row_t = s.particle_t.data();
-  Alarm& overlap_alarm = s.alarm_overlap;
-  parallel_for(s.n, 256, [&, x, v, w, r, im, start, pj, pf, ptc, hist, row_f, row_t](int64_t b, int64_t e) {
+  Alarm* overlap_alarm = &s.alarm_overlap;
+  parallel_for(s.n, 256, [=](int64_t b, int64_t e) {
+    thread_local Touching<D> tl;
+    tl.reserve(static_cast<size_t>(start[e] - start[b]));
+    int32_t* __restrict tp = tl.pair.data();
+    double* __restrict td = tl.d.data();
+    // Pass 1: which pairs touch, in one flat loop over the pairs of the block's rows (a loop
+    // per row would mispredict its exit on rows of varying length).
     for (int64_t i = b; i < e; ++i) {
-      const int32_t p0 = start[i], p1 = start[i + 1];
-      Vec<D> fsum = Vec<D>::Zero();
-      Omega<D> tsum{};
-      if constexpr (D == 3) tsum = Vec3::Zero();
-      const Vec<D> xi = at<D>(x, i);
-      const double ri = r[i], imi = im[i];
-      for (int32_t p = p0; p < p1; ++p) {
-        const int32_t j = pj[p];
-        Vec<D> d = xi - at<D>(x, j);
-        img.apply(d);
-        const double rs = ri + r[j];
-        const double r2 = d.squaredNorm();
-        if (r2 >= rs * rs) {
-          at<D>(pf, p).setZero();
-          if constexpr (Friction) at<D>(hist, p).setZero();
-          continue;
-        }
-        const double dist = std::sqrt(r2);
-        const Vec<D> n = d * (1.0 / dist);
-        const double overlap = rs - dist;
-        if (overlap > max_overlap * std::min(ri, r[j])) overlap_alarm.raise(i, overlap / std::min(ri, r[j]));
-        Vec<D> vr = at<D>(v, i) - at<D>(v, j);
-        if constexpr (Affine) vr += grad.cwiseProduct(d);
-        const double vn = vr.dot(n);
-        const double m_eff = 1.0 / (imi + im[j]);
-        NormalForce nf;
-        if constexpr (Hertz) {
-          nf = hertz_normal(cp.e_tilde, reduced_radius(ri, r[j]), cp.zeta, m_eff, overlap, -vn);
-        } else {
-          nf = linear_normal(linear_coeffs(cp, m_eff), overlap, -vn);
-        }
-        if (cp.clip_attractive) nf.fn = clip_attractive(nf.fn);
-        Vec<D> f = nf.fn * n;
-        if constexpr (Friction) {
-          const Omega<D> wsum = ri * omega_at<D>(w, i) + r[j] * omega_at<D>(w, j);
-          const Vec<D> vt = vr - vn * n - cross_w(wsum, n);
-          Vec<D> spring = at<D>(hist, p);
-          const double kt = cp.kt_ratio * nf.k;
-          const Vec<D> ft = tangential_force(spring, n, vt, dt, kt, cp.friction * std::abs(nf.fn),
-                                             tangential_dashpot(cp.zeta_t, m_eff, kt));
-          at<D>(hist, p) = spring;
-          f += ft;
-          const Omega<D> tc = moment(n, ft);
-          omega_store<D>(ptc, p, tc);
-          tsum += tc;
-        }
-        at<D>(pf, p) = f;
-        fsum += f;
+      V::Zero().store(row_f + D * i);
+      if constexpr (Friction) somega_store<D>(row_t, i, SOmega<D>{});
+    }
+    int64_t c = 0;
+    for (int32_t p = start[b]; p < start[e]; ++p) {
+      const int32_t i = pi[p], j = pj[p];
+      V d = V::load(x + D * i) - V::load(x + D * j);
+      for (int k = 0; k < D; ++k) d[k] = img.nearest(d[k], k);
+      const double rs = r[i] + r[j];
+      const double keep = d.squaredNorm() < rs * rs ? 1.0 : 0.0;
+      V::Zero().store(pf + D * p);
+      if constexpr (Friction)
+        for (int k = 0; k < D; ++k) hist[D * p + k] *= keep;
+      tp[c] = p;
+      d.store(td + D * c);
+      c += static_cast<int64_t>(keep);
+    }
+    // Pass 2: the laws on the touching pairs, in row order.
+    for (int64_t q = 0; q < c; ++q) {
+      const int32_t p = tp[q], i = pi[p], j = pj[p];
+      const V d = V::load(td + D * q);
+      const double ri = r[i], rj = r[j];
+      const double dist = d.norm();
+      const V n = d * (1.0 / dist);
+      const double overlap = ri + rj - dist;
+      if (overlap > max_overlap * std::min(ri, rj)) overlap_alarm->raise(i, overlap / std::min(ri, rj));
+      V vr = V::load(v + D * i) - V::load(v + D * j);
+      if constexpr (Affine)
+        for (int k = 0; k < D; ++k) vr[k] += grad[k] * d[k];
+      const double vn = vr.dot(n);
+      const double m_eff = 1.0 / (im[i] + im[j]);
+      NormalForce nf;
+      if constexpr (Hertz) {
+        nf = hertz_normal(cp.e_tilde, reduced_radius(ri, rj), cp.zeta, m_eff, overlap, -vn);
+      } else {
+        nf = linear_normal(linear_coeffs(cp, m_eff), overlap, -vn);
       }
-      at<D>(row_f, i) = fsum;
-      // Torque on i from its row: -r_i sum (n x F_t).
-      if constexpr (Friction) omega_store<D>(row_t, i, Omega<D>(-ri * tsum));
+      if (cp.clip_attractive) nf.fn = clip_attractive(nf.fn);
+      V f = nf.fn * n;
+      if constexpr (Friction) {
+        const SOmega<D> wsum = ri * somega_load<D>(w, i) + rj * somega_load<D>(w, j);
+        const V vt = vr - vn * n - cross_w(wsum, n);
+        V spring = V::load(hist + D * p);
+        const double kt = cp.kt_ratio * nf.k;
+        const V ft = tangential_force(spring, n, vt, dt, kt, cp.friction * std::abs(nf.fn),
+                                      tangential_dashpot(cp.zeta_t, m_eff, kt));
+        spring.store(hist + D * p);
+        f += ft;
+        const SOmega<D> tc = moment(n, ft);
+        somega_store<D>(ptc, p, tc);
+        somega_add<D>(row_t, i, SOmega<D>(-ri * tc));  // torque on i from its row: -r_i (n x F_t)
+      }
+      f.store(pf + D * p);
+      for (int k = 0; k < D; ++k) row_f[D * i + k] += f[k];
     }
   });
 }

@@ -39,9 +39,17 @@ void kick_drift_dim(const Model& m, State& s) {
       scaled = true;
     }
   }
-  const PeriodicImage<D> img(s.box);
-  const Vec<D> g = m.gravity.head<D>();
-  const Box box = s.box;
+  // Per-direction constants, copied so that the loop keeps them in registers.
+  bool periodic[D];
+  double lo[D], len[D], hi[D], half[D], g[D];
+  for (int k = 0; k < D; ++k) {
+    periodic[k] = s.box.periodic[k];
+    lo[k] = s.box.lo[k];
+    len[k] = s.box.len[k];
+    hi[k] = lo[k] + len[k];
+    half[k] = 0.5 * len[k];
+    g[k] = m.gravity[k];
+  }
   double* __restrict x = s.particle_x.data();
   double* __restrict v = s.particle_v.data();
   double* __restrict w = s.particle_w.data();
@@ -51,28 +59,28 @@ void kick_drift_dim(const Model& m, State& s) {
   const double* __restrict inv_m = s.particle_inv_m.data();
   const double* __restrict inv_i = s.particle_inv_i.data();
   const uint8_t* __restrict frozen = s.particle_frozen.data();
-  const double max_d2 = parallel_max(s.n, kGrain, [&, x, v, w, f, t, xref, inv_m, inv_i, frozen](int64_t b, int64_t e) {
+  const double max_d2 = parallel_max(s.n, kGrain, [=](int64_t b, int64_t e) {
     double worst = 0;
     for (int64_t i = b; i < e; ++i) {
       if (frozen[i]) continue;
-      Vec<D> vi = at<D>(v, i);
-      Vec<D> xi = at<D>(x, i);
-      vi += h * (at<D>(f, i) * inv_m[i] + g);
-      for (int k = 0; k < R; ++k) w[R * i + k] += h * t[R * i + k] * inv_i[i];
-      if (scaled) {
-        for (int k = 0; k < D; ++k) {
-          xi[k] = box.lo[k] + lambda[k] * (xi[k] - box.lo[k] + dt * vi[k]);
-          vi[k] *= lambda[k];
+      const double im = inv_m[i];
+      double d2 = 0;
+      for (int k = 0; k < D; ++k) {
+        const double vk = v[D * i + k] + h * (f[D * i + k] * im + g[k]);
+        double xk = scaled ? lo[k] + lambda[k] * (x[D * i + k] - lo[k] + dt * vk) : x[D * i + k] + dt * vk;
+        v[D * i + k] = scaled ? vk * lambda[k] : vk;
+        if (periodic[k] && !(xk >= lo[k] && xk < hi[k])) {
+          xk -= std::floor((xk - lo[k]) / len[k]) * len[k];
+          if (!(xk < hi[k])) xk = lo[k];  // rounding at the upper edge
         }
-      } else {
-        xi += dt * vi;
+        x[D * i + k] = xk;
+        double dk = xk - xref[D * i + k];
+        if (periodic[k]) dk = dk > half[k] ? dk - len[k] : (dk < -half[k] ? dk + len[k] : dk);
+        d2 += dk * dk;
       }
-      img.wrap(xi, box);
-      at<D>(v, i) = vi;
-      at<D>(x, i) = xi;
-      Vec<D> disp = xi - at<D>(xref, i);
-      img.apply(disp);
-      worst = std::max(worst, disp.squaredNorm());
+      const double ii = inv_i[i];
+      for (int k = 0; k < R; ++k) w[R * i + k] += h * t[R * i + k] * ii;
+      worst = std::max(worst, d2);
     }
     return worst;
   });
@@ -94,14 +102,13 @@ void gather_dim(const Model& m, State& s) {
   const double* __restrict inv_m = s.particle_inv_m.data();
   const double* __restrict inv_i = s.particle_inv_i.data();
   const uint8_t* __restrict frozen = s.particle_frozen.data();
-  const double* __restrict x = s.particle_x.data();
   double* __restrict force = s.particle_f.data();
   double* __restrict torq = s.particle_t.data();
   double* __restrict v = s.particle_v.data();
   double* __restrict w = s.particle_w.data();
   Alarm& nonfinite = s.alarm_nonfinite;
-  parallel_for(s.n, kGrain, [&, pf, ptc, in_start, in_pair, radius, fwall, twall, inv_m, inv_i, frozen, x, force,
-                             torq, v, w](int64_t b, int64_t e) {
+  parallel_for(s.n, kGrain, [&, pf, ptc, in_start, in_pair, radius, fwall, twall, inv_m, inv_i, frozen, force, torq, v,
+                             w, h, g](int64_t b, int64_t e) {
     for (int64_t i = b; i < e; ++i) {
       // contact_forces left the sum over row i (pairs where i is first) in particle_f/t.
       Vec<D> f = at<D>(force, i);
@@ -124,14 +131,11 @@ void gather_dim(const Model& m, State& s) {
       omega_store<D>(torq, i, torque);
       if constexpr (Kick) {
         if (frozen[i]) continue;
-        Vec<D> vi = at<D>(v, i) + h * (f * inv_m[i] + g);
-        at<D>(v, i) = vi;
-        double* wi = w + R * i;
-        const double* ti = torq + R * i;
-        for (int k = 0; k < R; ++k) wi[k] += h * ti[k] * inv_i[i];
-        bool finite = vi.allFinite() && at<D>(x, i).allFinite();
-        for (int k = 0; k < R; ++k) finite = finite && std::isfinite(wi[k]);
-        if (!finite) nonfinite.raise(i, 0);
+        const double im = inv_m[i], ii = inv_i[i];
+        double sum = 0;  // a NaN or Inf anywhere in the grain's motion reaches its velocities
+        for (int k = 0; k < D; ++k) sum += (v[D * i + k] += h * (f[k] * im + g[k]));
+        for (int k = 0; k < R; ++k) sum += (w[R * i + k] += h * torq[R * i + k] * ii);
+        if (!std::isfinite(sum)) nonfinite.raise(i, 0);
       }
     }
   });

@@ -4,6 +4,11 @@
 // twice the largest displacement since the build, plus the change of the periodic lengths,
 // exceeds the skin. Rows are sorted by j, so the list, and everything summed over it, is the
 // same whatever the number of threads. Pairs of two frozen grains are never listed.
+//
+// Above Model::kSortMin grains, each build also renumbers the grains in cell order (LAMMPS's
+// atom sorting): a flowing bed scatters neighbours in memory, and the pair loop then waits on
+// cache misses. Every per-grain array moves with the grains (particle_id keeps identities), and
+// the tangential histories follow their pairs through the permutation.
 #include <algorithm>
 #include <cmath>
 
@@ -108,6 +113,38 @@ int stencil(const CellGrid& g, int32_t c, int32_t* out) {
   return count;
 }
 
+// Renumber the grains in the order of sc.cell_items (by cell, then by index). Returns false when
+// they already are in that order. Afterwards sc.perm[new] = old and the cell arrays follow.
+template <int D>
+bool permute_to_cell_order(State& s) {
+  auto& sc = s.scratch;
+  const int64_t n = s.n;
+  bool identity = true;
+  for (int64_t k = 0; k < n && identity; ++k) identity = sc.cell_items[k] == k;
+  if (identity) return false;
+  sc.perm.assign(sc.cell_items.begin(), sc.cell_items.end());
+  const int64_t per_grain_wall = static_cast<int64_t>(s.n_walls) * D;
+  for_each_array_shaped(s, [&](const char*, const char* shape, auto& v) {
+    const std::string sh(shape);
+    int64_t stride = 0;
+    if (sh == "N") stride = 1;
+    else if (sh == "N*D") stride = D;
+    else if (sh == "N*R") stride = kRotDim<D>;
+    else if (sh == "N*W*D") stride = per_grain_wall;
+    if (stride == 0 || static_cast<int64_t>(v.size()) != n * stride) return;  // lists, or unused
+    auto old = v;
+    parallel_for(n, 4096, [&](int64_t b, int64_t e) {
+      for (int64_t k = b; k < e; ++k)
+        for (int64_t c = 0; c < stride; ++c) v[k * stride + c] = old[sc.perm[k] * stride + c];
+    });
+  });
+  std::vector<int32_t> cell(n);
+  for (int64_t k = 0; k < n; ++k) cell[k] = sc.cell_of[sc.perm[k]];
+  sc.cell_of.swap(cell);
+  for (int64_t k = 0; k < n; ++k) sc.cell_items[k] = static_cast<int32_t>(k);
+  return true;
+}
+
 template <int D>
 void rebuild(const Model& m, State& s) {
   const int64_t n = s.n;
@@ -128,6 +165,7 @@ void rebuild(const Model& m, State& s) {
     std::vector<int32_t> pos(sc.cell_start.begin(), sc.cell_start.end() - 1);
     for (int64_t i = 0; i < n; ++i) sc.cell_items[pos[sc.cell_of[i]]++] = static_cast<int32_t>(i);
   }
+  const bool sorted = m.sort_grains && n > Model::kSortMin && permute_to_cell_order<D>(s);
   // Keep the old list for the tangential histories.
   std::swap(sc.old_start, s.nbr_start);
   std::swap(sc.old_j, s.pair_j);
@@ -164,6 +202,7 @@ void rebuild(const Model& m, State& s) {
   for (int64_t i = 0; i < n; ++i) s.nbr_start[i + 1] = s.nbr_start[i] + sc.row_count[i];
   const int64_t np = s.nbr_start[n];
   s.pair_j.resize(np);
+  s.pair_i.resize(np);
   s.pair_hist.assign(np * D, 0.0);
   parallel_for(n, 512, [&](int64_t b, int64_t e) {
     for (int64_t i = b; i < e; ++i) {
@@ -171,15 +210,22 @@ void rebuild(const Model& m, State& s) {
       int32_t c = 0;
       visit(i, [&](int32_t j) { row[c++] = j; });
       std::sort(row, row + c);
+      std::fill(s.pair_i.begin() + s.nbr_start[i], s.pair_i.begin() + s.nbr_start[i] + c, static_cast<int32_t>(i));
       if (!had_list) continue;
-      // Carry the tangential spring of pairs that were already listed (old row is sorted).
-      const int32_t* ob = sc.old_j.data() + sc.old_start[i];
-      const int32_t* oe = sc.old_j.data() + sc.old_start[i + 1];
+      // Carry the tangential spring of pairs that were already listed (old rows are sorted).
+      // With a renumbering, the pair may now be listed the other way round: its elongation,
+      // measured from the first grain's side, changes sign.
       for (int32_t q = 0; q < c; ++q) {
-        const int32_t* hit = std::lower_bound(ob, oe, row[q]);
-        if (hit != oe && *hit == row[q]) {
+        const int32_t oi = sorted ? sc.perm[i] : static_cast<int32_t>(i);
+        const int32_t oj = sorted ? sc.perm[row[q]] : row[q];
+        const int32_t lo = std::min(oi, oj), hi = std::max(oi, oj);
+        const int32_t* ob = sc.old_j.data() + sc.old_start[lo];
+        const int32_t* oe = sc.old_j.data() + sc.old_start[lo + 1];
+        const int32_t* hit = std::lower_bound(ob, oe, hi);
+        if (hit != oe && *hit == hi) {
           const int64_t op = hit - sc.old_j.data();
-          for (int k = 0; k < D; ++k) s.pair_hist[D * (s.nbr_start[i] + q) + k] = sc.old_hist[D * op + k];
+          const double sign = oi < oj ? 1.0 : -1.0;
+          for (int k = 0; k < D; ++k) s.pair_hist[D * (s.nbr_start[i] + q) + k] = sign * sc.old_hist[D * op + k];
         }
       }
     }

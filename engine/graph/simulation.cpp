@@ -209,8 +209,10 @@ bool Simulation::is_static() const {
   if (meas.max_net_force > m.until_static.force_tol * force_unit) return false;
   for (int k = 0; k < m.dim; ++k)
     if (m.box_control.controlled[k] && std::abs(meas.stress[k][k] / P - 1) > m.until_static.stress_tol) return false;
+  // Translational energy only: a rattler spinning in its cage keeps its rotation for ever without
+  // touching anything, and it changes no force.
   const int64_t n_free = m.n_grains - m.n_frozen;
-  return meas.ke / std::max<int64_t>(1, n_free) <= m.until_static.ke_tol * std::pow(a, m.dim) * P;
+  return (meas.ke - meas.ke_rot) / std::max<int64_t>(1, n_free) <= m.until_static.ke_tol * std::pow(a, m.dim) * P;
 }
 
 RunReport Simulation::run(const RunOptions& opt) {

@@ -133,7 +133,7 @@ State read_checkpoint(const std::string& path, const Model& m) {
     throw IoError("checkpoint '" + path + "' has format version " + std::to_string(version) + "; this silt reads version " +
                   std::to_string(kVersion));
   if (r.get<uint64_t>() != m.scene_hash)
-    throw IoError("checkpoint '" + path + "' was written for a different scene (or different --set values)");
+    throw IoError("checkpoint '" + path + "' was written for a different system (other grains, walls or periodicity)");
   State s = make_state(m);
   if (r.get<int32_t>() != m.dim || r.get<int64_t>() != s.n)
     throw IoError("checkpoint '" + path + "' does not match the scene's dimension or grain count");

@@ -8,7 +8,7 @@
 namespace silt {
 namespace {
 
-enum Kind { kT, kStep, kDt, kKe, kKeRot, kPhi, kZ, kZStar, kNContacts, kStress, kPressure, kMu, kBoxL, kGrainX, kGrainV, kGrainW, kGrainF, kNBuilds };
+enum Kind { kT, kStep, kDt, kKe, kKeRot, kPhi, kZ, kZStar, kNContacts, kStress, kPressure, kMu, kBoxL, kGrainX, kGrainV, kGrainW, kGrainF, kNBuilds, kNPairs };
 
 const char* kAxes = "xyz";
 
@@ -29,7 +29,7 @@ Parsed parse(const std::string& name, const Model& m) {
   const int D = m.dim;
   static const std::pair<const char*, int> simple[] = {
       {"t", kT}, {"step", kStep}, {"dt", kDt}, {"ke", kKe}, {"ke_rot", kKeRot}, {"phi", kPhi}, {"z", kZ},
-      {"z_star", kZStar}, {"n_contacts", kNContacts}, {"pressure", kPressure}, {"mu", kMu}, {"n_builds", kNBuilds}};
+      {"z_star", kZStar}, {"n_contacts", kNContacts}, {"pressure", kPressure}, {"mu", kMu}, {"n_builds", kNBuilds}, {"n_pairs", kNPairs}};
   for (auto [s, k] : simple)
     if (name == s) {
       p.kind = k;
@@ -107,7 +107,7 @@ Parsed parse(const std::string& name, const Model& m) {
 }  // namespace
 
 std::vector<std::string> observable_names(const Model& m) {
-  std::vector<std::string> out = {"t", "step", "dt", "ke", "ke_rot", "phi", "z", "z_star", "n_contacts", "pressure", "mu", "n_builds"};
+  std::vector<std::string> out = {"t", "step", "dt", "ke", "ke_rot", "phi", "z", "z_star", "n_contacts", "pressure", "mu", "n_builds", "n_pairs"};
   for (int a = 0; a < m.dim; ++a)
     for (int b = 0; b < m.dim; ++b) out.push_back(std::string("stress.") + kAxes[a] + kAxes[b]);
   for (int a = 0; a < m.dim; ++a) out.push_back(std::string("box.L") + kAxes[a]);
@@ -139,6 +139,9 @@ std::vector<double> Observer::sample(const Model& m, const State& s) const {
   const int D = m.dim, R = m.rot;
   std::vector<double> out;
   out.reserve(items_.size());
+  std::vector<int64_t> index;  // grain id -> index, built once if a p[K] observable is asked
+  for (const Item& it : items_)
+    if (it.grain >= 0 && index.empty()) index = index_of_ids(s);
   for (const Item& it : items_) {
     double v = 0;
     switch (it.kind) {
@@ -156,12 +159,14 @@ std::vector<double> Observer::sample(const Model& m, const State& s) const {
       case kMu: v = meas.stress[1][1] != 0 ? std::abs(meas.stress[0][1]) / meas.stress[1][1] : 0; break;
       case kBoxL: v = s.box.len[it.component]; break;
       case kNBuilds: v = static_cast<double>(s.nbr_builds); break;
-      case kGrainX: v = s.particle_x[D * it.grain + it.component]; break;
-      case kGrainV: v = s.particle_v[D * it.grain + it.component]; break;
-      case kGrainW: v = s.particle_w[R * it.grain + it.component]; break;
+      case kNPairs: v = static_cast<double>(s.n_pairs()); break;
+      case kGrainX: v = s.particle_x[D * index[it.grain] + it.component]; break;
+      case kGrainV: v = s.particle_v[D * index[it.grain] + it.component]; break;
+      case kGrainW: v = s.particle_w[R * index[it.grain] + it.component]; break;
       case kGrainF: {
-        const double g = s.particle_frozen[it.grain] ? 0 : m.gravity[it.component] / s.particle_inv_m[it.grain];
-        v = s.particle_f[D * it.grain + it.component] + g;
+        const int64_t i = index[it.grain];
+        const double g = s.particle_frozen[i] ? 0 : m.gravity[it.component] / s.particle_inv_m[i];
+        v = s.particle_f[D * i + it.component] + g;
         break;
       }
     }

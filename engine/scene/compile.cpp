@@ -126,6 +126,7 @@ void setup_time(const SceneDesc& d, Model& m) {
 
 void setup_neighbors(const SceneDesc& d, Model& m) {
   m.skin = d.has("neighbor.skin") ? d.real("neighbor.skin") : 0.1 * m.a_max;
+  m.sort_grains = d.boolean("neighbor.sort");
   const double range = 2 * m.r_max + m.skin;
   for (int k = 0; k < m.dim; ++k)
     if (m.box.periodic[k] && m.box.len[k] < 2 * range)
@@ -158,10 +159,20 @@ void setup_limits(const SceneDesc& d, Model& m) {
   m.limits.energy_scale = e;
 }
 
-uint64_t scene_fingerprint(const SceneDesc& d) {
-  std::string canon;
-  for (const auto& [path, e] : d.entries) canon += path + "=" + value_to_string(e.value) + "\n";
-  return fnv1a(canon.data(), canon.size());
+// Identity of the system a checkpoint belongs to: dimension, periodicity, walls and every
+// grain's size, mass, group and frozen flag. Run parameters (friction, time step, pressure, ...)
+// are not part of it, so a prepared packing can be restored and run with other values.
+uint64_t system_fingerprint(const Model& m) {
+  uint64_t h = fnv1a(&m.dim, sizeof m.dim);
+  h = fnv1a(&m.n_grains, sizeof m.n_grains, h);
+  h = fnv1a(m.box.periodic.data(), sizeof(bool) * 3, h);
+  const size_t nw = m.walls.size();
+  h = fnv1a(&nw, sizeof nw, h);
+  h = fnv1a(m.init.radius.data(), sizeof(double) * m.init.radius.size(), h);
+  h = fnv1a(m.init.mass.data(), sizeof(double) * m.init.mass.size(), h);
+  h = fnv1a(m.init.frozen.data(), m.init.frozen.size(), h);
+  h = fnv1a(m.init.group.data(), sizeof(int32_t) * m.init.group.size(), h);
+  return h;
 }
 
 }  // namespace
@@ -176,7 +187,6 @@ Model compile(const SceneDesc& d) {
   const SceneDesc& D = m.desc;  // read through the copy so that its use marks are the ones checked
   m.scene_file = D.file;
   m.scene_name = D.string("scene.name");
-  m.scene_hash = scene_fingerprint(D);
   m.dim = static_cast<int>(D.integer("scene.dimension"));
   m.rot = rot_dim(m.dim);
   setup_domain(D, m);
@@ -184,6 +194,7 @@ Model compile(const SceneDesc& d) {
   scene::read_contact_law(D, m);
   setup_walls(D, m);
   scene::setup_grains(D, m);
+  m.scene_hash = system_fingerprint(m);
   setup_box_control(D, m);
   setup_neighbors(D, m);
   m.limits.max_overlap = D.real("limits.max_overlap");

@@ -275,7 +275,7 @@ void place_random(const SceneDesc& d, Model& m, int g, const Group& G, int64_t f
         d.fail(key(g, "region_hi"), "the placement region is narrower than a grain diameter");
     }
     bool placed = false;
-    for (int attempt = 0; attempt < 2000 && !placed; ++attempt) {
+    for (int attempt = 0; attempt < 20000 && !placed; ++attempt) {
       double p[3];
       for (int k = 0; k < D; ++k) p[k] = rng.uniform(lo[k], hi[k]);
       if (grid.worst_overlap(p, r, xs, rs) > 0) continue;

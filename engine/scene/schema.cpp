@@ -80,6 +80,7 @@ std::vector<KeySpec> build_schema() {
       {"grains[].angular_velocities", K::kRealMatrix, std::nullopt, any(), "rad/s", false, {}, "explicit: one angular velocity per grain (a 1-list in 2D)."},
       // ---- neighbour search
       {"neighbor.skin", K::kReal, std::nullopt, positive(), "m", false, {}, "Verlet skin (default: 0.1 largest diameter); lists rebuilt when a grain moved skin/2."},
+      {"neighbor.sort", K::kBool, Value(true), any(), "", false, {}, "Keep grains in cell order at each list build when there are more than 1024 (cache locality; ids are kept)."},
       // ---- run
       {"run.dt", K::kReal, std::nullopt, positive(), "s", true, {}, "Time step."},
       {"run.dt_over_tc", K::kReal, std::nullopt, open_closed(0, 1), "", true, {}, "Time step as a fraction of the contact time (default 0.02)."},
@@ -88,7 +89,7 @@ std::vector<KeySpec> build_schema() {
       {"run.stop_when_static", K::kBool, Value(false), any(), "", false, {}, "Stop when the packing is in equilibrium (forces, stresses and kinetic energy below the tolerances)."},
       {"run.static_force_tol", K::kReal, Value(1e-4), positive(), "", false, {}, "Equilibrium: largest net force on a grain / (a^(d-1) P)."},
       {"run.static_stress_tol", K::kReal, Value(1e-4), positive(), "", false, {}, "Equilibrium: |sigma_aa / P - 1| on controlled axes."},
-      {"run.static_ke_tol", K::kReal, Value(1e-8), positive(), "", false, {}, "Equilibrium: kinetic energy per grain / (a^d P)."},
+      {"run.static_ke_tol", K::kReal, Value(1e-8), positive(), "", false, {}, "Equilibrium: translational kinetic energy per grain / (a^d P)."},
       // ---- output
       {"output.observe", K::kStringList, Value(std::vector<std::string>{"t", "step", "ke"}), any(), "", false, {}, "Observables written to the stats file."},
       {"output.every", K::kInt, Value(int64_t{100}), closed(1, 1e12), "", false, {}, "Sample every N steps."},

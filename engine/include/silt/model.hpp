@@ -83,7 +83,7 @@ struct StaticCriterion {
 struct Model {
   // Provenance.
   std::string scene_file, scene_name;
-  uint64_t scene_hash = 0;  // of the scene text and overrides: checkpoints refuse other scenes
+  uint64_t scene_hash = 0;  // of the grains, walls and periodicity: checkpoints refuse other systems
   SceneDesc desc;           // what the file said (for `check`, `params`, `get`)
 
   int dim = 3;
@@ -113,6 +113,8 @@ struct Model {
   StaticCriterion until_static;
 
   double skin = 0;          // Verlet skin [m]
+  bool sort_grains = true;  // reorder grains by cell at list builds (N > kSortMin)
+  static constexpr int64_t kSortMin = 1024;
 
   std::vector<std::string> observe;  // stats columns
   int64_t sample_every = 100;

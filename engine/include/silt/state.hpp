@@ -36,6 +36,7 @@ namespace silt {
   X(double,  wall_hist,       "N*W*D", "m",   "grain-wall tangential spring elongation; wall_forces")            \
   /* neighbour pairs: half Verlet list in CSR form, row i holds j > i sorted */                               \
   X(int32_t, nbr_start,       "N+1", "",      "first pair of row i; update_neighbors")                           \
+  X(int32_t, pair_i,          "P",   "",      "first grain of the pair (the row); update_neighbors")             \
   X(int32_t, pair_j,          "P",   "",      "second grain of the pair; update_neighbors")                      \
   X(double,  pair_hist,       "P*D", "m",     "tangential spring elongation, kept while the pair is listed; contact_forces") \
   X(double,  pair_f,          "P*D", "N",     "force on i from j (0 when apart); contact_forces")                \
@@ -118,6 +119,7 @@ struct State {
     std::vector<int32_t> cell_of, cell_start, cell_items, row_count;
     std::vector<int32_t> old_start, old_j;
     std::vector<double> old_hist;
+    std::vector<int32_t> perm;  // new index -> old index of the last spatial sort
   } scratch;
 
   int64_t n_pairs() const { return static_cast<int64_t>(pair_j.size()); }
@@ -143,6 +145,18 @@ void for_each_array(const State& s, F&& f) {
   SILT_STATE_ARRAYS(SILT_VISIT_ARRAY)
 #undef SILT_VISIT_ARRAY
 }
+
+// Visit every array with its declared shape ("N", "N*D", "P", ...): f(name, shape, vector&).
+template <class F>
+void for_each_array_shaped(State& s, F&& f) {
+#define SILT_VISIT_ARRAY(type, name, shape, unit, doc) f(#name, shape, s.name);
+  SILT_STATE_ARRAYS(SILT_VISIT_ARRAY)
+#undef SILT_VISIT_ARRAY
+}
+
+// Index of every grain id (inverse of particle_id): grains are kept in spatial order, so an
+// index is not an identity.
+std::vector<int64_t> index_of_ids(const State& s);
 
 // Bytes held by the State's arrays (capacity), for memory reports.
 size_t state_bytes(const State& s);

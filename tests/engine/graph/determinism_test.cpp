@@ -15,7 +15,7 @@ dimension = 3
 seed = 11
 [domain]
 lo = [0, 0, 0]
-hi = [8, 8, 14]
+hi = [8, 8, 20]
 periodic = [true, true, false]
 [gravity]
 magnitude = 9.81
@@ -29,7 +29,7 @@ friction = 0.4
 point = [0, 0, 0]
 normal = [0, 0, 1]
 [[grains]]
-count = 900
+count = 1200
 radius_min = 0.3
 radius_max = 0.45
 placement = "random"

@@ -1,0 +1,147 @@
+// silt against LAMMPS (Debian package `lammps`, GRANULAR gran/hooke/history) on the chute of
+// ../shared/bench/lammps_chute.in: 17,600 spheres, 30,000 settling steps, then 3,000 timed steps.
+//
+//   build/bench/dem_vs_lammps [--lammps-input PATH] [--settle N] [--steps N] [--repeat N]
+//                             [--settled FILE] [--no-lammps]
+//
+// --settled FILE keeps the settled state in a checkpoint and reuses it when it exists (to time
+// silt again without settling); --no-lammps skips the LAMMPS run (no CSV row is written then).
+// silt settles once (its results do not depend on the thread count, so the settled state is the
+// same at 1 and 2 threads), then times the 3,000 steps from that state at 1 and at 2 threads
+// (best of --repeat). LAMMPS runs its own settling and reports the loop time of the timed part.
+// Prints particle-steps per second and the ratios; appends a row to bench/results/dem.csv.
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <regex>
+#include <sstream>
+
+#include "bench_util.hpp"
+#include "silt/io.hpp"
+#include "silt/scene.hpp"
+#include "silt/simulation.hpp"
+
+using namespace silt;
+
+namespace {
+
+double translational_ke_all(const State& s) {
+  // LAMMPS `thermo ke` counts every atom, frozen ones included (they keep their velocities).
+  double ke = 0;
+  for (int64_t i = 0; i < s.n; ++i) {
+    const double m = s.particle_frozen[i] ? 0.0 : 1.0 / s.particle_inv_m[i];
+    for (int a = 0; a < 3; ++a) ke += 0.5 * m * s.particle_v[3 * i + a] * s.particle_v[3 * i + a];
+  }
+  return ke;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::string input = std::string(SILT_SOURCE_DIR) + "/../shared/bench/lammps_chute.in";
+  int64_t settle = 30000, steps = 3000;
+  int repeat = 1;
+  std::string settled_file;
+  bool run_lammps = true;
+  for (int i = 1; i < argc; ++i)
+    if (!std::strcmp(argv[i], "--no-lammps")) run_lammps = false;
+  for (int i = 1; i + 1 < argc; i += 2) {
+    if (!std::strcmp(argv[i], "--no-lammps")) {
+      --i;
+      continue;
+    }
+    if (!std::strcmp(argv[i], "--settled")) settled_file = argv[i + 1];
+    if (!std::strcmp(argv[i], "--lammps-input")) input = argv[i + 1];
+    else if (!std::strcmp(argv[i], "--settle")) settle = std::atoll(argv[i + 1]);
+    else if (!std::strcmp(argv[i], "--steps")) steps = std::atoll(argv[i + 1]);
+    else if (!std::strcmp(argv[i], "--repeat")) repeat = std::atoi(argv[i + 1]);
+  }
+  const std::string scene = std::string(SILT_SOURCE_DIR) + "/scenes/chute.toml";
+  const Model model = compile(load_scene_file(scene));
+  const double n = static_cast<double>(model.n_grains);
+
+  // silt: settle, then time from the settled state.
+  std::printf("silt: settling %lld steps of %s ...\n", static_cast<long long>(settle), scene.c_str());
+  State settled;
+  if (!settled_file.empty() && std::ifstream(settled_file).good()) {
+    settled = read_checkpoint(settled_file, model);
+    std::printf("  settled state read from %s (step %lld)\n", settled_file.c_str(), static_cast<long long>(settled.step));
+  } else {
+    Simulation sim(model, 2);
+    const double t0 = bench::now_s();
+    for (int64_t k = 0; k < settle; ++k)
+      if (!sim.step()) {
+        std::fprintf(stderr, "silt failed: %s\n", sim.state().failure.message.c_str());
+        return 3;
+      }
+    std::printf("  settled in %.1f s (2 threads), KE %.1f, %lld neighbour builds\n", bench::now_s() - t0,
+                translational_ke_all(sim.state()), static_cast<long long>(sim.state().nbr_builds));
+    settled = sim.state();
+    if (!settled_file.empty()) write_checkpoint(settled_file, model, settled);
+  }
+  double rate[3] = {0, 0, 0};
+  double ke_end = 0, bytes_per_grain = 0;
+  int64_t builds = 0;
+  for (int threads : {1, 2}) {
+    for (int r = 0; r < repeat; ++r) {
+      Simulation sim(model, threads);
+      sim.restore(settled);
+      const int64_t b0 = sim.state().nbr_builds;
+      const double t0 = bench::now_s();
+      for (int64_t k = 0; k < steps; ++k) sim.step();
+      const double dt = bench::now_s() - t0;
+      rate[threads] = std::max(rate[threads], n * steps / dt);
+      ke_end = translational_ke_all(sim.state());
+      builds = sim.state().nbr_builds - b0;
+      bytes_per_grain = static_cast<double>(state_bytes(sim.state())) / n;
+      std::printf("  silt %d thread(s): %lld steps in %.3f s = %.4g particle-steps/s\n", threads,
+                  static_cast<long long>(steps), dt, n * steps / dt);
+    }
+  }
+
+  // LAMMPS, one process.
+  std::printf("LAMMPS: lmp -in %s -var settle %lld -var steps %lld ...\n", input.c_str(), static_cast<long long>(settle),
+              static_cast<long long>(steps));
+  if (!run_lammps) return 0;
+  const std::string out = bench::capture("OMP_NUM_THREADS=1 lmp -in " + input + " -var settle " + std::to_string(settle) +
+                                         " -var steps " + std::to_string(steps) + " -log none 2>&1");
+  double lmp_rate = 0, lmp_ke = 0;
+  {
+    const std::regex loop(R"(Loop time of ([0-9.eE+-]+) on 1 procs for ([0-9]+) steps with ([0-9]+) atoms)");
+    double t = 0;
+    int64_t nsteps = 0, atoms = 0;
+    for (auto it = std::sregex_iterator(out.begin(), out.end(), loop); it != std::sregex_iterator(); ++it) {
+      t = std::stod((*it)[1]);
+      nsteps = std::stoll((*it)[2]);
+      atoms = std::stoll((*it)[3]);
+    }
+    if (t > 0) lmp_rate = static_cast<double>(atoms) * nsteps / t;
+    const std::regex thermo("\\n\\s+" + std::to_string(settle + steps) + R"(\s+\d+\s+([0-9.eE+-]+))");
+    std::smatch m;
+    if (std::regex_search(out, m, thermo)) lmp_ke = std::stod(m[1]);
+  }
+  if (lmp_rate == 0) {
+    std::fprintf(stderr, "LAMMPS did not run (is the Debian package `lammps` installed?):\n%s\n", out.c_str());
+  }
+
+  std::printf("\n%-28s %16s\n", "chute, 17,600 grains", "particle-steps/s");
+  std::printf("%-28s %16.4g\n", "LAMMPS, 1 process", lmp_rate);
+  std::printf("%-28s %16.4g\n", "silt, 1 thread", rate[1]);
+  std::printf("%-28s %16.4g\n", "silt, 2 threads", rate[2]);
+  std::printf("%-28s %16.3f   (target >= 2)\n", "silt 1 thread / LAMMPS", lmp_rate > 0 ? rate[1] / lmp_rate : 0.0);
+  std::printf("%-28s %16.3f   (target >= 1.7)\n", "silt 2 threads / 1 thread", rate[2] / rate[1]);
+  std::printf("%-28s %16.0f   (target <= 1024)\n", "silt state bytes per grain", bytes_per_grain);
+  std::printf("%-28s %16.0f\n", "process peak RSS per grain", bench::peak_rss_bytes() / n);
+  std::printf("%-28s %16.1f / %.1f  (silt / LAMMPS, same workload check)\n", "KE at the last step", ke_end, lmp_ke);
+  std::printf("%-28s %16lld\n", "silt builds in timed steps", static_cast<long long>(builds));
+
+  std::ostringstream row;
+  row << bench::today() << ",\"" << bench::cpu_model() << "\"," << model.n_grains << "," << settle << "," << steps << ","
+      << lmp_rate << "," << rate[1] << "," << rate[2] << "," << (lmp_rate > 0 ? rate[1] / lmp_rate : 0) << ","
+      << rate[2] / rate[1] << "," << bytes_per_grain << "," << ke_end << "," << lmp_ke;
+  bench::append_csv(std::string(SILT_SOURCE_DIR) + "/bench/results/dem.csv",
+                    "date,cpu,n_grains,settle_steps,timed_steps,lammps_1p,silt_1t,silt_2t,ratio_silt1_lammps,"
+                    "scaling_2t_1t,state_bytes_per_grain,ke_silt,ke_lammps",
+                    row.str());
+  return 0;
+}
