@@ -39,7 +39,7 @@ State make_state(const Model& m) {
     s.particle_inv_i[i] = frozen ? 0.0 : 1.0 / m.init.inertia[i];
   }
   s.particle_x_ref = s.particle_x;
-  s.particle_f_wall.assign(s.n_walls ? n * D : 0, 0);
+  s.wall_f.assign(n * s.n_walls * D, 0);
   s.particle_t_wall.assign(s.n_walls ? n * R : 0, 0);
   s.wall_hist.assign(n * s.n_walls * D, 0);
   s.nbr_start.assign(n + 1, 0);

@@ -97,7 +97,8 @@ void gather_dim(const Model& m, State& s) {
   const int32_t* __restrict in_start = s.in_start.data();
   const int32_t* __restrict in_pair = s.in_pair.data();
   const double* __restrict radius = s.particle_r.data();
-  const double* __restrict fwall = s.particle_f_wall.data();
+  const double* __restrict fwall = s.wall_f.data();
+  const int nw = s.n_walls;
   const double* __restrict twall = s.particle_t_wall.data();
   const double* __restrict inv_m = s.particle_inv_m.data();
   const double* __restrict inv_i = s.particle_inv_i.data();
@@ -108,7 +109,7 @@ void gather_dim(const Model& m, State& s) {
   double* __restrict w = s.particle_w.data();
   Alarm& nonfinite = s.alarm_nonfinite;
   parallel_for(s.n, kGrain, [&, pf, ptc, in_start, in_pair, radius, fwall, twall, inv_m, inv_i, frozen, force, torq, v,
-                             w, h, g](int64_t b, int64_t e) {
+                             w, h, g, nw](int64_t b, int64_t e) {
     for (int64_t i = b; i < e; ++i) {
       // contact_forces left the sum over row i (pairs where i is first) in particle_f/t.
       Vec<D> f = at<D>(force, i);
@@ -124,7 +125,7 @@ void gather_dim(const Model& m, State& s) {
       if constexpr (D == 3) torque = Vec3::Zero();
       if constexpr (Torque) torque = omega_at<D>(torq, i) - radius[i] * tc;
       if constexpr (Walls) {
-        f += at<D>(fwall, i);
+        for (int wi = 0; wi < nw; ++wi) f += at<D>(fwall, i * nw + wi);
         torque += omega_at<D>(twall, i);
       }
       at<D>(force, i) = f;

@@ -26,11 +26,11 @@ void update_neighbors(const Model& m, State& s);
 // over row i (pairs where i is first) left in particle_f / particle_t for gather_kick.
 void contact_forces(const Model& m, State& s);
 
-// (particle_x, particle_v, particle_w, wall_hist) => (particle_f_wall, particle_t_wall,
+// (particle_x, particle_v, particle_w, wall_hist) => (wall_f, particle_t_wall,
 //  wall_hist, alarm_overlap)
 void wall_forces(const Model& m, State& s);
 
-// (particle_f, particle_t [row sums], pair_f, pair_tc, in_pair, particle_f_wall) =>
+// (particle_f, particle_t [row sums], pair_f, pair_tc, in_pair, wall_f, particle_t_wall) =>
 //  (particle_f, particle_t, particle_v, particle_w, alarm_nonfinite)
 // Add the pairs where each grain is second, in a fixed order, and the walls; then the second
 // half kick.

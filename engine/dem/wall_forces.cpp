@@ -21,9 +21,9 @@ void walls_dim(const Model& m, State& s) {
   const double dt = s.dt;
   parallel_for(s.n, 1024, [&](int64_t b, int64_t e) {
     for (int64_t i = b; i < e; ++i) {
-      Vec<D> f = Vec<D>::Zero();
       Omega<D> torque{};
       if constexpr (D == 3) torque = Vec3::Zero();
+      for (int wi = 0; wi < nw; ++wi) at<D>(s.wall_f.data(), static_cast<int64_t>(i) * nw + wi).setZero();
       if (!s.particle_frozen[i]) {
         const auto x = at<D>(s.particle_x.data(), i);
         const auto v = at<D>(s.particle_v.data(), i);
@@ -42,7 +42,7 @@ void walls_dim(const Model& m, State& s) {
           const double vn = v.dot(n);
           const double m_eff = 1.0 / s.particle_inv_m[i];
           NormalForce nf = normal_force(cp, m_eff, 2.0 * r, overlap, -vn);
-          f += nf.fn * n;
+          Vec<D> f = nf.fn * n;
           if (wall.friction > 0) {
             const Vec<D> vt = v - vn * n - cross_w(r * omega_at<D>(s.particle_w.data(), i), n);
             Vec<D> spring = hist;
@@ -53,9 +53,9 @@ void walls_dim(const Model& m, State& s) {
             f += ft;
             torque += -r * moment(n, ft);
           }
+          at<D>(s.wall_f.data(), static_cast<int64_t>(i) * nw + wi) = f;
         }
       }
-      at<D>(s.particle_f_wall.data(), i) = f;
       omega_store<D>(s.particle_t_wall.data(), i, torque);
       (void)R;
     }

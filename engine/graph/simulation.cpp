@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "core/parallel.hpp"
+#include "core/text.hpp"
 #include "dem/stages.hpp"
 #include "graph/step_graph.hpp"
 #include "silt/observables.hpp"
@@ -26,12 +27,8 @@ struct Simulation::Impl {
 
 namespace {
 
-std::string fmt(double x) {
-  std::ostringstream o;
-  o.precision(4);
-  o << x;
-  return o.str();
-}
+std::string fmt_(double x) { return format_number(x, 4); }
+
 
 // The key a user changes to stiffen contacts under the scene's law.
 std::string stiffness_key(const Model& m) {
@@ -136,18 +133,18 @@ bool Simulation::check(State& s) {
     else
       fail("gather_kick", s.particle_id[i], "run.dt",
            "grain " + std::to_string(s.particle_id[i]) + " has a non-finite velocity or position; the time step " +
-               fmt(s.dt) + " s is too large for the contacts it meets: reduce run.dt (or run.dt_over_tc)");
+               fmt_(s.dt) + " s is too large for the contacts it meets: reduce run.dt (or run.dt_over_tc)");
     return false;
   }
   if (s.alarm_overlap.raised()) {
     const int64_t i = s.alarm_overlap.first.load();
     const std::string what = "grain " + std::to_string(s.particle_id[i]) + " overlaps a neighbour by " +
-                             fmt(100 * s.alarm_overlap.value.load()) +
-                             "% of the smaller radius, beyond limits.max_overlap = " + fmt(model_.limits.max_overlap);
+                             fmt_(100 * s.alarm_overlap.value.load()) +
+                             "% of the smaller radius, beyond limits.max_overlap = " + fmt_(model_.limits.max_overlap);
     const std::string stage = s.n_walls ? "contact_forces/wall_forces" : "contact_forces";
     if (s.dt > model_.dt_stable)
       fail(stage, s.particle_id[i], "run.dt",
-           what + ": the time step " + fmt(s.dt) + " s exceeds the stability limit " + fmt(model_.dt_stable) +
+           what + ": the time step " + fmt_(s.dt) + " s exceeds the stability limit " + fmt_(model_.dt_stable) +
                " s; reduce run.dt");
     else
       fail(stage, s.particle_id[i], stiffness_key(model_),
@@ -160,7 +157,7 @@ bool Simulation::check(State& s) {
       const double need = 2 * (2 * model_.r_max + model_.skin);
       if (model_.box_control.controlled[k] && s.box.len[k] < need) {
         fail("box_kick", -1, "box.pressure",
-             "the box length along " + std::string(1, "xyz"[k]) + " fell to " + fmt(s.box.len[k]) +
+             "the box length along " + std::string(1, "xyz"[k]) + " fell to " + fmt_(s.box.len[k]) +
                  ", below twice the interaction range: use more grains or a lower box.pressure");
         return false;
       }
@@ -171,8 +168,8 @@ bool Simulation::check(State& s) {
     const double limit = model_.limits.energy_factor * model_.limits.energy_scale;
     if (!std::isfinite(ke) || ke > limit) {
       fail("energy_check", -1, "run.dt",
-           "kinetic energy " + fmt(ke) + " J exceeds " + fmt(model_.limits.energy_factor) +
-               " times the energy the scene can supply (" + fmt(model_.limits.energy_scale) +
+           "kinetic energy " + fmt_(ke) + " J exceeds " + fmt_(model_.limits.energy_factor) +
+               " times the energy the scene can supply (" + fmt_(model_.limits.energy_scale) +
                " J): the integration is unstable; reduce run.dt (or run.dt_over_tc)");
       return false;
     }

@@ -2,7 +2,10 @@
 // wall node; a fixed box has no box node.
 //
 //   kick_drift -> update_neighbors -> contact_forces --> gather_kick -> box_kick
-//        \-----------------------> wall_forces ---/
+//                           \------> wall_forces ---/
+//
+// Every stage declares what it reads and writes; build_stages() refuses a graph in which two
+// stages that may run concurrently touch the same data with one of them writing it.
 #include "graph/step_graph.hpp"
 
 #include <chrono>
@@ -13,35 +16,84 @@
 namespace silt::graph {
 
 std::vector<Stage> build_stages(const Model& m) {
+  using Names = std::vector<std::string>;
   std::vector<Stage> st;
-  auto add = [&](const char* name, StageFn fn) {
-    st.push_back(Stage{name, fn, {}, {}});
+  auto add = [&](const char* name, StageFn fn, Names reads, Names writes) {
+    st.push_back(Stage{name, fn, {}, {}, std::move(reads), std::move(writes)});
     return static_cast<int>(st.size()) - 1;
   };
   auto dep = [&](int stage, int on, const char* why) {
     st[stage].deps.push_back(on);
     st[stage].why.push_back(why);
   };
-  const int kick = add("kick_drift", &dem::kick_drift);
-  const int nbr = add("update_neighbors", &dem::update_neighbors);
+  const Names grain = {"grain_order", "particle_r", "particle_inv_m", "particle_inv_i", "particle_frozen"};
+  auto with = [](Names a, const Names& b) {
+    a.insert(a.end(), b.begin(), b.end());
+    return a;
+  };
+  const int kick = add("kick_drift", &dem::kick_drift,
+                       with(grain, {"particle_f", "particle_t", "particle_x_ref", "box_stress"}),
+                       {"particle_v", "particle_w", "particle_x", "box", "nbr_max_disp"});
+  const int nbr = add("update_neighbors", &dem::update_neighbors, with(grain, {"particle_x", "nbr_max_disp", "box"}),
+                      {"grain_order", "nbr_start", "pair_i", "pair_j", "pair_hist", "in_start", "in_pair",
+                       "particle_x_ref", "pair_f", "pair_tc"});
   // depends on: the displacement since the last build, known after the drift.
   dep(nbr, kick, "rebuild decision needs the drifted positions");
-  const int pairs = add("contact_forces", &dem::contact_forces);
+  const int pairs = add("contact_forces", &dem::contact_forces,
+                        with(grain, {"particle_x", "particle_v", "particle_w", "nbr_start", "pair_i", "pair_j", "box"}),
+                        {"pair_f", "pair_tc", "pair_hist", "particle_f", "particle_t"});
   dep(pairs, nbr, "iterates the (possibly rebuilt) pair list");
   int walls = -1;
   if (!m.walls.empty()) {
-    walls = add("wall_forces", &dem::wall_forces);
-    // Independent of the pair list: runs concurrently with update_neighbors and contact_forces.
-    dep(walls, kick, "needs the drifted positions and half-kicked velocities");
+    walls = add("wall_forces", &dem::wall_forces, with(grain, {"particle_x", "particle_v", "particle_w"}),
+                {"wall_f", "wall_hist", "particle_t_wall"});
+    // Runs concurrently with contact_forces; not with update_neighbors, which may renumber grains.
+    dep(walls, nbr, "a rebuild may renumber the grains (cell order)");
   }
-  const int gather = add("gather_kick", &dem::gather_kick);
+  const int gather = add("gather_kick", &dem::gather_kick,
+                         with(grain, {"pair_f", "pair_tc", "in_start", "in_pair", "wall_f", "particle_t_wall"}),
+                         {"particle_f", "particle_t", "particle_v", "particle_w"});
   dep(gather, pairs, "sums the pair forces of this step");
   if (walls >= 0) dep(gather, walls, "adds the wall forces of this step");
   if (m.box_control.on) {
-    const int box = add("box_kick", &dem::box_kick);
+    const int box = add("box_kick", &dem::box_kick,
+                        with(grain, {"pair_f", "particle_v", "particle_x", "nbr_start", "pair_j", "box"}),
+                        {"box_stress", "box_rate"});
     dep(box, gather, "kinetic stress uses the full-step velocities; contact stress the new pair forces");
   }
+  if (const std::string err = check_access(st); !err.empty()) throw std::logic_error("step graph: " + err);
   return st;
+}
+
+std::string check_access(const std::vector<Stage>& stages) {
+  const size_t n = stages.size();
+  // before[a][b]: a finishes before b starts (transitive closure of the dependencies).
+  std::vector<std::vector<bool>> before(n, std::vector<bool>(n, false));
+  for (size_t b = 0; b < n; ++b)
+    for (int d : stages[b].deps) {
+      before[d][b] = true;
+      for (size_t a = 0; a < n; ++a)
+        if (before[a][d]) before[a][b] = true;
+    }
+  auto touches = [](const std::vector<std::string>& writes, const Stage& other) -> std::string {
+    for (const std::string& w : writes) {
+      for (const std::string& r : other.reads)
+        if (r == w) return w;
+      for (const std::string& x : other.writes)
+        if (x == w) return w;
+    }
+    return "";
+  };
+  for (size_t a = 0; a < n; ++a)
+    for (size_t b = a + 1; b < n; ++b) {
+      if (before[a][b] || before[b][a]) continue;
+      std::string what = touches(stages[a].writes, stages[b]);
+      if (what.empty()) what = touches(stages[b].writes, stages[a]);
+      if (!what.empty())
+        return stages[a].name + " and " + stages[b].name + " may run at the same time and both use " + what +
+               ", one of them writing it";
+    }
+  return "";
 }
 
 StepGraph::StepGraph(const Model& m) : stages_(build_stages(m)) {

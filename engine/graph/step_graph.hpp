@@ -19,7 +19,14 @@ struct Stage {
   StageFn fn = nullptr;
   std::vector<int> deps;          // indices of stages that must finish first
   std::vector<std::string> why;   // one reason per dependency
+  // State the stage reads and writes (array names, or "grain_order" for the numbering of the
+  // grains, which a neighbour rebuild may change). Checked by check_access().
+  std::vector<std::string> reads, writes;
 };
+
+// Two stages that the graph may run at the same time must not touch the same data with at least
+// one of them writing it. Returns "" or a description of the first conflict.
+std::string check_access(const std::vector<Stage>& stages);
 
 class StepGraph {
  public:

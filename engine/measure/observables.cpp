@@ -3,12 +3,13 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "core/text.hpp"
 #include "silt/observables.hpp"
 
 namespace silt {
 namespace {
 
-enum Kind { kT, kStep, kDt, kKe, kKeRot, kPhi, kZ, kZStar, kNContacts, kStress, kPressure, kMu, kBoxL, kGrainX, kGrainV, kGrainW, kGrainF, kNBuilds, kNPairs };
+enum Kind { kT, kStep, kDt, kKe, kKeRot, kPhi, kZ, kZStar, kNContacts, kStress, kPressure, kMu, kBoxL, kGrainX, kGrainV, kGrainW, kGrainF, kNBuilds, kNPairs, kWallF };
 
 const char* kAxes = "xyz";
 
@@ -77,6 +78,23 @@ Parsed parse(const std::string& name, const Model& m) {
       }
     }
   }
+  if (name.rfind("wall[", 0) == 0) {
+    const auto rb = name.find(']');
+    if (rb != std::string::npos && rb > 5 && name.size() == rb + 4 && name.substr(rb + 1, 2) == ".f") {
+      const std::string idx = name.substr(5, rb - 5);
+      const char* ax = std::strchr(kAxes, name.back());
+      if (idx.find_first_not_of("0123456789") == std::string::npos && idx.size() < 6 && ax && *ax && ax - kAxes < D) {
+        p.grain = std::stoll(idx);  // the wall index
+        if (p.grain >= static_cast<int64_t>(m.walls.size())) {
+          p.error = "'" + name + "': there is no wall " + idx + " (the scene has " + std::to_string(m.walls.size()) + ")";
+          return p;
+        }
+        p.kind = kWallF;
+        p.component = static_cast<int>(ax - kAxes);
+        return p;
+      }
+    }
+  }
   if (needs_other_module(name)) {
     p.error = "observable '" + name + "' does not apply to this scene (it needs a module the scene does not enable)";
     return p;
@@ -86,17 +104,9 @@ Parsed parse(const std::string& name, const Model& m) {
   std::string best;
   size_t best_d = 3;
   for (const std::string& c : observable_names(m)) {
-    // Cheap distance: common-prefix aware Levenshtein.
-    std::vector<size_t> prev(c.size() + 1), cur(c.size() + 1);
-    for (size_t j = 0; j <= c.size(); ++j) prev[j] = j;
-    for (size_t i = 1; i <= name.size(); ++i) {
-      cur[0] = i;
-      for (size_t j = 1; j <= c.size(); ++j)
-        cur[j] = std::min({prev[j] + 1, cur[j - 1] + 1, prev[j - 1] + (name[i - 1] == c[j - 1] ? 0 : 1)});
-      std::swap(prev, cur);
-    }
-    if (prev[c.size()] < best_d) {
-      best_d = prev[c.size()];
+    const size_t dist = edit_distance(name, c);
+    if (dist < best_d) {
+      best_d = dist;
       best = c;
     }
   }
@@ -117,6 +127,8 @@ std::vector<std::string> observable_names(const Model& m) {
     for (int a = 0; a < 3; ++a) out.push_back(std::string("p[0].w") + kAxes[a]);
   else
     out.push_back("p[0].wz");
+  for (size_t w = 0; w < m.walls.size(); ++w)
+    for (int a = 0; a < m.dim; ++a) out.push_back("wall[" + std::to_string(w) + "].f" + kAxes[a]);
   return out;
 }
 
@@ -141,7 +153,7 @@ std::vector<double> Observer::sample(const Model& m, const State& s) const {
   out.reserve(items_.size());
   std::vector<int64_t> index;  // grain id -> index, built once if a p[K] observable is asked
   for (const Item& it : items_)
-    if (it.grain >= 0 && index.empty()) index = index_of_ids(s);
+    if (it.grain >= 0 && it.kind != kWallF && index.empty()) index = index_of_ids(s);
   for (const Item& it : items_) {
     double v = 0;
     switch (it.kind) {
@@ -160,6 +172,11 @@ std::vector<double> Observer::sample(const Model& m, const State& s) const {
       case kBoxL: v = s.box.len[it.component]; break;
       case kNBuilds: v = static_cast<double>(s.nbr_builds); break;
       case kNPairs: v = static_cast<double>(s.n_pairs()); break;
+      case kWallF: {  // force of the grains on the wall: minus the wall's force on them
+        const int nw = s.n_walls;
+        for (int64_t i = 0; i < s.n; ++i) v -= s.wall_f[(i * nw + it.grain) * D + it.component];
+        break;
+      }
       case kGrainX: v = s.particle_x[D * index[it.grain] + it.component]; break;
       case kGrainV: v = s.particle_v[D * index[it.grain] + it.component]; break;
       case kGrainW: v = s.particle_w[R * index[it.grain] + it.component]; break;

@@ -4,6 +4,7 @@
 #include <sstream>
 
 #include "core/rng.hpp"
+#include "core/text.hpp"
 #include "scene/contact_setup.hpp"
 #include "scene/grain_setup.hpp"
 #include "silt/observables.hpp"
@@ -11,12 +12,8 @@
 namespace silt {
 namespace {
 
-std::string fmt(double x) {
-  std::ostringstream o;
-  o.precision(6);
-  o << x;
-  return o.str();
-}
+std::string fmt_(double x) { return format_number(x, 6); }
+
 
 void setup_domain(const SceneDesc& d, Model& m) {
   const auto lo = d.reals("domain.lo"), hi = d.reals("domain.hi");
@@ -109,9 +106,9 @@ void setup_time(const SceneDesc& d, Model& m) {
   m.dt = abs ? d.real("run.dt") : (rel ? d.real("run.dt_over_tc") : 0.02) * m.t_contact;
   if (m.dt > m.dt_stable) {
     const std::string key = abs ? "run.dt" : "run.dt_over_tc";
-    d.fail(key, "time step " + fmt(m.dt) + " s exceeds the velocity-Verlet stability limit " + fmt(m.dt_stable) +
-                    " s of the stiffest contact (reduced mass " + fmt(m.m_eff_min) + ", stiffness " + fmt(m.k_max) +
-                    "); reduce " + key + " (run.dt_over_tc <= " + fmt(m.dt_stable / m.t_contact) + ")");
+    d.fail(key, "time step " + fmt_(m.dt) + " s exceeds the velocity-Verlet stability limit " + fmt_(m.dt_stable) +
+                    " s of the stiffest contact (reduced mass " + fmt_(m.m_eff_min) + ", stiffness " + fmt_(m.k_max) +
+                    "); reduce " + key + " (run.dt_over_tc <= " + fmt_(m.dt_stable / m.t_contact) + ")");
   }
   if (d.has("run.steps") && d.has("run.time")) d.fail("run.time", "give run.steps or run.time, not both");
   if (d.has("run.steps")) m.run_steps = d.integer("run.steps");
@@ -130,8 +127,8 @@ void setup_neighbors(const SceneDesc& d, Model& m) {
   const double range = 2 * m.r_max + m.skin;
   for (int k = 0; k < m.dim; ++k)
     if (m.box.periodic[k] && m.box.len[k] < 2 * range)
-      d.fail("domain.hi", "the periodic length along " + std::string(1, "xyz"[k]) + " (" + fmt(m.box.len[k]) +
-                              ") must be at least twice the interaction range 2 r_max + skin = " + fmt(range));
+      d.fail("domain.hi", "the periodic length along " + std::string(1, "xyz"[k]) + " (" + fmt_(m.box.len[k]) +
+                              ") must be at least twice the interaction range 2 r_max + skin = " + fmt_(range));
 }
 
 // Energy the scene can supply: initial kinetic energy, the potential energy of free grains

@@ -12,20 +12,17 @@
 #include <unordered_map>
 
 #include "core/rng.hpp"
+#include "core/text.hpp"
 
 namespace silt::scene {
 namespace {
 
+std::string fmt_(double x) { return format_number(x, 6); }
+
+
 constexpr double kPi = 3.14159265358979323846;
 
 std::string key(int g, const char* leaf) { return "grains[" + std::to_string(g) + "]." + leaf; }
-
-std::string fmt(double x) {
-  std::ostringstream o;
-  o.precision(6);
-  o << x;
-  return o.str();
-}
 
 // A uniform hash grid over grain centres for overlap queries while placing. Cells are at least
 // `cell` wide; in periodic directions their number divides the box length and indices wrap.
@@ -196,7 +193,7 @@ std::vector<double> draw_radii(const SceneDesc& d, const Model& m, int g, int64_
     if (frac.size() != sizes.size())
       d.fail(key(g, "volume_fractions"), "needs one entry per radius in radii");
     const double total = std::accumulate(frac.begin(), frac.end(), 0.0);
-    if (std::abs(total - 1) > 1e-9) d.fail(key(g, "volume_fractions"), "must add up to 1 (they add up to " + fmt(total) + ")");
+    if (std::abs(total - 1) > 1e-9) d.fail(key(g, "volume_fractions"), "must add up to 1 (they add up to " + fmt_(total) + ")");
     // Number fraction of size k is proportional to phi_k / r_k^D; largest-remainder rounding.
     std::vector<double> w(sizes.size());
     for (size_t k = 0; k < sizes.size(); ++k) w[k] = frac[k] / std::pow(sizes[k], m.dim);
@@ -293,7 +290,7 @@ void place_random(const SceneDesc& d, Model& m, int g, const Group& G, int64_t f
       for (int64_t j = first; j < first + G.count; ++j)
         solid += D == 3 ? 4.0 / 3.0 * kPi * std::pow(rs[j], 3) : kPi * rs[j] * rs[j];
       d.fail(key(g, "count"), "could not place grain " + std::to_string(q + 1) + " of " + std::to_string(G.count) +
-                                  " at random without overlap (the group alone fills " + fmt(solid / vol) +
+                                  " at random without overlap (the group alone fills " + fmt_(solid / vol) +
                                   " of its region; random addition jams near 0.55 in 2D and 0.38 in 3D): use a "
                                   "larger region, fewer grains, or placement = \"lattice\"");
     }
@@ -460,16 +457,16 @@ void check_initial_overlaps(const Model& m) {
     const double f = grid.worst_overlap(x, I.radius[i], I.x, I.radius, &j);
     if (f > m.limits.max_overlap && !(I.frozen[i] && I.frozen[j]))
       m.desc.fail("limits.max_overlap", "grains " + std::to_string(j) + " and " + std::to_string(i) +
-                                            " overlap by " + fmt(100 * f) +
+                                            " overlap by " + fmt_(100 * f) +
                                             "% of the smaller radius at t = 0, beyond limits.max_overlap = " +
-                                            fmt(m.limits.max_overlap) + ": move them apart or reduce their radii");
+                                            fmt_(m.limits.max_overlap) + ": move them apart or reduce their radii");
     grid.insert(i, x);
     for (size_t w = 0; w < m.walls.size(); ++w) {
       const double gap = wall_gap(m, x, I.radius[i], m.walls[w]);
       if (!I.frozen[i] && -gap > m.limits.max_overlap * I.radius[i])
         m.desc.fail("walls[" + std::to_string(w) + "].point",
                     "grain " + std::to_string(i) + " overlaps wall " + std::to_string(w) + " by " +
-                        fmt(-100 * gap / I.radius[i]) + "% of its radius at t = 0");
+                        fmt_(-100 * gap / I.radius[i]) + "% of its radius at t = 0");
     }
   }
 }

@@ -31,7 +31,7 @@ namespace silt {
   X(double,  particle_inv_i,  "N",   "1/(kg m^2)", "inverse moment of inertia, 0 for frozen grains; compile")    \
   X(double,  particle_x_ref,  "N*D", "m",     "centre at the last neighbour build; update_neighbors")            \
   /* walls */                                                                                                  \
-  X(double,  particle_f_wall, "N*D", "N",     "force from the walls this step; wall_forces")                     \
+  X(double,  wall_f,          "N*W*D", "N",   "force on the grain from each wall this step; wall_forces")         \
   X(double,  particle_t_wall, "N*R", "N m",   "torque from the walls this step; wall_forces")                    \
   X(double,  wall_hist,       "N*W*D", "m",   "grain-wall tangential spring elongation; wall_forces")            \
   /* neighbour pairs: half Verlet list in CSR form, row i holds j > i sorted */                               \

@@ -1,0 +1,86 @@
+// Dry 2D packings of Peyneau (2009) sec. 2.3.2 (scenes/pack_2d.toml): N = 224 disks, diameters
+// uniform in [0.7a, a], k_N/P = 1e4, isotropic compression at P to a static state.
+//
+//   build/bench/pack_2d [--seeds N] [--threads N] [--mass-factors 0.01,1,100]
+//
+// For mu = 0.3 and mu = 0 (and each box mass M = factor * N m), runs N seeds to equilibrium and
+// prints Phi, z* (rattlers removed) with mean, standard deviation and error of the mean, next to
+// the thesis' values (0.802 +- 0.010 and 0.836 +- 0.002 over 5 configurations). Appends to
+// bench/results/pack_2d.csv.
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <sstream>
+#include <vector>
+
+#include "bench_util.hpp"
+#include "silt/observables.hpp"
+#include "silt/scene.hpp"
+#include "silt/simulation.hpp"
+
+using namespace silt;
+
+int main(int argc, char** argv) {
+  int seeds = 5, threads = 2;
+  std::vector<double> factors = {1.0};
+  for (int i = 1; i + 1 < argc; i += 2) {
+    if (!std::strcmp(argv[i], "--seeds")) seeds = std::atoi(argv[i + 1]);
+    else if (!std::strcmp(argv[i], "--threads")) threads = std::atoi(argv[i + 1]);
+    else if (!std::strcmp(argv[i], "--mass-factors")) {
+      factors.clear();
+      std::istringstream in(argv[i + 1]);
+      std::string item;
+      while (std::getline(in, item, ',')) factors.push_back(std::stod(item));
+    }
+  }
+  const std::string scene = std::string(SILT_SOURCE_DIR) + "/scenes/pack_2d.toml";
+  std::printf("%-6s %-8s %-22s %-22s %-8s %-10s %-8s %s\n", "mu", "M/(Nm)", "Phi mean +- sd (err)", "z* mean +- sd",
+              "static", "steps", "wall s", "Peyneau Phi");
+  for (double mu : {0.3, 0.0}) {
+    for (double factor : factors) {
+      std::vector<double> phi, zs;
+      int n_static = 0;
+      double steps = 0, wall = 0;
+      for (int seed = 1; seed <= seeds; ++seed) {
+        std::ostringstream f, sd, mf;
+        f << "contact.friction=" << mu;
+        sd << "scene.seed=" << seed;
+        mf << "box.mass_factor=" << factor;
+        Model m = compile(load_scene_file(scene, {parse_override(f.str()), parse_override(sd.str()), parse_override(mf.str())}));
+        Simulation sim(std::move(m), threads);
+        RunOptions opt;
+        opt.steps = sim.model().run_steps;
+        opt.stop_when_static = true;
+        const RunReport r = sim.run(opt);
+        n_static += r.end == RunEnd::kStatic;
+        const Measurements meas = measure(sim.model(), sim.state());
+        phi.push_back(meas.phi);
+        zs.push_back(meas.z_star);
+        steps += static_cast<double>(r.steps_done) / seeds;
+        wall += r.wall_s;
+      }
+      auto stats = [](const std::vector<double>& v) {
+        double mean = 0, var = 0;
+        for (double x : v) mean += x / v.size();
+        for (double x : v) var += (x - mean) * (x - mean) / std::max<size_t>(1, v.size() - 1);
+        return std::pair{mean, std::sqrt(var)};
+      };
+      const auto [pm, ps] = stats(phi);
+      const auto [zm, zsd] = stats(zs);
+      char pbuf[64], zbuf[64];
+      std::snprintf(pbuf, sizeof pbuf, "%.4f +- %.4f (%.4f)", pm, ps, ps / std::sqrt(phi.size()));
+      std::snprintf(zbuf, sizeof zbuf, "%.3f +- %.3f", zm, zsd);
+      std::printf("%-6.2f %-8.3g %-22s %-22s %d/%-6d %-10.0f %-8.1f %s\n", mu, factor, pbuf, zbuf, n_static, seeds, steps,
+                  wall, mu > 0 ? "0.802 +- 0.010" : "0.836 +- 0.002");
+      std::ostringstream row;
+      row << bench::today() << "," << mu << "," << factor << "," << seeds << "," << pm << "," << ps << "," << zm << ","
+          << zsd << "," << n_static << "," << steps << "," << wall << "," << (mu > 0 ? 0.802 : 0.836) << ","
+          << (mu > 0 ? 0.010 : 0.002);
+      bench::append_csv(std::string(SILT_SOURCE_DIR) + "/bench/results/pack_2d.csv",
+                        "date,mu,mass_factor,seeds,phi_mean,phi_sd,zstar_mean,zstar_sd,n_static,mean_steps,wall_s,"
+                        "peyneau_phi,peyneau_sd",
+                        row.str());
+    }
+  }
+  return 0;
+}
