@@ -76,22 +76,24 @@ void pair_forces(const Model& m, State& s) {
       if constexpr (Friction) somega_store<D>(row_t, i, SOmega<D>{});
     }
     int64_t c = 0;
-    for (int32_t p = start[b]; p < start[e]; ++p) {
-      const int32_t i = pi[p], j = pj[p];
+    for (int64_t p = start[b]; p < start[e]; ++p) {
+      const int64_t i = pi[p], j = pj[p];
       V d = V::load(x + D * i) - V::load(x + D * j);
       for (int k = 0; k < D; ++k) d[k] = img.nearest(d[k], k);
       const double rs = r[i] + r[j];
       const double keep = d.squaredNorm() < rs * rs ? 1.0 : 0.0;
       V::Zero().store(pf + D * p);
-      if constexpr (Friction)
-        for (int k = 0; k < D; ++k) hist[D * p + k] *= keep;
-      tp[c] = p;
+      if constexpr (Friction) {
+        double* __restrict h = hist + D * p;
+        for (int k = 0; k < D; ++k) h[k] *= keep;
+      }
+      tp[c] = static_cast<int32_t>(p);
       d.store(td + D * c);
       c += static_cast<int64_t>(keep);
     }
     // Pass 2: the laws on the touching pairs, in row order.
     for (int64_t q = 0; q < c; ++q) {
-      const int32_t p = tp[q], i = pi[p], j = pj[p];
+      const int64_t p = tp[q], i = pi[p], j = pj[p];
       const V d = V::load(td + D * q);
       const double ri = r[i], rj = r[j];
       const double dist = d.norm();

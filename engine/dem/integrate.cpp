@@ -20,14 +20,13 @@ namespace {
 
 constexpr int64_t kGrain = 1024;
 
-template <int D>
+template <int D, bool Scaled>
 void kick_drift_dim(const Model& m, State& s) {
   constexpr int R = kRotDim<D>;
   const double dt = s.dt, h = 0.5 * dt;
   // Box: half kick from the stress of the previous step, then drift of the lengths.
-  bool scaled = false;
   double lambda[3] = {1, 1, 1};
-  if (m.box_control.on) {
+  if constexpr (Scaled) {
     double vol = 1;
     for (int k = 0; k < D; ++k) vol *= s.box.len[k];
     for (int k = 0; k < D; ++k) {
@@ -36,7 +35,6 @@ void kick_drift_dim(const Model& m, State& s) {
       const double next = s.box.len[k] + dt * s.box_rate[k];
       lambda[k] = next / s.box.len[k];
       s.box.len[k] = next;
-      scaled = true;
     }
   }
   // Per-direction constants, copied so that the loop keeps them in registers.
@@ -67,8 +65,14 @@ void kick_drift_dim(const Model& m, State& s) {
       double d2 = 0;
       for (int k = 0; k < D; ++k) {
         const double vk = v[D * i + k] + h * (f[D * i + k] * im + g[k]);
-        double xk = scaled ? lo[k] + lambda[k] * (x[D * i + k] - lo[k] + dt * vk) : x[D * i + k] + dt * vk;
-        v[D * i + k] = scaled ? vk * lambda[k] : vk;
+        double xk;
+        if constexpr (Scaled) {
+          xk = lo[k] + lambda[k] * (x[D * i + k] - lo[k] + dt * vk);
+          v[D * i + k] = vk * lambda[k];
+        } else {
+          xk = x[D * i + k] + dt * vk;
+          v[D * i + k] = vk;
+        }
         if (periodic[k] && !(xk >= lo[k] && xk < hi[k])) {
           xk -= std::floor((xk - lo[k]) / len[k]) * len[k];
           if (!(xk < hi[k])) xk = lo[k];  // rounding at the upper edge
@@ -108,28 +112,32 @@ void gather_dim(const Model& m, State& s) {
   double* __restrict v = s.particle_v.data();
   double* __restrict w = s.particle_w.data();
   Alarm& nonfinite = s.alarm_nonfinite;
-  parallel_for(s.n, kGrain, [&, pf, ptc, in_start, in_pair, radius, fwall, twall, inv_m, inv_i, frozen, force, torq, v,
-                             w, h, g, nw](int64_t b, int64_t e) {
-    for (int64_t i = b; i < e; ++i) {
-      // contact_forces left the sum over row i (pairs where i is first) in particle_f/t.
-      Vec<D> f = at<D>(force, i);
-      Omega<D> tc{};
-      if constexpr (D == 3) tc = Vec3::Zero();
-      for (int32_t q = in_start[i]; q < in_start[i + 1]; ++q) {
-        const int32_t p = in_pair[q];
-        f -= at<D>(pf, p);
-        if constexpr (Torque) tc += omega_at<D>(ptc, p);
+  const int32_t* __restrict pj = s.pair_j.data();
+  parallel_for(s.n, kGrain, [&, pf, ptc, in_start, in_pair, pj, radius, fwall, twall, inv_m, inv_i, frozen, force, torq,
+                             v, w, h, g, nw](int64_t b, int64_t e) {
+    // contact_forces left the sum over row i (pairs where i is first) in particle_f/t; add the
+    // pairs where the grain is second, in one flat loop (grains of the block in order, each
+    // grain's pairs in row order). Torque from a pair on either grain is -r (n x F_t).
+    for (int64_t q = in_start[b]; q < in_start[e]; ++q) {
+      const int64_t p = in_pair[q], j = pj[p];
+      double* __restrict fj = force + D * j;
+      const double* __restrict fp = pf + D * p;
+      for (int k = 0; k < D; ++k) fj[k] -= fp[k];
+      if constexpr (Torque) {
+        double* __restrict tj = torq + R * j;
+        const double* __restrict tp = ptc + R * p;
+        const double rj = radius[j];
+        for (int k = 0; k < R; ++k) tj[k] -= rj * tp[k];
       }
-      // Torque from a pair on either grain is -r (n x F_t): see contact_forces.cpp.
-      Omega<D> torque{};
-      if constexpr (D == 3) torque = Vec3::Zero();
-      if constexpr (Torque) torque = omega_at<D>(torq, i) - radius[i] * tc;
+    }
+    for (int64_t i = b; i < e; ++i) {
+      Vec<D> f = at<D>(force, i);
+      if constexpr (!Torque) omega_store<D>(torq, i, omega_zero<D>());
       if constexpr (Walls) {
         for (int wi = 0; wi < nw; ++wi) f += at<D>(fwall, i * nw + wi);
-        torque += omega_at<D>(twall, i);
+        for (int k = 0; k < R; ++k) torq[R * i + k] += twall[R * i + k];
+        at<D>(force, i) = f;
       }
-      at<D>(force, i) = f;
-      omega_store<D>(torq, i, torque);
       if constexpr (Kick) {
         if (frozen[i]) continue;
         const double im = inv_m[i], ii = inv_i[i];
@@ -155,8 +163,9 @@ void gather(const Model& m, State& s) {
 }  // namespace
 
 void kick_drift(const Model& m, State& s) {
-  if (m.dim == 2) kick_drift_dim<2>(m, s);
-  else kick_drift_dim<3>(m, s);
+  const bool scaled = m.box_control.on;
+  if (m.dim == 2) scaled ? kick_drift_dim<2, true>(m, s) : kick_drift_dim<2, false>(m, s);
+  else scaled ? kick_drift_dim<3, true>(m, s) : kick_drift_dim<3, false>(m, s);
 }
 
 void gather_kick(const Model& m, State& s) {

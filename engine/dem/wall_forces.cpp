@@ -21,8 +21,7 @@ void walls_dim(const Model& m, State& s) {
   const double dt = s.dt;
   parallel_for(s.n, 1024, [&](int64_t b, int64_t e) {
     for (int64_t i = b; i < e; ++i) {
-      Omega<D> torque{};
-      if constexpr (D == 3) torque = Vec3::Zero();
+      Omega<D> torque = omega_zero<D>();
       for (int wi = 0; wi < nw; ++wi) at<D>(s.wall_f.data(), static_cast<int64_t>(i) * nw + wi).setZero();
       if (!s.particle_frozen[i]) {
         const auto x = at<D>(s.particle_x.data(), i);

@@ -143,7 +143,8 @@ State read_checkpoint(const std::string& path, const Model& m) {
     const auto len = r.get<uint32_t>();
     std::string stored_name(len, '\0');
     r.bytes(stored_name.data(), len);
-    if (stored_name != name) throw IoError("checkpoint '" + path + "': expected field " + name + ", found " + stored_name);
+    if (stored_name != name)
+      throw IoError("checkpoint '" + path + "' was written by another silt version (field " + stored_name + " where " + name + " is expected)");
     const auto elem = r.get<uint32_t>();
     const auto count = r.get<uint64_t>();
     if (elem != sizeof(v[0]) || count > buf.size()) throw IoError("checkpoint '" + path + "': bad field " + stored_name);

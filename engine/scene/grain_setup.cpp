@@ -128,7 +128,9 @@ void region_of(const SceneDesc& d, const Model& m, int g, Group& G) {
     if (!(G.hi[k] > G.lo[k])) d.fail(key(g, "region_hi"), "region_hi must exceed region_lo in every direction");
 }
 
-// Lattice sites in the half-open region [lo, hi), starting at lo.
+// Lattice sites in the half-open region [lo, hi). As with LAMMPS's `lattice`, sites sit at
+// origin + integer multiples of the cell (origin: grains[].lattice_origin, default 0), so that
+// several regions share one lattice.
 std::vector<double> lattice_sites(const SceneDesc& d, const Model& m, int g, const Group& G) {
   const std::string kind = d.string(key(g, "lattice"));
   const double a = d.real(key(g, "spacing"));
@@ -148,8 +150,14 @@ std::vector<double> lattice_sites(const SceneDesc& d, const Model& m, int g, con
     cell = {c, c, c};
     basis = {{0, 0, 0}, {c / 2, c / 2, 0}, {c / 2, 0, c / 2}, {0, c / 2, c / 2}};
   }
-  int64_t n[3] = {1, 1, 1};
-  for (int k = 0; k < D; ++k) n[k] = static_cast<int64_t>(std::ceil((G.hi[k] - G.lo[k]) / cell[k])) + 1;
+  std::vector<double> origin(D, 0.0);
+  if (d.has(key(g, "lattice_origin"))) origin = d.reals(key(g, "lattice_origin"));
+  if (static_cast<int>(origin.size()) != D) d.fail(key(g, "lattice_origin"), "needs " + std::to_string(D) + " entries");
+  int64_t first[3] = {0, 0, 0}, n[3] = {1, 1, 1};
+  for (int k = 0; k < D; ++k) {
+    first[k] = static_cast<int64_t>(std::floor((G.lo[k] - origin[k]) / cell[k])) - 1;
+    n[k] = static_cast<int64_t>(std::ceil((G.hi[k] - G.lo[k]) / cell[k])) + 3;
+  }
   if (n[0] * n[1] * n[2] * static_cast<int64_t>(basis.size()) > 200'000'000)
     d.fail(key(g, "spacing"), "lattice spacing too small for the region");
   std::vector<double> sites;
@@ -161,7 +169,7 @@ std::vector<double> lattice_sites(const SceneDesc& d, const Model& m, int g, con
           double p[3];
           bool inside = true;
           for (int k = 0; k < D; ++k) {
-            p[k] = G.lo[k] + idx[k] * cell[k] + b[k];
+            p[k] = origin[k] + (first[k] + idx[k]) * cell[k] + b[k];
             // Half-open with a tolerance so that sites on lo are in and sites on hi are out.
             const double tol = 1e-9 * a;
             if (p[k] < G.lo[k] - tol || p[k] >= G.hi[k] - tol) inside = false;
@@ -428,10 +436,9 @@ void setup_grains(const SceneDesc& d, Model& m) {
     Rng rng(seed, 1000 + g);
     set_velocities(d, m, g, first[g], groups[g].count, rng);
     // Keys that only some choices read: reading them here keeps check_all_used() honest.
-    if (groups[g].placement != "lattice") {
-      if (d.has(key(g, "lattice"))) d.fail(key(g, "lattice"), "lattice is only read with placement = \"lattice\"");
-      if (d.has(key(g, "spacing"))) d.fail(key(g, "spacing"), "spacing is only read with placement = \"lattice\"");
-    }
+    if (groups[g].placement != "lattice")
+      for (const char* k : {"lattice", "spacing", "lattice_origin"})
+        if (d.has(key(g, k))) d.fail(key(g, k), std::string(k) + " is only read with placement = \"lattice\"");
   }
   m.n_frozen = std::count(I.frozen.begin(), I.frozen.end(), 1);
   double msum = 0;

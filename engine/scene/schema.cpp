@@ -71,6 +71,7 @@ std::vector<KeySpec> build_schema() {
       {"grains[].placement", K::kString, Value(std::string("random")), any(), "", false, S{"lattice", "random", "explicit"}, "How grains are placed."},
       {"grains[].lattice", K::kString, Value(std::string("sc")), any(), "", false, S{"sc", "hex", "fcc"}, "Lattice: sc (square/cubic), hex (2D triangular), fcc (3D)."},
       {"grains[].spacing", K::kReal, std::nullopt, positive(), "m", false, {}, "Lattice spacing (nearest sites)."},
+      {"grains[].lattice_origin", K::kRealList, std::nullopt, any(), "m", false, {}, "A site of the lattice (default: the origin); sites fill the region from there."},
       {"grains[].region_lo", K::kRealList, std::nullopt, any(), "m", false, {}, "Lower corner of the placement region (default: domain.lo)."},
       {"grains[].region_hi", K::kRealList, std::nullopt, any(), "m", false, {}, "Upper corner of the placement region (default: domain.hi)."},
       {"grains[].positions", K::kRealMatrix, std::nullopt, any(), "m", false, {}, "Explicit centres, one list per grain."},

@@ -114,3 +114,13 @@ steps = 1000
   CHECK(j["exit_code"] == 3);
   CHECK(j["failure"]["parameter"] == "contact.k_n");
 }
+
+TEST_CASE("the README's parameter table is the schema's") {
+  const std::string readme = read_file(std::string(SILT_SOURCE_DIR) + "/README.md");
+  const auto begin = readme.find("<!-- params -->\n");
+  const auto end = readme.find("<!-- /params -->");
+  REQUIRE(begin != std::string::npos);
+  REQUIRE(end != std::string::npos);
+  const std::string table = readme.substr(begin + 16, end - begin - 16);
+  CHECK(table == silt_cli("params --markdown").out);
+}

@@ -24,6 +24,15 @@ inline int rot_dim(int dim) { return dim == 3 ? 3 : 1; }
 template <int D>
 using Omega = std::conditional_t<D == 3, Vec3, double>;
 
+template <int D>
+inline Omega<D> omega_zero() {
+  if constexpr (D == 3) {
+    return Vec3::Zero();
+  } else {
+    return 0.0;
+  }
+}
+
 // w x n for an angular velocity w and an in-space vector n.
 inline Vec3 cross_w(const Vec3& w, const Vec3& n) { return w.cross(n); }
 inline Vec2 cross_w(double w, const Vec2& n) { return Vec2(-w * n.y(), w * n.x()); }
