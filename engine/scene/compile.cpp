@@ -77,10 +77,12 @@ void setup_walls(const SceneDesc& d, Model& m) {
 void setup_box_control(const SceneDesc& d, Model& m) {
   BoxControl& b = m.box_control;
   if (!d.has("box.pressure")) {
-    if (d.has("box.controlled")) d.fail("box.controlled", "box.controlled needs box.pressure");
-    d.real("box.mass_factor");
+    for (const char* k : {"box.controlled", "box.mass_factor"})
+      if (d.has(k)) d.fail(k, std::string(k) + " needs box.pressure");
     return;
   }
+  if (m.n_frozen > 0)
+    d.fail("box.pressure", "a stress-controlled box cannot hold frozen grains (they would not follow its deformation)");
   b.on = true;
   b.pressure = d.real("box.pressure");
   std::vector<bool> c(m.box.periodic.begin(), m.box.periodic.begin() + m.dim);
