@@ -48,6 +48,15 @@ if(NOT OSMESA_FOUND)
   silt_missing("OSMesa" "libosmesa6-dev")
 endif()
 
+pkg_check_modules(FREETYPE QUIET IMPORTED_TARGET freetype2)
+if(NOT FREETYPE_FOUND)
+  silt_missing("FreeType" "libfreetype-dev")
+endif()
+if(NOT EXISTS "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf")
+  message(WARNING "silt draws text with DejaVu Sans: install fonts-dejavu-core (or set SILT_FONT at run time)")
+endif()
+find_package(Threads REQUIRED)
+
 # CHOLMOD (SuiteSparse 5.12 on Debian 12) ships neither a CMake config nor a pkg-config file.
 find_path(CHOLMOD_INCLUDE_DIR cholmod.h PATH_SUFFIXES suitesparse)
 find_library(CHOLMOD_LIBRARY cholmod)

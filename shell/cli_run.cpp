@@ -11,6 +11,7 @@
 #include "shell/scene_loading.hpp"
 #include "silt/io.hpp"
 #include "silt/observables.hpp"
+#include "silt/render.hpp"
 #include "silt/simulation.hpp"
 
 namespace silt::cli {
@@ -72,6 +73,18 @@ int run_command(const RunArgs& a) {
     }
   }
 
+  std::unique_ptr<render::FrameWriter> frames;
+  if (!a.frames.empty()) {
+    try {
+      frames = std::make_unique<render::FrameWriter>(a.frames);
+    } catch (const IoError& e) {
+      return report_error(e.what(), 4);
+    }
+  }
+  const int64_t frame_every =
+      a.frame_every > 0 ? a.frame_every : (model.render.every > 0 ? model.render.every : model.sample_every);
+
+  SummaryInput sum;
   g_interrupt = false;
   std::signal(SIGINT, on_sigint);
   Progress progress(!a.quiet && ::isatty(2), sim.state().step, steps, model.n_grains);
@@ -80,14 +93,30 @@ int run_command(const RunArgs& a) {
   opt.sample_every = every;
   opt.on_sample = [&](const State& s) { stats->add(observer->sample(model, s)); };
   opt.on_progress = [&](const State& s) { progress.update(s); };
+  std::string frame_error;
+  if (frames) {
+    opt.frame_every = frame_every;
+    opt.on_frame = [&](const State& s) {
+      if (!frame_error.empty()) return;
+      try {
+        frames->submit(render::build_render_scene(model, s, model.render));
+      } catch (const std::exception& e) {
+        frame_error = e.what();
+      }
+    };
+  }
   opt.interrupt = &g_interrupt;
   opt.stop_when_static = until_static;
   const RunReport rep = sim.run(opt);
   progress.update(sim.state());
   progress.finish();
+  if (frames) {
+    frames->finish();
+    if (frame_error.empty()) frame_error = frames->error();
+    if (!frame_error.empty()) sum.warnings.push_back("frames stopped: " + frame_error);
+  }
   std::signal(SIGINT, SIG_DFL);
 
-  SummaryInput sum;
   sum.scene = a.scene;
   sum.wall_s = rep.wall_s;
   sum.steps_run = rep.steps_done;
@@ -116,6 +145,10 @@ int run_command(const RunArgs& a) {
     if (!a.summary.empty()) write_summary(a.summary, sum, sim, *stats);
   } catch (const IoError& e) {
     return report_error(e.what(), 4);
+  }
+  if (!frame_error.empty()) {
+    report_error("frames stopped (the run went on): " + frame_error, 4);
+    if (code == 0) code = 4;
   }
   const double rate = rep.wall_s > 0 ? model.n_grains * static_cast<double>(rep.steps_done) / rep.wall_s : 0;
   std::printf("%s: %lld steps (t = %.6g s) in %.3f s, %.4g grain-steps/s on %d thread(s); status %s\n",

@@ -25,6 +25,8 @@ int main(int argc, char** argv) {
   r->add_option("--summary", run.summary, "Summary JSON written at the end");
   r->add_option("--average-from", run.average_from, "Means and errors over samples with t >= T");
   r->add_flag("--quiet", run.quiet, "No progress line");
+  r->add_option("--frames", run.frames, "Write PNG frames DIR/frame_000000.png, ... (the scene's [render] settings)");
+  r->add_option("--frame-every", run.frame_every, "One frame every N steps (default: render.every, else output.every)");
   r->add_option("--restore", run.restore, "Start from a checkpoint of this scene (e.g. a .last_good.ckpt)");
 
   CheckArgs check;

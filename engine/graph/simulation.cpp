@@ -217,7 +217,11 @@ RunReport Simulation::run(const RunOptions& opt) {
   const auto t0 = std::chrono::steady_clock::now();
   auto last_progress = t0;
   prepare();
-  if (opt.on_sample && opt.sample_every > 0 && state_.step % opt.sample_every == 0) opt.on_sample(state_);
+  auto periodic = [&](bool first) {
+    if (opt.on_sample && opt.sample_every > 0 && state_.step % opt.sample_every == 0) opt.on_sample(state_);
+    if (opt.on_frame && opt.frame_every > 0 && (state_.step % opt.frame_every == 0 || first)) opt.on_frame(state_);
+  };
+  periodic(true);
   for (int64_t k = 0; k < opt.steps; ++k) {
     if (opt.interrupt && opt.interrupt->load()) {
       rep.end = RunEnd::kInterrupted;
@@ -228,7 +232,7 @@ RunReport Simulation::run(const RunOptions& opt) {
       break;
     }
     ++rep.steps_done;
-    if (opt.on_sample && opt.sample_every > 0 && state_.step % opt.sample_every == 0) opt.on_sample(state_);
+    periodic(false);
     if (opt.stop_when_static && state_.step % model_.limits.check_every == 0 && is_static()) {
       rep.end = RunEnd::kStatic;
       if (opt.on_sample && opt.sample_every > 0 && state_.step % opt.sample_every != 0) opt.on_sample(state_);

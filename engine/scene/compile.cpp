@@ -7,6 +7,7 @@
 #include "core/text.hpp"
 #include "scene/contact_setup.hpp"
 #include "scene/grain_setup.hpp"
+#include "scene/render_settings.hpp"
 #include "silt/observables.hpp"
 
 namespace silt {
@@ -204,6 +205,7 @@ Model compile(const SceneDesc& d) {
   for (const std::string& name : m.observe)
     if (auto err = check_observable(name, m); !err.empty()) D.fail("output.observe", err);
   m.sample_every = D.integer("output.every");
+  scene::read_render_settings(D, m);
   scene::check_initial_overlaps(m);
   D.check_all_used();
   return m;

@@ -75,6 +75,36 @@ struct RunLimits {
   int64_t check_every = 100;
 };
 
+// What a frame shows ([render] of the scene), read by the renderer; plain data, no GL here.
+struct RenderSettings {
+  int width = 1280, height = 720;
+  std::vector<std::string> draw{"grains", "colorbar", "time", "scalebar"};
+  std::string color_by = "speed";        // flat | speed | vx | vy | vz | height | id | group | frozen
+  std::string colormap = "sequential";   // sequential | diverging
+  bool range_auto = true;
+  double range[2] = {0, 1};
+  double flat_color[3] = {0.75, 0.75, 0.78};
+  double background[3] = {1, 1, 1};
+  double chain_width = 0.4;              // line width at the mean normal force, in mean radii
+  bool chains_above_mean = false;
+  double slab_half_width = 0;            // 3D chains: only those within this distance of the slab plane (0: all)
+  double slab_center[3] = {0, 0, 0};
+  double slab_normal[3] = {0, 1, 0};
+  double grain_opacity = -1;             // -1: opaque, or 0.25 in 3D when chains are drawn
+  std::string field = "vorticity";       // vorticity | velocity | pressure (fluid fields)
+  bool field_range_auto = true;
+  double field_range[2] = {-1, 1};
+  std::string slice_axis = "z";          // 3D field slice: plane normal
+  double slice_position = 0;             // coordinate of the slice along its axis
+  std::string slice_component = "magnitude";  // x | y | z | magnitude (3D vector fields)
+  double azimuth = 30, elevation = 25, distance = 0, fov = 30;  // 3D orbit camera [deg]; distance 0: auto
+  bool target_auto = true;
+  double target[3] = {0, 0, 0};
+  bool periodic_images = false;
+  int64_t every = 0;                     // steps between frames (0: output.every)
+  bool wants(const std::string& item) const;
+};
+
 struct StaticCriterion {
   bool on = false;
   double force_tol = 1e-4, stress_tol = 1e-4, ke_tol = 1e-8;
@@ -115,6 +145,8 @@ struct Model {
   double skin = 0;          // Verlet skin [m]
   bool sort_grains = true;  // reorder grains by cell at list builds (N > kSortMin)
   static constexpr int64_t kSortMin = 1024;
+
+  RenderSettings render;
 
   std::vector<std::string> observe;  // stats columns
   int64_t sample_every = 100;

@@ -18,6 +18,8 @@ struct RunOptions {
   int64_t steps = 0;         // steps to do from the current state
   int64_t sample_every = 0;  // 0: never sample
   std::function<void(const State&)> on_sample;    // at the first state and every sample_every
+  int64_t frame_every = 0;   // 0: no frames
+  std::function<void(const State&)> on_frame;     // at the first state and every frame_every
   std::function<void(const State&)> on_progress;  // a few times per second
   const std::atomic<bool>* interrupt = nullptr;   // checked at every step boundary
   bool stop_when_static = false;                  // Model::until_static criterion
