@@ -5,7 +5,7 @@ Both maps are built in CIELAB so that lightness L* changes linearly along the ma
 makes a colormap perceptually ordered and readable in grey:
   - sequential: L* from 18 to 93 while the hue turns from blue-violet through teal and green to
     yellow, with chroma peaking in the middle (the recipe of viridis-like maps);
-  - diverging: blue (L* 35) to near white (L* 97) to red (L* 35), symmetric in L* and chroma, so
+  - diverging: blue (L* 35) to white (L* 100) to red (L* 35), symmetric in L* and chroma, so
     that zero sits at the lightest point and equal magnitudes of opposite sign look equally strong.
 Run: tools/make_colormaps.py (writes assets/sequential.csv and assets/diverging.csv).
 """
@@ -51,7 +51,7 @@ def diverging(n=256):
     for i in range(n):
         t = i / (n - 1)
         s = abs(2 * t - 1)             # 0 at the centre, 1 at the ends
-        L = 97 - 62 * s
+        L = 100 - 65 * s
         C = 55 * s ** 0.8
         h = 260 if t < 0.5 else 25      # blue below zero, red above
         rows.append(lch(L, C, h))

@@ -1,0 +1,273 @@
+// The renderer, checked by pixel facts rather than "a file was written".
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <cstdio>
+
+#include "render/camera.hpp"
+#include "silt/render.hpp"
+#include "support/scenes.hpp"
+
+using namespace silt;
+using namespace silt::render;
+
+namespace {
+
+// Three disks in a row along x, pressed together: the left contact overlaps 4 times the right one.
+const char* kRow = R"(
+[scene]
+dimension = 2
+[domain]
+lo = [0, 0]
+hi = [8, 4]
+[contact]
+model = "linear"
+k_n = 1000
+[[grains]]
+radius = 1.0
+placement = "explicit"
+positions = [[1.5, 2], [3.46, 2], [5.45, 2]]
+[run]
+dt = 1e-3
+)";
+
+bool white(Rgba c) { return c.r > 245 && c.g > 245 && c.b > 245; }
+
+std::array<int, 2> pixel_of(const RenderScene& rs, double x, double y, double z = 0) {
+  const auto p = project(rs.camera, {x, y, z}, rs.width, rs.height);
+  return {static_cast<int>(std::lround(p[0] - 0.5)), static_cast<int>(std::lround(p[1] - 0.5))};
+}
+
+// Number of non-white pixels in the column through (x, y), within `reach` pixels of it.
+int thickness(const Image& img, std::array<int, 2> at, int reach) {
+  int n = 0;
+  for (int dy = -reach; dy <= reach; ++dy) n += !white(img.pixel(at[0], at[1] + dy));
+  return n;
+}
+
+View plain(int w, int h, std::vector<std::string> draw) {
+  View v;
+  v.width = w;
+  v.height = h;
+  v.draw = std::move(draw);
+  return v;
+}
+
+}  // namespace
+
+TEST_CASE("a force chain colours the pixels along the segment and nowhere else; more force, wider line") {
+  auto sim = test::simulation_from(kRow);
+  sim->prepare();
+  View v = plain(800, 400, {"chains"});
+  v.chain_width = 0.4;
+  const RenderScene rs = build_render_scene(sim->model(), sim->state(), v);
+  REQUIRE(rs.segments.size() == 2);
+  Rasterizer raster(1);
+  const Image img = raster.draw(rs);
+  // Along each segment: coloured. Above and below the row, and outside the chain: white.
+  const auto left = pixel_of(rs, 2.48, 2.0), right = pixel_of(rs, 4.455, 2.0);
+  CHECK_FALSE(white(img.pixel(left[0], left[1])));
+  CHECK_FALSE(white(img.pixel(right[0], right[1])));
+  for (double y : {0.5, 1.2, 2.8, 3.5}) {
+    const auto p = pixel_of(rs, 2.48, y);
+    CHECK(white(img.pixel(p[0], p[1])));
+  }
+  const auto out = pixel_of(rs, 7.5, 2.0);
+  CHECK(white(img.pixel(out[0], out[1])));
+  // The left contact carries 4 times the force of the right one: a wider line.
+  const int tl = thickness(img, left, 60), tr = thickness(img, right, 60);
+  CHECK(tr > 0);
+  CHECK(tl > 2 * tr);
+}
+
+TEST_CASE("a known vorticity field: positive red, negative blue, zero white") {
+  auto sim = test::simulation_from(kRow);
+  ScalarGrid g;
+  g.name = "vorticity";
+  g.nx = 8;
+  g.ny = 4;
+  g.h = {1, 1, 1};
+  g.value.assign(32, 0.0);
+  for (int j = 0; j < 4; ++j) {
+    g.value[j * 8 + 0] = g.value[j * 8 + 1] = 1.0;    // x in [0, 2): positive
+    g.value[j * 8 + 6] = g.value[j * 8 + 7] = -1.0;   // x in [6, 8): negative
+  }
+  View v = plain(800, 400, {"field"});
+  v.field_range_auto = false;
+  v.field_range[0] = -1;
+  v.field_range[1] = 1;
+  const RenderScene rs = build_render_scene(sim->model(), sim->state(), v, &g);
+  Rasterizer raster(1);
+  const Image img = raster.draw(rs);
+  const Rgba pos = img.pixel(pixel_of(rs, 1.0, 2.0)[0], pixel_of(rs, 1.0, 2.0)[1]);
+  const Rgba neg = img.pixel(pixel_of(rs, 7.0, 2.0)[0], pixel_of(rs, 7.0, 2.0)[1]);
+  const Rgba zero = img.pixel(pixel_of(rs, 4.0, 2.0)[0], pixel_of(rs, 4.0, 2.0)[1]);
+  CHECK(pos.r > 120);
+  CHECK(pos.r > pos.b + 60);
+  CHECK(neg.b > neg.r + 60);
+  CHECK(zero.r > 235);
+  CHECK(zero.g > 235);
+  CHECK(zero.b > 235);
+  CHECK(pos == Colormap::get("diverging").at(1.0));
+  CHECK(neg == Colormap::get("diverging").at(0.0));
+}
+
+TEST_CASE("Lamb-Oseen and Taylor-Green vortices put the expected colours at known points") {
+  auto sim = test::simulation_from(kRow);
+  View v = plain(800, 400, {"field"});
+  const ScalarGrid lo = lamb_oseen_vorticity(256, 128, {0, 0}, {8, 4}, {4, 2}, 1.0, 0.5);
+  RenderScene rs = build_render_scene(sim->model(), sim->state(), v, &lo);
+  Rasterizer raster(1);
+  Image img = raster.draw(rs);
+  const auto c = pixel_of(rs, 4.0, 2.0), far = pixel_of(rs, 7.5, 3.5);
+  CHECK(img.pixel(c[0], c[1]).r > img.pixel(c[0], c[1]).b + 60);  // the core: strongest positive
+  CHECK(white(img.pixel(far[0], far[1])));                          // exp(-r^2/rc^2) ~ 0 far away
+  // Taylor-Green on [0, 4]^2: omega > 0 at (1, 1), < 0 at (3, 1), 0 on the cell edges.
+  const ScalarGrid tg = taylor_green_vorticity(128, 128, 4.0, 1.0);
+  rs = build_render_scene(sim->model(), sim->state(), v, &tg);
+  img = raster.draw(rs);
+  const auto a = pixel_of(rs, 1.0, 1.0), b = pixel_of(rs, 3.0, 1.0), e = pixel_of(rs, 2.0, 1.0);
+  CHECK(img.pixel(a[0], a[1]).r > img.pixel(a[0], a[1]).b + 60);
+  CHECK(img.pixel(b[0], b[1]).b > img.pixel(b[0], b[1]).r + 60);
+  CHECK(img.pixel(e[0], e[1]).g > 200);  // near zero: near white
+}
+
+TEST_CASE("the colour bar spans the stated range, with its labels") {
+  auto sim = test::simulation_from(kRow);
+  View v = plain(800, 400, {"grains", "colorbar"});
+  v.color_by = "vx";
+  v.range_auto = false;
+  v.range[0] = 2;
+  v.range[1] = 5;
+  const RenderScene rs = build_render_scene(sim->model(), sim->state(), v);
+  REQUIRE(rs.colorbar.on);
+  CHECK(rs.colorbar.lo == 2);
+  CHECK(rs.colorbar.hi == 5);
+  Rasterizer raster(1);
+  Image img = raster.draw(rs);
+  compose_overlays(rs, img);
+  const ColorBar& b = rs.colorbar;
+  const Colormap& cm = Colormap::get("sequential");
+  CHECK(img.pixel(b.x + b.width / 2, b.y) == cm.at(1.0));
+  CHECK(img.pixel(b.x + b.width / 2, b.y + b.height - 1) == cm.at(0.0));
+  const int mid = b.height / 2;
+  CHECK(img.pixel(b.x + b.width / 2, b.y + mid) == cm.at(1.0 - static_cast<double>(mid) / (b.height - 1)));
+  // Labels: dark text pixels right of the bar's top and bottom.
+  auto ink_near = [&](int x0, int y0) {
+    int n = 0;
+    for (int y = y0 - 12; y <= y0 + 2; ++y)
+      for (int x = x0; x < x0 + 30; ++x) n += img.pixel(x, y).r < 128;
+    return n;
+  };
+  CHECK(ink_near(b.x + b.width + 5, b.y + 6) > 5);
+  CHECK(ink_near(b.x + b.width + 5, b.y + b.height + 4) > 5);
+  // The grains take the colours of their values: vx = 0 is below the range, the lowest colour.
+  const auto g0 = pixel_of(rs, 1.5, 2.0);
+  const Rgba c0 = img.pixel(g0[0], g0[1]);
+  CHECK(std::abs(static_cast<int>(c0.b) - static_cast<int>(cm.at(0.0).b)) < 90);
+}
+
+TEST_CASE("depth is right for overlapping spheres whatever the drawing order") {
+  const char* two = R"(
+[scene]
+dimension = 3
+[domain]
+lo = [-5, -5, -5]
+hi = [5, 5, 5]
+[contact]
+model = "hooke"
+k_n = 1000
+[[grains]]
+radius = 1.0
+placement = "explicit"
+positions = [[0, 0, 0], [0, 0, 2.5]]
+[run]
+dt = 1e-3
+)";
+  auto sim = test::simulation_from(two);
+  View v = plain(400, 400, {"grains"});
+  v.color_by = "id";
+  v.colormap = "diverging";
+  v.range_auto = false;
+  v.range[0] = 0;
+  v.range[1] = 1;
+  v.elevation = 89;  // looking down z: grain 1 (z = 2.5) is in front of grain 0
+  v.target_auto = false;
+  v.target[0] = v.target[1] = v.target[2] = 0;
+  v.distance = 20;
+  RenderScene rs = build_render_scene(sim->model(), sim->state(), v);
+  Rasterizer raster(1);
+  const auto centre = pixel_of(rs, 0, 0, 2.5);
+  const Rgba front = raster.draw(rs).pixel(centre[0], centre[1]);
+  CHECK(front.r > front.b + 60);  // id 1: red end
+  std::swap(rs.spheres[0], rs.spheres[1]);  // other drawing order, same picture
+  CHECK(raster.draw(rs).pixel(centre[0], centre[1]) == front);
+  // From below, grain 0 (blue) is in front.
+  v.elevation = -89;
+  rs = build_render_scene(sim->model(), sim->state(), v);
+  const auto c2 = pixel_of(rs, 0, 0, 0);
+  const Rgba back = raster.draw(rs).pixel(c2[0], c2[1]);
+  CHECK(back.b > back.r + 60);
+}
+
+TEST_CASE("PNG: written atomically, decodes with the expected size and channels") {
+  auto sim = test::simulation_from(kRow);
+  Rasterizer raster(1);
+  const Image img = render_frame(raster, sim->model(), sim->state(), plain(321, 123, {"grains", "time", "scalebar"}));
+  write_png("render_test.png", img);
+  const Image back = read_png("render_test.png");
+  CHECK(back.width == 321);
+  CHECK(back.height == 123);
+  CHECK(back.rgba.size() == 321u * 123u * 4u);
+  CHECK(back.rgba == img.rgba);
+  std::remove("render_test.png");
+  CHECK_THROWS_AS(write_png("no_dir/x.png", img), IoError);
+  CHECK_THROWS_AS(read_png("no_such.png"), IoError);
+}
+
+TEST_CASE("bad input: sizes, colormaps, NaN fields and empty frames give messages, not crashes") {
+  auto sim = test::simulation_from(kRow);
+  View v = plain(0, 100, {"grains"});
+  CHECK_THROWS_WITH_AS(build_render_scene(sim->model(), sim->state(), v), doctest::Contains("outside 16 .. 16384"),
+                       RenderError);
+  v = plain(100000, 100, {"grains"});
+  CHECK_THROWS_AS(build_render_scene(sim->model(), sim->state(), v), RenderError);
+  v = plain(200, 100, {"grains"});
+  v.colormap = "jet";
+  CHECK_THROWS_WITH_AS(build_render_scene(sim->model(), sim->state(), v), doctest::Contains("unknown colormap 'jet'"),
+                       RenderError);
+  // NaN in a field: drawn grey, with a warning.
+  ScalarGrid g;
+  g.name = "vorticity";
+  g.nx = 2;
+  g.ny = 1;
+  g.h = {4, 4, 1};
+  g.value = {std::nan(""), 1.0};
+  v = plain(200, 100, {"field"});
+  const RenderScene rs = build_render_scene(sim->model(), sim->state(), v, &g);
+  REQUIRE(rs.warnings.size() == 1);
+  CHECK(rs.warnings[0].find("NaN") != std::string::npos);
+  Rasterizer raster(1);
+  const Image img = raster.draw(rs);
+  const auto p = pixel_of(rs, 2.0, 2.0);
+  CHECK(img.pixel(p[0], p[1]) == Rgba{128, 128, 128, 255});
+  // Nothing to draw: the background.
+  v = plain(64, 32, {});
+  const Image empty = raster.draw(build_render_scene(sim->model(), sim->state(), v));
+  for (int y = 0; y < 32; ++y)
+    for (int x = 0; x < 64; ++x) REQUIRE(white(empty.pixel(x, y)));
+  // A field asked for where there is none: a warning, no crash.
+  v = plain(64, 32, {"field"});
+  CHECK(build_render_scene(sim->model(), sim->state(), v).warnings.size() == 1);
+}
+
+TEST_CASE("rendering never changes the state") {
+  auto sim = test::simulation_from(kRow);
+  sim->prepare();
+  const uint64_t before = state_hash(sim->state());
+  Rasterizer raster(1);
+  View v = plain(200, 100, {"grains", "chains", "colorbar", "time", "scalebar"});
+  v.periodic_images = true;
+  render_frame(raster, sim->model(), sim->state(), v);
+  CHECK(state_hash(sim->state()) == before);
+}
