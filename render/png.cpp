@@ -24,7 +24,10 @@ void write_png(const std::string& path, const Image& image) {
   png_init_io(png, f);
   png_set_IHDR(png, info, image.width, image.height, 8, PNG_COLOR_TYPE_RGBA, PNG_INTERLACE_NONE,
                PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
-  png_set_compression_level(png, 3);  // frames are many: favour speed over size
+  // Frames are many: favour speed over size (zlib level 1, one cheap filter; about 3 times faster
+  // than the defaults for 10 to 30 % larger files).
+  png_set_compression_level(png, 1);
+  png_set_filter(png, 0, PNG_FILTER_SUB);
   png_write_info(png, info);
   for (int y = 0; y < image.height; ++y)
     png_write_row(png, const_cast<png_bytep>(&image.rgba[static_cast<size_t>(y) * image.width * 4]));

@@ -34,9 +34,10 @@ out vec3 v_pos;
 void main() {
   vec2 corner = vec2((gl_VertexID & 1) == 0 ? -1.0 : 1.0, (gl_VertexID & 2) == 0 ? -1.0 : 1.0);
   vec4 c = u_view * vec4(a_centre, 1.0);
-  // A perspective silhouette is larger than the radius at the centre's depth: grow the quad and
-  // bring it to the front of the sphere so that the near side is never clipped.
-  float grow = u_ortho == 1 ? 1.0 : 1.6;
+  // Perspective: the quad is moved along the ray to the front of the sphere (so that the near side
+  // is never clipped), where the cone of rays grazing the sphere is narrower than the radius; off
+  // the axis the silhouette stretches by 1/cos of the angle to the axis.
+  float grow = u_ortho == 1 ? 1.0 : 1.05 * length(c.xyz) / max(-c.z, 1e-20);
   vec3 p = c.xyz + vec3(corner * a_radius * grow, 0.0);
   if (u_ortho == 0) p *= (length(c.xyz) - a_radius) / max(length(c.xyz), 1e-20);
   v_centre = c.xyz;

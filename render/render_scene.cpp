@@ -4,6 +4,7 @@
 #include <cstdio>
 
 #include "render/camera.hpp"
+#include "silt/contacts.hpp"
 #include "silt/render.hpp"
 
 namespace silt::render {
@@ -224,48 +225,36 @@ RenderScene build_render_scene(const Model& m, const State& s, const View& v, co
   // Force chains: one segment per contact between the centres, width proportional to the normal
   // force relative to the mean, coloured by it (Radjai et al. 1998 style).
   if (v.wants("chains")) {
-    struct Contact {
+    struct Chain {
       std::array<float, 3> a, b;
       double fn;
     };
-    std::vector<Contact> contacts;
+    std::vector<Chain> contacts;
     double sum = 0;
-    for (int64_t i = 0; i < s.n; ++i)
-      for (int32_t p = s.nbr_start[i]; p < s.nbr_start[i + 1]; ++p) {
-        const int64_t j = s.pair_j[p];
-        double d[3] = {0, 0, 0}, d2 = 0;
-        for (int k = 0; k < D; ++k) {
-          d[k] = s.particle_x[D * i + k] - s.particle_x[D * j + k];
-          if (s.box.periodic[k]) d[k] -= s.box.len[k] * std::nearbyint(d[k] / s.box.len[k]);
-          d2 += d[k] * d[k];
-        }
-        const double dist = std::sqrt(d2), reach = s.particle_r[i] + s.particle_r[j];
-        if (!(dist < reach) || dist == 0) continue;
-        double fn = 0;
-        for (int k = 0; k < D; ++k) fn += s.pair_f[D * p + k] * d[k] / dist;
-        if (!(fn > 0)) continue;
-        Contact c{};
-        for (int k = 0; k < D; ++k) {
-          c.a[k] = static_cast<float>(s.particle_x[D * i + k]);
-          c.b[k] = static_cast<float>(s.particle_x[D * i + k] - d[k]);
-        }
-        if (D == 3 && v.slab_half_width > 0) {
-          double off = 0, nn = 0;
-          for (int k = 0; k < 3; ++k) {
-            off += (0.5 * (c.a[k] + c.b[k]) - v.slab_center[k]) * v.slab_normal[k];
-            nn += v.slab_normal[k] * v.slab_normal[k];
-          }
-          if (std::abs(off) / std::sqrt(nn) > v.slab_half_width) continue;
-        }
-        c.fn = fn;
-        contacts.push_back(c);
-        sum += fn;
+    for (const Contact& k : touching_contacts(s)) {
+      if (!(k.fn > 0)) continue;
+      Chain c{};
+      for (int a = 0; a < D; ++a) {
+        c.a[a] = static_cast<float>(s.particle_x[D * k.i + a]);
+        c.b[a] = static_cast<float>(s.particle_x[D * k.i + a] - k.d[a]);
       }
+      if (D == 3 && v.slab_half_width > 0) {
+        double off = 0, nn = 0;
+        for (int a = 0; a < 3; ++a) {
+          off += (0.5 * (c.a[a] + c.b[a]) - v.slab_center[a]) * v.slab_normal[a];
+          nn += v.slab_normal[a] * v.slab_normal[a];
+        }
+        if (std::abs(off) / std::sqrt(nn) > v.slab_half_width) continue;
+      }
+      c.fn = k.fn;
+      contacts.push_back(c);
+      sum += k.fn;
+    }
     const double mean = contacts.empty() ? 1.0 : sum / contacts.size();
     const Colormap& cm = Colormap::get("sequential");
     // 2D: chains in front of the disks (the camera looks down -z).
     const float lift = D == 2 ? static_cast<float>(2 * r_max) : 0.0f;
-    for (const Contact& c : contacts) {
+    for (const Chain& c : contacts) {
       const double rel = c.fn / mean;
       if (v.chains_above_mean && rel <= 1) continue;
       const float width = static_cast<float>(std::min(1.0, v.chain_width * rel) * r_mean);  // at most a radius

@@ -81,6 +81,14 @@ int run_command(const RunArgs& a) {
       return report_error(e.what(), 4);
     }
   }
+  std::unique_ptr<VtkWriter> vtk;
+  if (!a.vtk.empty()) {
+    try {
+      vtk = std::make_unique<VtkWriter>(a.vtk);
+    } catch (const IoError& e) {
+      return report_error(e.what(), 4);
+    }
+  }
   const int64_t frame_every =
       a.frame_every > 0 ? a.frame_every : (model.render.every > 0 ? model.render.every : model.sample_every);
 
@@ -90,21 +98,27 @@ int run_command(const RunArgs& a) {
   Progress progress(!a.quiet && ::isatty(2), sim.state().step, steps, model.n_grains);
   RunOptions opt;
   opt.steps = steps;
-  opt.sample_every = every;
-  opt.on_sample = [&](const State& s) { stats->add(observer->sample(model, s)); };
-  opt.on_progress = [&](const State& s) { progress.update(s); };
+  opt.hooks.push_back({every, [&](const State& s) { stats->add(observer->sample(model, s)); }});
+  std::string vtk_error;
+  if (vtk)
+    opt.hooks.push_back({a.vtk_every > 0 ? a.vtk_every : model.sample_every, [&](const State& s) {
+                           if (!vtk_error.empty()) return;
+                           try {
+                             vtk->write(model, s);
+                           } catch (const IoError& e) {
+                             vtk_error = e.what();
+                           }
+                         }});
   std::string frame_error;
-  if (frames) {
-    opt.frame_every = frame_every;
-    opt.on_frame = [&](const State& s) {
-      if (!frame_error.empty()) return;
-      try {
-        frames->submit(render::build_render_scene(model, s, model.render));
-      } catch (const std::exception& e) {
-        frame_error = e.what();
-      }
-    };
-  }
+  if (frames)
+    opt.hooks.push_back({frame_every, [&](const State& s) {
+                           if (!frame_error.empty()) return;
+                           try {
+                             frames->submit(render::build_render_scene(model, s, model.render));
+                           } catch (const std::exception& e) {
+                             frame_error = e.what();
+                           }
+                         }});
   opt.interrupt = &g_interrupt;
   opt.stop_when_static = until_static;
   const RunReport rep = sim.run(opt);
@@ -148,6 +162,10 @@ int run_command(const RunArgs& a) {
   }
   if (!frame_error.empty()) {
     report_error("frames stopped (the run went on): " + frame_error, 4);
+    if (code == 0) code = 4;
+  }
+  if (!vtk_error.empty()) {
+    report_error("VTK output stopped (the run went on): " + vtk_error, 4);
     if (code == 0) code = 4;
   }
   const double rate = rep.wall_s > 0 ? model.n_grains * static_cast<double>(rep.steps_done) / rep.wall_s : 0;

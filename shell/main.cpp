@@ -27,6 +27,8 @@ int main(int argc, char** argv) {
   r->add_flag("--quiet", run.quiet, "No progress line");
   r->add_option("--frames", run.frames, "Write PNG frames DIR/frame_000000.png, ... (the scene's [render] settings)");
   r->add_option("--frame-every", run.frame_every, "One frame every N steps (default: render.every, else output.every)");
+  r->add_option("--vtk", run.vtk, "Write VTK files for ParaView/OVITO to DIR (grains .vtu, contacts .vtp, index.pvd)");
+  r->add_option("--vtk-every", run.vtk_every, "VTK files every N steps (default: output.every)");
   r->add_option("--restore", run.restore, "Start from a checkpoint of this scene (e.g. a .last_good.ckpt)");
 
   CheckArgs check;

@@ -217,9 +217,9 @@ RunReport Simulation::run(const RunOptions& opt) {
   const auto t0 = std::chrono::steady_clock::now();
   auto last_progress = t0;
   prepare();
-  auto periodic = [&](bool first) {
-    if (opt.on_sample && opt.sample_every > 0 && state_.step % opt.sample_every == 0) opt.on_sample(state_);
-    if (opt.on_frame && opt.frame_every > 0 && (state_.step % opt.frame_every == 0 || first)) opt.on_frame(state_);
+  auto periodic = [&](bool force) {
+    for (const PeriodicHook& h : opt.hooks)
+      if (h.every > 0 && h.fn && (force || state_.step % h.every == 0)) h.fn(state_);
   };
   periodic(true);
   for (int64_t k = 0; k < opt.steps; ++k) {
@@ -235,7 +235,8 @@ RunReport Simulation::run(const RunOptions& opt) {
     periodic(false);
     if (opt.stop_when_static && state_.step % model_.limits.check_every == 0 && is_static()) {
       rep.end = RunEnd::kStatic;
-      if (opt.on_sample && opt.sample_every > 0 && state_.step % opt.sample_every != 0) opt.on_sample(state_);
+      for (const PeriodicHook& h : opt.hooks)
+        if (h.every > 0 && h.fn && state_.step % h.every != 0) h.fn(state_);
       break;
     }
     if (opt.on_progress && (k & 63) == 0) {

@@ -8,7 +8,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "dem/box_geometry.hpp"
+#include "silt/contacts.hpp"
 #include "silt/observables.hpp"
 
 namespace silt {
@@ -19,7 +19,6 @@ Measurements measure_dim(const Model& m, const State& s) {
   constexpr int R = kRotDim<D>;
   Measurements out;
   const int64_t n = s.n;
-  const dem::PeriodicImage<D> img(s.box);
   double vol = 1;
   for (int k = 0; k < D; ++k) vol *= s.box.len[k];
   out.volume = vol;
@@ -47,20 +46,13 @@ Measurements measure_dim(const Model& m, const State& s) {
   out.phi = solid / vol;
   // Grain-grain contacts.
   std::vector<std::pair<int32_t, int32_t>> touching;
-  for (int64_t i = 0; i < n; ++i) {
-    for (int32_t p = s.nbr_start[i]; p < s.nbr_start[i + 1]; ++p) {
-      const int32_t j = s.pair_j[p];
-      Vec<D> d = at<D>(s.particle_x.data(), i) - at<D>(s.particle_x.data(), j);
-      img.apply(d);
-      if (d.norm() >= s.particle_r[i] + s.particle_r[j]) continue;
-      ++out.n_contacts;
-      ++contacts[i];
-      ++contacts[j];
-      touching.push_back({static_cast<int32_t>(i), j});
-      const auto f = at<D>(s.pair_f.data(), p);
-      for (int a = 0; a < D; ++a)
-        for (int b = 0; b < D; ++b) out.stress[a][b] += f[a] * d[b];
-    }
+  for (const Contact& c : touching_contacts(s)) {
+    ++out.n_contacts;
+    ++contacts[c.i];
+    ++contacts[c.j];
+    touching.push_back({static_cast<int32_t>(c.i), static_cast<int32_t>(c.j)});
+    for (int a = 0; a < D; ++a)
+      for (int b = 0; b < D; ++b) out.stress[a][b] += c.f[a] * c.d[b];
   }
   // Grain-wall contacts count for coordination.
   for (int64_t i = 0; i < n; ++i)

@@ -271,3 +271,116 @@ TEST_CASE("rendering never changes the state") {
   render_frame(raster, sim->model(), sim->state(), v);
   CHECK(state_hash(sim->state()) == before);
 }
+
+TEST_CASE("3D: chains in a slab, a field slice with the grains it cuts") {
+  const char* bed = R"(
+[scene]
+dimension = 3
+seed = 4
+[domain]
+lo = [0, 0, 0]
+hi = [6, 6, 6]
+periodic = [true, true, true]
+[box]
+pressure = 1.0
+[contact]
+model = "linear"
+k_n = 1e3
+damping = 0.7
+[[grains]]
+count = 150
+radius_min = 0.4
+radius_max = 0.5
+placement = "random"
+[run]
+dt_over_tc = 0.05
+)";
+  auto sim = test::simulation_from(bed, 2);
+  for (int k = 0; k < 4000; ++k) REQUIRE(sim->step());
+  View v = plain(400, 300, {"chains"});
+  const RenderScene all = build_render_scene(sim->model(), sim->state(), v);
+  REQUIRE(all.segments.size() > 20);
+  v.slab_half_width = 0.5;
+  v.slab_center[0] = v.slab_center[1] = v.slab_center[2] = 3.0 * sim->state().box.len[0] / 6.0;
+  const RenderScene slab = build_render_scene(sim->model(), sim->state(), v);
+  CHECK(slab.segments.size() < all.segments.size());
+  CHECK(slab.segments.size() > 0);
+  for (const auto& s : slab.segments) CHECK(std::abs(0.5 * (s.a[1] + s.b[1]) - v.slab_center[1]) <= 0.5 + 1e-6);
+  // Translucent grains over chains in 3D by default.
+  v.draw = {"grains", "chains"};
+  v.grain_opacity = 0.25;
+  const RenderScene both = build_render_scene(sim->model(), sim->state(), v);
+  CHECK(both.spheres.front().color.a == 64);
+  // A slice at z = 3 of a field equal to z: one colour on the plane, and only the grains it cuts.
+  ScalarGrid g;
+  g.name = "vorticity";
+  g.nx = g.ny = g.nz = 6;
+  g.lo = {0, 0, 0};
+  g.h = {1, 1, 1};
+  for (int k = 0; k < 6; ++k)
+    for (int j = 0; j < 6; ++j)
+      for (int i = 0; i < 6; ++i) g.value.push_back(k + 0.5 - 3.0);  // cell centres z - 3
+  v.draw = {"field"};
+  v.slice_axis = "z";
+  v.slice_position = 3.2;
+  v.field_range_auto = false;
+  v.field_range[0] = -3;
+  v.field_range[1] = 3;
+  const RenderScene sl = build_render_scene(sim->model(), sim->state(), v, &g);
+  REQUIRE(sl.fields.size() == 1);
+  CHECK(sl.fields[0].texels.front() == Colormap::get("diverging").at((0.5 + 3.0) / 6.0));
+  for (const auto& c : sl.fields[0].corners) CHECK(c[2] == doctest::Approx(3.2));
+  int64_t cut = 0;
+  for (int64_t i = 0; i < sim->state().n; ++i) cut += std::abs(sim->state().particle_x[3 * i + 2] - 3.2) < sim->state().particle_r[i];
+  CHECK(static_cast<int64_t>(sl.spheres.size()) == cut);
+  for (const auto& s : sl.spheres) CHECK(s.centre[2] == doctest::Approx(3.2));
+}
+
+TEST_CASE("periodic images: a disk across the boundary is drawn on both sides") {
+  const char* edge = R"(
+[scene]
+dimension = 2
+[domain]
+lo = [0, 0]
+hi = [8, 4]
+periodic = [true, false]
+[contact]
+model = "linear"
+k_n = 1000
+[[grains]]
+radius = 1.0
+placement = "explicit"
+positions = [[0.3, 2]]
+[run]
+dt = 1e-3
+)";
+  auto sim = test::simulation_from(edge);
+  View v = plain(800, 400, {"grains"});
+  v.color_by = "flat";
+  Rasterizer raster(1);
+  RenderScene rs = build_render_scene(sim->model(), sim->state(), v);
+  CHECK(rs.spheres.size() == 1);
+  const auto right = pixel_of(rs, 7.9, 2.0);
+  CHECK(white(raster.draw(rs).pixel(right[0], right[1])));
+  v.periodic_images = true;
+  rs = build_render_scene(sim->model(), sim->state(), v);
+  CHECK(rs.spheres.size() == 2);
+  CHECK_FALSE(white(raster.draw(rs).pixel(right[0], right[1])));
+}
+
+TEST_CASE("the frame writer numbers its PNGs, and a bad directory is refused") {
+  auto sim = test::simulation_from(kRow);
+  {
+    FrameWriter w("frame_writer_test", 1);
+    for (int k = 0; k < 3; ++k) w.submit(build_render_scene(sim->model(), sim->state(), plain(64, 32, {"grains"})));
+    w.finish();
+    CHECK(w.written() == 3);
+    CHECK(w.error().empty());
+  }
+  for (const char* f : {"frame_writer_test/frame_000000.png", "frame_writer_test/frame_000002.png"}) {
+    CHECK(read_png(f).width == 64);
+    std::remove(f);
+  }
+  std::remove("frame_writer_test/frame_000001.png");
+  CHECK_THROWS_AS(FrameWriter("no_such_dir/sub"), IoError);
+}

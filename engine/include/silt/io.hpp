@@ -52,6 +52,26 @@ struct SummaryInput {
 // Summary JSON of INTERFACE.md. Throws IoError.
 void write_summary(const std::string& path, const SummaryInput& in, const Simulation& sim, const StatsWriter& stats);
 
+// VTK XML output for ParaView and OVITO: DIR/grains_NNNNNN.vtu (points with radius, velocity,
+// angular velocity, force, id, frozen), DIR/contacts_NNNNNN.vtp (one line per contact with its
+// normal and tangential force) and DIR/index.pvd (the time series). Fluid fields (.vti) come with
+// the fluid module.
+class VtkWriter {
+ public:
+  explicit VtkWriter(std::string dir);  // creates dir; throws IoError
+  void write(const Model& m, const State& s);
+  int64_t count() const { return count_; }
+
+ private:
+  struct Entry {
+    double t;
+    std::string grains, contacts;
+  };
+  std::string dir_;
+  int64_t count_ = 0;
+  std::vector<Entry> entries_;
+};
+
 // Checkpoints: binary, versioned, with a checksum; written to a temporary file then renamed,
 // so an interrupted write leaves the previous checkpoint intact.
 void write_checkpoint(const std::string& path, const Model& m, const State& s);

@@ -14,12 +14,16 @@ namespace silt {
 
 enum class RunEnd { kDone, kStatic, kInterrupted, kFailed };
 
+// Something to do with the state every `every` steps (samples, frames, VTK files), and at the
+// first state of a run; also at the last one when the run stops early on equilibrium.
+struct PeriodicHook {
+  int64_t every = 0;
+  std::function<void(const State&)> fn;
+};
+
 struct RunOptions {
-  int64_t steps = 0;         // steps to do from the current state
-  int64_t sample_every = 0;  // 0: never sample
-  std::function<void(const State&)> on_sample;    // at the first state and every sample_every
-  int64_t frame_every = 0;   // 0: no frames
-  std::function<void(const State&)> on_frame;     // at the first state and every frame_every
+  int64_t steps = 0;  // steps to do from the current state
+  std::vector<PeriodicHook> hooks;
   std::function<void(const State&)> on_progress;  // a few times per second
   const std::atomic<bool>* interrupt = nullptr;   // checked at every step boundary
   bool stop_when_static = false;                  // Model::until_static criterion

@@ -111,11 +111,10 @@ TEST_CASE("run(): sampling, interruption at a step boundary, stop when static") 
   std::atomic<bool> stop{false};
   RunOptions opt;
   opt.steps = 1000;
-  opt.sample_every = 100;
-  opt.on_sample = [&](const State& s) {
-    sampled.push_back(s.step);
-    if (s.step == 500) stop = true;
-  };
+  opt.hooks.push_back({100, [&](const State& s) {
+                         sampled.push_back(s.step);
+                         if (s.step == 500) stop = true;
+                       }});
   opt.interrupt = &stop;
   const RunReport r = sim->run(opt);
   CHECK(r.end == RunEnd::kInterrupted);

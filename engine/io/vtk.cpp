@@ -1,0 +1,149 @@
+// VTK XML files for ParaView and OVITO: grains as a .vtu point cloud (radius, velocity, angular
+// velocity, force), contacts as .vtp lines (normal and tangential force), and a .pvd time index.
+// ASCII, so that the files are readable and diffable; the index is rewritten atomically.
+#include <sys/stat.h>
+
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+
+#include "silt/contacts.hpp"
+#include "silt/io.hpp"
+
+namespace silt {
+namespace {
+
+void open_file(std::ofstream& out, const std::string& path) {
+  out.open(path);
+  if (!out) throw IoError("cannot write '" + path + "'");
+  out.precision(9);
+}
+
+void array_header(std::ostream& o, const char* type, const char* name, int components) {
+  o << "        <DataArray type=\"" << type << "\" Name=\"" << name << "\" NumberOfComponents=\"" << components
+    << "\" format=\"ascii\">\n          ";
+}
+const char* kArrayEnd = "\n        </DataArray>\n";
+
+}  // namespace
+
+VtkWriter::VtkWriter(std::string dir) : dir_(std::move(dir)) {
+  if (::mkdir(dir_.c_str(), 0755) != 0 && errno != EEXIST)
+    throw IoError("cannot create the VTK directory '" + dir_ + "': " + std::strerror(errno));
+}
+
+void VtkWriter::write(const Model& m, const State& s) {
+  const int D = m.dim, R = m.rot;
+  char name[64];
+  std::snprintf(name, sizeof name, "grains_%06lld.vtu", static_cast<long long>(count_));
+  const std::string grains = name;
+  std::snprintf(name, sizeof name, "contacts_%06lld.vtp", static_cast<long long>(count_));
+  const std::string contacts = name;
+  {
+    std::ofstream o;
+    open_file(o, dir_ + "/" + grains);
+    o << "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\">\n"
+      << "  <UnstructuredGrid>\n    <Piece NumberOfPoints=\"" << s.n << "\" NumberOfCells=\"" << s.n << "\">\n"
+      << "      <Points>\n";
+    array_header(o, "Float64", "position", 3);
+    for (int64_t i = 0; i < s.n; ++i)
+      for (int k = 0; k < 3; ++k) o << (k < D ? s.particle_x[D * i + k] : 0.0) << ' ';
+    o << kArrayEnd << "      </Points>\n      <Cells>\n";
+    array_header(o, "Int64", "connectivity", 1);
+    for (int64_t i = 0; i < s.n; ++i) o << i << ' ';
+    o << kArrayEnd;
+    array_header(o, "Int64", "offsets", 1);
+    for (int64_t i = 0; i < s.n; ++i) o << i + 1 << ' ';
+    o << kArrayEnd;
+    array_header(o, "UInt8", "types", 1);
+    for (int64_t i = 0; i < s.n; ++i) o << "1 ";  // VTK_VERTEX
+    o << kArrayEnd << "      </Cells>\n      <PointData Scalars=\"radius\" Vectors=\"velocity\">\n";
+    array_header(o, "Float64", "radius", 1);
+    for (int64_t i = 0; i < s.n; ++i) o << s.particle_r[i] << ' ';
+    o << kArrayEnd;
+    auto vec3 = [&](const char* label, const std::vector<double>& a, int stride, int offset) {
+      array_header(o, "Float64", label, 3);
+      for (int64_t i = 0; i < s.n; ++i)
+        for (int k = 0; k < 3; ++k) {
+          const int c = k - offset;  // 2D rotations sit in the z component
+          o << (c >= 0 && c < stride ? a[stride * i + c] : 0.0) << ' ';
+        }
+      o << kArrayEnd;
+    };
+    vec3("velocity", s.particle_v, D, 0);
+    vec3("angular_velocity", s.particle_w, R, R == 1 ? 2 : 0);
+    vec3("force", s.particle_f, D, 0);
+    array_header(o, "Int32", "id", 1);
+    for (int64_t i = 0; i < s.n; ++i) o << s.particle_id[i] << ' ';
+    o << kArrayEnd;
+    array_header(o, "UInt8", "frozen", 1);
+    for (int64_t i = 0; i < s.n; ++i) o << static_cast<int>(s.particle_frozen[i]) << ' ';
+    o << kArrayEnd << "      </PointData>\n    </Piece>\n  </UnstructuredGrid>\n</VTKFile>\n";
+    if (!o) throw IoError("cannot write '" + dir_ + "/" + grains + "'");
+  }
+  {
+    // Contacts: one line per touching pair, from i to the image of j next to it.
+    struct Line {
+      double a[3], b[3], f[3], fn, ft;
+    };
+    std::vector<Line> lines;
+    for (const Contact& c : touching_contacts(s)) {
+      Line l{};
+      double f2 = 0;
+      for (int k = 0; k < 3; ++k) {
+        l.a[k] = k < D ? s.particle_x[D * c.i + k] : 0.0;
+        l.b[k] = l.a[k] - c.d[k];
+        l.f[k] = c.f[k];
+        f2 += c.f[k] * c.f[k];
+      }
+      l.fn = c.fn;
+      l.ft = std::sqrt(std::max(0.0, f2 - c.fn * c.fn));
+      lines.push_back(l);
+    }
+    std::ofstream o;
+    open_file(o, dir_ + "/" + contacts);
+    o << "<?xml version=\"1.0\"?>\n<VTKFile type=\"PolyData\" version=\"1.0\" byte_order=\"LittleEndian\">\n"
+      << "  <PolyData>\n    <Piece NumberOfPoints=\"" << 2 * lines.size() << "\" NumberOfLines=\"" << lines.size()
+      << "\">\n      <Points>\n";
+    array_header(o, "Float64", "position", 3);
+    for (const Line& l : lines) o << l.a[0] << ' ' << l.a[1] << ' ' << l.a[2] << ' ' << l.b[0] << ' ' << l.b[1] << ' ' << l.b[2] << ' ';
+    o << kArrayEnd << "      </Points>\n      <Lines>\n";
+    array_header(o, "Int64", "connectivity", 1);
+    for (size_t k = 0; k < 2 * lines.size(); ++k) o << k << ' ';
+    o << kArrayEnd;
+    array_header(o, "Int64", "offsets", 1);
+    for (size_t k = 0; k < lines.size(); ++k) o << 2 * (k + 1) << ' ';
+    o << kArrayEnd << "      </Lines>\n      <CellData Scalars=\"normal_force\">\n";
+    array_header(o, "Float64", "normal_force", 1);
+    for (const Line& l : lines) o << l.fn << ' ';
+    o << kArrayEnd;
+    array_header(o, "Float64", "tangential_force", 1);
+    for (const Line& l : lines) o << l.ft << ' ';
+    o << kArrayEnd;
+    array_header(o, "Float64", "force", 3);
+    for (const Line& l : lines) o << l.f[0] << ' ' << l.f[1] << ' ' << l.f[2] << ' ';
+    o << kArrayEnd << "      </CellData>\n    </Piece>\n  </PolyData>\n</VTKFile>\n";
+    if (!o) throw IoError("cannot write '" + dir_ + "/" + contacts + "'");
+  }
+  entries_.push_back({s.t, grains, contacts});
+  ++count_;
+  // The time index, rewritten whole and renamed into place.
+  const std::string pvd = dir_ + "/index.pvd", tmp = pvd + ".tmp";
+  {
+    std::ofstream o;
+    open_file(o, tmp);
+    o << "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"1.0\">\n  <Collection>\n";
+    for (const Entry& e : entries_) {
+      o << "    <DataSet timestep=\"" << e.t << "\" part=\"0\" file=\"" << e.grains << "\"/>\n";
+      o << "    <DataSet timestep=\"" << e.t << "\" part=\"1\" file=\"" << e.contacts << "\"/>\n";
+    }
+    o << "  </Collection>\n</VTKFile>\n";
+    if (!o) throw IoError("cannot write '" + pvd + "'");
+  }
+  if (std::rename(tmp.c_str(), pvd.c_str()) != 0) throw IoError("cannot write '" + pvd + "'");
+}
+
+}  // namespace silt
