@@ -7,7 +7,7 @@ build_dir=${1:-build}
 
 packages=(build-essential cmake pkg-config libtbb-dev libeigen3-dev libsuitesparse-dev libosmesa6-dev
           libpng-dev doctest-dev libtomlplusplus-dev libcli11-dev nlohmann-json3-dev libfreetype-dev
-          fonts-dejavu-core)
+          fonts-dejavu-core libreadline-dev clang libclang-rt-14-dev)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

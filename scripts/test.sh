@@ -1,11 +1,12 @@
 #!/usr/bin/env bash
-# Build silt (Release) and run the unit tests; then the same tests under AddressSanitizer and
-# UndefinedBehaviorSanitizer in a Debug build.
+# Build silt (Release) and run the unit tests, fuzz the shell's command parser for 20 s, then run
+# the tests again under AddressSanitizer and UndefinedBehaviorSanitizer in a Debug build.
 # Usage: scripts/test.sh [--no-sanitize]
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/setup.sh build
 ctest --test-dir build --output-on-failure -j"$(nproc)"
+scripts/fuzz.sh 20
 if [ "${1:-}" != "--no-sanitize" ]; then
   cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=Debug -DSILT_SANITIZE=ON -DSILT_BUILD_BENCH=OFF > /dev/null
   cmake --build build-asan -j"$(nproc)"

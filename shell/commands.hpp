@@ -28,6 +28,10 @@ struct CheckArgs {
 };
 int check_command(const CheckArgs& a);
 
+// The interactive shell, and scripts of its commands.
+int shell_command(const std::string& scene, int threads);
+int play_command(const std::string& script, bool keep_going, int threads);
+
 // Print "silt: <message>" on stderr and return the exit code.
 int report_error(const std::string& message, int code);
 

@@ -37,6 +37,20 @@ int main(int argc, char** argv) {
   c->add_option("--set", check.sets, "Override a scene value: KEY=VALUE; repeatable");
   c->add_option("--threads", check.threads, "Threads used to build the neighbour list");
 
+  std::string shell_scene;
+  int shell_threads = 0;
+  auto* sh = app.add_subcommand("shell", "Interactive shell: load, run, steer, render, save");
+  sh->add_option("scene", shell_scene, "Scene file to load first");
+  sh->add_option("--threads", shell_threads, "Worker threads (default: all cores)");
+
+  std::string script;
+  bool keep_going = false;
+  int play_threads = 0;
+  auto* pl = app.add_subcommand("play", "Play a script of shell commands, non-interactively");
+  pl->add_option("script", script, "Script (.silt): one command per line, # comments")->required();
+  pl->add_flag("--keep-going", keep_going, "Go on after an error (exit 2 at the end)");
+  pl->add_option("--threads", play_threads, "Worker threads (default: all cores)");
+
   bool markdown = false;
   auto* p = app.add_subcommand("params", "List every scene key with type, default, range and unit");
   p->add_flag("--markdown", markdown, "As a Markdown table");
@@ -50,6 +64,8 @@ int main(int argc, char** argv) {
   try {
     if (r->parsed()) return run_command(run);
     if (c->parsed()) return check_command(check);
+    if (sh->parsed()) return shell_command(shell_scene, shell_threads);
+    if (pl->parsed()) return play_command(script, keep_going, play_threads);
     if (p->parsed()) {
       if (markdown) {
         std::cout << silt::schema_markdown();

@@ -223,6 +223,7 @@ RunReport Simulation::run(const RunOptions& opt) {
   };
   periodic(true);
   for (int64_t k = 0; k < opt.steps; ++k) {
+    if (opt.between_steps) opt.between_steps();
     if (opt.interrupt && opt.interrupt->load()) {
       rep.end = RunEnd::kInterrupted;
       break;

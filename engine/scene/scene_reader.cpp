@@ -201,7 +201,7 @@ std::string canonical_override_key(const std::string& key) {
   return out;
 }
 
-void apply_override(SceneDesc& desc, const Override& o, int ordinal) {
+void apply_override_at(SceneDesc& desc, const Override& o, int ordinal) {
   const FileLoc where{"--set", ordinal, static_cast<int>(o.key.size()) + 2};
   const std::string path = canonical_override_key(o.key);
   const std::string norm = normalise_key(path);
@@ -236,6 +236,8 @@ void apply_override(SceneDesc& desc, const Override& o, int ordinal) {
 
 }  // namespace
 
+void apply_override(SceneDesc& desc, const Override& o) { apply_override_at(desc, o, 1); }
+
 Override parse_override(const std::string& key_eq_value) {
   const auto eq = key_eq_value.find('=');
   if (eq == std::string::npos || eq == 0)
@@ -256,7 +258,7 @@ SceneDesc parse_scene(const std::string& text, const std::string& name,
   }
   Reader(desc, name).table(root, "");
   int ordinal = 1;
-  for (const Override& o : overrides) apply_override(desc, o, ordinal++);
+  for (const Override& o : overrides) apply_override_at(desc, o, ordinal++);
   return desc;
 }
 

@@ -55,7 +55,7 @@ View plain(int w, int h, std::vector<std::string> draw) {
 
 }  // namespace
 
-TEST_CASE("a force chain colours the pixels along the segment and nowhere else; more force, wider line") {
+TEST_CASE("a force chain colours the pixels along the segment and nowhere else, and more force draws a wider line") {
   auto sim = test::simulation_from(kRow);
   sim->prepare();
   View v = plain(800, 400, {"chains"});

@@ -125,7 +125,7 @@ TEST_CASE("the README's parameter table is the schema's") {
   CHECK(table == silt_cli("params --markdown").out);
 }
 
-TEST_CASE("silt run --frames writes numbered PNGs and nothing else; --vtk writes ParaView files") {
+TEST_CASE("silt run --frames writes numbered PNGs and nothing else, and --vtk writes ParaView files") {
   const std::string dir = "cli_frames";
   std::system(("rm -rf " + dir + " cli_vtk").c_str());
   const Result r = silt_cli("run " + silt::test::scene_path("collision_normal") + " --quiet --frames " + dir +

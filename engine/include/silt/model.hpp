@@ -157,6 +157,12 @@ struct Model {
 // makes the scene impossible to simulate (bad geometry, overlaps, unstable time step, ...).
 Model compile(const SceneDesc& desc);
 
+// Change one value of a compiled model between two steps ("live steering"). Only keys marked
+// steerable in the schema are accepted (gravity, friction, time step, imposed pressure, render
+// settings, ...): the scene is recompiled with the new value and the steerable parts are taken
+// over. Returns "" on success, else the reason (not steerable, out of range, unstable, ...).
+std::string steer(Model& m, const Override& change);
+
 // Human-readable description of a compiled model (`silt check`).
 std::string describe(const Model& m);
 

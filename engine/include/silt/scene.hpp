@@ -97,6 +97,8 @@ struct Override {
   std::string value;
 };
 Override parse_override(const std::string& key_eq_value);  // throws SceneError
+// Set one value of an already read scene, checked like the file's (throws SceneError).
+void apply_override(SceneDesc& desc, const Override& o);
 
 // Read and validate a scene. Throws SceneError ("file:line:col: message") on any bad input;
 // throws IoError when the file cannot be read.

@@ -25,6 +25,9 @@ struct RunOptions {
   int64_t steps = 0;  // steps to do from the current state
   std::vector<PeriodicHook> hooks;
   std::function<void(const State&)> on_progress;  // a few times per second
+  // At every step boundary, before the stop checks: where a shell applies steering and serves
+  // requests for the state while a run goes on.
+  std::function<void()> between_steps;
   const std::atomic<bool>* interrupt = nullptr;   // checked at every step boundary
   bool stop_when_static = false;                  // Model::until_static criterion
 };

@@ -1,0 +1,201 @@
+#include "shell/command_parser.hpp"
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+
+#include "core/text.hpp"
+
+namespace silt::shell {
+
+std::optional<Command> parse_line(std::string_view line) {
+  std::vector<Token> words;
+  size_t i = 0;
+  const size_t n = line.size();
+  while (i < n) {
+    const char c = line[i];
+    if (c == ' ' || c == '\t' || c == '\r' || c == '\n') {
+      ++i;
+      continue;
+    }
+    if (c == '#') break;
+    Token t;
+    t.col = static_cast<int>(i) + 1;
+    if (c == '"') {
+      ++i;
+      bool closed = false;
+      while (i < n) {
+        if (line[i] == '\\' && i + 1 < n && (line[i + 1] == '"' || line[i + 1] == '\\')) {
+          t.text += line[i + 1];
+          i += 2;
+        } else if (line[i] == '"') {
+          ++i;
+          closed = true;
+          break;
+        } else {
+          t.text += line[i++];
+        }
+      }
+      if (!closed) throw ParseError(t.col, "unterminated quote");
+      if (i < n && line[i] != ' ' && line[i] != '\t' && line[i] != '#' && line[i] != '\r' && line[i] != '\n')
+        throw ParseError(static_cast<int>(i) + 1, "a quoted word must be followed by a blank");
+    } else {
+      while (i < n && line[i] != ' ' && line[i] != '\t' && line[i] != '\r' && line[i] != '\n') {
+        if (line[i] == '"') throw ParseError(static_cast<int>(i) + 1, "a quote inside a word (quote the whole word)");
+        if (static_cast<unsigned char>(line[i]) < 32) throw ParseError(static_cast<int>(i) + 1, "control character");
+        t.text += line[i++];
+      }
+    }
+    words.push_back(std::move(t));
+  }
+  if (words.empty()) return std::nullopt;
+  Command cmd;
+  cmd.name = words[0].text;
+  cmd.name_col = words[0].col;
+  cmd.args.assign(words.begin() + 1, words.end());
+  return cmd;
+}
+
+const std::vector<CommandSpec>& command_specs() {
+  static const std::vector<CommandSpec> specs = {
+      {"load", "load FILE", "load a scene", "Reads and compiles FILE. On an error the previous scene stays loaded.", 1, 1, ArgKind::kFile},
+      {"reload", "reload", "load the current scene file again", "Re-reads the scene file (with the values changed by set), from t = 0.", 0, 0, ArgKind::kNone},
+      {"check", "check", "describe the loaded scene", "Prints the compiled model: dimension, grains, laws, time step and its stability limit, stages.", 0, 0, ArgKind::kNone},
+      {"run", "run N | run Ts | run until EXPR", "run in the foreground",
+       "Runs N steps, or T seconds of simulated time (\"run 0.5s\"), or until a condition on observables holds (\"run until t >= 1 and ke < 1e-6\"). Ctrl-C pauses at the next step boundary.",
+       1, -1, ArgKind::kObservable},
+      {"start", "start [N | Ts | until EXPR]", "run in the background",
+       "Runs in the background (for ever, or as long as given) while the prompt stays responsive; stop pauses it. set, get, print and the others act at the next step boundary.",
+       0, -1, ArgKind::kObservable},
+      {"stop", "stop", "pause a background run", "Stops a background run at the next step boundary.", 0, 0, ArgKind::kNone},
+      {"set", "set KEY VALUE", "change a scene value",
+       "Changes a value of the scene (dotted key, TOML value). Steerable values (params shows them) act at the next step boundary, even while a run goes on; the others are refused while running, and otherwise recompile the scene (the state is kept when the grains are the same).",
+       2, 2, ArgKind::kKey},
+      {"get", "get KEY", "show a scene value", "Prints the value of a scene key (given or default), with its unit.", 1, 1, ArgKind::kKey},
+      {"params", "params [PREFIX]", "list the scene keys", "Lists every scene key (or those starting with PREFIX) with its value, unit, range and whether it is steerable.", 0, 1, ArgKind::kKey},
+      {"print", "print OBS...", "print observables now", "Prints the current values of the observables.", 1, -1, ArgKind::kObservable},
+      {"watch", "watch OBS... every N | watch off", "print observables during runs", "Prints the observables every N steps while a run goes on; watch off stops it.", 1, -1, ArgKind::kObservable},
+      {"stats", "stats", "means of the observables", "Mean, error of the mean (block averaging) and last value of the observables sampled since the scene was loaded.", 0, 0, ArgKind::kNone},
+      {"profile", "profile", "time per stage", "Wall time spent in each stage of the step graph.", 0, 0, ArgKind::kNone},
+      {"render", "render FILE.png [ITEM...]", "draw the current state", "Writes a PNG of the current state with the scene's [render] settings; ITEMs (grains chains field colorbar time scalebar box) replace render.draw.", 1, -1, ArgKind::kFile},
+      {"frames", "frames DIR every N | frames off", "write frames during runs", "Writes DIR/frame_000000.png, ... every N steps while running; frames off stops.", 1, 3, ArgKind::kFile},
+      {"save", "save FILE", "write a checkpoint", "Writes a checkpoint of the current state (atomically: a temporary file renamed).", 1, 1, ArgKind::kFile},
+      {"restore", "restore FILE", "read a checkpoint", "Continues from a checkpoint of the same system.", 1, 1, ArgKind::kFile},
+      {"reset", "reset", "back to t = 0", "Returns to the scene's initial state.", 0, 0, ArgKind::kNone},
+      {"source", "source SCRIPT", "run commands from a file", "Runs the commands of SCRIPT, stopping at its first error.", 1, 1, ArgKind::kFile},
+      {"help", "help [COMMAND]", "list commands, or explain one", "help alone lists the commands; help COMMAND explains it.", 0, 1, ArgKind::kCommand},
+      {"quit", "quit", "leave the shell", "Stops any run and leaves (EOF, Ctrl-D, does the same).", 0, 0, ArgKind::kNone},
+  };
+  return specs;
+}
+
+const CommandSpec* find_command(std::string_view name) {
+  for (const CommandSpec& s : command_specs())
+    if (s.name == name) return &s;
+  if (name == "exit") return find_command("quit");
+  return nullptr;
+}
+
+std::string suggest_command(std::string_view name) {
+  std::string best;
+  size_t best_d = std::max<size_t>(2, name.size() / 3) + 1;
+  for (const CommandSpec& s : command_specs()) {
+    const size_t d = edit_distance(name, s.name);
+    if (d < best_d) {
+      best_d = d;
+      best = s.name;
+    }
+  }
+  return best;
+}
+
+const CommandSpec& check_command(const Command& c) {
+  const CommandSpec* s = find_command(c.name);
+  if (!s) {
+    std::string msg = "unknown command '" + c.name + "'";
+    if (const std::string hint = suggest_command(c.name); !hint.empty()) msg += "; did you mean '" + hint + "'?";
+    throw ParseError(c.name_col, msg + " (help lists the commands)");
+  }
+  const int n = static_cast<int>(c.args.size());
+  if (n < s->min_args || (s->max_args >= 0 && n > s->max_args)) {
+    const int col = n > s->max_args && s->max_args >= 0 ? c.args[s->max_args].col : c.name_col;
+    throw ParseError(col, "usage: " + s->usage);
+  }
+  return *s;
+}
+
+std::optional<double> parse_number(std::string_view s) {
+  if (s.empty() || s.size() > 64) return std::nullopt;
+  const std::string str(s);
+  char* end = nullptr;
+  errno = 0;
+  const double x = std::strtod(str.c_str(), &end);
+  if (end != str.c_str() + str.size() || errno == ERANGE || !std::isfinite(x)) return std::nullopt;
+  return x;
+}
+
+bool Condition::holds(const std::vector<double>& values) const {
+  auto eval = [&](size_t k) {
+    const Clause& c = clauses[k];
+    const double v = values[k];
+    if (c.op == "<") return v < c.value;
+    if (c.op == "<=") return v <= c.value;
+    if (c.op == ">") return v > c.value;
+    if (c.op == ">=") return v >= c.value;
+    if (c.op == "==") return v == c.value;
+    return v != c.value;
+  };
+  bool result = eval(0);
+  for (size_t k = 1; k < clauses.size(); ++k) result = joined_by_and[k - 1] ? (result && eval(k)) : (result || eval(k));
+  return result;
+}
+
+RunLength parse_run_length(const std::vector<Token>& args) {
+  RunLength r;
+  if (args.empty()) throw ParseError(0, "how long? N steps, Ts of simulated time, or until EXPR");
+  const Token& first = args[0];
+  if (first.text == "until") {
+    r.kind = RunLength::kUntil;
+    // OBS OP VALUE [and|or OBS OP VALUE]...
+    size_t k = 1;
+    for (;;) {
+      if (k + 2 >= args.size())
+        throw ParseError(k < args.size() ? args[k].col : args.back().col, "expected: OBSERVABLE OP NUMBER (e.g. t >= 0.5)");
+      Clause c;
+      c.observable = args[k].text;
+      c.op = args[k + 1].text;
+      static const char* ops[] = {"<", "<=", ">", ">=", "==", "!="};
+      if (std::find(std::begin(ops), std::end(ops), c.op) == std::end(ops))
+        throw ParseError(args[k + 1].col, "'" + c.op + "' is not a comparison (< <= > >= == !=)");
+      const auto v = parse_number(args[k + 2].text);
+      if (!v) throw ParseError(args[k + 2].col, "'" + args[k + 2].text + "' is not a number");
+      c.value = *v;
+      r.until.clauses.push_back(c);
+      k += 3;
+      if (k == args.size()) break;
+      if (args[k].text != "and" && args[k].text != "or") throw ParseError(args[k].col, "expected 'and' or 'or'");
+      r.until.joined_by_and.push_back(args[k].text == "and");
+      ++k;
+      if (k == args.size()) throw ParseError(args[k - 1].col, "a condition after '" + args[k - 1].text + "'");
+    }
+    return r;
+  }
+  if (args.size() > 1) throw ParseError(args[1].col, "one run length: N, Ts or until EXPR");
+  const std::string& w = first.text;
+  if (!w.empty() && w.back() == 's') {
+    const auto t = parse_number(std::string_view(w).substr(0, w.size() - 1));
+    if (!t || *t <= 0) throw ParseError(first.col, "'" + w + "' is not a positive time (e.g. 0.5s)");
+    r.kind = RunLength::kTime;
+    r.time = *t;
+    return r;
+  }
+  const auto n = parse_number(w);
+  if (!n || *n < 0 || *n != std::floor(*n) || *n > 9e18)
+    throw ParseError(first.col, "'" + w + "' is not a number of steps (or a time like 0.5s, or until EXPR)");
+  r.kind = RunLength::kSteps;
+  r.steps = static_cast<int64_t>(*n);
+  return r;
+}
+
+}  // namespace silt::shell

@@ -1,0 +1,80 @@
+// The shell's command language: one command per line, words separated by blanks, "quoted words"
+// with \" and \\ escapes, `#` starting a comment. Used by the REPL and by `silt play`; it depends
+// on nothing else of silt, so that it can be fuzzed alone (scripts/fuzz.sh).
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace silt::shell {
+
+struct Token {
+  std::string text;
+  int col = 0;  // 1-based column of the token's first character
+};
+
+struct Command {
+  std::string name;
+  int name_col = 1;
+  std::vector<Token> args;
+};
+
+// A command line that cannot be understood; col is 1-based (0: the whole line).
+class ParseError : public std::runtime_error {
+ public:
+  ParseError(int column, const std::string& message) : std::runtime_error(message), col(column) {}
+  int col;
+};
+
+// Words of a line; nullopt for a blank or comment-only line. Throws ParseError.
+std::optional<Command> parse_line(std::string_view line);
+
+// The commands, with their arguments and documentation (help, completion).
+enum class ArgKind { kNone, kFile, kKey, kObservable, kCommand, kWord };
+struct CommandSpec {
+  std::string name;
+  std::string usage;    // "run N | run Ts | run until EXPR"
+  std::string summary;  // one line
+  std::string help;     // a paragraph
+  int min_args = 0, max_args = 0;  // max -1: any number
+  ArgKind completes = ArgKind::kNone;
+};
+const std::vector<CommandSpec>& command_specs();
+const CommandSpec* find_command(std::string_view name);
+std::string suggest_command(std::string_view name);  // "" when nothing is close
+
+// Checks a parsed command against its spec: unknown name (with a suggestion) or wrong number of
+// arguments. Throws ParseError.
+const CommandSpec& check_command(const Command& c);
+
+// A condition of `run until`: observable comparisons joined by `and` / `or` (left to right).
+struct Clause {
+  std::string observable;
+  std::string op;  // < <= > >= == !=
+  double value = 0;
+};
+struct Condition {
+  std::vector<Clause> clauses;
+  std::vector<bool> joined_by_and;  // between clause k and k+1
+  // True when the clauses hold for these values (same order as clauses).
+  bool holds(const std::vector<double>& values) const;
+};
+
+// How long `run` goes: N steps, a simulated time ("0.5s", "2e-3s"), or until a condition.
+struct RunLength {
+  enum Kind { kSteps, kTime, kUntil } kind = kSteps;
+  int64_t steps = 0;
+  double time = 0;
+  Condition until;
+};
+// From the arguments of `run` (or `start`); throws ParseError with the column of the bad word.
+RunLength parse_run_length(const std::vector<Token>& args);
+
+// A number in full (no trailing garbage); nullopt otherwise.
+std::optional<double> parse_number(std::string_view s);
+
+}  // namespace silt::shell

@@ -1,0 +1,148 @@
+// `silt shell`: the interactive REPL on GNU readline (line editing, history in ~/.silt_history,
+// tab completion of commands, keys, observables and file names).
+//
+// readline's callback interface keeps the prompt alive while a background run prints: the loop
+// waits on stdin and on a self-pipe written by the SIGINT handler, with a timeout to print the
+// background run's messages. Ctrl-C during a foreground run pauses it at the next step boundary;
+// at the prompt it clears the line.
+#include <readline/history.h>
+#include <readline/readline.h>
+#include <fcntl.h>
+#include <sys/select.h>
+#include <unistd.h>
+
+#include <csignal>
+#include <cstdlib>
+#include <cstring>
+#include <iostream>
+
+#include "shell/commands.hpp"
+#include "shell/session.hpp"
+
+namespace silt::cli {
+namespace {
+
+shell::Session* g_session = nullptr;
+int g_pipe[2] = {-1, -1};
+std::string g_pending;
+bool g_have_line = false, g_eof = false;
+
+extern "C" void on_shell_sigint(int) {
+  if (g_session) g_session->interrupt();
+  const char c = 'i';
+  if (g_pipe[1] >= 0) (void)!::write(g_pipe[1], &c, 1);
+}
+
+extern "C" void on_line(char* line) {
+  if (!line) {
+    g_eof = true;
+  } else {
+    g_pending = line;
+    g_have_line = true;
+    if (*line) add_history(line);
+    std::free(line);
+  }
+}
+
+char* completion_generator(const char* text, int state) {
+  static std::vector<std::string> matches;
+  static size_t next = 0;
+  if (state == 0) {
+    const std::string before(rl_line_buffer, rl_line_buffer + (rl_point - std::strlen(text)));
+    matches = g_session->complete(before, text);
+    next = 0;
+  }
+  if (next < matches.size()) return strdup(matches[next++].c_str());
+  return nullptr;
+}
+
+char** completion(const char* text, int, int) {
+  char** m = rl_completion_matches(text, completion_generator);
+  if (m) rl_attempted_completion_over = 1;
+  return m;  // nullptr: readline completes file names
+}
+
+std::string history_path() {
+  const char* home = std::getenv("HOME");
+  return std::string(home ? home : ".") + "/.silt_history";
+}
+
+}  // namespace
+
+int shell_command(const std::string& scene, int threads) {
+  shell::Session session(std::cout, std::cerr, threads);
+  g_session = &session;
+  if (::pipe(g_pipe) != 0) return report_error("cannot create a pipe", 4);
+  ::fcntl(g_pipe[0], F_SETFL, O_NONBLOCK);
+  struct sigaction sa{};
+  sa.sa_handler = on_shell_sigint;
+  sigemptyset(&sa.sa_mask);
+  sigaction(SIGINT, &sa, nullptr);
+  rl_catch_signals = 0;
+  rl_attempted_completion_function = completion;
+  rl_readline_name = "silt";
+  using_history();
+  read_history(history_path().c_str());
+  stifle_history(5000);
+  std::cout << "silt " << SILT_VERSION << " shell: help lists the commands, quit leaves.\n";
+  if (!scene.empty()) session.execute("load \"" + scene + "\"");
+  std::string prompt = session.prompt();
+  rl_callback_handler_install(prompt.c_str(), on_line);
+  while (!session.quit_requested()) {
+    fd_set fds;
+    FD_ZERO(&fds);
+    FD_SET(STDIN_FILENO, &fds);
+    FD_SET(g_pipe[0], &fds);
+    timeval tv{0, 200000};
+    const int r = select(std::max(STDIN_FILENO, g_pipe[0]) + 1, &fds, nullptr, nullptr, &tv);
+    if (r > 0 && FD_ISSET(g_pipe[0], &fds)) {
+      char buf[64];
+      (void)!::read(g_pipe[0], buf, sizeof buf);
+      // Ctrl-C at the prompt: drop the line being typed.
+      rl_replace_line("", 0);
+      std::cout << "^C\n";
+      rl_on_new_line();
+      rl_redisplay();
+    }
+    // Messages of a background run, printed above the prompt.
+    const auto messages = session.take_messages();
+    if (!messages.empty()) {
+      rl_clear_visible_line();
+      for (const auto& m : messages) std::cout << m << "\n";
+      std::cout << std::flush;
+      rl_forced_update_display();
+    }
+    if (r > 0 && FD_ISSET(STDIN_FILENO, &fds)) rl_callback_read_char();
+    if (g_eof) break;
+    if (g_have_line) {
+      g_have_line = false;
+      rl_callback_handler_remove();
+      session.execute(g_pending);
+      // A Ctrl-C that paused the command is spent: do not clear the next prompt with it.
+      char buf[64];
+      while (::read(g_pipe[0], buf, sizeof buf) > 0) {
+      }
+      if (session.quit_requested()) break;
+      prompt = session.prompt();
+      rl_callback_handler_install(prompt.c_str(), on_line);
+    } else if (r == 0) {
+      // Refresh the prompt (time of a background run).
+      const std::string p = session.prompt();
+      if (p != prompt) {
+        prompt = p;
+        rl_set_prompt(prompt.c_str());
+        rl_redisplay();
+      }
+    }
+  }
+  rl_callback_handler_remove();
+  if (g_eof) std::cout << "\n";
+  session.execute("quit");
+  write_history(history_path().c_str());
+  g_session = nullptr;
+  ::close(g_pipe[0]);
+  ::close(g_pipe[1]);
+  return 0;
+}
+
+}  // namespace silt::cli

@@ -1,0 +1,121 @@
+// A shell session: the loaded scene, its simulation, runs in the foreground or the background,
+// and the commands of the shell's language acting on them. Used by `silt shell` and `silt play`.
+//
+// Threads: commands arrive on one thread (the REPL's). A background run (`start`) owns the
+// simulation between steps; any command that reads or changes it while it runs is handed to the
+// run loop and executed at the next step boundary (`at_boundary`), so a command never sees half a
+// step, and steering takes effect exactly between two steps.
+#pragma once
+
+#include <atomic>
+#include <condition_variable>
+#include <deque>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <ostream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "shell/command_parser.hpp"
+#include "silt/io.hpp"
+#include "silt/observables.hpp"
+#include "silt/render.hpp"
+#include "silt/simulation.hpp"
+
+namespace silt::shell {
+
+class Session {
+ public:
+  Session(std::ostream& out, std::ostream& err, int threads);
+  ~Session();
+  Session(const Session&) = delete;
+  Session& operator=(const Session&) = delete;
+
+  // Executes one line. Returns false on an error, whose message went to err prefixed by
+  // `where` ("script:12: ") when given. Never throws.
+  bool execute(const std::string& line, const std::string& where = "");
+  bool quit_requested() const { return quit_; }
+  bool running() const { return background_.joinable() && !bg_done_; }
+  bool loaded() const { return sim_ != nullptr; }
+  // Ctrl-C: pause the run in progress (foreground or background) at the next step boundary.
+  void interrupt();
+  // Lines produced by a background run (watch, end of run), for the REPL to print.
+  std::vector<std::string> take_messages();
+  std::string prompt() const;
+  // Completion candidates for the word being typed, by what the command expects.
+  std::vector<std::string> complete(const std::string& line_before_word, const std::string& word) const;
+
+ private:
+  using Handler = void (Session::*)(const Command&);
+  void dispatch(const Command& c);
+  // Commands.
+  void cmd_load(const Command& c);
+  void cmd_reload(const Command& c);
+  void cmd_check(const Command& c);
+  void cmd_run(const Command& c);
+  void cmd_start(const Command& c);
+  void cmd_stop(const Command& c);
+  void cmd_set(const Command& c);
+  void cmd_get(const Command& c);
+  void cmd_params(const Command& c);
+  void cmd_print(const Command& c);
+  void cmd_watch(const Command& c);
+  void cmd_stats(const Command& c);
+  void cmd_profile(const Command& c);
+  void cmd_render(const Command& c);
+  void cmd_frames(const Command& c);
+  void cmd_save(const Command& c);
+  void cmd_restore(const Command& c);
+  void cmd_reset(const Command& c);
+  void cmd_source(const Command& c);
+  void cmd_help(const Command& c);
+  void cmd_quit(const Command& c);
+
+  // Helpers.
+  Simulation& sim();  // throws when no scene is loaded
+  void require_stopped(const std::string& what) const;
+  void install(Model m, const std::optional<State>& keep);
+  void run_for(const RunLength& len, bool background);
+  RunOptions run_options(const RunLength& len, bool background);
+  void at_boundary(const std::function<void()>& fn);
+  void say(const std::string& line, bool from_background);
+  std::vector<double> observe_now(const std::vector<std::string>& names);
+
+  std::ostream& out_;
+  std::ostream& err_;
+  int threads_;
+  bool quit_ = false;
+  int source_depth_ = 0;
+
+  std::string scene_file_;
+  std::vector<Override> overrides_;
+  std::unique_ptr<Simulation> sim_;
+  std::optional<StatsWriter> stats_;  // samples of the scene's observables since load
+  std::optional<Observer> stats_observer_;
+
+  struct Watch {
+    std::vector<std::string> names;
+    int64_t every = 0;
+    std::optional<Observer> observer;
+  };
+  Watch watch_;
+  std::unique_ptr<render::FrameWriter> frames_;
+  int64_t frames_every_ = 0;
+  std::unique_ptr<render::Rasterizer> raster_;
+
+  // Background run and step-boundary requests.
+  std::thread background_;
+  std::atomic<bool> bg_done_{true};
+  std::atomic<bool> interrupt_{false};
+  std::atomic<bool> until_met_{false};
+  std::mutex mutex_;
+  std::condition_variable cv_;
+  std::deque<std::function<void()>> requests_;
+  std::atomic<bool> has_requests_{false};
+  std::deque<std::string> messages_;
+};
+
+}  // namespace silt::shell

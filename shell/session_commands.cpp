@@ -1,0 +1,380 @@
+// The shell's commands (the run machinery is in session.cpp).
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <iomanip>
+#include <limits>
+#include <sstream>
+
+#include "shell/session.hpp"
+#include "shell/table.hpp"
+#include "silt/observables.hpp"
+
+namespace silt::shell {
+namespace {
+
+std::string number(double x) {
+  std::ostringstream o;
+  o.precision(6);
+  o << x;
+  return o.str();
+}
+
+// "grains[0].radius" for every schema key, with the indices of the loaded scene's tables.
+std::vector<std::string> concrete_keys(const SceneDesc* d) {
+  std::vector<std::string> out;
+  for (const KeySpec& k : scene_schema()) {
+    const auto br = k.path.find("[]");
+    if (br == std::string::npos) {
+      out.push_back(k.path);
+      continue;
+    }
+    const std::string group = k.path.substr(0, br);
+    const int n = d ? d->group_count(group) : 0;
+    for (int i = 0; i < n; ++i) out.push_back(group + "[" + std::to_string(i) + "]" + k.path.substr(br + 2));
+  }
+  return out;
+}
+
+std::string canonical_key(const std::string& key) {
+  // "grains.0.count" -> "grains[0].count" (as --set accepts).
+  std::string out, part;
+  std::istringstream in(key);
+  while (std::getline(in, part, '.')) {
+    const bool index = !part.empty() && part.find_first_not_of("0123456789") == std::string::npos;
+    out += index && !out.empty() ? "[" + part + "]" : (out.empty() ? "" : ".") + part;
+  }
+  return out;
+}
+
+}  // namespace
+
+void Session::cmd_load(const Command& c) {
+  require_stopped("cannot load a scene");
+  const std::string file = c.args[0].text;
+  Model m = compile(load_scene_file(file));  // throws: the previous scene stays
+  scene_file_ = file;
+  overrides_.clear();
+  install(std::move(m), std::nullopt);
+  const Model& model = sim_->model();
+  out_ << "loaded " << file << ": " << model.n_grains << " grains (" << model.dim << "D), dt = " << number(model.dt)
+       << " s, " << model.walls.size() << " wall(s)\n";
+}
+
+void Session::cmd_reload(const Command&) {
+  require_stopped("cannot reload");
+  if (scene_file_.empty()) throw std::runtime_error("no scene loaded (load FILE)");
+  install(compile(load_scene_file(scene_file_, overrides_)), std::nullopt);
+  out_ << "reloaded " << scene_file_ << " at t = 0\n";
+}
+
+void Session::cmd_check(const Command&) {
+  Simulation& s = sim();
+  out_ << describe(s.model()) << "step graph\n" << s.describe_graph();
+}
+
+void Session::cmd_run(const Command& c) {
+  require_stopped("cannot run");
+  run_for(parse_run_length(c.args), false);
+}
+
+void Session::cmd_start(const Command& c) {
+  if (running()) throw std::runtime_error("already running (stop pauses it)");
+  if (background_.joinable()) background_.join();
+  RunLength len;
+  if (c.args.empty()) {
+    len.kind = RunLength::kSteps;
+    len.steps = std::numeric_limits<int64_t>::max() / 4;
+  } else {
+    len = parse_run_length(c.args);
+  }
+  run_for(len, true);
+}
+
+void Session::cmd_stop(const Command&) {
+  if (!background_.joinable()) throw std::runtime_error("nothing is running");
+  interrupt_ = true;
+  background_.join();
+  for (const std::string& m : take_messages()) out_ << m << "\n";
+}
+
+void Session::cmd_set(const Command& c) {
+  Simulation& s = sim();
+  const Override change{canonical_key(c.args[0].text), c.args[1].text};
+  const KeySpec* spec = find_key_spec(normalise_key(change.key));
+  if (!spec) {
+    std::string msg = "unknown key '" + change.key + "'";
+    if (const std::string hint = suggest_key(change.key); !hint.empty()) msg += "; did you mean '" + hint + "'?";
+    throw std::runtime_error(msg);
+  }
+  auto remember = [&] {
+    overrides_.erase(std::remove_if(overrides_.begin(), overrides_.end(), [&](const Override& o) { return o.key == change.key; }),
+                     overrides_.end());
+    overrides_.push_back(change);
+  };
+  if (spec->steerable) {
+    std::string error;
+    at_boundary([&] { error = steer(s.model_for_steering(), change); });
+    if (!error.empty()) throw std::runtime_error(error);
+    remember();
+    out_ << change.key << " = " << c.args[1].text << (running() ? " (from the next step)" : "") << "\n";
+    return;
+  }
+  if (running())
+    throw std::runtime_error("'" + change.key + "' cannot change while a run goes on (it is not steerable): stop first");
+  // Recompile with the new value; keep the state when the grains are the same.
+  std::vector<Override> next = overrides_;
+  next.erase(std::remove_if(next.begin(), next.end(), [&](const Override& o) { return o.key == change.key; }), next.end());
+  next.push_back(change);
+  Model m = compile(load_scene_file(scene_file_, next));
+  const bool same = m.scene_hash == s.model().scene_hash && m.walls.size() == s.model().walls.size();
+  std::optional<State> keep;
+  if (same) keep = s.state();
+  install(std::move(m), keep);
+  overrides_ = std::move(next);
+  out_ << change.key << " = " << c.args[1].text << (same ? " (state kept)" : " (the grains changed: back to t = 0)") << "\n";
+}
+
+void Session::cmd_get(const Command& c) {
+  const SceneDesc& d = sim().model().desc;
+  const std::string key = canonical_key(c.args[0].text);
+  const KeySpec* spec = find_key_spec(normalise_key(key));
+  if (!spec) {
+    std::string msg = "unknown key '" + key + "'";
+    if (const std::string hint = suggest_key(key); !hint.empty()) msg += "; did you mean '" + hint + "'?";
+    throw std::runtime_error(msg);
+  }
+  std::string value = "(not set)";
+  if (auto it = d.entries.find(key); it != d.entries.end()) value = value_to_string(it->second.value);
+  else if (spec->def) value = value_to_string(*spec->def) + " (default)";
+  out_ << key << " = " << value << (spec->unit.empty() ? "" : " " + spec->unit) << "\n";
+}
+
+void Session::cmd_params(const Command& c) {
+  const SceneDesc* d = sim_ ? &sim_->model().desc : nullptr;
+  const std::string prefix = c.args.empty() ? "" : canonical_key(c.args[0].text);
+  Table t({"key", "value", "unit", "range", "live"});
+  for (const std::string& key : concrete_keys(d)) {
+    if (key.rfind(prefix, 0) != 0) continue;
+    const KeySpec* spec = find_key_spec(key);
+    std::string value = "-";
+    if (d && d->entries.count(key)) value = value_to_string(d->entries.at(key).value);
+    else if (spec->def) value = value_to_string(*spec->def);
+    const bool numeric = spec->type == KeyType::kInt || spec->type == KeyType::kReal || spec->type == KeyType::kRealList;
+    t.add({key, value, spec->unit, numeric ? spec->range.str() : "", spec->steerable ? "yes" : ""});
+  }
+  if (t.rows() == 0) throw std::runtime_error("no key starts with '" + prefix + "'");
+  t.print(out_);
+}
+
+void Session::cmd_print(const Command& c) {
+  std::vector<std::string> names;
+  for (const Token& t : c.args) names.push_back(t.text);
+  std::vector<double> values;
+  try {
+    values = observe_now(names);
+  } catch (const std::invalid_argument& e) {
+    throw std::runtime_error(e.what());
+  }
+  size_t w = 0;
+  for (const auto& n : names) w = std::max(w, n.size());
+  for (size_t k = 0; k < names.size(); ++k)
+    out_ << std::left << std::setw(static_cast<int>(w)) << names[k] << " = " << std::setprecision(10) << values[k] << "\n";
+}
+
+void Session::cmd_watch(const Command& c) {
+  if (c.args.size() == 1 && c.args[0].text == "off") {
+    watch_ = Watch{};
+    out_ << "watch off\n";
+    return;
+  }
+  const size_t n = c.args.size();
+  if (n < 3 || c.args[n - 2].text != "every") throw ParseError(c.name_col, "usage: watch OBS... every N | watch off");
+  const auto every = parse_number(c.args[n - 1].text);
+  if (!every || *every < 1 || *every != std::floor(*every)) throw ParseError(c.args[n - 1].col, "every needs a positive number of steps");
+  Watch w;
+  for (size_t k = 0; k + 2 < n; ++k) w.names.push_back(c.args[k].text);
+  try {
+    w.observer.emplace(sim().model(), w.names);
+  } catch (const std::invalid_argument& e) {
+    throw std::runtime_error(e.what());
+  }
+  require_stopped("cannot change the watch");
+  w.every = static_cast<int64_t>(*every);
+  watch_ = std::move(w);
+  out_ << "watching every " << watch_.every << " steps\n";
+}
+
+void Session::cmd_stats(const Command&) {
+  sim();
+  if (!stats_ || stats_->rows().empty()) throw std::runtime_error("no samples yet (run first)");
+  Table t({"observable", "mean", "error", "last", "samples"});
+  std::vector<std::vector<double>> rows;
+  at_boundary([&] { rows = stats_->rows(); });
+  const auto& names = stats_->names();
+  for (size_t k = 0; k < names.size(); ++k) {
+    std::vector<double> series;
+    for (const auto& r : rows) series.push_back(r[k]);
+    const BlockAverage b = block_average(series);
+    t.add({names[k], number(b.mean), number(b.err) + (b.converged ? "" : " (lower bound)"), number(series.back()),
+           std::to_string(b.n)});
+  }
+  t.print(out_);
+}
+
+void Session::cmd_profile(const Command&) {
+  std::map<std::string, StageTime> prof;
+  at_boundary([&] { prof = sim_ ? sim_->state().profile : prof; });
+  sim();
+  double total = 0;
+  for (const auto& [name, st] : prof) total += st.seconds;
+  if (total == 0) throw std::runtime_error("no step yet (run first)");
+  Table t({"stage", "seconds", "calls", "ms/call", "share"});
+  for (const auto& [name, st] : prof)
+    t.add({name, number(st.seconds), std::to_string(st.calls), number(st.calls ? 1e3 * st.seconds / st.calls : 0.0),
+           number(100 * st.seconds / total) + " %"});
+  t.print(out_);
+}
+
+void Session::cmd_render(const Command& c) {
+  Simulation& s = sim();
+  render::View v = s.model().render;
+  if (c.args.size() > 1) {
+    v.draw.clear();
+    const KeySpec* spec = find_key_spec("render.draw");
+    for (size_t k = 1; k < c.args.size(); ++k) {
+      const std::string& item = c.args[k].text;
+      if (std::find(spec->choices.begin(), spec->choices.end(), item) == spec->choices.end())
+        throw ParseError(c.args[k].col, "'" + item + "' is not something to draw (grains chains field colorbar time scalebar box)");
+      v.draw.push_back(item);
+    }
+  }
+  render::RenderScene rs;
+  at_boundary([&] { rs = render::build_render_scene(s.model(), s.state(), v); });
+  if (!raster_) raster_ = std::make_unique<render::Rasterizer>();
+  render::Image img = raster_->draw(rs);
+  render::compose_overlays(rs, img);
+  render::write_png(c.args[0].text, img);
+  out_ << "wrote " << c.args[0].text << " (" << img.width << " x " << img.height << ")\n";
+  for (const std::string& w : rs.warnings) out_ << "warning: " << w << "\n";
+}
+
+void Session::cmd_frames(const Command& c) {
+  sim();
+  if (c.args.size() == 1 && c.args[0].text == "off") {
+    require_stopped("cannot change frames");
+    if (frames_) frames_->finish();
+    const int64_t n = frames_ ? frames_->written() : 0;
+    frames_.reset();
+    out_ << "frames off (" << n << " written)\n";
+    return;
+  }
+  if (c.args.size() != 3 || c.args[1].text != "every") throw ParseError(c.name_col, "usage: frames DIR every N | frames off");
+  const auto every = parse_number(c.args[2].text);
+  if (!every || *every < 1 || *every != std::floor(*every)) throw ParseError(c.args[2].col, "every needs a positive number of steps");
+  require_stopped("cannot change frames");
+  frames_ = std::make_unique<render::FrameWriter>(c.args[0].text);
+  frames_every_ = static_cast<int64_t>(*every);
+  out_ << "frames to " << c.args[0].text << " every " << frames_every_ << " steps\n";
+}
+
+void Session::cmd_save(const Command& c) {
+  Simulation& s = sim();
+  State copy;
+  at_boundary([&] { copy = s.state(); });
+  write_checkpoint(c.args[0].text, s.model(), copy);
+  out_ << "saved step " << copy.step << " (t = " << number(copy.t) << " s) to " << c.args[0].text << "\n";
+}
+
+void Session::cmd_restore(const Command& c) {
+  require_stopped("cannot restore");
+  Simulation& s = sim();
+  State st = read_checkpoint(c.args[0].text, s.model());
+  s.restore(std::move(st));
+  out_ << "restored step " << s.state().step << " (t = " << number(s.state().t) << " s)\n";
+}
+
+void Session::cmd_reset(const Command&) {
+  require_stopped("cannot reset");
+  Model m = sim().model();
+  install(std::move(m), std::nullopt);
+  out_ << "back to t = 0\n";
+}
+
+void Session::cmd_source(const Command& c) {
+  if (source_depth_ >= 16) throw std::runtime_error("source nested too deeply (16)");
+  const std::string file = c.args[0].text;
+  std::ifstream in(file);
+  if (!in) throw std::runtime_error("cannot read '" + file + "'");
+  ++source_depth_;
+  std::string line;
+  int n = 0;
+  bool ok = true;
+  while (ok && !quit_ && std::getline(in, line)) {
+    ++n;
+    ok = execute(line, file + ":" + std::to_string(n));
+  }
+  --source_depth_;
+  if (!ok) throw std::runtime_error("source " + file + " stopped at line " + std::to_string(n));
+}
+
+void Session::cmd_help(const Command& c) {
+  if (c.args.empty()) {
+    Table t({"command", "what"});
+    for (const CommandSpec& s : command_specs()) t.add({s.usage, s.summary});
+    t.print(out_);
+    out_ << "help COMMAND explains one; params lists the scene keys; observables: t step ke phi z stress.xy p[K].vx ...\n";
+    return;
+  }
+  const CommandSpec* s = find_command(c.args[0].text);
+  if (!s) {
+    std::string msg = "unknown command '" + c.args[0].text + "'";
+    if (const std::string hint = suggest_command(c.args[0].text); !hint.empty()) msg += "; did you mean '" + hint + "'?";
+    throw std::runtime_error(msg);
+  }
+  out_ << s->usage << "\n  " << s->help << "\n";
+}
+
+void Session::cmd_quit(const Command&) {
+  if (background_.joinable()) {
+    interrupt_ = true;
+    background_.join();
+  }
+  quit_ = true;
+}
+
+std::vector<std::string> Session::complete(const std::string& before, const std::string& word) const {
+  std::vector<std::string> pool;
+  std::optional<Command> c;
+  try {
+    c = parse_line(before);
+  } catch (const ParseError&) {
+    return {};
+  }
+  if (!c) {
+    for (const CommandSpec& s : command_specs()) pool.push_back(s.name);
+  } else {
+    const CommandSpec* s = find_command(c->name);
+    if (!s) return {};
+    switch (s->completes) {
+      case ArgKind::kKey:
+        if (c->args.empty()) pool = concrete_keys(sim_ ? &sim_->model().desc : nullptr);
+        break;
+      case ArgKind::kObservable:
+        if (sim_) pool = observable_names(sim_->model());
+        for (const char* w : {"until", "every", "off", "and", "or"}) pool.push_back(w);
+        break;
+      case ArgKind::kCommand:
+        for (const CommandSpec& x : command_specs()) pool.push_back(x.name);
+        break;
+      default:
+        return {};  // files: the line editor's own completion
+    }
+  }
+  std::vector<std::string> out;
+  for (const std::string& p : pool)
+    if (p.rfind(word, 0) == 0) out.push_back(p);
+  return out;
+}
+
+}  // namespace silt::shell

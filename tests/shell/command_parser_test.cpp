@@ -1,0 +1,89 @@
+// The shell's command language: words, quotes, comments, arity, run lengths, conditions.
+#include <doctest/doctest.h>
+
+#include "shell/command_parser.hpp"
+
+using namespace silt::shell;
+
+TEST_CASE("lines split into a command and its words") {
+  CHECK_FALSE(parse_line("").has_value());
+  CHECK_FALSE(parse_line("   # only a comment").has_value());
+  const auto c = parse_line("  set contact.friction 0.3   # steer");
+  REQUIRE(c);
+  CHECK(c->name == "set");
+  CHECK(c->name_col == 3);
+  REQUIRE(c->args.size() == 2);
+  CHECK(c->args[0].text == "contact.friction");
+  CHECK(c->args[0].col == 7);
+  CHECK(c->args[1].text == "0.3");
+  const auto q = parse_line(R"(load "my scenes/a \"b\".toml" x)");
+  REQUIRE(q);
+  CHECK(q->args[0].text == R"(my scenes/a "b".toml)");
+  CHECK(q->args[1].text == "x");
+  CHECK(parse_line("render \"\"")->args[0].text.empty());
+}
+
+TEST_CASE("malformed lines: the column and the reason") {
+  auto col_of = [](const char* line) {
+    try {
+      parse_line(line);
+    } catch (const ParseError& e) {
+      return e.col;
+    }
+    return -1;
+  };
+  CHECK(col_of("load \"a.toml") == 6);        // unterminated quote
+  CHECK(col_of("load \"a\"b") == 9);          // no blank after a quoted word
+  CHECK(col_of("load a\"b") == 7);            // quote inside a word
+  CHECK(col_of("print t\x01") == 8);          // control character
+  CHECK(col_of("print t # \"") == -1);        // quotes in comments are fine
+}
+
+TEST_CASE("commands are checked: unknown names with a suggestion, wrong argument counts") {
+  CHECK(check_command(*parse_line("run 10")).name == "run");
+  CHECK(check_command(*parse_line("exit")).name == "quit");
+  CHECK_THROWS_WITH_AS(check_command(*parse_line("rnu 10")), doctest::Contains("did you mean 'run'"), ParseError);
+  CHECK_THROWS_WITH_AS(check_command(*parse_line("set a")), doctest::Contains("usage: set KEY VALUE"), ParseError);
+  try {
+    check_command(*parse_line("load a b"));
+  } catch (const ParseError& e) {
+    CHECK(e.col == 8);  // the extra word
+  }
+  CHECK(suggest_command("prnt") == "print");
+  CHECK(suggest_command("zzzzzzz").empty());
+  for (const CommandSpec& s : command_specs()) {
+    CHECK(!s.help.empty());
+    CHECK(find_command(s.name) == &s);
+  }
+}
+
+TEST_CASE("run lengths: steps, simulated time, conditions") {
+  auto len = [](const char* line) { return parse_run_length(parse_line(line)->args); };
+  CHECK(len("run 1000").kind == RunLength::kSteps);
+  CHECK(len("run 1000").steps == 1000);
+  CHECK(len("run 1e3").steps == 1000);
+  CHECK(len("run 0.5s").kind == RunLength::kTime);
+  CHECK(len("run 0.5s").time == 0.5);
+  const RunLength u = len("run until t >= 1 and ke < 1e-6 or step == 5");
+  REQUIRE(u.kind == RunLength::kUntil);
+  REQUIRE(u.until.clauses.size() == 3);
+  CHECK(u.until.clauses[1].observable == "ke");
+  CHECK(u.until.clauses[1].op == "<");
+  CHECK(u.until.clauses[1].value == 1e-6);
+  // (t >= 1 and ke < 1e-6) or step == 5, left to right.
+  CHECK(u.until.holds({2, 0, 0}));
+  CHECK_FALSE(u.until.holds({2, 1, 0}));
+  CHECK(u.until.holds({0, 1, 5}));
+  for (const char* bad : {"run -3", "run 1.5", "run abc", "run 0s", "run xs", "run 10 20", "run until t", "run until t >= x",
+                          "run until t => 1", "run until t > 1 and", "run until t > 1 but x < 2"})
+    CHECK_THROWS_AS(len(bad), ParseError);
+}
+
+TEST_CASE("numbers are read whole") {
+  CHECK(parse_number("2.5") == 2.5);
+  CHECK(parse_number("-1e-3") == -1e-3);
+  CHECK_FALSE(parse_number("2.5x").has_value());
+  CHECK_FALSE(parse_number("").has_value());
+  CHECK_FALSE(parse_number("nan").has_value());
+  CHECK_FALSE(parse_number("1e999").has_value());
+}

@@ -1,0 +1,219 @@
+// The shell's session, driven command by command: loading, running, steering, checkpoints,
+// background runs and every kind of mistake.
+#include <doctest/doctest.h>
+
+#include <chrono>
+#include <sstream>
+#include <thread>
+
+#include "shell/session.hpp"
+#include "support/scenes.hpp"
+
+using namespace silt;
+using namespace silt::shell;
+
+namespace {
+
+struct Fixture {
+  std::ostringstream out, err;
+  Session s{out, err, 2};
+  bool run(const std::string& line) { return s.execute(line); }
+  std::string take_out() {
+    std::string x = out.str();
+    out.str("");
+    return x;
+  }
+  std::string take_err() {
+    std::string x = err.str();
+    err.str("");
+    return x;
+  }
+  double value(const std::string& obs) {
+    take_out();
+    REQUIRE(run("print " + obs));
+    const std::string o = take_out();
+    return std::stod(o.substr(o.find('=') + 1));
+  }
+};
+
+}  // namespace
+
+TEST_CASE("the shell survives every mistake and keeps the previous scene") {
+  Fixture f;
+  CHECK_FALSE(f.run("print t"));
+  CHECK(f.take_err().find("no scene loaded") != std::string::npos);
+  CHECK(f.run("load " + test::scene_path("collision_normal")));
+  CHECK_FALSE(f.run("load no_such.toml"));
+  CHECK_FALSE(f.run("frobnicate"));
+  CHECK_FALSE(f.run("run"));
+  CHECK_FALSE(f.run("run 1.5"));
+  CHECK_FALSE(f.run("print tt"));
+  CHECK(f.take_err().find("did you mean 't'") != std::string::npos);
+  CHECK_FALSE(f.run("set contact.friction -1"));
+  CHECK(f.take_err().find("out of range") != std::string::npos);
+  CHECK_FALSE(f.run("set contact.frition 0.2"));
+  CHECK(f.take_err().find("did you mean 'contact.friction'") != std::string::npos);
+  CHECK_FALSE(f.run("restore no_such.ckpt"));
+  CHECK_FALSE(f.run("source no_such.silt"));
+  CHECK_FALSE(f.run("render no_dir/x.png"));
+  CHECK_FALSE(f.run("watch t every zero"));
+  CHECK_FALSE(f.run("stop"));
+  CHECK_FALSE(f.run("run \"unterminated"));
+  // Still loaded and working.
+  CHECK(f.run("run 10"));
+  CHECK(f.value("step") == 10);
+}
+
+TEST_CASE("set steers a run: a changed gravity changes the next steps") {
+  // Two identical bouncing balls; gravity doubled in one after 1000 steps.
+  Fixture a, b;
+  for (Fixture* f : {&a, &b}) REQUIRE(f->run("load " + test::scene_path("bounce_dry")));
+  for (Fixture* f : {&a, &b}) REQUIRE(f->run("run 1000"));
+  CHECK(a.value("p[0].z") == b.value("p[0].z"));
+  REQUIRE(b.run("set gravity.magnitude 19.62"));
+  CHECK(b.take_out().find("gravity.magnitude = 19.62") != std::string::npos);
+  for (Fixture* f : {&a, &b}) REQUIRE(f->run("run 1000"));
+  const double za = a.value("p[0].z"), zb = b.value("p[0].z");
+  // Extra fall over 1 ms after the change: g dt^2/2 more, ~4.9e-6 m.
+  CHECK(za - zb == doctest::Approx(0.5 * 9.81 * 1e-3 * 1e-3).epsilon(0.01));
+  REQUIRE(b.run("get gravity.magnitude"));
+  CHECK(b.take_out().find("19.62") != std::string::npos);
+}
+
+TEST_CASE("non-steerable values recompile the scene, keeping the state when the grains are the same") {
+  Fixture f;
+  REQUIRE(f.run("load " + test::scene_path("collision_normal")));
+  REQUIRE(f.run("run 100"));
+  REQUIRE(f.run("set contact.restitution 0.5"));
+  CHECK(f.take_out().find("state kept") != std::string::npos);
+  CHECK(f.value("step") == 100);
+  REQUIRE(f.run("set grains.0.radius 1.4e-3"));
+  CHECK(f.take_out().find("back to t = 0") != std::string::npos);
+  CHECK(f.value("step") == 0);
+  REQUIRE(f.run("reload"));
+  CHECK(f.run("get grains[0].radius"));
+  CHECK(f.take_out().find("0.0014") != std::string::npos);  // reload keeps the values set
+}
+
+TEST_CASE("save, restore and reset: a restored run is bitwise the uninterrupted one") {
+  Fixture f;
+  REQUIRE(f.run("load " + test::scene_path("collision_normal")));
+  REQUIRE(f.run("run 150"));
+  REQUIRE(f.run("save session_test.ckpt"));
+  REQUIRE(f.run("run 150"));
+  const double x = f.value("p[0].x"), v = f.value("p[1].vx");
+  REQUIRE(f.run("reset"));
+  CHECK(f.value("t") == 0);
+  REQUIRE(f.run("restore session_test.ckpt"));
+  CHECK(f.value("step") == 150);
+  REQUIRE(f.run("run 150"));
+  CHECK(f.value("p[0].x") == x);
+  CHECK(f.value("p[1].vx") == v);
+  std::remove("session_test.ckpt");
+}
+
+TEST_CASE("run lengths: steps, time, until a condition") {
+  Fixture f;
+  REQUIRE(f.run("load " + test::scene_path("collision_normal")));
+  REQUIRE(f.run("run 0.0001s"));
+  CHECK(f.value("step") == 100);
+  f.take_out();
+  REQUIRE(f.run("run until n_contacts > 0"));
+  CHECK(f.take_out().find("condition met") != std::string::npos);
+  const double step = f.value("step");
+  CHECK(step >= 195);  // the grains meet at t = 0.2 ms
+  CHECK(step <= 205);
+  CHECK(f.value("n_contacts") == 1);
+  REQUIRE(f.run("run until t >= 0.0009"));
+  CHECK(f.value("step") == 900);
+  CHECK_FALSE(f.run("run until kee > 1"));
+}
+
+TEST_CASE("a background run keeps the prompt; set acts at the next step boundary; stop pauses") {
+  Fixture f;
+  REQUIRE(f.run("load " + test::scene_path("chute")));
+  REQUIRE(f.run("watch t every 100"));
+  REQUIRE(f.run("start"));
+  CHECK(f.s.running());
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  REQUIRE(f.run("set contact.friction 0.2"));  // while running
+  CHECK(f.take_out().find("from the next step") != std::string::npos);
+  CHECK_FALSE(f.run("set grains[1].count 10"));
+  CHECK(f.take_err().find("stop first") != std::string::npos);
+  CHECK_FALSE(f.run("reset"));
+  const double t1 = f.value("t");  // served at a step boundary
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  const double t2 = f.value("t");
+  CHECK(t2 > t1);
+  REQUIRE(f.run("save bg_test.ckpt"));
+  REQUIRE(f.run("stop"));
+  CHECK_FALSE(f.s.running());
+  CHECK(f.take_out().find("paused") != std::string::npos);
+  const double t3 = f.value("t");
+  std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  CHECK(f.value("t") == t3);
+  REQUIRE(f.run("get contact.friction"));
+  CHECK(f.take_out().find("0.2") != std::string::npos);
+  const auto watched = f.s.take_messages();
+  CHECK(!watched.empty());
+  CHECK(watched.front().find("t = ") != std::string::npos);
+  std::remove("bg_test.ckpt");
+}
+
+TEST_CASE("interrupting a foreground run pauses it at a step boundary") {
+  Fixture f;
+  REQUIRE(f.run("load " + test::scene_path("chute")));
+  std::thread ctrl_c([&] {
+    std::this_thread::sleep_for(std::chrono::milliseconds(400));
+    f.s.interrupt();
+  });
+  REQUIRE(f.run("run 1000000"));
+  ctrl_c.join();
+  CHECK(f.take_out().find("paused") != std::string::npos);
+  const double step = f.value("step");
+  CHECK(step > 0);
+  CHECK(step < 1000000);
+  REQUIRE(f.run("run 5"));  // runs again after a pause
+  CHECK(f.value("step") == step + 5);
+}
+
+TEST_CASE("help, params, stats, profile, render and frames print what a person reads") {
+  Fixture f;
+  REQUIRE(f.run("help"));
+  CHECK(f.take_out().find("run N | run Ts | run until EXPR") != std::string::npos);
+  REQUIRE(f.run("help watch"));
+  CHECK(f.take_out().find("every N steps") != std::string::npos);
+  REQUIRE(f.run("load " + test::scene_path("pack_2d")));
+  REQUIRE(f.run("params box"));
+  const std::string p = f.take_out();
+  CHECK(p.find("box.pressure") != std::string::npos);
+  CHECK(p.find("Pa") != std::string::npos);
+  REQUIRE(f.run("frames session_frames every 500"));
+  REQUIRE(f.run("run 1000"));
+  REQUIRE(f.run("frames off"));
+  CHECK(f.take_out().find("(3 written)") != std::string::npos);
+  REQUIRE(f.run("stats"));
+  CHECK(f.take_out().find("phi") != std::string::npos);
+  REQUIRE(f.run("profile"));
+  CHECK(f.take_out().find("contact_forces") != std::string::npos);
+  REQUIRE(f.run("render session_test.png grains chains"));
+  CHECK(f.take_out().find("wrote session_test.png") != std::string::npos);
+  CHECK_FALSE(f.run("render x.png sparkles"));
+  std::remove("session_test.png");
+  std::system("rm -rf session_frames");
+}
+
+TEST_CASE("completion: commands, keys, observables") {
+  Fixture f;
+  auto has = [](const std::vector<std::string>& v, const std::string& x) {
+    return std::find(v.begin(), v.end(), x) != v.end();
+  };
+  CHECK(has(f.s.complete("", "re"), "reload"));
+  CHECK(has(f.s.complete("", "re"), "restore"));
+  REQUIRE(f.run("load " + test::scene_path("silo")));
+  CHECK(has(f.s.complete("set ", "contact.fr"), "contact.friction"));
+  CHECK(has(f.s.complete("set ", "walls[4]"), "walls[4].friction"));
+  CHECK(has(f.s.complete("print t ", "wall[4].f"), "wall[4].fz"));
+  CHECK(has(f.s.complete("help ", "wa"), "watch"));
+  CHECK(f.s.complete("load ", "sce").empty());  // files: left to the line editor
+}
