@@ -12,11 +12,14 @@ void Progress::update(const State& s) {
   const double el = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0_).count();
   const int64_t done = s.step - first_;
   const double rate = el > 0 ? done / el : 0;
-  const double eta = rate > 0 ? (total_ - done) / rate : 0;
-  std::fprintf(stderr, "\r  step %lld/%lld (%5.1f%%)  t = %-10.4g  %.3g grain-steps/s  eta %02d:%02d  ",
-               static_cast<long long>(s.step), static_cast<long long>(first_ + total_),
-               total_ ? 100.0 * done / total_ : 100.0, s.t, rate * n_, static_cast<int>(eta) / 60,
-               static_cast<int>(eta) % 60);
+  const double eta = rate > 0 && total_ > 0 ? (total_ - done) / rate : 0;
+  if (total_ > 0)
+    std::fprintf(stderr, "\r  step %lld/%lld (%5.1f%%)  t = %-10.4g  %.3g grain-steps/s  eta %02d:%02d  ",
+                 static_cast<long long>(s.step), static_cast<long long>(first_ + total_), 100.0 * done / total_, s.t,
+                 rate * n_, static_cast<int>(eta) / 60, static_cast<int>(eta) % 60);
+  else
+    std::fprintf(stderr, "\r  step %lld  t = %-10.4g  %.3g grain-steps/s  (Ctrl-C pauses)  ", static_cast<long long>(s.step),
+                 s.t, rate * n_);
   std::fflush(stderr);
   drawn_ = true;
 }

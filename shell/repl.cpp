@@ -71,6 +71,7 @@ std::string history_path() {
 
 int shell_command(const std::string& scene, int threads) {
   shell::Session session(std::cout, std::cerr, threads);
+  session.set_progress(::isatty(STDERR_FILENO));
   g_session = &session;
   if (::pipe(g_pipe) != 0) return report_error("cannot create a pipe", 4);
   ::fcntl(g_pipe[0], F_SETFL, O_NONBLOCK);

@@ -8,6 +8,7 @@
 #include <limits>
 #include <sstream>
 
+#include "shell/progress.hpp"
 #include "silt/observables.hpp"
 
 namespace silt::shell {
@@ -223,13 +224,25 @@ void Session::run_for(const RunLength& len, bool background) {
       case RunEnd::kInterrupted: o << (until_met_ ? "condition met" : "paused"); break;
       case RunEnd::kFailed: o << "failed: " << st.failure.message; break;
     }
-    o << ": " << r.steps_done << " steps in " << r.wall_s << " s, now t = " << st.t << " s, step " << st.step;
+    o << (r.end == RunEnd::kFailed ? "\n  " : ": ") << r.steps_done << " steps in " << r.wall_s << " s";
+    if (r.end == RunEnd::kFailed) {
+      // Keep the last good state: it can be saved, or run again after changing the parameter.
+      sim_->restore(sim_->last_good_state());
+      o << "; back to the last good state";
+    }
+    o << ", now t = " << st.t << " s, step " << st.step;
     say(o.str(), from_background);
   };
   interrupt_ = false;
   until_met_ = false;
   if (!background) {
+    std::optional<cli::Progress> bar;
+    if (progress_) {
+      bar.emplace(true, s.state().step, opt.steps < std::numeric_limits<int64_t>::max() / 8 ? opt.steps : 0, s.model().n_grains);
+      opt.on_progress = [&bar](const State& st) { bar->update(st); };
+    }
     const RunReport r = s.run(opt);
+    if (bar) bar->finish();
     if (frames_) frames_->finish();
     report(r, false);
     return;

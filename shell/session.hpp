@@ -45,6 +45,8 @@ class Session {
   // Lines produced by a background run (watch, end of run), for the REPL to print.
   std::vector<std::string> take_messages();
   std::string prompt() const;
+  // A progress line on err during foreground runs (the REPL turns it on for terminals).
+  void set_progress(bool on) { progress_ = on; }
   // Completion candidates for the word being typed, by what the command expects.
   std::vector<std::string> complete(const std::string& line_before_word, const std::string& word) const;
 
@@ -88,6 +90,7 @@ class Session {
   std::ostream& err_;
   int threads_;
   bool quit_ = false;
+  bool progress_ = false;
   int source_depth_ = 0;
 
   std::string scene_file_;

@@ -3,6 +3,7 @@
 #include <doctest/doctest.h>
 
 #include <chrono>
+#include <fstream>
 #include <sstream>
 #include <thread>
 
@@ -216,4 +217,43 @@ TEST_CASE("completion: commands, keys, observables") {
   CHECK(has(f.s.complete("print t ", "wall[4].f"), "wall[4].fz"));
   CHECK(has(f.s.complete("help ", "wa"), "watch"));
   CHECK(f.s.complete("load ", "sce").empty());  // files: left to the line editor
+}
+
+TEST_CASE("a numerical failure stops the run, the shell stays, and the last good state can be saved") {
+  std::ofstream("session_soft.toml") << R"(
+[scene]
+dimension = 3
+[domain]
+lo = [-5, -5, -5]
+hi = [5, 5, 5]
+[contact]
+model = "hooke"
+k_n = 100
+[[grains]]
+radius = 0.5
+placement = "explicit"
+positions = [[-1, 0, 0], [1, 0, 0]]
+velocity = "explicit"
+velocities = [[10, 0, 0], [-10, 0, 0]]
+[run]
+dt = 1e-3
+)";
+  Fixture f;
+  REQUIRE(f.run("load session_soft.toml"));
+  REQUIRE(f.run("run 1000"));
+  const std::string out = f.take_out();
+  CHECK(out.find("failed: step") != std::string::npos);
+  CHECK(out.find("contact.k_n") != std::string::npos);
+  CHECK(out.find("back to the last good state") != std::string::npos);
+  const double step = f.value("step");
+  CHECK(step > 0);
+  REQUIRE(f.run("save session_soft.ckpt"));
+  REQUIRE(f.run("set contact.k_n 1e5"));  // stiffer: not steerable, recompiled, state kept
+  CHECK(f.value("step") == step);
+  REQUIRE(f.run("reset"));
+  REQUIRE(f.run("run 1000"));
+  CHECK(f.take_out().find("done") != std::string::npos);
+  CHECK(f.value("step") == 1000);
+  std::remove("session_soft.toml");
+  std::remove("session_soft.ckpt");
 }
