@@ -63,6 +63,7 @@ int run_command(const RunArgs& a) {
     return report_error(e.what(), 4);
   }
   const bool until_static = m.until_static.on;
+  std::string prep_warning;
   Simulation sim(std::move(m), a.threads);
   const Model& model = sim.model();
   if (!a.restore.empty()) {
@@ -71,6 +72,21 @@ int run_command(const RunArgs& a) {
     } catch (const IoError& e) {
       return report_error(e.what(), 4);
     }
+  } else if (model.prepare.compress) {
+    PreparationReport prep;
+    g_interrupt = false;
+    std::signal(SIGINT, on_sigint);
+    if (!a.quiet) std::cerr << "silt: preparing: isotropic compression at P = " << model.box_control.pressure << "\n";
+    sim.restore(prepare_packing(model, a.threads, &prep, &g_interrupt));
+    std::signal(SIGINT, SIG_DFL);
+    if (prep.end == RunEnd::kFailed)
+      return report_error("numerical failure during the preparation: " + prep.failure, 3);
+    if (prep.end == RunEnd::kInterrupted) return report_error("interrupted during the preparation", 130);
+    const Measurements meas = measure(model, sim.state());
+    if (!a.quiet)
+      std::fprintf(stderr, "silt: prepared in %lld steps (%.1f s): phi = %.5f%s\n", static_cast<long long>(prep.steps),
+                 prep.wall_s, meas.phi, prep.end == RunEnd::kStatic ? ", static" : "");
+    if (prep.end != RunEnd::kStatic) prep_warning = "prepare.max_steps: the compression did not reach equilibrium";
   }
 
   std::unique_ptr<render::FrameWriter> frames;
@@ -143,6 +159,7 @@ int run_command(const RunArgs& a) {
   }
   if (until_static && rep.end == RunEnd::kDone)
     sum.warnings.push_back("run.stop_when_static: no equilibrium within the run length");
+  if (!prep_warning.empty()) sum.warnings.push_back(prep_warning);
   sum.exit_code = code;
   try {
     stats->flush();
@@ -157,6 +174,7 @@ int run_command(const RunArgs& a) {
       }
     }
     if (!a.summary.empty()) write_summary(a.summary, sum, sim, *stats);
+    if (!a.save.empty() && rep.end != RunEnd::kFailed) write_checkpoint(a.save, model, sim.state());
   } catch (const IoError& e) {
     return report_error(e.what(), 4);
   }

@@ -12,7 +12,7 @@ struct RunArgs {
   int64_t steps = -1;
   double time = -1;
   int threads = 0;
-  std::string stats, summary, observe, restore, frames, vtk;
+  std::string stats, summary, observe, restore, save, frames, vtk;
   int64_t frame_every = 0, vtk_every = 0;
   int64_t every = 0;
   double average_from = 0;

@@ -29,7 +29,8 @@ int main(int argc, char** argv) {
   r->add_option("--frame-every", run.frame_every, "One frame every N steps (default: render.every, else output.every)");
   r->add_option("--vtk", run.vtk, "Write VTK files for ParaView/OVITO to DIR (grains .vtu, contacts .vtp, index.pvd)");
   r->add_option("--vtk-every", run.vtk_every, "VTK files every N steps (default: output.every)");
-  r->add_option("--restore", run.restore, "Start from a checkpoint of this scene (e.g. a .last_good.ckpt)");
+  r->add_option("--restore", run.restore, "Start from a checkpoint of the same grains (a prepared packing, a .last_good.ckpt)");
+  r->add_option("--save", run.save, "Checkpoint of the final state (written atomically)");
 
   CheckArgs check;
   auto* c = app.add_subcommand("check", "Validate a scene and print the compiled model");

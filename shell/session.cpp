@@ -93,7 +93,16 @@ void Session::dispatch(const Command& c) {
 
 void Session::install(Model m, const std::optional<State>& keep) {
   auto next = std::make_unique<Simulation>(std::move(m), threads_);
-  if (keep) next->restore(*keep);
+  if (keep) {
+    next->restore(*keep);
+  } else if (next->model().prepare.compress) {
+    PreparationReport rep;
+    interrupt_ = false;
+    next->restore(prepare_packing(next->model(), threads_, &rep, &interrupt_));
+    out_ << "prepared: isotropic compression, " << rep.steps << " steps in " << rep.wall_s << " s"
+         << (rep.end == RunEnd::kStatic ? ", static" : ", not static (prepare.max_steps or interrupted)") << "\n";
+    interrupt_ = false;
+  }
   sim_ = std::move(next);
   stats_.emplace("", sim_->model().observe);
   stats_observer_.emplace(sim_->model(), sim_->model().observe);

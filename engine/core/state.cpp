@@ -24,7 +24,6 @@ State make_state(const Model& m) {
   s.n_walls = static_cast<int>(m.walls.size());
   s.dt = m.dt;
   s.box = m.box;
-  s.box_len_ref = m.box.len;
   s.particle_x = m.init.x;
   s.particle_v = m.init.v;
   s.particle_w = m.init.w;
@@ -38,7 +37,8 @@ State make_state(const Model& m) {
     s.particle_inv_m[i] = frozen ? 0.0 : 1.0 / m.init.mass[i];
     s.particle_inv_i[i] = frozen ? 0.0 : 1.0 / m.init.inertia[i];
   }
-  s.particle_x_ref = s.particle_x;
+  s.particle_disp.assign(n * D, 0.0);
+  s.shear_rate = m.shear.rate;
   s.wall_f.assign(n * s.n_walls * D, 0);
   s.particle_t_wall.assign(s.n_walls ? n * R : 0, 0);
   s.wall_hist.assign(n * s.n_walls * D, 0);
@@ -64,6 +64,9 @@ uint64_t state_hash(const State& s) {
   h = fnv1a(&s.dt, sizeof s.dt, h);
   h = fnv1a(s.box.len.data(), sizeof(double) * 3, h);
   h = fnv1a(s.box_rate.data(), sizeof(double) * 3, h);
+  h = fnv1a(&s.shear_rate, sizeof s.shear_rate, h);
+  h = fnv1a(&s.le_displacement, sizeof s.le_displacement, h);
+  h = fnv1a(&s.shear_strain, sizeof s.shear_strain, h);
   return h;
 }
 

@@ -1,9 +1,12 @@
 // Stress-controlled box lengths, Peyneau (2009) eq. 3.11:
 //   M d2L_a/dt2 = (Omega / L_a) (sigma_aa - Sigma_aa),
 //   Omega sigma_aa = sum_i m_i v_ia^2 + sum_contacts f_ij,a d_ij,a   (compression positive),
-// so a contact pressure below the target shrinks the box. This stage computes sigma_aa after
-// the forces of the new step and applies the second half kick of dL/dt; the first half kick and
-// the drift are in kick_drift. Sums run over fixed chunks in order: thread-count independent.
+// so a contact pressure below the target shrinks the box; and a stress-controlled shear rate,
+// eq. 3.12 in this code's sign convention (flow v_x = gammadot y, tau = -sigma_xy > 0 resists it):
+//   M L_x L_y / Omega d(gammadot)/dt = tau_imposed - tau,
+// so a shear stress above the grains' resistance accelerates the shear. This stage computes the
+// stresses after the forces of the new step and applies the second half kicks; the first half
+// kicks and the drifts are in kick_drift. Sums run over fixed chunks in order.
 #include "core/parallel.hpp"
 #include "dem/box_geometry.hpp"
 #include "dem/stages.hpp"
@@ -11,32 +14,33 @@
 namespace silt::dem {
 namespace {
 
+// sigma_aa on the controlled axes and, under stress-controlled shear, tau = -sigma_xy.
 template <int D>
 void stress_dim(const Model& m, State& s) {
   const PeriodicImage<D> img(s.box);
   double vol = 1;
   for (int k = 0; k < D; ++k) vol *= s.box.len[k];
-  for (int a = 0; a < D; ++a) {
-    if (!m.box_control.controlled[a]) continue;
-    const double sum = deterministic_sum(s.n, 2048, [&](int64_t b, int64_t e) {
+  // Components (a, b) of Omega sigma = sum m v_a v_b + sum f_a d_b, over fixed chunks in order.
+  auto component = [&](int a, int b) {
+    return deterministic_sum(s.n, 2048, [&](int64_t lo, int64_t hi) {
       double acc = 0;
-      for (int64_t i = b; i < e; ++i) {
-        if (!s.particle_frozen[i]) {
-          const double va = s.particle_v[D * i + a];
-          acc += va * va / s.particle_inv_m[i];
-        }
+      for (int64_t i = lo; i < hi; ++i) {
+        if (!s.particle_frozen[i]) acc += s.particle_v[D * i + a] * s.particle_v[D * i + b] / s.particle_inv_m[i];
         for (int32_t p = s.nbr_start[i]; p < s.nbr_start[i + 1]; ++p) {
           const double fa = s.pair_f[D * p + a];
           if (fa == 0.0) continue;
           Vec<D> d = at<D>(s.particle_x.data(), i) - at<D>(s.particle_x.data(), s.pair_j[p]);
           img.apply(d);
-          acc += fa * d[a];
+          acc += fa * d[b];
         }
       }
       return acc;
     });
-    s.box_stress[a] = sum / vol;
-  }
+  };
+  if (m.box_control.on)
+    for (int a = 0; a < D; ++a)
+      if (m.box_control.controlled[a]) s.box_stress[a] = component(a, a) / vol;
+  if (m.shear.stress_controlled) s.shear_stress = -component(0, 1) / vol;
 }
 
 template <int D>
@@ -45,9 +49,12 @@ void kick_dim(const Model& m, State& s) {
   double vol = 1;
   for (int k = 0; k < D; ++k) vol *= s.box.len[k];
   const double h = 0.5 * s.dt;
-  for (int a = 0; a < D; ++a)
-    if (m.box_control.controlled[a])
-      s.box_rate[a] += h * (vol / s.box.len[a]) * (s.box_stress[a] - m.box_control.pressure) / m.box_control.mass;
+  if (m.box_control.on)
+    for (int a = 0; a < D; ++a)
+      if (m.box_control.controlled[a])
+        s.box_rate[a] += h * (vol / s.box.len[a]) * (s.box_stress[a] - m.box_control.pressure) / m.box_control.mass;
+  if (m.shear.stress_controlled)
+    s.shear_rate += h * vol * (m.shear.stress - s.shear_stress) / (m.box_control.mass * s.box.len[0] * s.box.len[1]);
 }
 
 }  // namespace

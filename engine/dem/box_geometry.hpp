@@ -1,9 +1,9 @@
-// Minimum-image arithmetic of the (possibly resizable) periodic box.
+// Minimum-image arithmetic of the (possibly resizable, possibly sheared) periodic box, for the
+// particle kernels: Box::nearest with the constants hoisted and no branch per component.
 //
 // Preconditions: every periodic length exceeds twice the largest interaction range, so that the
 // nearest image is the only one within range (compile() checks it; the box controller stops the
-// run before it shrinks below); and positions are wrapped into the box (kick_drift does it), so
-// a separation is shorter than one box length and one compare per direction finds its image.
+// run before it shrinks below).
 #pragma once
 
 #include <cmath>
@@ -15,37 +15,37 @@ namespace silt::dem {
 
 template <int D>
 struct PeriodicImage {
-  explicit PeriodicImage(const Box& b) {
+  explicit PeriodicImage(const Box& b) : lees_edwards(b.lees_edwards), offset(b.le_offset) {
     for (int k = 0; k < D; ++k) {
       periodic[k] = b.periodic[k];
       len[k] = b.len[k];
       inv_len[k] = 1.0 / b.len[k];
-      half[k] = 0.5 * b.len[k];
+      // len = 0 in the open directions: rounding then changes nothing, and needs no branch
+      // (nearbyint is one instruction, roundsd, with -fno-math-errno on x86-64-v2).
       image_len[k] = periodic[k] ? len[k] : 0.0;
       image_inv[k] = periodic[k] ? inv_len[k] : 0.0;
     }
   }
-  // Replace a separation of two wrapped positions by its nearest periodic image.
-  void apply(Vec<D>& d) const {
-    for (int k = 0; k < D; ++k) {
-      if (!periodic[k]) continue;
-      if (d[k] > half[k])
-        d[k] -= len[k];
-      else if (d[k] < -half[k])
-        d[k] += len[k];
+  // Nearest image of a separation d (Eigen or SVec).
+  template <class V>
+  void apply(V& d) const {
+    if (lees_edwards) {
+      const double ny = std::nearbyint(d[1] * inv_len[1]);
+      d[1] -= ny * len[1];
+      d[0] -= ny * offset;
     }
+    for (int k = 0; k < D; ++k) d[k] -= image_len[k] * std::nearbyint(d[k] * image_inv[k]);
   }
-  // Component k of the nearest image, without a branch: len = 0 in the open directions, and
-  // rounding is one instruction (roundsd) with -fno-math-errno on x86-64-v2.
-  double nearest(double d, int k) const { return d - image_len[k] * std::nearbyint(d * image_inv[k]); }
-  // Nearest image of any separation (no wrapping precondition).
-  void apply_any(Vec<D>& d) const {
-    for (int k = 0; k < D; ++k)
-      if (periodic[k]) d[k] -= len[k] * std::nearbyint(d[k] * inv_len[k]);
-  }
-  // Wrap a position into [lo, lo + len) in the periodic directions.
+  // Wrap a position into the box in the periodic directions; under Lees-Edwards a grain leaving
+  // through y enters the other side shifted along x by the offset (its velocity relative to the
+  // shear flow is unchanged).
   template <class V>
   void wrap(V&& x, const Box& b) const {
+    if (lees_edwards && !(x[1] >= b.lo[1] && x[1] < b.lo[1] + len[1])) {
+      const double ny = std::floor((x[1] - b.lo[1]) * inv_len[1]);
+      x[1] -= ny * len[1];
+      x[0] -= ny * offset;
+    }
     for (int k = 0; k < D; ++k) {
       if (!periodic[k] || (x[k] >= b.lo[k] && x[k] < b.lo[k] + len[k])) continue;
       x[k] -= std::floor((x[k] - b.lo[k]) * inv_len[k]) * len[k];
@@ -53,11 +53,12 @@ struct PeriodicImage {
       if (x[k] < b.lo[k]) x[k] = b.lo[k];
     }
   }
+  bool lees_edwards;
+  double offset;
   bool periodic[D];
   double len[D];
   double inv_len[D];
-  double half[D];
-  double image_len[D];  // len in periodic directions, 0 in open ones
+  double image_len[D];
   double image_inv[D];
 };
 

@@ -5,7 +5,8 @@
 // point is
 //   v_rel = v_i - v_j + G d - (r_i w_i + r_j w_j) x n,
 // where G d is the difference of the affine box flow between the two centres (G = diag(dL/dt /
-// L) under stress control; zero otherwise). The force on i is F = F_n n + F_t (F_t from the
+// L) under stress control, plus the shear rate at (x, y) under Lees-Edwards shear; zero
+// otherwise). The force on i is F = F_n n + F_t (F_t from the
 // tangential spring); j receives -F. The torque on i is (-r_i n) x F_t = -r_i (n x F_t) and
 // on j (r_j n) x (-F_t) = -r_j (n x F_t): pair_tc stores n x F_t once for both.
 // Pairs that no longer touch drop their tangential history (LAMMPS gran/*/history).
@@ -47,9 +48,11 @@ void pair_forces(const Model& m, State& s) {
   const PeriodicImage<D> img(s.box);
   const double dt = s.dt;
   const double max_overlap = m.limits.max_overlap;
-  V grad = V::Zero();  // affine velocity gradient (diagonal)
+  // Affine velocity gradient: stretching rates on the diagonal, the shear rate at (x, y).
+  V grad = V::Zero();
   if constexpr (Affine)
     for (int k = 0; k < D; ++k) grad[k] = s.box_rate[k] / s.box.len[k];
+  const double shear = s.shear_rate;
   const double* __restrict x = s.particle_x.data();
   const double* __restrict v = s.particle_v.data();
   const double* __restrict w = s.particle_w.data();
@@ -79,7 +82,7 @@ void pair_forces(const Model& m, State& s) {
     for (int64_t p = start[b]; p < start[e]; ++p) {
       const int64_t i = pi[p], j = pj[p];
       V d = V::load(x + D * i) - V::load(x + D * j);
-      for (int k = 0; k < D; ++k) d[k] = img.nearest(d[k], k);
+      img.apply(d);
       const double rs = r[i] + r[j];
       const double keep = d.squaredNorm() < rs * rs ? 1.0 : 0.0;
       V::Zero().store(pf + D * p);
@@ -101,8 +104,10 @@ void pair_forces(const Model& m, State& s) {
       const double overlap = ri + rj - dist;
       if (overlap > max_overlap * std::min(ri, rj)) overlap_alarm->raise(i, overlap / std::min(ri, rj));
       V vr = V::load(v + D * i) - V::load(v + D * j);
-      if constexpr (Affine)
+      if constexpr (Affine) {
         for (int k = 0; k < D; ++k) vr[k] += grad[k] * d[k];
+        vr[0] += shear * d[1];
+      }
       const double vn = vr.dot(n);
       const double m_eff = 1.0 / (im[i] + im[j]);
       NormalForce nf;
@@ -136,7 +141,7 @@ template <int D>
 void dispatch(const Model& m, State& s) {
   const bool hertz = m.contact.law == NormalLaw::kHertz;
   const bool fr = m.contact.friction > 0;
-  const bool aff = m.box_control.on;
+  const bool aff = m.box_control.on || m.shear.on;
 #define SILT_CASE(H, F, A) \
   if (hertz == H && fr == F && aff == A) return pair_forces<D, H, F, A>(m, s);
   SILT_CASE(false, false, false)

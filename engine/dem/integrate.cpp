@@ -9,6 +9,8 @@
 // reduced coordinates s = L^-1 x and v = L ds/dt (the velocity relative to the affine flow),
 // a drift at constant ds/dt is x <- lo + lambda (x - lo + dt v) and v <- lambda v with
 // lambda = L(t + dt) / L(t); lambda = 1 when no length moves, and the scheme is plain Verlet.
+// The neighbour lists need the displacement relative to that flow (particle_disp) and the
+// affine strain (nbr_strain): a pair's separation changes by at most both.
 #include <cmath>
 
 #include "core/parallel.hpp"
@@ -20,15 +22,14 @@ namespace {
 
 constexpr int64_t kGrain = 1024;
 
-template <int D, bool Scaled>
-void kick_drift_dim(const Model& m, State& s) {
-  constexpr int R = kRotDim<D>;
+// Box lengths and shear: half kicks from the stresses of the previous step (box_kick computed
+// them), then their drift. Returns the stretch factors of the lengths.
+template <int D>
+void box_drift(const Model& m, State& s, double* lambda) {
   const double dt = s.dt, h = 0.5 * dt;
-  // Box: half kick from the stress of the previous step, then drift of the lengths.
-  double lambda[3] = {1, 1, 1};
-  if constexpr (Scaled) {
-    double vol = 1;
-    for (int k = 0; k < D; ++k) vol *= s.box.len[k];
+  double vol = 1;
+  for (int k = 0; k < D; ++k) vol *= s.box.len[k];
+  if (m.box_control.on)
     for (int k = 0; k < D; ++k) {
       if (!m.box_control.controlled[k]) continue;
       s.box_rate[k] += h * (vol / s.box.len[k]) * (s.box_stress[k] - m.box_control.pressure) / m.box_control.mass;
@@ -36,24 +37,44 @@ void kick_drift_dim(const Model& m, State& s) {
       lambda[k] = next / s.box.len[k];
       s.box.len[k] = next;
     }
+  if (m.shear.on) {
+    if (!m.shear.stress_controlled) s.shear_rate = m.shear.rate;  // imposed (and steerable)
+    if (m.shear.stress_controlled)
+      s.shear_rate += h * vol * (m.shear.stress - s.shear_stress) / (m.box_control.mass * s.box.len[0] * s.box.len[1]);
+    // The image above moves along x at gammadot L_y.
+    s.le_displacement += dt * s.shear_rate * s.box.len[1];
+    s.shear_strain += dt * s.shear_rate;
+    s.box.le_offset = s.le_displacement - s.box.len[0] * std::floor(s.le_displacement / s.box.len[0]);
   }
-  // Per-direction constants, copied so that the loop keeps them in registers.
-  bool periodic[D];
-  double lo[D], len[D], hi[D], half[D], g[D];
+  double strain = std::abs(s.shear_rate) * dt;
+  for (int k = 0; k < D; ++k) strain = std::max(strain, std::abs(lambda[k] - 1.0));
+  s.nbr_strain += strain;
+}
+
+// Affine: the box deforms (stress control or shear). The grains are carried by the affine flow
+// x -> lo + lambda (x - lo) and v_x += gammadot (y - lo_y), and move relative to it with their
+// stored velocity (the flow is not stored in particle_v; Peyneau's eq. 3.10 without the
+// coupling terms, negligible for dissipative grains at small I).
+template <int D, bool Affine>
+void kick_drift_dim(const Model& m, State& s) {
+  constexpr int R = kRotDim<D>;
+  const double dt = s.dt, h = 0.5 * dt;
+  double lambda[3] = {1, 1, 1};
+  if constexpr (Affine) box_drift<D>(m, s, lambda);
+  const double gd = s.shear_rate;
+  const PeriodicImage<D> img(s.box);
+  const Box box = s.box;
+  double lo[D], g[D];
   for (int k = 0; k < D; ++k) {
-    periodic[k] = s.box.periodic[k];
     lo[k] = s.box.lo[k];
-    len[k] = s.box.len[k];
-    hi[k] = lo[k] + len[k];
-    half[k] = 0.5 * len[k];
     g[k] = m.gravity[k];
   }
   double* __restrict x = s.particle_x.data();
   double* __restrict v = s.particle_v.data();
   double* __restrict w = s.particle_w.data();
+  double* __restrict disp = s.particle_disp.data();
   const double* __restrict f = s.particle_f.data();
   const double* __restrict t = s.particle_t.data();
-  const double* __restrict xref = s.particle_x_ref.data();
   const double* __restrict inv_m = s.particle_inv_m.data();
   const double* __restrict inv_i = s.particle_inv_i.data();
   const uint8_t* __restrict frozen = s.particle_frozen.data();
@@ -62,26 +83,24 @@ void kick_drift_dim(const Model& m, State& s) {
     for (int64_t i = b; i < e; ++i) {
       if (frozen[i]) continue;
       const double im = inv_m[i];
-      double d2 = 0;
+      double xi[3], d2 = 0;
       for (int k = 0; k < D; ++k) {
         const double vk = v[D * i + k] + h * (f[D * i + k] * im + g[k]);
-        double xk;
-        if constexpr (Scaled) {
-          xk = lo[k] + lambda[k] * (x[D * i + k] - lo[k] + dt * vk);
+        const double step = dt * vk;
+        if constexpr (Affine) {
+          xi[k] = lo[k] + lambda[k] * (x[D * i + k] - lo[k] + step);
           v[D * i + k] = vk * lambda[k];
         } else {
-          xk = x[D * i + k] + dt * vk;
+          xi[k] = x[D * i + k] + step;
           v[D * i + k] = vk;
         }
-        if (periodic[k] && !(xk >= lo[k] && xk < hi[k])) {
-          xk -= std::floor((xk - lo[k]) / len[k]) * len[k];
-          if (!(xk < hi[k])) xk = lo[k];  // rounding at the upper edge
-        }
-        x[D * i + k] = xk;
-        double dk = xk - xref[D * i + k];
-        if (periodic[k]) dk = dk > half[k] ? dk - len[k] : (dk < -half[k] ? dk + len[k] : dk);
-        d2 += dk * dk;
+        disp[D * i + k] += step;
+        d2 += disp[D * i + k] * disp[D * i + k];
       }
+      // Shear flow at the mid-step height (second order).
+      if constexpr (Affine) xi[0] += dt * gd * (x[D * i + 1] + 0.5 * dt * v[D * i + 1] - lo[1]);
+      img.wrap(xi, box);
+      for (int k = 0; k < D; ++k) x[D * i + k] = xi[k];
       const double ii = inv_i[i];
       for (int k = 0; k < R; ++k) w[R * i + k] += h * t[R * i + k] * ii;
       worst = std::max(worst, d2);
@@ -163,9 +182,9 @@ void gather(const Model& m, State& s) {
 }  // namespace
 
 void kick_drift(const Model& m, State& s) {
-  const bool scaled = m.box_control.on;
-  if (m.dim == 2) scaled ? kick_drift_dim<2, true>(m, s) : kick_drift_dim<2, false>(m, s);
-  else scaled ? kick_drift_dim<3, true>(m, s) : kick_drift_dim<3, false>(m, s);
+  const bool affine = m.box_control.on || m.shear.on;
+  if (m.dim == 2) affine ? kick_drift_dim<2, true>(m, s) : kick_drift_dim<2, false>(m, s);
+  else affine ? kick_drift_dim<3, true>(m, s) : kick_drift_dim<3, false>(m, s);
 }
 
 void gather_kick(const Model& m, State& s) {

@@ -1,8 +1,8 @@
 // Verlet neighbour lists built from a cell list (Allen & Tildesley 1987, sec. 5.3).
 //
 // A pair (i, j), i < j, is listed when |d_ij| < r_i + r_j + skin; the list stays valid until
-// twice the largest displacement since the build, plus the change of the periodic lengths,
-// exceeds the skin. Rows are sorted by j, so the list, and everything summed over it, is the
+// twice the largest displacement since the build (relative to the affine flow of a deforming
+// box), plus the affine strain times the list range, exceeds the skin. Rows are sorted by j, so the list, and everything summed over it, is the
 // same whatever the number of threads. Pairs of two frozen grains are never listed.
 //
 // Above Model::kSortMin grains, each build also renumbers the grains in cell order (LAMMPS's
@@ -24,6 +24,7 @@ struct CellGrid {
   double lo[3] = {0, 0, 0};
   double inv_size[3] = {1, 1, 1};
   bool wrap[3] = {false, false, false};
+  double le_shift = 0;  // Lees-Edwards offset in x cells (the image above is shifted by it)
   int64_t count() const { return int64_t{n[0]} * n[1] * n[2]; }
 };
 
@@ -66,6 +67,7 @@ CellGrid make_grid(const Model& m, const State& s, double cutoff) {
       if (!s.box.periodic[k]) size[k] *= 2;
   }
   (void)m;
+  if (s.box.lees_edwards) g.le_shift = s.box.le_offset * g.inv_size[0];
   return g;
 }
 
@@ -86,6 +88,9 @@ int32_t cell_index(const CellGrid& g, const double* x) {
 }
 
 // The distinct cells around cell `c` (fewer than 3^D when a periodic direction has < 3 cells).
+// Under Lees-Edwards, the row of cells across the y boundary is shifted along x by the offset:
+// a grain there appears at x + offset above the box (x - offset below), so the x range scanned
+// across the boundary is moved by the shift and widened by one cell for its fractional part.
 template <int D>
 int stencil(const CellGrid& g, int32_t c, int32_t* out) {
   int cc[3] = {static_cast<int>(c % g.n[0]), static_cast<int>((c / g.n[0]) % g.n[1]),
@@ -93,9 +98,17 @@ int stencil(const CellGrid& g, int32_t c, int32_t* out) {
   int count = 0;
   const int zr = D == 3 ? 1 : 0;
   for (int dz = -zr; dz <= zr; ++dz)
-    for (int dy = -1; dy <= 1; ++dy)
-      for (int dx = -1; dx <= 1; ++dx) {
-        int q[3] = {cc[0] + dx, cc[1] + dy, cc[2] + dz};
+    for (int dy = -1; dy <= 1; ++dy) {
+      const int qy = cc[1] + dy;
+      const bool across = g.le_shift != 0 && (qy < 0 || qy >= g.n[1]);
+      int x0 = cc[0] - 1, x1 = cc[0] + 1;
+      if (across) {
+        const double base = cc[0] + (qy >= g.n[1] ? -g.le_shift : g.le_shift);
+        x0 = static_cast<int>(std::floor(base)) - 1;
+        x1 = x0 + 3;
+      }
+      for (int qx = x0; qx <= x1; ++qx) {
+        int q[3] = {qx, qy, cc[2] + dz};
         bool ok = true;
         for (int k = 0; k < D; ++k) {
           if (q[k] < 0 || q[k] >= g.n[k]) {
@@ -103,13 +116,14 @@ int stencil(const CellGrid& g, int32_t c, int32_t* out) {
               ok = false;
               break;
             }
-            q[k] = (q[k] + g.n[k]) % g.n[k];
+            q[k] = ((q[k] % g.n[k]) + g.n[k]) % g.n[k];
           }
         }
         if (!ok) continue;
         const int32_t id = static_cast<int32_t>((int64_t{q[2]} * g.n[1] + q[1]) * g.n[0] + q[0]);
         if (std::find(out, out + count, id) == out + count) out[count++] = id;
       }
+    }
   return count;
 }
 
@@ -174,7 +188,7 @@ void rebuild(const Model& m, State& s) {
   const PeriodicImage<D> img(s.box);
   // visit(i, f): calls f(j) for every listed partner j > i, in no particular order.
   auto visit = [&](int64_t i, auto&& f) {
-    int32_t cells[27];
+    int32_t cells[36];
     const int nc = stencil<D>(g, sc.cell_of[i], cells);
     const auto xi = at<D>(s.particle_x.data(), i);
     const double ri = s.particle_r[i];
@@ -242,8 +256,8 @@ void rebuild(const Model& m, State& s) {
   }
   s.pair_f.assign(np * D, 0.0);
   s.pair_tc.assign(np * kRotDim<D>, 0.0);
-  s.particle_x_ref = s.particle_x;
-  s.box_len_ref = s.box.len;
+  std::fill(s.particle_disp.begin(), s.particle_disp.end(), 0.0);
+  s.nbr_strain = 0;
   s.nbr_max_disp = 0;
   s.nbr_valid = true;
   ++s.nbr_builds;
@@ -251,9 +265,10 @@ void rebuild(const Model& m, State& s) {
 
 template <int D>
 void update(const Model& m, State& s) {
-  double dl2 = 0;
-  for (int k = 0; k < D; ++k) dl2 += (s.box.len[k] - s.box_len_ref[k]) * (s.box.len[k] - s.box_len_ref[k]);
-  if (s.nbr_valid && 2 * s.nbr_max_disp + std::sqrt(dl2) <= m.skin) return;
+  // Two grains approached by at most twice the largest displacement relative to the flow, plus
+  // the affine strain times their separation (at most the list range).
+  const double range = 2 * m.r_max + m.skin;
+  if (s.nbr_valid && 2 * s.nbr_max_disp + s.nbr_strain * range <= m.skin) return;
   rebuild<D>(m, s);
 }
 

@@ -84,7 +84,7 @@ void Simulation::prepare() {
     dem::contact_forces(model_, s);
     if (!model_.walls.empty()) dem::wall_forces(model_, s);
     dem::gather_forces(model_, s);
-    if (model_.box_control.on) dem::box_stress(model_, s);
+    if (model_.box_control.on || model_.shear.stress_controlled) dem::box_stress(model_, s);
     std::fill(s.pair_hist.begin(), s.pair_hist.end(), 0.0);
     std::fill(s.wall_hist.begin(), s.wall_hist.end(), 0.0);
   });
@@ -95,7 +95,7 @@ void Simulation::prepare() {
 }
 
 void Simulation::restore(State s) {
-  state_ = std::move(s);
+  state_ = adopt_state(model_, std::move(s));
   state_.failure = StepFailure{};
   state_.alarm_overlap.clear();
   state_.alarm_nonfinite.clear();

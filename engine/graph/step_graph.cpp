@@ -32,11 +32,12 @@ std::vector<Stage> build_stages(const Model& m) {
     return a;
   };
   const int kick = add("kick_drift", &dem::kick_drift,
-                       with(grain, {"particle_f", "particle_t", "particle_x_ref", "box_stress"}),
-                       {"particle_v", "particle_w", "particle_x", "box", "nbr_max_disp"});
+                       with(grain, {"particle_f", "particle_t", "box_stress", "shear_stress"}),
+                       {"particle_v", "particle_w", "particle_x", "particle_disp", "box", "shear_rate", "nbr_max_disp",
+                        "nbr_strain"});
   const int nbr = add("update_neighbors", &dem::update_neighbors, with(grain, {"particle_x", "nbr_max_disp", "box"}),
                       {"grain_order", "nbr_start", "pair_i", "pair_j", "pair_hist", "in_start", "in_pair",
-                       "particle_x_ref", "pair_f", "pair_tc"});
+                       "particle_disp", "nbr_strain", "pair_f", "pair_tc"});
   // depends on: the displacement since the last build, known after the drift.
   dep(nbr, kick, "rebuild decision needs the drifted positions");
   const int pairs = add("contact_forces", &dem::contact_forces,
@@ -55,10 +56,10 @@ std::vector<Stage> build_stages(const Model& m) {
                          {"particle_f", "particle_t", "particle_v", "particle_w"});
   dep(gather, pairs, "sums the pair forces of this step");
   if (walls >= 0) dep(gather, walls, "adds the wall forces of this step");
-  if (m.box_control.on) {
+  if (m.box_control.on || m.shear.stress_controlled) {
     const int box = add("box_kick", &dem::box_kick,
                         with(grain, {"pair_f", "particle_v", "particle_x", "nbr_start", "pair_j", "box"}),
-                        {"box_stress", "box_rate"});
+                        {"box_stress", "box_rate", "shear_stress", "shear_rate"});
     dep(box, gather, "kinetic stress uses the full-step velocities; contact stress the new pair forces");
   }
   if (const std::string err = check_access(st); !err.empty()) throw std::logic_error("step graph: " + err);

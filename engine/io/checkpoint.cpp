@@ -1,4 +1,4 @@
-// Checkpoint file layout (little-endian, version 1):
+// Checkpoint file layout (little-endian, version 2):
 //   "SILTCKPT" | u32 version | u64 scene hash | i32 dim | i64 n | scalars | arrays | u64 FNV-1a
 // Arrays follow the field list of State (name, element size, count, bytes), so a field added
 // to SILT_STATE_ARRAYS is saved without touching this file. The file is written to PATH.tmp,
@@ -18,7 +18,7 @@ namespace silt {
 namespace {
 
 constexpr char kMagic[8] = {'S', 'I', 'L', 'T', 'C', 'K', 'P', 'T'};
-constexpr uint32_t kVersion = 1;
+constexpr uint32_t kVersion = 2;
 
 class Writer {
  public:
@@ -66,7 +66,13 @@ void scalars(W& io, S& s) {
   io(s.box.periodic);
   io(s.box_rate);
   io(s.box_stress);
-  io(s.box_len_ref);
+  io(s.box.lees_edwards);
+  io(s.box.le_offset);
+  io(s.shear_rate);
+  io(s.shear_stress);
+  io(s.le_displacement);
+  io(s.shear_strain);
+  io(s.nbr_strain);
   io(s.nbr_valid);
   io(s.nbr_max_disp);
   io(s.nbr_builds);

@@ -14,12 +14,9 @@ std::vector<Contact> touching_contacts(const State& s) {
       c.j = s.pair_j[p];
       c.pair = p;
       double d2 = 0;
-      for (int k = 0; k < D; ++k) {
-        double d = s.particle_x[D * i + k] - s.particle_x[D * c.j + k];
-        if (s.box.periodic[k]) d -= s.box.len[k] * std::nearbyint(d / s.box.len[k]);
-        c.d[k] = d;
-        d2 += d * d;
-      }
+      for (int k = 0; k < D; ++k) c.d[k] = s.particle_x[D * i + k] - s.particle_x[D * c.j + k];
+      s.box.nearest(c.d.data(), D);
+      for (int k = 0; k < D; ++k) d2 += c.d[k] * c.d[k];
       c.dist = std::sqrt(d2);
       if (!(c.dist < s.particle_r[i] + s.particle_r[c.j]) || c.dist == 0) continue;
       for (int k = 0; k < D; ++k) {

@@ -1,4 +1,8 @@
-// Bulk measurements: kinetic energy, solid fraction, coordination, stress tensor.
+// Bulk measurements: kinetic energy, solid fraction, coordination, stress tensor, fabric.
+//
+// Under a deforming box (stress control, Lees-Edwards shear) particle_v is the velocity relative
+// to the affine flow, so the kinetic stress and ke_fluct are those of the fluctuations
+// (Peyneau 2009 eq. 3.11 and 3.13).
 //
 // Stress (Peyneau 2009 eq. 1.4 with the kinetic term of eq. 3.11), compression positive:
 //   sigma = (1/V) [ sum_i m_i v_i (x) v_i  +  sum_contacts f_ij (x) d_ij ],
@@ -33,6 +37,7 @@ Measurements measure_dim(const Model& m, const State& s) {
     const double mass = 1.0 / s.particle_inv_m[i];
     const auto v = at<D>(s.particle_v.data(), i);
     out.ke += 0.5 * mass * v.squaredNorm();
+    out.ke_fluct += 0.5 * mass * v.squaredNorm();
     double w2 = 0;
     for (int k = 0; k < R; ++k) w2 += s.particle_w[R * i + k] * s.particle_w[R * i + k];
     const double erot = 0.5 * w2 / s.particle_inv_i[i];
@@ -51,9 +56,16 @@ Measurements measure_dim(const Model& m, const State& s) {
     ++contacts[c.i];
     ++contacts[c.j];
     touching.push_back({static_cast<int32_t>(c.i), static_cast<int32_t>(c.j)});
+    const double dn = c.dist;
     for (int a = 0; a < D; ++a)
-      for (int b = 0; b < D; ++b) out.stress[a][b] += c.f[a] * c.d[b];
+      for (int b = 0; b < D; ++b) {
+        out.stress[a][b] += c.f[a] * c.d[b];
+        out.fabric[a][b] += c.d[a] * c.d[b] / (dn * dn);
+      }
   }
+  if (!touching.empty())
+    for (int a = 0; a < D; ++a)
+      for (int b = 0; b < D; ++b) out.fabric[a][b] /= static_cast<double>(touching.size());
   // Grain-wall contacts count for coordination.
   for (int64_t i = 0; i < n; ++i)
     for (int w = 0; w < s.n_walls; ++w) {
@@ -71,6 +83,7 @@ Measurements measure_dim(const Model& m, const State& s) {
   for (int64_t i = 0; i < n; ++i)
     if (!s.particle_frozen[i]) sum += contacts[i];
   out.z = n_free ? static_cast<double>(sum) / n_free : 0;
+  out.ke_fluct = n_free ? out.ke_fluct / n_free : 0;
   // Rattlers: free grains with too few contacts to be held, removed until none is left.
   const int need = m.contact.friction > 0 ? 2 : D + 1;
   std::vector<std::vector<int32_t>> adj(n);

@@ -9,7 +9,7 @@
 namespace silt {
 namespace {
 
-enum Kind { kT, kStep, kDt, kKe, kKeRot, kPhi, kZ, kZStar, kNContacts, kStress, kPressure, kMu, kBoxL, kGrainX, kGrainV, kGrainW, kGrainF, kNBuilds, kNPairs, kWallF };
+enum Kind { kT, kStep, kDt, kKe, kKeRot, kPhi, kZ, kZStar, kNContacts, kStress, kPressure, kMu, kBoxL, kGrainX, kGrainV, kGrainW, kGrainF, kNBuilds, kNPairs, kWallF, kShearRate, kStrain, kInertial, kKeFluct, kFabric };
 
 const char* kAxes = "xyz";
 
@@ -21,7 +21,7 @@ struct Parsed {
 
 // Names that exist in the contract but need a module this engine version does not have yet.
 bool needs_other_module(const std::string& name) {
-  static const char* later[] = {"I", "Vi", "gamma", "fluid.ke", "fluid.div_max", "solver.iters", "solver.residual"};
+  static const char* later[] = {"Vi", "fluid.ke", "fluid.div_max", "solver.iters", "solver.residual"};
   return std::any_of(std::begin(later), std::end(later), [&](const char* s) { return name == s; });
 }
 
@@ -30,12 +30,26 @@ Parsed parse(const std::string& name, const Model& m) {
   const int D = m.dim;
   static const std::pair<const char*, int> simple[] = {
       {"t", kT}, {"step", kStep}, {"dt", kDt}, {"ke", kKe}, {"ke_rot", kKeRot}, {"phi", kPhi}, {"z", kZ},
-      {"z_star", kZStar}, {"n_contacts", kNContacts}, {"pressure", kPressure}, {"mu", kMu}, {"n_builds", kNBuilds}, {"n_pairs", kNPairs}};
+      {"z_star", kZStar}, {"n_contacts", kNContacts}, {"pressure", kPressure}, {"mu", kMu}, {"n_builds", kNBuilds}, {"n_pairs", kNPairs},
+      {"ke_fluct", kKeFluct}, {"gamma", kStrain}, {"gammadot", kShearRate}, {"I", kInertial}};
   for (auto [s, k] : simple)
     if (name == s) {
+      if ((k == kStrain || k == kShearRate || k == kInertial) && !m.shear.on) {
+        p.error = "observable '" + name + "' applies where the scene shears (shear.rate, shear.inertial_number or shear.stress)";
+        return p;
+      }
       p.kind = k;
       return p;
     }
+  if (name.rfind("fabric.", 0) == 0 && name.size() == 9) {
+    const char* a = std::strchr(kAxes, name[7]);
+    const char* b = std::strchr(kAxes, name[8]);
+    if (a && b && *a && *b && a - kAxes < D && b - kAxes < D) {
+      p.kind = kFabric;
+      p.component = static_cast<int>((a - kAxes) * 3 + (b - kAxes));
+      return p;
+    }
+  }
   if (name.rfind("stress.", 0) == 0 && name.size() == 9) {
     const char* a = std::strchr(kAxes, name[7]);
     const char* b = std::strchr(kAxes, name[8]);
@@ -116,10 +130,19 @@ Parsed parse(const std::string& name, const Model& m) {
 
 }  // namespace
 
+double inertial_number(const Model& m, double shear_rate, double pressure) {
+  if (!(pressure > 0)) return 0;
+  return std::abs(shear_rate) * std::sqrt(m.m_mean / (std::pow(m.a_max, m.dim - 2) * pressure));
+}
+
 std::vector<std::string> observable_names(const Model& m) {
-  std::vector<std::string> out = {"t", "step", "dt", "ke", "ke_rot", "phi", "z", "z_star", "n_contacts", "pressure", "mu", "n_builds", "n_pairs"};
+  std::vector<std::string> out = {"t", "step", "dt", "ke", "ke_rot", "ke_fluct", "phi", "z", "z_star", "n_contacts", "pressure", "mu", "n_builds", "n_pairs"};
+  if (m.shear.on)
+    for (const char* n : {"I", "gamma", "gammadot"}) out.push_back(n);
   for (int a = 0; a < m.dim; ++a)
     for (int b = 0; b < m.dim; ++b) out.push_back(std::string("stress.") + kAxes[a] + kAxes[b]);
+  for (int a = 0; a < m.dim; ++a)
+    for (int b = 0; b < m.dim; ++b) out.push_back(std::string("fabric.") + kAxes[a] + kAxes[b]);
   for (int a = 0; a < m.dim; ++a) out.push_back(std::string("box.L") + kAxes[a]);
   for (const char* f : {"", "v", "f"})
     for (int a = 0; a < m.dim; ++a) out.push_back(std::string("p[0].") + f + kAxes[a]);
@@ -140,7 +163,8 @@ Observer::Observer(const Model& m, std::vector<std::string> names) : names_(std:
     if (!p.error.empty()) throw std::invalid_argument(p.error);
     items_.push_back({p.kind, p.component, p.grain});
     if (p.kind == kKe || p.kind == kKeRot || p.kind == kPhi || p.kind == kZ || p.kind == kZStar ||
-        p.kind == kNContacts || p.kind == kStress || p.kind == kPressure || p.kind == kMu)
+        p.kind == kNContacts || p.kind == kStress || p.kind == kPressure || p.kind == kMu || p.kind == kKeFluct ||
+        p.kind == kFabric || (p.kind == kInertial && !m.box_control.on))
       needs_measure_ = true;
   }
 }
@@ -170,6 +194,11 @@ std::vector<double> Observer::sample(const Model& m, const State& s) const {
       case kPressure: v = meas.pressure; break;
       case kMu: v = meas.stress[1][1] != 0 ? std::abs(meas.stress[0][1]) / meas.stress[1][1] : 0; break;
       case kBoxL: v = s.box.len[it.component]; break;
+      case kKeFluct: v = meas.ke_fluct; break;
+      case kFabric: v = meas.fabric[it.component / 3][it.component % 3]; break;
+      case kShearRate: v = s.shear_rate; break;
+      case kStrain: v = s.shear_strain; break;
+      case kInertial: v = inertial_number(m, s.shear_rate, m.box_control.on ? m.box_control.pressure : meas.stress[1][1]); break;
       case kNBuilds: v = static_cast<double>(s.nbr_builds); break;
       case kNPairs: v = static_cast<double>(s.n_pairs()); break;
       case kWallF: {  // force of the grains on the wall: minus the wall's force on them

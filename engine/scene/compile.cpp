@@ -77,9 +77,16 @@ void setup_walls(const SceneDesc& d, Model& m) {
 
 void setup_box_control(const SceneDesc& d, Model& m) {
   BoxControl& b = m.box_control;
+  double grain_mass = 0;
+  for (int64_t i = 0; i < m.n_grains; ++i)
+    if (!m.init.frozen[i]) grain_mass += m.init.mass[i];
+  if (d.has("box.pressure") || d.has("shear.stress")) {
+    b.mass_factor = d.real("box.mass_factor");
+    b.mass = b.mass_factor * grain_mass;
+  }
   if (!d.has("box.pressure")) {
-    for (const char* k : {"box.controlled", "box.mass_factor"})
-      if (d.has(k)) d.fail(k, std::string(k) + " needs box.pressure");
+    if (d.has("box.controlled")) d.fail("box.controlled", "box.controlled needs box.pressure");
+    if (d.has("box.mass_factor") && !d.has("shear.stress")) d.fail("box.mass_factor", "box.mass_factor needs box.pressure or shear.stress");
     return;
   }
   if (m.n_frozen > 0)
@@ -96,11 +103,31 @@ void setup_box_control(const SceneDesc& d, Model& m) {
     any = any || c[k];
   }
   if (!any) d.fail("box.pressure", "box.pressure is set but no box length is controlled (make a direction periodic)");
-  b.mass_factor = d.real("box.mass_factor");
-  double mass = 0;
-  for (int64_t i = 0; i < m.n_grains; ++i)
-    if (!m.init.frozen[i]) mass += m.init.mass[i];
-  b.mass = b.mass_factor * mass;
+}
+
+// Lees-Edwards simple shear: flow along x, gradient along y, both periodic.
+void setup_shear(const SceneDesc& d, Model& m) {
+  ShearControl& sh = m.shear;
+  const int given = d.has("shear.rate") + d.has("shear.inertial_number") + d.has("shear.stress");
+  if (given == 0) return;
+  const std::string key = d.has("shear.rate") ? "shear.rate" : (d.has("shear.inertial_number") ? "shear.inertial_number" : "shear.stress");
+  if (given > 1) d.fail(key, "give one of shear.rate, shear.inertial_number and shear.stress");
+  if (!m.box.periodic[0] || !m.box.periodic[1])
+    d.fail(key, "simple shear (Lees-Edwards) needs a domain periodic along x (flow) and y (gradient)");
+  if (!m.walls.empty()) d.fail(key, "simple shear by Lees-Edwards conditions has no walls");
+  if (m.n_frozen > 0) d.fail(key, "simple shear by Lees-Edwards conditions cannot hold frozen grains");
+  sh.on = true;
+  m.box.lees_edwards = true;
+  if (d.has("shear.rate")) {
+    sh.rate = d.real("shear.rate");
+  } else if (d.has("shear.inertial_number")) {
+    if (!m.box_control.on) d.fail(key, "shear.inertial_number is relative to the imposed pressure: it needs box.pressure");
+    // I = gammadot sqrt(m / (a^(d-2) P)) (Peyneau eq. 1.30), a the largest diameter.
+    sh.rate = d.real("shear.inertial_number") / std::sqrt(m.m_mean / (std::pow(m.a_max, m.dim - 2) * m.box_control.pressure));
+  } else {
+    sh.stress_controlled = true;
+    sh.stress = d.real("shear.stress");
+  }
 }
 
 void setup_time(const SceneDesc& d, Model& m) {
@@ -120,6 +147,10 @@ void setup_time(const SceneDesc& d, Model& m) {
   m.until_static.force_tol = d.real("run.static_force_tol");
   m.until_static.stress_tol = d.real("run.static_stress_tol");
   m.until_static.ke_tol = d.real("run.static_ke_tol");
+  m.prepare.compress = d.boolean("prepare.compress");
+  m.prepare.max_steps = d.integer("prepare.max_steps");
+  if (m.prepare.compress && !m.box_control.on)
+    d.fail("prepare.compress", "the isotropic compression is at the imposed pressure: it needs box.pressure");
   if (m.until_static.on && !m.box_control.on)
     d.fail("run.stop_when_static", "the equilibrium criterion is relative to the imposed pressure: it needs box.pressure");
 }
@@ -196,6 +227,7 @@ Model compile(const SceneDesc& d) {
   scene::setup_grains(D, m);
   m.scene_hash = system_fingerprint(m);
   setup_box_control(D, m);
+  setup_shear(D, m);
   setup_neighbors(D, m);
   m.limits.max_overlap = D.real("limits.max_overlap");
   scene::derive_contact_scales(D, m);

@@ -35,6 +35,14 @@ std::string describe(const Model& m) {
       if (m.box_control.controlled[k]) o << " L" << ax[k];
     o << ", box mass " << m.box_control.mass << " kg\n";
   }
+  if (m.shear.on) {
+    o << "shear        Lees-Edwards, flow along x, gradient along y; ";
+    if (m.shear.stress_controlled) o << "imposed shear stress " << m.shear.stress << " Pa (eq. 3.12)\n";
+    else o << "imposed rate gammadot = " << m.shear.rate << " 1/s\n";
+  }
+  if (m.prepare.compress)
+    o << "prepare      isotropic compression at " << m.box_control.pressure << " Pa until static (at most "
+      << m.prepare.max_steps << " steps)\n";
   o << "walls        " << m.walls.size() << "\n";
   o << "gravity      (";
   for (int k = 0; k < m.dim; ++k) o << m.gravity[k] << (k + 1 < m.dim ? ", " : ")\n");
@@ -69,7 +77,13 @@ std::string describe(const Model& m) {
       o << "groups       kappa = k_n / P = " << m.k_max / P << " (Peyneau eq. 1.33)\n";
     if (m.contact.law == NormalLaw::kHertz)
       o << "groups       kappa = (E~/P)^(2/3) = " << std::pow(m.contact.e_tilde / P, 2.0 / 3.0) << " (Peyneau eq. 1.31)\n";
+    o << "             zeta = " << m.zeta_max << " (damping ratio of the lightest pair)\n";
     o << "             inertial time sqrt(m / (a^(d-2) P)) = " << std::sqrt(m.m_mean / (std::pow(a, m.dim - 2) * P)) << " s\n";
+    if (m.shear.on && !m.shear.stress_controlled) {
+      const double I = m.shear.rate * std::sqrt(m.m_mean / (std::pow(a, m.dim - 2) * P));
+      o << "             I = gammadot sqrt(m / (a^(d-2) P)) = " << I << " (Peyneau eq. 1.30); " << 1.0 / (m.shear.rate * m.dt)
+        << " steps per unit strain\n";
+    }
   }
   o << "observe      ";
   for (size_t k = 0; k < m.observe.size(); ++k) o << m.observe[k] << (k + 1 < m.observe.size() ? ", " : "");

@@ -33,7 +33,14 @@ std::vector<KeySpec> build_schema() {
       // ---- stress-controlled periodic box
       {"box.pressure", K::kReal, std::nullopt, positive(), "Pa", true, {}, "Imposed pressure on the controlled box lengths (Peyneau 2009 eq. 3.11); absent: fixed box."},
       {"box.controlled", K::kBoolList, std::nullopt, any(), "", false, {}, "Which box lengths follow the pressure (default: every periodic one)."},
-      {"box.mass_factor", K::kReal, Value(1.0), positive(), "", true, {}, "Box mass M in units of the total grain mass N m (Peyneau: M = N m)."},
+      {"box.mass_factor", K::kReal, Value(1.0), positive(), "", true, {}, "Box mass M in units of the total grain mass N m (Peyneau: M = N m), for the box lengths and a stress-controlled shear."},
+      // ---- simple shear (Lees-Edwards, flow along x, gradient along y)
+      {"shear.rate", K::kReal, std::nullopt, any(), "1/s", true, {}, "Imposed shear rate gammadot of the flow v_x = gammadot y (liquid regime)."},
+      {"shear.inertial_number", K::kReal, std::nullopt, positive(), "", true, {}, "Imposed inertial number I = gammadot sqrt(m / (a^(d-2) P)) (Peyneau eq. 1.30), with P = box.pressure."},
+      {"shear.stress", K::kReal, std::nullopt, any(), "Pa", true, {}, "Imposed shear stress tau = -sigma_xy (solid regime, Peyneau eq. 3.12): gammadot follows it."},
+      // ---- preparation
+      {"prepare.compress", K::kBool, Value(false), any(), "", false, {}, "Before the run, compress the grains isotropically at box.pressure (every periodic length controlled, no shear) until static: Peyneau's procedure O."},
+      {"prepare.max_steps", K::kInt, Value(int64_t{2000000}), closed(1, 4.6e18), "", false, {}, "Longest preparation; the run then starts from where it got, with a warning."},
       // ---- gravity
       {"gravity.vector", K::kRealList, std::nullopt, any(), "m/s^2", true, {}, "Gravity vector; or give gravity.magnitude and gravity.angle."},
       {"gravity.magnitude", K::kReal, std::nullopt, non_negative(), "m/s^2", true, {}, "|g|, pointing along -z (3D) or -y (2D) before the tilt."},

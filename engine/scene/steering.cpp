@@ -20,6 +20,8 @@ std::string steer(Model& m, const Override& change) {
     return e.message();
   }
   if (fresh.scene_hash != m.scene_hash) return "'" + change.key + "' would change the grains";
+  if (fresh.shear.on != m.shear.on || fresh.shear.stress_controlled != m.shear.stress_controlled)
+    return "'" + change.key + "' would switch between imposed shear rate and imposed shear stress: set it when stopped";
   // The steerable parts of a Model.
   m.gravity = fresh.gravity;
   m.contact.friction = fresh.contact.friction;
@@ -29,6 +31,8 @@ std::string steer(Model& m, const Override& change) {
   m.box_control.mass_factor = fresh.box_control.mass_factor;
   m.box_control.mass = fresh.box_control.mass;
   m.render = fresh.render;
+  m.shear.rate = fresh.shear.rate;
+  m.shear.stress = fresh.shear.stress;
   m.desc = std::move(fresh.desc);
   return "";
 }

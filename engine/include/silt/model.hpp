@@ -5,6 +5,7 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -44,11 +45,27 @@ struct Wall {
 };
 
 // The periodic box. Its lengths may change in time (stress control), so State holds the
-// current box; the Model holds the initial one.
+// current box; the Model holds the initial one. With Lees-Edwards conditions (simple shear,
+// flow along x, gradient along y), the periodic image above the box is shifted along x by
+// le_offset: a grain at (x, y) has an image at (x + le_offset, y + L_y).
 struct Box {
   std::array<double, 3> lo{0, 0, 0};
   std::array<double, 3> len{1, 1, 1};
   std::array<bool, 3> periodic{false, false, false};
+  bool lees_edwards = false;
+  double le_offset = 0;  // in [0, len[0])
+
+  // Replace a separation d (dim components) by its nearest image: under Lees-Edwards the y
+  // image first, which shifts x by the offset, then x and z.
+  void nearest(double* d, int dim) const {
+    if (lees_edwards) {
+      const double ny = std::nearbyint(d[1] / len[1]);
+      d[1] -= ny * len[1];
+      d[0] -= ny * le_offset;
+    }
+    for (int k = 0; k < dim; ++k)
+      if (periodic[k]) d[k] -= len[k] * std::nearbyint(d[k] / len[k]);
+  }
 };
 
 // Stress-controlled box lengths (Peyneau 2009 eq. 3.11): M d2L/dt2 = (Omega/L)(sigma - P).
@@ -58,6 +75,24 @@ struct BoxControl {
   double pressure = 0;     // imposed sigma_aa [Pa], compression positive (steerable)
   double mass_factor = 1;  // M = mass_factor * total free grain mass (steerable)
   double mass = 0;         // M [kg]
+};
+
+// Simple shear by Lees-Edwards conditions: flow along x, gradient along y (Peyneau 2009 sec. 3.1.4).
+// Either the shear rate is imposed (liquid regime), or the shear stress (solid regime, eq. 3.12:
+// M L_x L_y / Omega d(gammadot)/dt = tau - tau_imposed... with tau = -sigma_xy).
+struct ShearControl {
+  bool on = false;
+  double rate = 0;             // imposed gammadot [1/s] (steerable); initial value under stress control
+  bool stress_controlled = false;
+  double stress = 0;           // imposed shear stress tau [Pa] (steerable)
+};
+
+// Preparation before the run: Peyneau's "procedure O" (2009 sec. 3.1.2), an isotropic
+// compression of the initial grains at the imposed pressure, every periodic length controlled
+// and no shear, until static (run.static_* tolerances) or max_steps.
+struct Preparation {
+  bool compress = false;
+  int64_t max_steps = 0;
 };
 
 // Initial grains, as placed by compile(); State is made from them.
@@ -126,6 +161,8 @@ struct Model {
 
   Box box;
   BoxControl box_control;
+  ShearControl shear;
+  Preparation prepare;
   std::vector<Wall> walls;
   ContactParams contact;
   Vec3 gravity = Vec3::Zero();  // steerable

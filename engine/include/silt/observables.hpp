@@ -24,8 +24,14 @@ struct Measurements {
   std::array<std::array<double, 3>, 3> stress{};  // contact + kinetic, compression positive [Pa]
   double pressure = 0;     // trace / D
   double max_net_force = 0;  // largest |contact + wall + gravity force| on a free grain [N]
+  double ke_fluct = 0;     // (1/2N) sum m |v - v_affine|^2: fluctuating translational energy per grain [J]
+  std::array<std::array<double, 3>, 3> fabric{};  // <n (x) n> over grain-grain contacts (Peyneau 3.4.2)
 };
 Measurements measure(const Model& m, const State& s);
+
+// Inertial number I = |gammadot| sqrt(m / (a^(d-2) P)) (Peyneau 2009 eq. 1.30), m the mean grain
+// mass and a the largest diameter; 0 when P <= 0.
+double inertial_number(const Model& m, double shear_rate, double pressure);
 
 // Returns "" when `name` is an observable of this model, else the reason (with a suggestion).
 std::string check_observable(const std::string& name, const Model& m);

@@ -82,4 +82,20 @@ class Simulation {
   std::unique_ptr<Impl> impl_;
 };
 
+// Preparation (Model::prepare): the model of the isotropic compression (no shear, every
+// periodic length controlled, until static), and the state it ends in, made ready for `m`:
+// time and strain zero, grains at rest, boundary conditions of `m`.
+struct PreparationReport {
+  RunEnd end = RunEnd::kDone;  // kStatic when the packing reached equilibrium
+  int64_t steps = 0;
+  double wall_s = 0;
+  std::string failure;
+};
+Model compression_model(const Model& m);
+State prepare_packing(const Model& m, int threads, PreparationReport* report = nullptr,
+                      const std::atomic<bool>* interrupt = nullptr);
+// A state saved under other run parameters (a prepared packing, a checkpoint of the same grains),
+// made ready for `m`: its boundary conditions and imposed rates.
+State adopt_state(const Model& m, State s);
+
 }  // namespace silt

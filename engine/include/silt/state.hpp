@@ -29,7 +29,7 @@ namespace silt {
   X(double,  particle_r,      "N",   "m",     "radius; compile")                                                 \
   X(double,  particle_inv_m,  "N",   "1/kg",  "inverse mass, 0 for frozen grains; compile")                      \
   X(double,  particle_inv_i,  "N",   "1/(kg m^2)", "inverse moment of inertia, 0 for frozen grains; compile")    \
-  X(double,  particle_x_ref,  "N*D", "m",     "centre at the last neighbour build; update_neighbors")            \
+  X(double,  particle_disp,   "N*D", "m",     "displacement relative to the affine flow since the last neighbour build; kick_drift") \
   /* walls */                                                                                                  \
   X(double,  wall_f,          "N*W*D", "N",   "force on the grain from each wall this step; wall_forces")         \
   X(double,  particle_t_wall, "N*R", "N m",   "torque from the walls this step; wall_forces")                    \
@@ -96,11 +96,15 @@ struct State {
   Box box;                                    // current box; lengths change under stress control
   std::array<double, 3> box_rate{0, 0, 0};    // dL/dt [m/s]; kick_drift, box_kick
   std::array<double, 3> box_stress{0, 0, 0};  // sigma_aa driving the box [Pa]; box_kick
-  std::array<double, 3> box_len_ref{1, 1, 1}; // lengths at the last neighbour build
+  double shear_rate = 0;         // gammadot of the Lees-Edwards flow v_x = gammadot (y - lo_y) [1/s]
+  double shear_stress = 0;       // tau = -sigma_xy driving a stress-controlled shear [Pa]; box_kick
+  double le_displacement = 0;    // displacement of the upper image since t = 0 [m]; kick_drift
+  double shear_strain = 0;       // accumulated strain gamma = integral of gammadot dt; kick_drift
+  double nbr_strain = 0;         // affine strain since the last neighbour build; kick_drift
 
   // Neighbour-list bookkeeping.
   bool nbr_valid = false;     // false forces a rebuild at the next update_neighbors
-  double nbr_max_disp = 0;    // largest displacement since the last build [m]; kick_drift
+  double nbr_max_disp = 0;    // largest non-affine displacement since the last build [m]; kick_drift
   int64_t nbr_builds = 0;
 
   // Numerical events raised by stages during the current step.

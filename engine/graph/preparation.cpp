@@ -1,0 +1,58 @@
+// Procedure O of Peyneau (2009) sec. 3.1.2: the initial grains are compressed isotropically at
+// the imposed pressure (every periodic length controlled by eq. 3.11, no shear) until they form
+// a static packing; the scene's run then starts from it.
+#include <chrono>
+
+#include "silt/simulation.hpp"
+
+namespace silt {
+
+Model compression_model(const Model& m) {
+  Model c = m;
+  c.shear = ShearControl{};
+  c.box.lees_edwards = false;
+  c.box.le_offset = 0;
+  c.box_control.on = true;
+  for (int k = 0; k < c.dim; ++k) c.box_control.controlled[k] = c.box.periodic[k];
+  c.until_static.on = true;
+  c.prepare = Preparation{};
+  return c;
+}
+
+State adopt_state(const Model& m, State s) {
+  if (s.box.lees_edwards != m.box.lees_edwards) {
+    s.box.lees_edwards = m.box.lees_edwards;
+    s.box.le_offset = 0;
+    s.le_displacement = 0;
+    s.nbr_valid = false;  // the cell stencil depends on the boundary conditions
+  }
+  if (!m.shear.on) s.shear_rate = 0;
+  else if (!m.shear.stress_controlled) s.shear_rate = m.shear.rate;
+  for (int k = 0; k < 3; ++k)
+    if (!m.box_control.on || !m.box_control.controlled[k]) s.box_rate[k] = 0;
+  return s;
+}
+
+State prepare_packing(const Model& m, int threads, PreparationReport* report, const std::atomic<bool>* interrupt) {
+  Simulation sim(compression_model(m), threads);
+  RunOptions opt;
+  opt.steps = m.prepare.max_steps;
+  opt.stop_when_static = true;
+  opt.interrupt = interrupt;
+  const RunReport rep = sim.run(opt);
+  if (report) {
+    report->steps = rep.steps_done;
+    report->wall_s = rep.wall_s;
+    report->end = rep.end;
+    report->failure = sim.state().failure.message;
+  }
+  State s = sim.state();
+  s.t = 0;
+  s.step = 0;
+  for (auto& v : s.particle_v) v = 0;
+  for (auto& w : s.particle_w) w = 0;
+  s.shear_strain = 0;
+  return adopt_state(m, std::move(s));
+}
+
+}  // namespace silt
