@@ -1,6 +1,7 @@
 // `silt run`: the headless main job.
 #include <unistd.h>
 
+#include <algorithm>
 #include <csignal>
 #include <cmath>
 #include <iostream>
@@ -135,6 +136,17 @@ int run_command(const RunArgs& a) {
                              frame_error = e.what();
                            }
                          }});
+  if (model.shear.on) {
+    // Slabs about one grain diameter thick, time-averaged from --average-from on.
+    const int slabs = std::clamp(static_cast<int>(sim.state().box.len[1] / model.a_max), 4, 40);
+    sum.profiles.push_back({"vx(y)", "y / L_y (slab centres); mean x velocity with the shear flow, grains counted in every slab they overlap", {}, {}});
+    opt.hooks.push_back({every, [&, slabs](const State& s) {
+                           if (s.t < a.average_from) return;
+                           VelocityProfile p = velocity_profile(model, s, slabs);
+                           sum.profiles[0].x = p.y;
+                           sum.profiles[0].samples.push_back(std::move(p.vx));
+                         }});
+  }
   opt.interrupt = &g_interrupt;
   opt.stop_when_static = until_static;
   const RunReport rep = sim.run(opt);

@@ -38,12 +38,20 @@ struct PeriodicImage {
   }
   // Wrap a position into the box in the periodic directions; under Lees-Edwards a grain leaving
   // through y enters the other side shifted along x by the offset (its velocity relative to the
-  // shear flow is unchanged).
+  // shear flow is unchanged). y is settled here, with its shift: rounding can put a grain a hair
+  // below lo_y onto the upper edge lo_y + L_y, which is the image one more period down (y = lo_y,
+  // x shifted once more), or leave it a hair below lo_y, which is the same image; the generic
+  // loop below would wrap those without the shift.
   template <class V>
   void wrap(V&& x, const Box& b) const {
     if (lees_edwards && !(x[1] >= b.lo[1] && x[1] < b.lo[1] + len[1])) {
-      const double ny = std::floor((x[1] - b.lo[1]) * inv_len[1]);
+      double ny = std::floor((x[1] - b.lo[1]) * inv_len[1]);
       x[1] -= ny * len[1];
+      if (x[1] >= b.lo[1] + len[1]) {
+        x[1] = b.lo[1];
+        ny += 1;
+      }
+      if (x[1] < b.lo[1]) x[1] = b.lo[1];
       x[0] -= ny * offset;
     }
     for (int k = 0; k < D; ++k) {

@@ -41,8 +41,9 @@ void box_drift(const Model& m, State& s, double* lambda) {
     if (!m.shear.stress_controlled) s.shear_rate = m.shear.rate;  // imposed (and steerable)
     if (m.shear.stress_controlled)
       s.shear_rate += h * vol * (m.shear.stress - s.shear_stress) / (m.box_control.mass * s.box.len[0] * s.box.len[1]);
-    // The image above moves along x at gammadot L_y.
-    s.le_displacement += dt * s.shear_rate * s.box.len[1];
+    // The image above moves along x at gammadot L_y, and is carried by the stretch of L_x like
+    // the grains (x -> lo + lambda (x - lo)): the image lattice deforms with them.
+    s.le_displacement = lambda[0] * s.le_displacement + dt * s.shear_rate * s.box.len[1];
     s.shear_strain += dt * s.shear_rate;
     s.box.le_offset = s.le_displacement - s.box.len[0] * std::floor(s.le_displacement / s.box.len[0]);
   }

@@ -49,6 +49,26 @@ void write_summary(const std::string& path, const SummaryInput& in, const Simula
     obs[names[k]] = o;
   }
   j["observables"] = obs;
+  if (!in.profiles.empty()) {
+    json profiles = json::object();
+    for (const ProfileSeries& p : in.profiles) {
+      json o, mean = json::array(), err = json::array();
+      for (size_t k = 0; k < p.x.size(); ++k) {
+        std::vector<double> series;
+        for (const auto& row : p.samples) series.push_back(row[k]);
+        const BlockAverage b = block_average(series);
+        mean.push_back(b.n ? json(b.mean) : json(nullptr));
+        err.push_back(b.n > 1 ? json(b.err) : json(nullptr));
+      }
+      o["coordinate"] = p.coordinate;
+      o["x"] = p.x;
+      o["mean"] = mean;
+      o["err"] = err;
+      o["n"] = p.samples.size();
+      profiles[p.name] = o;
+    }
+    j["profiles"] = profiles;
+  }
   if (s.failure.failed) {
     json f;
     f["step"] = s.failure.step;

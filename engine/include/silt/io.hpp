@@ -40,6 +40,15 @@ class StatsWriter {
   std::vector<std::vector<double>> rows_;
 };
 
+// A profile sampled during a run (one value per bin and sample); the summary gives each bin's
+// time average and its block-averaging error.
+struct ProfileSeries {
+  std::string name;        // e.g. "vx(y)"
+  std::string coordinate;  // meaning of x, e.g. "y / L_y"
+  std::vector<double> x;
+  std::vector<std::vector<double>> samples;
+};
+
 struct SummaryInput {
   std::string scene;
   std::string status;  // ok | failed | interrupted | static
@@ -48,6 +57,7 @@ struct SummaryInput {
   int64_t steps_run = 0;
   double average_from = 0;
   std::vector<std::string> warnings;
+  std::vector<ProfileSeries> profiles;
 };
 // Summary JSON of INTERFACE.md. Throws IoError.
 void write_summary(const std::string& path, const SummaryInput& in, const Simulation& sim, const StatsWriter& stats);

@@ -29,6 +29,14 @@ struct Measurements {
 };
 Measurements measure(const Model& m, const State& s);
 
+// Mean x velocity (affine flow included) in n_slabs slabs across y; a grain counts in every slab
+// it overlaps (Peyneau 2009 sec. 3.2.1). y: slab centres as a fraction of L_y, from lo_y.
+struct VelocityProfile {
+  std::vector<double> y, vx;
+  std::vector<int64_t> count;
+};
+VelocityProfile velocity_profile(const Model& m, const State& s, int n_slabs);
+
 // Inertial number I = |gammadot| sqrt(m / (a^(d-2) P)) (Peyneau 2009 eq. 1.30), m the mean grain
 // mass and a the largest diameter; 0 when P <= 0.
 double inertial_number(const Model& m, double shear_rate, double pressure);
