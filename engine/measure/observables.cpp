@@ -1,6 +1,7 @@
 // Observable names (INTERFACE.md) -> values.
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <stdexcept>
 
 #include "core/text.hpp"
@@ -25,6 +26,17 @@ bool needs_other_module(const std::string& name) {
   return std::any_of(std::begin(later), std::end(later), [&](const char* s) { return name == s; });
 }
 
+// "stress.xy" with prefix "stress." -> 3 * 0 + 1; -1 when the name is not a component of the
+// dimension's tensor.
+int tensor_component(const std::string& name, const char* prefix, int dim) {
+  const size_t n = std::strlen(prefix);
+  if (name.size() != n + 2 || name.compare(0, n, prefix) != 0) return -1;
+  const char* a = std::strchr(kAxes, name[n]);
+  const char* b = std::strchr(kAxes, name[n + 1]);
+  if (!a || !b || !*a || !*b || a - kAxes >= dim || b - kAxes >= dim) return -1;
+  return static_cast<int>((a - kAxes) * 3 + (b - kAxes));
+}
+
 Parsed parse(const std::string& name, const Model& m) {
   Parsed p;
   const int D = m.dim;
@@ -41,24 +53,12 @@ Parsed parse(const std::string& name, const Model& m) {
       p.kind = k;
       return p;
     }
-  if (name.rfind("fabric.", 0) == 0 && name.size() == 9) {
-    const char* a = std::strchr(kAxes, name[7]);
-    const char* b = std::strchr(kAxes, name[8]);
-    if (a && b && *a && *b && a - kAxes < D && b - kAxes < D) {
-      p.kind = kFabric;
-      p.component = static_cast<int>((a - kAxes) * 3 + (b - kAxes));
+  for (auto [prefix, kind] : {std::pair{"stress.", kStress}, std::pair{"fabric.", kFabric}})
+    if (const int c = tensor_component(name, prefix, D); c >= 0) {
+      p.kind = kind;
+      p.component = c;
       return p;
     }
-  }
-  if (name.rfind("stress.", 0) == 0 && name.size() == 9) {
-    const char* a = std::strchr(kAxes, name[7]);
-    const char* b = std::strchr(kAxes, name[8]);
-    if (a && b && *a && *b && a - kAxes < D && b - kAxes < D) {
-      p.kind = kStress;
-      p.component = static_cast<int>((a - kAxes) * 3 + (b - kAxes));
-      return p;
-    }
-  }
   if (name.rfind("box.L", 0) == 0 && name.size() == 6) {
     const char* a = std::strchr(kAxes, name[5]);
     if (a && *a && a - kAxes < D) {

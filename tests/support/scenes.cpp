@@ -10,6 +10,22 @@ std::unique_ptr<Simulation> simulation_from(const std::string& toml, int threads
   return std::make_unique<Simulation>(model_from(toml), threads);
 }
 
+std::string scene_error(const std::string& toml) {
+  try {
+    model_from(toml, "bad.toml");
+  } catch (const SceneError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+std::set<std::pair<int, int>> listed_pairs(const State& s) {
+  std::set<std::pair<int, int>> out;
+  for (int64_t i = 0; i < s.n; ++i)
+    for (int32_t p = s.nbr_start[i]; p < s.nbr_start[i + 1]; ++p) out.insert({static_cast<int>(i), s.pair_j[p]});
+  return out;
+}
+
 std::string scene_path(const std::string& name) { return std::string(SILT_SOURCE_DIR) + "/scenes/" + name + ".toml"; }
 
 std::string silt_binary() { return SILT_BINARY; }

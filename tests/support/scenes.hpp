@@ -2,6 +2,8 @@
 #pragma once
 
 #include <memory>
+#include <set>
+#include <utility>
 #include <string>
 
 #include "silt/model.hpp"
@@ -14,6 +16,12 @@ Model model_from(const std::string& toml, const std::string& name = "test.toml")
 
 // A simulation of that scene.
 std::unique_ptr<Simulation> simulation_from(const std::string& toml, int threads = 1);
+
+// The message of the SceneError that compiling this scene text raises ("" if it compiles).
+std::string scene_error(const std::string& toml);
+
+// The neighbour pairs (i, j) listed in the state's pair list.
+std::set<std::pair<int, int>> listed_pairs(const State& s);
 
 // A scene file of the repository, by name ("chute" -> scenes/chute.toml).
 std::string scene_path(const std::string& name);

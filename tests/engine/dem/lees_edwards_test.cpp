@@ -99,13 +99,6 @@ std::set<std::pair<int, int>> pairs_within(const State& s, double extra) {
   return out;
 }
 
-std::set<std::pair<int, int>> listed(const State& s) {
-  std::set<std::pair<int, int>> out;
-  for (int64_t i = 0; i < s.n; ++i)
-    for (int32_t p = s.nbr_start[i]; p < s.nbr_start[i + 1]; ++p) out.insert({static_cast<int>(i), s.pair_j[p]});
-  return out;
-}
-
 std::set<std::pair<int, int>> touching(const State& s) {
   std::set<std::pair<int, int>> out;
   for (const Contact& c : touching_contacts(s)) out.insert({static_cast<int>(c.i), static_cast<int>(c.j)});
@@ -567,7 +560,7 @@ dt = 1e-3
         s.box.le_offset = off;
         s.nbr_valid = false;
         dem::update_neighbors(m, s);
-        const auto list = listed(s);
+        const auto list = test::listed_pairs(s);
         CHECK(static_cast<int64_t>(list.size()) == s.n_pairs());  // no duplicate
         const auto near = pairs_within(s, m.skin);
         CHECK(list == near);

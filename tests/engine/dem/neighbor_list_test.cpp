@@ -63,13 +63,6 @@ std::set<std::pair<int, int>> brute_force(const Model& m, const State& s) {
   return out;
 }
 
-std::set<std::pair<int, int>> listed(const State& s) {
-  std::set<std::pair<int, int>> out;
-  for (int64_t i = 0; i < s.n; ++i)
-    for (int32_t p = s.nbr_start[i]; p < s.nbr_start[i + 1]; ++p) out.insert({static_cast<int>(i), s.pair_j[p]});
-  return out;
-}
-
 }  // namespace
 
 TEST_CASE("cell list + Verlet list find exactly the pairs of a brute-force search") {
@@ -82,8 +75,8 @@ TEST_CASE("cell list + Verlet list find exactly the pairs of a brute-force searc
         sim->prepare();
         for (int round = 0; round < 3; ++round) {
           const State& s = sim->state();
-          CHECK(listed(s) == brute_force(sim->model(), s));
-          CHECK(static_cast<int64_t>(listed(s).size()) == s.n_pairs());  // no duplicates
+          CHECK(test::listed_pairs(s) == brute_force(sim->model(), s));
+          CHECK(static_cast<int64_t>(test::listed_pairs(s).size()) == s.n_pairs());  // no duplicates
           for (int64_t i = 0; i < s.n; ++i)
             CHECK(std::is_sorted(s.pair_j.begin() + s.nbr_start[i], s.pair_j.begin() + s.nbr_start[i + 1]));
           // Move on and force a rebuild.
@@ -108,7 +101,7 @@ TEST_CASE("a list is kept until a grain moved half the skin, and every contact i
     if (k % 50 == 0) {
       // Every touching pair must be listed.
       const auto all = brute_force(sim->model(), s);
-      const auto have = listed(s);
+      const auto have = test::listed_pairs(s);
       for (auto [i, j] : all) {
         double d2 = 0;
         for (int a = 0; a < 3; ++a) {

@@ -16,15 +16,6 @@ namespace {
 
 double sample(const Model& m, const State& s, const std::string& name) { return Observer(m, {name}).sample(m, s)[0]; }
 
-std::string error_of(const std::string& text) {
-  try {
-    test::model_from(text, "bad.toml");
-  } catch (const SceneError& e) {
-    return e.what();
-  }
-  return "";
-}
-
 // 2D or 3D scene text: LO, HI and PER replaced by the lists of the dimension.
 std::string with_lists(std::string text, const std::string& lo, const std::string& hi, const std::string& per) {
   for (auto [key, value] : {std::pair{"LO", lo}, std::pair{"HI", hi}, std::pair{"PER", per}})
@@ -276,24 +267,24 @@ dt = 1e-4
     s.replace(s.find(from), from.size(), to);
     return s;
   };
-  REQUIRE(error_of(good).empty());
+  REQUIRE(test::scene_error(good).empty());
   CHECK(test::model_from(good).box.lees_edwards);
   // Gradient direction y not periodic.
-  const std::string e1 = error_of(with("[true, true, false]", "[true, false, true]"));
+  const std::string e1 = test::scene_error(with("[true, true, false]", "[true, false, true]"));
   CHECK(e1.rfind("bad.toml:8:", 0) == 0);  // the line of shear.rate
   CHECK(e1.find("periodic along x (flow) and y (gradient)") != std::string::npos);
   // Flow direction x not periodic.
-  CHECK(error_of(with("[true, true, false]", "[false, true, true]")).find("periodic along x") != std::string::npos);
+  CHECK(test::scene_error(with("[true, true, false]", "[false, true, true]")).find("periodic along x") != std::string::npos);
   // Walls.
-  const std::string e2 = error_of(with("[contact]", "[[walls]]\npoint = [0, 0, 0]\nnormal = [0, 0, 1]\n[contact]"));
+  const std::string e2 = test::scene_error(with("[contact]", "[[walls]]\npoint = [0, 0, 0]\nnormal = [0, 0, 1]\n[contact]"));
   CHECK(e2.find("has no walls") != std::string::npos);
   // Rate and stress together (and rate with inertial number).
-  const std::string e3 = error_of(with("rate = 0.5", "rate = 0.5\nstress = 0.1"));
+  const std::string e3 = test::scene_error(with("rate = 0.5", "rate = 0.5\nstress = 0.1"));
   CHECK(e3.find("give one of shear.rate, shear.inertial_number and shear.stress") != std::string::npos);
-  CHECK(!error_of(with("rate = 0.5", "rate = 0.5\ninertial_number = 0.1")).empty());
+  CHECK(!test::scene_error(with("rate = 0.5", "rate = 0.5\ninertial_number = 0.1")).empty());
   // An inertial number needs the pressure it is relative to.
-  CHECK(error_of(with("rate = 0.5", "inertial_number = 0.1")).find("needs box.pressure") != std::string::npos);
+  CHECK(test::scene_error(with("rate = 0.5", "inertial_number = 0.1")).find("needs box.pressure") != std::string::npos);
   // Frozen grains cannot follow the flow.
-  CHECK(error_of(with("radius = 0.5", "radius = 0.5\nfrozen = true")).find("cannot hold frozen grains") !=
+  CHECK(test::scene_error(with("radius = 0.5", "radius = 0.5\nfrozen = true")).find("cannot hold frozen grains") !=
         std::string::npos);
 }

@@ -23,15 +23,6 @@ radius = 0.5
 dt = 1e-4
 )";
 
-std::string error_of(const std::string& text) {
-  try {
-    test::model_from(text, "bad.toml");
-  } catch (const SceneError& e) {
-    return e.what();
-  }
-  return "";
-}
-
 std::string with(const std::string& from, const std::string& to) {
   std::string s = kGood;
   s.replace(s.find(from), from.size(), to);
@@ -40,64 +31,64 @@ std::string with(const std::string& from, const std::string& to) {
 
 }  // namespace
 
-TEST_CASE("a valid scene compiles") { CHECK(error_of(kGood).empty()); }
+TEST_CASE("a valid scene compiles") { CHECK(test::scene_error(kGood).empty()); }
 
 TEST_CASE("unknown key: location and suggestion") {
-  const std::string e = error_of(with("k_n = 1e5", "k_n = 1e5\nfriciton = 0.3"));
+  const std::string e = test::scene_error(with("k_n = 1e5", "k_n = 1e5\nfriciton = 0.3"));
   CHECK(e.rfind("bad.toml:9:1: ", 0) == 0);
   CHECK(e.find("unknown key 'contact.friciton'") != std::string::npos);
   CHECK(e.find("did you mean 'contact.friction'") != std::string::npos);
   // Unknown table, and a key of a group table.
-  CHECK(error_of(with("[run]", "[rnu]")).find("unknown key 'rnu") != std::string::npos);
-  const std::string g = error_of(with("radius = 0.5", "raduis = 0.5"));
+  CHECK(test::scene_error(with("[run]", "[rnu]")).find("unknown key 'rnu") != std::string::npos);
+  const std::string g = test::scene_error(with("radius = 0.5", "raduis = 0.5"));
   CHECK(g.find("bad.toml:11:1") != std::string::npos);
   CHECK(g.find("did you mean 'grains[0].radius'") != std::string::npos);
 }
 
 TEST_CASE("wrong type: location of the value") {
-  const std::string e = error_of(with("k_n = 1e5", "k_n = \"stiff\""));
+  const std::string e = test::scene_error(with("k_n = 1e5", "k_n = \"stiff\""));
   CHECK(e.rfind("bad.toml:8:7: ", 0) == 0);
   CHECK(e.find("'contact.k_n' must be a number") != std::string::npos);
-  CHECK(error_of(with("count = 10", "count = 10.5")).find("'grains[0].count' must be an integer") != std::string::npos);
+  CHECK(test::scene_error(with("count = 10", "count = 10.5")).find("'grains[0].count' must be an integer") != std::string::npos);
 }
 
 TEST_CASE("out of range: the range and unit are named") {
-  const std::string e = error_of(with("k_n = 1e5", "k_n = -3"));
+  const std::string e = test::scene_error(with("k_n = 1e5", "k_n = -3"));
   CHECK(e.rfind("bad.toml:8:7: ", 0) == 0);
   CHECK(e.find("out of range > 0 N/m") != std::string::npos);
-  CHECK(error_of(with("dimension = 3", "dimension = 4")).find("[2, 3]") != std::string::npos);
-  const std::string c = error_of(with("model = \"hooke\"", "model = \"hookean\""));
+  CHECK(test::scene_error(with("dimension = 3", "dimension = 4")).find("[2, 3]") != std::string::npos);
+  const std::string c = test::scene_error(with("model = \"hooke\"", "model = \"hookean\""));
   CHECK(c.find("bad.toml:7:9") != std::string::npos);
   CHECK(c.find("is not one of: spring_dashpot hooke hertz linear") != std::string::npos);
 }
 
 TEST_CASE("TOML syntax errors keep their location") {
-  const std::string e = error_of(with("k_n = 1e5", "k_n = = 1e5"));
+  const std::string e = test::scene_error(with("k_n = 1e5", "k_n = = 1e5"));
   CHECK(e.rfind("bad.toml:8:", 0) == 0);
 }
 
 TEST_CASE("values that do not apply are refused, not ignored") {
-  const std::string e = error_of(with("k_n = 1e5", "k_n = 1e5\nrestitution = 0.5"));
+  const std::string e = test::scene_error(with("k_n = 1e5", "k_n = 1e5\nrestitution = 0.5"));
   CHECK(e.rfind("bad.toml:9:15: ", 0) == 0);
   CHECK(e.find("not used") != std::string::npos);
 }
 
 TEST_CASE("scenes that cannot be simulated are refused before the first step") {
   // A time step above the stability limit names the parameter.
-  const std::string dt = error_of(with("dt = 1e-4", "dt = 0.1"));
+  const std::string dt = test::scene_error(with("dt = 1e-4", "dt = 0.1"));
   CHECK(dt.find("bad.toml:13:6") != std::string::npos);
   CHECK(dt.find("stability limit") != std::string::npos);
   CHECK(dt.find("reduce run.dt") != std::string::npos);
   // Too many grains for random placement.
-  CHECK(error_of(with("count = 10", "count = 5000")).find("could not place") != std::string::npos);
+  CHECK(test::scene_error(with("count = 10", "count = 5000")).find("could not place") != std::string::npos);
   // Wrong vector length.
-  CHECK(error_of(with("lo = [0, 0, 0]", "lo = [0, 0]")).find("needs 3 entries") != std::string::npos);
+  CHECK(test::scene_error(with("lo = [0, 0, 0]", "lo = [0, 0]")).find("needs 3 entries") != std::string::npos);
   // Overlapping explicit grains.
-  const std::string ov = error_of(with("count = 10\nradius = 0.5",
+  const std::string ov = test::scene_error(with("count = 10\nradius = 0.5",
                                        "radius = 0.5\nplacement = \"explicit\"\npositions = [[1, 1, 1], [1.2, 1, 1]]"));
   CHECK(ov.find("overlap by") != std::string::npos);
   // Unknown observable with a suggestion.
-  const std::string ob = error_of(with("[run]", "[output]\nobserve = [\"t\", \"kee\"]\n[run]"));
+  const std::string ob = test::scene_error(with("[run]", "[output]\nobserve = [\"t\", \"kee\"]\n[run]"));
   CHECK(ob.find("unknown observable 'kee'; did you mean 'ke'") != std::string::npos);
 }
 
