@@ -10,7 +10,7 @@
 namespace silt {
 namespace {
 
-enum Kind { kT, kStep, kDt, kKe, kKeRot, kPhi, kZ, kZStar, kNContacts, kStress, kPressure, kMu, kBoxL, kGrainX, kGrainV, kGrainW, kGrainF, kNBuilds, kNPairs, kWallF, kShearRate, kStrain, kInertial, kKeFluct, kFabric };
+enum Kind { kT, kStep, kDt, kKe, kKeRot, kPhi, kZ, kZStar, kNContacts, kStress, kPressure, kMu, kBoxL, kGrainX, kGrainV, kGrainW, kGrainF, kNBuilds, kNPairs, kWallF, kShearRate, kStrain, kInertial, kKeFluct, kFabric, kKappa, kZeta };
 
 const char* kAxes = "xyz";
 
@@ -43,7 +43,7 @@ Parsed parse(const std::string& name, const Model& m) {
   static const std::pair<const char*, int> simple[] = {
       {"t", kT}, {"step", kStep}, {"dt", kDt}, {"ke", kKe}, {"ke_rot", kKeRot}, {"phi", kPhi}, {"z", kZ},
       {"z_star", kZStar}, {"n_contacts", kNContacts}, {"pressure", kPressure}, {"mu", kMu}, {"n_builds", kNBuilds}, {"n_pairs", kNPairs},
-      {"ke_fluct", kKeFluct}, {"gamma", kStrain}, {"gammadot", kShearRate}, {"I", kInertial}};
+      {"ke_fluct", kKeFluct}, {"gamma", kStrain}, {"gammadot", kShearRate}, {"I", kInertial}, {"kappa", kKappa}, {"zeta", kZeta}};
   for (auto [s, k] : simple)
     if (name == s) {
       if ((k == kStrain || k == kShearRate || k == kInertial) && !m.shear.on) {
@@ -135,10 +135,17 @@ double inertial_number(const Model& m, double shear_rate, double pressure) {
   return std::abs(shear_rate) * std::sqrt(m.m_mean / (std::pow(m.a_max, m.dim - 2) * pressure));
 }
 
+double stiffness_number(const Model& m, double pressure) {
+  if (!(pressure > 0)) return 0;
+  if (m.contact.law == NormalLaw::kHertz) return std::pow(m.contact.e_tilde / pressure, 2.0 / 3.0);
+  return m.k_max / (pressure * std::pow(m.a_max, m.dim - 2));
+}
+
 std::vector<std::string> observable_names(const Model& m) {
   std::vector<std::string> out = {"t", "step", "dt", "ke", "ke_rot", "ke_fluct", "phi", "z", "z_star", "n_contacts", "pressure", "mu", "n_builds", "n_pairs"};
   if (m.shear.on)
     for (const char* n : {"I", "gamma", "gammadot"}) out.push_back(n);
+  for (const char* n : {"kappa", "zeta"}) out.push_back(n);
   for (int a = 0; a < m.dim; ++a)
     for (int b = 0; b < m.dim; ++b) out.push_back(std::string("stress.") + kAxes[a] + kAxes[b]);
   for (int a = 0; a < m.dim; ++a)
@@ -164,7 +171,7 @@ Observer::Observer(const Model& m, std::vector<std::string> names) : names_(std:
     items_.push_back({p.kind, p.component, p.grain});
     if (p.kind == kKe || p.kind == kKeRot || p.kind == kPhi || p.kind == kZ || p.kind == kZStar ||
         p.kind == kNContacts || p.kind == kStress || p.kind == kPressure || p.kind == kMu || p.kind == kKeFluct ||
-        p.kind == kFabric || (p.kind == kInertial && !m.box_control.on))
+        p.kind == kFabric || ((p.kind == kInertial || p.kind == kKappa) && !m.box_control.on))
       needs_measure_ = true;
   }
 }
@@ -199,6 +206,8 @@ std::vector<double> Observer::sample(const Model& m, const State& s) const {
       case kShearRate: v = s.shear_rate; break;
       case kStrain: v = s.shear_strain; break;
       case kInertial: v = inertial_number(m, s.shear_rate, m.box_control.on ? m.box_control.pressure : meas.stress[1][1]); break;
+      case kKappa: v = stiffness_number(m, m.box_control.on ? m.box_control.pressure : meas.pressure); break;
+      case kZeta: v = m.zeta_max; break;
       case kNBuilds: v = static_cast<double>(s.nbr_builds); break;
       case kNPairs: v = static_cast<double>(s.n_pairs()); break;
       case kWallF: {  // force of the grains on the wall: minus the wall's force on them

@@ -3,6 +3,7 @@
 #include <sstream>
 
 #include "silt/model.hpp"
+#include "silt/observables.hpp"
 
 namespace silt {
 
@@ -73,14 +74,12 @@ std::string describe(const Model& m) {
   if (m.box_control.on) {
     const double P = m.box_control.pressure;
     const double a = m.a_max;
-    if (m.dim == 2 && m.contact.law != NormalLaw::kHertz)
-      o << "groups       kappa = k_n / P = " << m.k_max / P << " (Peyneau eq. 1.33)\n";
-    if (m.contact.law == NormalLaw::kHertz)
-      o << "groups       kappa = (E~/P)^(2/3) = " << std::pow(m.contact.e_tilde / P, 2.0 / 3.0) << " (Peyneau eq. 1.31)\n";
+    o << "groups       kappa = " << (m.contact.law == NormalLaw::kHertz ? "(E~/P)^(2/3)" : "k_n / (a^(d-2) P)") << " = "
+      << stiffness_number(m, P) << (m.contact.law == NormalLaw::kHertz ? " (Peyneau eq. 1.31)\n" : " (Peyneau eq. 1.33)\n");
     o << "             zeta = " << m.zeta_max << " (damping ratio of the lightest pair)\n";
     o << "             inertial time sqrt(m / (a^(d-2) P)) = " << std::sqrt(m.m_mean / (std::pow(a, m.dim - 2) * P)) << " s\n";
     if (m.shear.on && !m.shear.stress_controlled) {
-      const double I = m.shear.rate * std::sqrt(m.m_mean / (std::pow(a, m.dim - 2) * P));
+      const double I = inertial_number(m, m.shear.rate, P);
       o << "             I = gammadot sqrt(m / (a^(d-2) P)) = " << I << " (Peyneau eq. 1.30); " << 1.0 / (m.shear.rate * m.dt)
         << " steps per unit strain\n";
     }

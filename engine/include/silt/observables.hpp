@@ -40,6 +40,9 @@ VelocityProfile velocity_profile(const Model& m, const State& s, int n_slabs);
 // Inertial number I = |gammadot| sqrt(m / (a^(d-2) P)) (Peyneau 2009 eq. 1.30), m the mean grain
 // mass and a the largest diameter; 0 when P <= 0.
 double inertial_number(const Model& m, double shear_rate, double pressure);
+// Stiffness number kappa: (E~/P)^(2/3) for Hertz contacts (Peyneau eq. 1.31), k_n / (a^(d-2) P)
+// for the linear laws (eq. 1.33; k_n of the lightest pair for the damping-ratio laws); 0 when P <= 0.
+double stiffness_number(const Model& m, double pressure);
 
 // Returns "" when `name` is an observable of this model, else the reason (with a suggestion).
 std::string check_observable(const std::string& name, const Model& m);

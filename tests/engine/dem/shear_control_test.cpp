@@ -288,3 +288,17 @@ dt = 1e-4
   CHECK(test::scene_error(with("radius = 0.5", "radius = 0.5\nfrozen = true")).find("cannot hold frozen grains") !=
         std::string::npos);
 }
+
+TEST_CASE("stiffness number and damping of the shipped shear scenes, as observables") {
+  // Hertz: kappa = (E~/P)^(2/3) with E~ = E / (1 - nu^2); the scene has nu = 0, E = 7.7017e6.
+  const Model hertz = compile(load_scene_file(test::scene_path("shear3d_frictionless"), {parse_override("box.pressure=2")}));
+  const State s3 = make_state(hertz);
+  CHECK(sample(hertz, s3, "kappa") == doctest::Approx(std::pow(7.7017e6 / 2, 2.0 / 3.0)).epsilon(1e-12));
+  CHECK(sample(hertz, s3, "zeta") == doctest::Approx(0.98));
+  // Linear disks: kappa = k_N / P.
+  const Model disks = compile(load_scene_file(test::scene_path("shear2d_dry")));
+  const State s2 = make_state(disks);
+  CHECK(sample(disks, s2, "kappa") == doctest::Approx(1e4).epsilon(1e-12));
+  CHECK(sample(disks, s2, "zeta") == doctest::Approx(0.98).epsilon(1e-12));
+  CHECK(sample(disks, s2, "I") == doctest::Approx(0.01).epsilon(1e-12));
+}
