@@ -115,10 +115,14 @@ void Session::cmd_set(const Command& c) {
   if (spec->steerable) {
     std::string error;
     at_boundary([&] { error = steer(s.model_for_steering(), change); });
-    if (!error.empty()) throw std::runtime_error(error);
-    remember();
-    out_ << change.key << " = " << c.args[1].text << (running() ? " (from the next step)" : "") << "\n";
-    return;
+    if (error.empty()) {
+      remember();
+      out_ << change.key << " = " << c.args[1].text << (running() ? " (from the next step)" : "") << "\n";
+      return;
+    }
+    // Not a change a running model can take (a shear mode switched on or off, ...): when stopped,
+    // the scene is compiled again below.
+    if (running()) throw std::runtime_error(error);
   }
   if (running())
     throw std::runtime_error("'" + change.key + "' cannot change while a run goes on (it is not steerable): stop first");
