@@ -3,14 +3,17 @@
 // block-averaging error of the mean, next to the thesis' values; then the numerical knobs (time
 // step as a fraction of the contact time, box mass, neighbour skin) against cost.
 //
-//   build/bench/shear [--threads N] [--low] [--quick] [--2d] [--only KNOB] [--scene FILE] [--set KEY=VALUE ...]
+//   build/bench/shear [--threads N] [--low] [--quick] [--2d] [--only KNOB] [--inertial LIST]
+//                     [--scene FILE] [--set KEY=VALUE ...]
 //
 // --2d runs scenes/shear2d_dry.toml instead (Peyneau ch. 4 dry disks, mu = 0.3 and 0) at
-// I = 0.1 and 1e-2 (and 1e-3 with --low) next to the thesis' fits (Tables 4.1 and 4.3).
+// I = 0.1 and 1e-2 next to the thesis' fits (Tables 4.1 and 4.3).
 //
 // One isotropic compression (procedure O) gives the packing every run starts from. A run shears
 // through a transient strain, then averages over a measured strain; mu* = <tau>/<sigma_yy>.
-// --low adds I = 1e-2; --quick divides every strain by 4 (a smoke test, not a measurement).
+// --low adds I = 1e-2 and 3.16e-3 (with --2d: 1e-3); --inertial 0.1,0.01 chooses the values;
+// --only I|dt|mass|skin runs one group; --quick divides every strain by 4 (a smoke test, not a
+// measurement).
 // Appends to bench/results/shear.csv.
 #include <cmath>
 #include <cstdio>
@@ -35,6 +38,7 @@ struct Args {
   bool low = false;
   bool two_d = false;
   std::string only;  // run only the cases of this knob (I, dt, mass, skin)
+  std::vector<double> inertial;  // --inertial: replaces the list of I
   double strain_scale = 1;
   std::string scene = std::string(SILT_SOURCE_DIR) + "/scenes/shear3d_frictionless.toml";
   std::vector<std::string> sets;
@@ -139,6 +143,11 @@ int main(int argc, char** argv) {
     else if (!std::strcmp(argv[i], "--low")) a.low = true;
     else if (!std::strcmp(argv[i], "--quick")) a.strain_scale = 0.25;
     else if (!std::strcmp(argv[i], "--only") && i + 1 < argc) a.only = argv[++i];
+    else if (!std::strcmp(argv[i], "--inertial") && i + 1 < argc) {
+      std::istringstream in(argv[++i]);
+      std::string item;
+      while (std::getline(in, item, ',')) a.inertial.push_back(std::stod(item));
+    }
     else if (!std::strcmp(argv[i], "--2d")) {
       a.two_d = true;
       a.scene = std::string(SILT_SOURCE_DIR) + "/scenes/shear2d_dry.toml";
@@ -146,12 +155,14 @@ int main(int argc, char** argv) {
     else if (!std::strcmp(argv[i], "--scene") && i + 1 < argc) a.scene = argv[++i];
     else if (!std::strcmp(argv[i], "--set") && i + 1 < argc) a.sets.push_back(argv[++i]);
     else {
-      std::fprintf(stderr, "usage: shear [--threads N] [--low] [--quick] [--2d] [--only KNOB] [--scene FILE] [--set KEY=VALUE ...]\n");
+      std::fprintf(stderr, "usage: shear [--threads N] [--low] [--quick] [--2d] [--only KNOB] [--inertial LIST] [--scene FILE] [--set KEY=VALUE ...]\n");
       return 1;
     }
   }
   // Peyneau (2009) Table 3.3 (N = 4000, kappa_1, zeta = 0.98, M = N m).
-  const std::map<double, std::pair<double, double>> thesis = {{0.316, {0.415, 0.566}}, {0.0316, {0.212, 0.620}}};
+  // I = 3.16e-3: Table 3.6 at N = 1372.
+  const std::map<double, std::pair<double, double>> thesis = {
+      {0.316, {0.415, 0.566}}, {0.0316, {0.212, 0.620}}, {0.00316, {0.1457, 0.6322}}};
 
   // Procedure O, once.
   Case base;
@@ -167,7 +178,8 @@ int main(int argc, char** argv) {
 
   std::vector<Case> cases;
   std::vector<double> inertial = {0.316, 0.1, 0.0316};
-  if (a.low) inertial.push_back(0.01);
+  if (a.low) inertial.insert(inertial.end(), {0.01, 0.00316});
+  if (!a.inertial.empty()) inertial = a.inertial;
   if (a.two_d) {
     inertial.clear();
     std::vector<double> values = {0.1, 0.01};
@@ -191,8 +203,8 @@ int main(int argc, char** argv) {
     c.knob = "I";
     c.inertial = I;
     // The box (M = N m) settles slowly after the start from rest at large I: long transients.
-    c.transient = I > 0.2 ? 40 : (I > 0.05 ? 10 : (I > 0.02 ? 3 : 2));
-    c.measured = I > 0.2 ? 120 : (I > 0.05 ? 40 : (I > 0.02 ? 15 : 6));
+    c.transient = I > 0.2 ? 40 : (I > 0.05 ? 10 : (I > 0.02 ? 3 : (I > 0.005 ? 2 : 1)));
+    c.measured = I > 0.2 ? 120 : (I > 0.05 ? 40 : (I > 0.02 ? 15 : (I > 0.005 ? 6 : 4)));
     cases.push_back(c);
   }
   if (!a.two_d)
