@@ -3,6 +3,7 @@
 #include <sys/wait.h>
 
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -142,4 +143,17 @@ TEST_CASE("silt run --frames writes numbered PNGs and nothing else, and --vtk wr
   // A render value that cannot be drawn is a scene error, before the run.
   CHECK(silt_cli("run " + silt::test::scene_path("collision_normal") + " --frames " + dir +
                  " --set render.color_by=temperature").code == 2);
+}
+
+TEST_CASE("every shipped scene passes silt check") {
+  int scenes = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(std::string(SILT_SOURCE_DIR) + "/scenes")) {
+    if (entry.path().extension() != ".toml") continue;
+    CAPTURE(entry.path().string());
+    const Result r = silt_cli("check " + entry.path().string());
+    CHECK(r.code == 0);
+    CHECK(r.out.find("\nok") != std::string::npos);
+    ++scenes;
+  }
+  CHECK(scenes >= 7);
 }
