@@ -64,6 +64,38 @@ placement = "random"
 dt_over_tc = 0.05
 )";
 
+// Frictional spheres sheared by Lees-Edwards conditions while L_y follows the pressure, more
+// than 1,024 of them so that grains are renumbered at list builds.
+const char* kShear3d = R"(
+[scene]
+dimension = 3
+seed = 3
+[domain]
+lo = [0, 0, 0]
+hi = [11, 11, 11]
+periodic = [true, true, true]
+[box]
+pressure = 1.0
+controlled = [false, true, false]
+mass_factor = 0.01
+[shear]
+inertial_number = 0.3
+[contact]
+model = "linear"
+k_n = 1e4
+damping = 0.5
+friction = 0.4
+[[grains]]
+count = 1100
+radius_min = 0.35
+radius_max = 0.5
+placement = "random"
+velocity = "gaussian"
+temperature = 0.05
+[run]
+dt_over_tc = 0.05
+)";
+
 uint64_t hash_after(const char* scene, int threads, int steps) {
   auto sim = test::simulation_from(scene, threads);
   for (int k = 0; k < steps; ++k) REQUIRE(sim->step());
@@ -73,7 +105,7 @@ uint64_t hash_after(const char* scene, int threads, int steps) {
 }  // namespace
 
 TEST_CASE("the state hash after N steps is the same for 1, 2 and 4 threads") {
-  for (const char* scene : {kPour3d, kPack2d}) {
+  for (const char* scene : {kPour3d, kPack2d, kShear3d}) {
     const uint64_t h1 = hash_after(scene, 1, 1500);
     CHECK(hash_after(scene, 2, 1500) == h1);
     CHECK(hash_after(scene, 4, 1500) == h1);
