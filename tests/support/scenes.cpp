@@ -19,6 +19,12 @@ std::string scene_error(const std::string& toml) {
   return "";
 }
 
+std::string with_lists(std::string text, const std::string& lo, const std::string& hi, const std::string& per) {
+  for (auto [key, value] : {std::pair{"LO", lo}, std::pair{"HI", hi}, std::pair{"PER", per}})
+    text.replace(text.find(key), std::string(key).size(), value);
+  return text;
+}
+
 std::set<std::pair<int, int>> listed_pairs(const State& s) {
   std::set<std::pair<int, int>> out;
   for (int64_t i = 0; i < s.n; ++i)

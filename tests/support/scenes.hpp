@@ -20,6 +20,9 @@ std::unique_ptr<Simulation> simulation_from(const std::string& toml, int threads
 // The message of the SceneError that compiling this scene text raises ("" if it compiles).
 std::string scene_error(const std::string& toml);
 
+// Scene text for 2D or 3D: the words LO, HI and PER replaced by the dimension's lists.
+std::string with_lists(std::string text, const std::string& lo, const std::string& hi, const std::string& per);
+
 // The neighbour pairs (i, j) listed in the state's pair list.
 std::set<std::pair<int, int>> listed_pairs(const State& s);
 

@@ -113,13 +113,6 @@ double periodic_gap(double a, double b, double len) {
 
 double sample(const Model& m, const State& s, const std::string& name) { return Observer(m, {name}).sample(m, s)[0]; }
 
-// 2D or 3D scene text: LO, HI and PER replaced by the lists of the dimension.
-std::string with_lists(std::string text, const std::string& lo, const std::string& hi, const std::string& per) {
-  for (auto [key, value] : {std::pair{"LO", lo}, std::pair{"HI", hi}, std::pair{"PER", per}})
-    text.replace(text.find(key), std::string(key).size(), value);
-  return text;
-}
-
 }  // namespace
 
 // ---- 1. image arithmetic ---------------------------------------------------------------------
@@ -392,7 +385,7 @@ dt = 1e-3
         }
       pos.back() = ']';
       vel.back() = ']';
-      std::string text = with_lists(scene, dim == 3 ? "[-2, 1, 0]" : "[-2, 1]", dim == 3 ? "[8, 11, 6]" : "[8, 11]",
+      std::string text = test::with_lists(scene, dim == 3 ? "[-2, 1, 0]" : "[-2, 1]", dim == 3 ? "[8, 11, 6]" : "[8, 11]",
                                     dim == 3 ? "[true, true, true]" : "[true, true]");
       text.replace(text.find("POS"), 3, pos);
       text.replace(text.find("VEL"), 3, vel);
@@ -528,7 +521,7 @@ dt = 1e-3
       CAPTURE(st.n);
       CAPTURE(seed);
       auto sim = test::simulation_from(
-          test::fill(with_lists(scene, st.lo, st.hi, st.per), {{"dim", st.dim}, {"seed", seed}, {"n", st.n}}), 2);
+          test::fill(test::with_lists(scene, st.lo, st.hi, st.per), {{"dim", st.dim}, {"seed", seed}, {"n", st.n}}), 2);
       const Model& m = sim->model();
       State& s = sim->state();
       sim->prepare();

@@ -16,13 +16,6 @@ namespace {
 
 double sample(const Model& m, const State& s, const std::string& name) { return Observer(m, {name}).sample(m, s)[0]; }
 
-// 2D or 3D scene text: LO, HI and PER replaced by the lists of the dimension.
-std::string with_lists(std::string text, const std::string& lo, const std::string& hi, const std::string& per) {
-  for (auto [key, value] : {std::pair{"LO", lo}, std::pair{"HI", hi}, std::pair{"PER", per}})
-    text.replace(text.find(key), std::string(key).size(), value);
-  return text;
-}
-
 }  // namespace
 
 // ---- 6. imposed pressure under shear ----------------------------------------------------------
@@ -188,7 +181,7 @@ temperature = 0.01
 dt = 1e-3
 )";
   auto make = [&](int dim, const std::string& extra) {
-    std::string text = with_lists(base, dim == 3 ? "[0, 0, 0]" : "[0, 0]", dim == 3 ? "[5, 6, 5]" : "[5, 6]",
+    std::string text = test::with_lists(base, dim == 3 ? "[0, 0, 0]" : "[0, 0]", dim == 3 ? "[5, 6, 5]" : "[5, 6]",
                                   dim == 3 ? "[true, true, true]" : "[true, true]");
     text.replace(text.find("EXTRA"), 5, extra);
     return test::fill(text, {{"dim", dim}, {"n", dim == 3 ? 60 : 40}});
