@@ -39,11 +39,14 @@ double grain_value(const View& v, const Model& m, const State& s, int64_t i) {
   return 0;
 }
 
-std::string quantity_label(const View& v, int dim) {
-  if (v.color_by == "speed") return "speed [m/s]";
-  if (v.color_by == "vx") return "vx [m/s]";
-  if (v.color_by == "vy") return "vy [m/s]";
-  if (v.color_by == "vz") return (dim == 2 ? "vy" : "vz") + std::string(" [m/s]");
+// Under Lees-Edwards shear the grains' velocities are stored relative to the shear flow, and
+// drawn so: the fluctuations are what a picture of a homogeneous shear shows.
+std::string quantity_label(const View& v, int dim, bool sheared) {
+  const std::string rel = sheared ? " rel. to shear flow" : "";
+  if (v.color_by == "speed") return "speed" + rel + " [m/s]";
+  if (v.color_by == "vx") return "vx" + rel + " [m/s]";
+  if (v.color_by == "vy") return "vy" + rel + " [m/s]";
+  if (v.color_by == "vz") return (dim == 2 ? "vy" : "vz") + rel + std::string(" [m/s]");
   if (v.color_by == "height") return "height [m]";
   return v.color_by;
 }
@@ -218,7 +221,7 @@ RenderScene build_render_scene(const Model& m, const State& s, const View& v, co
       rs.colorbar.colormap = v.colormap;
       rs.colorbar.lo = lo;
       rs.colorbar.hi = hi;
-      rs.colorbar.label = quantity_label(v, D);
+      rs.colorbar.label = quantity_label(v, D, m.shear.on);
     }
   }
 
