@@ -17,9 +17,9 @@
 
 #include "core/parallel.hpp"
 #include "core/small_vec.hpp"
-#include "dem/box_geometry.hpp"
 #include "dem/contact_laws.hpp"
 #include "dem/stages.hpp"
+#include "shear/periodic_image.hpp"
 
 namespace silt::dem {
 namespace {
@@ -45,7 +45,7 @@ template <int D, bool Hertz, bool Friction, bool Affine>
 void pair_forces(const Model& m, State& s) {
   using V = SVec<D>;
   const ContactParams cp = m.contact;  // a copy: the loop keeps the parameters in registers
-  const PeriodicImage<D> img(s.box);
+  const shear::PeriodicImage<D> img(s.box);
   const double dt = s.dt;
   const double max_overlap = m.limits.max_overlap;
   // Affine velocity gradient: stretching rates on the diagonal, the shear rate at (x, y).

@@ -14,43 +14,14 @@
 #include <cmath>
 
 #include "core/parallel.hpp"
-#include "dem/box_geometry.hpp"
 #include "dem/stages.hpp"
+#include "shear/periodic_image.hpp"
+#include "shear/stages.hpp"
 
 namespace silt::dem {
 namespace {
 
 constexpr int64_t kGrain = 1024;
-
-// Box lengths and shear: half kicks from the stresses of the previous step (box_kick computed
-// them), then their drift. Returns the stretch factors of the lengths.
-template <int D>
-void box_drift(const Model& m, State& s, double* lambda) {
-  const double dt = s.dt, h = 0.5 * dt;
-  double vol = 1;
-  for (int k = 0; k < D; ++k) vol *= s.box.len[k];
-  if (m.box_control.on)
-    for (int k = 0; k < D; ++k) {
-      if (!m.box_control.controlled[k]) continue;
-      s.box_rate[k] += h * (vol / s.box.len[k]) * (s.box_stress[k] - m.box_control.pressure) / m.box_control.mass;
-      const double next = s.box.len[k] + dt * s.box_rate[k];
-      lambda[k] = next / s.box.len[k];
-      s.box.len[k] = next;
-    }
-  if (m.shear.on) {
-    if (!m.shear.stress_controlled) s.shear_rate = m.shear.rate;  // imposed (and steerable)
-    if (m.shear.stress_controlled)
-      s.shear_rate += h * vol * (m.shear.stress - s.shear_stress) / (m.box_control.mass * s.box.len[0] * s.box.len[1]);
-    // The image above moves along x at gammadot L_y, and is carried by the stretch of L_x like
-    // the grains (x -> lo + lambda (x - lo)): the image lattice deforms with them.
-    s.le_displacement = lambda[0] * s.le_displacement + dt * s.shear_rate * s.box.len[1];
-    s.shear_strain += dt * s.shear_rate;
-    s.box.le_offset = s.le_displacement - s.box.len[0] * std::floor(s.le_displacement / s.box.len[0]);
-  }
-  double strain = std::abs(s.shear_rate) * dt;
-  for (int k = 0; k < D; ++k) strain = std::max(strain, std::abs(lambda[k] - 1.0));
-  s.nbr_strain += strain;
-}
 
 // Affine: the box deforms (stress control or shear). The grains are carried by the affine flow
 // x -> lo + lambda (x - lo) and v_x += gammadot (y - lo_y), and move relative to it with their
@@ -61,9 +32,9 @@ void kick_drift_dim(const Model& m, State& s) {
   constexpr int R = kRotDim<D>;
   const double dt = s.dt, h = 0.5 * dt;
   double lambda[3] = {1, 1, 1};
-  if constexpr (Affine) box_drift<D>(m, s, lambda);
+  if constexpr (Affine) shear::box_drift(m, s, lambda);
   const double gd = s.shear_rate;
-  const PeriodicImage<D> img(s.box);
+  const shear::PeriodicImage<D> img(s.box);
   const Box box = s.box;
   double lo[D], g[D];
   for (int k = 0; k < D; ++k) {

@@ -13,7 +13,7 @@
 #include <cmath>
 
 #include "core/parallel.hpp"
-#include "dem/box_geometry.hpp"
+#include "shear/periodic_image.hpp"
 #include "dem/stages.hpp"
 
 namespace silt::dem {
@@ -185,7 +185,7 @@ void rebuild(const Model& m, State& s) {
   std::swap(sc.old_j, s.pair_j);
   std::swap(sc.old_hist, s.pair_hist);
   const bool had_list = static_cast<int64_t>(sc.old_start.size()) == n + 1;
-  const PeriodicImage<D> img(s.box);
+  const shear::PeriodicImage<D> img(s.box);
   // visit(i, f): calls f(j) for every listed partner j > i, in no particular order.
   auto visit = [&](int64_t i, auto&& f) {
     int32_t cells[36];

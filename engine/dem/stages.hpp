@@ -40,10 +40,4 @@ void gather_kick(const Model& m, State& s);
 // Same sum without the kick, to start a run with the forces of t = 0.
 void gather_forces(const Model& m, State& s);
 
-// (pair_f, particle_v, particle_x) => (box_stress, box_rate)
-// Stress along the controlled box lengths and the second half kick of the box (Peyneau eq. 3.11).
-void box_kick(const Model& m, State& s);
-// Same stress without the kick.
-void box_stress(const Model& m, State& s);
-
 }  // namespace silt::dem

@@ -12,6 +12,7 @@
 #include "core/parallel.hpp"
 #include "core/text.hpp"
 #include "dem/stages.hpp"
+#include "shear/stages.hpp"
 #include "graph/step_graph.hpp"
 #include "silt/observables.hpp"
 
@@ -84,7 +85,7 @@ void Simulation::prepare() {
     dem::contact_forces(model_, s);
     if (!model_.walls.empty()) dem::wall_forces(model_, s);
     dem::gather_forces(model_, s);
-    if (model_.box_control.on || model_.shear.stress_controlled) dem::box_stress(model_, s);
+    if (model_.box_control.on || model_.shear.stress_controlled) shear::box_stress(model_, s);
     std::fill(s.pair_hist.begin(), s.pair_hist.end(), 0.0);
     std::fill(s.wall_hist.begin(), s.wall_hist.end(), 0.0);
   });

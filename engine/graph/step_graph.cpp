@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "dem/stages.hpp"
+#include "shear/stages.hpp"
 
 namespace silt::graph {
 
@@ -57,7 +58,7 @@ std::vector<Stage> build_stages(const Model& m) {
   dep(gather, pairs, "sums the pair forces of this step");
   if (walls >= 0) dep(gather, walls, "adds the wall forces of this step");
   if (m.box_control.on || m.shear.stress_controlled) {
-    const int box = add("box_kick", &dem::box_kick,
+    const int box = add("box_kick", &shear::box_kick,
                         with(grain, {"pair_f", "particle_v", "particle_x", "nbr_start", "pair_j", "box"}),
                         {"box_stress", "box_rate", "shear_stress", "shear_rate"});
     dep(box, gather, "kinetic stress uses the full-step velocities; contact stress the new pair forces");

@@ -5,7 +5,7 @@
 #include <map>
 #include <set>
 
-#include "dem/box_geometry.hpp"
+#include "shear/periodic_image.hpp"
 #include "dem/stages.hpp"
 #include "support/scenes.hpp"
 

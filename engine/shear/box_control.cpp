@@ -6,12 +6,16 @@
 //   M L_x L_y / Omega d(gammadot)/dt = tau_imposed - tau,
 // so a shear stress above the grains' resistance accelerates the shear. This stage computes the
 // stresses after the forces of the new step and applies the second half kicks; the first half
-// kicks and the drifts are in kick_drift. Sums run over fixed chunks in order.
-#include "core/parallel.hpp"
-#include "dem/box_geometry.hpp"
-#include "dem/stages.hpp"
+// kicks and the drifts are in box_drift, called by kick_drift. Sums run over fixed chunks in
+// order.
+#include <algorithm>
+#include <cmath>
 
-namespace silt::dem {
+#include "core/parallel.hpp"
+#include "shear/periodic_image.hpp"
+#include "shear/stages.hpp"
+
+namespace silt::shear {
 namespace {
 
 // sigma_aa on the controlled axes and, under stress-controlled shear, tau = -sigma_xy.
@@ -59,6 +63,36 @@ void kick_dim(const Model& m, State& s) {
 
 }  // namespace
 
+// Box lengths and shear: half kicks from the stresses of the previous step (box_kick computed
+// them), then their drift. Returns the stretch factors of the lengths.
+void box_drift(const Model& m, State& s, double* lambda) {
+  const int D = m.dim;
+  const double dt = s.dt, h = 0.5 * dt;
+  double vol = 1;
+  for (int k = 0; k < D; ++k) vol *= s.box.len[k];
+  if (m.box_control.on)
+    for (int k = 0; k < D; ++k) {
+      if (!m.box_control.controlled[k]) continue;
+      s.box_rate[k] += h * (vol / s.box.len[k]) * (s.box_stress[k] - m.box_control.pressure) / m.box_control.mass;
+      const double next = s.box.len[k] + dt * s.box_rate[k];
+      lambda[k] = next / s.box.len[k];
+      s.box.len[k] = next;
+    }
+  if (m.shear.on) {
+    if (!m.shear.stress_controlled) s.shear_rate = m.shear.rate;  // imposed (and steerable)
+    if (m.shear.stress_controlled)
+      s.shear_rate += h * vol * (m.shear.stress - s.shear_stress) / (m.box_control.mass * s.box.len[0] * s.box.len[1]);
+    // The image above moves along x at gammadot L_y, and is carried by the stretch of L_x like
+    // the grains (x -> lo + lambda (x - lo)): the image lattice deforms with them.
+    s.le_displacement = lambda[0] * s.le_displacement + dt * s.shear_rate * s.box.len[1];
+    s.shear_strain += dt * s.shear_rate;
+    s.box.le_offset = s.le_displacement - s.box.len[0] * std::floor(s.le_displacement / s.box.len[0]);
+  }
+  double strain = std::abs(s.shear_rate) * dt;
+  for (int k = 0; k < D; ++k) strain = std::max(strain, std::abs(lambda[k] - 1.0));
+  s.nbr_strain += strain;
+}
+
 void box_stress(const Model& m, State& s) {
   if (m.dim == 2) stress_dim<2>(m, s);
   else stress_dim<3>(m, s);
@@ -69,4 +103,4 @@ void box_kick(const Model& m, State& s) {
   else kick_dim<3>(m, s);
 }
 
-}  // namespace silt::dem
+}  // namespace silt::shear

@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "dem/box_geometry.hpp"
+#include "shear/periodic_image.hpp"
 #include "dem/stages.hpp"
 #include "silt/contacts.hpp"
 #include "silt/observables.hpp"
@@ -168,13 +168,13 @@ TEST_CASE("Lees-Edwards nearest image: hand-computed separations through the she
   }
   // The kernels' PeriodicImage gives the same numbers.
   {
-    const dem::PeriodicImage<3> img(b3);
+    const shear::PeriodicImage<3> img(b3);
     Vec3 d(4, 7, 5);
     img.apply(d);
     CHECK(d[0] == doctest::Approx(4.5));
     CHECK(d[1] == doctest::Approx(-1.0));
     CHECK(d[2] == doctest::Approx(-1.0));
-    const dem::PeriodicImage<2> img2(c);
+    const shear::PeriodicImage<2> img2(c);
     Vec2 e(-4, -6);
     img2.apply(e);
     CHECK(e[0] == doctest::Approx(-4.5));
@@ -209,11 +209,11 @@ TEST_CASE("Lees-Edwards nearest image agrees with an exhaustive search over the 
       for (int k = 0; k < dim; ++k) REQUIRE(got[k] == doctest::Approx(want[k]).epsilon(1e-12).scale(10));
       if (dim == 2) {
         Vec2 v(d[0], d[1]);
-        dem::PeriodicImage<2>(b).apply(v);
+        shear::PeriodicImage<2>(b).apply(v);
         for (int k = 0; k < 2; ++k) REQUIRE(v[k] == got[k]);
       } else {
         Vec3 v(d[0], d[1], d[2]);
-        dem::PeriodicImage<3>(b).apply(v);
+        shear::PeriodicImage<3>(b).apply(v);
         for (int k = 0; k < 3; ++k) REQUIRE(v[k] == got[k]);
       }
     }
@@ -225,7 +225,7 @@ TEST_CASE("PeriodicImage wrap of a point leaving through the top or the bottom o
   // lo = (-3, 2), L = (10, 8), offset 7.5. Through the top: y - L_y, x - offset; through the
   // bottom: y + L_y, x + offset; then x wrapped into [-3, 7).
   const Box b = sheared_box(2, {-3, 2, 0}, {10, 8, 1}, 7.5);
-  const dem::PeriodicImage<2> img(b);
+  const shear::PeriodicImage<2> img(b);
   struct Case {
     double x, y, want_x, want_y;
   };
@@ -262,7 +262,7 @@ TEST_CASE("PeriodicImage wrap of a point leaving through the top or the bottom o
   // 3D: z wrapped independently of the shift.
   const Box b3 = sheared_box(3, {0, 0, 0}, {10, 8, 6}, 2.25);
   Vec3 p(1, 8.5, 6.5);
-  dem::PeriodicImage<3>(b3).wrap(p, b3);
+  shear::PeriodicImage<3>(b3).wrap(p, b3);
   CHECK(p[0] == doctest::Approx(8.75));  // 1 - 2.25 + 10
   CHECK(p[1] == doctest::Approx(0.5));
   CHECK(p[2] == doctest::Approx(0.5));
