@@ -37,6 +37,25 @@ std::string stem_of(const std::string& path) {
   return path.substr(0, dot);
 }
 
+// Procedure O before the run (Model::prepare): the prepared packing replaces the initial state.
+// Returns an exit code, 0 when the run can go on; `warning` is set when the packing is not static.
+int prepare(Simulation& sim, const RunArgs& a, std::string& warning) {
+  const Model& model = sim.model();
+  PreparationReport prep;
+  g_interrupt = false;
+  std::signal(SIGINT, on_sigint);
+  if (!a.quiet) std::cerr << "silt: preparing: isotropic compression at P = " << model.box_control.pressure << "\n";
+  sim.restore(prepare_packing(model, a.threads, &prep, &g_interrupt));
+  std::signal(SIGINT, SIG_DFL);
+  if (prep.end == RunEnd::kFailed) return report_error("numerical failure during the preparation: " + prep.failure, 3);
+  if (prep.end == RunEnd::kInterrupted) return report_error("interrupted during the preparation", 130);
+  if (!a.quiet)
+    std::fprintf(stderr, "silt: prepared in %lld steps (%.1f s): phi = %.5f%s\n", static_cast<long long>(prep.steps),
+                 prep.wall_s, measure(model, sim.state()).phi, prep.end == RunEnd::kStatic ? ", static" : "");
+  if (prep.end != RunEnd::kStatic) warning = "prepare.max_steps: the compression did not reach equilibrium";
+  return 0;
+}
+
 }  // namespace
 
 int run_command(const RunArgs& a) {
@@ -74,20 +93,7 @@ int run_command(const RunArgs& a) {
       return report_error(e.what(), 4);
     }
   } else if (model.prepare.compress) {
-    PreparationReport prep;
-    g_interrupt = false;
-    std::signal(SIGINT, on_sigint);
-    if (!a.quiet) std::cerr << "silt: preparing: isotropic compression at P = " << model.box_control.pressure << "\n";
-    sim.restore(prepare_packing(model, a.threads, &prep, &g_interrupt));
-    std::signal(SIGINT, SIG_DFL);
-    if (prep.end == RunEnd::kFailed)
-      return report_error("numerical failure during the preparation: " + prep.failure, 3);
-    if (prep.end == RunEnd::kInterrupted) return report_error("interrupted during the preparation", 130);
-    const Measurements meas = measure(model, sim.state());
-    if (!a.quiet)
-      std::fprintf(stderr, "silt: prepared in %lld steps (%.1f s): phi = %.5f%s\n", static_cast<long long>(prep.steps),
-                 prep.wall_s, meas.phi, prep.end == RunEnd::kStatic ? ", static" : "");
-    if (prep.end != RunEnd::kStatic) prep_warning = "prepare.max_steps: the compression did not reach equilibrium";
+    if (const int prep_code = prepare(sim, a, prep_warning); prep_code != 0) return prep_code;
   }
 
   std::unique_ptr<render::FrameWriter> frames;
