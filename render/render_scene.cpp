@@ -212,6 +212,13 @@ RenderScene build_render_scene(const Model& m, const State& s, const View& v, co
             else if (x[k] + radius > s.box.lo[k] + s.box.len[k]) y[k] -= static_cast<float>(s.box.len[k]);
             else crossing = false;
           }
+          // Under Lees-Edwards shear the image one period up is shifted along x by the offset.
+          if (crossing && s.box.lees_edwards && (mask & 2) && y[1] != x[1]) {
+            const double shifted = y[0] + (y[1] > x[1] ? 1.0 : -1.0) * s.box.le_offset;
+            // Back into the box along x, unless this is also the image across x.
+            y[0] = static_cast<float>((mask & 1) ? shifted
+                                                 : shifted - s.box.len[0] * std::floor((shifted - s.box.lo[0]) / s.box.len[0]));
+          }
           if (crossing) rs.spheres.push_back({y, radius, c});
         }
       }

@@ -384,3 +384,34 @@ TEST_CASE("the frame writer numbers its PNGs, and a bad directory is refused") {
   std::remove("frame_writer_test/frame_000001.png");
   CHECK_THROWS_AS(FrameWriter("no_such_dir/sub"), IoError);
 }
+
+TEST_CASE("under Lees-Edwards shear the image of a grain across y is shifted by the offset") {
+  // A disk of radius 0.5 at (2, 9.8) in a 10 x 10 sheared box with offset 3: it pokes out of the
+  // top, and its image below is at (2 - 3 mod 10, 9.8 - 10) = (9, -0.2).
+  auto sim = test::simulation_from(R"(
+[scene]
+dimension = 2
+[domain]
+lo = [0, 0]
+hi = [10, 10]
+periodic = [true, true]
+[shear]
+rate = 0.1
+[contact]
+model = "linear"
+k_n = 1000
+[[grains]]
+radius = 0.5
+placement = "explicit"
+positions = [[2, 9.8]]
+[run]
+dt = 1e-3
+)");
+  sim->state().box.le_offset = 3;
+  View v = plain(400, 400, {"grains"});
+  v.periodic_images = true;
+  const RenderScene rs = build_render_scene(sim->model(), sim->state(), v);
+  REQUIRE(rs.spheres.size() == 2);
+  CHECK(rs.spheres[1].centre[0] == doctest::Approx(9.0));
+  CHECK(rs.spheres[1].centre[1] == doctest::Approx(-0.2));
+}
