@@ -73,7 +73,16 @@ void VtkWriter::write(const Model& m, const State& s) {
         }
       o << kArrayEnd;
     };
-    vec3("velocity", s.particle_v, D, 0);
+    if (m.shear.on) {
+      // Under Lees-Edwards shear the state holds velocities relative to the shear flow; ParaView
+      // users expect the velocity itself, and get the relative one as well.
+      std::vector<double> total = s.particle_v;
+      for (int64_t i = 0; i < s.n; ++i) total[D * i] += s.shear_rate * (s.particle_x[D * i + 1] - s.box.lo[1]);
+      vec3("velocity", total, D, 0);
+      vec3("velocity_relative_to_shear_flow", s.particle_v, D, 0);
+    } else {
+      vec3("velocity", s.particle_v, D, 0);
+    }
     vec3("angular_velocity", s.particle_w, R, R == 1 ? 2 : 0);
     vec3("force", s.particle_f, D, 0);
     array_header(o, "Int32", "id", 1);

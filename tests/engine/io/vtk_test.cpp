@@ -86,3 +86,33 @@ dt = 1e-3
   CHECK(vtk.count() == 2);
   CHECK_THROWS_AS(VtkWriter("no_such_dir/sub"), IoError);
 }
+
+TEST_CASE("VTK under Lees-Edwards shear: the velocity with the shear flow, and relative to it") {
+  auto sim = test::simulation_from(R"(
+[scene]
+dimension = 2
+[domain]
+lo = [0, 1]
+hi = [10, 11]
+periodic = [true, true]
+[shear]
+rate = 0.5
+[contact]
+model = "linear"
+k_n = 1000
+[[grains]]
+radius = 0.5
+placement = "explicit"
+positions = [[2, 3], [7, 9]]
+velocity = "explicit"
+velocities = [[0.1, 0.2], [0, 0]]
+[run]
+dt = 1e-3
+)");
+  VtkWriter vtk("vtk_shear_out");
+  vtk.write(sim->model(), sim->state());
+  const std::string grains = slurp("vtk_shear_out/grains_000000.vtu");
+  // velocity = relative velocity + (0.5 (y - 1), 0, 0).
+  CHECK(array_of(grains, "velocity") == std::vector<double>{0.1 + 0.5 * 2, 0.2, 0, 0.5 * 8, 0, 0});
+  CHECK(array_of(grains, "velocity_relative_to_shear_flow") == std::vector<double>{0.1, 0.2, 0, 0, 0, 0});
+}
