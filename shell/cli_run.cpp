@@ -149,7 +149,7 @@ int run_command(const RunArgs& a) {
     opt.hooks.push_back({every, [&, slabs](const State& s) {
                            if (s.t < a.average_from) return;
                            VelocityProfile p = velocity_profile(model, s, slabs);
-                           sum.profiles[0].x = p.y;
+                           if (sum.profiles[0].x.empty()) sum.profiles[0].x = std::move(p.y);
                            sum.profiles[0].samples.push_back(std::move(p.vx));
                          }});
   }

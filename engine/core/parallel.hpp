@@ -10,6 +10,7 @@
 #include <tbb/parallel_reduce.h>
 
 #include <algorithm>
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -46,6 +47,21 @@ double deterministic_sum(int64_t n, int64_t chunk, F&& f) {
   });
   double s = 0;
   for (double p : part) s += p;
+  return s;
+}
+
+// K sums in one pass: f(begin, end) returns the K partial sums of its chunk (std::array<double, K>);
+// chunks are combined in order, as in deterministic_sum.
+template <size_t K, class F>
+std::array<double, K> deterministic_sums(int64_t n, int64_t chunk, F&& f) {
+  const int64_t nc = (n + chunk - 1) / chunk;
+  std::vector<std::array<double, K>> part(static_cast<size_t>(std::max<int64_t>(nc, 0)));
+  parallel_for(nc, 1, [&](int64_t b, int64_t e) {
+    for (int64_t c = b; c < e; ++c) part[c] = f(c * chunk, std::min(n, (c + 1) * chunk));
+  });
+  std::array<double, K> s{};
+  for (const auto& p : part)
+    for (size_t k = 0; k < K; ++k) s[k] += p[k];
   return s;
 }
 

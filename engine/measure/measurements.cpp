@@ -37,7 +37,6 @@ Measurements measure_dim(const Model& m, const State& s) {
     const double mass = 1.0 / s.particle_inv_m[i];
     const auto v = at<D>(s.particle_v.data(), i);
     out.ke += 0.5 * mass * v.squaredNorm();
-    out.ke_fluct += 0.5 * mass * v.squaredNorm();
     double w2 = 0;
     for (int k = 0; k < R; ++k) w2 += s.particle_w[R * i + k] * s.particle_w[R * i + k];
     const double erot = 0.5 * w2 / s.particle_inv_i[i];
@@ -83,7 +82,7 @@ Measurements measure_dim(const Model& m, const State& s) {
   for (int64_t i = 0; i < n; ++i)
     if (!s.particle_frozen[i]) sum += contacts[i];
   out.z = n_free ? static_cast<double>(sum) / n_free : 0;
-  out.ke_fluct = n_free ? out.ke_fluct / n_free : 0;
+  out.ke_fluct = n_free ? (out.ke - out.ke_rot) / n_free : 0;
   // Rattlers: free grains with too few contacts to be held, removed until none is left.
   const int need = m.contact.friction > 0 ? 2 : D + 1;
   std::vector<std::vector<int32_t>> adj(n);

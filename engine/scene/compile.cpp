@@ -122,8 +122,8 @@ void setup_shear(const SceneDesc& d, Model& m) {
     sh.rate = d.real("shear.rate");
   } else if (d.has("shear.inertial_number")) {
     if (!m.box_control.on) d.fail(key, "shear.inertial_number is relative to the imposed pressure: it needs box.pressure");
-    // I = gammadot sqrt(m / (a^(d-2) P)) (Peyneau eq. 1.30), a the largest diameter.
-    sh.rate = d.real("shear.inertial_number") / std::sqrt(m.m_mean / (std::pow(m.a_max, m.dim - 2) * m.box_control.pressure));
+    // I is linear in gammadot (Peyneau eq. 1.30): the rate of I = 1, scaled.
+    sh.rate = d.real("shear.inertial_number") / inertial_number(m, 1.0, m.box_control.pressure);
   } else {
     sh.stress_controlled = true;
     sh.stress = d.real("shear.stress");

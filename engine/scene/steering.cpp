@@ -21,7 +21,7 @@ std::string steer(Model& m, const Override& change) {
   }
   if (fresh.scene_hash != m.scene_hash) return "'" + change.key + "' would change the grains";
   if (fresh.shear.on != m.shear.on || fresh.shear.stress_controlled != m.shear.stress_controlled)
-    return "'" + change.key + "' would switch between imposed shear rate and imposed shear stress: set it when stopped";
+    return "'" + change.key + "' would switch the shear on or off, or between imposed rate and imposed stress: set it when stopped";
   // The steerable parts of a Model.
   m.gravity = fresh.gravity;
   m.contact.friction = fresh.contact.friction;

@@ -18,43 +18,50 @@
 namespace silt::shear {
 namespace {
 
-// sigma_aa on the controlled axes and, under stress-controlled shear, tau = -sigma_xy.
+// sigma_aa on the controlled axes and, under stress-controlled shear, tau = -sigma_xy: the
+// components (xx, yy, zz, xy) of Omega sigma = sum m v_a v_b + sum f_a d_b in one pass over
+// fixed chunks in order.
 template <int D>
 void stress_dim(const Model& m, State& s) {
   const PeriodicImage<D> img(s.box);
   double vol = 1;
   for (int k = 0; k < D; ++k) vol *= s.box.len[k];
-  // Components (a, b) of Omega sigma = sum m v_a v_b + sum f_a d_b, over fixed chunks in order.
-  auto component = [&](int a, int b) {
-    return deterministic_sum(s.n, 2048, [&](int64_t lo, int64_t hi) {
-      double acc = 0;
-      for (int64_t i = lo; i < hi; ++i) {
-        if (!s.particle_frozen[i]) acc += s.particle_v[D * i + a] * s.particle_v[D * i + b] / s.particle_inv_m[i];
-        for (int32_t p = s.nbr_start[i]; p < s.nbr_start[i + 1]; ++p) {
-          const double fa = s.pair_f[D * p + a];
-          if (fa == 0.0) continue;
-          Vec<D> d = at<D>(s.particle_x.data(), i) - at<D>(s.particle_x.data(), s.pair_j[p]);
-          img.apply(d);
-          acc += fa * d[b];
-        }
+  const std::array<double, 4> sum = deterministic_sums<4>(s.n, 2048, [&](int64_t lo, int64_t hi) {
+    std::array<double, 4> acc{};
+    for (int64_t i = lo; i < hi; ++i) {
+      if (!s.particle_frozen[i]) {
+        const double* v = &s.particle_v[D * i];
+        for (int a = 0; a < D; ++a) acc[a] += v[a] * v[a] / s.particle_inv_m[i];
+        acc[3] += v[0] * v[1] / s.particle_inv_m[i];
       }
-      return acc;
-    });
-  };
+      for (int32_t p = s.nbr_start[i]; p < s.nbr_start[i + 1]; ++p) {
+        const double* f = &s.pair_f[D * p];
+        bool apart = true;  // contact_forces zeroes the force of pairs apart
+        for (int a = 0; a < D; ++a) apart = apart && f[a] == 0.0;
+        if (apart) continue;
+        Vec<D> d = at<D>(s.particle_x.data(), i) - at<D>(s.particle_x.data(), s.pair_j[p]);
+        img.apply(d);
+        for (int a = 0; a < D; ++a) acc[a] += f[a] * d[a];
+        acc[3] += f[0] * d[1];
+      }
+    }
+    return acc;
+  });
   if (m.box_control.on)
     for (int a = 0; a < D; ++a)
-      if (m.box_control.controlled[a]) s.box_stress[a] = component(a, a) / vol;
-  if (m.shear.stress_controlled) s.shear_stress = -component(0, 1) / vol;
+      if (m.box_control.controlled[a]) s.box_stress[a] = sum[a] / vol;
+  if (m.shear.stress_controlled) s.shear_stress = -sum[3] / vol;
 }
 
-template <int D>
-void kick_dim(const Model& m, State& s) {
-  stress_dim<D>(m, s);
+// Half kick dt/2 of the controlled lengths (eq. 3.11) and of a stress-controlled shear rate
+// (eq. 3.12) from the stresses in State: the first half of a step (box_drift) and the second
+// (box_kick) share it.
+void half_kick(const Model& m, State& s) {
   double vol = 1;
-  for (int k = 0; k < D; ++k) vol *= s.box.len[k];
+  for (int k = 0; k < m.dim; ++k) vol *= s.box.len[k];
   const double h = 0.5 * s.dt;
   if (m.box_control.on)
-    for (int a = 0; a < D; ++a)
+    for (int a = 0; a < m.dim; ++a)
       if (m.box_control.controlled[a])
         s.box_rate[a] += h * (vol / s.box.len[a]) * (s.box_stress[a] - m.box_control.pressure) / m.box_control.mass;
   if (m.shear.stress_controlled)
@@ -67,21 +74,17 @@ void kick_dim(const Model& m, State& s) {
 // them), then their drift. Returns the stretch factors of the lengths.
 void box_drift(const Model& m, State& s, double* lambda) {
   const int D = m.dim;
-  const double dt = s.dt, h = 0.5 * dt;
-  double vol = 1;
-  for (int k = 0; k < D; ++k) vol *= s.box.len[k];
+  const double dt = s.dt;
+  half_kick(m, s);
   if (m.box_control.on)
     for (int k = 0; k < D; ++k) {
       if (!m.box_control.controlled[k]) continue;
-      s.box_rate[k] += h * (vol / s.box.len[k]) * (s.box_stress[k] - m.box_control.pressure) / m.box_control.mass;
       const double next = s.box.len[k] + dt * s.box_rate[k];
       lambda[k] = next / s.box.len[k];
       s.box.len[k] = next;
     }
   if (m.shear.on) {
     if (!m.shear.stress_controlled) s.shear_rate = m.shear.rate;  // imposed (and steerable)
-    if (m.shear.stress_controlled)
-      s.shear_rate += h * vol * (m.shear.stress - s.shear_stress) / (m.box_control.mass * s.box.len[0] * s.box.len[1]);
     // The image above moves along x at gammadot L_y, and is carried by the stretch of L_x like
     // the grains (x -> lo + lambda (x - lo)): the image lattice deforms with them.
     s.le_displacement = lambda[0] * s.le_displacement + dt * s.shear_rate * s.box.len[1];
@@ -99,8 +102,8 @@ void box_stress(const Model& m, State& s) {
 }
 
 void box_kick(const Model& m, State& s) {
-  if (m.dim == 2) kick_dim<2>(m, s);
-  else kick_dim<3>(m, s);
+  box_stress(m, s);
+  half_kick(m, s);
 }
 
 }  // namespace silt::shear
