@@ -37,32 +37,29 @@ double parallel_max(int64_t n, int64_t grain, F&& f) {
       [](double a, double b) { return std::max(a, b); });
 }
 
-// Sum over [0, n) of f(begin, end) with chunks of exactly `chunk` items combined in order.
-template <class F>
-double deterministic_sum(int64_t n, int64_t chunk, F&& f) {
-  const int64_t nc = (n + chunk - 1) / chunk;
-  std::vector<double> part(static_cast<size_t>(std::max<int64_t>(nc, 0)), 0.0);
-  parallel_for(nc, 1, [&](int64_t b, int64_t e) {
-    for (int64_t c = b; c < e; ++c) part[c] = f(c * chunk, std::min(n, (c + 1) * chunk));
-  });
-  double s = 0;
-  for (double p : part) s += p;
-  return s;
-}
-
-// K sums in one pass: f(begin, end) returns the K partial sums of its chunk (std::array<double, K>);
-// chunks are combined in order, as in deterministic_sum.
+// K sums in one pass: f(begin, end) returns the K partial sums of its chunk (std::array<double, K>),
+// over chunks of exactly `chunk` items combined in chunk order. Up to kStackChunks chunks the
+// partial sums stay on the stack (these reductions run every step).
+inline constexpr int64_t kStackChunks = 64;
 template <size_t K, class F>
 std::array<double, K> deterministic_sums(int64_t n, int64_t chunk, F&& f) {
-  const int64_t nc = (n + chunk - 1) / chunk;
-  std::vector<std::array<double, K>> part(static_cast<size_t>(std::max<int64_t>(nc, 0)));
+  const int64_t nc = std::max<int64_t>((n + chunk - 1) / chunk, 0);
+  std::array<std::array<double, K>, kStackChunks> stack_part;
+  std::vector<std::array<double, K>> heap_part(nc > kStackChunks ? static_cast<size_t>(nc) : 0);
+  std::array<double, K>* part = nc > kStackChunks ? heap_part.data() : stack_part.data();
   parallel_for(nc, 1, [&](int64_t b, int64_t e) {
     for (int64_t c = b; c < e; ++c) part[c] = f(c * chunk, std::min(n, (c + 1) * chunk));
   });
   std::array<double, K> s{};
-  for (const auto& p : part)
-    for (size_t k = 0; k < K; ++k) s[k] += p[k];
+  for (int64_t c = 0; c < nc; ++c)
+    for (size_t k = 0; k < K; ++k) s[k] += part[c][k];
   return s;
+}
+
+// Sum over [0, n) of f(begin, end) with chunks of exactly `chunk` items combined in order.
+template <class F>
+double deterministic_sum(int64_t n, int64_t chunk, F&& f) {
+  return deterministic_sums<1>(n, chunk, [&](int64_t b, int64_t e) { return std::array<double, 1>{f(b, e)}; })[0];
 }
 
 }  // namespace silt
