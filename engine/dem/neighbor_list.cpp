@@ -2,8 +2,8 @@
 //
 // A pair (i, j), i < j, is listed when |d_ij| < r_i + r_j + skin; the list stays valid until
 // twice the largest displacement since the build (relative to the affine flow of a deforming
-// box), plus the affine strain times the list range, exceeds the skin. Rows are sorted by j, so the list, and everything summed over it, is the
-// same whatever the number of threads. Pairs of two frozen grains are never listed.
+// box), plus the affine strain times the list range, exceeds the skin. Rows are sorted by j, so
+// the list, and everything summed over it, is the same whatever the number of threads. Pairs of two frozen grains are never listed.
 //
 // Above Model::kSortMin grains, each build also renumbers the grains in cell order (LAMMPS's
 // atom sorting): a flowing bed scatters neighbours in memory, and the pair loop then waits on
@@ -188,7 +188,7 @@ void rebuild(const Model& m, State& s) {
   const shear::PeriodicImage<D> img(s.box);
   // visit(i, f): calls f(j) for every listed partner j > i, in no particular order.
   auto visit = [&](int64_t i, auto&& f) {
-    int32_t cells[36];
+    int32_t cells[36];  // at most 3 z-layers x (3 + 4 + 4) cells: rows across a sheared boundary take 4
     const int nc = stencil<D>(g, sc.cell_of[i], cells);
     const auto xi = at<D>(s.particle_x.data(), i);
     const double ri = s.particle_r[i];

@@ -1,8 +1,6 @@
 // Procedure O of Peyneau (2009) sec. 3.1.2: the initial grains are compressed isotropically at
 // the imposed pressure (every periodic length controlled by eq. 3.11, no shear) until they form
 // a static packing; the scene's run then starts from it.
-#include <chrono>
-
 #include "silt/simulation.hpp"
 
 namespace silt {
