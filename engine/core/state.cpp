@@ -43,7 +43,6 @@ State make_state(const Model& m) {
   s.particle_t_wall.assign(s.n_walls ? n * R : 0, 0);
   s.wall_hist.assign(n * s.n_walls * D, 0);
   s.nbr_start.assign(n + 1, 0);
-  s.in_start.assign(n + 1, 0);
   s.particle_frozen = m.init.frozen;
   s.particle_id.resize(n);
   for (int64_t i = 0; i < n; ++i) s.particle_id[i] = static_cast<int32_t>(i);

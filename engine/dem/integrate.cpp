@@ -1,7 +1,7 @@
 // Velocity Verlet, split around the force stages (Allen & Tildesley 1987, sec. 3.2.1):
 //   kick_drift:   v(t + dt/2) = v(t) + dt/2 a(t);   x(t + dt) = x(t) + dt v(t + dt/2)
 //   ... forces at (x(t + dt), v(t + dt/2)) ...
-//   gather_kick:  v(t + dt) = v(t + dt/2) + dt/2 a(t + dt)
+//   kick:         v(t + dt) = v(t + dt/2) + dt/2 a(t + dt)
 // Angular velocities follow the same kicks (grains are spheres or disks: no orientation is
 // needed). Velocity-dependent forces see the half-step velocity, as in LAMMPS fix nve/sphere.
 //
@@ -83,15 +83,10 @@ void kick_drift_dim(const Model& m, State& s) {
 }
 
 template <int D, bool Kick, bool Walls, bool Torque>
-void gather_dim(const Model& m, State& s) {
+void kick_dim(const Model& m, State& s) {
   constexpr int R = kRotDim<D>;
   const double h = 0.5 * s.dt;
   const Vec<D> g = m.gravity.head<D>();
-  const double* __restrict pf = s.pair_f.data();
-  const double* __restrict ptc = s.pair_tc.data();
-  const int32_t* __restrict in_start = s.in_start.data();
-  const int32_t* __restrict in_pair = s.in_pair.data();
-  const double* __restrict radius = s.particle_r.data();
   const double* __restrict fwall = s.wall_f.data();
   const int nw = s.n_walls;
   const double* __restrict twall = s.particle_t_wall.data();
@@ -103,24 +98,8 @@ void gather_dim(const Model& m, State& s) {
   double* __restrict v = s.particle_v.data();
   double* __restrict w = s.particle_w.data();
   Alarm& nonfinite = s.alarm_nonfinite;
-  const int32_t* __restrict pj = s.pair_j.data();
-  parallel_for(s.n, kGrain, [&, pf, ptc, in_start, in_pair, pj, radius, fwall, twall, inv_m, inv_i, frozen, force, torq,
-                             v, w, h, g, nw](int64_t b, int64_t e) {
-    // contact_forces left the sum over row i (pairs where i is first) in particle_f/t; add the
-    // pairs where the grain is second, in one flat loop (grains of the block in order, each
-    // grain's pairs in row order). Torque from a pair on either grain is -r (n x F_t).
-    for (int64_t q = in_start[b]; q < in_start[e]; ++q) {
-      const int64_t p = in_pair[q], j = pj[p];
-      double* __restrict fj = force + D * j;
-      const double* __restrict fp = pf + D * p;
-      for (int k = 0; k < D; ++k) fj[k] -= fp[k];
-      if constexpr (Torque) {
-        double* __restrict tj = torq + R * j;
-        const double* __restrict tp = ptc + R * p;
-        const double rj = radius[j];
-        for (int k = 0; k < R; ++k) tj[k] -= rj * tp[k];
-      }
-    }
+  parallel_for(s.n, kGrain, [&, fwall, twall, inv_m, inv_i, frozen, force, torq, v, w, h, g, nw](int64_t b, int64_t e) {
+    // contact_forces left the pair forces and torques in particle_f / particle_t.
     for (int64_t i = b; i < e; ++i) {
       Vec<D> f = at<D>(force, i);
       if constexpr (!Torque) omega_store<D>(torq, i, omega_zero<D>());
@@ -142,13 +121,13 @@ void gather_dim(const Model& m, State& s) {
 }
 
 template <int D, bool Kick>
-void gather(const Model& m, State& s) {
+void second_kick(const Model& m, State& s) {
   const bool walls = s.n_walls > 0;
-  const bool torque = m.contact.friction > 0;  // pair_tc is not written without friction
-  if (walls && torque) gather_dim<D, Kick, true, true>(m, s);
-  else if (walls) gather_dim<D, Kick, true, false>(m, s);
-  else if (torque) gather_dim<D, Kick, false, true>(m, s);
-  else gather_dim<D, Kick, false, false>(m, s);
+  const bool torque = m.contact.friction > 0;  // contact_forces writes no torque without friction
+  if (walls && torque) kick_dim<D, Kick, true, true>(m, s);
+  else if (walls) kick_dim<D, Kick, true, false>(m, s);
+  else if (torque) kick_dim<D, Kick, false, true>(m, s);
+  else kick_dim<D, Kick, false, false>(m, s);
 }
 
 }  // namespace
@@ -159,14 +138,14 @@ void kick_drift(const Model& m, State& s) {
   else affine ? kick_drift_dim<3, true>(m, s) : kick_drift_dim<3, false>(m, s);
 }
 
-void gather_kick(const Model& m, State& s) {
-  if (m.dim == 2) gather<2, true>(m, s);
-  else gather<3, true>(m, s);
+void kick(const Model& m, State& s) {
+  if (m.dim == 2) second_kick<2, true>(m, s);
+  else second_kick<3, true>(m, s);
 }
 
-void gather_forces(const Model& m, State& s) {
-  if (m.dim == 2) gather<2, false>(m, s);
-  else gather<3, false>(m, s);
+void add_wall_forces(const Model& m, State& s) {
+  if (m.dim == 2) second_kick<2, false>(m, s);
+  else second_kick<3, false>(m, s);
 }
 
 }  // namespace silt::dem

@@ -14,6 +14,7 @@
 
 #include "core/parallel.hpp"
 #include "shear/periodic_image.hpp"
+#include "dem/pair_schedule.hpp"
 #include "dem/stages.hpp"
 
 namespace silt::dem {
@@ -244,22 +245,13 @@ void rebuild(const Model& m, State& s) {
       }
     }
   });
-  // Incoming pairs of every grain, in row order (the gather sums them in this order).
-  s.in_start.assign(n + 1, 0);
-  for (int64_t p = 0; p < np; ++p) ++s.in_start[s.pair_j[p] + 1];
-  for (int64_t i = 0; i < n; ++i) s.in_start[i + 1] += s.in_start[i];
-  s.in_pair.resize(np);
-  {
-    std::vector<int32_t> pos(s.in_start.begin(), s.in_start.end() - 1);
-    for (int64_t i = 0; i < n; ++i)
-      for (int32_t p = s.nbr_start[i]; p < s.nbr_start[i + 1]; ++p) s.in_pair[pos[s.pair_j[p]]++] = p;
-  }
   s.pair_f.assign(np * D, 0.0);
-  s.pair_tc.assign(np * kRotDim<D>, 0.0);
   std::fill(s.particle_disp.begin(), s.particle_disp.end(), 0.0);
   s.nbr_strain = 0;
   s.nbr_max_disp = 0;
   s.nbr_valid = true;
+  s.scratch.schedule = build_pair_schedule(n, s.nbr_start, s.pair_j);
+  s.scratch.schedule_valid = true;
   ++s.nbr_builds;
 }
 

@@ -16,28 +16,27 @@ namespace silt::dem {
 // the last neighbour build.
 void kick_drift(const Model& m, State& s);
 
-// (particle_x, particle_r, nbr_max_disp, box) => (nbr_start, pair_j, pair_hist, in_start,
-//  in_pair, particle_disp, nbr_strain)
+// (particle_x, particle_r, nbr_max_disp, box) => (nbr_start, pair_i, pair_j, pair_hist,
+//  particle_disp, nbr_strain)
 // Rebuild the half Verlet list (cell list, pairs within r_i + r_j + skin) only when a grain
 // moved more than skin/2 since the last build; tangential histories of surviving pairs are kept.
 void update_neighbors(const Model& m, State& s);
 
-// (particle_x, particle_v, particle_w, pair_j, pair_hist) => (pair_f, pair_tc, pair_hist,
+// (particle_x, particle_v, particle_w, pair_i, pair_j, pair_hist) => (pair_f, pair_hist,
 //  particle_f, particle_t, alarm_overlap)
-// Normal law + tangential spring for every listed pair; force on i stored per pair, and the sum
-// over row i (pairs where i is first) left in particle_f / particle_t for gather_kick.
+// Normal law + tangential spring for every listed pair; the force on i stored per pair, and the
+// sum over all pairs of each grain in particle_f / particle_t (in the order of the pair schedule).
 void contact_forces(const Model& m, State& s);
 
 // (particle_x, particle_v, particle_w, wall_hist) => (wall_f, particle_t_wall,
 //  wall_hist, alarm_overlap)
 void wall_forces(const Model& m, State& s);
 
-// (particle_f, particle_t [row sums], pair_f, pair_tc, in_pair, wall_f, particle_t_wall) =>
-//  (particle_f, particle_t, particle_v, particle_w, alarm_nonfinite)
-// Add the pairs where each grain is second, in a fixed order, and the walls; then the second
-// half kick.
-void gather_kick(const Model& m, State& s);
+// (particle_f, particle_t [pair sums], wall_f, particle_t_wall) => (particle_f, particle_t,
+//  particle_v, particle_w, alarm_nonfinite)
+// Add the wall forces, then the second half kick.
+void kick(const Model& m, State& s);
 // Same sum without the kick, to start a run with the forces of t = 0.
-void gather_forces(const Model& m, State& s);
+void add_wall_forces(const Model& m, State& s);
 
 }  // namespace silt::dem

@@ -84,7 +84,7 @@ void Simulation::prepare() {
     dem::update_neighbors(model_, s);
     dem::contact_forces(model_, s);
     if (!model_.walls.empty()) dem::wall_forces(model_, s);
-    dem::gather_forces(model_, s);
+    dem::add_wall_forces(model_, s);
     if (model_.box_control.on || model_.shear.stress_controlled) shear::box_stress(model_, s);
     std::fill(s.pair_hist.begin(), s.pair_hist.end(), 0.0);
     std::fill(s.wall_hist.begin(), s.wall_hist.end(), 0.0);
@@ -132,7 +132,7 @@ bool Simulation::check(State& s) {
     if (!f.message.empty() && f.message.rfind("internal error", 0) == 0)
       fail(f.stage, -1, "", f.message);
     else
-      fail("gather_kick", s.particle_id[i], "run.dt",
+      fail("kick", s.particle_id[i], "run.dt",
            "grain " + std::to_string(s.particle_id[i]) + " has a non-finite velocity or position; the time step " +
                fmt_(s.dt) + " s is too large for the contacts it meets: reduce run.dt (or run.dt_over_tc)");
     return false;

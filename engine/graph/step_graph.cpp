@@ -1,7 +1,7 @@
 // All wiring of a step lives here. Each edge says why it exists. A scene without walls has no
 // wall node; a fixed box has no box node.
 //
-//   kick_drift -> update_neighbors -> contact_forces --> gather_kick -> box_kick
+//   kick_drift -> update_neighbors -> contact_forces --> kick -> box_kick
 //                           \------> wall_forces ---/
 //
 // Every stage declares what it reads and writes; build_stages() refuses a graph in which two
@@ -37,13 +37,13 @@ std::vector<Stage> build_stages(const Model& m) {
                        {"particle_v", "particle_w", "particle_x", "particle_disp", "box", "shear_rate", "nbr_max_disp",
                         "nbr_strain"});
   const int nbr = add("update_neighbors", &dem::update_neighbors, with(grain, {"particle_x", "nbr_max_disp", "box"}),
-                      {"grain_order", "nbr_start", "pair_i", "pair_j", "pair_hist", "in_start", "in_pair",
-                       "particle_disp", "nbr_strain", "pair_f", "pair_tc"});
+                      {"grain_order", "nbr_start", "pair_i", "pair_j", "pair_hist", "particle_disp",
+                       "nbr_strain", "pair_f"});
   // depends on: the displacement since the last build, known after the drift.
   dep(nbr, kick, "rebuild decision needs the drifted positions");
   const int pairs = add("contact_forces", &dem::contact_forces,
                         with(grain, {"particle_x", "particle_v", "particle_w", "nbr_start", "pair_i", "pair_j", "box"}),
-                        {"pair_f", "pair_tc", "pair_hist", "particle_f", "particle_t"});
+                        {"pair_f", "pair_hist", "particle_f", "particle_t"});
   dep(pairs, nbr, "iterates the (possibly rebuilt) pair list");
   int walls = -1;
   if (!m.walls.empty()) {
@@ -52,16 +52,15 @@ std::vector<Stage> build_stages(const Model& m) {
     // Runs concurrently with contact_forces; not with update_neighbors, which may renumber grains.
     dep(walls, nbr, "a rebuild may renumber the grains (cell order)");
   }
-  const int gather = add("gather_kick", &dem::gather_kick,
-                         with(grain, {"pair_f", "pair_tc", "in_start", "in_pair", "wall_f", "particle_t_wall"}),
-                         {"particle_f", "particle_t", "particle_v", "particle_w"});
-  dep(gather, pairs, "sums the pair forces of this step");
-  if (walls >= 0) dep(gather, walls, "adds the wall forces of this step");
+  const int second_kick = add("kick", &dem::kick, with(grain, {"wall_f", "particle_t_wall"}),
+                              {"particle_f", "particle_t", "particle_v", "particle_w"});
+  dep(second_kick, pairs, "kicks with the pair forces of this step");
+  if (walls >= 0) dep(second_kick, walls, "adds the wall forces of this step");
   if (m.box_control.on || m.shear.stress_controlled) {
     const int box = add("box_kick", &shear::box_kick,
                         with(grain, {"pair_f", "particle_v", "particle_x", "nbr_start", "pair_j", "box"}),
                         {"box_stress", "box_rate", "shear_stress", "shear_rate"});
-    dep(box, gather, "kinetic stress uses the full-step velocities; contact stress the new pair forces");
+    dep(box, second_kick, "kinetic stress uses the full-step velocities; contact stress the new pair forces");
   }
   if (const std::string err = check_access(st); !err.empty()) throw std::logic_error("step graph: " + err);
   return st;

@@ -1,4 +1,4 @@
-// Checkpoint file layout (little-endian, version 2):
+// Checkpoint file layout (little-endian, version 3):
 //   "SILTCKPT" | u32 version | u64 scene hash | i32 dim | i64 n | scalars | arrays | u64 FNV-1a
 // Arrays follow the field list of State (name, element size, count, bytes), so a field added
 // to SILT_STATE_ARRAYS is saved without touching this file. The file is written to PATH.tmp,
@@ -18,7 +18,7 @@ namespace silt {
 namespace {
 
 constexpr char kMagic[8] = {'S', 'I', 'L', 'T', 'C', 'K', 'P', 'T'};
-constexpr uint32_t kVersion = 2;
+constexpr uint32_t kVersion = 3;
 
 class Writer {
  public:

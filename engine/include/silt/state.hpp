@@ -22,10 +22,10 @@ namespace silt {
 #define SILT_STATE_ARRAYS(X)                                                                                   \
   /* hot per-grain arrays */                                                                                   \
   X(double,  particle_x,      "N*D", "m",     "centre, wrapped into periodic directions; kick_drift")            \
-  X(double,  particle_v,      "N*D", "m/s",   "velocity relative to the affine box flow; kick_drift, gather_kick") \
-  X(double,  particle_w,      "N*R", "rad/s", "angular velocity; kick_drift, gather_kick")                       \
-  X(double,  particle_f,      "N*D", "N",     "contact + wall force (gravity excluded); gather_kick")            \
-  X(double,  particle_t,      "N*R", "N m",   "torque; gather_kick")                                             \
+  X(double,  particle_v,      "N*D", "m/s",   "velocity relative to the affine box flow; kick_drift, kick") \
+  X(double,  particle_w,      "N*R", "rad/s", "angular velocity; kick_drift, kick")                       \
+  X(double,  particle_f,      "N*D", "N",     "contact + wall force (gravity excluded); kick")            \
+  X(double,  particle_t,      "N*R", "N m",   "torque; kick")                                             \
   X(double,  particle_r,      "N",   "m",     "radius; compile")                                                 \
   X(double,  particle_inv_m,  "N",   "1/kg",  "inverse mass, 0 for frozen grains; compile")                      \
   X(double,  particle_inv_i,  "N",   "1/(kg m^2)", "inverse moment of inertia, 0 for frozen grains; compile")    \
@@ -40,9 +40,6 @@ namespace silt {
   X(int32_t, pair_j,          "P",   "",      "second grain of the pair; update_neighbors")                      \
   X(double,  pair_hist,       "P*D", "m",     "tangential spring elongation, kept while the pair is listed; contact_forces") \
   X(double,  pair_f,          "P*D", "N",     "force on i from j (0 when apart); contact_forces")                \
-  X(double,  pair_tc,         "P*R", "N",     "n x F_t: torque on i is -r_i pair_tc, on j -r_j pair_tc; contact_forces") \
-  X(int32_t, in_start,        "N+1", "",      "first incoming pair of grain j; update_neighbors")                \
-  X(int32_t, in_pair,         "P",   "",      "pairs whose second grain is j, in row order; update_neighbors")   \
   /* cold per-grain arrays */                                                                                  \
   X(uint8_t, particle_frozen, "N",   "",      "1 for frozen grains; compile")                                    \
   X(int32_t, particle_id,     "N",   "",      "stable identity (index in the scene); compile")                   \
@@ -78,6 +75,14 @@ struct StepFailure {
 struct StageTime {
   double seconds = 0;
   int64_t calls = 0;
+};
+
+// A conflict-free order of the pair loop's blocks of rows (built in dem/pair_schedule.cpp).
+struct PairSchedule {
+  static constexpr int64_t kBlock = 256;  // rows per block
+  std::vector<int32_t> blocks;        // block indices, grouped by colour
+  std::vector<int32_t> colour_start;  // colour c holds blocks[colour_start[c] .. colour_start[c + 1])
+  int colours() const { return static_cast<int>(colour_start.size()) - 1; }
 };
 
 struct State {
@@ -118,12 +123,17 @@ struct State {
   // identity: never hashed nor saved.
   struct Scratch {
     Scratch() = default;
-    Scratch(const Scratch&) {}                             // copies of a State start empty
-    Scratch& operator=(const Scratch&) { return *this; }  // and keep their own buffers
+    Scratch(const Scratch&) {}  // copies of a State start empty
+    Scratch& operator=(const Scratch&) {  // and keep their own buffers, but not a schedule of
+      schedule_valid = false;             // another list
+      return *this;
+    }
     std::vector<int32_t> cell_of, cell_start, cell_items, row_count;
     std::vector<int32_t> old_start, old_j;
     std::vector<double> old_hist;
     std::vector<int32_t> perm;  // new index -> old index of the last spatial sort
+    PairSchedule schedule;      // of the current pair list when schedule_valid
+    bool schedule_valid = false;
   } scratch;
 
   int64_t n_pairs() const { return static_cast<int64_t>(pair_j.size()); }

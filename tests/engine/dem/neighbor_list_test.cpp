@@ -179,7 +179,7 @@ dt_over_tc = 0.05
     dem::update_neighbors(sim->model(), sim->state());
     dem::contact_forces(sim->model(), sim->state());
     dem::wall_forces(sim->model(), sim->state());
-    dem::gather_forces(sim->model(), sim->state());
+    dem::add_wall_forces(sim->model(), sim->state());
   }
   const State& sa = a->state();
   const State& sb = b->state();

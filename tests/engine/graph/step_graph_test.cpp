@@ -14,10 +14,10 @@ TEST_CASE("stages follow the modules a scene enables") {
     return out;
   };
   const Model chute = compile(load_scene_file(test::scene_path("chute")));
-  CHECK(names(chute) == std::vector<std::string>{"kick_drift", "update_neighbors", "contact_forces", "gather_kick"});
+  CHECK(names(chute) == std::vector<std::string>{"kick_drift", "update_neighbors", "contact_forces", "kick"});
   const Model silo = compile(load_scene_file(test::scene_path("silo")));
   CHECK(names(silo) ==
-        std::vector<std::string>{"kick_drift", "update_neighbors", "contact_forces", "wall_forces", "gather_kick"});
+        std::vector<std::string>{"kick_drift", "update_neighbors", "contact_forces", "wall_forces", "kick"});
   const Model pack = compile(load_scene_file(test::scene_path("pack_2d")));
   CHECK(names(pack).back() == "box_kick");
 }
