@@ -27,58 +27,78 @@ constexpr int64_t kGrain = 1024;
 // x -> lo + lambda (x - lo) and v_x += gammadot (y - lo_y), and move relative to it with their
 // stored velocity (the flow is not stored in particle_v; Peyneau's eq. 3.10 without the
 // coupling terms, negligible for dissipative grains at small I).
+template <int D>
+struct DriftArgs {
+  double dt, h, gd;
+  double lo[D], g[D], lambda[D];
+  shear::PeriodicImage<D> img;
+  Box box;
+  double* x;
+  double* v;
+  double* w;
+  double* disp;
+  const double* f;
+  const double* t;
+  const double* inv_m;
+  const double* inv_i;
+  const uint8_t* frozen;
+};
+
+// Kick and drift grains [b, e); returns the largest squared displacement since the last build.
+// The arguments come by value: a local copy that the stores to the arrays cannot alias, so the
+// loop keeps them in registers (captured in a closure they would be reloaded after each store).
+template <int D, bool Affine>
+double drift_range(const DriftArgs<D> a, int64_t b, int64_t e) {
+  constexpr int R = kRotDim<D>;
+  double* __restrict x = a.x;
+  double* __restrict v = a.v;
+  double* __restrict w = a.w;
+  double* __restrict disp = a.disp;
+  const double* __restrict f = a.f;
+  const double* __restrict t = a.t;
+  double worst = 0;
+  for (int64_t i = b; i < e; ++i) {
+    if (a.frozen[i]) continue;
+    const double im = a.inv_m[i];
+    double xi[3], d2 = 0;
+    for (int k = 0; k < D; ++k) {
+      const double vk = v[D * i + k] + a.h * (f[D * i + k] * im + a.g[k]);
+      const double step = a.dt * vk;
+      if constexpr (Affine) {
+        xi[k] = a.lo[k] + a.lambda[k] * (x[D * i + k] - a.lo[k] + step);
+        v[D * i + k] = vk * a.lambda[k];
+      } else {
+        xi[k] = x[D * i + k] + step;
+        v[D * i + k] = vk;
+      }
+      disp[D * i + k] += step;
+      d2 += disp[D * i + k] * disp[D * i + k];
+    }
+    // Shear flow at the mid-step height (second order).
+    if constexpr (Affine) xi[0] += a.dt * a.gd * (x[D * i + 1] + 0.5 * a.dt * v[D * i + 1] - a.lo[1]);
+    a.img.wrap(xi, a.box);
+    for (int k = 0; k < D; ++k) x[D * i + k] = xi[k];
+    const double ii = a.inv_i[i];
+    for (int k = 0; k < R; ++k) w[R * i + k] += a.h * t[R * i + k] * ii;
+    worst = std::max(worst, d2);
+  }
+  return worst;
+}
+
 template <int D, bool Affine>
 void kick_drift_dim(const Model& m, State& s) {
-  constexpr int R = kRotDim<D>;
-  const double dt = s.dt, h = 0.5 * dt;
   double lambda[3] = {1, 1, 1};
   if constexpr (Affine) shear::box_drift(m, s, lambda);
-  const double gd = s.shear_rate;
-  const shear::PeriodicImage<D> img(s.box);
-  const Box box = s.box;
-  double lo[D], g[D];
+  DriftArgs<D> a{s.dt, 0.5 * s.dt, s.shear_rate, {}, {}, {}, shear::PeriodicImage<D>(s.box), s.box,
+                 s.particle_x.data(), s.particle_v.data(), s.particle_w.data(), s.particle_disp.data(),
+                 s.particle_f.data(), s.particle_t.data(), s.particle_inv_m.data(), s.particle_inv_i.data(),
+                 s.particle_frozen.data()};
   for (int k = 0; k < D; ++k) {
-    lo[k] = s.box.lo[k];
-    g[k] = m.gravity[k];
+    a.lo[k] = s.box.lo[k];
+    a.g[k] = m.gravity[k];
+    a.lambda[k] = lambda[k];
   }
-  double* __restrict x = s.particle_x.data();
-  double* __restrict v = s.particle_v.data();
-  double* __restrict w = s.particle_w.data();
-  double* __restrict disp = s.particle_disp.data();
-  const double* __restrict f = s.particle_f.data();
-  const double* __restrict t = s.particle_t.data();
-  const double* __restrict inv_m = s.particle_inv_m.data();
-  const double* __restrict inv_i = s.particle_inv_i.data();
-  const uint8_t* __restrict frozen = s.particle_frozen.data();
-  const double max_d2 = parallel_max(s.n, kGrain, [=](int64_t b, int64_t e) {
-    double worst = 0;
-    for (int64_t i = b; i < e; ++i) {
-      if (frozen[i]) continue;
-      const double im = inv_m[i];
-      double xi[3], d2 = 0;
-      for (int k = 0; k < D; ++k) {
-        const double vk = v[D * i + k] + h * (f[D * i + k] * im + g[k]);
-        const double step = dt * vk;
-        if constexpr (Affine) {
-          xi[k] = lo[k] + lambda[k] * (x[D * i + k] - lo[k] + step);
-          v[D * i + k] = vk * lambda[k];
-        } else {
-          xi[k] = x[D * i + k] + step;
-          v[D * i + k] = vk;
-        }
-        disp[D * i + k] += step;
-        d2 += disp[D * i + k] * disp[D * i + k];
-      }
-      // Shear flow at the mid-step height (second order).
-      if constexpr (Affine) xi[0] += dt * gd * (x[D * i + 1] + 0.5 * dt * v[D * i + 1] - lo[1]);
-      img.wrap(xi, box);
-      for (int k = 0; k < D; ++k) x[D * i + k] = xi[k];
-      const double ii = inv_i[i];
-      for (int k = 0; k < R; ++k) w[R * i + k] += h * t[R * i + k] * ii;
-      worst = std::max(worst, d2);
-    }
-    return worst;
-  });
+  const double max_d2 = parallel_max(s.n, kGrain, [a](int64_t b, int64_t e) { return drift_range<D, Affine>(a, b, e); });
   s.nbr_max_disp = std::sqrt(max_d2);
 }
 

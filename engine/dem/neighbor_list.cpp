@@ -246,6 +246,7 @@ void rebuild(const Model& m, State& s) {
     }
   });
   s.pair_f.assign(np * D, 0.0);
+  s.pair_touch.assign(np, 1);  // carried springs may be non-zero: the next force pass decides
   std::fill(s.particle_disp.begin(), s.particle_disp.end(), 0.0);
   s.nbr_strain = 0;
   s.nbr_max_disp = 0;

@@ -17,13 +17,13 @@ namespace silt::dem {
 void kick_drift(const Model& m, State& s);
 
 // (particle_x, particle_r, nbr_max_disp, box) => (nbr_start, pair_i, pair_j, pair_hist,
-//  particle_disp, nbr_strain)
+//  pair_f, pair_touch, particle_disp, nbr_strain)
 // Rebuild the half Verlet list (cell list, pairs within r_i + r_j + skin) only when a grain
 // moved more than skin/2 since the last build; tangential histories of surviving pairs are kept.
 void update_neighbors(const Model& m, State& s);
 
-// (particle_x, particle_v, particle_w, pair_i, pair_j, pair_hist) => (pair_f, pair_hist,
-//  particle_f, particle_t, alarm_overlap)
+// (particle_x, particle_v, particle_w, pair_i, pair_j, pair_hist, pair_touch) => (pair_f,
+//  pair_hist, pair_touch, particle_f, particle_t, alarm_overlap)
 // Normal law + tangential spring for every listed pair; the force on i stored per pair, and the
 // sum over all pairs of each grain in particle_f / particle_t (in the order of the pair schedule).
 void contact_forces(const Model& m, State& s);

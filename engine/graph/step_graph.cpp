@@ -38,12 +38,12 @@ std::vector<Stage> build_stages(const Model& m) {
                         "nbr_strain"});
   const int nbr = add("update_neighbors", &dem::update_neighbors, with(grain, {"particle_x", "nbr_max_disp", "box"}),
                       {"grain_order", "nbr_start", "pair_i", "pair_j", "pair_hist", "particle_disp",
-                       "nbr_strain", "pair_f"});
+                       "nbr_strain", "pair_f", "pair_touch"});
   // depends on: the displacement since the last build, known after the drift.
   dep(nbr, kick, "rebuild decision needs the drifted positions");
   const int pairs = add("contact_forces", &dem::contact_forces,
                         with(grain, {"particle_x", "particle_v", "particle_w", "nbr_start", "pair_i", "pair_j", "box"}),
-                        {"pair_f", "pair_hist", "particle_f", "particle_t"});
+                        {"pair_f", "pair_hist", "pair_touch", "particle_f", "particle_t"});
   dep(pairs, nbr, "iterates the (possibly rebuilt) pair list");
   int walls = -1;
   if (!m.walls.empty()) {

@@ -40,6 +40,7 @@ namespace silt {
   X(int32_t, pair_j,          "P",   "",      "second grain of the pair; update_neighbors")                      \
   X(double,  pair_hist,       "P*D", "m",     "tangential spring elongation, kept while the pair is listed; contact_forces") \
   X(double,  pair_f,          "P*D", "N",     "force on i from j (0 when apart); contact_forces")                \
+  X(uint8_t, pair_touch,      "P",   "",      "1 if the pair touched at the last force evaluation or was just listed; contact_forces") \
   /* cold per-grain arrays */                                                                                  \
   X(uint8_t, particle_frozen, "N",   "",      "1 for frozen grains; compile")                                    \
   X(int32_t, particle_id,     "N",   "",      "stable identity (index in the scene); compile")                   \
