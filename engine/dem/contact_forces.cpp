@@ -23,6 +23,7 @@
 #include "dem/contact_laws.hpp"
 #include "dem/pair_schedule.hpp"
 #include "dem/stages.hpp"
+#include "dem/touch_pass.hpp"
 #include "shear/periodic_image.hpp"
 
 namespace silt::dem {
@@ -88,7 +89,6 @@ void pair_block(const PairArgs<D> a, int64_t blk) {
   const int32_t* __restrict pj = a.pj;
   double* __restrict pf = a.pf;
   double* __restrict hist = a.hist;
-  uint8_t* __restrict touch = a.touch;
   double* __restrict force = a.force;
   double* __restrict torque = a.torque;
   const int64_t b = blk * PairSchedule::kBlock, e = std::min(a.n, b + PairSchedule::kBlock);
@@ -99,24 +99,7 @@ void pair_block(const PairArgs<D> a, int64_t blk) {
   double* __restrict td = tl.d.data();
   // Pass 1: which pairs touch, in one flat loop over the pairs of the block's rows (a loop per
   // row would mispredict its exit on rows of varying length).
-  int64_t c = 0;
-  for (int64_t p = p0; p < p1; ++p) {
-    const int64_t i = pi[p], j = pj[p];
-    V d = V::load(x + D * i) - V::load(x + D * j);
-    a.img.apply(d);
-    const double rs = r[i] + r[j];
-    const uint8_t now = d.squaredNorm() < rs * rs;
-    // A pair just come apart: rare, so this branch is well predicted (the one that decides
-    // whether to pack would not be, hence the unconditional store and the count below).
-    if (touch[p] > now) {
-      V::Zero().store(pf + D * p);
-      if constexpr (Friction) V::Zero().store(hist + D * p);
-    }
-    touch[p] = now;
-    tp[c] = static_cast<int32_t>(p);
-    d.store(td + D * c);
-    c += now;
-  }
+  const int64_t c = touch_pass<D>({x, r, pi, pj, a.touch, pf, Friction ? hist : nullptr}, a.img, p0, p1, tp, td);
   // Pass 2, the normal law, and pass 3, the tangential spring and the sums on both grains, on
   // the touching pairs in row order. Each pass is a short chain of dependent operations per
   // pair (a square root and a division in each), so the processor overlaps many pairs; as one
