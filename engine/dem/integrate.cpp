@@ -102,42 +102,61 @@ void kick_drift_dim(const Model& m, State& s) {
   s.nbr_max_disp = std::sqrt(max_d2);
 }
 
+template <int D>
+struct KickArgs {
+  double h;
+  double g[D];
+  int nw;
+  const double* fwall;
+  const double* twall;
+  const double* inv_m;
+  const double* inv_i;
+  const uint8_t* frozen;
+  double* force;
+  double* torq;
+  double* v;
+  double* w;
+  Alarm* nonfinite;
+};
+
+// Wall forces into particle_f / particle_t (contact_forces left the pair sums there) and, with
+// Kick, the second half kick of grains [b, e). Arguments by value, as in drift_range.
+template <int D, bool Kick, bool Walls, bool Torque>
+void kick_range(const KickArgs<D> a, int64_t b, int64_t e) {
+  constexpr int R = kRotDim<D>;
+  double* __restrict force = a.force;
+  double* __restrict torq = a.torq;
+  double* __restrict v = a.v;
+  double* __restrict w = a.w;
+  for (int64_t i = b; i < e; ++i) {
+    double f[D];
+    for (int k = 0; k < D; ++k) f[k] = force[D * i + k];
+    if constexpr (!Torque)
+      for (int k = 0; k < R; ++k) torq[R * i + k] = 0;
+    if constexpr (Walls) {
+      for (int wi = 0; wi < a.nw; ++wi)
+        for (int k = 0; k < D; ++k) f[k] += a.fwall[D * (i * a.nw + wi) + k];
+      for (int k = 0; k < R; ++k) torq[R * i + k] += a.twall[R * i + k];
+      for (int k = 0; k < D; ++k) force[D * i + k] = f[k];
+    }
+    if constexpr (Kick) {
+      if (a.frozen[i]) continue;
+      const double im = a.inv_m[i], ii = a.inv_i[i];
+      double sum = 0;  // a NaN or Inf anywhere in the grain's motion reaches its velocities
+      for (int k = 0; k < D; ++k) sum += (v[D * i + k] += a.h * (f[k] * im + a.g[k]));
+      for (int k = 0; k < R; ++k) sum += (w[R * i + k] += a.h * torq[R * i + k] * ii);
+      if (!std::isfinite(sum)) a.nonfinite->raise(i, 0);
+    }
+  }
+}
+
 template <int D, bool Kick, bool Walls, bool Torque>
 void kick_dim(const Model& m, State& s) {
-  constexpr int R = kRotDim<D>;
-  const double h = 0.5 * s.dt;
-  const Vec<D> g = m.gravity.head<D>();
-  const double* __restrict fwall = s.wall_f.data();
-  const int nw = s.n_walls;
-  const double* __restrict twall = s.particle_t_wall.data();
-  const double* __restrict inv_m = s.particle_inv_m.data();
-  const double* __restrict inv_i = s.particle_inv_i.data();
-  const uint8_t* __restrict frozen = s.particle_frozen.data();
-  double* __restrict force = s.particle_f.data();
-  double* __restrict torq = s.particle_t.data();
-  double* __restrict v = s.particle_v.data();
-  double* __restrict w = s.particle_w.data();
-  Alarm& nonfinite = s.alarm_nonfinite;
-  parallel_for(s.n, kGrain, [&, fwall, twall, inv_m, inv_i, frozen, force, torq, v, w, h, g, nw](int64_t b, int64_t e) {
-    // contact_forces left the pair forces and torques in particle_f / particle_t.
-    for (int64_t i = b; i < e; ++i) {
-      Vec<D> f = at<D>(force, i);
-      if constexpr (!Torque) omega_store<D>(torq, i, omega_zero<D>());
-      if constexpr (Walls) {
-        for (int wi = 0; wi < nw; ++wi) f += at<D>(fwall, i * nw + wi);
-        for (int k = 0; k < R; ++k) torq[R * i + k] += twall[R * i + k];
-        at<D>(force, i) = f;
-      }
-      if constexpr (Kick) {
-        if (frozen[i]) continue;
-        const double im = inv_m[i], ii = inv_i[i];
-        double sum = 0;  // a NaN or Inf anywhere in the grain's motion reaches its velocities
-        for (int k = 0; k < D; ++k) sum += (v[D * i + k] += h * (f[k] * im + g[k]));
-        for (int k = 0; k < R; ++k) sum += (w[R * i + k] += h * torq[R * i + k] * ii);
-        if (!std::isfinite(sum)) nonfinite.raise(i, 0);
-      }
-    }
-  });
+  KickArgs<D> a{0.5 * s.dt, {}, s.n_walls, s.wall_f.data(), s.particle_t_wall.data(), s.particle_inv_m.data(),
+                s.particle_inv_i.data(), s.particle_frozen.data(), s.particle_f.data(), s.particle_t.data(),
+                s.particle_v.data(), s.particle_w.data(), &s.alarm_nonfinite};
+  for (int k = 0; k < D; ++k) a.g[k] = m.gravity[k];
+  parallel_for(s.n, kGrain, [a](int64_t b, int64_t e) { kick_range<D, Kick, Walls, Torque>(a, b, e); });
 }
 
 template <int D, bool Kick>
