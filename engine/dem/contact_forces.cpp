@@ -29,23 +29,83 @@
 namespace silt::dem {
 namespace {
 
-// Scratch of one task: the touching pairs of its rows, found by the first pass, and what the
-// normal pass leaves to the tangential one.
+// Scratch of one task: the touching pairs of its rows and their separations, found by the
+// first pass, and columns (one array per quantity, so that the loops over them vectorize) that
+// the normal pass fills for the tangential one.
 template <int D>
 struct Touching {
+  enum Column { kN = 0, kVt = D, kXi = 2 * D, kF = 3 * D, kTc = 4 * D, kFn = 4 * D + kRotDim<D>, kK, kMeff, kColumns };
   std::vector<int32_t> pair;
-  std::vector<double> d;    // separation (nearest image), then the unit normal; D per entry
-  std::vector<double> vt;   // tangential relative velocity at the contact point, D per entry
-  std::vector<double> fnk;  // normal force, normal stiffness, reduced mass
+  std::vector<double> d;  // separation (nearest image), D per entry
+  std::vector<double> columns;
+  size_t cap = 0;
   void reserve(size_t n) {
-    if (pair.size() < n) {
+    if (cap < n) {
+      cap = n;
       pair.resize(n);
       d.resize(D * n);
-      vt.resize(D * n);
-      fnk.resize(3 * n);
+      columns.resize(kColumns * n);
     }
   }
+  double* col(int k) { return columns.data() + k * cap; }
 };
+
+// The tangential spring of every touching pair, column by column: tangential_force of
+// contact_laws.hpp with the same operations in the same order, written without branches (both
+// sides of each choice computed, then one selected) so that the loop, which has no indirection
+// either, vectorizes. In: unit normals n, tangential velocities vt, normal forces fn, normal
+// stiffnesses kn, reduced masses m; springs xi, updated. Out: the pair force f = fn n + F_t and
+// the moment n x F_t. Dashpot: zeta_t > 0. The compiler evaluates both sides of a choice only
+// when told that floating-point operations do not trap (-fno-trapping-math for this file, see
+// engine/CMakeLists.txt: no exception is ever enabled, and it changes no result).
+template <int D, bool Dashpot>
+void tangential_columns(int64_t c, double dt, double kt_ratio, double friction, double zeta_t,
+                        double* const* n, double* const* vt, const double* fn, const double* kn, const double* m,
+                        double* const* xi, double* const* f, double* const* tc) {
+#pragma GCC ivdep
+  for (int64_t q = 0; q < c; ++q) {
+    const double kt = kt_ratio * kn[q];
+    double ct = 0;
+    if constexpr (Dashpot) ct = 2.0 * zeta_t * std::sqrt(m[q] * kt);
+    double s[D], dot = 0;
+    for (int k = 0; k < D; ++k) {
+      s[k] = xi[k][q] + vt[k][q] * dt;
+      dot += s[k] * n[k][q];
+    }
+    double ft[D], f2 = 0;
+    for (int k = 0; k < D; ++k) {
+      s[k] -= dot * n[k][q];
+      ft[k] = -kt * s[k];
+      if constexpr (Dashpot) {
+        const double damped = ft[k] - ct * vt[k][q];
+        ft[k] = ct > 0 ? damped : ft[k];
+      }
+      f2 += ft[k] * ft[k];
+    }
+    const double mu_fn = friction * std::abs(fn[q]);
+    const bool slip = f2 > mu_fn * mu_fn;
+    const double capped = mu_fn / std::sqrt(f2);  // used only when slipping, then f2 > 0
+    const double scale = slip ? capped : 1.0;
+    for (int k = 0; k < D; ++k) {
+      ft[k] *= scale;
+      const double scaled = s[k] * scale;
+      if constexpr (Dashpot) {
+        const double held = -(ft[k] + ct * vt[k][q]) / kt;
+        xi[k][q] = ct > 0 && kt > 0 ? (slip ? held : s[k]) : scaled;
+      } else {
+        xi[k][q] = scaled;
+      }
+      f[k][q] = fn[q] * n[k][q] + ft[k];
+    }
+    if constexpr (D == 3) {
+      tc[0][q] = n[1][q] * ft[2] - n[2][q] * ft[1];
+      tc[1][q] = n[2][q] * ft[0] - n[0][q] * ft[2];
+      tc[2][q] = n[0][q] * ft[1] - n[1][q] * ft[0];
+    } else {
+      tc[0][q] = n[0][q] * ft[1] - n[1][q] * ft[0];
+    }
+  }
+}
 
 template <int D>
 struct PairArgs {
@@ -104,8 +164,23 @@ void pair_block(const PairArgs<D> a, int64_t blk) {
   // the touching pairs in row order. Each pass is a short chain of dependent operations per
   // pair (a square root and a division in each), so the processor overlaps many pairs; as one
   // loop, the chain would be twice as long and fewer pairs would be in flight.
-  double* __restrict tv = tl.vt.data();
-  double* __restrict tf = tl.fnk.data();
+  using T = Touching<D>;
+  constexpr int R = kRotDim<D>;
+  double* cn[D];
+  double* cvt[D];
+  double* cxi[D];
+  double* cf[D];
+  double* ctc[R];
+  for (int k = 0; k < D; ++k) {
+    cn[k] = tl.col(T::kN + k);
+    cvt[k] = tl.col(T::kVt + k);
+    cxi[k] = tl.col(T::kXi + k);
+    cf[k] = tl.col(T::kF + k);
+  }
+  for (int k = 0; k < R; ++k) ctc[k] = tl.col(T::kTc + k);
+  double* __restrict cfn = tl.col(T::kFn);
+  double* __restrict ck = tl.col(T::kK);
+  double* __restrict cm = tl.col(T::kMeff);
   for (int64_t q = 0; q < c; ++q) {
     const int64_t p = tp[q], i = pi[p], j = pj[p];
     const V d = V::load(td + D * q);
@@ -128,36 +203,43 @@ void pair_block(const PairArgs<D> a, int64_t blk) {
       nf = linear_normal(linear_coeffs(a.cp, m_eff), overlap, -vn);
     }
     if (a.cp.clip_attractive) nf.fn = clip_attractive(nf.fn);
-    nrm.store(td + D * q);
-    tf[3 * q] = nf.fn;
+    for (int k = 0; k < D; ++k) cn[k][q] = nrm[k];
+    cfn[q] = nf.fn;
     if constexpr (Friction) {
       const SOmega<D> wsum = ri * somega_load<D>(w, i) + rj * somega_load<D>(w, j);
       const V vt = vr - vn * nrm - cross_w(wsum, nrm);
-      vt.store(tv + D * q);
-      tf[3 * q + 1] = nf.k;
-      tf[3 * q + 2] = m_eff;
+      for (int k = 0; k < D; ++k) {
+        cvt[k][q] = vt[k];
+        cxi[k][q] = hist[D * p + k];
+      }
+      ck[q] = nf.k;
+      cm[q] = m_eff;
     }
+  }
+  if constexpr (Friction) {
+    if (a.cp.zeta_t > 0)
+      tangential_columns<D, true>(c, a.dt, a.cp.kt_ratio, a.cp.friction, a.cp.zeta_t, cn, cvt, cfn, ck, cm, cxi, cf, ctc);
+    else
+      tangential_columns<D, false>(c, a.dt, a.cp.kt_ratio, a.cp.friction, 0.0, cn, cvt, cfn, ck, cm, cxi, cf, ctc);
+  } else {
+    for (int64_t q = 0; q < c; ++q)
+      for (int k = 0; k < D; ++k) cf[k][q] = cfn[q] * cn[k][q];
   }
   for (int64_t q = 0; q < c; ++q) {
     const int64_t p = tp[q], i = pi[p], j = pj[p];
-    const V nrm = V::load(td + D * q);
-    const double fn = tf[3 * q];
-    V f = fn * nrm;
-    if constexpr (Friction) {
-      const double kt = a.cp.kt_ratio * tf[3 * q + 1];
-      V spring = V::load(hist + D * p);
-      const V ft = tangential_force(spring, nrm, V::load(tv + D * q), a.dt, kt, a.cp.friction * std::abs(fn),
-                                    tangential_dashpot(a.cp.zeta_t, tf[3 * q + 2], kt));
-      spring.store(hist + D * p);
-      f += ft;
-      const SOmega<D> tc = moment(nrm, ft);
-      somega_add<D>(torque, i, SOmega<D>(-r[i] * tc));
-      somega_add<D>(torque, j, SOmega<D>(-r[j] * tc));
-    }
-    f.store(pf + D * p);
     for (int k = 0; k < D; ++k) {
-      force[D * i + k] += f[k];
-      force[D * j + k] -= f[k];
+      const double f = cf[k][q];
+      pf[D * p + k] = f;
+      force[D * i + k] += f;
+      force[D * j + k] -= f;
+    }
+    if constexpr (Friction) {
+      const double ri = -r[i], rj = -r[j];
+      for (int k = 0; k < D; ++k) hist[D * p + k] = cxi[k][q];
+      for (int k = 0; k < R; ++k) {
+        torque[R * i + k] += ri * ctc[k][q];
+        torque[R * j + k] += rj * ctc[k][q];
+      }
     }
   }
 }
