@@ -12,6 +12,7 @@ namespace silt {
 
 template <int D>
 struct SVec {
+  static constexpr int SizeAtCompileTime = D;  // as Eigen's fixed-size vectors
   double c[D];
 
   static SVec Zero() {

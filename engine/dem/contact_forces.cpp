@@ -50,14 +50,11 @@ struct Touching {
   double* col(int k) { return columns.data() + k * cap; }
 };
 
-// The tangential spring of every touching pair, column by column: tangential_force of
-// contact_laws.hpp with the same operations in the same order, written without branches (both
-// sides of each choice computed, then one selected) so that the loop, which has no indirection
-// either, vectorizes. In: unit normals n, tangential velocities vt, normal forces fn, normal
-// stiffnesses kn, reduced masses m; springs xi, updated. Out: the pair force f = fn n + F_t and
-// the moment n x F_t. Dashpot: zeta_t > 0. The compiler evaluates both sides of a choice only
-// when told that floating-point operations do not trap (-fno-trapping-math for this file, see
-// engine/CMakeLists.txt: no exception is ever enabled, and it changes no result).
+// The tangential springs of the touching pairs, column by column (tangential_spring of
+// contact_laws.hpp): the loop has neither indirection nor branch, and vectorizes. In: unit
+// normals n, tangential velocities vt, normal forces fn, normal stiffnesses kn, reduced masses m;
+// springs xi, updated. Out: the pair force f = fn n + F_t and the moment n x F_t.
+// Dashpot: zeta_t > 0.
 template <int D, bool Dashpot>
 void tangential_columns(int64_t c, double dt, double kt_ratio, double friction, double zeta_t,
                         double* const* n, double* const* vt, const double* fn, const double* kn, const double* m,
@@ -65,44 +62,25 @@ void tangential_columns(int64_t c, double dt, double kt_ratio, double friction, 
 #pragma GCC ivdep
   for (int64_t q = 0; q < c; ++q) {
     const double kt = kt_ratio * kn[q];
-    double ct = 0;
+    double s[D], nq[D], vq[D], ft[D];
+    for (int k = 0; k < D; ++k) {
+      s[k] = xi[k][q];
+      nq[k] = n[k][q];
+      vq[k] = vt[k][q];
+    }
+    double ct = 0;  // tangential_dashpot with zeta_t > 0
     if constexpr (Dashpot) ct = 2.0 * zeta_t * std::sqrt(m[q] * kt);
-    double s[D], dot = 0;
+    tangential_spring<D, Dashpot>(s, nq, vq, dt, kt, friction * std::abs(fn[q]), ct, ft);
     for (int k = 0; k < D; ++k) {
-      s[k] = xi[k][q] + vt[k][q] * dt;
-      dot += s[k] * n[k][q];
-    }
-    double ft[D], f2 = 0;
-    for (int k = 0; k < D; ++k) {
-      s[k] -= dot * n[k][q];
-      ft[k] = -kt * s[k];
-      if constexpr (Dashpot) {
-        const double damped = ft[k] - ct * vt[k][q];
-        ft[k] = ct > 0 ? damped : ft[k];
-      }
-      f2 += ft[k] * ft[k];
-    }
-    const double mu_fn = friction * std::abs(fn[q]);
-    const bool slip = f2 > mu_fn * mu_fn;
-    const double capped = mu_fn / std::sqrt(f2);  // used only when slipping, then f2 > 0
-    const double scale = slip ? capped : 1.0;
-    for (int k = 0; k < D; ++k) {
-      ft[k] *= scale;
-      const double scaled = s[k] * scale;
-      if constexpr (Dashpot) {
-        const double held = -(ft[k] + ct * vt[k][q]) / kt;
-        xi[k][q] = ct > 0 && kt > 0 ? (slip ? held : s[k]) : scaled;
-      } else {
-        xi[k][q] = scaled;
-      }
-      f[k][q] = fn[q] * n[k][q] + ft[k];
+      xi[k][q] = s[k];
+      f[k][q] = fn[q] * nq[k] + ft[k];
     }
     if constexpr (D == 3) {
-      tc[0][q] = n[1][q] * ft[2] - n[2][q] * ft[1];
-      tc[1][q] = n[2][q] * ft[0] - n[0][q] * ft[2];
-      tc[2][q] = n[0][q] * ft[1] - n[1][q] * ft[0];
+      tc[0][q] = nq[1] * ft[2] - nq[2] * ft[1];
+      tc[1][q] = nq[2] * ft[0] - nq[0] * ft[2];
+      tc[2][q] = nq[0] * ft[1] - nq[1] * ft[0];
     } else {
-      tc[0][q] = n[0][q] * ft[1] - n[1][q] * ft[0];
+      tc[0][q] = nq[0] * ft[1] - nq[1] * ft[0];
     }
   }
 }

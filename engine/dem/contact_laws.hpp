@@ -78,22 +78,64 @@ inline NormalForce normal_force(const ContactParams& p, double m_eff, double r_e
 //   xi += v_t dt;  xi -= (xi . n) n  (keep the elongation in the tangent plane);
 //   F_t = -k_t xi - c_t v_t;
 //   if |F_t| > mu |F_n|: F_t *= mu |F_n| / |F_t| and xi = -(F_t + c_t v_t) / k_t (slip),
-// so that the spring holds what the cap leaves to it. `xi` is the per-contact history, `vt` the
-// tangential relative velocity at the contact point. Returns F_t (force on i).
+// so that the spring holds what the cap leaves to it (without the dashpot, xi is scaled as F_t).
+// `xi` is the per-contact history, `vt` the tangential relative velocity at the contact point;
+// F_t (force on i) goes to `ft`.
+//
+// On plain arrays and without branches: both sides of each choice are computed, then one is
+// selected, so that a loop over many contacts vectorizes (sticking and sliding contacts mix in
+// no predictable order, which would defeat a branch anyway). The quotients of the unselected
+// sides may be inf or NaN; they are discarded. Dashpot: c_t may be > 0.
+template <int D, bool Dashpot>
+inline void tangential_spring(double* xi, const double* n, const double* vt, double dt, double k_t, double mu_fn,
+                              double c_t, double* ft) {
+  double dot = 0;
+  for (int k = 0; k < D; ++k) {
+    xi[k] += vt[k] * dt;
+    dot += xi[k] * n[k];
+  }
+  double f2 = 0;
+  for (int k = 0; k < D; ++k) {
+    xi[k] -= dot * n[k];
+    ft[k] = -k_t * xi[k];
+    if constexpr (Dashpot) {
+      const double damped = ft[k] - c_t * vt[k];
+      ft[k] = c_t > 0 ? damped : ft[k];
+    }
+    f2 += ft[k] * ft[k];
+  }
+  const bool slip = f2 > mu_fn * mu_fn;
+  const double capped = mu_fn / std::sqrt(f2);  // selected only when slipping, then f2 > 0
+  const double scale = slip ? capped : 1.0;
+  const bool held = Dashpot && (c_t > 0) & (k_t > 0);
+  for (int k = 0; k < D; ++k) {
+    ft[k] *= scale;
+    const double scaled = xi[k] * scale;
+    if constexpr (Dashpot) {
+      const double limit = -(ft[k] + c_t * vt[k]) / k_t;
+      xi[k] = held ? (slip ? limit : xi[k]) : scaled;
+    } else {
+      xi[k] = scaled;
+    }
+  }
+}
+
+// The same for a vector type (Eigen or SVec); returns F_t.
 template <class V>
 inline V tangential_force(V& xi, const V& n, const V& vt, double dt, double k_t, double mu_fn, double c_t = 0.0) {
-  xi += vt * dt;
-  xi -= xi.dot(n) * n;
-  V ft = -k_t * xi;
-  if (c_t > 0) ft -= c_t * vt;
-  const double f2 = ft.squaredNorm();
-  if (f2 > mu_fn * mu_fn) {
-    const double scale = f2 > 0 ? mu_fn / std::sqrt(f2) : 0.0;
-    ft *= scale;
-    if (c_t > 0 && k_t > 0)
-      xi = -(ft + c_t * vt) / k_t;
-    else
-      xi *= scale;
+  constexpr int D = V::SizeAtCompileTime;
+  double s[D], nn[D], v[D], f[D];
+  for (int k = 0; k < D; ++k) {
+    s[k] = xi[k];
+    nn[k] = n[k];
+    v[k] = vt[k];
+  }
+  if (c_t > 0) tangential_spring<D, true>(s, nn, v, dt, k_t, mu_fn, c_t, f);
+  else tangential_spring<D, false>(s, nn, v, dt, k_t, mu_fn, c_t, f);
+  V ft;
+  for (int k = 0; k < D; ++k) {
+    xi[k] = s[k];
+    ft[k] = f[k];
   }
   return ft;
 }

@@ -37,6 +37,31 @@ TEST_CASE("tangential spring: elastic while |F_t| < mu F_n, then slides at mu F_
   CHECK(e.z() == 0);
 }
 
+TEST_CASE("tangential spring with a dashpot: F_t = -k_t xi - c_t v_t, and the spring holds the rest at the cap") {
+  const Vec3 n(0, 0, 1), vt(0.2, -0.1, 0);
+  const double kt = 1000, ct = 5, dt = 1e-3;
+  // Sticking: the dashpot adds to the spring.
+  Vec3 xi(1e-4, 0, 0);
+  const Vec3 f = dem::tangential_force(xi, n, vt, dt, kt, 1e9, ct);
+  const Vec3 xi_expect = Vec3(1e-4, 0, 0) + vt * dt;
+  CHECK((xi - xi_expect).norm() < 1e-15);
+  CHECK((f - (-kt * xi_expect - ct * vt)).norm() < 1e-12);
+  // Sliding: |F_t| = mu F_n along the same direction, the spring elongation is what is left once
+  // the dashpot has taken its part.
+  const double mu_fn = 0.3;
+  Vec3 xs(2e-3, 1e-3, 0);
+  const Vec3 free = -kt * (Vec3(2e-3, 1e-3, 0) + vt * dt) - ct * vt;
+  const Vec3 fs = dem::tangential_force(xs, n, vt, dt, kt, mu_fn, ct);
+  CHECK(fs.norm() == doctest::Approx(mu_fn));
+  CHECK((fs.normalized() - free.normalized()).norm() < 1e-12);
+  CHECK((xs - (-(fs + ct * vt) / kt)).norm() < 1e-15);
+  // No friction force at all when mu F_n = 0, and no NaN from a zero force.
+  Vec3 x0 = Vec3::Zero();
+  const Vec3 f0 = dem::tangential_force(x0, n, Vec3(Vec3::Zero()), dt, kt, 0.0, ct);
+  CHECK(f0.norm() == 0);
+  CHECK(x0.norm() == 0);
+}
+
 namespace {
 
 // A grain on a horizontal frictional wall, gravity tilted by `angle`: an incline of that angle.
