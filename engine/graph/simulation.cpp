@@ -107,7 +107,10 @@ void Simulation::restore(State s) {
 void Simulation::advance(State& s) {
   s.dt = model_.dt;
   impl_->arena.execute([&] {
-    if (threads_ == 1)
+    // Up to kSortMin grains every stage is a single block of work (grains are not renumbered in
+    // cell order, so the pair schedule is serial too): the flow graph would only add its
+    // overhead. Both executors give the same bits.
+    if (threads_ == 1 || s.n <= Model::kSortMin)
       impl_->graph->run_serial(model_, s);
     else
       impl_->graph->run_flow(model_, s);

@@ -39,14 +39,15 @@ temperature = 0.01
 dt_over_tc = 0.05
 )";
 
-// Frictionless disks compressed by a stress-controlled box.
+// Frictional disks compressed by a stress-controlled box; more than 1,024 of them, since smaller
+// systems always run on the serial executor.
 const char* kPack2d = R"(
 [scene]
 dimension = 2
 seed = 5
 [domain]
 lo = [0, 0]
-hi = [30, 30]
+hi = [50, 50]
 periodic = [true, true]
 [box]
 pressure = 1.0
@@ -56,7 +57,7 @@ k_n = 1e4
 damping = 0.5
 friction = 0.3
 [[grains]]
-count = 400
+count = 1100
 radius_min = 0.35
 radius_max = 0.5
 placement = "random"
