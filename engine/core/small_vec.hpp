@@ -78,21 +78,5 @@ inline SOmega<D> somega_load(const double* a, size_t i) {
     return a[i];
   }
 }
-template <int D>
-inline void somega_store(double* a, size_t i, const SOmega<D>& w) {
-  if constexpr (D == 3) {
-    w.store(a + 3 * i);
-  } else {
-    a[i] = w;
-  }
-}
-template <int D>
-inline void somega_add(double* a, size_t i, const SOmega<D>& w) {
-  if constexpr (D == 3) {
-    for (int k = 0; k < 3; ++k) a[3 * i + k] += w[k];
-  } else {
-    a[i] += w;
-  }
-}
 
 }  // namespace silt

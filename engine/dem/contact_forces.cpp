@@ -62,26 +62,23 @@ void tangential_columns(int64_t c, double dt, double kt_ratio, double friction, 
 #pragma GCC ivdep
   for (int64_t q = 0; q < c; ++q) {
     const double kt = kt_ratio * kn[q];
-    double s[D], nq[D], vq[D], ft[D];
+    SVec<D> s, nq, vq, ft;
     for (int k = 0; k < D; ++k) {
       s[k] = xi[k][q];
       nq[k] = n[k][q];
       vq[k] = vt[k][q];
     }
-    double ct = 0;  // tangential_dashpot with zeta_t > 0
-    if constexpr (Dashpot) ct = 2.0 * zeta_t * std::sqrt(m[q] * kt);
-    tangential_spring<D, Dashpot>(s, nq, vq, dt, kt, friction * std::abs(fn[q]), ct, ft);
+    const double ct = Dashpot ? tangential_dashpot(zeta_t, m[q], kt) : 0.0;
+    tangential_spring<D, Dashpot>(s.c, nq.c, vq.c, dt, kt, friction * std::abs(fn[q]), ct, ft.c);
     for (int k = 0; k < D; ++k) {
       xi[k][q] = s[k];
       f[k][q] = fn[q] * nq[k] + ft[k];
     }
-    if constexpr (D == 3) {
-      tc[0][q] = nq[1] * ft[2] - nq[2] * ft[1];
-      tc[1][q] = nq[2] * ft[0] - nq[0] * ft[2];
-      tc[2][q] = nq[0] * ft[1] - nq[1] * ft[0];
-    } else {
-      tc[0][q] = nq[0] * ft[1] - nq[1] * ft[0];
-    }
+    const SOmega<D> mt = moment(nq, ft);
+    if constexpr (D == 3)
+      for (int k = 0; k < 3; ++k) tc[k][q] = mt[k];
+    else
+      tc[0][q] = mt;
   }
 }
 

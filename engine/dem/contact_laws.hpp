@@ -140,9 +140,10 @@ inline V tangential_force(V& xi, const V& n, const V& vt, double dt, double k_t,
   return ft;
 }
 
-// Tangential dashpot 2 zeta_t sqrt(m* k_t).
+// Tangential dashpot 2 zeta_t sqrt(m* k_t), none for zeta_t <= 0 (without a branch, so that
+// loops over contacts vectorize).
 inline double tangential_dashpot(double zeta_t, double m_eff, double k_t) {
-  return zeta_t > 0 ? 2.0 * zeta_t * std::sqrt(m_eff * k_t) : 0.0;
+  return 2.0 * std::max(zeta_t, 0.0) * std::sqrt(m_eff * k_t);
 }
 
 }  // namespace silt::dem
