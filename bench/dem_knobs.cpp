@@ -8,12 +8,17 @@
 // 2. Verlet skin: cost of the chute (17,600 grains, settled state) for skins of 0.025 to 0.3
 //    diameters; the skin changes no result, only how often lists are rebuilt and how many pairs
 //    are tested per step.
+// 3. Contact skin: cost of the same run when only listed pairs closer than a gap of 0 to 0.4
+//    skins are tested each step (contact candidates, re-selected when grains have moved half of
+//    that gap); the state after the run must be the same, bit for bit, as testing every pair.
 // Appends to bench/results/dem_knobs.csv.
 #include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <sstream>
+#include <string>
+#include <vector>
 
 #include "bench_util.hpp"
 #include "silt/io.hpp"
@@ -64,19 +69,23 @@ void time_step_table() {
   }
 }
 
-void skin_table(const std::string& settled_file, int64_t steps) {
-  const std::string scene = std::string(SILT_SOURCE_DIR) + "/scenes/chute.toml";
-  const Model base = compile(load_scene_file(scene));
-  State settled;
-  if (!settled_file.empty() && std::ifstream(settled_file).good()) {
-    settled = read_checkpoint(settled_file, base);
-  } else {
-    std::printf("   (settling the chute for 30,000 steps first)\n");
-    Simulation sim(base, 2);
-    for (int k = 0; k < 30000; ++k) sim.step();
-    settled = sim.state();
-    if (!settled_file.empty()) write_checkpoint(settled_file, base, settled);
-  }
+const std::string& chute_scene() {
+  static const std::string scene = std::string(SILT_SOURCE_DIR) + "/scenes/chute.toml";
+  return scene;
+}
+
+State settled_chute(const std::string& settled_file) {
+  const Model base = compile(load_scene_file(chute_scene()));
+  if (!settled_file.empty() && std::ifstream(settled_file).good()) return read_checkpoint(settled_file, base);
+  std::printf("   (settling the chute for 30,000 steps first)\n");
+  Simulation sim(base, 2);
+  for (int k = 0; k < 30000; ++k) sim.step();
+  if (!settled_file.empty()) write_checkpoint(settled_file, base, sim.state());
+  return sim.state();
+}
+
+void skin_table(const State& settled, int64_t steps) {
+  const std::string& scene = chute_scene();
   std::printf("\n2. Verlet skin: chute, %lld steps from the settled state, 1 thread\n", static_cast<long long>(steps));
   std::printf("%-10s %-16s %-10s %-14s %-12s %-12s\n", "skin/d", "particle-steps/s", "builds", "pairs/grain", "bytes/grain",
               "KE at end");
@@ -103,6 +112,55 @@ void skin_table(const std::string& settled_file, int64_t steps) {
   }
 }
 
+// Runs `steps` steps of the chute from `settled` with neighbor.contact_skin = fraction * skin on one
+// thread; returns particle-steps per second, and the state hash and selections through the
+// pointers.
+double contact_skin_run(const State& settled, int64_t steps, double fraction, uint64_t* hash, int64_t* selections,
+                        double* per_grain) {
+  const Model base = compile(load_scene_file(chute_scene()));
+  std::ostringstream o;
+  o << "neighbor.contact_skin=" << fraction * base.skin;
+  Simulation sim(compile(load_scene_file(chute_scene(), {parse_override(o.str())})), 1);
+  sim.restore(settled);
+  sim.step();  // lists and candidates of this run, outside the timing
+  const int64_t sel0 = sim.state().scratch.cand_selections;
+  const double t0 = bench::now_s();
+  for (int64_t k = 1; k < steps; ++k) sim.step();
+  const double rate = sim.state().n * static_cast<double>(steps - 1) / (bench::now_s() - t0);
+  const State& s = sim.state();
+  *hash = state_hash(s);
+  *selections = s.scratch.cand_selections - sel0;
+  const int64_t nb = static_cast<int64_t>(s.scratch.cand_end.size());
+  int64_t cand = 0;
+  for (int64_t b = 0; b < nb; ++b) cand += s.scratch.cand_end[b] - s.nbr_start[b * PairSchedule::kBlock];
+  *per_grain = static_cast<double>(cand) / s.n;
+  return rate;
+}
+
+void contact_skin_table(const State& settled, int64_t steps) {
+  const std::vector<double> fractions = {0.0, 0.025, 0.05, 0.1, 0.2, 0.4};
+  const int repeats = 3;  // interleaved, best of: the machine's speed drifts over minutes
+  std::vector<double> best(fractions.size(), 0.0), per_grain(fractions.size());
+  std::vector<uint64_t> hash(fractions.size());
+  std::vector<int64_t> sel(fractions.size());
+  for (int r = 0; r < repeats; ++r)
+    for (size_t k = 0; k < fractions.size(); ++k)
+      best[k] = std::max(best[k], contact_skin_run(settled, steps, fractions[k], &hash[k], &sel[k], &per_grain[k]));
+  std::printf("\n3. contact skin: chute, %lld steps from the settled state, 1 thread, best of %d\n",
+              static_cast<long long>(steps), repeats);
+  std::printf("%-16s %-16s %-12s %-18s %-10s\n", "contact/skin", "particle-steps/s", "selections", "candidates/grain",
+              "same bits");
+  for (size_t k = 0; k < fractions.size(); ++k) {
+    const bool same = hash[k] == hash[0];
+    std::printf("%-16s %-16.4g %-12lld %-18.2f %-10s\n", k == 0 ? "0 (all pairs)" : std::to_string(fractions[k]).c_str(),
+                best[k], static_cast<long long>(sel[k]), per_grain[k], same ? "yes" : "NO");
+    std::ostringstream row;
+    row << bench::today() << ",contact_skin_over_skin," << fractions[k] << ",chute_1thread," << best[k] << "," << sel[k]
+        << "," << (same ? 1 : 0);
+    bench::append_csv(csv_path(), kHeader, row.str());
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -113,6 +171,8 @@ int main(int argc, char** argv) {
     else if (!std::strcmp(argv[i], "--steps")) steps = std::atoll(argv[i + 1]);
   }
   time_step_table();
-  skin_table(settled, steps);
+  const State chute = settled_chute(settled);
+  skin_table(chute, steps);
+  contact_skin_table(chute, steps);
   return 0;
 }

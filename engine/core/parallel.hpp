@@ -27,14 +27,19 @@ void parallel_for(int64_t n, int64_t grain, F&& f) {
                     [&](const tbb::blocked_range<int64_t>& r) { f(r.begin(), r.end()); });
 }
 
-// max over [0, n) of f(begin, end) (each block returns its own maximum).
-template <class F>
-double parallel_max(int64_t n, int64_t grain, F&& f) {
-  if (n <= grain) return n > 0 ? f(int64_t{0}, n) : 0.0;
+// K maxima over [0, n) of f(begin, end), which returns the maxima of its block as
+// std::array<double, K> (0 for an empty range).
+template <size_t K, class F>
+std::array<double, K> parallel_max(int64_t n, int64_t grain, F&& f) {
+  using A = std::array<double, K>;
+  auto join = [](A a, const A& b) {
+    for (size_t k = 0; k < K; ++k) a[k] = std::max(a[k], b[k]);
+    return a;
+  };
+  if (n <= grain) return n > 0 ? f(int64_t{0}, n) : A{};
   return tbb::parallel_reduce(
-      tbb::blocked_range<int64_t>(0, n, grain), 0.0,
-      [&](const tbb::blocked_range<int64_t>& r, double m) { return std::max(m, f(r.begin(), r.end())); },
-      [](double a, double b) { return std::max(a, b); });
+      tbb::blocked_range<int64_t>(0, n, grain), A{},
+      [&](const tbb::blocked_range<int64_t>& r, const A& m) { return join(m, f(r.begin(), r.end())); }, join);
 }
 
 // K sums in one pass: f(begin, end) returns the K partial sums of its chunk (std::array<double, K>),

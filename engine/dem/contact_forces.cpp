@@ -16,10 +16,12 @@
 #include <cmath>
 #include <cstdint>
 #include <algorithm>
+#include <limits>
 #include <vector>
 
 #include "core/parallel.hpp"
 #include "core/small_vec.hpp"
+#include "dem/contact_candidates.hpp"
 #include "dem/contact_laws.hpp"
 #include "dem/pair_schedule.hpp"
 #include "dem/stages.hpp"
@@ -87,6 +89,7 @@ struct PairArgs {
   ContactParams cp;
   shear::PeriodicImage<D> img;
   double dt, max_overlap, shear_rate;
+  double fn_floor;  // 0 when attractive normal forces are clipped, -inf otherwise
   SVec<D> grad;  // affine velocity gradient: stretching rates on the diagonal
   int64_t n;
   const double* x;
@@ -97,6 +100,10 @@ struct PairArgs {
   const int32_t* start;
   const int32_t* pi;
   const int32_t* pj;
+  const int32_t* cand_end;  // contact candidates (contact_candidates.hpp)
+  const int32_t* cand_p;
+  const int32_t* cand_i;
+  const int32_t* cand_j;
   double* pf;
   double* hist;
   uint8_t* touch;
@@ -127,14 +134,16 @@ void pair_block(const PairArgs<D> a, int64_t blk) {
   double* __restrict force = a.force;
   double* __restrict torque = a.torque;
   const int64_t b = blk * PairSchedule::kBlock, e = std::min(a.n, b + PairSchedule::kBlock);
-  const int64_t p0 = a.start[b], p1 = a.start[e];
+  (void)e;
+  const int64_t q0 = a.start[b], q1 = a.cand_end[blk];
   thread_local Touching<D> tl;
-  tl.reserve(static_cast<size_t>(p1 - p0));
+  tl.reserve(static_cast<size_t>(q1 - q0));
   int32_t* __restrict tp = tl.pair.data();
   double* __restrict td = tl.d.data();
-  // Pass 1: which pairs touch, in one flat loop over the pairs of the block's rows (a loop per
-  // row would mispredict its exit on rows of varying length).
-  const int64_t c = touch_pass<D>({x, r, pi, pj, a.touch, pf, Friction ? hist : nullptr}, a.img, p0, p1, tp, td);
+  // Pass 1: which candidate pairs touch, in one flat loop over the candidates of the block's
+  // rows (a loop per row would mispredict its exit on rows of varying length).
+  const int64_t c = touch_pass<D>({x, r, a.cand_p, a.cand_i, a.cand_j, a.touch, pf, Friction ? hist : nullptr}, a.img,
+                                  q0, q1, tp, td);
   // Pass 2, the normal law, and pass 3, the tangential spring and the sums on both grains, on
   // the touching pairs in row order. Each pass is a short chain of dependent operations per
   // pair (a square root and a division in each), so the processor overlaps many pairs; as one
@@ -177,7 +186,8 @@ void pair_block(const PairArgs<D> a, int64_t blk) {
     } else {
       nf = linear_normal(linear_coeffs(a.cp, m_eff), overlap, -vn);
     }
-    if (a.cp.clip_attractive) nf.fn = clip_attractive(nf.fn);
+    // Without a branch: the sign of F_n varies from contact to contact in no predictable order.
+    nf.fn = std::max(nf.fn, a.fn_floor);
     for (int k = 0; k < D; ++k) cn[k][q] = nrm[k];
     cfn[q] = nf.fn;
     if constexpr (Friction) {
@@ -222,11 +232,18 @@ void pair_block(const PairArgs<D> a, int64_t blk) {
 template <int D, bool Hertz, bool Friction, bool Affine>
 void pair_forces(const Model& m, State& s) {
   constexpr int R = kRotDim<D>;
+  auto& sc = s.scratch;
+  if (!sc.schedule_valid) {
+    sc.schedule = build_pair_schedule(s.n, s.nbr_start, s.pair_j);
+    sc.schedule_valid = true;
+  }
+  if (!sc.candidates_valid) select_candidates(m, s);
   PairArgs<D> a{m.contact, shear::PeriodicImage<D>(s.box), s.dt, m.limits.max_overlap, s.shear_rate,
-                SVec<D>::Zero(), s.n, s.particle_x.data(), s.particle_v.data(), s.particle_w.data(),
-                s.particle_r.data(), s.particle_inv_m.data(), s.nbr_start.data(), s.pair_i.data(),
-                s.pair_j.data(), s.pair_f.data(), s.pair_hist.data(), s.pair_touch.data(),
-                s.particle_f.data(), s.particle_t.data(), &s.alarm_overlap};
+                m.contact.clip_attractive ? 0.0 : -std::numeric_limits<double>::infinity(), SVec<D>::Zero(), s.n,
+                s.particle_x.data(), s.particle_v.data(), s.particle_w.data(), s.particle_r.data(),
+                s.particle_inv_m.data(), s.nbr_start.data(), s.pair_i.data(), s.pair_j.data(), sc.cand_end.data(),
+                sc.cand_p.data(), sc.cand_i.data(), sc.cand_j.data(), s.pair_f.data(), s.pair_hist.data(),
+                s.pair_touch.data(), s.particle_f.data(), s.particle_t.data(), &s.alarm_overlap};
   if constexpr (Affine)
     for (int k = 0; k < D; ++k) a.grad[k] = s.box_rate[k] / s.box.len[k];
   double* force = a.force;
@@ -235,11 +252,7 @@ void pair_forces(const Model& m, State& s) {
     std::fill(force + D * b, force + D * e, 0.0);
     if constexpr (Friction) std::fill(torque + R * b, torque + R * e, 0.0);
   });
-  if (!s.scratch.schedule_valid) {
-    s.scratch.schedule = build_pair_schedule(s.n, s.nbr_start, s.pair_j);
-    s.scratch.schedule_valid = true;
-  }
-  const PairSchedule& sched = s.scratch.schedule;
+  const PairSchedule& sched = sc.schedule;
   for (int col = 0; col < sched.colours(); ++col) {
     const int32_t* blocks = sched.blocks.data() + sched.colour_start[col];
     parallel_for(sched.colour_start[col + 1] - sched.colour_start[col], 1, [&a, blocks](int64_t b, int64_t e) {

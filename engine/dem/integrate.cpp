@@ -11,6 +11,7 @@
 // lambda = L(t + dt) / L(t); lambda = 1 when no length moves, and the scheme is plain Verlet.
 // The neighbour lists need the displacement relative to that flow (particle_disp) and the
 // affine strain (nbr_strain): a pair's separation changes by at most both.
+#include <array>
 #include <cmath>
 
 #include "core/parallel.hpp"
@@ -44,11 +45,12 @@ struct DriftArgs {
   const uint8_t* frozen;
 };
 
-// Kick and drift grains [b, e); returns the largest squared displacement since the last build.
+// Kick and drift grains [b, e); returns the largest squared displacement since the last build
+// and the largest squared displacement of this drift.
 // The arguments come by value: a local copy that the stores to the arrays cannot alias, so the
 // loop keeps them in registers (captured in a closure they would be reloaded after each store).
 template <int D, bool Affine>
-double drift_range(const DriftArgs<D> a, int64_t b, int64_t e) {
+std::array<double, 2> drift_range(const DriftArgs<D> a, int64_t b, int64_t e) {
   constexpr int R = kRotDim<D>;
   double* __restrict x = a.x;
   double* __restrict v = a.v;
@@ -56,11 +58,11 @@ double drift_range(const DriftArgs<D> a, int64_t b, int64_t e) {
   double* __restrict disp = a.disp;
   const double* __restrict f = a.f;
   const double* __restrict t = a.t;
-  double worst = 0;
+  double worst = 0, worst_step = 0;
   for (int64_t i = b; i < e; ++i) {
     if (a.frozen[i]) continue;
     const double im = a.inv_m[i];
-    double xi[3], d2 = 0;
+    double xi[3], d2 = 0, s2 = 0;
     for (int k = 0; k < D; ++k) {
       const double vk = v[D * i + k] + a.h * (f[D * i + k] * im + a.g[k]);
       const double step = a.dt * vk;
@@ -73,6 +75,7 @@ double drift_range(const DriftArgs<D> a, int64_t b, int64_t e) {
       }
       disp[D * i + k] += step;
       d2 += disp[D * i + k] * disp[D * i + k];
+      s2 += step * step;
     }
     // Shear flow at the mid-step height (second order).
     if constexpr (Affine) xi[0] += a.dt * a.gd * (x[D * i + 1] + 0.5 * a.dt * v[D * i + 1] - a.lo[1]);
@@ -81,8 +84,9 @@ double drift_range(const DriftArgs<D> a, int64_t b, int64_t e) {
     const double ii = a.inv_i[i];
     for (int k = 0; k < R; ++k) w[R * i + k] += a.h * t[R * i + k] * ii;
     worst = std::max(worst, d2);
+    worst_step = std::max(worst_step, s2);
   }
-  return worst;
+  return {worst, worst_step};
 }
 
 template <int D, bool Affine>
@@ -98,8 +102,9 @@ void kick_drift_dim(const Model& m, State& s) {
     a.g[k] = m.gravity[k];
     a.lambda[k] = lambda[k];
   }
-  const double max_d2 = parallel_max(s.n, kGrain, [a](int64_t b, int64_t e) { return drift_range<D, Affine>(a, b, e); });
-  s.nbr_max_disp = std::sqrt(max_d2);
+  const auto max_d2 = parallel_max<2>(s.n, kGrain, [a](int64_t b, int64_t e) { return drift_range<D, Affine>(a, b, e); });
+  s.nbr_max_disp = std::sqrt(max_d2[0]);
+  s.nbr_step_disp = std::sqrt(max_d2[1]);
 }
 
 template <int D>

@@ -14,6 +14,7 @@
 
 #include "core/parallel.hpp"
 #include "shear/periodic_image.hpp"
+#include "dem/contact_candidates.hpp"
 #include "dem/pair_schedule.hpp"
 #include "dem/stages.hpp"
 
@@ -261,8 +262,9 @@ void update(const Model& m, State& s) {
   // Two grains approached by at most twice the largest displacement relative to the flow, plus
   // the affine strain times their separation (at most the list range).
   const double range = 2 * m.r_max + m.skin;
-  if (s.nbr_valid && 2 * s.nbr_max_disp + s.nbr_strain * range <= m.skin) return;
-  rebuild<D>(m, s);
+  const bool stale = !s.nbr_valid || 2 * s.nbr_max_disp + s.nbr_strain * range > m.skin;
+  if (stale) rebuild<D>(m, s);
+  update_candidates(m, s, stale);
 }
 
 }  // namespace

@@ -10,16 +10,17 @@ namespace silt::dem {
 
 // (particle_v, particle_f, particle_t, particle_x, box_stress, shear_stress) => (particle_v,
 //  particle_w, particle_x, particle_disp, box, box_rate, shear_rate, le_displacement,
-//  nbr_max_disp, nbr_strain)
+//  nbr_max_disp, nbr_step_disp, nbr_strain)
 // First half kick v += dt/2 a, drift x += dt v (plus the affine flow of a deforming or sheared
 // box), wrap into the periodic box (Lees-Edwards shifted), and the largest displacement since
 // the last neighbour build.
 void kick_drift(const Model& m, State& s);
 
-// (particle_x, particle_r, nbr_max_disp, box) => (nbr_start, pair_i, pair_j, pair_hist,
-//  pair_f, pair_touch, particle_disp, nbr_strain)
+// (particle_x, particle_r, nbr_max_disp, nbr_step_disp, box) => (nbr_start, pair_i, pair_j,
+//  pair_hist, pair_f, pair_touch, particle_disp, nbr_strain)
 // Rebuild the half Verlet list (cell list, pairs within r_i + r_j + skin) only when a grain
 // moved more than skin/2 since the last build; tangential histories of surviving pairs are kept.
+// Then re-select the contact candidates (contact_candidates.hpp) when they may have gone stale.
 void update_neighbors(const Model& m, State& s);
 
 // (particle_x, particle_v, particle_w, pair_i, pair_j, pair_hist, pair_touch) => (pair_f,

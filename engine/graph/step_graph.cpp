@@ -34,9 +34,9 @@ std::vector<Stage> build_stages(const Model& m) {
   };
   const int kick = add("kick_drift", &dem::kick_drift,
                        with(grain, {"particle_f", "particle_t", "box_stress", "shear_stress"}),
-                       {"particle_v", "particle_w", "particle_x", "particle_disp", "box", "shear_rate", "nbr_max_disp",
+                       {"particle_v", "particle_w", "particle_x", "particle_disp", "box", "shear_rate", "nbr_max_disp", "nbr_step_disp",
                         "nbr_strain"});
-  const int nbr = add("update_neighbors", &dem::update_neighbors, with(grain, {"particle_x", "nbr_max_disp", "box"}),
+  const int nbr = add("update_neighbors", &dem::update_neighbors, with(grain, {"particle_x", "nbr_max_disp", "nbr_step_disp", "box"}),
                       {"grain_order", "nbr_start", "pair_i", "pair_j", "pair_hist", "particle_disp",
                        "nbr_strain", "pair_f", "pair_touch"});
   // depends on: the displacement since the last build, known after the drift.

@@ -157,6 +157,8 @@ void setup_time(const SceneDesc& d, Model& m) {
 
 void setup_neighbors(const SceneDesc& d, Model& m) {
   m.skin = d.has("neighbor.skin") ? d.real("neighbor.skin") : 0.1 * m.a_max;
+  m.contact_skin = d.has("neighbor.contact_skin") ? d.real("neighbor.contact_skin") : 0.2 * m.skin;
+  if (m.contact_skin <= 0) m.contact_skin = m.skin;
   m.sort_grains = d.boolean("neighbor.sort");
   const double range = 2 * m.r_max + m.skin;
   for (int k = 0; k < m.dim; ++k)

@@ -88,6 +88,7 @@ std::vector<KeySpec> build_schema() {
       {"grains[].angular_velocities", K::kRealMatrix, std::nullopt, any(), "rad/s", false, {}, "explicit: one angular velocity per grain (a 1-list in 2D)."},
       // ---- neighbour search
       {"neighbor.skin", K::kReal, std::nullopt, positive(), "m", false, {}, "Verlet skin (default: 0.1 largest diameter); lists rebuilt when a grain moved skin/2."},
+      {"neighbor.contact_skin", K::kReal, std::nullopt, non_negative(), "m", false, {}, "Listed pairs closer than this gap are the ones tested for contact each step, re-selected when grains have moved half of it (default: skin/5; 0 tests every listed pair). Changes the cost, never the result."},
       {"neighbor.sort", K::kBool, Value(true), any(), "", false, {}, "Keep grains in cell order at each list build when there are more than 1024 (cache locality; ids are kept)."},
       // ---- run
       {"run.dt", K::kReal, std::nullopt, positive(), "s", true, {}, "Time step."},

@@ -180,6 +180,7 @@ struct Model {
   StaticCriterion until_static;
 
   double skin = 0;          // Verlet skin [m]
+  double contact_skin = 0;  // gap below which listed pairs are tested every step [m]; >= skin: all
   bool sort_grains = true;  // reorder grains by cell at list builds (N > kSortMin)
   static constexpr int64_t kSortMin = 1024;
 

@@ -111,6 +111,7 @@ struct State {
   // Neighbour-list bookkeeping.
   bool nbr_valid = false;     // false forces a rebuild at the next update_neighbors
   double nbr_max_disp = 0;    // largest non-affine displacement since the last build [m]; kick_drift
+  double nbr_step_disp = 0;   // largest non-affine displacement of the last drift [m]; kick_drift
   int64_t nbr_builds = 0;
 
   // Numerical events raised by stages during the current step.
@@ -125,8 +126,9 @@ struct State {
   struct Scratch {
     Scratch() = default;
     Scratch(const Scratch&) {}  // copies of a State start empty
-    Scratch& operator=(const Scratch&) {  // and keep their own buffers, but not a schedule of
-      schedule_valid = false;             // another list
+    Scratch& operator=(const Scratch&) {  // and keep their own buffers, but not a schedule or
+      schedule_valid = false;             // candidates of another list
+      candidates_valid = false;
       return *this;
     }
     std::vector<int32_t> cell_of, cell_start, cell_items, row_count;
@@ -135,6 +137,13 @@ struct State {
     std::vector<int32_t> perm;  // new index -> old index of the last spatial sort
     PairSchedule schedule;      // of the current pair list when schedule_valid
     bool schedule_valid = false;
+    // Contact candidates (dem/contact_candidates.hpp): the listed pairs of block b that may touch
+    // are cand_p/i/j[nbr_start[b * kBlock] .. cand_end[b]) (pair index, grains).
+    std::vector<int32_t> cand_p, cand_i, cand_j, cand_end;
+    bool candidates_valid = false;
+    double cand_travel = 0;  // bound on any grain's displacement since the selection [m]
+    double cand_strain = 0;  // nbr_strain at the selection
+    int64_t cand_selections = 0;
   } scratch;
 
   int64_t n_pairs() const { return static_cast<int64_t>(pair_j.size()); }

@@ -1,7 +1,8 @@
 // The touch pass of contact_forces: the two-lane path and the scalar path give the same pairs
 // and the same separations, bit for bit, as the nearest-image arithmetic of PeriodicImage, in
 // periodic and Lees-Edwards boxes, in 2D and 3D; forces and springs of pairs just come apart
-// are cleared, the others left alone.
+// are cleared, the others left alone. Entry q of the pass is pair pp[q] (here the pairs in
+// reverse), whose flags, forces and springs it updates.
 #include <doctest/doctest.h>
 
 #include <random>
@@ -44,16 +45,20 @@ void check_touch_pass(bool lees_edwards, int64_t n_pairs) {
     touch[p] = rng() % 2;
     for (int k = 0; k < D; ++k) pf[D * p + k] = hist[D * p + k] = 1.0 + p;
   }
+  std::vector<int32_t> pp(n_pairs);
+  for (int64_t q = 0; q < n_pairs; ++q) pp[q] = static_cast<int32_t>(n_pairs - 1 - q);
   const std::vector<uint8_t> before = touch;
   std::vector<int32_t> tp(n_pairs);
   std::vector<double> td(D * n_pairs);
-  const int64_t c = dem::touch_pass<D>({x.data(), r.data(), pi.data(), pj.data(), touch.data(), pf.data(), hist.data()},
-                                       img, 0, n_pairs, tp.data(), td.data());
+  const int64_t c = dem::touch_pass<D>(
+      {x.data(), r.data(), pp.data(), pi.data(), pj.data(), touch.data(), pf.data(), hist.data()}, img, 0, n_pairs,
+      tp.data(), td.data());
   int64_t expect = 0, apart = 0;
-  for (int64_t p = 0; p < n_pairs; ++p) {
-    SVec<D> d = SVec<D>::load(&x[D * pi[p]]) - SVec<D>::load(&x[D * pj[p]]);
+  for (int64_t q = 0; q < n_pairs; ++q) {
+    const int64_t p = pp[q];
+    SVec<D> d = SVec<D>::load(&x[D * pi[q]]) - SVec<D>::load(&x[D * pj[q]]);
     img.apply(d);
-    const double rs = r[pi[p]] + r[pj[p]];
+    const double rs = r[pi[q]] + r[pj[q]];
     const bool now = d.squaredNorm() < rs * rs;
     CHECK(touch[p] == now);
     const double kept = (before[p] && !now) ? 0.0 : 1.0 + p;

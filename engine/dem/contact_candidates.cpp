@@ -1,0 +1,92 @@
+#include "dem/contact_candidates.hpp"
+
+#include <algorithm>
+#include <cstdint>
+
+#include "core/parallel.hpp"
+#include "dem/pair_schedule.hpp"
+#include "dem/touch_pass.hpp"
+
+namespace silt::dem {
+namespace {
+
+template <int D, bool All>
+void select_block(State& s, const shear::PeriodicImage<D>& img, double gap, int64_t blk) {
+  constexpr int64_t B = PairSchedule::kBlock;
+  State::Scratch& sc = s.scratch;
+  const int64_t p0 = s.nbr_start[blk * B], p1 = s.nbr_start[std::min(s.n, (blk + 1) * B)];
+  const int32_t* pi = s.pair_i.data();
+  const int32_t* pj = s.pair_j.data();
+  int32_t* cp = sc.cand_p.data() + p0;
+  int32_t* ci = sc.cand_i.data() + p0;
+  int32_t* cj = sc.cand_j.data() + p0;
+  int64_t c = 0;
+  // Stored whether kept or not, then counted: which pairs are kept follows no pattern.
+  auto keep = [&](int64_t p, uint8_t kept) {
+    cp[c] = static_cast<int32_t>(p);
+    ci[c] = pi[p];
+    cj[c] = pj[p];
+    c += kept;
+  };
+  if constexpr (All) {
+    for (int64_t p = p0; p < p1; ++p) keep(p, 1);
+  } else {
+    uint8_t* touch = s.pair_touch.data();
+    double* pf = s.pair_f.data();
+    double* hist = s.pair_hist.data();
+    scan_pairs<D, true>(s.particle_x.data(), s.particle_r.data(), pi, pj, img, gap, p0, p1,
+                        [&](int64_t p, const double*, uint8_t within) {
+                          // A pair left out is apart: clear what it may hold (rare, so the
+                          // branch is well predicted).
+                          if (!within && touch[p]) {
+                            for (int k = 0; k < D; ++k) pf[D * p + k] = hist[D * p + k] = 0;
+                            touch[p] = 0;
+                          }
+                          keep(p, within);
+                        });
+  }
+  sc.cand_end[blk] = static_cast<int32_t>(p0 + c);
+}
+
+template <int D>
+void select_dim(const Model& m, State& s) {
+  auto& sc = s.scratch;
+  const int64_t np = s.n_pairs();
+  const int64_t nb = (s.n + PairSchedule::kBlock - 1) / PairSchedule::kBlock;
+  sc.cand_p.resize(np);
+  sc.cand_i.resize(np);
+  sc.cand_j.resize(np);
+  sc.cand_end.assign(nb, 0);
+  const shear::PeriodicImage<D> img(s.box);
+  const bool all = m.contact_skin >= m.skin;
+  parallel_for(nb, 8, [&](int64_t b, int64_t e) {
+    for (int64_t k = b; k < e; ++k) {
+      if (all) select_block<D, true>(s, img, m.contact_skin, k);
+      else select_block<D, false>(s, img, m.contact_skin, k);
+    }
+  });
+  sc.candidates_valid = true;
+  ++sc.cand_selections;
+  sc.cand_travel = 0;
+  sc.cand_strain = s.nbr_strain;
+}
+
+}  // namespace
+
+void select_candidates(const Model& m, State& s) {
+  if (m.dim == 2) select_dim<2>(m, s);
+  else select_dim<3>(m, s);
+}
+
+void update_candidates(const Model& m, State& s, bool rebuilt) {
+  auto& sc = s.scratch;
+  if (!rebuilt && sc.candidates_valid) {
+    if (m.contact_skin >= m.skin) return;  // every listed pair: valid as long as the list
+    sc.cand_travel += s.nbr_step_disp;
+    const double range = 2 * m.r_max + m.skin;
+    if (2 * sc.cand_travel + (s.nbr_strain - sc.cand_strain) * range <= m.contact_skin) return;
+  }
+  select_candidates(m, s);
+}
+
+}  // namespace silt::dem
