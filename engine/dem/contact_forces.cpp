@@ -38,6 +38,7 @@ template <int D>
 struct Touching {
   enum Column { kN = 0, kVt = D, kXi = 2 * D, kF = 3 * D, kTc = 4 * D, kFn = 4 * D + kRotDim<D>, kK, kMeff, kColumns };
   std::vector<int32_t> pair;
+  std::vector<int32_t> gi, gj;  // the grains of each touching pair
   std::vector<double> d;  // separation (nearest image), D per entry
   std::vector<double> columns;
   size_t cap = 0;
@@ -45,6 +46,8 @@ struct Touching {
     if (cap < n) {
       cap = n;
       pair.resize(n);
+      gi.resize(n);
+      gj.resize(n);
       d.resize(D * n);
       columns.resize(kColumns * n);
     }
@@ -165,8 +168,12 @@ void pair_block(const PairArgs<D> a, int64_t blk) {
   double* __restrict cfn = tl.col(T::kFn);
   double* __restrict ck = tl.col(T::kK);
   double* __restrict cm = tl.col(T::kMeff);
+  int32_t* __restrict gi = tl.gi.data();
+  int32_t* __restrict gj = tl.gj.data();
   for (int64_t q = 0; q < c; ++q) {
     const int64_t p = tp[q], i = pi[p], j = pj[p];
+    gi[q] = static_cast<int32_t>(i);
+    gj[q] = static_cast<int32_t>(j);
     const V d = V::load(td + D * q);
     const double ri = r[i], rj = r[j];
     const double dist = d.norm();
@@ -211,7 +218,7 @@ void pair_block(const PairArgs<D> a, int64_t blk) {
       for (int k = 0; k < D; ++k) cf[k][q] = cfn[q] * cn[k][q];
   }
   for (int64_t q = 0; q < c; ++q) {
-    const int64_t p = tp[q], i = pi[p], j = pj[p];
+    const int64_t p = tp[q], i = gi[q], j = gj[q];
     for (int k = 0; k < D; ++k) {
       const double f = cf[k][q];
       pf[D * p + k] = f;
