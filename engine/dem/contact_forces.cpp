@@ -34,13 +34,19 @@ namespace {
 // Scratch of one task: the touching pairs of its rows and their separations, found by the
 // first pass, and columns (one array per quantity, so that the loops over them vectorize) that
 // the normal pass fills for the tangential one.
+// Values per touching pair that the tangential pass leaves for the sums: force on i, spring,
+// moment n x F_t.
+template <int D>
+constexpr int kOut = 2 * D + kRotDim<D>;
+
 template <int D>
 struct Touching {
-  enum Column { kN = 0, kVt = D, kXi = 2 * D, kF = 3 * D, kTc = 4 * D, kFn = 4 * D + kRotDim<D>, kK, kMeff, kColumns };
+  enum Column { kN = 0, kVt = D, kXi = 2 * D, kFn = 3 * D, kK, kMeff, kColumns };
   std::vector<int32_t> pair;
   std::vector<int32_t> gi, gj;  // the grains of each touching pair
   std::vector<double> d;  // separation (nearest image), D per entry
   std::vector<double> columns;
+  std::vector<double> out;  // kOut<D> per entry (tangential_columns)
   size_t cap = 0;
   void reserve(size_t n) {
     if (cap < n) {
@@ -50,6 +56,7 @@ struct Touching {
       gj.resize(n);
       d.resize(D * n);
       columns.resize(kColumns * n);
+      out.resize(kOut<D> * n);
     }
   }
   double* col(int k) { return columns.data() + k * cap; }
@@ -58,12 +65,12 @@ struct Touching {
 // The tangential springs of the touching pairs, column by column (tangential_spring of
 // contact_laws.hpp): the loop has neither indirection nor branch, and vectorizes. In: unit
 // normals n, tangential velocities vt, normal forces fn, normal stiffnesses kn, reduced masses m;
-// springs xi, updated. Out: the pair force f = fn n + F_t and the moment n x F_t.
-// Dashpot: zeta_t > 0.
+// springs xi. Out, one record of kOut values per pair (pass 3 reads them together): the pair
+// force f = fn n + F_t, the updated spring, and the moment n x F_t. Dashpot: zeta_t > 0.
 template <int D, bool Dashpot>
 void tangential_columns(int64_t c, double dt, double kt_ratio, double friction, double zeta_t,
                         double* const* n, double* const* vt, const double* fn, const double* kn, const double* m,
-                        double* const* xi, double* const* f, double* const* tc) {
+                        double* const* xi, double* __restrict out) {
 #pragma GCC ivdep
   for (int64_t q = 0; q < c; ++q) {
     const double kt = kt_ratio * kn[q];
@@ -75,15 +82,16 @@ void tangential_columns(int64_t c, double dt, double kt_ratio, double friction, 
     }
     const double ct = Dashpot ? tangential_dashpot(zeta_t, m[q], kt) : 0.0;
     tangential_spring<D, Dashpot>(s.c, nq.c, vq.c, dt, kt, friction * std::abs(fn[q]), ct, ft.c);
+    double* o = out + kOut<D> * q;
     for (int k = 0; k < D; ++k) {
-      xi[k][q] = s[k];
-      f[k][q] = fn[q] * nq[k] + ft[k];
+      o[k] = fn[q] * nq[k] + ft[k];
+      o[D + k] = s[k];
     }
     const SOmega<D> mt = moment(nq, ft);
     if constexpr (D == 3)
-      for (int k = 0; k < 3; ++k) tc[k][q] = mt[k];
+      for (int k = 0; k < 3; ++k) o[2 * D + k] = mt[k];
     else
-      tc[0][q] = mt;
+      o[2 * D] = mt;
   }
 }
 
@@ -156,15 +164,13 @@ void pair_block(const PairArgs<D> a, int64_t blk) {
   double* cn[D];
   double* cvt[D];
   double* cxi[D];
-  double* cf[D];
-  double* ctc[R];
   for (int k = 0; k < D; ++k) {
     cn[k] = tl.col(T::kN + k);
     cvt[k] = tl.col(T::kVt + k);
     cxi[k] = tl.col(T::kXi + k);
-    cf[k] = tl.col(T::kF + k);
   }
-  for (int k = 0; k < R; ++k) ctc[k] = tl.col(T::kTc + k);
+  double* __restrict out = tl.out.data();
+  constexpr int S = kOut<D>;
   double* __restrict cfn = tl.col(T::kFn);
   double* __restrict ck = tl.col(T::kK);
   double* __restrict cm = tl.col(T::kMeff);
@@ -210,27 +216,28 @@ void pair_block(const PairArgs<D> a, int64_t blk) {
   }
   if constexpr (Friction) {
     if (a.cp.zeta_t > 0)
-      tangential_columns<D, true>(c, a.dt, a.cp.kt_ratio, a.cp.friction, a.cp.zeta_t, cn, cvt, cfn, ck, cm, cxi, cf, ctc);
+      tangential_columns<D, true>(c, a.dt, a.cp.kt_ratio, a.cp.friction, a.cp.zeta_t, cn, cvt, cfn, ck, cm, cxi, out);
     else
-      tangential_columns<D, false>(c, a.dt, a.cp.kt_ratio, a.cp.friction, 0.0, cn, cvt, cfn, ck, cm, cxi, cf, ctc);
+      tangential_columns<D, false>(c, a.dt, a.cp.kt_ratio, a.cp.friction, 0.0, cn, cvt, cfn, ck, cm, cxi, out);
   } else {
     for (int64_t q = 0; q < c; ++q)
-      for (int k = 0; k < D; ++k) cf[k][q] = cfn[q] * cn[k][q];
+      for (int k = 0; k < D; ++k) out[S * q + k] = cfn[q] * cn[k][q];
   }
   for (int64_t q = 0; q < c; ++q) {
     const int64_t p = tp[q], i = gi[q], j = gj[q];
+    const double* o = out + S * q;
     for (int k = 0; k < D; ++k) {
-      const double f = cf[k][q];
+      const double f = o[k];
       pf[D * p + k] = f;
       force[D * i + k] += f;
       force[D * j + k] -= f;
     }
     if constexpr (Friction) {
       const double ri = -r[i], rj = -r[j];
-      for (int k = 0; k < D; ++k) hist[D * p + k] = cxi[k][q];
+      for (int k = 0; k < D; ++k) hist[D * p + k] = o[D + k];
       for (int k = 0; k < R; ++k) {
-        torque[R * i + k] += ri * ctc[k][q];
-        torque[R * j + k] += rj * ctc[k][q];
+        torque[R * i + k] += ri * o[2 * D + k];
+        torque[R * j + k] += rj * o[2 * D + k];
       }
     }
   }
