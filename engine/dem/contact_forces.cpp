@@ -31,14 +31,15 @@
 namespace silt::dem {
 namespace {
 
-// Scratch of one task: the touching pairs of its rows and their separations, found by the
-// first pass, and columns (one array per quantity, so that the loops over them vectorize) that
-// the normal pass fills for the tangential one.
-// Values per touching pair that the tangential pass leaves for the sums: force on i, spring,
-// moment n x F_t.
+// Values per touching pair that the tangential pass leaves for the sums, together: force on i,
+// updated spring, moment n x F_t.
 template <int D>
 constexpr int kOut = 2 * D + kRotDim<D>;
 
+// Scratch of one task: the touching pairs of its rows, their grains and separations, found by
+// the first passes, columns (one array per quantity, so that the loop over them vectorizes)
+// that the normal pass fills for the tangential one, and the records (kOut per pair) that the
+// tangential pass leaves for the sums.
 template <int D>
 struct Touching {
   enum Column { kN = 0, kVt = D, kXi = 2 * D, kFn = 3 * D, kK, kMeff, kColumns };
