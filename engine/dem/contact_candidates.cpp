@@ -20,30 +20,30 @@ void select_block(State& s, const shear::PeriodicImage<D>& img, double gap, int6
   int32_t* cp = sc.cand_p.data() + p0;
   int32_t* ci = sc.cand_i.data() + p0;
   int32_t* cj = sc.cand_j.data() + p0;
-  int64_t c = 0;
   // Stored whether kept or not, then counted: which pairs are kept follows no pattern.
-  auto keep = [&](int64_t p, uint8_t kept) {
+  const auto keep = [=](int64_t p, uint8_t kept, int64_t c) {
     cp[c] = static_cast<int32_t>(p);
     ci[c] = pi[p];
     cj[c] = pj[p];
-    c += kept;
+    return c + kept;
   };
+  int64_t c = 0;
   if constexpr (All) {
-    for (int64_t p = p0; p < p1; ++p) keep(p, 1);
+    for (int64_t p = p0; p < p1; ++p) c = keep(p, 1, c);
   } else {
     uint8_t* touch = s.pair_touch.data();
     double* pf = s.pair_f.data();
     double* hist = s.pair_hist.data();
-    scan_pairs<D, true>(s.particle_x.data(), s.particle_r.data(), pi, pj, img, gap, p0, p1,
-                        [&](int64_t p, const double*, uint8_t within) {
-                          // A pair left out is apart: clear what it may hold (rare, so the
-                          // branch is well predicted).
-                          if (!within && touch[p]) {
-                            for (int k = 0; k < D; ++k) pf[D * p + k] = hist[D * p + k] = 0;
-                            touch[p] = 0;
-                          }
-                          keep(p, within);
-                        });
+    c = scan_pairs<D, true>(s.particle_x.data(), s.particle_r.data(), pi, pj, img, gap, p0, p1,
+                            [=](int64_t p, const double*, uint8_t within, int64_t n) {
+                              // A pair left out is apart: clear what it may hold (rare, so the
+                              // branch is well predicted).
+                              if (!within && touch[p]) {
+                                for (int k = 0; k < D; ++k) pf[D * p + k] = hist[D * p + k] = 0;
+                                touch[p] = 0;
+                              }
+                              return keep(p, within, n);
+                            });
   }
   sc.cand_end[blk] = static_cast<int32_t>(p0 + c);
 }

@@ -3,7 +3,8 @@
 //
 // scan_pairs tests entries [q0, q1) (grains pi[q], pj[q]) for |d| < r_i + r_j (+ reach), with
 // d = x_i - x_j the nearest-image separation, and hands each entry, in order, to the sink with
-// d and the outcome. Two entries go through the SSE registers at once (the same IEEE operations,
+// d, the outcome and a count that the sink returns updated (kept here, in a register: sinks
+// capture by value, so that their stores cannot alias what the loop keeps). Two entries go through the SSE registers at once (the same IEEE operations,
 // in the same order, as the scalar loop, so both give the same bits); the scalar loop handles the
 // last odd entry and builds without SSE4.1.
 #pragma once
@@ -20,13 +21,14 @@
 namespace silt::dem {
 
 // Reach: test against r_i + r_j + reach (else reach is ignored, and the test is the contact's).
-// sink(q, const double* d, uint8_t within) is called once per entry, in order.
+// c = sink(q, const double* d, uint8_t within, c) is called once per entry, in order, from c = 0;
+// returns the last c.
 template <int D, bool Reach, class Sink>
-inline void scan_pairs(const double* __restrict x, const double* __restrict r, const int32_t* __restrict pi,
-                       const int32_t* __restrict pj, const shear::PeriodicImage<D>& img, double reach, int64_t q0,
-                       int64_t q1, Sink&& sink) {
+inline int64_t scan_pairs(const double* __restrict x, const double* __restrict r, const int32_t* __restrict pi,
+                          const int32_t* __restrict pj, const shear::PeriodicImage<D> img, double reach, int64_t q0,
+                          int64_t q1, const Sink sink) {
   using V = SVec<D>;
-  int64_t q = q0;
+  int64_t q = q0, c = 0;
 #if defined(__SSE4_1__)
   constexpr int kRound = _MM_FROUND_CUR_DIRECTION | _MM_FROUND_NO_EXC;  // std::nearbyint
   const __m128d zero = _mm_setzero_pd();
@@ -55,8 +57,8 @@ inline void scan_pairs(const double* __restrict x, const double* __restrict r, c
       _mm_store_sd(da + k, d[k]);
       _mm_storeh_pd(db + k, d[k]);
     }
-    sink(q, da, static_cast<uint8_t>(mask & 1));
-    sink(q + 1, db, static_cast<uint8_t>(mask >> 1));
+    c = sink(q, da, static_cast<uint8_t>(mask & 1), c);
+    c = sink(q + 1, db, static_cast<uint8_t>(mask >> 1), c);
   }
 #endif
   for (; q < q1; ++q) {
@@ -67,8 +69,9 @@ inline void scan_pairs(const double* __restrict x, const double* __restrict r, c
     if constexpr (Reach) rs += reach;
     double dd[D];
     d.store(dd);
-    sink(q, dd, static_cast<uint8_t>(d.squaredNorm() < rs * rs));
+    c = sink(q, dd, static_cast<uint8_t>(d.squaredNorm() < rs * rs), c);
   }
+  return c;
 }
 
 struct TouchArrays {
@@ -89,8 +92,7 @@ struct TouchArrays {
 template <int D>
 int64_t touch_pass(const TouchArrays a, const shear::PeriodicImage<D> img, int64_t q0, int64_t q1,
                    int32_t* __restrict tp, double* __restrict td) {
-  int64_t c = 0;
-  scan_pairs<D, false>(a.x, a.r, a.pi, a.pj, img, 0.0, q0, q1, [&](int64_t q, const double* d, uint8_t now) {
+  return scan_pairs<D, false>(a.x, a.r, a.pi, a.pj, img, 0.0, q0, q1, [=](int64_t q, const double* d, uint8_t now, int64_t c) {
     const int64_t p = a.pp[q];
     // A pair just come apart: rare, so this branch is well predicted (the one that decides
     // whether to pack would not be, hence the unconditional stores and the count).
@@ -102,9 +104,8 @@ int64_t touch_pass(const TouchArrays a, const shear::PeriodicImage<D> img, int64
     a.touch[p] = now;
     tp[c] = static_cast<int32_t>(p);
     for (int k = 0; k < D; ++k) td[D * c + k] = d[k];
-    c += now;
+    return c + now;
   });
-  return c;
 }
 
 }  // namespace silt::dem
