@@ -188,10 +188,21 @@ void rebuild(const Model& m, State& s) {
   std::swap(sc.old_hist, s.pair_hist);
   const bool had_list = static_cast<int64_t>(sc.old_start.size()) == n + 1;
   const shear::PeriodicImage<D> img(s.box);
-  // visit(i, f): calls f(j) for every listed partner j > i, in no particular order.
-  auto visit = [&](int64_t i, auto&& f) {
-    int32_t cells[36];  // at most 3 z-layers x (3 + 4 + 4) cells: rows across a sheared boundary take 4
-    const int nc = stencil<D>(g, sc.cell_of[i], cells);
+  // The cells around grain i's cell (at most 3 z-layers x (3 + 4 + 4) cells: rows across a
+  // sheared boundary take 4); grains come mostly in cell order, so the last stencil is reused.
+  struct Stencil {
+    int32_t cell = -1;
+    int count = 0;
+    int32_t cells[36];
+  };
+  // visit(i, st, f): calls f(j) for every listed partner j > i, in no particular order.
+  auto visit = [&](int64_t i, Stencil& st, auto&& f) {
+    if (sc.cell_of[i] != st.cell) {
+      st.cell = sc.cell_of[i];
+      st.count = stencil<D>(g, st.cell, st.cells);
+    }
+    const int nc = st.count;
+    const int32_t* cells = st.cells;
     const auto xi = at<D>(s.particle_x.data(), i);
     const double ri = s.particle_r[i];
     const bool fi = s.particle_frozen[i];
@@ -208,9 +219,10 @@ void rebuild(const Model& m, State& s) {
   };
   sc.row_count.resize(n);
   parallel_for(n, 512, [&](int64_t b, int64_t e) {
+    Stencil st;
     for (int64_t i = b; i < e; ++i) {
       int32_t c = 0;
-      visit(i, [&](int32_t) { ++c; });
+      visit(i, st, [&](int32_t) { ++c; });
       sc.row_count[i] = c;
     }
   });
@@ -221,10 +233,11 @@ void rebuild(const Model& m, State& s) {
   s.pair_i.resize(np);
   s.pair_hist.assign(np * D, 0.0);
   parallel_for(n, 512, [&](int64_t b, int64_t e) {
+    Stencil st;
     for (int64_t i = b; i < e; ++i) {
       int32_t* row = s.pair_j.data() + s.nbr_start[i];
       int32_t c = 0;
-      visit(i, [&](int32_t j) { row[c++] = j; });
+      visit(i, st, [&](int32_t j) { row[c++] = j; });
       std::sort(row, row + c);
       std::fill(s.pair_i.begin() + s.nbr_start[i], s.pair_i.begin() + s.nbr_start[i] + c, static_cast<int32_t>(i));
       if (!had_list) continue;
