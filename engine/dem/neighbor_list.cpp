@@ -27,6 +27,7 @@ struct CellGrid {
   double inv_size[3] = {1, 1, 1};
   bool wrap[3] = {false, false, false};
   double le_shift = 0;  // Lees-Edwards offset in x cells (the image above is shifted by it)
+  bool may_repeat = true;  // a stencil may name a cell twice (a periodic direction of few cells)
   int64_t count() const { return int64_t{n[0]} * n[1] * n[2]; }
 };
 
@@ -70,6 +71,9 @@ CellGrid make_grid(const Model& m, const State& s, double cutoff) {
   }
   (void)m;
   if (s.box.lees_edwards) g.le_shift = s.box.le_offset * g.inv_size[0];
+  g.may_repeat = false;
+  for (int k = 0; k < D; ++k)
+    if (g.wrap[k] && g.n[k] < (k == 0 && s.box.lees_edwards ? 4 : 3)) g.may_repeat = true;
   return g;
 }
 
@@ -123,7 +127,7 @@ int stencil(const CellGrid& g, int32_t c, int32_t* out) {
         }
         if (!ok) continue;
         const int32_t id = static_cast<int32_t>((int64_t{q[2]} * g.n[1] + q[1]) * g.n[0] + q[0]);
-        if (std::find(out, out + count, id) == out + count) out[count++] = id;
+        if (!g.may_repeat || std::find(out, out + count, id) == out + count) out[count++] = id;
       }
     }
   return count;
