@@ -221,13 +221,22 @@ void rebuild(const Model& m, State& s) {
       }
     }
   };
+  // One search: the partners of each fixed chunk of rows go to that chunk's buffer, then to the
+  // list once the row lengths are known.
+  constexpr int64_t kChunk = 512;
+  const int64_t n_chunks = (n + kChunk - 1) / kChunk;
   sc.row_count.resize(n);
-  parallel_for(n, 512, [&](int64_t b, int64_t e) {
+  if (static_cast<int64_t>(sc.chunk_j.size()) < n_chunks) sc.chunk_j.resize(n_chunks);
+  parallel_for(n_chunks, 1, [&](int64_t cb, int64_t ce) {
     Stencil st;
-    for (int64_t i = b; i < e; ++i) {
-      int32_t c = 0;
-      visit(i, st, [&](int32_t) { ++c; });
-      sc.row_count[i] = c;
+    for (int64_t k = cb; k < ce; ++k) {
+      std::vector<int32_t>& found = sc.chunk_j[k];
+      found.clear();
+      for (int64_t i = k * kChunk; i < std::min(n, (k + 1) * kChunk); ++i) {
+        const size_t before = found.size();
+        visit(i, st, [&](int32_t j) { found.push_back(j); });
+        sc.row_count[i] = static_cast<int32_t>(found.size() - before);
+      }
     }
   });
   s.nbr_start.assign(n + 1, 0);
@@ -236,31 +245,34 @@ void rebuild(const Model& m, State& s) {
   s.pair_j.resize(np);
   s.pair_i.resize(np);
   s.pair_hist.assign(np * D, 0.0);
-  parallel_for(n, 512, [&](int64_t b, int64_t e) {
-    Stencil st;
-    for (int64_t i = b; i < e; ++i) {
-      int32_t* row = s.pair_j.data() + s.nbr_start[i];
-      int32_t c = 0;
-      visit(i, st, [&](int32_t j) { row[c++] = j; });
-      std::sort(row, row + c);
-      std::fill(s.pair_i.begin() + s.nbr_start[i], s.pair_i.begin() + s.nbr_start[i] + c, static_cast<int32_t>(i));
-      if (!had_list) continue;
-      // Carry the tangential spring of pairs that were already listed (old rows are sorted).
-      // With a renumbering, the pair may now be listed the other way round: its elongation,
-      // measured from the first grain's side, changes sign.
-      for (int32_t q = 0; q < c; ++q) {
-        const int32_t oi = sorted ? sc.perm[i] : static_cast<int32_t>(i);
-        const int32_t oj = sorted ? sc.perm[row[q]] : row[q];
-        const int32_t lo = std::min(oi, oj), hi = std::max(oi, oj);
-        const int32_t* ob = sc.old_j.data() + sc.old_start[lo];
-        const int32_t* oe = sc.old_j.data() + sc.old_start[lo + 1];
-        const int32_t* hit = std::lower_bound(ob, oe, hi);
-        if (hit != oe && *hit == hi) {
-          const int64_t op = hit - sc.old_j.data();
-          const double sign = oi < oj ? 1.0 : -1.0;
-          for (int k = 0; k < D; ++k) s.pair_hist[D * (s.nbr_start[i] + q) + k] = sign * sc.old_hist[D * op + k];
-        }
+  // Sort row i, name its first grain, and carry the tangential springs of pairs that were
+  // already listed (old rows are sorted). With a renumbering, the pair may now be listed the
+  // other way round: its elongation, measured from the first grain's side, changes sign.
+  auto finish_row = [&](int64_t i) {
+    int32_t* row = s.pair_j.data() + s.nbr_start[i];
+    const int32_t c = sc.row_count[i];
+    std::sort(row, row + c);
+    std::fill(s.pair_i.begin() + s.nbr_start[i], s.pair_i.begin() + s.nbr_start[i] + c, static_cast<int32_t>(i));
+    if (!had_list) return;
+    for (int32_t q = 0; q < c; ++q) {
+      const int32_t oi = sorted ? sc.perm[i] : static_cast<int32_t>(i);
+      const int32_t oj = sorted ? sc.perm[row[q]] : row[q];
+      const int32_t lo = std::min(oi, oj), hi = std::max(oi, oj);
+      const int32_t* ob = sc.old_j.data() + sc.old_start[lo];
+      const int32_t* oe = sc.old_j.data() + sc.old_start[lo + 1];
+      const int32_t* hit = std::lower_bound(ob, oe, hi);
+      if (hit != oe && *hit == hi) {
+        const int64_t op = hit - sc.old_j.data();
+        const double sign = oi < oj ? 1.0 : -1.0;
+        for (int k = 0; k < D; ++k) s.pair_hist[D * (s.nbr_start[i] + q) + k] = sign * sc.old_hist[D * op + k];
       }
+    }
+  };
+  parallel_for(n_chunks, 1, [&](int64_t cb, int64_t ce) {
+    for (int64_t ch = cb; ch < ce; ++ch) {
+      const int64_t b = ch * kChunk, e = std::min(n, (ch + 1) * kChunk);
+      std::copy(sc.chunk_j[ch].begin(), sc.chunk_j[ch].end(), s.pair_j.begin() + s.nbr_start[b]);
+      for (int64_t i = b; i < e; ++i) finish_row(i);
     }
   });
   s.pair_f.assign(np * D, 0.0);

@@ -132,6 +132,7 @@ struct State {
       return *this;
     }
     std::vector<int32_t> cell_of, cell_start, cell_items, row_count;
+    std::vector<std::vector<int32_t>> chunk_j;  // partners found per chunk of rows
     std::vector<int32_t> old_start, old_j;
     std::vector<double> old_hist;
     std::vector<int32_t> perm;  // new index -> old index of the last spatial sort
