@@ -139,7 +139,7 @@ double contact_skin_run(const State& settled, int64_t steps, double fraction, ui
 
 void contact_skin_table(const State& settled, int64_t steps) {
   const std::vector<double> fractions = {0.0, 0.025, 0.05, 0.1, 0.2, 0.4};
-  const int repeats = 3;  // interleaved, best of: the machine's speed drifts over minutes
+  const int repeats = 5;  // interleaved, best of: the machine's speed drifts over minutes
   std::vector<double> best(fractions.size(), 0.0), per_grain(fractions.size());
   std::vector<uint64_t> hash(fractions.size());
   std::vector<int64_t> sel(fractions.size());

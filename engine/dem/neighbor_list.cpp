@@ -10,6 +10,7 @@
 // cache misses. Every per-grain array moves with the grains (particle_id keeps identities), and
 // the tangential histories follow their pairs through the permutation.
 #include <algorithm>
+#include <bit>
 #include <cmath>
 
 #include "core/parallel.hpp"
@@ -186,11 +187,25 @@ void rebuild(const Model& m, State& s) {
     for (int64_t i = 0; i < n; ++i) sc.cell_items[pos[sc.cell_of[i]]++] = static_cast<int32_t>(i);
   }
   const bool sorted = m.sort_grains && n > Model::kSortMin && permute_to_cell_order<D>(s);
-  // Keep the old list for the tangential histories.
-  std::swap(sc.old_start, s.nbr_start);
-  std::swap(sc.old_j, s.pair_j);
-  std::swap(sc.old_hist, s.pair_hist);
-  const bool had_list = static_cast<int64_t>(sc.old_start.size()) == n + 1;
+  // Keep the springs of the old list for the new one: only its pairs that hold one (most listed
+  // pairs do not touch, and would carry zeros; a -0 is kept), as rows of partners and springs.
+  // The new list then reuses the State's arrays.
+  const bool had_list = static_cast<int64_t>(s.nbr_start.size()) == n + 1;
+  sc.old_start.assign(n + 1, 0);
+  sc.old_j.clear();
+  sc.old_hist.clear();
+  if (had_list) {
+    for (int64_t i = 0; i < n; ++i) {
+      for (int32_t p = s.nbr_start[i]; p < s.nbr_start[i + 1]; ++p) {
+        bool held = false;
+        for (int k = 0; k < D; ++k) held |= std::bit_cast<uint64_t>(s.pair_hist[D * p + k]) != 0;
+        if (!held) continue;
+        sc.old_j.push_back(s.pair_j[p]);
+        for (int k = 0; k < D; ++k) sc.old_hist.push_back(s.pair_hist[D * p + k]);
+      }
+      sc.old_start[i + 1] = static_cast<int32_t>(sc.old_j.size());
+    }
+  }
   const shear::PeriodicImage<D> img(s.box);
   // The cells around grain i's cell (at most 3 z-layers x (3 + 4 + 4) cells: rows across a
   // sheared boundary take 4); grains come mostly in cell order, so the last stencil is reused.
