@@ -13,6 +13,7 @@
 #include "core/text.hpp"
 #include "dem/stages.hpp"
 #include "shear/stages.hpp"
+#include "graph/restart_point.hpp"
 #include "graph/step_graph.hpp"
 #include "silt/observables.hpp"
 
@@ -22,7 +23,7 @@ struct Simulation::Impl {
   explicit Impl(int threads) : arena(threads) {}
   tbb::task_arena arena;
   std::unique_ptr<graph::StepGraph> graph;
-  State restart;          // last restart point
+  graph::RestartPoint restart;  // last restart point
   bool primed = false;
 };
 
@@ -91,7 +92,7 @@ void Simulation::prepare() {
   });
   state_.alarm_overlap.clear();
   state_.alarm_nonfinite.clear();
-  impl_->restart = state_;
+  impl_->restart.take(state_);
   impl_->primed = true;
 }
 
@@ -100,7 +101,7 @@ void Simulation::restore(State s) {
   state_.failure = StepFailure{};
   state_.alarm_overlap.clear();
   state_.alarm_nonfinite.clear();
-  impl_->restart = state_;
+  impl_->restart.take(state_);
   impl_->primed = true;
 }
 
@@ -186,13 +187,13 @@ bool Simulation::step() {
   prepare();
   advance(state_);
   if (!check(state_)) return false;
-  if (state_.step % model_.limits.check_every == 0) impl_->restart = state_;
+  if (state_.step % model_.limits.check_every == 0) impl_->restart.take(state_);
   return true;
 }
 
 State Simulation::last_good_state() {
   if (!state_.failure.failed) return state_;
-  State s = impl_->restart;
+  State s = impl_->restart.give();
   const int64_t target = state_.failure.step - 1;
   while (s.step < target) advance(s);
   s.alarm_overlap.clear();
