@@ -50,7 +50,7 @@ Measurements measure_dim(const Model& m, const State& s) {
   out.phi = solid / vol;
   // Grain-grain contacts.
   std::vector<std::pair<int32_t, int32_t>> touching;
-  for (const Contact& c : touching_contacts(s)) {
+  for_each_contact(s, [&](const Contact& c) {
     ++out.n_contacts;
     ++contacts[c.i];
     ++contacts[c.j];
@@ -61,7 +61,7 @@ Measurements measure_dim(const Model& m, const State& s) {
         out.stress[a][b] += c.f[a] * c.d[b];
         out.fabric[a][b] += c.d[a] * c.d[b] / (dn * dn);
       }
-  }
+  });
   if (!touching.empty())
     for (int a = 0; a < D; ++a)
       for (int b = 0; b < D; ++b) out.fabric[a][b] /= static_cast<double>(touching.size());
