@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstdint>
 
+#include "core/buffers.hpp"
 #include "core/parallel.hpp"
 #include "dem/pair_schedule.hpp"
 #include "dem/touch_pass.hpp"
@@ -53,9 +54,9 @@ void select_dim(const Model& m, State& s) {
   auto& sc = s.scratch;
   const int64_t np = s.n_pairs();
   const int64_t nb = (s.n + PairSchedule::kBlock - 1) / PairSchedule::kBlock;
-  sc.cand_p.resize(np);
-  sc.cand_i.resize(np);
-  sc.cand_j.resize(np);
+  resize_exact(sc.cand_p, np);
+  resize_exact(sc.cand_i, np);
+  resize_exact(sc.cand_j, np);
   sc.cand_end.assign(nb, 0);
   const shear::PeriodicImage<D> img(s.box);
   const bool all = m.contact_skin >= m.skin;

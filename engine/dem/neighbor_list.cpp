@@ -13,6 +13,7 @@
 #include <bit>
 #include <cmath>
 
+#include "core/buffers.hpp"
 #include "core/parallel.hpp"
 #include "shear/periodic_image.hpp"
 #include "dem/contact_candidates.hpp"
@@ -257,8 +258,8 @@ void rebuild(const Model& m, State& s) {
   s.nbr_start.assign(n + 1, 0);
   for (int64_t i = 0; i < n; ++i) s.nbr_start[i + 1] = s.nbr_start[i] + sc.row_count[i];
   const int64_t np = s.nbr_start[n];
-  s.pair_j.resize(np);
-  s.pair_i.resize(np);
+  resize_exact(s.pair_j, np);
+  resize_exact(s.pair_i, np);
   s.pair_hist.assign(np * D, 0.0);
   // Sort row i, name its first grain, and carry the tangential springs of pairs that were
   // already listed (old rows are sorted). With a renumbering, the pair may now be listed the
