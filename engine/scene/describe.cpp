@@ -2,6 +2,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "core/text.hpp"
 #include "silt/model.hpp"
 #include "silt/observables.hpp"
 
@@ -63,7 +64,9 @@ std::string describe(const Model& m) {
     o << "             warning: fewer than 10 steps per contact; collisions are poorly resolved\n";
   o << "run          " << m.run_steps << " steps = " << m.run_steps * m.dt << " s"
     << (m.until_static.on ? ", or until static" : "") << "\n";
-  o << "neighbours   skin " << m.skin << " (" << m.skin / m.a_max << " largest diameter)\n";
+  o << "neighbours   skin " << m.skin << " (" << m.skin / m.a_max << " largest diameter); contact candidates "
+    << (m.contact_skin < m.skin ? "within a gap of " + format_number(m.contact_skin, 4) : std::string("every listed pair"))
+    << "\n";
   // Dimensionless groups.
   const double g = m.gravity.norm();
   if (g > 0) {
