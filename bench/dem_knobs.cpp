@@ -130,10 +130,7 @@ double contact_skin_run(const State& settled, int64_t steps, double fraction, ui
   const State& s = sim.state();
   *hash = state_hash(s);
   *selections = s.scratch.cand_selections - sel0;
-  const int64_t nb = static_cast<int64_t>(s.scratch.cand_end.size());
-  int64_t cand = 0;
-  for (int64_t b = 0; b < nb; ++b) cand += s.scratch.cand_end[b] - s.nbr_start[b * PairSchedule::kBlock];
-  *per_grain = static_cast<double>(cand) / s.n;
+  *per_grain = static_cast<double>(s.n_candidates()) / s.n;
   return rate;
 }
 

@@ -145,9 +145,7 @@ void pair_block(const PairArgs<D> a, int64_t blk) {
   double* __restrict hist = a.hist;
   double* __restrict force = a.force;
   double* __restrict torque = a.torque;
-  const int64_t b = blk * PairSchedule::kBlock, e = std::min(a.n, b + PairSchedule::kBlock);
-  (void)e;
-  const int64_t q0 = a.start[b], q1 = a.cand_end[blk];
+  const int64_t q0 = a.start[blk * PairSchedule::kBlock], q1 = a.cand_end[blk];
   thread_local Touching<D> tl;
   tl.reserve(static_cast<size_t>(q1 - q0));
   int32_t* __restrict tp = tl.pair.data();

@@ -10,7 +10,6 @@
 // cache misses. Every per-grain array moves with the grains (particle_id keeps identities), and
 // the tangential histories follow their pairs through the permutation.
 #include <algorithm>
-#include <bit>
 #include <cmath>
 
 #include "core/buffers.hpp"
@@ -198,9 +197,7 @@ void rebuild(const Model& m, State& s) {
   if (had_list) {
     for (int64_t i = 0; i < n; ++i) {
       for (int32_t p = s.nbr_start[i]; p < s.nbr_start[i + 1]; ++p) {
-        bool held = false;
-        for (int k = 0; k < D; ++k) held |= std::bit_cast<uint64_t>(s.pair_hist[D * p + k]) != 0;
-        if (!held) continue;
+        if (!any_bit_set(&s.pair_hist[D * p], D)) continue;
         sc.old_j.push_back(s.pair_j[p]);
         for (int k = 0; k < D; ++k) sc.old_hist.push_back(s.pair_hist[D * p + k]);
       }
@@ -261,6 +258,10 @@ void rebuild(const Model& m, State& s) {
   resize_exact(s.pair_j, np);
   resize_exact(s.pair_i, np);
   s.pair_hist.assign(np * D, 0.0);
+  s.pair_f.assign(np * D, 0.0);
+  // A new pair holds nothing until the force pass finds it touching; a carried spring is marked
+  // as held, so that the pass (or the candidate selection) clears it if the pair is apart.
+  s.pair_touch.assign(np, 0);
   // Sort row i, name its first grain, and carry the tangential springs of pairs that were
   // already listed (old rows are sorted). With a renumbering, the pair may now be listed the
   // other way round: its elongation, measured from the first grain's side, changes sign.
@@ -281,6 +282,7 @@ void rebuild(const Model& m, State& s) {
         const int64_t op = hit - sc.old_j.data();
         const double sign = oi < oj ? 1.0 : -1.0;
         for (int k = 0; k < D; ++k) s.pair_hist[D * (s.nbr_start[i] + q) + k] = sign * sc.old_hist[D * op + k];
+        s.pair_touch[s.nbr_start[i] + q] = 1;
       }
     }
   };
@@ -291,8 +293,6 @@ void rebuild(const Model& m, State& s) {
       for (int64_t i = b; i < e; ++i) finish_row(i);
     }
   });
-  s.pair_f.assign(np * D, 0.0);
-  s.pair_touch.assign(np, 1);  // carried springs may be non-zero: the next force pass decides
   std::fill(s.particle_disp.begin(), s.particle_disp.end(), 0.0);
   s.nbr_strain = 0;
   s.nbr_max_disp = 0;

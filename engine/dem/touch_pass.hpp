@@ -4,9 +4,10 @@
 // scan_pairs tests entries [q0, q1) (grains pi[q], pj[q]) for |d| < r_i + r_j (+ reach), with
 // d = x_i - x_j the nearest-image separation, and hands each entry, in order, to the sink with
 // d, the outcome and a count that the sink returns updated (kept here, in a register: sinks
-// capture by value, so that their stores cannot alias what the loop keeps). Two entries go through the SSE registers at once (the same IEEE operations,
-// in the same order, as the scalar loop, so both give the same bits); the scalar loop handles the
-// last odd entry and builds without SSE4.1.
+// capture by value, so that their stores cannot alias what the loop keeps). Two entries go
+// through the SSE registers at once (the same IEEE operations, in the same order, as the scalar
+// loop, so both give the same bits); the scalar loop handles the last odd entry and builds
+// without SSE4.1.
 #pragma once
 
 #include <cstdint>

@@ -1,7 +1,8 @@
 #include "graph/restart_point.hpp"
 
-#include <bit>
 #include <utility>
+
+#include "core/buffers.hpp"
 
 namespace silt::graph {
 namespace {
@@ -22,12 +23,6 @@ struct PairArraysAside {
   std::vector<double> pair_f, pair_hist;
 };
 
-bool any_bit(const double* v, int n) {
-  for (int k = 0; k < n; ++k)
-    if (std::bit_cast<uint64_t>(v[k]) != 0) return true;
-  return false;
-}
-
 }  // namespace
 
 void RestartPoint::take(State& s) {
@@ -39,7 +34,7 @@ void RestartPoint::take(State& s) {
   for (int64_t p = 0; p < np; ++p) {
     const double* f = &s.pair_f[D * p];
     const double* h = &s.pair_hist[D * p];
-    if (!any_bit(f, D) && !any_bit(h, D)) continue;
+    if (!any_bit_set(f, D) && !any_bit_set(h, D)) continue;
     held_.push_back(static_cast<int32_t>(p));
     held_f_.insert(held_f_.end(), f, f + D);
     held_hist_.insert(held_hist_.end(), h, h + D);

@@ -40,7 +40,7 @@ namespace silt {
   X(int32_t, pair_j,          "P",   "",      "second grain of the pair; update_neighbors")                      \
   X(double,  pair_hist,       "P*D", "m",     "tangential spring elongation, kept while the pair is listed; contact_forces") \
   X(double,  pair_f,          "P*D", "N",     "force on i from j (0 when apart); contact_forces")                \
-  X(uint8_t, pair_touch,      "P",   "",      "1 if the pair touched at the last force evaluation or was just listed; contact_forces") \
+  X(uint8_t, pair_touch,      "P",   "",      "1 if the pair may hold a force or a spring: it touched at the last force evaluation, or was listed anew with a carried spring; 0 means both are zero; contact_forces") \
   /* cold per-grain arrays */                                                                                  \
   X(uint8_t, particle_frozen, "N",   "",      "1 for frozen grains; compile")                                    \
   X(int32_t, particle_id,     "N",   "",      "stable identity (index in the scene); compile")                   \
@@ -148,6 +148,13 @@ struct State {
   } scratch;
 
   int64_t n_pairs() const { return static_cast<int64_t>(pair_j.size()); }
+  // Contact candidates of the current selection (dem/contact_candidates.hpp).
+  int64_t n_candidates() const {
+    int64_t c = 0;
+    for (size_t b = 0; b < scratch.cand_end.size(); ++b)
+      c += scratch.cand_end[b] - nbr_start[b * PairSchedule::kBlock];
+    return c;
+  }
 };
 
 // A fresh State at t = 0 from the Model's initial grains.
