@@ -115,11 +115,10 @@ void skin_table(const State& settled, int64_t steps) {
 // Runs `steps` steps of the chute from `settled` with neighbor.contact_skin = fraction * skin on one
 // thread; returns particle-steps per second, and the state hash and selections through the
 // pointers.
-double contact_skin_run(const State& settled, int64_t steps, double fraction, uint64_t* hash, int64_t* selections,
-                        double* per_grain) {
-  const Model base = compile(load_scene_file(chute_scene()));
+double contact_skin_run(const State& settled, int64_t steps, double skin, double fraction, uint64_t* hash,
+                        int64_t* selections, double* per_grain) {
   std::ostringstream o;
-  o << "neighbor.contact_skin=" << fraction * base.skin;
+  o << "neighbor.contact_skin=" << fraction * skin;
   Simulation sim(compile(load_scene_file(chute_scene(), {parse_override(o.str())})), 1);
   sim.restore(settled);
   sim.step();  // lists and candidates of this run, outside the timing
@@ -140,9 +139,11 @@ void contact_skin_table(const State& settled, int64_t steps) {
   std::vector<double> best(fractions.size(), 0.0), per_grain(fractions.size());
   std::vector<uint64_t> hash(fractions.size());
   std::vector<int64_t> sel(fractions.size());
+  const double skin = compile(load_scene_file(chute_scene())).skin;
   for (int r = 0; r < repeats; ++r)
     for (size_t k = 0; k < fractions.size(); ++k)
-      best[k] = std::max(best[k], contact_skin_run(settled, steps, fractions[k], &hash[k], &sel[k], &per_grain[k]));
+      best[k] = std::max(best[k],
+                         contact_skin_run(settled, steps, skin, fractions[k], &hash[k], &sel[k], &per_grain[k]));
   std::printf("\n3. contact skin: chute, %lld steps from the settled state, 1 thread, best of %d\n",
               static_cast<long long>(steps), repeats);
   std::printf("%-16s %-16s %-12s %-18s %-10s\n", "contact/skin", "particle-steps/s", "selections", "candidates/grain",
