@@ -24,6 +24,7 @@
 
 #include "bench_util.hpp"
 #include "silt/io.hpp"
+#include "silt/observables.hpp"
 #include "silt/scene.hpp"
 #include "silt/simulation.hpp"
 
@@ -139,9 +140,20 @@ int main(int argc, char** argv) {
       Simulation sim(model, threads);
       sim.restore(settled);
       const int64_t b0 = sim.state().nbr_builds;
+      // The job of `silt run`: the scene's observables every sample_every steps (LAMMPS prints
+      // its thermo every 1000).
+      const Observer observer(model, model.observe);
+      std::vector<std::vector<double>> samples;
+      RunOptions opt;
+      opt.steps = steps;
+      opt.hooks.push_back({model.sample_every, [&](const State& s) { samples.push_back(observer.sample(model, s)); }});
       const double t0 = bench::now_s();
-      for (int64_t k = 0; k < steps; ++k) sim.step();
+      const RunReport rep = sim.run(opt);
       const double dt = bench::now_s() - t0;
+      if (rep.end != RunEnd::kDone) {
+        std::fprintf(stderr, "silt failed: %s\n", sim.state().failure.message.c_str());
+        return 3;
+      }
       rates[threads].push_back(n * steps / dt);
       ke_end = translational_ke_all(sim.state());
       builds = sim.state().nbr_builds - b0;

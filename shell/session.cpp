@@ -165,6 +165,7 @@ RunOptions Session::run_options(const RunLength& len, bool background) {
     case RunLength::kUntil: opt.steps = kForever; break;
   }
   opt.interrupt = &interrupt_;
+  opt.boundary_wanted = [this] { return has_requests_.load(); };
   opt.between_steps = [this] {
     if (!has_requests_) return;
     std::deque<std::function<void()>> todo;

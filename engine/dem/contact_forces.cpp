@@ -17,6 +17,7 @@
 #include <cstdint>
 #include <algorithm>
 #include <limits>
+#include <type_traits>
 #include <vector>
 
 #include "core/parallel.hpp"
@@ -122,6 +123,7 @@ struct PairArgs {
   double* force;
   double* torque;
   Alarm* overlap_alarm;
+  bool keep_pf;  // store the pair forces (State::keep_pair_forces)
 };
 
 // The pairs of one block of rows, in two passes. The first tests every listed pair and packs
@@ -222,24 +224,28 @@ void pair_block(const PairArgs<D> a, int64_t blk) {
     for (int64_t q = 0; q < c; ++q)
       for (int k = 0; k < D; ++k) out[S * q + k] = cfn[q] * cn[k][q];
   }
-  for (int64_t q = 0; q < c; ++q) {
-    const int64_t p = tp[q], i = gi[q], j = gj[q];
-    const double* o = out + S * q;
-    for (int k = 0; k < D; ++k) {
-      const double f = o[k];
-      pf[D * p + k] = f;
-      force[D * i + k] += f;
-      force[D * j + k] -= f;
-    }
-    if constexpr (Friction) {
-      const double ri = -r[i], rj = -r[j];
-      for (int k = 0; k < D; ++k) hist[D * p + k] = o[D + k];
-      for (int k = 0; k < R; ++k) {
-        torque[R * i + k] += ri * o[2 * D + k];
-        torque[R * j + k] += rj * o[2 * D + k];
+  auto sums = [&](auto keep_pf) {
+    for (int64_t q = 0; q < c; ++q) {
+      const int64_t p = tp[q], i = gi[q], j = gj[q];
+      const double* o = out + S * q;
+      for (int k = 0; k < D; ++k) {
+        const double f = o[k];
+        if constexpr (keep_pf) pf[D * p + k] = f;
+        force[D * i + k] += f;
+        force[D * j + k] -= f;
+      }
+      if constexpr (Friction) {
+        const double ri = -r[i], rj = -r[j];
+        for (int k = 0; k < D; ++k) hist[D * p + k] = o[D + k];
+        for (int k = 0; k < R; ++k) {
+          torque[R * i + k] += ri * o[2 * D + k];
+          torque[R * j + k] += rj * o[2 * D + k];
+        }
       }
     }
-  }
+  };
+  if (a.keep_pf) sums(std::true_type{});
+  else sums(std::false_type{});
 }
 
 template <int D, bool Hertz, bool Friction, bool Affine>
@@ -256,7 +262,9 @@ void pair_forces(const Model& m, State& s) {
                 s.particle_x.data(), s.particle_v.data(), s.particle_w.data(), s.particle_r.data(),
                 s.particle_inv_m.data(), s.nbr_start.data(), s.pair_i.data(), s.pair_j.data(), sc.cand_end.data(),
                 sc.cand_p.data(), sc.cand_i.data(), sc.cand_j.data(), s.pair_f.data(), s.pair_hist.data(),
-                s.pair_touch.data(), s.particle_f.data(), s.particle_t.data(), &s.alarm_overlap};
+                s.pair_touch.data(), s.particle_f.data(), s.particle_t.data(), &s.alarm_overlap,
+                // A controlled box reads them at the end of every step (box_kick).
+                s.keep_pair_forces || m.box_control.on || m.shear.stress_controlled};
   if constexpr (Affine)
     for (int k = 0; k < D; ++k) a.grad[k] = s.box_rate[k] / s.box.len[k];
   double* force = a.force;

@@ -194,6 +194,7 @@ bool Simulation::step() {
 State Simulation::last_good_state() {
   if (!state_.failure.failed) return state_;
   State s = impl_->restart.give();
+  s.keep_pair_forces = true;
   const int64_t target = state_.failure.step - 1;
   while (s.step < target) advance(s);
   s.alarm_overlap.clear();
@@ -227,18 +228,39 @@ RunReport Simulation::run(const RunOptions& opt) {
       if (h.every > 0 && h.fn && (force || state_.step % h.every == 0)) h.fn(state_);
   };
   periodic(true);
+  // The pair forces are stored only in the steps whose end something sees: a hook, a request,
+  // a restart point or the static test (every check_every steps), the end of the run.
+  const bool box = model_.box_control.on || model_.shear.stress_controlled;
+  auto observed = [&](int64_t k) {
+    const int64_t next = state_.step + 1;
+    if (box || k + 1 == opt.steps || next % model_.limits.check_every == 0) return true;
+    for (const PeriodicHook& h : opt.hooks)
+      if (h.every > 0 && h.fn && next % h.every == 0) return true;
+    return opt.boundary_wanted && opt.boundary_wanted();
+  };
+  bool complete = true;  // the state's pair forces are those of its step
   for (int64_t k = 0; k < opt.steps; ++k) {
-    if (opt.between_steps) opt.between_steps();
-    if (opt.interrupt && opt.interrupt->load()) {
+    if (opt.between_steps && complete) opt.between_steps();
+    // An interrupt stops at the next complete boundary: at once, or after one more step.
+    const bool stop = opt.interrupt && opt.interrupt->load();
+    if (stop && complete) {
       rep.end = RunEnd::kInterrupted;
       break;
     }
-    if (!step()) {
+    state_.keep_pair_forces = stop || observed(k);
+    const bool ok = step();
+    complete = state_.keep_pair_forces;
+    state_.keep_pair_forces = true;
+    if (!ok) {
       rep.end = RunEnd::kFailed;
       break;
     }
     ++rep.steps_done;
     periodic(false);
+    if (stop) {
+      rep.end = RunEnd::kInterrupted;
+      break;
+    }
     if (opt.stop_when_static && state_.step % model_.limits.check_every == 0 && is_static()) {
       rep.end = RunEnd::kStatic;
       for (const PeriodicHook& h : opt.hooks)

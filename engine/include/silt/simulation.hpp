@@ -28,6 +28,9 @@ struct RunOptions {
   // At every step boundary, before the stop checks: where a shell applies steering and serves
   // requests for the state while a run goes on.
   std::function<void()> between_steps;
+  // True when between_steps has work for the next boundary (it is then served one step later
+  // if the state at this boundary is not complete; see State::keep_pair_forces).
+  std::function<bool()> boundary_wanted;
   const std::atomic<bool>* interrupt = nullptr;   // checked at every step boundary
   bool stop_when_static = false;                  // Model::until_static criterion
 };

@@ -1,0 +1,134 @@
+// Simulation::run stores the pair forces (pair_f) only in the steps whose end something sees.
+// The dynamics do not change (same bits), the stored forces are stale in between, and every
+// boundary that a hook, a request, an interrupt or the end of the run sees is the same, bit for
+// bit, as with the forces stored in every step.
+#include <doctest/doctest.h>
+
+#include <atomic>
+#include <vector>
+
+#include "support/scenes.hpp"
+
+using namespace silt;
+
+namespace {
+
+const char* kBed = R"(
+[scene]
+dimension = 3
+seed = 11
+[domain]
+lo = [0, 0, 0]
+hi = [6, 6, 6]
+periodic = [true, true, true]
+[contact]
+model = "hooke"
+k_n = 1e5
+gamma_n = 10
+friction = 0.5
+[[grains]]
+count = 200
+radius_min = 0.35
+radius_max = 0.5
+placement = "random"
+velocity = "gaussian"
+temperature = 5.0
+[run]
+dt = 3e-4
+)";
+
+constexpr int64_t kSteps = 90;
+
+// State hashes (pair forces included) after each step, forces stored in every step; [0] is
+// the prepared state (forces of t = 0), as run() shows it.
+std::vector<uint64_t> reference_hashes() {
+  auto sim = test::simulation_from(kBed);
+  sim->prepare();
+  std::vector<uint64_t> h{state_hash(sim->state())};
+  for (int64_t k = 0; k < kSteps; ++k) {
+    INFO(sim->state().failure.message);
+    REQUIRE(sim->step());
+    h.push_back(state_hash(sim->state()));
+  }
+  return h;
+}
+
+// Whether the stored pair force of some touching pair differs from the one of the reference
+// simulation at the same step.
+bool stale_forces(const State& s, const State& ref) {
+  for (int64_t p = 0; p < s.n_pairs(); ++p)
+    for (int k = 0; k < 3; ++k)
+      if (s.pair_f[3 * p + k] != ref.pair_f[3 * p + k]) return true;
+  return false;
+}
+
+}  // namespace
+
+TEST_CASE("run() stores pair forces only for the boundaries it shows") {
+  const std::vector<uint64_t> ref = reference_hashes();
+  auto exact = test::simulation_from(kBed);  // kept in step with the run, forces in every step
+  exact->prepare();
+  auto sim = test::simulation_from(kBed);
+  std::vector<int64_t> seen;
+  bool stale_between = false;
+  RunOptions opt;
+  opt.steps = kSteps;
+  opt.hooks.push_back({30, [&](const State& s) {
+                         seen.push_back(s.step);
+                         CHECK(state_hash(s) == ref[s.step]);
+                       }});
+  // Asked before each step that nothing else observes: look at the state left by the last one.
+  opt.boundary_wanted = [&] {
+    const State& s = sim->state();
+    while (exact->state().step < s.step) REQUIRE(exact->step());
+    CHECK(s.particle_x == exact->state().particle_x);  // the dynamics are untouched
+    CHECK(s.pair_hist == exact->state().pair_hist);
+    if (s.step % 30 != 0 && stale_forces(s, exact->state())) stale_between = true;
+    return false;
+  };
+  const RunReport r = sim->run(opt);
+  CHECK(r.end == RunEnd::kDone);
+  CHECK(seen == std::vector<int64_t>{0, 30, 60, 90});
+  CHECK(stale_between);  // the forces were not stored in between
+  CHECK(state_hash(sim->state()) == ref[kSteps]);
+}
+
+TEST_CASE("an interrupt or a request at an unseen boundary is served at the next complete one") {
+  const std::vector<uint64_t> ref = reference_hashes();
+  SUBCASE("interrupt: one more step, then stop") {
+    auto sim = test::simulation_from(kBed);
+    std::atomic<bool> stop{false};
+    RunOptions opt;
+    opt.steps = kSteps;
+    opt.interrupt = &stop;
+    opt.boundary_wanted = [&] {
+      if (sim->state().step == 44) stop = true;  // arrives while step 45 runs without forces
+      return false;
+    };
+    const RunReport r = sim->run(opt);
+    CHECK(r.end == RunEnd::kInterrupted);
+    CHECK(r.steps_done == 46);
+    CHECK(state_hash(sim->state()) == ref[46]);
+  }
+  SUBCASE("request: served after a step that stores the forces") {
+    auto sim = test::simulation_from(kBed);
+    std::vector<int64_t> served;
+    bool pending = false;
+    RunOptions opt;
+    opt.steps = kSteps;
+    opt.boundary_wanted = [&] {
+      if (sim->state().step == 50) pending = true;
+      return pending;
+    };
+    opt.between_steps = [&] {
+      if (!pending) return;
+      pending = false;
+      served.push_back(sim->state().step);
+      CHECK(state_hash(sim->state()) == ref[sim->state().step]);
+    };
+    const RunReport r = sim->run(opt);
+    CHECK(r.end == RunEnd::kDone);
+    CHECK(served == std::vector<int64_t>{51});
+    CHECK(state_hash(sim->state()) == ref[kSteps]);
+  }
+}
