@@ -12,7 +12,8 @@
 // force; pair_touch says which pairs may hold either, so that only those are cleared.
 // Both grains receive the pair's force and torque at once, in the order of the pair schedule
 // (pair_schedule.hpp), which makes the sums independent of the number of threads; the force on
-// i is also kept per pair (pair_f) for the stress and the contact network.
+// i is also kept per pair (pair_f) for the stress and the contact network, in the steps whose
+// end is seen (State::boundary_seen).
 #include <cmath>
 #include <cstdint>
 #include <algorithm>
@@ -123,7 +124,7 @@ struct PairArgs {
   double* force;
   double* torque;
   Alarm* overlap_alarm;
-  bool keep_pf;  // store the pair forces (State::keep_pair_forces)
+  bool keep_pf;  // store the pair forces (State::boundary_seen)
 };
 
 // The pairs of one block of rows, in two passes. The first tests every listed pair and packs
@@ -263,8 +264,7 @@ void pair_forces(const Model& m, State& s) {
                 s.particle_inv_m.data(), s.nbr_start.data(), s.pair_i.data(), s.pair_j.data(), sc.cand_end.data(),
                 sc.cand_p.data(), sc.cand_i.data(), sc.cand_j.data(), s.pair_f.data(), s.pair_hist.data(),
                 s.pair_touch.data(), s.particle_f.data(), s.particle_t.data(), &s.alarm_overlap,
-                // A controlled box reads them at the end of every step (box_kick).
-                s.keep_pair_forces || m.box_control.on || m.shear.stress_controlled};
+                s.boundary_seen || box_reads_every_step(m)};
   if constexpr (Affine)
     for (int k = 0; k < D; ++k) a.grad[k] = s.box_rate[k] / s.box.len[k];
   double* force = a.force;

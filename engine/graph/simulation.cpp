@@ -194,7 +194,7 @@ bool Simulation::step() {
 State Simulation::last_good_state() {
   if (!state_.failure.failed) return state_;
   State s = impl_->restart.give();
-  s.keep_pair_forces = true;
+  s.boundary_seen = true;
   const int64_t target = state_.failure.step - 1;
   while (s.step < target) advance(s);
   s.alarm_overlap.clear();
@@ -228,9 +228,10 @@ RunReport Simulation::run(const RunOptions& opt) {
       if (h.every > 0 && h.fn && (force || state_.step % h.every == 0)) h.fn(state_);
   };
   periodic(true);
-  // The pair forces are stored only in the steps whose end something sees: a hook, a request,
-  // a restart point or the static test (every check_every steps), the end of the run.
-  const bool box = model_.box_control.on || model_.shear.stress_controlled;
+  // A step stores its pair forces (State::boundary_seen) only when something sees its end: a
+  // hook, a request, a restart point or the static test (every check_every steps), the end of
+  // the run.
+  const bool box = dem::box_reads_every_step(model_);
   auto observed = [&](int64_t k) {
     const int64_t next = state_.step + 1;
     if (box || k + 1 == opt.steps || next % model_.limits.check_every == 0) return true;
@@ -238,7 +239,7 @@ RunReport Simulation::run(const RunOptions& opt) {
       if (h.every > 0 && h.fn && next % h.every == 0) return true;
     return opt.boundary_wanted && opt.boundary_wanted();
   };
-  bool complete = true;  // the state's pair forces are those of its step
+  bool complete = true;  // the state at this boundary holds its pair forces
   for (int64_t k = 0; k < opt.steps; ++k) {
     if (opt.between_steps && complete) opt.between_steps();
     // An interrupt stops at the next complete boundary: at once, or after one more step.
@@ -247,10 +248,10 @@ RunReport Simulation::run(const RunOptions& opt) {
       rep.end = RunEnd::kInterrupted;
       break;
     }
-    state_.keep_pair_forces = stop || observed(k);
+    state_.boundary_seen = stop || observed(k);
     const bool ok = step();
-    complete = state_.keep_pair_forces;
-    state_.keep_pair_forces = true;
+    complete = state_.boundary_seen;
+    state_.boundary_seen = true;
     if (!ok) {
       rep.end = RunEnd::kFailed;
       break;

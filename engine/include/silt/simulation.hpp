@@ -29,7 +29,7 @@ struct RunOptions {
   // requests for the state while a run goes on.
   std::function<void()> between_steps;
   // True when between_steps has work for the next boundary (it is then served one step later
-  // if the state at this boundary is not complete; see State::keep_pair_forces).
+  // if the state at this boundary is not complete; see State::boundary_seen).
   std::function<bool()> boundary_wanted;
   const std::atomic<bool>* interrupt = nullptr;   // checked at every step boundary
   bool stop_when_static = false;                  // Model::until_static criterion

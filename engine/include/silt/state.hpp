@@ -114,11 +114,12 @@ struct State {
   double nbr_step_disp = 0;   // largest non-affine displacement of the last drift [m]; kick_drift
   int64_t nbr_builds = 0;
 
-  // Whether contact_forces stores pair_f in this step. Simulation::run turns it off for the
-  // steps whose end nothing looks at (scattered stores per contact cost about a tenth of a
-  // step); nothing in the dynamics reads pair_f, except a controlled box, which keeps it on.
-  // pair_f is exact at every step boundary that a hook, a request or the caller sees.
-  bool keep_pair_forces = true;
+  // Whether anything looks at the state at the end of this step. Simulation::run clears it for
+  // the steps whose end nothing sees; such a step leaves pair_f as it was (scattered stores per
+  // contact cost about a tenth of a step). Nothing in the dynamics reads pair_f but a
+  // controlled box, which ignores the flag: the dynamics are the same bits, and pair_f is exact
+  // at every boundary that a hook, a request, an interrupt or the caller sees.
+  bool boundary_seen = true;
 
   // Numerical events raised by stages during the current step.
   Alarm alarm_nonfinite;  // grain index with a NaN/Inf velocity or position

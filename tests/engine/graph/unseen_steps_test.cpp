@@ -1,10 +1,11 @@
-// Simulation::run stores the pair forces (pair_f) only in the steps whose end something sees.
-// The dynamics do not change (same bits), the stored forces are stale in between, and every
-// boundary that a hook, a request, an interrupt or the end of the run sees is the same, bit for
-// bit, as with the forces stored in every step.
+// Simulation::run stores the pair forces (pair_f) only in the steps whose end something sees
+// (State::boundary_seen). The dynamics do not change (same bits); in between, the stored forces
+// are stale; every boundary that a hook, a request, an interrupt or the end of the run sees is
+// the same, bit for bit, as with the forces stored in every step; and so is a failure.
 #include <doctest/doctest.h>
 
 #include <atomic>
+#include <limits>
 #include <vector>
 
 #include "support/scenes.hpp"
@@ -131,4 +132,32 @@ TEST_CASE("an interrupt or a request at an unseen boundary is served at the next
     CHECK(served == std::vector<int64_t>{51});
     CHECK(state_hash(sim->state()) == ref[kSteps]);
   }
+}
+
+TEST_CASE("a failure in an unseen step is the same, and the last good state is exact") {
+  // One grain's velocity is not finite: the kick of the first step finds it.
+  auto failing = [] {
+    auto sim = test::simulation_from(kBed);
+    State& s = sim->state();
+    for (int64_t i = 0; i < s.n; ++i)
+      if (s.particle_id[i] == 17) s.particle_v[3 * i + 1] = std::numeric_limits<double>::quiet_NaN();
+    return sim;
+  };
+  auto by_steps = failing();
+  bool ok = true;
+  for (int k = 0; k < 100000 && ok; ++k) ok = by_steps->step();
+  REQUIRE_FALSE(ok);
+  auto by_run = failing();
+  RunOptions opt;
+  opt.steps = 100000;
+  REQUIRE(by_run->run(opt).end == RunEnd::kFailed);
+  const StepFailure& want = by_steps->state().failure;
+  const StepFailure& got = by_run->state().failure;
+  CHECK(want.step == 1);
+  CHECK(want.particle == 17);
+  CHECK(got.step == want.step);
+  CHECK(got.stage == want.stage);
+  CHECK(got.particle == want.particle);
+  CHECK(got.message == want.message);
+  CHECK(state_hash(by_run->last_good_state()) == state_hash(by_steps->last_good_state()));
 }
