@@ -95,14 +95,16 @@ int64_t touch_pass(const TouchArrays a, const shear::PeriodicImage<D> img, int64
                    int32_t* __restrict tp, double* __restrict td) {
   return scan_pairs<D, false>(a.x, a.r, a.pi, a.pj, img, 0.0, q0, q1, [=](int64_t q, const double* d, uint8_t now, int64_t c) {
     const int64_t p = a.pp[q];
-    // A pair just come apart: rare, so this branch is well predicted (the one that decides
-    // whether to pack would not be, hence the unconditional stores and the count).
-    if (a.touch[p] > now) {
-      for (int k = 0; k < D; ++k) a.pf[D * p + k] = 0;
-      if (a.hist)
-        for (int k = 0; k < D; ++k) a.hist[D * p + k] = 0;
+    // A pair just come apart or into contact: rare, so this branch is well predicted (the one
+    // that decides whether to pack would not be, hence the unconditional stores and the count).
+    if (a.touch[p] != now) {
+      if (a.touch[p]) {
+        for (int k = 0; k < D; ++k) a.pf[D * p + k] = 0;
+        if (a.hist)
+          for (int k = 0; k < D; ++k) a.hist[D * p + k] = 0;
+      }
+      a.touch[p] = now;
     }
-    a.touch[p] = now;
     tp[c] = static_cast<int32_t>(p);
     for (int k = 0; k < D; ++k) td[D * c + k] = d[k];
     return c + now;
