@@ -26,6 +26,7 @@
 #include "dem/contact_candidates.hpp"
 #include "dem/contact_laws.hpp"
 #include "dem/pair_schedule.hpp"
+#include "dem/simd_level.hpp"
 #include "dem/stages.hpp"
 #include "dem/touch_pass.hpp"
 #include "shear/periodic_image.hpp"
@@ -71,9 +72,10 @@ struct Touching {
 // springs xi. Out, one record of kOut values per pair (pass 3 reads them together): the pair
 // force f = fn n + F_t, the updated spring, and the moment n x F_t. Dashpot: zeta_t > 0.
 template <int D, bool Dashpot>
-void tangential_columns(int64_t c, double dt, double kt_ratio, double friction, double zeta_t,
-                        double* const* n, double* const* vt, const double* fn, const double* kn, const double* m,
-                        double* const* xi, double* __restrict out) {
+[[gnu::always_inline]] inline void tangential_columns(int64_t c, double dt, double kt_ratio, double friction,
+                                                      double zeta_t, double* const* n, double* const* vt,
+                                                      const double* fn, const double* kn, const double* m,
+                                                      double* const* xi, double* __restrict out) {
 #pragma GCC ivdep
   for (int64_t q = 0; q < c; ++q) {
     const double kt = kt_ratio * kn[q];
@@ -96,6 +98,24 @@ void tangential_columns(int64_t c, double dt, double kt_ratio, double friction, 
     else
       o[2 * D] = mt;
   }
+}
+
+// The same loop on processors with AVX2, four pairs per instruction instead of two: the same
+// IEEE operations on each pair (no fused multiply-add), so the same bits (simd_level.hpp).
+template <int D, bool Dashpot>
+[[gnu::target("avx2")]] void tangential_columns_avx2(int64_t c, double dt, double kt_ratio, double friction,
+                                                    double zeta_t, double* const* n, double* const* vt,
+                                                    const double* fn, const double* kn, const double* m,
+                                                    double* const* xi, double* __restrict out) {
+  tangential_columns<D, Dashpot>(c, dt, kt_ratio, friction, zeta_t, n, vt, fn, kn, m, xi, out);
+}
+
+template <int D, bool Dashpot>
+void tangential_pass(int64_t c, double dt, double kt_ratio, double friction, double zeta_t, double* const* n,
+                     double* const* vt, const double* fn, const double* kn, const double* m, double* const* xi,
+                     double* __restrict out) {
+  if (avx2_in_use()) tangential_columns_avx2<D, Dashpot>(c, dt, kt_ratio, friction, zeta_t, n, vt, fn, kn, m, xi, out);
+  else tangential_columns<D, Dashpot>(c, dt, kt_ratio, friction, zeta_t, n, vt, fn, kn, m, xi, out);
 }
 
 template <int D>
@@ -218,9 +238,9 @@ void pair_block(const PairArgs<D> a, int64_t blk) {
   }
   if constexpr (Friction) {
     if (a.cp.zeta_t > 0)
-      tangential_columns<D, true>(c, a.dt, a.cp.kt_ratio, a.cp.friction, a.cp.zeta_t, cn, cvt, cfn, ck, cm, cxi, out);
+      tangential_pass<D, true>(c, a.dt, a.cp.kt_ratio, a.cp.friction, a.cp.zeta_t, cn, cvt, cfn, ck, cm, cxi, out);
     else
-      tangential_columns<D, false>(c, a.dt, a.cp.kt_ratio, a.cp.friction, 0.0, cn, cvt, cfn, ck, cm, cxi, out);
+      tangential_pass<D, false>(c, a.dt, a.cp.kt_ratio, a.cp.friction, 0.0, cn, cvt, cfn, ck, cm, cxi, out);
   } else {
     for (int64_t q = 0; q < c; ++q)
       for (int k = 0; k < D; ++k) out[S * q + k] = cfn[q] * cn[k][q];
