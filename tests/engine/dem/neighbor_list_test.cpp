@@ -38,11 +38,12 @@ skin = 0.3
 dt = 1e-3
 )";
 
-std::string box_scene(int dim, int seed, int n, bool z_periodic) {
+// A box of n grains; `big`: one for more than Model::kSortMin grains (renumbered in cell order).
+std::string box_scene(int dim, int seed, int n, bool z_periodic, bool big = false) {
   std::string s = test::fill(kBox, {{"seed", seed}, {"n", n}});
   s.replace(s.find("dimension = {dim}"), 17, "dimension = " + std::to_string(dim));
   s.replace(s.find("LO"), 2, dim == 3 ? "[-3, 0, 1]" : "[-3, 0]");
-  s.replace(s.find("HI"), 2, dim == 3 ? "[5, 7.5, 6]" : "[9, 6.5]");
+  s.replace(s.find("HI"), 2, big ? (dim == 3 ? "[10, 12, 11]" : "[37, 36]") : (dim == 3 ? "[5, 7.5, 6]" : "[9, 6.5]"));
   s.replace(s.find("PER"), 3, dim == 3 ? (z_periodic ? "[true, true, true]" : "[true, false, true]") : "[true, true]");
   return s;
 }
@@ -68,10 +69,13 @@ std::set<std::pair<int, int>> brute_force(const Model& m, const State& s) {
 TEST_CASE("cell list + Verlet list find exactly the pairs of a brute-force search") {
   for (int dim : {2, 3}) {
     for (bool zper : {false, true}) {
-      for (int seed : {1, 2, 3}) {
+      for (int seed : {1, 2, 3, 4}) {
         CAPTURE(dim);
         CAPTURE(seed);
-        auto sim = test::simulation_from(box_scene(dim, seed, dim == 3 ? 150 : 80, zper), 2);
+        // Seed 4: more than Model::kSortMin grains, renumbered in cell order at each build.
+        const bool big = seed == 4;
+        auto sim = test::simulation_from(box_scene(dim, seed, big ? 1400 : dim == 3 ? 150 : 80, zper, big), 2);
+        REQUIRE(big == (sim->model().n_grains > Model::kSortMin));
         sim->prepare();
         for (int round = 0; round < 3; ++round) {
           const State& s = sim->state();
