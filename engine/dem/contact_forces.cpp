@@ -38,6 +38,14 @@ namespace {
 // updated spring, moment n x F_t.
 template <int D>
 constexpr int kOut = 2 * D + kRotDim<D>;
+// The records go in groups of kLanes pairs, field by field within a group (value k of pair q at
+// out[kOut * (q - q % kLanes) + k * kLanes + q % kLanes]): the tangential pass stores each field
+// of kLanes pairs with one instruction.
+constexpr int64_t kLanes = 4;
+template <int D>
+inline int64_t record(int64_t q) {
+  return kOut<D> * (q & ~(kLanes - 1)) + (q & (kLanes - 1));
+}
 
 // Scratch of one task: the touching pairs of its rows, their grains and separations, found by
 // the first passes, columns (one array per quantity, so that the loop over them vectorizes)
@@ -53,6 +61,7 @@ struct Touching {
   std::vector<double> out;  // kOut<D> per entry (tangential_columns)
   size_t cap = 0;
   void reserve(size_t n) {
+    n = (n + kLanes - 1) / kLanes * kLanes;  // whole groups: the tangential pass reads them
     if (cap < n) {
       cap = n;
       pair.resize(n);
@@ -69,34 +78,39 @@ struct Touching {
 // The tangential springs of the touching pairs, column by column (tangential_spring of
 // contact_laws.hpp): the loop has neither indirection nor branch, and vectorizes. In: unit
 // normals n, tangential velocities vt, normal forces fn, normal stiffnesses kn, reduced masses m;
-// springs xi. Out, one record of kOut values per pair (pass 3 reads them together): the pair
-// force f = fn n + F_t, the updated spring, and the moment n x F_t. Dashpot: zeta_t > 0.
+// springs xi. Out, one record of kOut values per pair (pass 3 reads them together; record<D>):
+// the pair force f = fn n + F_t, the updated spring, and the moment n x F_t. Dashpot: zeta_t > 0.
 template <int D, bool Dashpot>
 [[gnu::always_inline]] inline void tangential_columns(int64_t c, double dt, double kt_ratio, double friction,
                                                       double zeta_t, double* const* n, double* const* vt,
                                                       const double* fn, const double* kn, const double* m,
                                                       double* const* xi, double* __restrict out) {
+  // Whole groups of kLanes: the last one may run on values past c, which are ignored.
+  for (int64_t b = 0; b < c; b += kLanes) {
+    double* __restrict ob = out + kOut<D> * b;
 #pragma GCC ivdep
-  for (int64_t q = 0; q < c; ++q) {
-    const double kt = kt_ratio * kn[q];
-    SVec<D> s, nq, vq, ft;
-    for (int k = 0; k < D; ++k) {
-      s[k] = xi[k][q];
-      nq[k] = n[k][q];
-      vq[k] = vt[k][q];
+    for (int64_t l = 0; l < kLanes; ++l) {
+      const int64_t q = b + l;
+      const double kt = kt_ratio * kn[q];
+      SVec<D> s, nq, vq, ft;
+      for (int k = 0; k < D; ++k) {
+        s[k] = xi[k][q];
+        nq[k] = n[k][q];
+        vq[k] = vt[k][q];
+      }
+      const double ct = Dashpot ? tangential_dashpot(zeta_t, m[q], kt) : 0.0;
+      tangential_spring<D, Dashpot>(s.c, nq.c, vq.c, dt, kt, friction * std::abs(fn[q]), ct, ft.c);
+      double* o = ob + l;
+      for (int k = 0; k < D; ++k) {
+        o[k * kLanes] = fn[q] * nq[k] + ft[k];
+        o[(D + k) * kLanes] = s[k];
+      }
+      const SOmega<D> mt = moment(nq, ft);
+      if constexpr (D == 3)
+        for (int k = 0; k < 3; ++k) o[(2 * D + k) * kLanes] = mt[k];
+      else
+        o[2 * D * kLanes] = mt;
     }
-    const double ct = Dashpot ? tangential_dashpot(zeta_t, m[q], kt) : 0.0;
-    tangential_spring<D, Dashpot>(s.c, nq.c, vq.c, dt, kt, friction * std::abs(fn[q]), ct, ft.c);
-    double* o = out + kOut<D> * q;
-    for (int k = 0; k < D; ++k) {
-      o[k] = fn[q] * nq[k] + ft[k];
-      o[D + k] = s[k];
-    }
-    const SOmega<D> mt = moment(nq, ft);
-    if constexpr (D == 3)
-      for (int k = 0; k < 3; ++k) o[2 * D + k] = mt[k];
-    else
-      o[2 * D] = mt;
   }
 }
 
@@ -192,7 +206,6 @@ void pair_block(const PairArgs<D> a, int64_t blk) {
     cxi[k] = tl.col(T::kXi + k);
   }
   double* __restrict out = tl.out.data();
-  constexpr int S = kOut<D>;
   double* __restrict cfn = tl.col(T::kFn);
   double* __restrict ck = tl.col(T::kK);
   double* __restrict cm = tl.col(T::kMeff);
@@ -243,24 +256,24 @@ void pair_block(const PairArgs<D> a, int64_t blk) {
       tangential_pass<D, false>(c, a.dt, a.cp.kt_ratio, a.cp.friction, 0.0, cn, cvt, cfn, ck, cm, cxi, out);
   } else {
     for (int64_t q = 0; q < c; ++q)
-      for (int k = 0; k < D; ++k) out[S * q + k] = cfn[q] * cn[k][q];
+      for (int k = 0; k < D; ++k) out[record<D>(q) + k * kLanes] = cfn[q] * cn[k][q];
   }
   auto sums = [&](auto keep_pf) {
     for (int64_t q = 0; q < c; ++q) {
       const int64_t p = tp[q], i = gi[q], j = gj[q];
-      const double* o = out + S * q;
+      const double* o = out + record<D>(q);
       for (int k = 0; k < D; ++k) {
-        const double f = o[k];
+        const double f = o[k * kLanes];
         if constexpr (keep_pf) pf[D * p + k] = f;
         force[D * i + k] += f;
         force[D * j + k] -= f;
       }
       if constexpr (Friction) {
         const double ri = -r[i], rj = -r[j];
-        for (int k = 0; k < D; ++k) hist[D * p + k] = o[D + k];
+        for (int k = 0; k < D; ++k) hist[D * p + k] = o[(D + k) * kLanes];
         for (int k = 0; k < R; ++k) {
-          torque[R * i + k] += ri * o[2 * D + k];
-          torque[R * j + k] += rj * o[2 * D + k];
+          torque[R * i + k] += ri * o[(2 * D + k) * kLanes];
+          torque[R * j + k] += rj * o[(2 * D + k) * kLanes];
         }
       }
     }
