@@ -56,7 +56,7 @@ struct Touching {
   enum Column { kN = 0, kVt = D, kXi = 2 * D, kFn = 3 * D, kK, kMeff, kColumns };
   std::vector<int32_t> pair;
   std::vector<int32_t> gi, gj;  // the grains of each touching pair
-  std::vector<double> d;  // separation (nearest image), D per entry
+  std::vector<double> d;  // separation (nearest image): component k from d[k * cap]
   std::vector<double> columns;
   std::vector<double> out;  // kOut<D> per entry (tangential_columns)
   size_t cap = 0;
@@ -186,7 +186,8 @@ void pair_block(const PairArgs<D> a, int64_t blk) {
   thread_local Touching<D> tl;
   tl.reserve(static_cast<size_t>(q1 - q0));
   int32_t* __restrict tp = tl.pair.data();
-  double* __restrict td = tl.d.data();
+  double* td[D];
+  for (int k = 0; k < D; ++k) td[k] = tl.d.data() + k * tl.cap;
   // Pass 1: which candidate pairs touch, in one flat loop over the candidates of the block's
   // rows (a loop per row would mispredict its exit on rows of varying length).
   const int64_t c = touch_pass<D>({x, r, a.cand_p, a.cand_i, a.cand_j, a.touch, pf, Friction ? hist : nullptr}, a.img,
@@ -215,7 +216,8 @@ void pair_block(const PairArgs<D> a, int64_t blk) {
     const int64_t p = tp[q], i = pi[p], j = pj[p];
     gi[q] = static_cast<int32_t>(i);
     gj[q] = static_cast<int32_t>(j);
-    const V d = V::load(td + D * q);
+    V d;
+    for (int k = 0; k < D; ++k) d[k] = td[k][q];
     const double ri = r[i], rj = r[j];
     const double dist = d.norm();
     const V nrm = d * (1.0 / dist);

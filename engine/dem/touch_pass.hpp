@@ -54,6 +54,35 @@ constexpr int kRound = _MM_FROUND_CUR_DIRECTION | _MM_FROUND_NO_EXC;  // std::ne
   return _mm256_set_m128d(_mm_loadh_pd(_mm_load_sd(a + e2), a + e3), _mm_loadh_pd(_mm_load_sd(a + e0), a + e1));
 }
 
+// The separations d (one register per component) of entries q .. q + 3 and which of them are
+// within reach (bit e for entry q + e).
+template <int D, bool Reach>
+[[gnu::target("avx2"), gnu::always_inline]] inline int four_separations(const double* __restrict x,
+                                                                         const double* __restrict r,
+                                                                         const int32_t* __restrict pi,
+                                                                         const int32_t* __restrict pj,
+                                                                         const shear::PeriodicImage<D>& img,
+                                                                         double reach, int64_t q, __m256d* d) {
+  const int64_t i0 = pi[q], i1 = pi[q + 1], i2 = pi[q + 2], i3 = pi[q + 3];
+  const int64_t j0 = pj[q], j1 = pj[q + 1], j2 = pj[q + 2], j3 = pj[q + 3];
+  for (int k = 0; k < D; ++k)
+    d[k] = _mm256_sub_pd(four(x + k, D * i0, D * i1, D * i2, D * i3), four(x + k, D * j0, D * j1, D * j2, D * j3));
+  if (img.lees_edwards) {
+    const __m256d ny = _mm256_round_pd(_mm256_mul_pd(d[1], _mm256_set1_pd(img.inv_len[1])), kRound);
+    d[1] = _mm256_sub_pd(d[1], _mm256_mul_pd(ny, _mm256_set1_pd(img.len[1])));
+    d[0] = _mm256_sub_pd(d[0], _mm256_mul_pd(ny, _mm256_set1_pd(img.offset)));
+  }
+  __m256d d2 = _mm256_setzero_pd();
+  for (int k = 0; k < D; ++k) {
+    const __m256d n = _mm256_round_pd(_mm256_mul_pd(d[k], _mm256_set1_pd(img.image_inv[k])), kRound);
+    d[k] = _mm256_sub_pd(d[k], _mm256_mul_pd(_mm256_set1_pd(img.image_len[k]), n));
+    d2 = _mm256_add_pd(d2, _mm256_mul_pd(d[k], d[k]));
+  }
+  __m256d rs = _mm256_add_pd(four(r, i0, i1, i2, i3), four(r, j0, j1, j2, j3));
+  if constexpr (Reach) rs = _mm256_add_pd(rs, _mm256_set1_pd(reach));
+  return _mm256_movemask_pd(_mm256_cmp_pd(d2, _mm256_mul_pd(rs, rs), _CMP_LT_OQ));
+}
+
 // Four entries per iteration, then the scalar loop.
 template <int D, bool Reach, class Sink>
 [[gnu::target("avx2")]] int64_t avx2(const double* __restrict x, const double* __restrict r,
@@ -61,27 +90,9 @@ template <int D, bool Reach, class Sink>
                                      const shear::PeriodicImage<D> img, double reach, int64_t q0, int64_t q1,
                                      const Sink sink) {
   int64_t q = q0, c = 0;
-  const __m256d zero = _mm256_setzero_pd();
   for (; q + 3 < q1; q += 4) {
-    const int64_t i0 = pi[q], i1 = pi[q + 1], i2 = pi[q + 2], i3 = pi[q + 3];
-    const int64_t j0 = pj[q], j1 = pj[q + 1], j2 = pj[q + 2], j3 = pj[q + 3];
     __m256d d[D];
-    for (int k = 0; k < D; ++k)
-      d[k] = _mm256_sub_pd(four(x + k, D * i0, D * i1, D * i2, D * i3), four(x + k, D * j0, D * j1, D * j2, D * j3));
-    if (img.lees_edwards) {
-      const __m256d ny = _mm256_round_pd(_mm256_mul_pd(d[1], _mm256_set1_pd(img.inv_len[1])), kRound);
-      d[1] = _mm256_sub_pd(d[1], _mm256_mul_pd(ny, _mm256_set1_pd(img.len[1])));
-      d[0] = _mm256_sub_pd(d[0], _mm256_mul_pd(ny, _mm256_set1_pd(img.offset)));
-    }
-    __m256d d2 = zero;
-    for (int k = 0; k < D; ++k) {
-      const __m256d n = _mm256_round_pd(_mm256_mul_pd(d[k], _mm256_set1_pd(img.image_inv[k])), kRound);
-      d[k] = _mm256_sub_pd(d[k], _mm256_mul_pd(_mm256_set1_pd(img.image_len[k]), n));
-      d2 = _mm256_add_pd(d2, _mm256_mul_pd(d[k], d[k]));
-    }
-    __m256d rs = _mm256_add_pd(four(r, i0, i1, i2, i3), four(r, j0, j1, j2, j3));
-    if constexpr (Reach) rs = _mm256_add_pd(rs, _mm256_set1_pd(reach));
-    const int mask = _mm256_movemask_pd(_mm256_cmp_pd(d2, _mm256_mul_pd(rs, rs), _CMP_LT_OQ));
+    const int mask = four_separations<D, Reach>(x, r, pi, pj, img, reach, q, d);
     double dk[D][4];
     for (int k = 0; k < D; ++k) _mm256_storeu_pd(dk[k], d[k]);
     for (int e = 0; e < 4; ++e) {
@@ -160,27 +171,102 @@ struct TouchArrays {
   double* hist;  // null without friction
 };
 
-// The touch pass over the candidate entries [q0, q1) of a block: packs the touching pairs (pair
-// index and separation) into `tp` / `td` and returns how many; a pair that touched at the last
-// evaluation and no longer does gets its force (and spring) cleared; pair_touch is updated.
-// The arguments come by value: local copies that the stores cannot alias.
+// A pair's touch flag after the test (`now`): a pair that touched at the last evaluation and
+// no longer does gets its force (and spring) cleared. Rare, so this branch is well predicted.
+template <int D>
+[[gnu::always_inline]] inline void update_touch(const TouchArrays& a, int64_t p, uint8_t now) {
+  if (a.touch[p] != now) {
+    if (a.touch[p]) {
+      for (int k = 0; k < D; ++k) a.pf[D * p + k] = 0;
+      if (a.hist)
+        for (int k = 0; k < D; ++k) a.hist[D * p + k] = 0;
+    }
+    a.touch[p] = now;
+  }
+}
+
+#if defined(__SSE4_1__)
+namespace scan_detail {
+
+// Left packing of four lanes: for a 4-bit mask, the indices of the lanes set, in order, as
+// 32-bit lane indices for _mm256_permutevar8x32 (of doubles: two per lane; of 32-bit integers).
+struct LeftPack {
+  alignas(32) int32_t of_double[16][8];
+  alignas(32) int32_t of_int[16][8];
+};
+constexpr LeftPack make_left_pack() {
+  LeftPack t{};
+  for (int m = 0; m < 16; ++m) {
+    int n = 0;
+    for (int e = 0; e < 4; ++e)
+      if ((m >> e) & 1) {
+        t.of_double[m][2 * n] = 2 * e;
+        t.of_double[m][2 * n + 1] = 2 * e + 1;
+        t.of_int[m][n] = e;
+        ++n;
+      }
+  }
+  return t;
+}
+inline constexpr LeftPack kLeftPack = make_left_pack();
+
+// The touch pass four entries at a time: the touching ones of each four are packed with one
+// permutation per column (no branch, no per-entry stores).
+template <int D>
+[[gnu::target("avx2")]] int64_t touch_avx2(const TouchArrays a, const shear::PeriodicImage<D> img, int64_t q0,
+                                           int64_t q1, int32_t* __restrict tp, double* const* td) {
+  double* __restrict tdk[D];
+  for (int k = 0; k < D; ++k) tdk[k] = td[k];
+  int64_t q = q0, c = 0;
+  for (; q + 3 < q1; q += 4) {
+    __m256d d[D];
+    const int mask = four_separations<D, false>(a.x, a.r, a.pi, a.pj, img, 0.0, q, d);
+    for (int e = 0; e < 4; ++e) update_touch<D>(a, a.pp[q + e], static_cast<uint8_t>((mask >> e) & 1));
+    const __m256i pd = _mm256_load_si256(reinterpret_cast<const __m256i*>(kLeftPack.of_double[mask]));
+    for (int k = 0; k < D; ++k)
+      _mm256_storeu_pd(tdk[k] + c, _mm256_castps_pd(_mm256_permutevar8x32_ps(_mm256_castpd_ps(d[k]), pd)));
+    const __m256i pairs = _mm256_castsi128_si256(_mm_loadu_si128(reinterpret_cast<const __m128i*>(a.pp + q)));
+    const __m256i pk = _mm256_load_si256(reinterpret_cast<const __m256i*>(kLeftPack.of_int[mask]));
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(tp + c), _mm256_castsi256_si128(_mm256_permutevar8x32_epi32(pairs, pk)));
+    c += __builtin_popcount(static_cast<unsigned>(mask));
+  }
+  for (; q < q1; ++q) {
+    using V = SVec<D>;
+    const int64_t i = a.pi[q], j = a.pj[q];
+    V dv = V::load(a.x + D * i) - V::load(a.x + D * j);
+    img.apply(dv);
+    const double rs = a.r[i] + a.r[j];
+    const uint8_t now = dv.squaredNorm() < rs * rs;
+    update_touch<D>(a, a.pp[q], now);
+    tp[c] = a.pp[q];
+    for (int k = 0; k < D; ++k) tdk[k][c] = dv[k];
+    c += now;
+  }
+  return c;
+}
+
+}  // namespace scan_detail
+#endif
+
+// The touch pass over the candidate entries [q0, q1) of a block: packs the touching pairs into
+// `tp` (pair index) and `td` (separation: component k in column td[k]) and returns how many;
+// a pair that touched at the last evaluation and no longer does gets its force (and spring)
+// cleared; pair_touch is updated. The arguments come by value: local copies that the stores
+// cannot alias.
 template <int D>
 int64_t touch_pass(const TouchArrays a, const shear::PeriodicImage<D> img, int64_t q0, int64_t q1,
-                   int32_t* __restrict tp, double* __restrict td) {
+                   int32_t* __restrict tp, double* const* td) {
+#if defined(__SSE4_1__)
+  if (avx2_in_use()) return scan_detail::touch_avx2<D>(a, img, q0, q1, tp, td);
+#endif
+  double* __restrict tdk[D];
+  for (int k = 0; k < D; ++k) tdk[k] = td[k];
   return scan_pairs<D, false>(a.x, a.r, a.pi, a.pj, img, 0.0, q0, q1, [=](int64_t q, const double* d, uint8_t now, int64_t c) {
     const int64_t p = a.pp[q];
-    // A pair just come apart or into contact: rare, so this branch is well predicted (the one
-    // that decides whether to pack would not be, hence the unconditional stores and the count).
-    if (a.touch[p] != now) {
-      if (a.touch[p]) {
-        for (int k = 0; k < D; ++k) a.pf[D * p + k] = 0;
-        if (a.hist)
-          for (int k = 0; k < D; ++k) a.hist[D * p + k] = 0;
-      }
-      a.touch[p] = now;
-    }
+    update_touch<D>(a, p, now);
+    // Stored whether touching or not, then counted: which pairs touch follows no pattern.
     tp[c] = static_cast<int32_t>(p);
-    for (int k = 0; k < D; ++k) td[D * c + k] = d[k];
+    for (int k = 0; k < D; ++k) tdk[k][c] = d[k];
     return c + now;
   });
 }

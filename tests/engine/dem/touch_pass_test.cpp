@@ -1,6 +1,6 @@
-// The touch pass of contact_forces: the two-lane path and the scalar path give the same pairs
-// and the same separations, bit for bit, as the nearest-image arithmetic of PeriodicImage, in
-// periodic and Lees-Edwards boxes, in 2D and 3D; forces and springs of pairs just come apart
+// The touch pass of contact_forces: the four-lane (AVX2), two-lane and scalar paths give the
+// same pairs and the same separations, bit for bit, as the nearest-image arithmetic of
+// PeriodicImage, in periodic and Lees-Edwards boxes, in 2D and 3D; forces and springs of pairs just come apart
 // are cleared, the others left alone. Entry q of the pass is pair pp[q] (here the pairs in
 // reverse), whose flags, forces and springs it updates.
 #include <doctest/doctest.h>
@@ -8,6 +8,7 @@
 #include <random>
 #include <vector>
 
+#include "dem/simd_level.hpp"
 #include "dem/touch_pass.hpp"
 #include "silt/scene.hpp"
 #include "silt/simulation.hpp"
@@ -50,9 +51,11 @@ void check_touch_pass(bool lees_edwards, int64_t n_pairs) {
   const std::vector<uint8_t> before = touch;
   std::vector<int32_t> tp(n_pairs);
   std::vector<double> td(D * n_pairs);
+  double* td_cols[D];
+  for (int k = 0; k < D; ++k) td_cols[k] = td.data() + k * n_pairs;
   const int64_t c = dem::touch_pass<D>(
       {x.data(), r.data(), pp.data(), pi.data(), pj.data(), touch.data(), pf.data(), hist.data()}, img, 0, n_pairs,
-      tp.data(), td.data());
+      tp.data(), td_cols);
   int64_t expect = 0, apart = 0;
   for (int64_t q = 0; q < n_pairs; ++q) {
     const int64_t p = pp[q];
@@ -70,7 +73,7 @@ void check_touch_pass(bool lees_edwards, int64_t n_pairs) {
     if (!now) continue;
     REQUIRE(expect < c);
     CHECK(tp[expect] == p);
-    for (int k = 0; k < D; ++k) CHECK(td[D * expect + k] == d[k]);
+    for (int k = 0; k < D; ++k) CHECK(td_cols[k][expect] == d[k]);
     ++expect;
   }
   CHECK(c == expect);
@@ -83,12 +86,16 @@ void check_touch_pass(bool lees_edwards, int64_t n_pairs) {
 }  // namespace
 
 TEST_CASE("touch pass matches the nearest-image test bit for bit (periodic and Lees-Edwards, 2D and 3D)") {
-  for (int64_t n_pairs : {1, 2, 7, 200, 201}) {
-    check_touch_pass<2>(false, n_pairs);
-    check_touch_pass<3>(false, n_pairs);
-    check_touch_pass<2>(true, n_pairs);
-    check_touch_pass<3>(true, n_pairs);
+  for (bool baseline : {false, true}) {
+    dem::limit_to_baseline(baseline);  // AVX2 where present, then the baseline
+    for (int64_t n_pairs : {1, 2, 5, 7, 200, 201, 203}) {
+      check_touch_pass<2>(false, n_pairs);
+      check_touch_pass<3>(false, n_pairs);
+      check_touch_pass<2>(true, n_pairs);
+      check_touch_pass<3>(true, n_pairs);
+    }
   }
+  dem::limit_to_baseline(false);
 }
 
 TEST_CASE("after every step pair_touch says which listed pairs touch, and pairs apart hold no force or spring") {
