@@ -56,7 +56,7 @@ struct Touching {
   enum Column { kN = 0, kVt = D, kXi = 2 * D, kFn = 3 * D, kK, kMeff, kColumns };
   std::vector<int32_t> pair;
   std::vector<int32_t> gi, gj;  // the grains of each touching pair
-  std::vector<double> d;  // separation (nearest image): component k from d[k * cap]
+  std::vector<double> d;  // separation (nearest image), |d|, 1 / |d|: column k from d[k * cap]
   std::vector<double> columns;
   std::vector<double> out;  // kOut<D> per entry (tangential_columns)
   size_t cap = 0;
@@ -67,7 +67,7 @@ struct Touching {
       pair.resize(n);
       gi.resize(n);
       gj.resize(n);
-      d.resize(D * n);
+      d.resize((D + 2) * n);
       columns.resize(kColumns * n);
       out.resize(kOut<D> * n);
     }
@@ -186,8 +186,8 @@ void pair_block(const PairArgs<D> a, int64_t blk) {
   thread_local Touching<D> tl;
   tl.reserve(static_cast<size_t>(q1 - q0));
   int32_t* __restrict tp = tl.pair.data();
-  double* td[D];
-  for (int k = 0; k < D; ++k) td[k] = tl.d.data() + k * tl.cap;
+  double* td[D + 2];
+  for (int k = 0; k < D + 2; ++k) td[k] = tl.d.data() + k * tl.cap;
   // Pass 1: which candidate pairs touch, in one flat loop over the candidates of the block's
   // rows (a loop per row would mispredict its exit on rows of varying length).
   const int64_t c = touch_pass<D>({x, r, a.cand_p, a.cand_i, a.cand_j, a.touch, pf, Friction ? hist : nullptr}, a.img,
@@ -219,8 +219,8 @@ void pair_block(const PairArgs<D> a, int64_t blk) {
     V d;
     for (int k = 0; k < D; ++k) d[k] = td[k][q];
     const double ri = r[i], rj = r[j];
-    const double dist = d.norm();
-    const V nrm = d * (1.0 / dist);
+    const double dist = td[D][q];
+    const V nrm = d * td[D + 1][q];
     const double overlap = ri + rj - dist;
     if (overlap > a.max_overlap * std::min(ri, rj)) a.overlap_alarm->raise(i, overlap / std::min(ri, rj));
     V vr = V::load(v + D * i) - V::load(v + D * j);

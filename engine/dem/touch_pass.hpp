@@ -11,6 +11,7 @@
 // SSE4.1.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 
 #if defined(__SSE4_1__)
@@ -62,7 +63,8 @@ template <int D, bool Reach>
                                                                          const int32_t* __restrict pi,
                                                                          const int32_t* __restrict pj,
                                                                          const shear::PeriodicImage<D>& img,
-                                                                         double reach, int64_t q, __m256d* d) {
+                                                                         double reach, int64_t q, __m256d* d,
+                                                                         __m256d* d2_out = nullptr) {
   const int64_t i0 = pi[q], i1 = pi[q + 1], i2 = pi[q + 2], i3 = pi[q + 3];
   const int64_t j0 = pj[q], j1 = pj[q + 1], j2 = pj[q + 2], j3 = pj[q + 3];
   for (int k = 0; k < D; ++k)
@@ -78,6 +80,7 @@ template <int D, bool Reach>
     d[k] = _mm256_sub_pd(d[k], _mm256_mul_pd(_mm256_set1_pd(img.image_len[k]), n));
     d2 = _mm256_add_pd(d2, _mm256_mul_pd(d[k], d[k]));
   }
+  if (d2_out) *d2_out = d2;
   __m256d rs = _mm256_add_pd(four(r, i0, i1, i2, i3), four(r, j0, j1, j2, j3));
   if constexpr (Reach) rs = _mm256_add_pd(rs, _mm256_set1_pd(reach));
   return _mm256_movemask_pd(_mm256_cmp_pd(d2, _mm256_mul_pd(rs, rs), _CMP_LT_OQ));
@@ -185,6 +188,20 @@ template <int D>
   }
 }
 
+// Entry c of the columns of separations: the D components, |d| and 1 / |d| (the square root
+// and the division of the normal law, done here, four pairs at a time with AVX2).
+template <int D, class Columns>
+[[gnu::always_inline]] inline void store_separation(const Columns& td, int64_t c, const double* d) {
+  double d2 = 0;
+  for (int k = 0; k < D; ++k) {
+    td[k][c] = d[k];
+    d2 += d[k] * d[k];
+  }
+  const double dist = std::sqrt(d2);
+  td[D][c] = dist;
+  td[D + 1][c] = 1.0 / dist;
+}
+
 #if defined(__SSE4_1__)
 namespace scan_detail {
 
@@ -210,21 +227,28 @@ constexpr LeftPack make_left_pack() {
 }
 inline constexpr LeftPack kLeftPack = make_left_pack();
 
+[[gnu::target("avx2"), gnu::always_inline]] inline __m256d left_pack(__m256d v, __m256i lanes) {
+  return _mm256_castps_pd(_mm256_permutevar8x32_ps(_mm256_castpd_ps(v), lanes));
+}
+
 // The touch pass four entries at a time: the touching ones of each four are packed with one
 // permutation per column (no branch, no per-entry stores).
 template <int D>
 [[gnu::target("avx2")]] int64_t touch_avx2(const TouchArrays a, const shear::PeriodicImage<D> img, int64_t q0,
                                            int64_t q1, int32_t* __restrict tp, double* const* td) {
-  double* __restrict tdk[D];
-  for (int k = 0; k < D; ++k) tdk[k] = td[k];
+  double* __restrict tdk[D + 2];
+  for (int k = 0; k < D + 2; ++k) tdk[k] = td[k];
   int64_t q = q0, c = 0;
   for (; q + 3 < q1; q += 4) {
     __m256d d[D];
-    const int mask = four_separations<D, false>(a.x, a.r, a.pi, a.pj, img, 0.0, q, d);
+    __m256d d2;
+    const int mask = four_separations<D, false>(a.x, a.r, a.pi, a.pj, img, 0.0, q, d, &d2);
     for (int e = 0; e < 4; ++e) update_touch<D>(a, a.pp[q + e], static_cast<uint8_t>((mask >> e) & 1));
     const __m256i pd = _mm256_load_si256(reinterpret_cast<const __m256i*>(kLeftPack.of_double[mask]));
-    for (int k = 0; k < D; ++k)
-      _mm256_storeu_pd(tdk[k] + c, _mm256_castps_pd(_mm256_permutevar8x32_ps(_mm256_castpd_ps(d[k]), pd)));
+    const __m256d dist = _mm256_sqrt_pd(d2);
+    for (int k = 0; k < D; ++k) _mm256_storeu_pd(tdk[k] + c, left_pack(d[k], pd));
+    _mm256_storeu_pd(tdk[D] + c, left_pack(dist, pd));
+    _mm256_storeu_pd(tdk[D + 1] + c, left_pack(_mm256_div_pd(_mm256_set1_pd(1.0), dist), pd));
     const __m256i pairs = _mm256_castsi128_si256(_mm_loadu_si128(reinterpret_cast<const __m128i*>(a.pp + q)));
     const __m256i pk = _mm256_load_si256(reinterpret_cast<const __m256i*>(kLeftPack.of_int[mask]));
     _mm_storeu_si128(reinterpret_cast<__m128i*>(tp + c), _mm256_castsi256_si128(_mm256_permutevar8x32_epi32(pairs, pk)));
@@ -239,7 +263,7 @@ template <int D>
     const uint8_t now = dv.squaredNorm() < rs * rs;
     update_touch<D>(a, a.pp[q], now);
     tp[c] = a.pp[q];
-    for (int k = 0; k < D; ++k) tdk[k][c] = dv[k];
+    store_separation<D>(tdk, c, dv.c);
     c += now;
   }
   return c;
@@ -249,7 +273,8 @@ template <int D>
 #endif
 
 // The touch pass over the candidate entries [q0, q1) of a block: packs the touching pairs into
-// `tp` (pair index) and `td` (separation: component k in column td[k]) and returns how many;
+// `tp` (pair index) and `td` (D + 2 columns: the separation's components, its norm and the
+// inverse of the norm; store_separation) and returns how many;
 // a pair that touched at the last evaluation and no longer does gets its force (and spring)
 // cleared; pair_touch is updated. The arguments come by value: local copies that the stores
 // cannot alias.
@@ -259,14 +284,14 @@ int64_t touch_pass(const TouchArrays a, const shear::PeriodicImage<D> img, int64
 #if defined(__SSE4_1__)
   if (avx2_in_use()) return scan_detail::touch_avx2<D>(a, img, q0, q1, tp, td);
 #endif
-  double* __restrict tdk[D];
-  for (int k = 0; k < D; ++k) tdk[k] = td[k];
+  double* __restrict tdk[D + 2];
+  for (int k = 0; k < D + 2; ++k) tdk[k] = td[k];
   return scan_pairs<D, false>(a.x, a.r, a.pi, a.pj, img, 0.0, q0, q1, [=](int64_t q, const double* d, uint8_t now, int64_t c) {
     const int64_t p = a.pp[q];
     update_touch<D>(a, p, now);
     // Stored whether touching or not, then counted: which pairs touch follows no pattern.
     tp[c] = static_cast<int32_t>(p);
-    for (int k = 0; k < D; ++k) tdk[k][c] = d[k];
+    store_separation<D>(tdk, c, d);
     return c + now;
   });
 }

@@ -1,8 +1,8 @@
 // The touch pass of contact_forces: the four-lane (AVX2), two-lane and scalar paths give the
-// same pairs and the same separations, bit for bit, as the nearest-image arithmetic of
-// PeriodicImage, in periodic and Lees-Edwards boxes, in 2D and 3D; forces and springs of pairs just come apart
-// are cleared, the others left alone. Entry q of the pass is pair pp[q] (here the pairs in
-// reverse), whose flags, forces and springs it updates.
+// same pairs and the same separations (with their norms and inverses), bit for bit, as the
+// nearest-image arithmetic of PeriodicImage, in periodic and Lees-Edwards boxes, in 2D and 3D;
+// forces and springs of pairs just come apart are cleared, the others left alone. Entry q of the
+// pass is pair pp[q] (here the pairs in reverse), whose flags, forces and springs it updates.
 #include <doctest/doctest.h>
 
 #include <random>
@@ -50,9 +50,9 @@ void check_touch_pass(bool lees_edwards, int64_t n_pairs) {
   for (int64_t q = 0; q < n_pairs; ++q) pp[q] = static_cast<int32_t>(n_pairs - 1 - q);
   const std::vector<uint8_t> before = touch;
   std::vector<int32_t> tp(n_pairs);
-  std::vector<double> td(D * n_pairs);
-  double* td_cols[D];
-  for (int k = 0; k < D; ++k) td_cols[k] = td.data() + k * n_pairs;
+  std::vector<double> td((D + 2) * n_pairs);
+  double* td_cols[D + 2];
+  for (int k = 0; k < D + 2; ++k) td_cols[k] = td.data() + k * n_pairs;
   const int64_t c = dem::touch_pass<D>(
       {x.data(), r.data(), pp.data(), pi.data(), pj.data(), touch.data(), pf.data(), hist.data()}, img, 0, n_pairs,
       tp.data(), td_cols);
@@ -74,6 +74,8 @@ void check_touch_pass(bool lees_edwards, int64_t n_pairs) {
     REQUIRE(expect < c);
     CHECK(tp[expect] == p);
     for (int k = 0; k < D; ++k) CHECK(td_cols[k][expect] == d[k]);
+    CHECK(td_cols[D][expect] == d.norm());
+    CHECK(td_cols[D + 1][expect] == 1.0 / d.norm());
     ++expect;
   }
   CHECK(c == expect);
