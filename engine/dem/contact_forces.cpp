@@ -214,6 +214,9 @@ void pair_block(const PairArgs<D> a, int64_t blk) {
   int32_t* __restrict gj = tl.gj.data();
   for (int64_t q = 0; q < c; ++q) {
     const int64_t p = tp[q], i = pi[p], j = pj[p];
+    // The springs, indexed by pair, are scattered over a large array: ask for those of a later
+    // pair now (its load here, and its store in the sums, would otherwise wait on memory).
+    if constexpr (Friction) __builtin_prefetch(hist + D * tp[std::min(q + 16, c - 1)], 1);
     gi[q] = static_cast<int32_t>(i);
     gj[q] = static_cast<int32_t>(j);
     V d;
