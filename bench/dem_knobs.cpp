@@ -13,6 +13,7 @@
 //    that gap); the state after the run must be the same, bit for bit, as testing every pair.
 // Appends to bench/results/dem_knobs.csv.
 #include <cmath>
+#include <cstdlib>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
@@ -29,6 +30,17 @@
 using namespace silt;
 
 namespace {
+
+// `steps` steps as `silt run` does them (Simulation::run: the pair forces are stored only where
+// seen, here at the end).
+void run_steps(Simulation& sim, int64_t steps) {
+  RunOptions opt;
+  opt.steps = steps;
+  if (sim.run(opt).end != RunEnd::kDone) {
+    std::fprintf(stderr, "silt failed: %s\n", sim.state().failure.message.c_str());
+    std::exit(3);
+  }
+}
 
 std::string csv_path() { return std::string(SILT_SOURCE_DIR) + "/bench/results/dem_knobs.csv"; }
 const char* kHeader = "date,knob,value,case,error_or_rate,aux1,aux2";
@@ -99,7 +111,7 @@ void skin_table(const State& settled, int64_t steps) {
     sim.restore(st);
     const int64_t b0 = sim.state().nbr_builds;
     const double t0 = bench::now_s();
-    for (int64_t k = 0; k < steps; ++k) sim.step();
+    run_steps(sim, steps);
     const double rate = sim.state().n * static_cast<double>(steps) / (bench::now_s() - t0);
     const Measurements meas = measure(sim.model(), sim.state());
     std::printf("%-10.3f %-16.4g %-10lld %-14.2f %-12.0f %-12.1f\n", skin, rate,
@@ -124,7 +136,7 @@ double contact_skin_run(const State& settled, int64_t steps, double skin, double
   sim.step();  // lists and candidates of this run, outside the timing
   const int64_t sel0 = sim.state().scratch.cand_selections;
   const double t0 = bench::now_s();
-  for (int64_t k = 1; k < steps; ++k) sim.step();
+  run_steps(sim, steps - 1);
   const double rate = sim.state().n * static_cast<double>(steps - 1) / (bench::now_s() - t0);
   const State& s = sim.state();
   *hash = state_hash(s);
