@@ -6,7 +6,7 @@
 #include "core/buffers.hpp"
 #include "core/parallel.hpp"
 #include "dem/pair_schedule.hpp"
-#include "dem/touch_pass.hpp"
+#include "dem/pair_scan.hpp"
 
 namespace silt::dem {
 namespace {
