@@ -5,7 +5,13 @@
 namespace silt::dem {
 namespace {
 
-const bool kHasAvx2 = __builtin_cpu_supports("avx2");
+// Also at static initialisation, which may come before the run-time library has read the
+// processor's features: read them first.
+bool detect_avx2() {
+  __builtin_cpu_init();
+  return __builtin_cpu_supports("avx2");
+}
+const bool kHasAvx2 = detect_avx2();
 std::atomic<bool> g_baseline{false};
 
 }  // namespace
