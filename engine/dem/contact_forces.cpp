@@ -58,7 +58,7 @@ struct Touching {
   std::vector<int32_t> gi, gj;  // the grains of each touching pair
   std::vector<double> d;  // separation (nearest image), |d|, 1 / |d|: column k from d[k * cap]
   std::vector<double> columns;
-  std::vector<double> out;  // kOut<D> per entry (tangential_columns)
+  std::vector<double> out;  // kOut<D> per entry, laid out by record<D>
   size_t cap = 0;
   void reserve(size_t n) {
     n = (n + kLanes - 1) / kLanes * kLanes;  // whole groups: the tangential pass reads them
