@@ -30,6 +30,7 @@
 #include "dem/stages.hpp"
 #include "dem/touch_pass.hpp"
 #include "shear/periodic_image.hpp"
+#include "shear/stages.hpp"
 
 namespace silt::dem {
 namespace {
@@ -302,7 +303,8 @@ void pair_forces(const Model& m, State& s) {
                 s.particle_inv_m.data(), s.nbr_start.data(), s.pair_i.data(), s.pair_j.data(), sc.cand_end.data(),
                 sc.cand_p.data(), sc.cand_i.data(), sc.cand_j.data(), s.pair_f.data(), s.pair_hist.data(),
                 s.pair_touch.data(), s.particle_f.data(), s.particle_t.data(), &s.alarm_overlap,
-                s.boundary_seen || box_reads_every_step(m)};
+                // The box stage reads them at the end of every step.
+                s.boundary_seen || shear::box_stage_on(m)};
   if constexpr (Affine)
     for (int k = 0; k < D; ++k) a.grad[k] = s.box_rate[k] / s.box.len[k];
   double* force = a.force;

@@ -8,10 +8,6 @@
 
 namespace silt::dem {
 
-// A controlled box reads the pair forces at the end of every step (shear::box_kick): they are
-// stored in every step (State::boundary_seen).
-inline bool box_reads_every_step(const Model& m) { return m.box_control.on || m.shear.stress_controlled; }
-
 // (particle_v, particle_f, particle_t, particle_x, box_stress, shear_stress) => (particle_v,
 //  particle_w, particle_x, particle_disp, box, box_rate, shear_rate, le_displacement,
 //  nbr_max_disp, nbr_step_disp, nbr_strain)

@@ -54,6 +54,23 @@ template <int D, class Columns>
   td[D + 1][c] = 1.0 / dist;
 }
 
+// What the touch pass does with each tested entry (a sink of scan_pairs): update the pair's
+// flag, store its index and separation at the packed position c, whether it touches or not
+// (which pairs touch follows no pattern: a branch would mispredict), and count it if it does.
+template <int D>
+struct TouchSink {
+  TouchArrays a;
+  int32_t* tp;
+  double* td[D + 2];
+  int64_t operator()(int64_t q, const double* d, uint8_t now, int64_t c) const {
+    const int64_t p = a.pp[q];
+    update_touch<D>(a, p, now);
+    tp[c] = static_cast<int32_t>(p);
+    store_separation<D>(td, c, d);
+    return c + now;
+  }
+};
+
 #if defined(__SSE4_1__)
 namespace scan_detail {
 
@@ -106,19 +123,9 @@ template <int D>
     _mm_storeu_si128(reinterpret_cast<__m128i*>(tp + c), _mm256_castsi256_si128(_mm256_permutevar8x32_epi32(pairs, pk)));
     c += __builtin_popcount(static_cast<unsigned>(mask));
   }
-  for (; q < q1; ++q) {
-    using V = SVec<D>;
-    const int64_t i = a.pi[q], j = a.pj[q];
-    V dv = V::load(a.x + D * i) - V::load(a.x + D * j);
-    img.apply(dv);
-    const double rs = a.r[i] + a.r[j];
-    const uint8_t now = dv.squaredNorm() < rs * rs;
-    update_touch<D>(a, a.pp[q], now);
-    tp[c] = a.pp[q];
-    store_separation<D>(tdk, c, dv.c);
-    c += now;
-  }
-  return c;
+  TouchSink<D> sink{a, tp, {}};
+  for (int k = 0; k < D + 2; ++k) sink.td[k] = td[k];
+  return scalar<D, false>(a.x, a.r, a.pi, a.pj, img, 0.0, q, q1, c, sink);
 }
 
 }  // namespace scan_detail
@@ -136,16 +143,9 @@ int64_t touch_pass(const TouchArrays a, const shear::PeriodicImage<D> img, int64
 #if defined(__SSE4_1__)
   if (avx2_in_use()) return scan_detail::touch_avx2<D>(a, img, q0, q1, tp, td);
 #endif
-  double* __restrict tdk[D + 2];
-  for (int k = 0; k < D + 2; ++k) tdk[k] = td[k];
-  return scan_pairs<D, false>(a.x, a.r, a.pi, a.pj, img, 0.0, q0, q1, [=](int64_t q, const double* d, uint8_t now, int64_t c) {
-    const int64_t p = a.pp[q];
-    update_touch<D>(a, p, now);
-    // Stored whether touching or not, then counted: which pairs touch follows no pattern.
-    tp[c] = static_cast<int32_t>(p);
-    store_separation<D>(tdk, c, d);
-    return c + now;
-  });
+  TouchSink<D> sink{a, tp, {}};
+  for (int k = 0; k < D + 2; ++k) sink.td[k] = td[k];
+  return scan_pairs<D, false>(a.x, a.r, a.pi, a.pj, img, 0.0, q0, q1, sink);
 }
 
 }  // namespace silt::dem

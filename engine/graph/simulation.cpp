@@ -86,7 +86,7 @@ void Simulation::prepare() {
     dem::contact_forces(model_, s);
     if (!model_.walls.empty()) dem::wall_forces(model_, s);
     dem::add_wall_forces(model_, s);
-    if (model_.box_control.on || model_.shear.stress_controlled) shear::box_stress(model_, s);
+    if (shear::box_stage_on(model_)) shear::box_stress(model_, s);
     std::fill(s.pair_hist.begin(), s.pair_hist.end(), 0.0);
     std::fill(s.wall_hist.begin(), s.wall_hist.end(), 0.0);
   });
@@ -231,10 +231,9 @@ RunReport Simulation::run(const RunOptions& opt) {
   // A step stores its pair forces (State::boundary_seen) only when something sees its end: a
   // hook, a request, a restart point or the static test (every check_every steps), the end of
   // the run.
-  const bool box = dem::box_reads_every_step(model_);
   auto observed = [&](int64_t k) {
     const int64_t next = state_.step + 1;
-    if (box || k + 1 == opt.steps || next % model_.limits.check_every == 0) return true;
+    if (k + 1 == opt.steps || next % model_.limits.check_every == 0) return true;
     for (const PeriodicHook& h : opt.hooks)
       if (h.every > 0 && h.fn && next % h.every == 0) return true;
     return opt.boundary_wanted && opt.boundary_wanted();

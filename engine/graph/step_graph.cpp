@@ -56,7 +56,7 @@ std::vector<Stage> build_stages(const Model& m) {
                               {"particle_f", "particle_t", "particle_v", "particle_w"});
   dep(second_kick, pairs, "kicks with the pair forces of this step");
   if (walls >= 0) dep(second_kick, walls, "adds the wall forces of this step");
-  if (m.box_control.on || m.shear.stress_controlled) {
+  if (shear::box_stage_on(m)) {
     const int box = add("box_kick", &shear::box_kick,
                         with(grain, {"pair_f", "particle_v", "particle_x", "nbr_start", "pair_j", "box"}),
                         {"box_stress", "box_rate", "shear_stress", "shear_rate"});

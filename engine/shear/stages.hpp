@@ -9,6 +9,10 @@
 
 namespace silt::shear {
 
+// Whether the step has a box_kick stage: controlled box lengths or an imposed shear stress. It
+// reads the pair forces at the end of every step, seen or not (State::boundary_seen).
+inline bool box_stage_on(const Model& m) { return m.box_control.on || m.shear.stress_controlled; }
+
 // (box_stress, shear_stress, box_rate, shear_rate, box) => (box, box_rate, shear_rate,
 //  le_displacement, shear_strain, nbr_strain)
 // First half kick of the controlled lengths and of a stress-controlled shear rate, then their
