@@ -25,6 +25,42 @@ std::string with_lists(std::string text, const std::string& lo, const std::strin
   return text;
 }
 
+std::string frictional_gas(int dim, double shear_rate, double tangential_damping, double contact_skin) {
+  const char* text = R"(
+[scene]
+dimension = {dim}
+seed = 5
+[domain]
+lo = LO
+hi = HI
+periodic = PER
+[contact]
+model = "hooke"
+k_n = 1e4
+gamma_n = 20
+friction = 0.4
+tangential_damping = {zt}
+[[grains]]
+count = {n}
+radius_min = 0.3
+radius_max = 0.5
+placement = "random"
+velocity = "gaussian"
+temperature = 1.0
+[neighbor]
+skin = 0.3
+contact_skin = {cs}
+[run]
+dt = 1e-3
+)";
+  const bool d3 = dim == 3;
+  std::string scene = fill(with_lists(text, d3 ? "[0, 0, 0]" : "[0, 0]", d3 ? "[7, 7, 7]" : "[12, 12]",
+                                      d3 ? "[true, true, true]" : "[true, true]"),
+                           {{"dim", dim}, {"n", d3 ? 300 : 130}, {"zt", tangential_damping}, {"cs", contact_skin}});
+  if (shear_rate != 0) scene += "[shear]\nrate = " + fill("{g}", {{"g", shear_rate}}) + "\n";
+  return scene;
+}
+
 std::set<std::pair<int, int>> listed_pairs(const State& s) {
   std::set<std::pair<int, int>> out;
   for (int64_t i = 0; i < s.n; ++i)

@@ -39,6 +39,11 @@ namespace silt::test {
 // Replace every "{key}" of `text` by its value: scene templates with parameters.
 std::string fill(std::string text, std::initializer_list<std::pair<const char*, double>> values);
 
+// A periodic box of frictional grains (hooke contacts, radii 0.3 to 0.5, placed at random with
+// random velocities): 130 disks in 12 x 12 or 300 spheres in 7 x 7 x 7. Sheared at `shear_rate`
+// (Lees-Edwards) unless it is 0; contact.tangential_damping and neighbor.contact_skin as given.
+std::string frictional_gas(int dim, double shear_rate, double tangential_damping, double contact_skin);
+
 // Two equal grains approaching head-on along x at relative speed v (no gravity). Run the
 // simulation until they separate; returns {restitution, contact duration}.
 struct Collision {

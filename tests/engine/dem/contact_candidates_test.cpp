@@ -17,41 +17,7 @@ using namespace silt;
 
 namespace {
 
-const char* kScene = R"(
-[scene]
-dimension = {dim}
-seed = 5
-[domain]
-lo = LO
-hi = HI
-periodic = PER
-[shear]
-rate = 3.0
-[contact]
-model = "hooke"
-k_n = 1e4
-gamma_n = 20
-friction = 0.4
-[[grains]]
-count = {n}
-radius_min = 0.3
-radius_max = 0.5
-placement = "random"
-velocity = "gaussian"
-temperature = 1.0
-[neighbor]
-skin = 0.3
-contact_skin = {cs}
-[run]
-dt = 1e-3
-)";
-
-std::string scene(int dim, double contact_skin) {
-  const bool d3 = dim == 3;
-  return test::fill(test::with_lists(kScene, d3 ? "[0, 0, 0]" : "[0, 0]", d3 ? "[7, 7, 7]" : "[12, 12]",
-                                     d3 ? "[true, true, true]" : "[true, true]"),
-                    {{"dim", dim}, {"n", d3 ? 300 : 130}, {"cs", contact_skin}});
-}
+std::string scene(int dim, double contact_skin) { return test::frictional_gas(dim, 3.0, 0.0, contact_skin); }
 
 // Every pair touching now is among the candidates of its block, which are in list order.
 template <int D>
