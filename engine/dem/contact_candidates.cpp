@@ -6,7 +6,7 @@
 #include "core/buffers.hpp"
 #include "core/parallel.hpp"
 #include "dem/pair_schedule.hpp"
-#include "dem/pair_scan.hpp"
+#include "dem/touch_pass.hpp"
 
 namespace silt::dem {
 namespace {
@@ -32,17 +32,14 @@ void select_block(State& s, const shear::PeriodicImage<D>& img, double gap, int6
   if constexpr (All) {
     for (int64_t p = p0; p < p1; ++p) c = keep(p, 1, c);
   } else {
-    uint8_t* touch = s.pair_touch.data();
-    double* pf = s.pair_f.data();
-    double* hist = s.pair_hist.data();
+    // Entry p is pair p here.
+    const TouchArrays ta{s.particle_x.data(), s.particle_r.data(), nullptr, pi, pj,
+                         s.pair_touch.data(), s.pair_f.data(), s.pair_hist.data()};
     c = scan_pairs<D, true>(s.particle_x.data(), s.particle_r.data(), pi, pj, img, gap, p0, p1,
                             [=](int64_t p, const double*, uint8_t within, int64_t n) {
-                              // A pair left out is apart: clear what it may hold (rare, so the
-                              // branch is well predicted).
-                              if (!within && touch[p]) {
-                                for (int k = 0; k < D; ++k) pf[D * p + k] = hist[D * p + k] = 0;
-                                touch[p] = 0;
-                              }
+                              // A pair left out is apart: clear what it may hold, as the touch
+                              // pass would (rare, so the branch is well predicted).
+                              if (!within) update_touch<D>(ta, p, 0);
                               return keep(p, within, n);
                             });
   }
