@@ -6,6 +6,7 @@
 
 #include <atomic>
 #include <limits>
+#include <string>
 #include <vector>
 
 #include "support/scenes.hpp"
@@ -14,29 +15,8 @@ using namespace silt;
 
 namespace {
 
-const char* kBed = R"(
-[scene]
-dimension = 3
-seed = 11
-[domain]
-lo = [0, 0, 0]
-hi = [6, 6, 6]
-periodic = [true, true, true]
-[contact]
-model = "hooke"
-k_n = 1e5
-gamma_n = 10
-friction = 0.5
-[[grains]]
-count = 200
-radius_min = 0.35
-radius_max = 0.5
-placement = "random"
-velocity = "gaussian"
-temperature = 5.0
-[run]
-dt = 3e-4
-)";
+// A frictional gas in a periodic box (its neighbour list in the default contact skin).
+const std::string kBed = test::frictional_gas(3, 0.0, 0.0, 0.06);
 
 constexpr int64_t kSteps = 90;
 
