@@ -21,7 +21,6 @@
 #include <type_traits>
 #include <vector>
 
-#include "core/parallel.hpp"
 #include "core/small_vec.hpp"
 #include "dem/contact_candidates.hpp"
 #include "dem/contact_laws.hpp"
@@ -307,19 +306,17 @@ void pair_forces(const Model& m, State& s) {
                 s.boundary_seen || shear::box_stage_on(m)};
   if constexpr (Affine)
     for (int k = 0; k < D; ++k) a.grad[k] = s.box_rate[k] / s.box.len[k];
-  double* force = a.force;
-  double* torque = a.torque;
-  parallel_for(s.n, 4096, [=](int64_t b, int64_t e) {
-    std::fill(force + D * b, force + D * e, 0.0);
-    if constexpr (Friction) std::fill(torque + R * b, torque + R * e, 0.0);
+  PairSchedule& sched = sc.schedule;
+  run_pair_schedule(sched, [&a, &sched](int32_t blk) {
+    // The first block to write a grain clears its sums.
+    constexpr int64_t B = PairSchedule::kBlock;
+    for (int32_t k = sched.clears_start[blk]; k < sched.clears_start[blk + 1]; ++k) {
+      const int64_t b = sched.clears[k] * B, e = std::min(a.n, b + B);
+      std::fill(a.force + D * b, a.force + D * e, 0.0);
+      if constexpr (Friction) std::fill(a.torque + R * b, a.torque + R * e, 0.0);
+    }
+    pair_block<D, Hertz, Friction, Affine>(a, blk);
   });
-  const PairSchedule& sched = sc.schedule;
-  for (int col = 0; col < sched.colours(); ++col) {
-    const int32_t* blocks = sched.blocks.data() + sched.colour_start[col];
-    parallel_for(sched.colour_start[col + 1] - sched.colour_start[col], 1, [&a, blocks](int64_t b, int64_t e) {
-      for (int64_t k = b; k < e; ++k) pair_block<D, Hertz, Friction, Affine>(a, blocks[k]);
-    });
-  }
 }
 
 template <int D>

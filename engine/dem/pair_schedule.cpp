@@ -5,6 +5,44 @@
 
 namespace silt::dem {
 
+namespace {
+
+// The graph of the schedule: the blocks that write grain block t, taken in colour order, form a
+// chain (they conflict pairwise, so their colours differ); the union of these chains orders every
+// two blocks that write a common grain as their colours do, and no others.
+void link_blocks(PairSchedule& s, const std::vector<std::vector<int32_t>>& targets) {
+  const int64_t nb = static_cast<int64_t>(targets.size());
+  std::vector<int32_t> last(nb, -1);  // the latest writer of each grain block so far
+  std::vector<std::vector<int32_t>> after(nb), clears(nb);
+  for (int32_t b : s.blocks)  // colour order
+    for (int32_t t : targets[b]) {
+      if (last[t] < 0) clears[b].push_back(t);
+      else after[last[t]].push_back(b);
+      last[t] = b;
+    }
+  s.n_before.assign(nb, 0);
+  s.after_start.assign(nb + 1, 0);
+  s.clears_start.assign(nb + 1, 0);
+  s.after.clear();
+  s.clears.clear();
+  for (int64_t b = 0; b < nb; ++b) {
+    std::vector<int32_t>& a = after[b];
+    std::sort(a.begin(), a.end());
+    a.erase(std::unique(a.begin(), a.end()), a.end());
+    for (int32_t c : a) ++s.n_before[c];
+    s.after.insert(s.after.end(), a.begin(), a.end());
+    s.after_start[b + 1] = static_cast<int32_t>(s.after.size());
+    s.clears.insert(s.clears.end(), clears[b].begin(), clears[b].end());
+    s.clears_start[b + 1] = static_cast<int32_t>(s.clears.size());
+  }
+  s.roots.clear();
+  for (int32_t b : s.blocks)
+    if (s.n_before[b] == 0) s.roots.push_back(b);
+  s.waiting.assign(nb, 0);
+}
+
+}  // namespace
+
 PairSchedule build_pair_schedule(int64_t n, const std::vector<int32_t>& nbr_start, const std::vector<int32_t>& pair_j) {
   constexpr int64_t B = PairSchedule::kBlock;
   const int64_t nb = (n + B - 1) / B;
@@ -42,6 +80,7 @@ PairSchedule build_pair_schedule(int64_t n, const std::vector<int32_t>& nbr_star
   s.blocks.resize(nb);
   std::vector<int32_t> pos(s.colour_start.begin(), s.colour_start.end() - 1);
   for (int64_t b = 0; b < nb; ++b) s.blocks[pos[colour[b]]++] = static_cast<int32_t>(b);
+  link_blocks(s, targets);
   return s;
 }
 

@@ -9,11 +9,20 @@
 // after the other. Each grain thus receives its pair forces in an order fixed by the list alone:
 // by colour, then by row, then by position in the row.
 //
+// The colours need not end in a barrier: run_pair_schedule starts each block as soon as the
+// blocks before it that write the same grains have run (PairSchedule::after), which keeps that
+// order and lets a thread go on with other blocks while one block waits on a busy core.
+//
 // With grains in cell order (see neighbor_list.cpp) a block's partners lie within about one
 // layer of cells, and a few colours suffice; without that order the schedule stays correct and
 // only runs more serially.
 #pragma once
 
+#include <tbb/parallel_for_each.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <atomic>
 #include <cstdint>
 #include <vector>
 
@@ -23,5 +32,25 @@ namespace silt::dem {
 
 // The schedule of a half list in CSR form (row i holds its partners j).
 PairSchedule build_pair_schedule(int64_t n, const std::vector<int32_t>& nbr_start, const std::vector<int32_t>& pair_j);
+
+// body(b) for every block b of the schedule, each after the blocks before it in the schedule's
+// order that write the same grains, and in parallel with the others.
+template <class F>
+void run_pair_schedule(PairSchedule& s, F&& body) {
+  if (tbb::this_task_arena::max_concurrency() == 1 || s.blocks.size() <= 1) {
+    for (int32_t b : s.blocks) body(b);
+    return;
+  }
+  std::copy(s.n_before.begin(), s.n_before.end(), s.waiting.begin());
+  tbb::parallel_for_each(s.roots.begin(), s.roots.end(), [&](int32_t b, tbb::feeder<int32_t>& ready) {
+    body(b);
+    for (int32_t k = s.after_start[b]; k < s.after_start[b + 1]; ++k) {
+      const int32_t c = s.after[k];
+      // The last predecessor to finish hands c on; acq_rel orders every predecessor's writes
+      // before c's reads.
+      if (std::atomic_ref<int32_t>(s.waiting[c]).fetch_sub(1, std::memory_order_acq_rel) == 1) ready.add(c);
+    }
+  });
+}
 
 }  // namespace silt::dem

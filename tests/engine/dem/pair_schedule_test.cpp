@@ -1,8 +1,13 @@
 // The pair schedule: blocks of one colour never write the same grain, every block is scheduled
-// once, and grains in cell order need only a few colours.
+// once, grains in cell order need only a few colours, and its graph makes the blocks that write
+// a grain run in colour order whatever order the ready blocks are taken in, each grain's sums
+// cleared first.
 #include <doctest/doctest.h>
 
+#include <tbb/task_arena.h>
+
 #include <algorithm>
+#include <atomic>
 #include <random>
 #include <set>
 
@@ -14,10 +19,54 @@ using namespace silt;
 
 namespace {
 
+constexpr int64_t B = PairSchedule::kBlock;
+
+// The grain blocks that block b writes.
+std::set<int32_t> written_by(int64_t n, const std::vector<int32_t>& start, const std::vector<int32_t>& pj, int32_t b) {
+  std::set<int32_t> t;
+  for (int64_t i = b * B; i < std::min(n, (b + 1) * B); ++i) {
+    t.insert(static_cast<int32_t>(i / B));
+    for (int32_t p = start[i]; p < start[i + 1]; ++p) t.insert(static_cast<int32_t>(pj[p] / B));
+  }
+  return t;
+}
+
+// Runs the schedule's graph serially, taking a random ready block each time, and checks that the
+// writers of every grain block come in colour order, the first of them clearing it.
+void check_graph(int64_t n, const std::vector<int32_t>& start, const std::vector<int32_t>& pj, const PairSchedule& s,
+                 std::mt19937& rng) {
+  const int64_t nb = static_cast<int64_t>(s.blocks.size());
+  std::vector<std::vector<int32_t>> expected(nb), seen(nb);
+  std::vector<int> cleared(nb, 0);
+  for (int32_t b : s.blocks)
+    for (int32_t t : written_by(n, start, pj, b)) expected[t].push_back(b);
+  std::vector<int32_t> waiting = s.n_before, ready = s.roots;
+  int64_t runs = 0;
+  while (!ready.empty()) {
+    const size_t k = std::uniform_int_distribution<size_t>(0, ready.size() - 1)(rng);
+    const int32_t b = ready[k];
+    ready.erase(ready.begin() + static_cast<std::ptrdiff_t>(k));
+    ++runs;
+    for (int32_t k2 = s.clears_start[b]; k2 < s.clears_start[b + 1]; ++k2) {
+      const int32_t t = s.clears[k2];
+      CHECK(seen[t].empty());
+      ++cleared[t];
+    }
+    for (int32_t t : written_by(n, start, pj, b)) {
+      CHECK(cleared[t] == 1);
+      seen[t].push_back(b);
+    }
+    for (int32_t k2 = s.after_start[b]; k2 < s.after_start[b + 1]; ++k2)
+      if (--waiting[s.after[k2]] == 0) ready.push_back(s.after[k2]);
+  }
+  CHECK(runs == nb);
+  CHECK(seen == expected);
+}
+
 // Checks the schedule of a half list; returns its number of colours.
 int check_schedule(int64_t n, const std::vector<int32_t>& start, const std::vector<int32_t>& pj) {
   const PairSchedule s = dem::build_pair_schedule(n, start, pj);
-  const int64_t B = PairSchedule::kBlock, nb = (n + B - 1) / B;
+  const int64_t nb = (n + B - 1) / B;
   std::vector<int32_t> blocks = s.blocks;
   std::sort(blocks.begin(), blocks.end());
   std::vector<int32_t> all(nb);
@@ -38,6 +87,8 @@ int check_schedule(int64_t n, const std::vector<int32_t>& start, const std::vect
       }
     }
   }
+  std::mt19937 rng(11);
+  for (int order = 0; order < 3; ++order) check_graph(n, start, pj, s, rng);
   return s.colours();
 }
 
@@ -66,4 +117,32 @@ TEST_CASE("pair schedule: the list of a real packing in cell order needs few col
   const int colours = check_schedule(s.n, s.nbr_start, s.pair_j);
   CHECK(colours <= 8);
   CHECK(static_cast<int64_t>(s.scratch.schedule.blocks.size()) == (s.n + PairSchedule::kBlock - 1) / PairSchedule::kBlock);
+}
+
+TEST_CASE("pair schedule: the parallel pass runs each block once, after the blocks before it") {
+  Simulation sim(compile(load_scene_file(test::scene_path("chute"))), 1);
+  sim.step();
+  const State& st = sim.state();
+  PairSchedule s = dem::build_pair_schedule(st.n, st.nbr_start, st.pair_j);
+  const int64_t nb = static_cast<int64_t>(s.blocks.size());
+  REQUIRE(nb > 8);
+  std::vector<std::vector<int32_t>> writers(nb);  // of each grain block, in colour order
+  for (int32_t b : s.blocks)
+    for (int32_t t : written_by(st.n, st.nbr_start, st.pair_j, b)) writers[t].push_back(b);
+  tbb::task_arena arena(4);
+  for (int pass = 0; pass < 20; ++pass) {
+    std::atomic<int64_t> clock{0};
+    std::vector<int64_t> begin(nb, -1), end(nb, -1);
+    std::vector<int> runs(nb, 0);
+    arena.execute([&] {
+      dem::run_pair_schedule(s, [&](int32_t b) {
+        begin[b] = clock++;
+        ++runs[b];
+        end[b] = clock++;
+      });
+    });
+    CHECK(std::count(runs.begin(), runs.end(), 1) == nb);
+    for (const std::vector<int32_t>& w : writers)
+      for (size_t k = 1; k < w.size(); ++k) CHECK(end[w[k - 1]] < begin[w[k]]);
+  }
 }
