@@ -11,6 +11,7 @@
 // the tangential histories follow their pairs through the permutation.
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 #include "core/buffers.hpp"
 #include "core/parallel.hpp"
@@ -153,10 +154,14 @@ bool permute_to_cell_order(State& s) {
     else if (sh == "N*R") stride = kRotDim<D>;
     else if (sh == "N*W*D") stride = per_grain_wall;
     if (stride == 0 || static_cast<int64_t>(v.size()) != n * stride) return;  // lists, or unused
-    auto old = v;
+    // Gathered from a copy in one reused buffer (the arrays have several element types).
+    const size_t row = static_cast<size_t>(stride) * sizeof(v[0]);
+    sc.permute_buf.resize(static_cast<size_t>(n) * row);
+    const std::byte* old = sc.permute_buf.data();
+    std::memcpy(sc.permute_buf.data(), v.data(), static_cast<size_t>(n) * row);
+    auto* dst = reinterpret_cast<std::byte*>(v.data());
     parallel_for(n, 4096, [&](int64_t b, int64_t e) {
-      for (int64_t k = b; k < e; ++k)
-        for (int64_t c = 0; c < stride; ++c) v[k * stride + c] = old[sc.perm[k] * stride + c];
+      for (int64_t k = b; k < e; ++k) std::memcpy(dst + k * row, old + sc.perm[k] * row, row);
     });
   });
   std::vector<int32_t> cell(n);

@@ -8,6 +8,7 @@
 #pragma once
 
 #include <atomic>
+#include <cstddef>
 #include <cstdint>
 #include <limits>
 #include <map>
@@ -150,6 +151,7 @@ struct State {
     std::vector<int32_t> old_start, old_j;
     std::vector<double> old_hist;
     std::vector<int32_t> perm;  // new index -> old index of the last spatial sort
+    std::vector<std::byte> permute_buf;  // a per-grain array being renumbered by perm
     PairSchedule schedule;      // of the current pair list when schedule_valid
     bool schedule_valid = false;
     // Contact candidates (dem/contact_candidates.hpp): the listed pairs of block b that may touch
