@@ -4,7 +4,6 @@
 #include <fstream>
 #include <iomanip>
 #include <limits>
-#include <sstream>
 
 #include "shell/session.hpp"
 #include "shell/table.hpp"
@@ -12,13 +11,6 @@
 
 namespace silt::shell {
 namespace {
-
-std::string number(double x) {
-  std::ostringstream o;
-  o.precision(6);
-  o << x;
-  return o.str();
-}
 
 // "grains[0].radius" for every schema key, with the indices of the loaded scene's tables.
 std::vector<std::string> concrete_keys(const SceneDesc* d) {
@@ -57,7 +49,7 @@ void Session::cmd_load(const Command& c) {
   overrides_.clear();
   install(std::move(m), std::nullopt);
   const Model& model = sim_->model();
-  out_ << "loaded " << file << ": " << model.n_grains << " grains (" << model.dim << "D), dt = " << number(model.dt)
+  out_ << "loaded " << file << ": " << model.n_grains << " grains (" << model.dim << "D), dt = " << significant(model.dt)
        << " s, " << model.walls.size() << " wall(s)\n";
 }
 
@@ -212,7 +204,9 @@ void Session::cmd_watch(const Command& c) {
 void Session::cmd_stats(const Command&) {
   sim();
   if (!stats_ || stats_->rows().empty()) throw std::runtime_error("no samples yet (run first)");
-  Table t({"observable", "mean", "error", "last", "samples"});
+  // The error of the mean by block averaging, to two digits; "(lower bound)" when the blocks
+  // never became independent.
+  Table t({"observable", "mean", "error", "", "last", "samples"}, {false, true, true, false, true, true});
   std::vector<std::vector<double>> rows;
   at_boundary([&] { rows = stats_->rows(); });
   const auto& names = stats_->names();
@@ -220,8 +214,8 @@ void Session::cmd_stats(const Command&) {
     std::vector<double> series;
     for (const auto& r : rows) series.push_back(r[k]);
     const BlockAverage b = block_average(series);
-    t.add({names[k], number(b.mean), number(b.err) + (b.converged ? "" : " (lower bound)"), number(series.back()),
-           std::to_string(b.n)});
+    const auto [mean, err] = mean_and_error(b.mean, b.err);
+    t.add({names[k], mean, err, b.converged ? "" : "(lower bound)", significant(series.back()), std::to_string(b.n)});
   }
   t.print(out_);
 }
@@ -233,10 +227,14 @@ void Session::cmd_profile(const Command&) {
   double total = 0;
   for (const auto& [name, st] : prof) total += st.seconds;
   if (total == 0) throw std::runtime_error("no step yet (run first)");
-  Table t({"stage", "seconds", "calls", "ms/call", "share"});
-  for (const auto& [name, st] : prof)
-    t.add({name, number(st.seconds), std::to_string(st.calls), number(st.calls ? 1e3 * st.seconds / st.calls : 0.0),
-           number(100 * st.seconds / total) + " %"});
+  std::vector<std::pair<std::string, StageTime>> order(prof.begin(), prof.end());
+  std::stable_sort(order.begin(), order.end(),
+                   [](const auto& a, const auto& b) { return a.second.seconds > b.second.seconds; });
+  Table t({"stage", "seconds", "calls", "us/call", "share"}, {false, true, true, true, true});
+  for (const auto& [name, st] : order)
+    t.add({name, fixed(st.seconds, 3), std::to_string(st.calls), significant(st.calls ? 1e6 * st.seconds / st.calls : 0.0, 3),
+           fixed(100 * st.seconds / total, 1) + " %"});
+  t.add({"total", fixed(total, 3), "", "", "100.0 %"});
   t.print(out_);
 }
 
@@ -287,7 +285,7 @@ void Session::cmd_save(const Command& c) {
   State copy;
   at_boundary([&] { copy = s.state(); });
   write_checkpoint(c.args[0].text, s.model(), copy);
-  out_ << "saved step " << copy.step << " (t = " << number(copy.t) << " s) to " << c.args[0].text << "\n";
+  out_ << "saved step " << copy.step << " (t = " << significant(copy.t) << " s) to " << c.args[0].text << "\n";
 }
 
 void Session::cmd_restore(const Command& c) {
@@ -295,7 +293,7 @@ void Session::cmd_restore(const Command& c) {
   Simulation& s = sim();
   State st = read_checkpoint(c.args[0].text, s.model());
   s.restore(std::move(st));
-  out_ << "restored step " << s.state().step << " (t = " << number(s.state().t) << " s)\n";
+  out_ << "restored step " << s.state().step << " (t = " << significant(s.state().t) << " s)\n";
 }
 
 void Session::cmd_reset(const Command&) {

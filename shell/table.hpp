@@ -1,43 +1,39 @@
-// Aligned text tables for output that a person reads.
+// Aligned text tables and number formats for output that a person reads.
 #pragma once
 
-#include <algorithm>
 #include <ostream>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace silt::shell {
 
 class Table {
  public:
-  explicit Table(std::vector<std::string> header) : header_(std::move(header)) {}
+  // Columns named by `header`; those marked in `right` (numbers) are aligned on the right.
+  explicit Table(std::vector<std::string> header, std::vector<bool> right = {})
+      : header_(std::move(header)), right_(std::move(right)) {
+    right_.resize(header_.size(), false);
+  }
   void add(std::vector<std::string> row) { rows_.push_back(std::move(row)); }
   size_t rows() const { return rows_.size(); }
-  void print(std::ostream& o) const {
-    std::vector<size_t> w(header_.size());
-    for (size_t k = 0; k < header_.size(); ++k) w[k] = header_[k].size();
-    for (const auto& r : rows_)
-      for (size_t k = 0; k < r.size() && k < w.size(); ++k) w[k] = std::max(w[k], r[k].size());
-    auto line = [&](const std::vector<std::string>& r) {
-      std::string s;
-      for (size_t k = 0; k < w.size(); ++k) {
-        const std::string cell = k < r.size() ? r[k] : "";
-        s += cell;
-        if (k + 1 < w.size()) s += std::string(w[k] - cell.size() + 2, ' ');
-      }
-      while (!s.empty() && s.back() == ' ') s.pop_back();
-      o << s << "\n";
-    };
-    line(header_);
-    std::vector<std::string> rule;
-    for (size_t k = 0; k < w.size(); ++k) rule.push_back(std::string(w[k], '-'));
-    line(rule);
-    for (const auto& r : rows_) line(r);
-  }
+  void print(std::ostream& o) const;
 
  private:
   std::vector<std::string> header_;
+  std::vector<bool> right_;
   std::vector<std::vector<std::string>> rows_;
 };
+
+// x with `digits` significant digits ("0.00818", "63456").
+std::string significant(double x, int digits = 6);
+
+// x with `decimals` digits after the point ("63.2").
+std::string fixed(double x, int decimals);
+
+// A measured mean and the error of it: the error to two significant digits and the mean to the
+// same decimal place ("0.731" and "0.067", "30200" and "6800", "1.500e-09" and "2.3e-11"); six
+// significant digits each when the error is zero or not finite.
+std::pair<std::string, std::string> mean_and_error(double mean, double err);
 
 }  // namespace silt::shell
