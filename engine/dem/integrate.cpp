@@ -26,8 +26,13 @@ constexpr int64_t kGrain = 1024;
 
 // Affine: the box deforms (stress control or shear). The grains are carried by the affine flow
 // x -> lo + lambda (x - lo) and v_x += gammadot (y - lo_y), and move relative to it with their
-// stored velocity (the flow is not stored in particle_v; Peyneau's eq. 3.10 without the
-// coupling terms, negligible for dissipative grains at small I).
+// stored velocity c (the flow is not stored in particle_v). For the lengths this is Peyneau's
+// eq. 3.10 without its coupling terms, negligible for dissipative grains at small I. For the
+// shear the motion stays Newton's: the velocity u = c + gammadot (y - lo_y) e_x obeys
+// m du/dt = F, so dc_x/dt = F_x/m - gammadot c_y (the SLLOD equations of Evans & Morriss
+// 1990, exact for simple shear; Peyneau integrates u itself). A kick updates c_y first and
+// c_x with the c_y of the instant of its force: c_y(t) in the first half kick, c_y(t + dt) in
+// the second.
 template <int D>
 struct DriftArgs {
   double dt, h, gd;
@@ -63,8 +68,11 @@ std::array<double, 2> drift_range(const DriftArgs<D> a, int64_t b, int64_t e) {
     if (a.frozen[i]) continue;
     const double im = a.inv_m[i];
     double xi[3], d2 = 0, s2 = 0;
+    const double cy = v[D * i + 1];  // c_y(t), before its kick
     for (int k = 0; k < D; ++k) {
-      const double vk = v[D * i + k] + a.h * (f[D * i + k] * im + a.g[k]);
+      double vk = v[D * i + k] + a.h * (f[D * i + k] * im + a.g[k]);
+      if constexpr (Affine)
+        if (k == 0 && a.gd != 0.0) vk -= a.h * a.gd * cy;
       const double step = a.dt * vk;
       if constexpr (Affine) {
         xi[k] = a.lo[k] + a.lambda[k] * (x[D * i + k] - a.lo[k] + step);
@@ -109,7 +117,7 @@ void kick_drift_dim(const Model& m, State& s) {
 
 template <int D>
 struct KickArgs {
-  double h;
+  double h, gd;  // half step, shear rate (0 without shear)
   double g[D];
   int nw;
   const double* fwall;
@@ -148,7 +156,8 @@ void kick_range(const KickArgs<D> a, int64_t b, int64_t e) {
       if (a.frozen[i]) continue;
       const double im = a.inv_m[i], ii = a.inv_i[i];
       double sum = 0;  // a NaN or Inf anywhere in the grain's motion reaches its velocities
-      for (int k = 0; k < D; ++k) sum += (v[D * i + k] += a.h * (f[k] * im + a.g[k]));
+      for (int k = D - 1; k >= 0; --k) sum += (v[D * i + k] += a.h * (f[k] * im + a.g[k]));
+      if (a.gd != 0.0) sum += (v[D * i] -= a.h * a.gd * v[D * i + 1]);  // with c_y(t + dt)
       for (int k = 0; k < R; ++k) sum += (w[R * i + k] += a.h * torq[R * i + k] * ii);
       if (!std::isfinite(sum)) a.nonfinite->raise(i, 0);
     }
@@ -157,7 +166,7 @@ void kick_range(const KickArgs<D> a, int64_t b, int64_t e) {
 
 template <int D, bool Kick, bool Walls, bool Torque>
 void kick_dim(const Model& m, State& s) {
-  KickArgs<D> a{0.5 * s.dt, {}, s.n_walls, s.wall_f.data(), s.particle_t_wall.data(), s.particle_inv_m.data(),
+  KickArgs<D> a{0.5 * s.dt, m.shear.on ? s.shear_rate : 0.0, {}, s.n_walls, s.wall_f.data(), s.particle_t_wall.data(), s.particle_inv_m.data(),
                 s.particle_inv_i.data(), s.particle_frozen.data(), s.particle_f.data(), s.particle_t.data(),
                 s.particle_v.data(), s.particle_w.data(), &s.alarm_nonfinite};
   for (int k = 0; k < D; ++k) a.g[k] = m.gravity[k];
