@@ -30,7 +30,8 @@ constexpr int64_t kGrain = 1024;
 // eq. 3.10 without its coupling terms, negligible for dissipative grains at small I. For the
 // shear the motion stays Newton's: the velocity u = c + gammadot (y - lo_y) e_x obeys
 // m du/dt = F, so dc_x/dt = F_x/m - gammadot c_y (the SLLOD equations of Evans & Morriss
-// 1990, exact for simple shear; Peyneau integrates u itself). A kick updates c_y first and
+// 1990, exact for simple shear at a constant rate; Peyneau integrates u itself; when the rate
+// changes, the grains follow the new flow at once, as for the lengths). A kick updates c_y first and
 // c_x with the c_y of the instant of its force: c_y(t) in the first half kick, c_y(t + dt) in
 // the second.
 template <int D>
