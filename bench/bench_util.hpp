@@ -7,10 +7,23 @@
 #include <chrono>
 #include <cstdio>
 #include <ctime>
+#include <exception>
 #include <fstream>
 #include <string>
 
 namespace silt::bench {
+
+// The body of a benchmark's main: a scene error, a bad option value or a failure reading a file
+// ends the program with its message and exit code 2 instead of an abort.
+template <class F>
+int guarded_main(F&& body) {
+  try {
+    return body();
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "%s\n", e.what());
+    return 2;
+  }
+}
 
 inline double now_s() {
   return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();

@@ -173,7 +173,9 @@ void contact_skin_table(const State& settled, int64_t steps) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+namespace {
+
+int run(int argc, char** argv) {
   std::string settled;
   int64_t steps = 2000;
   for (int i = 1; i + 1 < argc; i += 2) {
@@ -185,4 +187,10 @@ int main(int argc, char** argv) {
   skin_table(chute, steps);
   contact_skin_table(chute, steps);
   return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  return bench::guarded_main([&] { return run(argc, argv); });
 }

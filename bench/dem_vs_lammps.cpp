@@ -48,7 +48,9 @@ double translational_ke_all(const State& s) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+namespace {
+
+int run(int argc, char** argv) {
   std::string input = std::string(SILT_SOURCE_DIR) + "/../shared/bench/lammps_chute.in";
   int64_t settle = 30000, steps = 3000;
   int repeat = 3;
@@ -218,4 +220,10 @@ int main(int argc, char** argv) {
                     "date,cpu,repeat,silt_2t_1t_best,silt_2t_1t_median,reference_2t_1t_best,reference_2t_1t_median",
                     ref_row.str());
   return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  return bench::guarded_main([&] { return run(argc, argv); });
 }

@@ -20,7 +20,9 @@
 
 using namespace silt;
 
-int main(int argc, char** argv) {
+namespace {
+
+int run(int argc, char** argv) {
   int seeds = 5, threads = 2;
   std::vector<double> factors = {1.0};
   for (int i = 1; i + 1 < argc; i += 2) {
@@ -83,4 +85,10 @@ int main(int argc, char** argv) {
     }
   }
   return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  return bench::guarded_main([&] { return run(argc, argv); });
 }

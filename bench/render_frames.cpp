@@ -83,7 +83,9 @@ int child(const std::string& which, int threads, int frames, const std::string& 
 
 }  // namespace
 
-int main(int argc, char** argv) {
+namespace {
+
+int run(int argc, char** argv) {
   int frames = 5;
   std::string settled;
   for (int i = 1; i + 1 < argc; i += 2) {
@@ -119,4 +121,10 @@ int main(int argc, char** argv) {
     }
   }
   return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  return bench::guarded_main([&] { return run(argc, argv); });
 }

@@ -136,7 +136,9 @@ Result shear(const Args& a, const Case& c, const State& prepared) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+namespace {
+
+int run(int argc, char** argv) {
   Args a;
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--threads") && i + 1 < argc) a.threads = std::atoi(argv[++i]);
@@ -274,4 +276,10 @@ int main(int argc, char** argv) {
                       row.str());
   }
   return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  return bench::guarded_main([&] { return run(argc, argv); });
 }

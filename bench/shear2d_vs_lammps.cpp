@@ -53,7 +53,9 @@ struct Series {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+namespace {
+
+int run(int argc, char** argv) {
   double strain = 8, mu = 0.3;
   int threads = 1;
   for (int i = 1; i + 1 < argc; i += 2) {
@@ -147,4 +149,10 @@ int main(int argc, char** argv) {
   bench::append_csv(std::string(SILT_SOURCE_DIR) + "/bench/results/shear2d_vs_lammps.csv",
                     "date,friction,strain,mu_silt,mu_lammps,syy_silt,syy_lammps", row.str());
   return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  return bench::guarded_main([&] { return run(argc, argv); });
 }
