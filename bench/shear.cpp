@@ -4,7 +4,7 @@
 // step as a fraction of the contact time, box mass, neighbour skin) against cost.
 //
 //   build/bench/shear [--threads N] [--low] [--quick] [--2d] [--only KNOB] [--inertial LIST]
-//                     [--scene FILE] [--set KEY=VALUE ...]
+//                     [--mass F] [--dt F] [--scene FILE] [--set KEY=VALUE ...]
 //
 // --2d runs scenes/shear2d_dry.toml instead (Peyneau ch. 4 dry disks, mu = 0.3 and 0) at
 // I = 0.1 and 1e-2 next to the thesis' fits (Tables 4.1 and 4.3).
@@ -12,7 +12,9 @@
 // One isotropic compression (procedure O) gives the packing every run starts from. A run shears
 // through a transient strain, then averages over a measured strain; mu* = <tau>/<sigma_yy>.
 // --low adds I = 1e-2 and 3.16e-3 (with --2d: 1e-3); --inertial 0.1,0.01 chooses the values;
-// --only I|dt|mass|skin runs one group; --quick divides every strain by 4 (a smoke test, not a
+// --mass F gives the I cases a box of mass F N m (a light box settles faster after the start
+// from rest, and a start at I > 0.5 needs one), --dt F a time step of F t_c; --only
+// I|dt|mass|skin runs one group; --quick divides every strain by 4 (a smoke test, not a
 // measurement).
 // Appends to bench/results/shear.csv.
 #include <cmath>
@@ -38,6 +40,8 @@ struct Args {
   bool low = false;
   bool two_d = false;
   std::string only;  // run only the cases of this knob (I, dt, mass, skin)
+  double mass_factor = 1;  // box mass / (N m) of the I cases (--mass)
+  double dt_over_tc = 0.05;  // time step of the I cases (--dt)
   std::vector<double> inertial;  // --inertial: replaces the list of I
   double strain_scale = 1;
   std::string scene = std::string(SILT_SOURCE_DIR) + "/scenes/shear3d_frictionless.toml";
@@ -155,16 +159,20 @@ int run(int argc, char** argv) {
       a.scene = std::string(SILT_SOURCE_DIR) + "/scenes/shear2d_dry.toml";
     }
     else if (!std::strcmp(argv[i], "--scene") && i + 1 < argc) a.scene = argv[++i];
+    else if (!std::strcmp(argv[i], "--mass") && i + 1 < argc) a.mass_factor = std::stod(argv[++i]);
+    else if (!std::strcmp(argv[i], "--dt") && i + 1 < argc) a.dt_over_tc = std::stod(argv[++i]);
     else if (!std::strcmp(argv[i], "--set") && i + 1 < argc) a.sets.push_back(argv[++i]);
     else {
-      std::fprintf(stderr, "usage: shear [--threads N] [--low] [--quick] [--2d] [--only KNOB] [--inertial LIST] [--scene FILE] [--set KEY=VALUE ...]\n");
+      std::fprintf(stderr, "usage: shear [--threads N] [--low] [--quick] [--2d] [--only KNOB] [--inertial LIST] [--mass F] [--dt F] [--scene FILE] [--set KEY=VALUE ...]\n");
       return 1;
     }
   }
   // Peyneau (2009) Table 3.3 (N = 4000, kappa_1, zeta = 0.98, M = N m).
-  // I = 3.16e-3: Table 3.6 at N = 1372.
+  // I = 3.16e-3: Table 3.6 at N = 1372. I = 5.6e-1 ... 5.6e-4: Table 3.5 (kappa_1, N = 4000; mu*
+  // only, Phi 0 for "not given").
   const std::map<double, std::pair<double, double>> thesis = {
-      {0.316, {0.415, 0.566}}, {0.0316, {0.212, 0.620}}, {0.00316, {0.1457, 0.6322}}};
+      {0.316, {0.415, 0.566}}, {0.0316, {0.212, 0.620}}, {0.00316, {0.1457, 0.6322}}, {0.56, {0.5031, 0}},
+      {0.056, {0.2435, 0}},    {0.0056, {0.1571, 0}},    {0.00056, {0.1250, 0}}};
 
   // Procedure O, once.
   Case base;
@@ -204,6 +212,8 @@ int run(int argc, char** argv) {
     Case c;
     c.knob = "I";
     c.inertial = I;
+    c.mass_factor = a.mass_factor;
+    c.dt_over_tc = a.dt_over_tc;
     // The box (M = N m) settles slowly after the start from rest at large I: long transients.
     c.transient = I > 0.2 ? 40 : (I > 0.05 ? 10 : (I > 0.02 ? 3 : (I > 0.005 ? 2 : 1)));
     c.measured = I > 0.2 ? 120 : (I > 0.05 ? 40 : (I > 0.02 ? 15 : (I > 0.005 ? 6 : 4)));
@@ -254,7 +264,8 @@ int run(int argc, char** argv) {
       std::snprintf(phi, sizeof phi, "-");
       std::snprintf(syy, sizeof syy, "-");
     }
-    if (th.first > 0) std::snprintf(ref, sizeof ref, "%.3f/%.3f", th.first, th.second);
+    if (th.first > 0 && th.second > 0) std::snprintf(ref, sizeof ref, "%.3f/%.3f", th.first, th.second);
+    else if (th.first > 0) std::snprintf(ref, sizeof ref, "%.4f/-", th.first);
     else std::snprintf(ref, sizeof ref, "-");
     const double strain = c.transient + c.measured;
     const double psps = r.wall > 0 ? m0.n_grains * r.steps / r.wall : 0;
