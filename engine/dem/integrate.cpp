@@ -31,9 +31,8 @@ constexpr int64_t kGrain = 1024;
 // shear the motion stays Newton's: the velocity u = c + gammadot (y - lo_y) e_x obeys
 // m du/dt = F, so dc_x/dt = F_x/m - gammadot c_y (the SLLOD equations of Evans & Morriss
 // 1990, exact for simple shear at a constant rate; Peyneau integrates u itself; when the rate
-// changes, the grains follow the new flow at once, as for the lengths). A kick updates c_y first and
-// c_x with the c_y of the instant of its force: c_y(t) in the first half kick, c_y(t + dt) in
-// the second.
+// changes, the grains follow the new flow at once, as for the lengths). A kick takes the c_y of
+// the instant of its force: c_y(t) in the first half kick, c_y(t + dt) in the second.
 template <int D>
 struct DriftArgs {
   double dt, h, gd;
@@ -157,8 +156,8 @@ void kick_range(const KickArgs<D> a, int64_t b, int64_t e) {
       if (a.frozen[i]) continue;
       const double im = a.inv_m[i], ii = a.inv_i[i];
       double sum = 0;  // a NaN or Inf anywhere in the grain's motion reaches its velocities
-      for (int k = D - 1; k >= 0; --k) sum += (v[D * i + k] += a.h * (f[k] * im + a.g[k]));
-      if (a.gd != 0.0) sum += (v[D * i] -= a.h * a.gd * v[D * i + 1]);  // with c_y(t + dt)
+      for (int k = 0; k < D; ++k) sum += (v[D * i + k] += a.h * (f[k] * im + a.g[k]));
+      if (a.gd != 0.0) v[D * i] -= a.h * a.gd * v[D * i + 1];  // with c_y(t + dt), finite if c is
       for (int k = 0; k < R; ++k) sum += (w[R * i + k] += a.h * torq[R * i + k] * ii);
       if (!std::isfinite(sum)) a.nonfinite->raise(i, 0);
     }
@@ -167,9 +166,20 @@ void kick_range(const KickArgs<D> a, int64_t b, int64_t e) {
 
 template <int D, bool Kick, bool Walls, bool Torque>
 void kick_dim(const Model& m, State& s) {
-  KickArgs<D> a{0.5 * s.dt, m.shear.on ? s.shear_rate : 0.0, {}, s.n_walls, s.wall_f.data(), s.particle_t_wall.data(), s.particle_inv_m.data(),
-                s.particle_inv_i.data(), s.particle_frozen.data(), s.particle_f.data(), s.particle_t.data(),
-                s.particle_v.data(), s.particle_w.data(), &s.alarm_nonfinite};
+  KickArgs<D> a{0.5 * s.dt,
+                m.shear.on ? s.shear_rate : 0.0,
+                {},
+                s.n_walls,
+                s.wall_f.data(),
+                s.particle_t_wall.data(),
+                s.particle_inv_m.data(),
+                s.particle_inv_i.data(),
+                s.particle_frozen.data(),
+                s.particle_f.data(),
+                s.particle_t.data(),
+                s.particle_v.data(),
+                s.particle_w.data(),
+                &s.alarm_nonfinite};
   for (int k = 0; k < D; ++k) a.g[k] = m.gravity[k];
   parallel_for(s.n, kGrain, [a](int64_t b, int64_t e) { kick_range<D, Kick, Walls, Torque>(a, b, e); });
 }
