@@ -171,10 +171,6 @@ void contact_skin_table(const State& settled, int64_t steps) {
   }
 }
 
-}  // namespace
-
-namespace {
-
 int run(int argc, char** argv) {
   std::string settled;
   int64_t steps = 2000;

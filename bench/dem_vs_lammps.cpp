@@ -46,10 +46,6 @@ double translational_ke_all(const State& s) {
   return ke;
 }
 
-}  // namespace
-
-namespace {
-
 int run(int argc, char** argv) {
   std::string input = std::string(SILT_SOURCE_DIR) + "/../shared/bench/lammps_chute.in";
   int64_t settle = 30000, steps = 3000;

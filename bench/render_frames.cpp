@@ -81,10 +81,6 @@ int child(const std::string& which, int threads, int frames, const std::string& 
   return 0;
 }
 
-}  // namespace
-
-namespace {
-
 int run(int argc, char** argv) {
   int frames = 5;
   std::string settled;

@@ -138,10 +138,6 @@ Result shear(const Args& a, const Case& c, const State& prepared) {
   return r;
 }
 
-}  // namespace
-
-namespace {
-
 int run(int argc, char** argv) {
   Args a;
   for (int i = 1; i < argc; ++i) {

@@ -51,10 +51,6 @@ struct Series {
   }
 };
 
-}  // namespace
-
-namespace {
-
 int run(int argc, char** argv) {
   double strain = 8, mu = 0.3;
   int threads = 1;

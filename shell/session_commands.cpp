@@ -5,6 +5,7 @@
 #include <iomanip>
 #include <limits>
 
+#include "core/text.hpp"
 #include "shell/session.hpp"
 #include "shell/table.hpp"
 #include "silt/observables.hpp"
@@ -49,7 +50,7 @@ void Session::cmd_load(const Command& c) {
   overrides_.clear();
   install(std::move(m), std::nullopt);
   const Model& model = sim_->model();
-  out_ << "loaded " << file << ": " << model.n_grains << " grains (" << model.dim << "D), dt = " << significant(model.dt)
+  out_ << "loaded " << file << ": " << model.n_grains << " grains (" << model.dim << "D), dt = " << format_number(model.dt)
        << " s, " << model.walls.size() << " wall(s)\n";
 }
 
@@ -215,7 +216,7 @@ void Session::cmd_stats(const Command&) {
     for (const auto& r : rows) series.push_back(r[k]);
     const BlockAverage b = block_average(series);
     const auto [mean, err] = mean_and_error(b.mean, b.err);
-    t.add({names[k], mean, err, b.converged ? "" : "(lower bound)", significant(series.back()), std::to_string(b.n)});
+    t.add({names[k], mean, err, b.converged ? "" : "(lower bound)", format_number(series.back()), std::to_string(b.n)});
   }
   t.print(out_);
 }
@@ -232,7 +233,7 @@ void Session::cmd_profile(const Command&) {
                    [](const auto& a, const auto& b) { return a.second.seconds > b.second.seconds; });
   Table t({"stage", "seconds", "calls", "us/call", "share"}, {false, true, true, true, true});
   for (const auto& [name, st] : order)
-    t.add({name, fixed(st.seconds, 3), std::to_string(st.calls), significant(st.calls ? 1e6 * st.seconds / st.calls : 0.0, 3),
+    t.add({name, fixed(st.seconds, 3), std::to_string(st.calls), format_number(st.calls ? 1e6 * st.seconds / st.calls : 0.0, 3),
            fixed(100 * st.seconds / total, 1) + " %"});
   t.add({"total", fixed(total, 3), "", "", "100.0 %"});
   t.print(out_);
@@ -285,7 +286,7 @@ void Session::cmd_save(const Command& c) {
   State copy;
   at_boundary([&] { copy = s.state(); });
   write_checkpoint(c.args[0].text, s.model(), copy);
-  out_ << "saved step " << copy.step << " (t = " << significant(copy.t) << " s) to " << c.args[0].text << "\n";
+  out_ << "saved step " << copy.step << " (t = " << format_number(copy.t) << " s) to " << c.args[0].text << "\n";
 }
 
 void Session::cmd_restore(const Command& c) {
@@ -293,7 +294,7 @@ void Session::cmd_restore(const Command& c) {
   Simulation& s = sim();
   State st = read_checkpoint(c.args[0].text, s.model());
   s.restore(std::move(st));
-  out_ << "restored step " << s.state().step << " (t = " << significant(s.state().t) << " s)\n";
+  out_ << "restored step " << s.state().step << " (t = " << format_number(s.state().t) << " s)\n";
 }
 
 void Session::cmd_reset(const Command&) {

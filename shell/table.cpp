@@ -3,7 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <sstream>
+
+#include "core/text.hpp"
 
 namespace silt::shell {
 
@@ -30,13 +31,6 @@ void Table::print(std::ostream& o) const {
   for (const auto& r : rows_) line(r);
 }
 
-std::string significant(double x, int digits) {
-  std::ostringstream o;
-  o.precision(digits);
-  o << x;
-  return o.str();
-}
-
 std::string fixed(double x, int decimals) {
   char buf[64];
   std::snprintf(buf, sizeof buf, "%.*f", decimals, x);
@@ -44,7 +38,7 @@ std::string fixed(double x, int decimals) {
 }
 
 std::pair<std::string, std::string> mean_and_error(double mean, double err) {
-  if (!(err > 0) || !std::isfinite(err) || !std::isfinite(mean)) return {significant(mean), significant(err)};
+  if (!(err > 0) || !std::isfinite(err) || !std::isfinite(mean)) return {format_number(mean), format_number(err)};
   const int e = static_cast<int>(std::floor(std::log10(err)));  // the error's leading digit
   const int decimals = 1 - e;                                    // keeps two digits of it
   if (decimals >= 0 && decimals <= 10 && std::fabs(mean) < 1e9) return {fixed(mean, decimals), fixed(err, decimals)};

@@ -25,15 +25,12 @@ class Table {
   std::vector<std::vector<std::string>> rows_;
 };
 
-// x with `digits` significant digits ("0.00818", "63456").
-std::string significant(double x, int digits = 6);
-
 // x with `decimals` digits after the point ("63.2").
 std::string fixed(double x, int decimals);
 
 // A measured mean and the error of it: the error to two significant digits and the mean to the
 // same decimal place ("0.731" and "0.067", "30200" and "6800", "1.500e-09" and "2.3e-11"); six
-// significant digits each when the error is zero or not finite.
+// significant digits each (format_number) when the error is zero or not finite.
 std::pair<std::string, std::string> mean_and_error(double mean, double err);
 
 }  // namespace silt::shell

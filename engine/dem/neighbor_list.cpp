@@ -145,6 +145,17 @@ bool permute_to_cell_order(State& s) {
   for (int64_t k = 0; k < n && identity; ++k) identity = sc.cell_items[k] == k;
   if (identity) return false;
   sc.perm.assign(sc.cell_items.begin(), sc.cell_items.end());
+  // Row k of an array (n rows of `row` bytes) becomes its row perm[k], gathered from a copy in
+  // one reused buffer (the arrays have several element types).
+  auto renumber = [&](void* data, size_t row) {
+    sc.permute_buf.resize(static_cast<size_t>(n) * row);
+    const std::byte* old = sc.permute_buf.data();
+    std::memcpy(sc.permute_buf.data(), data, static_cast<size_t>(n) * row);
+    auto* dst = static_cast<std::byte*>(data);
+    parallel_for(n, 4096, [&](int64_t b, int64_t e) {
+      for (int64_t k = b; k < e; ++k) std::memcpy(dst + k * row, old + sc.perm[k] * row, row);
+    });
+  };
   const int64_t per_grain_wall = static_cast<int64_t>(s.n_walls) * D;
   for_each_array_shaped(s, [&](const char*, const char* shape, auto& v) {
     const std::string sh(shape);
@@ -154,19 +165,9 @@ bool permute_to_cell_order(State& s) {
     else if (sh == "N*R") stride = kRotDim<D>;
     else if (sh == "N*W*D") stride = per_grain_wall;
     if (stride == 0 || static_cast<int64_t>(v.size()) != n * stride) return;  // lists, or unused
-    // Gathered from a copy in one reused buffer (the arrays have several element types).
-    const size_t row = static_cast<size_t>(stride) * sizeof(v[0]);
-    sc.permute_buf.resize(static_cast<size_t>(n) * row);
-    const std::byte* old = sc.permute_buf.data();
-    std::memcpy(sc.permute_buf.data(), v.data(), static_cast<size_t>(n) * row);
-    auto* dst = reinterpret_cast<std::byte*>(v.data());
-    parallel_for(n, 4096, [&](int64_t b, int64_t e) {
-      for (int64_t k = b; k < e; ++k) std::memcpy(dst + k * row, old + sc.perm[k] * row, row);
-    });
+    renumber(v.data(), static_cast<size_t>(stride) * sizeof(v[0]));
   });
-  std::vector<int32_t> cell(n);
-  for (int64_t k = 0; k < n; ++k) cell[k] = sc.cell_of[sc.perm[k]];
-  sc.cell_of.swap(cell);
+  renumber(sc.cell_of.data(), sizeof(int32_t));
   for (int64_t k = 0; k < n; ++k) sc.cell_items[k] = static_cast<int32_t>(k);
   return true;
 }

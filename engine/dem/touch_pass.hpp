@@ -71,6 +71,13 @@ struct TouchSink {
   }
 };
 
+template <int D>
+TouchSink<D> touch_sink(const TouchArrays& a, int32_t* tp, double* const* td) {
+  TouchSink<D> sink{a, tp, {}};
+  for (int k = 0; k < D + 2; ++k) sink.td[k] = td[k];
+  return sink;
+}
+
 #if defined(__SSE4_1__)
 namespace scan_detail {
 
@@ -123,9 +130,7 @@ template <int D>
     _mm_storeu_si128(reinterpret_cast<__m128i*>(tp + c), _mm256_castsi256_si128(_mm256_permutevar8x32_epi32(pairs, pk)));
     c += __builtin_popcount(static_cast<unsigned>(mask));
   }
-  TouchSink<D> sink{a, tp, {}};
-  for (int k = 0; k < D + 2; ++k) sink.td[k] = td[k];
-  return scalar<D, false>(a.x, a.r, a.pi, a.pj, img, 0.0, q, q1, c, sink);
+  return scalar<D, false>(a.x, a.r, a.pi, a.pj, img, 0.0, q, q1, c, touch_sink<D>(a, tp, td));
 }
 
 }  // namespace scan_detail
@@ -143,9 +148,7 @@ int64_t touch_pass(const TouchArrays a, const shear::PeriodicImage<D> img, int64
 #if defined(__SSE4_1__)
   if (avx2_in_use()) return scan_detail::touch_avx2<D>(a, img, q0, q1, tp, td);
 #endif
-  TouchSink<D> sink{a, tp, {}};
-  for (int k = 0; k < D + 2; ++k) sink.td[k] = td[k];
-  return scan_pairs<D, false>(a.x, a.r, a.pi, a.pj, img, 0.0, q0, q1, sink);
+  return scan_pairs<D, false>(a.x, a.r, a.pi, a.pj, img, 0.0, q0, q1, touch_sink<D>(a, tp, td));
 }
 
 }  // namespace silt::dem

@@ -4,8 +4,10 @@
 #include <limits>
 #include <sstream>
 
+#include "core/text.hpp"
 #include "shell/table.hpp"
 
+using namespace silt;
 using namespace silt::shell;
 
 TEST_CASE("a mean is shown to the decimal place of its error, the error to two digits") {
@@ -23,8 +25,8 @@ TEST_CASE("a mean is shown to the decimal place of its error, the error to two d
 }
 
 TEST_CASE("numbers in significant digits and fixed decimals") {
-  CHECK(significant(0.00818364, 3) == "0.00818");
-  CHECK(significant(63456) == "63456");
+  CHECK(format_number(0.00818364, 3) == "0.00818");
+  CHECK(format_number(63456) == "63456");
   CHECK(fixed(63.2254, 1) == "63.2");
   CHECK(fixed(0.5193, 3) == "0.519");
 }
