@@ -65,7 +65,11 @@ int run_command(const RunArgs& a) {
   Model& m = *loaded;
   int64_t steps = m.run_steps;
   if (a.steps >= 0) steps = a.steps;
-  if (a.time >= 0) steps = static_cast<int64_t>(std::ceil(a.time / m.dt - 1e-9));
+  if (a.time >= 0) {
+    const double n = std::ceil(a.time / m.dt - 1e-9);
+    if (!(n < 9e18)) return report_error("--time: too long, more than 9e18 time steps", 1);
+    steps = static_cast<int64_t>(n);
+  }
   if (steps <= 0 && a.steps != 0)
     return report_error("no run length: give --steps or --time, or [run] steps or time in the scene", 1);
   const std::vector<std::string> names = a.observe.empty() ? m.observe : split_names(a.observe);
@@ -121,7 +125,7 @@ int run_command(const RunArgs& a) {
   Progress progress(!a.quiet && ::isatty(2), sim.state().step, steps, model.n_grains);
   RunOptions opt;
   opt.steps = steps;
-  opt.hooks.push_back({every, [&](const State& s) { stats->add(observer->sample(model, s)); }});
+  opt.hooks.push_back({every, [&](const State& s) { stats->add(observer->sample(model, s), s.t); }});
   std::string vtk_error;
   if (vtk)
     opt.hooks.push_back({a.vtk_every > 0 ? a.vtk_every : model.sample_every, [&](const State& s) {
@@ -155,6 +159,7 @@ int run_command(const RunArgs& a) {
   }
   opt.interrupt = &g_interrupt;
   opt.stop_when_static = until_static;
+  opt.on_progress = [&progress](const State& s) { progress.update(s); };
   const RunReport rep = sim.run(opt);
   progress.update(sim.state());
   progress.finish();

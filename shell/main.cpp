@@ -16,19 +16,22 @@ int main(int argc, char** argv) {
   auto* r = app.add_subcommand("run", "Run a scene headless (the main job)");
   r->add_option("scene", run.scene, "Scene file (TOML)")->required();
   r->add_option("--set", run.sets, "Override a scene value: KEY=VALUE (dotted TOML path); repeatable");
-  auto* steps = r->add_option("--steps", run.steps, "Run length in steps (overrides [run])");
-  r->add_option("--time", run.time, "Run length in simulated seconds (overrides [run])")->excludes(steps);
-  r->add_option("--threads", run.threads, "Worker threads (default: all cores; 1 = serial reference)");
+  auto* steps = r->add_option("--steps", run.steps, "Run length in steps (overrides [run])")->check(CLI::NonNegativeNumber);
+  r->add_option("--time", run.time, "Run length in simulated seconds (overrides [run])")
+      ->excludes(steps)
+      ->check(CLI::NonNegativeNumber);
+  r->add_option("--threads", run.threads, "Worker threads (default: all cores; 1 = serial reference)")->check(CLI::PositiveNumber);
   r->add_option("--stats", run.stats, "Time series of observables (CSV)");
   r->add_option("--observe", run.observe, "Comma-separated observables (default: the scene's [output] list)");
-  r->add_option("--every", run.every, "Sample every N steps (default: the scene's)");
+  r->add_option("--every", run.every, "Sample every N steps (default: the scene's)")->check(CLI::PositiveNumber);
   r->add_option("--summary", run.summary, "Summary JSON written at the end");
   r->add_option("--average-from", run.average_from, "Means and errors over samples with t >= T");
   r->add_flag("--quiet", run.quiet, "No progress line");
   r->add_option("--frames", run.frames, "Write PNG frames DIR/frame_000000.png, ... (the scene's [render] settings)");
-  r->add_option("--frame-every", run.frame_every, "One frame every N steps (default: render.every, else output.every)");
+  r->add_option("--frame-every", run.frame_every, "One frame every N steps (default: render.every, else output.every)")
+      ->check(CLI::PositiveNumber);
   r->add_option("--vtk", run.vtk, "Write VTK files for ParaView/OVITO to DIR (grains .vtu, contacts .vtp, index.pvd)");
-  r->add_option("--vtk-every", run.vtk_every, "VTK files every N steps (default: output.every)");
+  r->add_option("--vtk-every", run.vtk_every, "VTK files every N steps (default: output.every)")->check(CLI::PositiveNumber);
   r->add_option("--restore", run.restore, "Start from a checkpoint of the same grains (a prepared packing, a .last_good.ckpt)");
   r->add_option("--save", run.save, "Checkpoint of the final state (written atomically)");
 
@@ -36,13 +39,13 @@ int main(int argc, char** argv) {
   auto* c = app.add_subcommand("check", "Validate a scene and print the compiled model");
   c->add_option("scene", check.scene, "Scene file (TOML)")->required();
   c->add_option("--set", check.sets, "Override a scene value: KEY=VALUE; repeatable");
-  c->add_option("--threads", check.threads, "Threads used to build the neighbour list");
+  c->add_option("--threads", check.threads, "Threads used to build the neighbour list")->check(CLI::PositiveNumber);
 
   std::string shell_scene;
   int shell_threads = 0;
   auto* sh = app.add_subcommand("shell", "Interactive shell: load, run, steer, render, save");
   sh->add_option("scene", shell_scene, "Scene file to load first");
-  sh->add_option("--threads", shell_threads, "Worker threads (default: all cores)");
+  sh->add_option("--threads", shell_threads, "Worker threads (default: all cores)")->check(CLI::PositiveNumber);
 
   std::string script;
   bool keep_going = false;
@@ -50,7 +53,7 @@ int main(int argc, char** argv) {
   auto* pl = app.add_subcommand("play", "Play a script of shell commands, non-interactively");
   pl->add_option("script", script, "Script (.silt): one command per line, # comments")->required();
   pl->add_flag("--keep-going", keep_going, "Go on after an error (exit 2 at the end)");
-  pl->add_option("--threads", play_threads, "Worker threads (default: all cores)");
+  pl->add_option("--threads", play_threads, "Worker threads (default: all cores)")->check(CLI::PositiveNumber);
 
   bool markdown = false;
   auto* p = app.add_subcommand("params", "List every scene key with type, default, range and unit");

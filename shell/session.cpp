@@ -178,7 +178,7 @@ RunOptions Session::run_options(const RunLength& len, bool background) {
     cv_.notify_all();
   };
   opt.hooks.push_back({m.sample_every, [this](const State& st) {
-                         if (stats_) stats_->add(stats_observer_->sample(sim_->model(), st));
+                         if (stats_) stats_->add(stats_observer_->sample(sim_->model(), st), st.t);
                        }});
   if (watch_.every > 0 && watch_.observer) {
     opt.hooks.push_back({watch_.every, [this, background](const State& st) {

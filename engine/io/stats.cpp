@@ -18,8 +18,9 @@ StatsWriter::~StatsWriter() {
   if (file_) std::fclose(file_);
 }
 
-void StatsWriter::add(const std::vector<double>& row) {
+void StatsWriter::add(const std::vector<double>& row, double t) {
   rows_.push_back(row);
+  times_.push_back(t);
   if (!file_) return;
   for (size_t k = 0; k < row.size(); ++k) std::fprintf(file_, "%s%.17g", k ? "," : "", row[k]);
   std::fprintf(file_, "\n");

@@ -31,13 +31,12 @@ void write_summary(const std::string& path, const SummaryInput& in, const Simula
   j["stages"] = stages;
   json obs = json::object();
   const auto& names = stats.names();
-  size_t t_col = names.size();
-  for (size_t k = 0; k < names.size(); ++k)
-    if (names[k] == "t") t_col = k;
+  const auto& rows = stats.rows();
+  j["average_from"] = in.average_from;
   for (size_t k = 0; k < names.size(); ++k) {
     std::vector<double> series;
-    for (const auto& row : stats.rows())
-      if (t_col == names.size() || row[t_col] >= in.average_from) series.push_back(row[k]);
+    for (size_t r = 0; r < rows.size(); ++r)
+      if (stats.times()[r] >= in.average_from) series.push_back(rows[r][k]);
     const BlockAverage b = block_average(series);
     json o;
     o["mean"] = b.n ? json(b.mean) : json(nullptr);

@@ -454,6 +454,21 @@ void setup_grains(const SceneDesc& d, Model& m) {
   if (nfree == 0) m.m_min = *std::min_element(I.mass.begin(), I.mass.end());
 }
 
+// The key that best locates grain group g in the file: its explicit positions if given, else its
+// first key (the line of its [[grains]] table).
+static std::string group_location_key(const SceneDesc& d, int g) {
+  const std::string prefix = "grains[" + std::to_string(g) + "].";
+  if (d.has(prefix + "positions")) return prefix + "positions";
+  std::string best;
+  FileLoc best_loc{};
+  for (const auto& [path, e] : d.entries)
+    if (path.rfind(prefix, 0) == 0 && (best.empty() || e.loc.line < best_loc.line)) {
+      best = path;
+      best_loc = e.loc;
+    }
+  return best;
+}
+
 void check_initial_overlaps(const Model& m) {
   const int D = m.dim;
   const auto& I = m.init;
@@ -463,7 +478,7 @@ void check_initial_overlaps(const Model& m) {
     int64_t j = -1;
     const double f = grid.worst_overlap(x, I.radius[i], I.x, I.radius, &j);
     if (f > m.limits.max_overlap && !(I.frozen[i] && I.frozen[j]))
-      m.desc.fail("limits.max_overlap", "grains " + std::to_string(j) + " and " + std::to_string(i) +
+      m.desc.fail(group_location_key(m.desc, I.group[i]), "grains " + std::to_string(j) + " and " + std::to_string(i) +
                                             " overlap by " + fmt_(100 * f) +
                                             "% of the smaller radius at t = 0, beyond limits.max_overlap = " +
                                             fmt_(m.limits.max_overlap) + ": move them apart or reduce their radii");

@@ -44,6 +44,12 @@ std::string suggest_key(std::string_view bad_path) {
       best_d = d;
       best = k.path;
     }
+    // The tables that hold the key, for a misspelt table name: "[contakt]" -> "contact".
+    for (auto p = k.path.find('.'); p != std::string::npos; p = k.path.find('.', p + 1))
+      if (const size_t dt = edit_distance(norm, k.path.substr(0, p)); dt < best_d) {
+        best_d = dt;
+        best = k.path.substr(0, p);
+      }
   }
   // Report with the user's indices: "grains[2].raduis" -> "grains[2].radius".
   if (const auto lb = bad_path.find('['); lb != std::string_view::npos && best.find("[]") != std::string::npos) {

@@ -57,8 +57,27 @@ TEST_CASE("silt check: a shipped scene, a bad one, a missing one") {
   const Result set = silt_cli("check " + silt::test::scene_path("collision_normal") + " --set contact.restitution=2");
   CHECK(set.code == 2);
   CHECK(set.out.find("--set:1:") != std::string::npos);
+  // Scene errors through the binary: a wrong type and an out-of-range value in the file, a time
+  // step above the stability limit; each located and exit code 2.
+  const std::string typed = write_file("cli_type.toml", "[scene]\ndimension = \"three\"\n");
+  const Result ty = silt_cli("check " + typed);
+  CHECK(ty.code == 2);
+  CHECK(ty.out.find("cli_type.toml:2:13: 'scene.dimension' must be an integer") != std::string::npos);
+  const Result range = silt_cli("run " + silt::test::scene_path("collision_normal") + " --set contact.restitution=1.5");
+  CHECK(range.code == 2);
+  CHECK(range.out.find("out of range (0, 1]") != std::string::npos);
+  const Result dt = silt_cli("check " + silt::test::scene_path("chute") + " --set run.dt=0.01");
+  CHECK(dt.code == 2);
+  CHECK(dt.out.find("stability limit") != std::string::npos);
+  CHECK(dt.out.find("run.dt") != std::string::npos);
   CHECK(silt_cli("run").code == 1);
   CHECK(silt_cli("run x.toml --steps abc").code == 1);
+  // Numbers that make no sense are usage errors, not silently replaced by defaults.
+  for (const char* option : {"--threads 0", "--threads -3", "--every 0", "--steps -5", "--time -1", "--frame-every 0",
+                          "--vtk-every 0", "--time 1e300"}) {
+    CAPTURE(option);
+    CHECK(silt_cli("run " + silt::test::scene_path("collision_normal") + " --quiet " + option).code == 1);
+  }
   CHECK(silt_cli("frobnicate").code == 1);
   CHECK(silt_cli("--version").code == 0);
 }
@@ -80,6 +99,12 @@ TEST_CASE("silt run: stats CSV, summary JSON, --observe, --every") {
   CHECK(j["stages"].contains("contact_forces"));
   CHECK(j["observables"]["p[1].vx"]["last"].get<double>() == doctest::Approx(0.4349).epsilon(1e-3));
   CHECK(j["observables"]["t"]["n"] == 11);  // samples with t >= 5e-4
+  CHECK(j["average_from"] == 5e-4);
+  // --average-from applies whether or not t is among the observables.
+  REQUIRE(silt_cli("run " + silt::test::scene_path("collision_normal") +
+                   " --quiet --summary cli_summary_ke.json --observe ke --every 50 --average-from 5e-4").code == 0);
+  const auto k = nlohmann::json::parse(read_file("cli_summary_ke.json"));
+  CHECK(k["observables"]["ke"]["n"] == 11);
   CHECK(silt_cli("run " + silt::test::scene_path("collision_normal") + " --observe t,kee").code == 1);
   CHECK(silt_cli("run " + silt::test::scene_path("collision_normal") + " --stats no_dir/x.csv").code == 4);
 }
@@ -114,6 +139,27 @@ steps = 1000
   CHECK(j["status"] == "failed");
   CHECK(j["exit_code"] == 3);
   CHECK(j["failure"]["parameter"] == "contact.k_n");
+}
+
+TEST_CASE("silt run draws a progress line on a terminal, and none with --quiet or without one") {
+  // `script` gives the run a pseudo-terminal; the line is redrawn (\r) a few times per second.
+  auto redraws = [](const std::string& extra) {
+    const std::string cmd = "script -qec '" + silt::test::silt_binary() + " run " +
+                            silt::test::scene_path("pack_2d") + " --steps 150000 --set run.stop_when_static=false " + extra + "' /dev/null";
+    std::FILE* p = popen(cmd.c_str(), "r");
+    std::string out;
+    char buf[4096];
+    size_t n;
+    while ((n = std::fread(buf, 1, sizeof buf, p)) > 0) out.append(buf, n);
+    pclose(p);
+    return std::make_pair(std::count(out.begin(), out.end(), '\r') - std::count(out.begin(), out.end(), '\n'),
+                          out.find("step 150000/150000 (100.0%)") != std::string::npos);
+  };
+  const auto [lines, complete] = redraws("");
+  CHECK(lines >= 2);  // at least one redraw during the run and the final one
+  CHECK(complete);
+  CHECK(redraws("--quiet").first <= 0);
+  CHECK(silt_cli("run " + silt::test::scene_path("collision_normal") + " --steps 100").out.find("\r") == std::string::npos);
 }
 
 TEST_CASE("the README's parameter table is the schema's") {

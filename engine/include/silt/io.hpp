@@ -28,9 +28,12 @@ class StatsWriter {
   // Opens `path` ("" = no file). Throws IoError.
   StatsWriter(const std::string& path, std::vector<std::string> names);
   ~StatsWriter();
-  void add(const std::vector<double>& row);
+  // One sample taken at simulated time t (kept whether or not "t" is among the names, so that
+  // --average-from applies to any list of observables).
+  void add(const std::vector<double>& row, double t);
   const std::vector<std::string>& names() const { return names_; }
   const std::vector<std::vector<double>>& rows() const { return rows_; }
+  const std::vector<double>& times() const { return times_; }
   void flush();
 
  private:
@@ -38,6 +41,7 @@ class StatsWriter {
   std::string path_;
   std::vector<std::string> names_;
   std::vector<std::vector<double>> rows_;
+  std::vector<double> times_;
 };
 
 // A profile sampled during a run (one value per bin and sample); the summary gives each bin's

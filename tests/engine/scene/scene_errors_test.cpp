@@ -39,7 +39,11 @@ TEST_CASE("unknown key: location and suggestion") {
   CHECK(e.find("unknown key 'contact.friciton'") != std::string::npos);
   CHECK(e.find("did you mean 'contact.friction'") != std::string::npos);
   // Unknown table, and a key of a group table.
-  CHECK(test::scene_error(with("[run]", "[rnu]")).find("unknown key 'rnu") != std::string::npos);
+  const std::string t = test::scene_error(with("[run]", "[rnu]"));
+  CHECK(t.rfind("bad.toml:12:", 0) == 0);
+  CHECK(t.find("unknown key 'rnu") != std::string::npos);
+  CHECK(t.find("did you mean 'run'") != std::string::npos);
+  CHECK(test::scene_error(with("[contact]", "[contakt]")).find("did you mean 'contact'") != std::string::npos);
   const std::string g = test::scene_error(with("radius = 0.5", "raduis = 0.5"));
   CHECK(g.find("bad.toml:11:1") != std::string::npos);
   CHECK(g.find("did you mean 'grains[0].radius'") != std::string::npos);
@@ -87,6 +91,7 @@ TEST_CASE("scenes that cannot be simulated are refused before the first step") {
   const std::string ov = test::scene_error(with("count = 10\nradius = 0.5",
                                        "radius = 0.5\nplacement = \"explicit\"\npositions = [[1, 1, 1], [1.2, 1, 1]]"));
   CHECK(ov.find("overlap by") != std::string::npos);
+  CHECK(ov.rfind("bad.toml:12:13: ", 0) == 0);  // at the positions of the group
   // Unknown observable with a suggestion.
   const std::string ob = test::scene_error(with("[run]", "[output]\nobserve = [\"t\", \"kee\"]\n[run]"));
   CHECK(ob.find("unknown observable 'kee'; did you mean 'ke'") != std::string::npos);
