@@ -7,7 +7,9 @@
 #include <chrono>
 #include <cstdio>
 #include <ctime>
+#include <algorithm>
 #include <exception>
+#include <stdexcept>
 #include <fstream>
 #include <string>
 
@@ -57,9 +59,21 @@ inline double peak_rss_bytes() {
   return static_cast<double>(u.ru_maxrss) * 1024.0;
 }
 
-// Append one row to a CSV file, writing the header first when the file is new.
+// Append one row to a CSV file, writing the header first when the file is new. When a benchmark
+// gains columns at the end, the file's header is extended and its older rows get empty fields.
 inline void append_csv(const std::string& path, const std::string& header, const std::string& row) {
-  const bool fresh = !std::ifstream(path).good();
+  std::ifstream in(path);
+  std::string first;
+  if (in && std::getline(in, first) && first != header) {
+    if (header.rfind(first + ",", 0) != 0)
+      throw std::runtime_error(path + ": its header is not this benchmark's; move the file away");
+    const auto extra = std::count(header.begin() + first.size(), header.end(), ',');
+    std::string text = header + "\n", line;
+    while (std::getline(in, line)) text += line + std::string(extra, ',') + "\n";
+    in.close();
+    std::ofstream(path, std::ios::trunc) << text;
+  }
+  const bool fresh = first.empty();
   std::ofstream out(path, std::ios::app);
   if (fresh) out << header << "\n";
   out << row << "\n";

@@ -36,11 +36,12 @@ using namespace silt;
 
 namespace {
 
-double translational_ke_all(const State& s) {
-  // LAMMPS `thermo ke` counts every atom, frozen ones included (they keep their velocities).
+double translational_ke_all(const Model& model, const State& s) {
+  // LAMMPS `thermo ke` counts every atom, frozen ones included (they keep their velocities); the
+  // State gives frozen grains no inverse mass, the Model keeps their mass.
   double ke = 0;
   for (int64_t i = 0; i < s.n; ++i) {
-    const double m = s.particle_frozen[i] ? 0.0 : 1.0 / s.particle_inv_m[i];
+    const double m = s.particle_frozen[i] ? model.init.mass[s.particle_id[i]] : 1.0 / s.particle_inv_m[i];
     for (int a = 0; a < 3; ++a) ke += 0.5 * m * s.particle_v[3 * i + a] * s.particle_v[3 * i + a];
   }
   return ke;
@@ -84,7 +85,7 @@ int run(int argc, char** argv) {
         return 3;
       }
     std::printf("  settled in %.1f s (2 threads), KE %.1f, %lld neighbour builds\n", bench::now_s() - t0,
-                translational_ke_all(sim.state()), static_cast<long long>(sim.state().nbr_builds));
+                translational_ke_all(model, sim.state()), static_cast<long long>(sim.state().nbr_builds));
     settled = sim.state();
     if (!settled_file.empty()) write_checkpoint(settled_file, model, settled);
   }
@@ -163,7 +164,7 @@ int run(int argc, char** argv) {
         return 3;
       }
       rates[threads].push_back(n * steps / dt);
-      ke_end = translational_ke_all(sim.state());
+      ke_end = translational_ke_all(model, sim.state());
       builds = sim.state().nbr_builds - b0;
       bytes_per_grain = static_cast<double>(state_bytes(sim.state())) / n;
       std::printf("  silt %d thread(s): %lld steps in %.3f s = %.4g particle-steps/s\n", threads,
@@ -204,10 +205,12 @@ int run(int argc, char** argv) {
   std::ostringstream row;
   row << bench::today() << ",\"" << bench::cpu_model() << "\"," << model.n_grains << "," << settle << "," << steps << ","
       << lmp_rate << "," << rate[1] << "," << rate[2] << "," << (lmp_rate > 0 ? rate[1] / lmp_rate : 0) << ","
-      << rate[2] / rate[1] << "," << bytes_per_grain << "," << ke_end << "," << lmp_ke;
+      << rate[2] / rate[1] << "," << bytes_per_grain << "," << ke_end << "," << lmp_ke << ","
+      << bench::peak_rss_bytes() / n << "," << median[1] / std::max(lmp_median, 1e-300) << "," << median[2] / median[1];
   bench::append_csv(std::string(SILT_SOURCE_DIR) + "/bench/results/dem.csv",
                     "date,cpu,n_grains,settle_steps,timed_steps,lammps_1p,silt_1t,silt_2t,ratio_silt1_lammps,"
-                    "scaling_2t_1t,state_bytes_per_grain,ke_silt,ke_lammps",
+                    "scaling_2t_1t,state_bytes_per_grain,ke_silt,ke_lammps,bench_peak_rss_per_grain,ratio_medians,"
+                    "scaling_medians",
                     row.str());
   std::ostringstream ref_row;
   ref_row << bench::today() << ",\"" << bench::cpu_model() << "\"," << repeat << "," << rate[2] / rate[1] << ","
