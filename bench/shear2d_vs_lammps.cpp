@@ -30,24 +30,37 @@ using namespace silt;
 
 namespace {
 
+// The samples of one code and what is reported of them: <tau>/<sigma_yy>, the block-averaged
+// <tau/sigma_yy> and <sigma_yy>, and the wall time of the run.
 struct Series {
   std::vector<double> tau, syy;
+  double wall = 0;
   void add(double t, double y) {
     tau.push_back(std::abs(t));
     syy.push_back(y);
   }
-  void print(const char* who, double wall) const {
+  double ratio_of_means() const {
     double st = 0, sy = 0;
+    for (size_t k = 0; k < tau.size(); ++k) st += tau[k], sy += syy[k];
+    return st / sy;
+  }
+  BlockAverage mean_ratio() const {
     std::vector<double> ratio;
-    for (size_t k = 0; k < tau.size(); ++k) {
-      st += tau[k] / tau.size();
-      sy += syy[k] / syy.size();
-      ratio.push_back(syy[k] > 0 ? tau[k] / syy[k] : 0);
-    }
-    const BlockAverage r = block_average(ratio), p = block_average(syy);
-    std::printf("%-8s %-10zu %-16.4f %-20s %-18s %.1f\n", who, tau.size(), st / sy,
+    for (size_t k = 0; k < tau.size(); ++k) ratio.push_back(syy[k] > 0 ? tau[k] / syy[k] : 0);
+    return block_average(ratio);
+  }
+  void print(const char* who) const {
+    const BlockAverage r = mean_ratio(), p = block_average(syy);
+    std::printf("%-8s %-10zu %-16.4f %-20s %-18s %.1f\n", who, tau.size(), ratio_of_means(),
                 (std::to_string(r.mean).substr(0, 6) + " +- " + std::to_string(r.err).substr(0, 6)).c_str(),
                 (std::to_string(p.mean).substr(0, 6) + " +- " + std::to_string(p.err).substr(0, 6)).c_str(), wall);
+  }
+  // Fields of the CSV row: ratio of means, mean ratio and its error, <syy> and its error, wall time.
+  std::string csv() const {
+    const BlockAverage r = mean_ratio(), p = block_average(syy);
+    std::ostringstream o;
+    o << ratio_of_means() << "," << r.mean << "," << r.err << "," << p.mean << "," << p.err << "," << wall;
+    return o.str();
   }
 };
 
@@ -90,7 +103,7 @@ int run(int argc, char** argv) {
                          const Measurements q = measure(m, s);
                          silt_series.add(q.stress[0][1], q.stress[1][1]);
                        }});
-  const RunReport rep = sim.run(opt);
+  silt_series.wall = sim.run(opt).wall_s;
 
   // LAMMPS: the same packing, box and law.
   const std::string data = "shear2d_vs_lammps.data", input = "shear2d_vs_lammps.in";
@@ -117,8 +130,8 @@ int run(int argc, char** argv) {
   }
   const double t0 = bench::now_s();
   const std::string out = bench::capture("OMP_NUM_THREADS=1 lmp -in " + input + " -log none 2>&1");
-  const double lammps_wall = bench::now_s() - t0;
   Series lammps_series;
+  lammps_series.wall = bench::now_s() - t0;
   std::istringstream lines(out);
   std::string line;
   while (std::getline(lines, line)) {
@@ -134,16 +147,18 @@ int run(int argc, char** argv) {
   }
   std::printf("\n%-8s %-10s %-16s %-20s %-18s %s\n", "code", "samples", "<tau>/<syy>", "<tau/syy> +- err",
               "<syy> +- err", "wall s");
-  silt_series.print("silt", rep.wall_s);
-  lammps_series.print("LAMMPS", lammps_wall);
+  silt_series.print("silt");
+  lammps_series.print("LAMMPS");
+  // Per code: <tau>/<syy>, <tau/syy> and its error, <syy> and its error, wall time [s]
+  // (silt on --threads threads, LAMMPS on one process); then the packing's Phi.
   std::ostringstream row;
-  double s1 = 0, s2 = 0, l1 = 0, l2 = 0;
-  for (size_t k = 0; k < silt_series.tau.size(); ++k) s1 += silt_series.tau[k], s2 += silt_series.syy[k];
-  for (size_t k = 0; k < lammps_series.tau.size(); ++k) l1 += lammps_series.tau[k], l2 += lammps_series.syy[k];
-  row << bench::today() << "," << mu << "," << strain << "," << s1 / s2 << "," << l1 / l2 << ","
-      << s2 / silt_series.syy.size() << "," << l2 / lammps_series.syy.size();
+  row << bench::today() << "," << mu << "," << strain << "," << silt_series.csv() << "," << lammps_series.csv() << ","
+      << threads << "," << measure(dry, packed).phi;
   bench::append_csv(std::string(SILT_SOURCE_DIR) + "/bench/results/shear2d_vs_lammps.csv",
-                    "date,friction,strain,mu_silt,mu_lammps,syy_silt,syy_lammps", row.str());
+                    "date,friction,strain,mu_silt,mu_ratio_silt,mu_ratio_err_silt,syy_silt,syy_err_silt,wall_s_silt,"
+                    "mu_lammps,mu_ratio_lammps,mu_ratio_err_lammps,syy_lammps,syy_err_lammps,wall_s_lammps,threads_silt,"
+                    "phi",
+                    row.str());
   return 0;
 }
 

@@ -1,5 +1,6 @@
 // Cameras: an orthographic one framing a 2D domain, an orbit camera for 3D. Column-major 4x4
 // matrices as OpenGL expects.
+#include <algorithm>
 #include <cmath>
 
 #include "render/camera.hpp"
@@ -66,27 +67,82 @@ Camera frame_2d(const Box& box, const Margins& mg, int width, int height, double
   c.proj = ortho(l, l + width / s, b, b + height / s, 0.0, 2 * depth);
   c.eye = {0, 0, static_cast<float>(depth)};
   c.pixels_per_unit = s;
+  c.target = {box.lo[0] + 0.5 * box.len[0], box.lo[1] + 0.5 * box.len[1], 0};
   c.domain_px = {static_cast<int>(std::floor(px0)), static_cast<int>(std::floor(py0)),
                  static_cast<int>(std::ceil(s * box.len[0])), static_cast<int>(std::ceil(s * box.len[1]))};
   return c;
 }
 
-Camera orbit_3d(const Vec3& target, double radius, double azimuth_deg, double elevation_deg, double distance,
-                double fov_deg, int width, int height) {
+Camera orbit_3d(const Vec3& target, const std::vector<Vec3>& points, double azimuth_deg, double elevation_deg,
+                double distance, double fov_deg, int width, int height, const Margins& mg) {
   Camera c;
   c.ortho = false;
   const double deg = 3.14159265358979323846 / 180.0;
-  const double half = 0.5 * fov_deg * deg;
+  const double t = 1.0 / std::tan(0.5 * fov_deg * deg);  // perspective scale: ndc_y = t y / depth
   const double aspect = static_cast<double>(width) / height;
-  // Auto framing: the bounding sphere fits the smaller of the two fields of view.
-  const double fit = std::min(std::sin(half), std::sin(std::atan(std::tan(half) * aspect)));
-  const double d = distance > 0 ? distance : 1.08 * radius / fit;
   const double az = azimuth_deg * deg, el = elevation_deg * deg;
-  const Vec3 eye = target + d * Vec3(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el));
+  const Vec3 back(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el));  // target -> eye
+  // The camera's axes, as look_at makes them.
+  const Vec3 f = -back;
+  const Vec3 up = std::abs(f.dot(Vec3::UnitZ())) > 0.999 ? Vec3::UnitY() : Vec3::UnitZ();
+  const Vec3 right = f.cross(up).normalized(), upv = right.cross(f);
+  // A point at (x, y, z) from the target in camera axes (z toward the eye) is at depth d - z, at
+  // ndc (t / aspect) x / (d - z), t y / (d - z). Auto framing: the smallest d at which the points'
+  // ndc spans fit kFill of the free area in both directions (bisection: the spans shrink as the
+  // camera backs off; the upper bound keeps every point within kFill of the centre), then a
+  // shift of the projection that centres them in it.
+  const double fw = static_cast<double>(width - mg.left - mg.right) / width;
+  const double fh = static_cast<double>(height - mg.top - mg.bottom) / height;
+  constexpr double kFill = 0.96;
+  std::vector<Vec3> cam;
+  double upper = 0, nearest = -1e308, reach = 0;
+  for (const Vec3& q : points) {
+    const Vec3 r = q - target;
+    cam.emplace_back(right.dot(r), upv.dot(r), back.dot(r));
+    const Vec3& p = cam.back();
+    upper = std::max(upper, p[2] + std::max(t / aspect * std::abs(p[0]) / (kFill * fw), t * std::abs(p[1]) / (kFill * fh)));
+    nearest = std::max(nearest, p[2]);
+    reach = std::max(reach, r.norm());
+  }
+  // ndc bounds {x0, x1, y0, y1} of the points seen from distance d.
+  auto bounds = [&](double d) {
+    std::array<double, 4> b{1e308, -1e308, 1e308, -1e308};
+    for (const Vec3& p : cam) {
+      const double x = t / aspect * p[0] / (d - p[2]), y = t * p[1] / (d - p[2]);
+      b = {std::min(b[0], x), std::max(b[1], x), std::min(b[2], y), std::max(b[3], y)};
+    }
+    return b;
+  };
+  double d = distance, shift_x = 0, shift_y = 0;
+  if (d <= 0 && upper > 0) {
+    double lo = std::max(nearest, 0.0), hi = upper;
+    for (int k = 0; k < 60; ++k) {
+      const double mid = 0.5 * (lo + hi);
+      const auto b = bounds(mid);
+      const bool fits = mid > nearest && b[1] - b[0] <= 2 * kFill * fw && b[3] - b[2] <= 2 * kFill * fh;
+      (fits ? hi : lo) = mid;
+    }
+    d = hi;
+    const auto b = bounds(d);
+    shift_x = -0.5 * (b[0] + b[1]);
+    shift_y = -0.5 * (b[2] + b[3]);
+  }
+  if (d <= 0) d = 1.0;
+  if (reach == 0) reach = 0.5 * d;
+  const Vec3 eye = target + d * back;
   c.view = look_at(eye, target, Vec3::UnitZ());
-  const double near = std::max(1e-3 * d, d - 1.5 * radius), far = d + 1.5 * radius;
+  const double near = std::max(1e-3 * d, d - 1.5 * reach), far = d + 1.5 * reach;
   c.proj = perspective(fov_deg, aspect, near, far);
+  // Shift in ndc (x_clip += cx w_clip) to the centre of the free area.
+  const double cx = static_cast<double>(mg.left - mg.right) / width + shift_x;
+  const double cy = static_cast<double>(mg.bottom - mg.top) / height + shift_y;
+  for (int k = 0; k < 4; ++k) {
+    c.proj[4 * k + 0] += static_cast<float>(cx * c.proj[4 * k + 3]);
+    c.proj[4 * k + 1] += static_cast<float>(cy * c.proj[4 * k + 3]);
+  }
   c.eye = {static_cast<float>(eye[0]), static_cast<float>(eye[1]), static_cast<float>(eye[2])};
+  c.target = {target[0], target[1], target[2]};
+  c.pixels_per_unit = 0.5 * t * height / d;
   return c;
 }
 

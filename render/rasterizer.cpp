@@ -2,8 +2,9 @@
 //
 // Spheres (and the disks of 2D scenes) are impostors: one camera-facing quad per grain whose
 // fragment shader intersects the view ray with the sphere, shades it and writes the true depth,
-// so overlapping grains hide each other correctly. Force chains are quads along each contact.
-// Fields are textured quads. Translucent grains are drawn last, back to front.
+// so overlapping grains hide each other correctly. Force chains are capsule impostors likewise
+// (lit in 3D, flat in 2D), the box outline lines of a constant width on screen, fields textured
+// quads (shaders.hpp). Translucent grains are drawn last, back to front.
 #define GL_GLEXT_PROTOTYPES
 #include <GL/osmesa.h>
 #include <GL/glcorearb.h>
@@ -15,120 +16,18 @@
 #include <string>
 
 #include "render/camera.hpp"
+#include "render/occlusion.hpp"
+#include "render/shaders.hpp"
 #include "silt/render.hpp"
 
 namespace silt::render {
 namespace {
 
-const char* kSphereVs = R"(#version 330 core
-layout(location = 0) in vec3 a_centre;
-layout(location = 1) in float a_radius;
-layout(location = 2) in vec4 a_color;
-uniform mat4 u_view;
-uniform mat4 u_proj;
-uniform int u_ortho;
-out vec3 v_centre;
-out float v_radius;
-out vec4 v_color;
-out vec3 v_pos;
-void main() {
-  vec2 corner = vec2((gl_VertexID & 1) == 0 ? -1.0 : 1.0, (gl_VertexID & 2) == 0 ? -1.0 : 1.0);
-  vec4 c = u_view * vec4(a_centre, 1.0);
-  // Perspective: the quad is moved along the ray to the front of the sphere (so that the near side
-  // is never clipped), where the cone of rays grazing the sphere is narrower than the radius; off
-  // the axis the silhouette stretches by 1/cos of the angle to the axis.
-  float grow = u_ortho == 1 ? 1.0 : 1.05 * length(c.xyz) / max(-c.z, 1e-20);
-  vec3 p = c.xyz + vec3(corner * a_radius * grow, 0.0);
-  if (u_ortho == 0) p *= (length(c.xyz) - a_radius) / max(length(c.xyz), 1e-20);
-  v_centre = c.xyz;
-  v_radius = a_radius;
-  v_color = a_color;
-  v_pos = p;
-  gl_Position = u_proj * vec4(p, 1.0);
-}
-)";
-
-const char* kSphereFs = R"(#version 330 core
-in vec3 v_centre;
-in float v_radius;
-in vec4 v_color;
-in vec3 v_pos;
-uniform mat4 u_proj;
-uniform int u_ortho;
-out vec4 frag;
-void main() {
-  vec3 ro, rd;
-  if (u_ortho == 1) {
-    ro = vec3(v_pos.xy, v_centre.z + 2.0 * v_radius);
-    rd = vec3(0.0, 0.0, -1.0);
-  } else {
-    ro = vec3(0.0);
-    rd = normalize(v_pos);
-  }
-  vec3 oc = ro - v_centre;
-  float b = dot(oc, rd);
-  float c = dot(oc, oc) - v_radius * v_radius;
-  float disc = b * b - c;
-  if (disc < 0.0) discard;
-  float t = -b - sqrt(disc);
-  vec3 hit = ro + t * rd;
-  vec3 n = (hit - v_centre) / v_radius;
-  vec3 l = normalize(vec3(0.35, 0.45, 1.0));
-  float diffuse = max(dot(n, l), 0.0);
-  float specular = pow(max(dot(reflect(-l, n), -rd), 0.0), 40.0);
-  frag = vec4(v_color.rgb * (0.38 + 0.62 * diffuse) + 0.22 * specular * v_color.a, v_color.a);
-  vec4 clip = u_proj * vec4(hit, 1.0);
-  gl_FragDepth = 0.5 * clip.z / clip.w + 0.5;
-}
-)";
-
-const char* kSegmentVs = R"(#version 330 core
-layout(location = 0) in vec3 a_a;
-layout(location = 1) in vec3 a_b;
-layout(location = 2) in float a_width;
-layout(location = 3) in vec4 a_color;
-uniform mat4 u_view;
-uniform mat4 u_proj;
-out vec4 v_color;
-void main() {
-  vec3 a = (u_view * vec4(a_a, 1.0)).xyz;
-  vec3 b = (u_view * vec4(a_b, 1.0)).xyz;
-  vec2 d = b.xy - a.xy;
-  vec2 side = length(d) > 0.0 ? normalize(vec2(-d.y, d.x)) : vec2(1.0, 0.0);
-  vec3 p = ((gl_VertexID & 1) == 0 ? a : b) + vec3(side * 0.5 * a_width * ((gl_VertexID & 2) == 0 ? -1.0 : 1.0), 0.0);
-  v_color = a_color;
-  gl_Position = u_proj * vec4(p, 1.0);
-}
-)";
-
-const char* kFlatFs = R"(#version 330 core
-in vec4 v_color;
-out vec4 frag;
-void main() { frag = v_color; }
-)";
-
-const char* kFieldVs = R"(#version 330 core
-layout(location = 0) in vec3 a_pos;
-layout(location = 1) in vec2 a_uv;
-uniform mat4 u_view;
-uniform mat4 u_proj;
-out vec2 v_uv;
-void main() {
-  v_uv = a_uv;
-  gl_Position = u_proj * u_view * vec4(a_pos, 1.0);
-}
-)";
-
-const char* kFieldFs = R"(#version 330 core
-in vec2 v_uv;
-uniform sampler2D u_tex;
-out vec4 frag;
-void main() { frag = texture(u_tex, v_uv); }
-)";
-
-GLuint compile_shader(GLenum type, const char* src) {
+// A shader from the version line, a prefix of shared code and its own source.
+GLuint compile_shader(GLenum type, const char* prefix, const char* src) {
   const GLuint s = glCreateShader(type);
-  glShaderSource(s, 1, &src, nullptr);
+  const char* parts[3] = {shaders::kVersion, prefix, src};
+  glShaderSource(s, 3, parts, nullptr);
   glCompileShader(s);
   GLint ok = 0;
   glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
@@ -140,9 +39,9 @@ GLuint compile_shader(GLenum type, const char* src) {
   return s;
 }
 
-GLuint link_program(const char* vs, const char* fs) {
+GLuint link_program(const char* vs_prefix, const char* vs, const char* fs_prefix, const char* fs) {
   const GLuint p = glCreateProgram();
-  const GLuint v = compile_shader(GL_VERTEX_SHADER, vs), f = compile_shader(GL_FRAGMENT_SHADER, fs);
+  const GLuint v = compile_shader(GL_VERTEX_SHADER, vs_prefix, vs), f = compile_shader(GL_FRAGMENT_SHADER, fs_prefix, fs);
   glAttachShader(p, v);
   glAttachShader(p, f);
   glLinkProgram(p);
@@ -175,7 +74,7 @@ struct Rasterizer::Impl {
   OSMesaContext ctx = nullptr;
   std::vector<uint8_t> buffer;
   int width = 0, height = 0;
-  GLuint sphere_prog = 0, segment_prog = 0, field_prog = 0;
+  GLuint sphere_prog = 0, capsule_prog = 0, line_prog = 0, field_prog = 0;
   GLuint vao = 0, vbo = 0, tex = 0;
 
   void make_current(int w, int h) {
@@ -193,9 +92,11 @@ struct Rasterizer::Impl {
     if (!OSMesaMakeCurrent(ctx, buffer.data(), GL_UNSIGNED_BYTE, w, h))
       throw RenderError("cannot bind the OSMesa context to a " + std::to_string(w) + " x " + std::to_string(h) + " image");
     if (!sphere_prog) {
-      sphere_prog = link_program(kSphereVs, kSphereFs);
-      segment_prog = link_program(kSegmentVs, kFlatFs);
-      field_prog = link_program(kFieldVs, kFieldFs);
+      using namespace shaders;
+      sphere_prog = link_program("", kSphereVs, kImpostor, kSphereFs);
+      capsule_prog = link_program(kSegmentInputs, kCapsuleVs, kImpostor, kCapsuleFs);
+      line_prog = link_program(kSegmentInputs, kLineVs, "", kFlatFs);
+      field_prog = link_program("", kFieldVs, "", kFieldFs);
       glGenVertexArrays(1, &vao);
       glGenBuffers(1, &vbo);
       glGenTextures(1, &tex);
@@ -229,7 +130,8 @@ struct Rasterizer::Impl {
     glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, static_cast<GLsizei>(v.size()));
   }
 
-  void draw_segments(const std::vector<SegmentVertex>& v) {
+  // Instances of `vertices` strip vertices each (a quad: 4).
+  void draw_segments(const std::vector<SegmentVertex>& v, GLsizei vertices) {
     if (v.empty()) return;
     glBindVertexArray(vao);
     glBindBuffer(GL_ARRAY_BUFFER, vbo);
@@ -244,7 +146,7 @@ struct Rasterizer::Impl {
                             reinterpret_cast<void*>(offs[k]));
       glVertexAttribDivisor(k, 1);
     }
-    glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, static_cast<GLsizei>(v.size()));
+    glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, vertices, static_cast<GLsizei>(v.size()));
   }
 
   void draw_field(const RenderScene::FieldQuad& q) {
@@ -306,24 +208,39 @@ Image Rasterizer::draw(const RenderScene& scene) {
     glEnable(GL_SCISSOR_TEST);
     glScissor(scene.clip[0], scene.clip[1], scene.clip[2], scene.clip[3]);
   }
-  // Fields first (opaque, behind), then chains, then opaque grains.
+  // Fields first (opaque, behind), then chains and opaque grains, the box outline, and the
+  // translucent grains over them.
   g.set_camera(g.field_prog, scene.camera);
   for (const auto& q : scene.fields) g.draw_field(q);
-  g.set_camera(g.segment_prog, scene.camera);
-  std::vector<SegmentVertex> seg(scene.segments.size());
-  for (size_t k = 0; k < seg.size(); ++k) {
-    const auto& s = scene.segments[k];
-    std::copy(s.a.begin(), s.a.end(), seg[k].a);
-    std::copy(s.b.begin(), s.b.end(), seg[k].b);
-    seg[k].width = s.width;
-    const uint8_t c[4] = {s.color.r, s.color.g, s.color.b, s.color.a};
-    std::copy(c, c + 4, seg[k].color);
-  }
-  g.draw_segments(seg);
+  const Hidden hidden = scene.cull_hidden ? find_hidden(scene) : Hidden{};
+  auto shown = [](const std::vector<char>& flags, size_t k) { return flags.empty() || !flags[k]; };
+  auto segments = [&](const auto& from, auto width, const std::vector<char>& skip) {
+    std::vector<SegmentVertex> out;
+    out.reserve(from.size());
+    for (size_t k = 0; k < from.size(); ++k) {
+      if (!shown(skip, k)) continue;
+      const auto& s = from[k];
+      SegmentVertex v;
+      std::copy(s.a.begin(), s.a.end(), v.a);
+      std::copy(s.b.begin(), s.b.end(), v.b);
+      v.width = width(s);
+      const uint8_t c[4] = {s.color.r, s.color.g, s.color.b, s.color.a};
+      std::copy(c, c + 4, v.color);
+      out.push_back(v);
+    }
+    return out;
+  };
+  g.set_camera(g.capsule_prog, scene.camera);
+  glUniform1i(glGetUniformLocation(g.capsule_prog, "u_lit"), scene.camera.ortho ? 0 : 1);
+  glUniform2f(glGetUniformLocation(g.capsule_prog, "u_viewport"), static_cast<float>(scene.width),
+              static_cast<float>(scene.height));
+  g.draw_segments(segments(scene.segments, [](const RenderScene::Segment& s) { return s.width; }, hidden.segments), 4);
   std::vector<SphereVertex> opaque, clear;
   opaque.reserve(scene.spheres.size());
   std::vector<float> depth;
-  for (const auto& s : scene.spheres) {
+  for (size_t k = 0; k < scene.spheres.size(); ++k) {
+    if (!shown(hidden.spheres, k)) continue;
+    const auto& s = scene.spheres[k];
     SphereVertex v;
     std::copy(s.centre.begin(), s.centre.end(), v.centre);
     v.radius = s.radius;
@@ -340,6 +257,15 @@ Image Rasterizer::draw(const RenderScene& scene) {
   }
   g.set_camera(g.sphere_prog, scene.camera);
   g.draw_spheres(opaque);
+  if (!scene.lines.empty()) {
+    // The box outline lies on the clip rectangle of a 2D frame: drawn whole.
+    glDisable(GL_SCISSOR_TEST);
+    g.set_camera(g.line_prog, scene.camera);
+    glUniform2f(glGetUniformLocation(g.line_prog, "u_viewport"), static_cast<float>(scene.width),
+                static_cast<float>(scene.height));
+    g.draw_segments(segments(scene.lines, [](const RenderScene::Line& l) { return l.width_px; }, {}), 4);
+    if (scene.clip[2] > 0) glEnable(GL_SCISSOR_TEST);
+  }
   if (!clear.empty()) {
     // Translucent grains back to front, without writing depth.
     std::vector<size_t> order(clear.size());
@@ -348,6 +274,7 @@ Image Rasterizer::draw(const RenderScene& scene) {
     std::vector<SphereVertex> sorted;
     sorted.reserve(clear.size());
     for (size_t k : order) sorted.push_back(clear[k]);
+    g.set_camera(g.sphere_prog, scene.camera);
     glEnable(GL_BLEND);
     glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
     glDepthMask(GL_FALSE);

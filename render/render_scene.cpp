@@ -4,8 +4,7 @@
 #include <cstdio>
 
 #include "render/camera.hpp"
-#include "silt/contacts.hpp"
-#include "silt/render.hpp"
+#include "render/scene_parts.hpp"
 
 namespace silt::render {
 namespace {
@@ -21,34 +20,33 @@ std::string number(double x) {
   return buf;
 }
 
-// Value of the colouring quantity for grain i, and its label.
-double grain_value(const View& v, const Model& m, const State& s, int64_t i) {
-  const int D = m.dim;
+// Value of the colouring quantity for grain i.
+double grain_value(const std::string& color_by, int D, const State& s, int64_t i) {
   const double* vel = &s.particle_v[D * i];
-  if (v.color_by == "speed") {
+  if (color_by == "speed") {
     double v2 = 0;
     for (int k = 0; k < D; ++k) v2 += vel[k] * vel[k];
     return std::sqrt(v2);
   }
-  if (v.color_by == "vx") return vel[0];
-  if (v.color_by == "vy") return vel[1];
-  if (v.color_by == "vz") return vel[D - 1];
-  if (v.color_by == "height") return s.particle_x[D * i + D - 1];
-  if (v.color_by == "id") return s.particle_id[i];
-  if (v.color_by == "group") return s.particle_group[i];
+  if (color_by == "vx") return vel[0];
+  if (color_by == "vy") return vel[1];
+  if (color_by == "vz") return vel[D - 1];
+  if (color_by == "height") return s.particle_x[D * i + D - 1];
+  if (color_by == "id") return s.particle_id[i];
+  if (color_by == "group") return s.particle_group[i];
   return 0;
 }
 
 // Under Lees-Edwards shear the grains' velocities are stored relative to the shear flow, and
 // drawn so: the fluctuations are what a picture of a homogeneous shear shows.
-std::string quantity_label(const View& v, int dim, bool sheared) {
+std::string quantity_label(const std::string& color_by, int dim, bool sheared) {
   const std::string rel = sheared ? " rel. to shear flow" : "";
-  if (v.color_by == "speed") return "speed" + rel + " [m/s]";
-  if (v.color_by == "vx") return "vx" + rel + " [m/s]";
-  if (v.color_by == "vy") return "vy" + rel + " [m/s]";
-  if (v.color_by == "vz") return (dim == 2 ? "vy" : "vz") + rel + std::string(" [m/s]");
-  if (v.color_by == "height") return "height [m]";
-  return v.color_by;
+  if (color_by == "speed") return "speed" + rel + " [m/s]";
+  if (color_by == "vx") return "vx" + rel + " [m/s]";
+  if (color_by == "vy") return "vy" + rel + " [m/s]";
+  if (color_by == "vz") return (dim == 2 ? "vy" : "vz") + rel + std::string(" [m/s]");
+  if (color_by == "height") return "height [m]";
+  return color_by;
 }
 
 // A "nice" length (1, 2 or 5 times a power of ten) near `target`.
@@ -59,86 +57,129 @@ double nice_length(double target) {
   return p;
 }
 
-void add_field_2d(RenderScene& rs, const ScalarGrid& g, const View& v, float z) {
-  RenderScene::FieldQuad q;
-  q.tex_w = g.nx;
-  q.tex_h = g.ny;
-  double lo = v.field_range[0], hi = v.field_range[1];
-  int64_t nans = 0;
-  if (v.field_range_auto) {
-    double mx = 0;
-    for (double x : g.value) {
-      if (std::isnan(x)) ++nans;
-      else mx = std::max(mx, std::abs(x));
+// The grains (disks in 2D), coloured by `color_by` and made translucent by `alpha`. With a 3D
+// slice (`cut`), only the grains the plane cuts, as spheres of their section's radius centred on
+// it. With a chain slab (3D, View::slab_half_width > 0), only the grains whose centres lie in it,
+// so that its chains are not hidden. Returns the colour scale of a coloured quantity.
+ColorScale add_grains(RenderScene& rs, const Model& m, const State& s, const View& v, const std::string& color_by,
+                      double alpha, bool cut) {
+  const int D = m.dim;
+  const bool colored = color_by != "flat" && color_by != "frozen";
+  ColorScale scale{v.colormap, v.range[0], v.range[1], quantity_label(color_by, D, m.shear.on)};
+  if (colored && v.range_auto) {
+    scale.lo = 1e308;
+    scale.hi = -1e308;
+    for (int64_t i = 0; i < s.n; ++i) {
+      if (s.particle_frozen[i]) continue;
+      const double x = grain_value(color_by, D, s, i);
+      scale.lo = std::min(scale.lo, x);
+      scale.hi = std::max(scale.hi, x);
     }
-    if (mx == 0) mx = 1;
-    lo = -mx;
-    hi = mx;
-  } else {
-    for (double x : g.value) nans += std::isnan(x);
+    if (color_by == "speed") scale.lo = 0;
+    if (!(scale.hi > scale.lo)) scale.hi = scale.lo + 1;
   }
-  const Colormap& cm = Colormap::get("diverging");
-  q.texels.resize(g.value.size());
-  for (size_t k = 0; k < g.value.size(); ++k) q.texels[k] = cm.at((g.value[k] - lo) / (hi - lo));
-  const float x0 = static_cast<float>(g.lo[0]), y0 = static_cast<float>(g.lo[1]);
-  const float x1 = static_cast<float>(g.lo[0] + g.nx * g.h[0]), y1 = static_cast<float>(g.lo[1] + g.ny * g.h[1]);
-  q.corners = {{{x0, y0, z}, {x1, y0, z}, {x1, y1, z}, {x0, y1, z}}};
-  rs.fields.push_back(std::move(q));
-  if (nans)
-    rs.warnings.push_back("field '" + g.name + "' has " + std::to_string(nans) + " NaN value(s), drawn grey");
-  rs.colorbar.on = v.wants("colorbar");
-  rs.colorbar.colormap = "diverging";
-  rs.colorbar.lo = lo;
-  rs.colorbar.hi = hi;
-  rs.colorbar.label = g.name;
+  const Colormap& cm = Colormap::get(v.colormap);
+  const double frozen_rgb[3] = {0.45 * v.flat_color[0], 0.45 * v.flat_color[1], 0.45 * v.flat_color[2]};
+  const double* n = v.slice_normal;
+  for (int64_t i = 0; i < s.n; ++i) {
+    Rgba c;
+    if (s.particle_frozen[i]) c = rgba_of(frozen_rgb, alpha);
+    else if (!colored) c = rgba_of(v.flat_color, alpha);
+    else {
+      c = cm.at((grain_value(color_by, D, s, i) - scale.lo) / (scale.hi - scale.lo));
+      c.a = static_cast<uint8_t>(std::lround(255 * alpha));
+    }
+    std::array<float, 3> x{0, 0, 0};
+    for (int k = 0; k < D; ++k) x[k] = static_cast<float>(s.particle_x[D * i + k]);
+    float radius = static_cast<float>(s.particle_r[i]);
+    if (D == 3 && v.slab_half_width > 0 && !in_slab(v, x)) continue;
+    if (cut) {
+      const double dist = n[0] * x[0] + n[1] * x[1] + n[2] * x[2] - v.slice_position;
+      if (std::abs(dist) >= radius) continue;
+      radius = static_cast<float>(std::sqrt(radius * radius - dist * dist));
+      for (int k = 0; k < 3; ++k) x[k] = static_cast<float>(x[k] - dist * n[k]);
+    }
+    rs.spheres.push_back({x, radius, c});
+    if (!v.periodic_images) continue;
+    // Images of grains that cross a periodic boundary (one shift per direction and their
+    // combinations), so that they are drawn whole on both sides.
+    for (int mask = 1; mask < (1 << D); ++mask) {
+      std::array<float, 3> y = x;
+      bool crossing = true;
+      for (int k = 0; k < D && crossing; ++k) {
+        if (!(mask & (1 << k))) continue;
+        if (!s.box.periodic[k]) crossing = false;
+        else if (x[k] - radius < s.box.lo[k]) y[k] += static_cast<float>(s.box.len[k]);
+        else if (x[k] + radius > s.box.lo[k] + s.box.len[k]) y[k] -= static_cast<float>(s.box.len[k]);
+        else crossing = false;
+      }
+      // Under Lees-Edwards shear the image one period up is shifted along x by the offset.
+      if (crossing && s.box.lees_edwards && (mask & 2) && y[1] != x[1]) {
+        const double shifted = y[0] + (y[1] > x[1] ? 1.0 : -1.0) * s.box.le_offset;
+        // Back into the box along x, unless this is also the image across x.
+        y[0] = static_cast<float>((mask & 1) ? shifted
+                                             : shifted - s.box.len[0] * std::floor((shifted - s.box.lo[0]) / s.box.len[0]));
+      }
+      if (crossing) rs.spheres.push_back({y, radius, c});
+    }
+  }
+  return scale;
 }
 
-// 3D slice of a cell-centred grid through `position` along `axis`: a textured quad.
-void add_field_slice(RenderScene& rs, const ScalarGrid& g, const View& v) {
-  const int a = v.slice_axis[0] - 'x';
-  const int u = (a + 1) % 3, w = (a + 2) % 3;
-  const int n[3] = {g.nx, g.ny, g.nz};
-  const int layer = std::clamp(static_cast<int>(std::floor((v.slice_position - g.lo[a]) / g.h[a])), 0, n[a] - 1);
-  ScalarGrid s2;
-  s2.name = g.name;
-  s2.nx = n[u];
-  s2.ny = n[w];
-  s2.value.resize(static_cast<size_t>(n[u]) * n[w]);
-  for (int j = 0; j < n[w]; ++j)
-    for (int i = 0; i < n[u]; ++i) {
-      int idx[3];
-      idx[a] = layer;
-      idx[u] = i;
-      idx[w] = j;
-      s2.value[static_cast<size_t>(j) * n[u] + i] = g.at(idx[0], idx[1], idx[2]);
-    }
-  add_field_2d(rs, s2, v, 0);
-  // Place the quad on the plane.
-  auto& q = rs.fields.back();
-  const double pos = v.slice_position;
-  const double u0 = g.lo[u], u1 = g.lo[u] + n[u] * g.h[u], w0 = g.lo[w], w1 = g.lo[w] + n[w] * g.h[w];
-  const double cu[4] = {u0, u1, u1, u0}, cw[4] = {w0, w0, w1, w1};
-  for (int c = 0; c < 4; ++c) {
-    q.corners[c][a] = static_cast<float>(pos);
-    q.corners[c][u] = static_cast<float>(cu[c]);
-    q.corners[c][w] = static_cast<float>(cw[c]);
+// What a 3D camera frames by default: the domain, less the empty space above the grains (against
+// gravity, along the axis nearest to it, when not periodic) if it is more than a tenth of that
+// length, as the empty top of a chute. With the box outline or a field drawn, the whole domain.
+std::vector<Vec3> frame_corners(const Model& m, const State& s, bool whole_domain, Vec3& centre) {
+  Vec3 lo(s.box.lo[0], s.box.lo[1], s.box.lo[2]);
+  Vec3 hi = lo + Vec3(s.box.len[0], s.box.len[1], s.box.len[2]);
+  int up = 0;
+  m.gravity.cwiseAbs().maxCoeff(&up);
+  if (!whole_domain && s.n > 0 && m.gravity.norm() > 0 && !s.box.periodic[up]) {
+    const double sign = m.gravity[up] < 0 ? 1.0 : -1.0;  // +1: up is +axis
+    double top = -1e308;
+    for (int64_t i = 0; i < s.n; ++i) top = std::max(top, sign * s.particle_x[3 * i + up] + s.particle_r[i]);
+    double& side = sign > 0 ? hi[up] : lo[up];
+    const double bottom = sign > 0 ? lo[up] : -hi[up];  // in the signed coordinate
+    if (top > bottom && top - bottom < 0.9 * (hi[up] - lo[up])) side = sign * top;
   }
+  centre = 0.5 * (lo + hi);
+  std::vector<Vec3> corners;
+  for (int c = 0; c < 8; ++c) corners.emplace_back(c & 1 ? hi[0] : lo[0], c & 2 ? hi[1] : lo[1], c & 4 ? hi[2] : lo[2]);
+  return corners;
 }
 
 }  // namespace
 
-RenderScene build_render_scene(const Model& m, const State& s, const View& v, const ScalarGrid* field) {
+RenderScene build_render_scene(const Model& m, const State& s, const View& v, const GridField* field) {
   if (v.width < 16 || v.height < 16 || v.width > 16384 || v.height > 16384)
     throw RenderError("image size " + std::to_string(v.width) + " x " + std::to_string(v.height) +
                       " is outside 16 .. 16384 pixels");
+  if (static_cast<int64_t>(v.width) * v.height > RenderSettings::kMaxPixels)
+    throw RenderError("image size " + std::to_string(v.width) + " x " + std::to_string(v.height) +
+                      " is above the limit of 64 Mpx (8192 x 8192)");
   const int D = m.dim;
   RenderScene rs;
   rs.width = v.width;
   rs.height = v.height;
   rs.background = rgba_of(v.background);
-  const bool bar = v.wants("colorbar");
+
+  // What is drawn, and which colour scale the bar shows: the field's, else the grains' quantity,
+  // else the chains' force.
+  const bool chains = v.wants("chains");
+  const bool draw_field = v.wants("field") && field != nullptr;
+  const std::string color_by = !v.color_by.empty() ? v.color_by : (chains || draw_field ? "flat" : "speed");
+  const double alpha = v.grain_opacity > 0 ? v.grain_opacity : (D == 3 && chains ? 0.25 : 1.0);
+  if (v.wants("field") && field == nullptr) rs.warnings.push_back("no field to draw in this scene");
+  const bool grains = v.wants("grains") || (draw_field && D == 3);
+  const bool colored = grains && color_by != "flat" && color_by != "frozen";
+  enum class Bar { kNone, kField, kGrains, kChains };
+  const Bar bar = !v.wants("colorbar") ? Bar::kNone
+                  : draw_field         ? Bar::kField
+                  : colored            ? Bar::kGrains
+                  : chains             ? Bar::kChains
+                                       : Bar::kNone;
   Margins mg;
-  if (bar) mg.right = 110;
+  if (bar != Bar::kNone) mg.right = 110;
   if (v.wants("time")) mg.top = 36;
   if (v.wants("scalebar")) mg.bottom = 40;
   double r_mean = 0;
@@ -151,143 +192,32 @@ RenderScene build_render_scene(const Model& m, const State& s, const View& v, co
     const auto& d = rs.camera.domain_px;
     rs.clip = {d[0], d[1], d[2], d[3]};
   } else {
-    Vec3 lo(s.box.lo[0], s.box.lo[1], s.box.lo[2]);
-    Vec3 len(s.box.len[0], s.box.len[1], s.box.len[2]);
-    Vec3 target = lo + 0.5 * len;
+    Vec3 target;
+    const std::vector<Vec3> corners = frame_corners(m, s, v.wants("box") || draw_field, target);
     if (!v.target_auto) target = Vec3(v.target[0], v.target[1], v.target[2]);
-    rs.camera = orbit_3d(target, 0.5 * len.norm(), v.azimuth, v.elevation, v.distance, v.fov, v.width, v.height);
+    rs.camera = orbit_3d(target, corners, v.azimuth, v.elevation, v.distance, v.fov, v.width, v.height, mg);
   }
 
-  // Grains.
-  const bool draw_field = v.wants("field") && field != nullptr;
-  if (v.wants("field") && field == nullptr) rs.warnings.push_back("no field to draw in this scene");
-  if (v.wants("grains") || (draw_field && D == 3)) {
-    const bool colored = v.color_by != "flat" && v.color_by != "frozen";
-    double lo = v.range[0], hi = v.range[1];
-    if (colored && v.range_auto) {
-      lo = 1e308;
-      hi = -1e308;
-      for (int64_t i = 0; i < s.n; ++i) {
-        if (s.particle_frozen[i]) continue;
-        const double x = grain_value(v, m, s, i);
-        lo = std::min(lo, x);
-        hi = std::max(hi, x);
-      }
-      if (v.color_by == "speed") lo = 0;
-      if (!(hi > lo)) hi = lo + 1;
-    }
-    const Colormap& cm = Colormap::get(v.colormap);
-    const double alpha = v.grain_opacity > 0 ? v.grain_opacity : 1.0;
-    const double frozen_rgb[3] = {0.45 * v.flat_color[0], 0.45 * v.flat_color[1], 0.45 * v.flat_color[2]};
-    const int slice_axis = v.slice_axis[0] - 'x';
-    for (int64_t i = 0; i < s.n; ++i) {
-      Rgba c;
-      if (s.particle_frozen[i]) c = rgba_of(frozen_rgb, alpha);
-      else if (!colored) c = rgba_of(v.flat_color, alpha);
-      else {
-        c = cm.at((grain_value(v, m, s, i) - lo) / (hi - lo));
-        c.a = static_cast<uint8_t>(std::lround(255 * alpha));
-      }
-      std::array<float, 3> x{0, 0, 0};
-      for (int k = 0; k < D; ++k) x[k] = static_cast<float>(s.particle_x[D * i + k]);
-      float radius = static_cast<float>(s.particle_r[i]);
-      if (draw_field && D == 3) {
-        // Only the grains cut by the slice, as their sections on it.
-        const double dist = x[slice_axis] - v.slice_position;
-        if (std::abs(dist) >= radius) continue;
-        radius = static_cast<float>(std::sqrt(radius * radius - dist * dist));
-        x[slice_axis] = static_cast<float>(v.slice_position);
-      }
-      rs.spheres.push_back({x, radius, c});
-      if (v.periodic_images) {
-        // Images of grains that cross a periodic boundary (one shift per direction and their
-        // combinations), so that they are drawn whole on both sides.
-        for (int mask = 1; mask < (1 << D); ++mask) {
-          std::array<float, 3> y = x;
-          bool crossing = true;
-          for (int k = 0; k < D && crossing; ++k) {
-            if (!(mask & (1 << k))) continue;
-            if (!s.box.periodic[k]) crossing = false;
-            else if (x[k] - radius < s.box.lo[k]) y[k] += static_cast<float>(s.box.len[k]);
-            else if (x[k] + radius > s.box.lo[k] + s.box.len[k]) y[k] -= static_cast<float>(s.box.len[k]);
-            else crossing = false;
-          }
-          // Under Lees-Edwards shear the image one period up is shifted along x by the offset.
-          if (crossing && s.box.lees_edwards && (mask & 2) && y[1] != x[1]) {
-            const double shifted = y[0] + (y[1] > x[1] ? 1.0 : -1.0) * s.box.le_offset;
-            // Back into the box along x, unless this is also the image across x.
-            y[0] = static_cast<float>((mask & 1) ? shifted
-                                                 : shifted - s.box.len[0] * std::floor((shifted - s.box.lo[0]) / s.box.len[0]));
-          }
-          if (crossing) rs.spheres.push_back({y, radius, c});
-        }
-      }
-    }
-    if (colored && bar && !draw_field) {
-      rs.colorbar.on = true;
-      rs.colorbar.colormap = v.colormap;
-      rs.colorbar.lo = lo;
-      rs.colorbar.hi = hi;
-      rs.colorbar.label = quantity_label(v, D, m.shear.on);
-    }
+  // Content. In 2D, from back to front along z: the field, the disks, the chains, the box.
+  ColorScale scale;
+  if (grains) {
+    const ColorScale g = add_grains(rs, m, s, v, color_by, alpha, draw_field && D == 3);
+    if (bar == Bar::kGrains) scale = g;
   }
-
-  // Force chains: one segment per contact between the centres, width proportional to the normal
-  // force relative to the mean, coloured by it (Radjai et al. 1998 style).
-  if (v.wants("chains")) {
-    struct Chain {
-      std::array<float, 3> a, b;
-      double fn;
-    };
-    std::vector<Chain> contacts;
-    double sum = 0;
-    for (const Contact& k : touching_contacts(s)) {
-      if (!(k.fn > 0)) continue;
-      Chain c{};
-      for (int a = 0; a < D; ++a) {
-        c.a[a] = static_cast<float>(s.particle_x[D * k.i + a]);
-        c.b[a] = static_cast<float>(s.particle_x[D * k.i + a] - k.d[a]);
-      }
-      if (D == 3 && v.slab_half_width > 0) {
-        double off = 0, nn = 0;
-        for (int a = 0; a < 3; ++a) {
-          off += (0.5 * (c.a[a] + c.b[a]) - v.slab_center[a]) * v.slab_normal[a];
-          nn += v.slab_normal[a] * v.slab_normal[a];
-        }
-        if (std::abs(off) / std::sqrt(nn) > v.slab_half_width) continue;
-      }
-      c.fn = k.fn;
-      contacts.push_back(c);
-      sum += k.fn;
-    }
-    const double mean = contacts.empty() ? 1.0 : sum / contacts.size();
-    const Colormap& cm = Colormap::get("sequential");
-    // 2D: chains in front of the disks (the camera looks down -z).
-    const float lift = D == 2 ? static_cast<float>(2 * r_max) : 0.0f;
-    for (const Chain& c : contacts) {
-      const double rel = c.fn / mean;
-      if (v.chains_above_mean && rel <= 1) continue;
-      const float width = static_cast<float>(std::min(1.0, v.chain_width * rel) * r_mean);  // at most a radius
-      Rgba color = cm.at(std::min(1.0, rel / 3.0));
-      RenderScene::Segment seg{c.a, c.b, width, color};
-      seg.a[2] += lift;
-      seg.b[2] += lift;
-      rs.segments.push_back(seg);
-    }
+  if (chains) {
+    const ColorScale c = add_force_chains(rs, s, v, r_mean, D == 2 ? static_cast<float>(2 * r_max) : 0.0f);
+    if (bar == Bar::kChains) scale = c;
   }
-
-  // Field: 2D map below the grains, or a 3D slice.
   if (draw_field) {
-    if (D == 2) add_field_2d(rs, *field, v, static_cast<float>(-2 * r_max));
-    else add_field_slice(rs, *field, v);
+    const ColorScale f = add_field(rs, *field, v, D, static_cast<float>(-2 * r_max));
+    if (bar == Bar::kField) scale = f;
   }
+  if (v.wants("box")) add_box_outline(rs, s, D == 2 ? static_cast<float>(4 * r_max) : 0.0f);
 
   // Overlays.
-  if (rs.colorbar.on) {
-    rs.colorbar.x = v.width - 90;
-    rs.colorbar.y = mg.top + 20;
-    rs.colorbar.width = 18;
-    rs.colorbar.height = std::max(20, v.height - mg.top - mg.bottom - 40);
+  if (bar != Bar::kNone) {
+    rs.colorbar = {true, v.width - 90, mg.top + 20, 18, std::max(20, v.height - mg.top - mg.bottom - 40),
+                   scale.colormap, scale.lo, scale.hi, scale.label};
   }
   const Rgba ink = (v.background[0] + v.background[1] + v.background[2]) > 1.5 ? Rgba{20, 20, 20, 255} : Rgba{235, 235, 235, 255};
   if (v.wants("time")) {
@@ -295,18 +225,21 @@ RenderScene build_render_scene(const Model& m, const State& s, const View& v, co
     std::snprintf(buf, sizeof buf, "t = %.6g s    step %lld", s.t, static_cast<long long>(s.step));
     rs.texts.push_back({buf, 12, 24, 16, ink});
   }
-  if (v.wants("scalebar") && rs.camera.ortho && rs.camera.pixels_per_unit > 0) {
-    const double len = nice_length(0.2 * s.box.len[0]);
+  if (v.wants("scalebar") && rs.camera.pixels_per_unit > 0) {
+    // 2D: a fifth of the box. 3D: lengths at the target's depth (in the plane through it facing
+    // the camera), about a sixth of the width seen there.
+    const double free_width = (v.width - mg.left - mg.right) / rs.camera.pixels_per_unit;
+    const double len = nice_length(D == 2 ? 0.2 * s.box.len[0] : free_width / 6);
     rs.scalebar.on = true;
     rs.scalebar.width_px = static_cast<int>(std::lround(len * rs.camera.pixels_per_unit));
     rs.scalebar.x = 20;
     rs.scalebar.y = v.height - 22;
-    rs.scalebar.label = number(len) + " m";
+    rs.scalebar.label = number(len) + " m" + (D == 3 ? " at the target" : "");
   }
   return rs;
 }
 
-Image render_frame(Rasterizer& r, const Model& m, const State& s, const View& v, const ScalarGrid* field) {
+Image render_frame(Rasterizer& r, const Model& m, const State& s, const View& v, const GridField* field) {
   const RenderScene rs = build_render_scene(m, s, v, field);
   Image img = r.draw(rs);
   compose_overlays(rs, img);

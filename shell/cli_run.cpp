@@ -88,14 +88,16 @@ int run_command(const RunArgs& a) {
   }
   const bool until_static = m.until_static.on;
   std::string prep_warning;
+  std::vector<std::string> restore_warnings;  // parameters of the checkpoint's run that differ
   Simulation sim(std::move(m), a.threads);
   const Model& model = sim.model();
   if (!a.restore.empty()) {
     try {
-      sim.restore(read_checkpoint(a.restore, model));
+      sim.restore(read_checkpoint(a.restore, model, &restore_warnings));
     } catch (const IoError& e) {
       return report_error(e.what(), 4);
     }
+    for (const std::string& w : restore_warnings) std::cerr << "silt: warning: " << w << "\n";
   } else if (model.prepare.compress) {
     if (const int prep_code = prepare(sim, a, prep_warning); prep_code != 0) return prep_code;
   }
@@ -183,6 +185,7 @@ int run_command(const RunArgs& a) {
   if (until_static && rep.end == RunEnd::kDone)
     sum.warnings.push_back("run.stop_when_static: no equilibrium within the run length");
   if (!prep_warning.empty()) sum.warnings.push_back(prep_warning);
+  sum.warnings.insert(sum.warnings.end(), restore_warnings.begin(), restore_warnings.end());
   sum.exit_code = code;
   try {
     stats->flush();

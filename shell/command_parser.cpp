@@ -83,7 +83,8 @@ const std::vector<CommandSpec>& command_specs() {
       {"save", "save FILE", "write a checkpoint", "Writes a checkpoint of the current state (atomically: a temporary file renamed).", 1, 1, ArgKind::kFile},
       {"restore", "restore FILE", "read a checkpoint", "Continues from a checkpoint of the same system.", 1, 1, ArgKind::kFile},
       {"reset", "reset", "back to t = 0", "Returns to the scene's initial state.", 0, 0, ArgKind::kNone},
-      {"source", "source SCRIPT", "run commands from a file", "Runs the commands of SCRIPT, stopping at its first error.", 1, 1, ArgKind::kFile},
+      {"hash", "hash", "a fingerprint of the state", "Prints a 64-bit hash of every array and scalar of the state: equal hashes mean bitwise equal states (a restored run against an uninterrupted one, runs on other thread counts).", 0, 0, ArgKind::kNone},
+      {"source", "source SCRIPT", "run commands from a file", "Runs the commands of SCRIPT (relative files: the current directory, else the script's), stopping at its first error or at Ctrl-C.", 1, 1, ArgKind::kFile},
       {"help", "help [COMMAND]", "list commands, or explain one", "help alone lists the commands; help COMMAND explains it.", 0, 1, ArgKind::kCommand},
       {"quit", "quit", "leave the shell", "Stops any run and leaves (EOF, Ctrl-D, does the same).", 0, 0, ArgKind::kNone},
   };
@@ -133,6 +134,12 @@ std::optional<double> parse_number(std::string_view s) {
   const double x = std::strtod(str.c_str(), &end);
   if (end != str.c_str() + str.size() || errno == ERANGE || !std::isfinite(x)) return std::nullopt;
   return x;
+}
+
+std::optional<int64_t> parse_count(std::string_view s, int64_t least) {
+  const auto n = parse_number(s);
+  if (!n || *n < static_cast<double>(least) || *n != std::floor(*n) || *n > kMaxSteps) return std::nullopt;
+  return static_cast<int64_t>(*n);
 }
 
 bool Condition::holds(const std::vector<double>& values) const {
@@ -190,11 +197,10 @@ RunLength parse_run_length(const std::vector<Token>& args) {
     r.time = *t;
     return r;
   }
-  const auto n = parse_number(w);
-  if (!n || *n < 0 || *n != std::floor(*n) || *n > 9e18)
-    throw ParseError(first.col, "'" + w + "' is not a number of steps (or a time like 0.5s, or until EXPR)");
+  const auto n = parse_count(w, 0);
+  if (!n) throw ParseError(first.col, "'" + w + "' is not a number of steps (or a time like 0.5s, or until EXPR)");
   r.kind = RunLength::kSteps;
-  r.steps = static_cast<int64_t>(*n);
+  r.steps = *n;
   return r;
 }
 

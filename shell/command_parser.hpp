@@ -64,6 +64,9 @@ struct Condition {
   bool holds(const std::vector<double>& values) const;
 };
 
+// The longest run, in steps (an int64_t holds it with room to spare).
+constexpr double kMaxSteps = 9e18;
+
 // How long `run` goes: N steps, a simulated time ("0.5s", "2e-3s"), or until a condition.
 struct RunLength {
   enum Kind { kSteps, kTime, kUntil } kind = kSteps;
@@ -76,5 +79,7 @@ RunLength parse_run_length(const std::vector<Token>& args);
 
 // A number in full (no trailing garbage); nullopt otherwise.
 std::optional<double> parse_number(std::string_view s);
+// A whole number from `least` to kMaxSteps (steps, "every N"); nullopt otherwise.
+std::optional<int64_t> parse_count(std::string_view s, int64_t least);
 
 }  // namespace silt::shell

@@ -1,6 +1,9 @@
 // `silt play SCRIPT`: the shell's commands from a file, each echoed with its line number.
-// Stops at the first error with "SCRIPT:LINE: message" and exit code 2 (or goes on with
-// --keep-going and exits 2 at the end).
+// Stops at the first error with "SCRIPT:LINE: message" and exit code 2, or 3 when a run failed
+// numerically (INTERFACE.md); --keep-going goes on and exits with that code at the end.
+// Relative input files are looked for in the current directory, then beside the script.
+#include <algorithm>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 
@@ -8,27 +11,44 @@
 #include "shell/session.hpp"
 
 namespace silt::cli {
+namespace {
+
+// What a background run printed (watch lines, its end) goes out after each command, in order
+// with the commands' own output; a run that failed on its own is an error of the script.
+bool flush_background(shell::Session& session, const std::string& where) {
+  for (const std::string& m : session.take_messages()) std::cout << m << "\n";
+  std::cout << std::flush;
+  const std::string failure = session.take_background_failure();
+  if (failure.empty()) return true;
+  std::cerr << where << ": the background run failed: " << failure << "\n" << std::flush;
+  return false;
+}
+
+}  // namespace
 
 int play_command(const std::string& script, bool keep_going, int threads) {
+  if (const std::string problem = shell::input_file_problem(script); !problem.empty()) return report_error(problem, 4);
   std::ifstream in(script);
   if (!in) return report_error("cannot read script '" + script + "'", 4);
   shell::Session session(std::cout, std::cerr, threads);
+  session.set_script_dir(std::filesystem::path(script).parent_path().string());
   std::string line;
   int n = 0;
-  bool failed = false;
+  int code = 0;
+  auto failed = [&](int c) { code = std::max(code, c); };
   while (std::getline(in, line)) {
     ++n;
     const auto start = line.find_first_not_of(" \t");
     if (start == std::string::npos || line[start] == '#') continue;
     std::cout << script << ":" << n << "> " << line.substr(start) << "\n" << std::flush;
-    if (!session.execute(line, script + ":" + std::to_string(n))) {
-      failed = true;
-      if (!keep_going) break;
-    }
-    if (session.quit_requested()) break;
+    const std::string where = script + ":" + std::to_string(n);
+    if (!session.execute(line, where)) failed(session.last_error_code());
+    if (!flush_background(session, where)) failed(static_cast<int>(ExitCode::kNumerical));
+    if ((code != 0 && !keep_going) || session.quit_requested()) break;
   }
   session.execute("quit");
-  return failed ? 2 : 0;
+  if (!flush_background(session, script + ":" + std::to_string(n))) failed(static_cast<int>(ExitCode::kNumerical));
+  return code;
 }
 
 }  // namespace silt::cli

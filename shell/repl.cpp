@@ -3,8 +3,15 @@
 //
 // readline's callback interface keeps the prompt alive while a background run prints: the loop
 // waits on stdin and on a self-pipe written by the SIGINT handler, with a timeout to print the
-// background run's messages. Ctrl-C during a foreground run pauses it at the next step boundary;
-// at the prompt it clears the line.
+// background run's messages. Ctrl-C during a foreground run pauses it at the next step boundary
+// (and abandons a sourced script); at the prompt it clears the line.
+//
+// Two libraries in the process export the rl_* symbols: GNU readline, which silt links, and
+// libedit, which Mesa's llvmpipe (OSMesa -> libLLVM) brings in. The dynamic linker binds each
+// symbol to the first library in breadth-first load order; readline is a direct dependency of the
+// executable (CMakeLists.txt links it ahead of the renderer) and libedit an indirect one, so
+// readline wins. The start-up check below (rl_library_version) says so if that ever changes, and
+// tests/shell/repl_test.cpp drives completion and history through a pseudo-terminal.
 #include <readline/history.h>
 #include <readline/readline.h>
 #include <fcntl.h>
@@ -22,6 +29,30 @@
 namespace silt::cli {
 namespace {
 
+constexpr int kHistoryLines = 5000;
+
+std::string history_path() {
+  const char* home = std::getenv("HOME");
+  return std::string(home ? home : ".") + "/.silt_history";
+}
+
+// True when the rl_* symbols are GNU readline's: libedit's emulation calls itself
+// "EditLine wrapper" and claims readline 4.2.
+bool gnu_readline() {
+  return rl_library_version && std::strncmp(rl_library_version, "EditLine", 8) != 0 && rl_readline_version >= 0x0600;
+}
+
+// Each line goes to the history file as it is entered, so a session that is killed or hung up
+// loses nothing, and concurrent sessions add to the file instead of overwriting each other.
+void remember(const char* line) {
+  add_history(line);
+  const std::string path = history_path();
+  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_APPEND, 0600);  // append_history needs the file
+  if (fd < 0) return;
+  ::close(fd);
+  if (append_history(1, path.c_str()) == 0) history_truncate_file(path.c_str(), kHistoryLines);
+}
+
 shell::Session* g_session = nullptr;
 int g_pipe[2] = {-1, -1};
 std::string g_pending;
@@ -34,37 +65,35 @@ extern "C" void on_shell_sigint(int) {
 }
 
 extern "C" void on_line(char* line) {
+  // Removed here, inside the handler, so that readline does not draw the prompt again before the
+  // command's output (which would then overwrite it from column 0); installed again afterwards.
+  rl_callback_handler_remove();
   if (!line) {
     g_eof = true;
   } else {
     g_pending = line;
     g_have_line = true;
-    if (*line) add_history(line);
+    if (*line) remember(line);
     std::free(line);
   }
 }
 
-char* completion_generator(const char* text, int state) {
-  static std::vector<std::string> matches;
+std::vector<std::string> g_matches;
+
+char* completion_generator(const char*, int state) {
   static size_t next = 0;
-  if (state == 0) {
-    const std::string before(rl_line_buffer, rl_line_buffer + (rl_point - std::strlen(text)));
-    matches = g_session->complete(before, text);
-    next = 0;
-  }
-  if (next < matches.size()) return strdup(matches[next++].c_str());
+  if (state == 0) next = 0;
+  if (next < g_matches.size()) return strdup(g_matches[next++].c_str());
   return nullptr;
 }
 
 char** completion(const char* text, int, int) {
-  char** m = rl_completion_matches(text, completion_generator);
-  if (m) rl_attempted_completion_over = 1;
-  return m;  // nullptr: readline completes file names
-}
-
-std::string history_path() {
-  const char* home = std::getenv("HOME");
-  return std::string(home ? home : ".") + "/.silt_history";
+  const std::string before(rl_line_buffer, rl_line_buffer + (rl_point - std::strlen(text)));
+  const auto words = g_session->complete(before, text);
+  if (!words) return nullptr;  // a file name: readline's own completion
+  rl_attempted_completion_over = 1;  // no file names where the command takes none
+  g_matches = *words;
+  return rl_completion_matches(text, completion_generator);
 }
 
 }  // namespace
@@ -84,8 +113,11 @@ int shell_command(const std::string& scene, int threads) {
   rl_readline_name = "silt";
   using_history();
   read_history(history_path().c_str());
-  stifle_history(5000);
-  std::cout << "silt " << SILT_VERSION << " shell: help lists the commands, quit leaves.\n";
+  stifle_history(kHistoryLines);
+  std::cout << "silt " << SILT_VERSION << " shell (" << (gnu_readline() ? "GNU readline " : "line editor ")
+            << rl_library_version << "): help lists the commands, quit leaves.\n";
+  if (!gnu_readline())
+    std::cout << "warning: the rl_* functions resolve to another library than GNU readline; history and completion may not work\n";
   if (!scene.empty()) session.execute("load \"" + scene + "\"");
   std::string prompt = session.prompt();
   rl_callback_handler_install(prompt.c_str(), on_line);
@@ -117,7 +149,6 @@ int shell_command(const std::string& scene, int threads) {
     if (g_eof) break;
     if (g_have_line) {
       g_have_line = false;
-      rl_callback_handler_remove();
       session.execute(g_pending);
       // A Ctrl-C that paused the command is spent: do not clear the next prompt with it.
       char buf[64];
@@ -139,7 +170,6 @@ int shell_command(const std::string& scene, int threads) {
   rl_callback_handler_remove();
   if (g_eof) std::cout << "\n";
   session.execute("quit");
-  write_history(history_path().c_str());
   g_session = nullptr;
   ::close(g_pipe[0]);
   ::close(g_pipe[1]);

@@ -5,13 +5,34 @@
 #include <cmath>
 #include <cstdio>
 #include <exception>
+#include <filesystem>
 #include <limits>
 #include <sstream>
 
+#include "core/text.hpp"
 #include "shell/progress.hpp"
+#include "shell/table.hpp"
 #include "silt/observables.hpp"
 
 namespace silt::shell {
+namespace {
+
+// A foreground run that stopped on a numerical failure: an error of the command (exit code 3 in
+// `silt play`), after the report and the return to the last good state.
+class RunFailure : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+}  // namespace
+
+std::string input_file_problem(const std::string& path) {
+  std::error_code ec;
+  const auto st = std::filesystem::status(path, ec);
+  if (!std::filesystem::exists(st)) return "cannot read '" + path + "': no such file";
+  if (std::filesystem::is_directory(st)) return "'" + path + "' is a directory, not a file";
+  return "";
+}
 
 Session::Session(std::ostream& out, std::ostream& err, int threads) : out_(out), err_(err), threads_(threads) {}
 
@@ -31,7 +52,32 @@ void Session::require_stopped(const std::string& what) const {
   if (background_.joinable() && !bg_done_) throw std::runtime_error(what + " while a run goes on: stop it first");
 }
 
-void Session::interrupt() { interrupt_ = true; }
+void Session::interrupt() {
+  interrupt_ = true;
+  script_interrupted_ = true;
+}
+
+std::string Session::take_background_failure() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return std::exchange(background_failure_, std::string());
+}
+
+std::string Session::input_path(const std::string& file) const {
+  std::error_code ec;
+  const std::filesystem::path p(file);
+  if (!std::filesystem::exists(p, ec) && p.is_relative() && !script_dir_.empty()) {
+    const std::string beside = (std::filesystem::path(script_dir_) / p).string();
+    if (std::filesystem::exists(beside, ec)) return beside;
+  }
+  if (const std::string problem = input_file_problem(file); !problem.empty()) throw std::runtime_error(problem);
+  return file;
+}
+
+SceneDesc Session::scene_with(const std::vector<Override>& changes) const {
+  SceneDesc d = load_scene_file(scene_file_);
+  for (const Override& o : changes) apply_change(d, o, "set " + o.key);
+  return d;
+}
 
 std::vector<std::string> Session::take_messages() {
   std::lock_guard<std::mutex> lock(mutex_);
@@ -52,27 +98,34 @@ void Session::say(const std::string& line, bool from_background) {
 std::string Session::prompt() const {
   if (!sim_) return "silt> ";
   char buf[96];
-  std::snprintf(buf, sizeof buf, "silt[t=%.4g%s]> ", sim_->state().t, running() ? " running" : "");
+  std::snprintf(buf, sizeof buf, "silt[t=%.4g%s]> ", shown_t_.load(), running() ? " running" : "");
   return buf;
 }
 
 bool Session::execute(const std::string& line, const std::string& where) {
   // Reap a background run that ended by itself.
   if (background_.joinable() && bg_done_) background_.join();
-  try {
-    const std::optional<Command> c = parse_line(line);
-    if (!c) return true;
-    dispatch(*c);
-    return true;
-  } catch (const ParseError& e) {
-    err_ << (where.empty() ? std::string("error") : where) << ": "
-         << (e.col > 0 && where.empty() ? "column " + std::to_string(e.col) + ": " : std::string()) << e.what() << "\n";
-  } catch (const SceneError& e) {
-    err_ << (where.empty() ? std::string("error") : where) << ": " << e.what() << "\n";
-  } catch (const std::exception& e) {
-    err_ << (where.empty() ? std::string("error") : where) << ": " << e.what() << "\n";
+  if (source_depth_ == 0) {  // a new line of the user's (not one of a sourced script)
+    script_interrupted_ = false;
+    last_error_code_ = 0;
   }
+  const std::string at = where.empty() ? std::string("error") : where;
+  int code = 2;
+  try {
+    if (const std::optional<Command> c = parse_line(line)) dispatch(*c);
+    code = 0;
+  } catch (const ParseError& e) {
+    err_ << at << ": " << (e.col > 0 && where.empty() ? "column " + std::to_string(e.col) + ": " : std::string()) << e.what() << "\n";
+  } catch (const RunFailure& e) {
+    err_ << at << ": " << e.what() << "\n";
+    code = static_cast<int>(ExitCode::kNumerical);
+  } catch (const std::exception& e) {  // SceneError, IoError, and the commands' own errors
+    err_ << at << ": " << e.what() << "\n";
+  }
+  if (sim_ && !running()) shown_t_ = sim_->state().t;  // a running simulation publishes it itself
+  if (code == 0) return true;
   err_ << std::flush;
+  last_error_code_ = std::max(last_error_code_, code);
   return false;
 }
 
@@ -84,6 +137,7 @@ void Session::dispatch(const Command& c) {
       {"print", &Session::cmd_print},     {"watch", &Session::cmd_watch},     {"stats", &Session::cmd_stats},
       {"profile", &Session::cmd_profile}, {"render", &Session::cmd_render},   {"frames", &Session::cmd_frames},
       {"save", &Session::cmd_save},       {"restore", &Session::cmd_restore}, {"reset", &Session::cmd_reset},
+      {"hash", &Session::cmd_hash},
       {"source", &Session::cmd_source},   {"help", &Session::cmd_help},       {"quit", &Session::cmd_quit},
   };
   const CommandSpec& spec = check_command(c);
@@ -118,64 +172,69 @@ void Session::install(Model m, const std::optional<State>& keep) {
 
 // Runs fn at the next step boundary of the background run, or now when nothing runs. Rethrows
 // what fn throws, in the caller's thread.
+//
+// A request is queued only while bg_done_ is false, under the mutex; the run's last drain takes
+// the queue and sets bg_done_ under the same lock (serve_requests). So a queued request is always
+// served by the run, and the caller can simply wait for it: none is ever run twice or left queued.
 void Session::at_boundary(const std::function<void()>& fn) {
-  if (!(background_.joinable() && !bg_done_)) {
-    fn();
-    return;
-  }
-  auto done = std::make_shared<bool>(false);
-  auto error = std::make_shared<std::exception_ptr>();
-  {
-    std::lock_guard<std::mutex> lock(mutex_);
-    requests_.push_back([fn, done, error] {
-      try {
-        fn();
-      } catch (...) {
-        *error = std::current_exception();
-      }
-      *done = true;
-    });
-    has_requests_ = true;
-  }
   std::unique_lock<std::mutex> lock(mutex_);
-  cv_.wait(lock, [&] { return *done || bg_done_.load(); });
-  if (!*done) {  // the run ended before serving us: the simulation is free now
+  if (!(background_.joinable() && !bg_done_)) {
     lock.unlock();
     fn();
     return;
   }
-  if (*error) std::rethrow_exception(*error);
+  bool done = false;
+  std::exception_ptr error;
+  requests_.push_back([this, &fn, &done, &error] {
+    try {
+      fn();
+    } catch (...) {
+      error = std::current_exception();
+    }
+    std::lock_guard<std::mutex> served(mutex_);
+    done = true;
+    cv_.notify_all();
+  });
+  has_requests_ = true;
+  cv_.wait(lock, [&] { return done; });
+  if (error) std::rethrow_exception(error);
 }
 
-std::vector<double> Session::observe_now(const std::vector<std::string>& names) {
-  const Observer obs(sim().model(), names);  // throws std::invalid_argument with a suggestion
-  std::vector<double> values;
-  at_boundary([&] { values = obs.sample(sim_->model(), sim_->state()); });
-  return values;
+// On the run's thread: runs the queued requests; `last` (the run has ended) also marks the run
+// done in the same critical section, after which nothing is queued any more.
+void Session::serve_requests(bool last) {
+  std::deque<std::function<void()>> todo;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    todo.swap(requests_);
+    has_requests_ = false;
+    if (last) bg_done_ = true;
+  }
+  for (auto& f : todo) f();
 }
 
 RunOptions Session::run_options(const RunLength& len, bool background) {
   Simulation& s = sim();
   const Model& m = s.model();
   RunOptions opt;
-  constexpr int64_t kForever = std::numeric_limits<int64_t>::max() / 4;
+  constexpr auto kForever = static_cast<int64_t>(kMaxSteps);
   switch (len.kind) {
     case RunLength::kSteps: opt.steps = len.steps; break;
-    case RunLength::kTime: opt.steps = static_cast<int64_t>(std::ceil(len.time / m.dt - 1e-9)); break;
+    case RunLength::kTime: {
+      const double n = std::ceil(len.time / m.dt - 1e-9);
+      if (!(n <= kMaxSteps))
+        throw std::runtime_error("run " + format_number(len.time) + "s: too long, " + format_number(n) + " steps of " +
+                                 format_number(m.dt) + " s (at most " + format_number(kMaxSteps) + ")");
+      opt.steps = static_cast<int64_t>(n);
+      break;
+    }
     case RunLength::kUntil: opt.steps = kForever; break;
   }
   opt.interrupt = &interrupt_;
   opt.boundary_wanted = [this] { return has_requests_.load(); };
   opt.between_steps = [this] {
-    if (!has_requests_) return;
-    std::deque<std::function<void()>> todo;
-    {
-      std::lock_guard<std::mutex> lock(mutex_);
-      todo.swap(requests_);
-      has_requests_ = false;
-    }
-    for (auto& f : todo) f();
-    cv_.notify_all();
+    shown_t_ = sim_->state().t;
+    if (has_requests_) serve_requests(false);
   };
   opt.hooks.push_back({m.sample_every, [this](const State& st) {
                          if (stats_) stats_->add(stats_observer_->sample(sim_->model(), st), st.t);
@@ -183,11 +242,10 @@ RunOptions Session::run_options(const RunLength& len, bool background) {
   if (watch_.every > 0 && watch_.observer) {
     opt.hooks.push_back({watch_.every, [this, background](const State& st) {
                            const auto v = watch_.observer->sample(sim_->model(), st);
-                           std::ostringstream o;
-                           o.precision(6);
-                           o << "step " << st.step << ":";
-                           for (size_t k = 0; k < v.size(); ++k) o << "  " << watch_.names[k] << " = " << v[k];
-                           say(o.str(), background);
+                           std::string line = "step " + std::to_string(st.step) + ":";
+                           for (size_t k = 0; k < v.size(); ++k)
+                             line += "  " + watch_.names[k] + " = " + format_value(v[k], watch_.observer->units()[k]);
+                           say(line, background);
                          }});
   }
   if (frames_ && frames_every_ > 0) {
@@ -224,24 +282,27 @@ void Session::run_for(const RunLength& len, bool background) {
     for (const Clause& c : len.until.clauses)
       if (const std::string err = check_observable(c.observable, s.model()); !err.empty()) throw std::runtime_error(err);
   RunOptions opt = run_options(len, background);
+  // Says how the run ended. After a failure the state goes back to the last good one (it can be
+  // saved, or run again once the parameter is changed) and the failure's message is returned.
   auto report = [this](const RunReport& r, bool from_background) {
     const State& st = sim_->state();
-    std::ostringstream o;
-    o.precision(6);
+    std::string how, failure;
     switch (r.end) {
-      case RunEnd::kDone: o << "done"; break;
-      case RunEnd::kStatic: o << "static"; break;
-      case RunEnd::kInterrupted: o << (until_met_ ? "condition met" : "paused"); break;
-      case RunEnd::kFailed: o << "failed: " << st.failure.message; break;
+      case RunEnd::kDone: how = "done"; break;
+      case RunEnd::kStatic: how = "static"; break;
+      case RunEnd::kInterrupted: how = until_met_ ? "condition met" : "paused"; break;
+      case RunEnd::kFailed: failure = st.failure.message; break;
     }
-    o << (r.end == RunEnd::kFailed ? "\n  " : ": ") << r.steps_done << " steps in " << r.wall_s << " s";
-    if (r.end == RunEnd::kFailed) {
-      // Keep the last good state: it can be saved, or run again after changing the parameter.
+    // A foreground failure is the command's error (on err); a background one has only this line.
+    if (!failure.empty()) how = from_background ? "failed: " + failure + "\n " : "failed after";
+    std::string line = how + (failure.empty() ? ": " : " ") + std::to_string(r.steps_done) + " steps in " + format_number(r.wall_s, 3) + " s";
+    if (!failure.empty()) {
       sim_->restore(sim_->last_good_state());
-      o << "; back to the last good state";
+      line += "; back to the last good state";
     }
-    o << ", now t = " << st.t << " s, step " << st.step;
-    say(o.str(), from_background);
+    line += ", now t = " + format_number(st.t) + " s, step " + std::to_string(st.step);
+    say(line, from_background);
+    return failure;
   };
   interrupt_ = false;
   until_met_ = false;
@@ -254,25 +315,20 @@ void Session::run_for(const RunLength& len, bool background) {
     const RunReport r = s.run(opt);
     if (bar) bar->finish();
     if (frames_) frames_->finish();
-    report(r, false);
+    if (const std::string failure = report(r, false); !failure.empty()) throw RunFailure(failure);
     return;
   }
   bg_done_ = false;
+  background_started_ = true;
   background_ = std::thread([this, opt, report] {
     const RunReport r = sim_->run(opt);
-    {
-      // Serve requests that came after the last step.
-      std::deque<std::function<void()>> todo;
-      {
-        std::lock_guard<std::mutex> lock(mutex_);
-        todo.swap(requests_);
-        has_requests_ = false;
-      }
-      for (auto& f : todo) f();
+    if (const std::string failure = report(r, true); !failure.empty()) {
+      std::lock_guard<std::mutex> lock(mutex_);
+      background_failure_ = failure;
     }
-    report(r, true);
-    bg_done_ = true;
-    cv_.notify_all();
+    shown_t_ = sim_->state().t;
+    background_end_step_ = sim_->state().step;  // read after the join
+    serve_requests(true);  // the requests that came after the last step; no more after these
   });
   say("running in the background (stop pauses it)", false);
 }

@@ -4,7 +4,8 @@
 // Threads: commands arrive on one thread (the REPL's). A background run (`start`) owns the
 // simulation between steps; any command that reads or changes it while it runs is handed to the
 // run loop and executed at the next step boundary (`at_boundary`), so a command never sees half a
-// step, and steering takes effect exactly between two steps.
+// step, and steering takes effect exactly between two steps. The run serves every request queued
+// while it goes on, the last ones as it ends, so none is left behind for a later run.
 #pragma once
 
 #include <atomic>
@@ -37,18 +38,28 @@ class Session {
   // Executes one line. Returns false on an error, whose message went to err prefixed by
   // `where` ("script:12: ") when given. Never throws.
   bool execute(const std::string& line, const std::string& where = "");
+  // The exit code the last failed line asks for (INTERFACE.md): 3 after a numerical failure of a
+  // run (also one inside a sourced script), else 2.
+  int last_error_code() const { return last_error_code_; }
+  // The failure of a background run that ended on it since the last call, "" when none.
+  std::string take_background_failure();
+  // Relative input files (load, source, restore) not found in the current directory are looked
+  // for in this one: `silt play` gives the script's directory.
+  void set_script_dir(const std::string& dir) { script_dir_ = dir; }
   bool quit_requested() const { return quit_; }
   bool running() const { return background_.joinable() && !bg_done_; }
   bool loaded() const { return sim_ != nullptr; }
-  // Ctrl-C: pause the run in progress (foreground or background) at the next step boundary.
+  // Ctrl-C: pause the run in progress (foreground or background) at the next step boundary, and
+  // abandon the script being sourced. Safe in a signal handler.
   void interrupt();
   // Lines produced by a background run (watch, end of run), for the REPL to print.
   std::vector<std::string> take_messages();
   std::string prompt() const;
   // A progress line on err during foreground runs (the REPL turns it on for terminals).
   void set_progress(bool on) { progress_ = on; }
-  // Completion candidates for the word being typed, by what the command expects.
-  std::vector<std::string> complete(const std::string& line_before_word, const std::string& word) const;
+  // Completion candidates for the word being typed, by what the command expects; nullopt where
+  // the word is a file name (load, source, save, restore, render, frames), for the line editor.
+  std::optional<std::vector<std::string>> complete(const std::string& line_before_word, const std::string& word) const;
 
  private:
   using Handler = void (Session::*)(const Command&);
@@ -70,6 +81,7 @@ class Session {
   void cmd_render(const Command& c);
   void cmd_frames(const Command& c);
   void cmd_save(const Command& c);
+  void cmd_hash(const Command& c);
   void cmd_restore(const Command& c);
   void cmd_reset(const Command& c);
   void cmd_source(const Command& c);
@@ -80,11 +92,15 @@ class Session {
   Simulation& sim();  // throws when no scene is loaded
   void require_stopped(const std::string& what) const;
   void install(Model m, const std::optional<State>& keep);
+  // The scene file read again with the changes typed since it was loaded.
+  SceneDesc scene_with(const std::vector<Override>& changes) const;
+  // An input file: as given, else relative to the script's directory; throws when unreadable.
+  std::string input_path(const std::string& file) const;
   void run_for(const RunLength& len, bool background);
   RunOptions run_options(const RunLength& len, bool background);
   void at_boundary(const std::function<void()>& fn);
+  void serve_requests(bool last);
   void say(const std::string& line, bool from_background);
-  std::vector<double> observe_now(const std::vector<std::string>& names);
 
   std::ostream& out_;
   std::ostream& err_;
@@ -92,6 +108,8 @@ class Session {
   bool quit_ = false;
   bool progress_ = false;
   int source_depth_ = 0;
+  int last_error_code_ = 0;
+  std::string script_dir_;
 
   std::string scene_file_;
   std::vector<Override> overrides_;
@@ -113,12 +131,23 @@ class Session {
   std::thread background_;
   std::atomic<bool> bg_done_{true};
   std::atomic<bool> interrupt_{false};
+  std::atomic<bool> script_interrupted_{false};  // Ctrl-C: stop sourcing
+  std::atomic<double> shown_t_{0};               // t for the prompt, published at step boundaries
+  bool background_started_ = false;              // a `start` not yet followed by `stop`
+  int64_t background_end_step_ = 0;              // where the last background run ended
   std::atomic<bool> until_met_{false};
   std::mutex mutex_;
   std::condition_variable cv_;
   std::deque<std::function<void()>> requests_;
   std::atomic<bool> has_requests_{false};
   std::deque<std::string> messages_;
+  std::string background_failure_;
 };
+
+// The keys of the schema before a scene is loaded (no tables yet).
+inline const SceneDesc kNoScene{};
+
+// Why `path` cannot be read as an input file ("'x' is a directory, not a file"), or "" when it can.
+std::string input_file_problem(const std::string& path);
 
 }  // namespace silt::shell

@@ -1,6 +1,8 @@
 // The shell's commands (the run machinery is in session.cpp).
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <iomanip>
 #include <limits>
@@ -12,22 +14,6 @@
 
 namespace silt::shell {
 namespace {
-
-// "grains[0].radius" for every schema key, with the indices of the loaded scene's tables.
-std::vector<std::string> concrete_keys(const SceneDesc* d) {
-  std::vector<std::string> out;
-  for (const KeySpec& k : scene_schema()) {
-    const auto br = k.path.find("[]");
-    if (br == std::string::npos) {
-      out.push_back(k.path);
-      continue;
-    }
-    const std::string group = k.path.substr(0, br);
-    const int n = d ? d->group_count(group) : 0;
-    for (int i = 0; i < n; ++i) out.push_back(group + "[" + std::to_string(i) + "]" + k.path.substr(br + 2));
-  }
-  return out;
-}
 
 std::string canonical_key(const std::string& key) {
   // "grains.0.count" -> "grains[0].count" (as --set accepts).
@@ -44,7 +30,7 @@ std::string canonical_key(const std::string& key) {
 
 void Session::cmd_load(const Command& c) {
   require_stopped("cannot load a scene");
-  const std::string file = c.args[0].text;
+  const std::string file = input_path(c.args[0].text);
   Model m = compile(load_scene_file(file));  // throws: the previous scene stays
   scene_file_ = file;
   overrides_.clear();
@@ -57,7 +43,7 @@ void Session::cmd_load(const Command& c) {
 void Session::cmd_reload(const Command&) {
   require_stopped("cannot reload");
   if (scene_file_.empty()) throw std::runtime_error("no scene loaded (load FILE)");
-  install(compile(load_scene_file(scene_file_, overrides_)), std::nullopt);
+  install(compile(scene_with(overrides_)), std::nullopt);
   out_ << "reloaded " << scene_file_ << " at t = 0\n";
 }
 
@@ -77,18 +63,23 @@ void Session::cmd_start(const Command& c) {
   RunLength len;
   if (c.args.empty()) {
     len.kind = RunLength::kSteps;
-    len.steps = std::numeric_limits<int64_t>::max() / 4;
+    len.steps = static_cast<int64_t>(kMaxSteps);
   } else {
     len = parse_run_length(c.args);
   }
   run_for(len, true);
 }
 
+// A finite `start` may end before its `stop`: that is said, not an error, so that what a script
+// does does not depend on how fast the machine is.
 void Session::cmd_stop(const Command&) {
-  if (!background_.joinable()) throw std::runtime_error("nothing is running");
+  if (!background_started_) throw std::runtime_error("nothing is running");
+  background_started_ = false;
+  const bool ended = !running();
   interrupt_ = true;
-  background_.join();
+  if (background_.joinable()) background_.join();
   for (const std::string& m : take_messages()) out_ << m << "\n";
+  if (ended) out_ << "the run had already ended at step " << background_end_step_ << "\n";
 }
 
 void Session::cmd_set(const Command& c) {
@@ -100,30 +91,26 @@ void Session::cmd_set(const Command& c) {
     if (const std::string hint = suggest_key(change.key); !hint.empty()) msg += "; did you mean '" + hint + "'?";
     throw std::runtime_error(msg);
   }
-  auto remember = [&] {
-    overrides_.erase(std::remove_if(overrides_.begin(), overrides_.end(), [&](const Override& o) { return o.key == change.key; }),
-                     overrides_.end());
-    overrides_.push_back(change);
-  };
+  // The changes typed so far, with this one last (replacing an earlier value of its key).
+  std::vector<Override> next = overrides_;
+  next.erase(std::remove_if(next.begin(), next.end(), [&](const Override& o) { return o.key == change.key; }), next.end());
+  next.push_back(change);
   if (spec->steerable) {
     std::string error;
     at_boundary([&] { error = steer(s.model_for_steering(), change); });
     if (error.empty()) {
-      remember();
+      overrides_ = std::move(next);
       out_ << change.key << " = " << c.args[1].text << (running() ? " (from the next step)" : "") << "\n";
       return;
     }
     // Not a change a running model can take (a shear mode switched on or off, ...): when stopped,
     // the scene is compiled again below.
-    if (running()) throw std::runtime_error(error);
+    if (running()) throw std::runtime_error("set " + change.key + ": " + error);
   }
   if (running())
     throw std::runtime_error("'" + change.key + "' cannot change while a run goes on (it is not steerable): stop first");
   // Recompile with the new value; keep the state when the grains are the same.
-  std::vector<Override> next = overrides_;
-  next.erase(std::remove_if(next.begin(), next.end(), [&](const Override& o) { return o.key == change.key; }), next.end());
-  next.push_back(change);
-  Model m = compile(load_scene_file(scene_file_, next));
+  Model m = compile(scene_with(next));
   const bool same = m.scene_hash == s.model().scene_hash && m.walls.size() == s.model().walls.size();
   std::optional<State> keep;
   if (same) keep = s.state();
@@ -148,17 +135,13 @@ void Session::cmd_get(const Command& c) {
 }
 
 void Session::cmd_params(const Command& c) {
-  const SceneDesc* d = sim_ ? &sim_->model().desc : nullptr;
   const std::string prefix = c.args.empty() ? "" : canonical_key(c.args[0].text);
   Table t({"key", "value", "unit", "range", "live"});
-  for (const std::string& key : concrete_keys(d)) {
+  for (const auto& [key, value] : scene_parameters(sim_ ? sim_->model().desc : kNoScene)) {
     if (key.rfind(prefix, 0) != 0) continue;
     const KeySpec* spec = find_key_spec(key);
-    std::string value = "-";
-    if (d && d->entries.count(key)) value = value_to_string(d->entries.at(key).value);
-    else if (spec->def) value = value_to_string(*spec->def);
     const bool numeric = spec->type == KeyType::kInt || spec->type == KeyType::kReal || spec->type == KeyType::kRealList;
-    t.add({key, value, spec->unit, numeric ? spec->range.str() : "", spec->steerable ? "yes" : ""});
+    t.add({key, value.empty() ? "-" : value, spec->unit, numeric ? spec->range.str() : "", spec->steerable ? "yes" : ""});
   }
   if (t.rows() == 0) throw std::runtime_error("no key starts with '" + prefix + "'");
   t.print(out_);
@@ -167,16 +150,18 @@ void Session::cmd_params(const Command& c) {
 void Session::cmd_print(const Command& c) {
   std::vector<std::string> names;
   for (const Token& t : c.args) names.push_back(t.text);
-  std::vector<double> values;
+  std::optional<Observer> obs;
   try {
-    values = observe_now(names);
-  } catch (const std::invalid_argument& e) {
+    obs.emplace(sim().model(), names);
+  } catch (const std::invalid_argument& e) {  // the bad name, with a suggestion
     throw std::runtime_error(e.what());
   }
+  std::vector<double> values;
+  at_boundary([&] { values = obs->sample(sim_->model(), sim_->state()); });
   size_t w = 0;
   for (const auto& n : names) w = std::max(w, n.size());
   for (size_t k = 0; k < names.size(); ++k)
-    out_ << std::left << std::setw(static_cast<int>(w)) << names[k] << " = " << std::setprecision(10) << values[k] << "\n";
+    out_ << std::left << std::setw(static_cast<int>(w)) << names[k] << " = " << format_value(values[k], obs->units()[k]) << "\n";
 }
 
 void Session::cmd_watch(const Command& c) {
@@ -187,8 +172,8 @@ void Session::cmd_watch(const Command& c) {
   }
   const size_t n = c.args.size();
   if (n < 3 || c.args[n - 2].text != "every") throw ParseError(c.name_col, "usage: watch OBS... every N | watch off");
-  const auto every = parse_number(c.args[n - 1].text);
-  if (!every || *every < 1 || *every != std::floor(*every)) throw ParseError(c.args[n - 1].col, "every needs a positive number of steps");
+  const auto every = parse_count(c.args[n - 1].text, 1);
+  if (!every) throw ParseError(c.args[n - 1].col, "every needs a positive number of steps");
   Watch w;
   for (size_t k = 0; k + 2 < n; ++k) w.names.push_back(c.args[k].text);
   try {
@@ -197,26 +182,27 @@ void Session::cmd_watch(const Command& c) {
     throw std::runtime_error(e.what());
   }
   require_stopped("cannot change the watch");
-  w.every = static_cast<int64_t>(*every);
+  w.every = *every;
   watch_ = std::move(w);
   out_ << "watching every " << watch_.every << " steps\n";
 }
 
 void Session::cmd_stats(const Command&) {
   sim();
-  if (!stats_ || stats_->rows().empty()) throw std::runtime_error("no samples yet (run first)");
+  std::vector<std::vector<double>> rows;
+  at_boundary([&] { rows = stats_->rows(); });  // a background run adds to them
+  if (rows.empty()) throw std::runtime_error("no samples yet (run first)");
   // The error of the mean by block averaging, to two digits; "(lower bound)" when the blocks
   // never became independent.
-  Table t({"observable", "mean", "error", "", "last", "samples"}, {false, true, true, false, true, true});
-  std::vector<std::vector<double>> rows;
-  at_boundary([&] { rows = stats_->rows(); });
+  Table t({"observable", "unit", "mean", "error", "", "last", "samples"}, {false, false, true, true, false, true, true});
   const auto& names = stats_->names();
   for (size_t k = 0; k < names.size(); ++k) {
     std::vector<double> series;
     for (const auto& r : rows) series.push_back(r[k]);
     const BlockAverage b = block_average(series);
     const auto [mean, err] = mean_and_error(b.mean, b.err);
-    t.add({names[k], mean, err, b.converged ? "" : "(lower bound)", format_number(series.back()), std::to_string(b.n)});
+    t.add({names[k], stats_observer_->units()[k], mean, err, b.converged ? "" : "(lower bound)", format_value(series.back()),
+           std::to_string(b.n)});
   }
   t.print(out_);
 }
@@ -273,11 +259,11 @@ void Session::cmd_frames(const Command& c) {
     return;
   }
   if (c.args.size() != 3 || c.args[1].text != "every") throw ParseError(c.name_col, "usage: frames DIR every N | frames off");
-  const auto every = parse_number(c.args[2].text);
-  if (!every || *every < 1 || *every != std::floor(*every)) throw ParseError(c.args[2].col, "every needs a positive number of steps");
+  const auto every = parse_count(c.args[2].text, 1);
+  if (!every) throw ParseError(c.args[2].col, "every needs a positive number of steps");
   require_stopped("cannot change frames");
   frames_ = std::make_unique<render::FrameWriter>(c.args[0].text);
-  frames_every_ = static_cast<int64_t>(*every);
+  frames_every_ = *every;
   out_ << "frames to " << c.args[0].text << " every " << frames_every_ << " steps\n";
 }
 
@@ -289,12 +275,27 @@ void Session::cmd_save(const Command& c) {
   out_ << "saved step " << copy.step << " (t = " << format_number(copy.t) << " s) to " << c.args[0].text << "\n";
 }
 
+void Session::cmd_hash(const Command&) {
+  sim();
+  uint64_t hash = 0;
+  int64_t step = 0;
+  at_boundary([&] {
+    hash = state_hash(sim_->state());
+    step = sim_->state().step;
+  });
+  char hex[17];
+  std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(hash));
+  out_ << "state hash " << hex << " at step " << step << "\n";
+}
+
 void Session::cmd_restore(const Command& c) {
   require_stopped("cannot restore");
   Simulation& s = sim();
-  State st = read_checkpoint(c.args[0].text, s.model());
+  std::vector<std::string> differences;  // run parameters other than the checkpoint's: allowed, shown
+  State st = read_checkpoint(input_path(c.args[0].text), s.model(), &differences);
   s.restore(std::move(st));
   out_ << "restored step " << s.state().step << " (t = " << format_number(s.state().t) << " s)\n";
+  for (const std::string& d : differences) out_ << "warning: " << d << "\n";
 }
 
 void Session::cmd_reset(const Command&) {
@@ -306,18 +307,23 @@ void Session::cmd_reset(const Command&) {
 
 void Session::cmd_source(const Command& c) {
   if (source_depth_ >= 16) throw std::runtime_error("source nested too deeply (16)");
-  const std::string file = c.args[0].text;
+  const std::string file = input_path(c.args[0].text);
   std::ifstream in(file);
   if (!in) throw std::runtime_error("cannot read '" + file + "'");
+  // The script's own relative files are found beside it, as in `silt play`.
+  const std::string outer_dir = std::exchange(script_dir_, std::filesystem::path(file).parent_path().string());
   ++source_depth_;
   std::string line;
   int n = 0;
   bool ok = true;
-  while (ok && !quit_ && std::getline(in, line)) {
+  // Ctrl-C pauses the run in progress and abandons the script (and those that sourced it).
+  while (ok && !quit_ && !script_interrupted_ && std::getline(in, line)) {
     ++n;
     ok = execute(line, file + ":" + std::to_string(n));
   }
   --source_depth_;
+  script_dir_ = outer_dir;
+  if (script_interrupted_) throw std::runtime_error("source " + file + " interrupted at line " + std::to_string(n));
   if (!ok) throw std::runtime_error("source " + file + " stopped at line " + std::to_string(n));
 }
 
@@ -344,40 +350,6 @@ void Session::cmd_quit(const Command&) {
     background_.join();
   }
   quit_ = true;
-}
-
-std::vector<std::string> Session::complete(const std::string& before, const std::string& word) const {
-  std::vector<std::string> pool;
-  std::optional<Command> c;
-  try {
-    c = parse_line(before);
-  } catch (const ParseError&) {
-    return {};
-  }
-  if (!c) {
-    for (const CommandSpec& s : command_specs()) pool.push_back(s.name);
-  } else {
-    const CommandSpec* s = find_command(c->name);
-    if (!s) return {};
-    switch (s->completes) {
-      case ArgKind::kKey:
-        if (c->args.empty()) pool = concrete_keys(sim_ ? &sim_->model().desc : nullptr);
-        break;
-      case ArgKind::kObservable:
-        if (sim_) pool = observable_names(sim_->model());
-        for (const char* w : {"until", "every", "off", "and", "or"}) pool.push_back(w);
-        break;
-      case ArgKind::kCommand:
-        for (const CommandSpec& x : command_specs()) pool.push_back(x.name);
-        break;
-      default:
-        return {};  // files: the line editor's own completion
-    }
-  }
-  std::vector<std::string> out;
-  for (const std::string& p : pool)
-    if (p.rfind(word, 0) == 0) out.push_back(p);
-  return out;
 }
 
 }  // namespace silt::shell

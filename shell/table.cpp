@@ -37,6 +37,11 @@ std::string fixed(double x, int decimals) {
   return buf;
 }
 
+std::string format_value(double x, const std::string& unit) {
+  const bool whole = x == std::trunc(x) && std::fabs(x) < 1e15;
+  return format_number(x, whole ? 15 : 6) + (unit.empty() ? "" : " " + unit);
+}
+
 std::pair<std::string, std::string> mean_and_error(double mean, double err) {
   if (!(err > 0) || !std::isfinite(err) || !std::isfinite(mean)) return {format_number(mean), format_number(err)};
   const int e = static_cast<int>(std::floor(std::log10(err)));  // the error's leading digit

@@ -28,6 +28,10 @@ class Table {
 // x with `decimals` digits after the point ("63.2").
 std::string fixed(double x, int decimals);
 
+// A value for a person, with its unit when it has one: six significant digits (format_number),
+// whole numbers (steps, counts) in full ("1234567", not "1.23457e+06"); "0.25 m/s".
+std::string format_value(double x, const std::string& unit = "");
+
 // A measured mean and the error of it: the error to two significant digits and the mean to the
 // same decimal place ("0.731" and "0.067", "30200" and "6800", "1.500e-09" and "2.3e-11"); six
 // significant digits each (format_number) when the error is zero or not finite.

@@ -1,6 +1,7 @@
 // VTK XML files for ParaView and OVITO: grains as a .vtu point cloud (radius, velocity, angular
-// velocity, force), contacts as .vtp lines (normal and tangential force), and a .pvd time index.
-// ASCII, so that the files are readable and diffable; the index is rewritten atomically.
+// velocity, force), contacts as .vtp lines (normal and tangential force), grid fields as .vti
+// image data, and a .pvd time index. ASCII, so that the files are readable and diffable; the
+// index is rewritten atomically.
 #include <sys/stat.h>
 
 #include <cerrno>
@@ -30,12 +31,46 @@ const char* kArrayEnd = "\n        </DataArray>\n";
 
 }  // namespace
 
+void write_vti(const std::string& path, const std::vector<GridField>& fields) {
+  if (fields.empty()) throw IoError("cannot write '" + path + "': no field");
+  const GridField& g = fields.front();
+  for (const GridField& f : fields) {
+    if (!f.same_grid(g)) throw IoError("cannot write '" + path + "': field '" + f.name + "' is not on the grid of '" + g.name + "'");
+    if (f.components != 1 && f.components != 3)
+      throw IoError("cannot write '" + path + "': field '" + f.name + "' has " + std::to_string(f.components) + " components (1 or 3)");
+    if (g.nx < 1 || g.ny < 1 || g.nz < 1 || f.value.size() != static_cast<size_t>(g.nx) * g.ny * g.nz * f.components)
+      throw IoError("cannot write '" + path + "': field '" + f.name + "' does not fill its grid");
+  }
+  std::ofstream o;
+  open_file(o, path);
+  // Extents count points: nx cells span points 0 .. nx. The values belong to the cells.
+  const std::string extent = "0 " + std::to_string(g.nx) + " 0 " + std::to_string(g.ny) + " 0 " + std::to_string(g.nz);
+  o << "<?xml version=\"1.0\"?>\n<VTKFile type=\"ImageData\" version=\"1.0\" byte_order=\"LittleEndian\">\n"
+    << "  <ImageData WholeExtent=\"" << extent << "\" Origin=\"" << g.lo[0] << ' ' << g.lo[1] << ' ' << g.lo[2]
+    << "\" Spacing=\"" << g.h[0] << ' ' << g.h[1] << ' ' << g.h[2] << "\">\n    <Piece Extent=\"" << extent << "\">\n"
+    << "      <CellData";
+  for (int components : {1, 3})
+    for (const GridField& f : fields)
+      if (f.components == components) {
+        o << (components == 1 ? " Scalars=\"" : " Vectors=\"") << f.name << '"';
+        break;
+      }
+  o << ">\n";
+  for (const GridField& f : fields) {
+    array_header(o, "Float64", f.name.c_str(), f.components);
+    for (double x : f.value) o << x << ' ';
+    o << kArrayEnd;
+  }
+  o << "      </CellData>\n    </Piece>\n  </ImageData>\n</VTKFile>\n";
+  if (!o) throw IoError("cannot write '" + path + "'");
+}
+
 VtkWriter::VtkWriter(std::string dir) : dir_(std::move(dir)) {
   if (::mkdir(dir_.c_str(), 0755) != 0 && errno != EEXIST)
     throw IoError("cannot create the VTK directory '" + dir_ + "': " + std::strerror(errno));
 }
 
-void VtkWriter::write(const Model& m, const State& s) {
+void VtkWriter::write(const Model& m, const State& s, const std::vector<GridField>& fields) {
   const int D = m.dim, R = m.rot;
   char name[64];
   std::snprintf(name, sizeof name, "grains_%06lld.vtu", static_cast<long long>(count_));
@@ -137,7 +172,13 @@ void VtkWriter::write(const Model& m, const State& s) {
     o << kArrayEnd << "      </CellData>\n    </Piece>\n  </PolyData>\n</VTKFile>\n";
     if (!o) throw IoError("cannot write '" + dir_ + "/" + contacts + "'");
   }
-  entries_.push_back({s.t, grains, contacts});
+  std::string grid;
+  if (!fields.empty()) {
+    std::snprintf(name, sizeof name, "fields_%06lld.vti", static_cast<long long>(count_));
+    grid = name;
+    write_vti(dir_ + "/" + grid, fields);
+  }
+  entries_.push_back({s.t, grains, contacts, grid});
   ++count_;
   // The time index, rewritten whole and renamed into place.
   const std::string pvd = dir_ + "/index.pvd", tmp = pvd + ".tmp";
@@ -148,6 +189,7 @@ void VtkWriter::write(const Model& m, const State& s) {
     for (const Entry& e : entries_) {
       o << "    <DataSet timestep=\"" << e.t << "\" part=\"0\" file=\"" << e.grains << "\"/>\n";
       o << "    <DataSet timestep=\"" << e.t << "\" part=\"1\" file=\"" << e.contacts << "\"/>\n";
+      if (!e.fields.empty()) o << "    <DataSet timestep=\"" << e.t << "\" part=\"2\" file=\"" << e.fields << "\"/>\n";
     }
     o << "  </Collection>\n</VTKFile>\n";
     if (!o) throw IoError("cannot write '" + pvd + "'");

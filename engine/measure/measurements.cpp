@@ -18,6 +18,69 @@
 namespace silt {
 namespace {
 
+// Coordination of the contact network, from the contacts of each grain (grain-grain and
+// grain-wall; frozen grains are not counted, their contacts count for the free grains).
+//   z = 2 N_c / N (per free grain);
+//   p_n = fraction of free grains with exactly n contacts (Peyneau 2009 Table 3.14);
+//   z* = z / (1 - p0): the rattlers are the grains with no contact (Peyneau 2009 sec. 2.3.1,
+//        "floating grains", and sec. 3.4, z* = z/(1 - p0), 6 for rigid frictionless spheres);
+//   z_mech: the mechanically stable skeleton of the jamming literature: grains with fewer than
+//        2 contacts with friction, D + 1 without, removed repeatedly (a removal can leave a
+//        neighbour under the bound), then contacts per remaining grain. In a frictionless flow
+//        with z < D + 1 it removes every grain and gives 0.
+// `contacts` is consumed.
+void coordination(const Model& m, const State& s, const std::vector<std::pair<int32_t, int32_t>>& touching,
+                  std::vector<int32_t>& contacts, int64_t n_free, Measurements& out) {
+  const int64_t n = s.n;
+  int64_t sum = 0;
+  std::vector<int64_t> with(1, 0);  // with[k]: free grains with k contacts
+  for (int64_t i = 0; i < n; ++i) {
+    if (s.particle_frozen[i]) continue;
+    sum += contacts[i];
+    if (contacts[i] >= static_cast<int32_t>(with.size())) with.resize(contacts[i] + 1, 0);
+    ++with[contacts[i]];
+  }
+  if (n_free == 0) return;
+  out.z = static_cast<double>(sum) / n_free;
+  out.pn.resize(with.size());
+  for (size_t k = 0; k < with.size(); ++k) out.pn[k] = static_cast<double>(with[k]) / n_free;
+  out.p0 = out.pn[0];
+  out.z_star = with[0] < n_free ? static_cast<double>(sum) / (n_free - with[0]) : 0;
+  // Mechanical skeleton: peel the grains under the bound until none is left.
+  const int need = m.contact.friction > 0 ? 2 : m.dim + 1;
+  std::vector<std::vector<int32_t>> adj(n);
+  for (auto [i, j] : touching) {
+    adj[i].push_back(j);
+    adj[j].push_back(i);
+  }
+  std::vector<uint8_t> rattler(n, 0);
+  std::vector<int32_t> stack;
+  for (int64_t i = 0; i < n; ++i)
+    if (!s.particle_frozen[i] && contacts[i] < need) stack.push_back(static_cast<int32_t>(i));
+  while (!stack.empty()) {
+    const int32_t i = stack.back();
+    stack.pop_back();
+    if (rattler[i]) continue;
+    rattler[i] = 1;
+    for (int32_t j : adj[i]) {
+      if (rattler[j]) continue;
+      if (--contacts[j] < need && !s.particle_frozen[j]) stack.push_back(j);
+    }
+    contacts[i] = 0;
+  }
+  int64_t kept = 0, ksum = 0;
+  for (int64_t i = 0; i < n; ++i) {
+    if (s.particle_frozen[i]) continue;
+    if (rattler[i]) {
+      ++out.n_off_skeleton;
+    } else {
+      ++kept;
+      ksum += contacts[i];
+    }
+  }
+  out.z_mech = kept ? static_cast<double>(ksum) / kept : 0;
+}
+
 template <int D>
 Measurements measure_dim(const Model& m, const State& s) {
   constexpr int R = kRotDim<D>;
@@ -78,44 +141,8 @@ Measurements measure_dim(const Model& m, const State& s) {
   for (int a = 0; a < D; ++a)
     for (int b = 0; b < D; ++b) out.stress[a][b] /= vol;
   for (int a = 0; a < D; ++a) out.pressure += out.stress[a][a] / D;
-  int64_t sum = 0;
-  for (int64_t i = 0; i < n; ++i)
-    if (!s.particle_frozen[i]) sum += contacts[i];
-  out.z = n_free ? static_cast<double>(sum) / n_free : 0;
   out.ke_fluct = n_free ? (out.ke - out.ke_rot) / n_free : 0;
-  // Rattlers: free grains with too few contacts to be held, removed until none is left.
-  const int need = m.contact.friction > 0 ? 2 : D + 1;
-  std::vector<std::vector<int32_t>> adj(n);
-  for (auto [i, j] : touching) {
-    adj[i].push_back(j);
-    adj[j].push_back(i);
-  }
-  std::vector<uint8_t> rattler(n, 0);
-  std::vector<int32_t> stack;
-  for (int64_t i = 0; i < n; ++i)
-    if (!s.particle_frozen[i] && contacts[i] < need) stack.push_back(static_cast<int32_t>(i));
-  while (!stack.empty()) {
-    const int32_t i = stack.back();
-    stack.pop_back();
-    if (rattler[i]) continue;
-    rattler[i] = 1;
-    for (int32_t j : adj[i]) {
-      if (rattler[j]) continue;
-      if (--contacts[j] < need && !s.particle_frozen[j]) stack.push_back(j);
-    }
-    contacts[i] = 0;
-  }
-  int64_t kept = 0, ksum = 0;
-  for (int64_t i = 0; i < n; ++i) {
-    if (s.particle_frozen[i]) continue;
-    if (rattler[i]) {
-      ++out.n_rattlers;
-    } else {
-      ++kept;
-      ksum += contacts[i];
-    }
-  }
-  out.z_star = kept ? static_cast<double>(ksum) / kept : 0;
+  coordination(m, s, touching, contacts, n_free, out);
   return out;
 }
 

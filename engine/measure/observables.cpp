@@ -10,7 +10,36 @@
 namespace silt {
 namespace {
 
-enum Kind { kT, kStep, kDt, kKe, kKeRot, kPhi, kZ, kZStar, kNContacts, kStress, kPressure, kMu, kBoxL, kGrainX, kGrainV, kGrainW, kGrainF, kNBuilds, kNPairs, kWallF, kShearRate, kStrain, kInertial, kKeFluct, kFabric, kKappa, kZeta };
+enum Kind { kT, kStep, kDt, kKe, kKeRot, kPhi, kZ, kZStar, kNContacts, kStress, kPressure, kMu, kBoxL, kGrainX, kGrainV, kGrainW, kGrainF, kNBuilds, kNPairs, kWallF, kShearRate, kStrain, kInertial, kKeFluct, kFabric, kKappa, kZeta, kZMech, kP0, kPn };
+
+// Every kind of observable with its name and unit ("" for dimensionless numbers and counts).
+// Names with a pattern are families parsed in parse(): A, B an axis, K a grain or wall index.
+struct KindInfo {
+  Kind kind;
+  const char* name;
+  const char* unit;
+};
+constexpr KindInfo kKinds[] = {
+    {kT, "t", "s"},               {kStep, "step", ""},           {kDt, "dt", "s"},
+    {kKe, "ke", "J"},             {kKeRot, "ke_rot", "J"},       {kKeFluct, "ke_fluct", "J"},
+    {kPhi, "phi", ""},            {kZ, "z", ""},                 {kZStar, "z_star", ""},
+    {kNContacts, "n_contacts", ""}, {kPressure, "pressure", "Pa"}, {kMu, "mu", ""},
+    {kNBuilds, "n_builds", ""},   {kNPairs, "n_pairs", ""},      {kStrain, "gamma", ""},
+    {kShearRate, "gammadot", "1/s"}, {kInertial, "I", ""},       {kKappa, "kappa", ""},
+    {kZeta, "zeta", ""},          {kZMech, "z_mech", ""},        {kP0, "p0", ""},
+    {kPn, "pn.K", ""},
+    {kStress, "stress.AB", "Pa"}, {kFabric, "fabric.AB", ""},    {kBoxL, "box.LA", "m"},
+    {kGrainX, "p[K].A", "m"},     {kGrainV, "p[K].vA", "m/s"},   {kGrainW, "p[K].wA", "rad/s"},
+    {kGrainF, "p[K].fA", "N"},    {kWallF, "wall[K].fA", "N"},
+};
+
+bool is_family(const KindInfo& k) { return std::strpbrk(k.name, ".[") != nullptr; }
+
+const char* unit_of(int kind) {
+  for (const KindInfo& k : kKinds)
+    if (k.kind == kind) return k.unit;
+  return "";
+}
 
 const char* kAxes = "xyz";
 
@@ -40,12 +69,9 @@ int tensor_component(const std::string& name, const char* prefix, int dim) {
 Parsed parse(const std::string& name, const Model& m) {
   Parsed p;
   const int D = m.dim;
-  static const std::pair<const char*, int> simple[] = {
-      {"t", kT}, {"step", kStep}, {"dt", kDt}, {"ke", kKe}, {"ke_rot", kKeRot}, {"phi", kPhi}, {"z", kZ},
-      {"z_star", kZStar}, {"n_contacts", kNContacts}, {"pressure", kPressure}, {"mu", kMu}, {"n_builds", kNBuilds}, {"n_pairs", kNPairs},
-      {"ke_fluct", kKeFluct}, {"gamma", kStrain}, {"gammadot", kShearRate}, {"I", kInertial}, {"kappa", kKappa}, {"zeta", kZeta}};
-  for (auto [s, k] : simple)
-    if (name == s) {
+  for (const KindInfo& info : kKinds)
+    if (!is_family(info) && name == info.name) {
+      const Kind k = info.kind;
       if ((k == kStrain || k == kShearRate || k == kInertial) && !m.shear.on) {
         p.error = "observable '" + name + "' applies where the scene shears (shear.rate, shear.inertial_number or shear.stress)";
         return p;
@@ -59,6 +85,13 @@ Parsed parse(const std::string& name, const Model& m) {
       p.component = c;
       return p;
     }
+  // pn.K: the fraction of grains with exactly K contacts (Peyneau 2009 Table 3.14).
+  if (name.rfind("pn.", 0) == 0 && name.size() > 3 && name.size() <= 6 &&
+      name.find_first_not_of("0123456789", 3) == std::string::npos) {
+    p.kind = kPn;
+    p.component = std::stoi(name.substr(3));
+    return p;
+  }
   if (name.rfind("box.L", 0) == 0 && name.size() == 6) {
     const char* a = std::strchr(kAxes, name[5]);
     if (a && *a && a - kAxes < D) {
@@ -132,7 +165,7 @@ Parsed parse(const std::string& name, const Model& m) {
 
 double inertial_number(const Model& m, double shear_rate, double pressure) {
   if (!(pressure > 0)) return 0;
-  return std::abs(shear_rate) * std::sqrt(m.m_mean / (std::pow(m.a_max, m.dim - 2) * pressure));
+  return std::abs(shear_rate) * std::sqrt(m.m_a / (std::pow(m.a_max, m.dim - 2) * pressure));
 }
 
 double stiffness_number(const Model& m, double pressure) {
@@ -142,15 +175,16 @@ double stiffness_number(const Model& m, double pressure) {
 }
 
 std::vector<std::string> observable_names(const Model& m) {
-  std::vector<std::string> out = {"t", "step", "dt", "ke", "ke_rot", "ke_fluct", "phi", "z", "z_star", "n_contacts", "pressure", "mu", "n_builds", "n_pairs"};
-  if (m.shear.on)
-    for (const char* n : {"I", "gamma", "gammadot"}) out.push_back(n);
-  for (const char* n : {"kappa", "zeta"}) out.push_back(n);
+  std::vector<std::string> out;
+  for (const KindInfo& k : kKinds)
+    if (!is_family(k) && (m.shear.on || (k.kind != kStrain && k.kind != kShearRate && k.kind != kInertial)))
+      out.push_back(k.name);
   for (int a = 0; a < m.dim; ++a)
     for (int b = 0; b < m.dim; ++b) out.push_back(std::string("stress.") + kAxes[a] + kAxes[b]);
   for (int a = 0; a < m.dim; ++a)
     for (int b = 0; b < m.dim; ++b) out.push_back(std::string("fabric.") + kAxes[a] + kAxes[b]);
   for (int a = 0; a < m.dim; ++a) out.push_back(std::string("box.L") + kAxes[a]);
+  for (int k = 0; k <= 12; ++k) out.push_back("pn." + std::to_string(k));  // any K is accepted
   for (const char* f : {"", "v", "f"})
     for (int a = 0; a < m.dim; ++a) out.push_back(std::string("p[0].") + f + kAxes[a]);
   if (m.dim == 3)
@@ -169,7 +203,9 @@ Observer::Observer(const Model& m, std::vector<std::string> names) : names_(std:
     Parsed p = parse(n, m);
     if (!p.error.empty()) throw std::invalid_argument(p.error);
     items_.push_back({p.kind, p.component, p.grain});
+    units_.push_back(unit_of(p.kind));
     if (p.kind == kKe || p.kind == kKeRot || p.kind == kPhi || p.kind == kZ || p.kind == kZStar ||
+        p.kind == kZMech || p.kind == kP0 || p.kind == kPn ||
         p.kind == kNContacts || p.kind == kStress || p.kind == kPressure || p.kind == kMu || p.kind == kKeFluct ||
         p.kind == kFabric || ((p.kind == kInertial || p.kind == kKappa) && !m.box_control.on))
       needs_measure_ = true;
@@ -196,6 +232,9 @@ std::vector<double> Observer::sample(const Model& m, const State& s) const {
       case kPhi: v = meas.phi; break;
       case kZ: v = meas.z; break;
       case kZStar: v = meas.z_star; break;
+      case kZMech: v = meas.z_mech; break;
+      case kP0: v = meas.p0; break;
+      case kPn: v = it.component < static_cast<int>(meas.pn.size()) ? meas.pn[it.component] : 0; break;
       case kNContacts: v = static_cast<double>(meas.n_contacts); break;
       case kStress: v = meas.stress[it.component / 3][it.component % 3]; break;
       case kPressure: v = meas.pressure; break;

@@ -105,6 +105,22 @@ void setup_box_control(const SceneDesc& d, Model& m) {
   if (!any) d.fail("box.pressure", "box.pressure is set but no box length is controlled (make a direction periodic)");
 }
 
+// The mass unit of the inertial number I = gammadot sqrt(m / (a^(d-2) P)): Peyneau (2009) takes
+// "the mass of a grain of diameter a", a the largest diameter (sec. 5.3.3, for the 2D disks of
+// diameters in [0.7 a, a]; the monodisperse spheres of ch. 3 have a single mass). With several
+// densities, that of the free grains' total mass over their total volume.
+void setup_inertial_mass(Model& m) {
+  constexpr double kPi = 3.14159265358979323846;
+  auto vol = [&](double r) { return m.dim == 3 ? 4.0 / 3.0 * kPi * r * r * r : kPi * r * r; };
+  double mass = 0, volume = 0;
+  for (int64_t i = 0; i < m.n_grains; ++i)
+    if (!m.init.frozen[i] || m.n_frozen == m.n_grains) {
+      mass += m.init.mass[i];
+      volume += vol(m.init.radius[i]);
+    }
+  m.m_a = mass / volume * vol(0.5 * m.a_max);
+}
+
 // Lees-Edwards simple shear: flow along x, gradient along y, both periodic.
 void setup_shear(const SceneDesc& d, Model& m) {
   ShearControl& sh = m.shear;
@@ -142,7 +158,11 @@ void setup_time(const SceneDesc& d, Model& m) {
   }
   if (d.has("run.steps") && d.has("run.time")) d.fail("run.time", "give run.steps or run.time, not both");
   if (d.has("run.steps")) m.run_steps = d.integer("run.steps");
-  if (d.has("run.time")) m.run_steps = static_cast<int64_t>(std::ceil(d.real("run.time") / m.dt - 1e-9));
+  if (d.has("run.time")) {
+    const double n = std::ceil(d.real("run.time") / m.dt - 1e-9);
+    if (!(n < 9e18)) d.fail("run.time", "run.time is more than 9e18 time steps of " + fmt_(m.dt) + " s");
+    m.run_steps = static_cast<int64_t>(n);
+  }
   m.until_static.on = d.boolean("run.stop_when_static");
   m.until_static.force_tol = d.real("run.static_force_tol");
   m.until_static.stress_tol = d.real("run.static_stress_tol");
@@ -227,6 +247,7 @@ Model compile(const SceneDesc& d) {
   scene::read_contact_law(D, m);
   setup_walls(D, m);
   scene::setup_grains(D, m);
+  setup_inertial_mass(m);
   m.scene_hash = system_fingerprint(m);
   setup_box_control(D, m);
   setup_shear(D, m);

@@ -1,5 +1,7 @@
 // [render] of a scene -> RenderSettings (the renderer draws from these; no GL in the engine).
 #include <algorithm>
+#include <cmath>
+#include <string>
 
 #include "scene/render_settings.hpp"
 
@@ -16,8 +18,15 @@ void read_render_settings(const SceneDesc& d, Model& m) {
   const int D = m.dim;
   r.width = static_cast<int>(d.integer("render.width"));
   r.height = static_cast<int>(d.integer("render.height"));
+  if (static_cast<int64_t>(r.width) * r.height > RenderSettings::kMaxPixels)
+    d.fail(d.has("render.width") ? "render.width" : "render.height",
+           "render.width x render.height = " + std::to_string(r.width) + " x " + std::to_string(r.height) + " = " +
+               std::to_string(static_cast<int64_t>(r.width) * r.height / 1000000) +
+               " Mpx is above the limit of 64 Mpx (8192 x 8192; a frame needs about 16 bytes per pixel)");
   r.draw = d.strings("render.draw");
-  r.color_by = d.string("render.color_by");
+  // Unset: speed, or flat when chains or a field are drawn (the renderer decides, so that
+  // `render FILE chains` in the shell gets the force-chain picture too).
+  r.color_by = d.has("render.color_by") ? d.string("render.color_by") : "";
   r.colormap = d.string("render.colormap");
   if (r.color_by == "vz" && D == 2) d.fail("render.color_by", "vz does not exist in 2D (use vy)");
   if (d.has("render.range")) {
@@ -45,8 +54,8 @@ void read_render_settings(const SceneDesc& d, Model& m) {
   };
   if (d.has("render.slab_center")) vec("render.slab_center", r.slab_center);
   if (d.has("render.slab_normal")) vec("render.slab_normal", r.slab_normal);
-  r.grain_opacity = d.has("render.grain_opacity") ? d.real("render.grain_opacity")
-                                                  : (D == 3 && r.wants("chains") ? 0.25 : 1.0);
+  // Unset (-1): opaque, or 0.25 in 3D when chains are drawn (decided by the renderer).
+  r.grain_opacity = d.has("render.grain_opacity") ? d.real("render.grain_opacity") : -1.0;
   r.field = d.string("render.field");
   if (d.has("render.field_range")) {
     const auto v = d.reals("render.field_range");
@@ -56,13 +65,25 @@ void read_render_settings(const SceneDesc& d, Model& m) {
     r.field_range[1] = v[1];
   }
   if (D == 3) {
-    r.slice_axis = d.string("render.slice_axis");
-    const int axis = r.slice_axis[0] - 'x';
-    r.slice_position = d.has("render.slice_position") ? d.real("render.slice_position") : m.box.lo[axis] + 0.5 * m.box.len[axis];
+    // The slice plane n . x = position, n a unit normal: along an axis, or any direction.
+    double* n = r.slice_normal;
+    if (d.has("render.slice_normal")) {
+      if (d.has("render.slice_axis")) d.fail("render.slice_normal", "give render.slice_normal or render.slice_axis, not both");
+      vec("render.slice_normal", n);
+      const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+      if (!(len > 0) || !std::isfinite(len)) d.fail("render.slice_normal", "needs a non-zero finite vector");
+      for (int k = 0; k < 3; ++k) n[k] /= len;
+    } else {
+      const int axis = d.string("render.slice_axis")[0] - 'x';
+      for (int k = 0; k < 3; ++k) n[k] = k == axis ? 1.0 : 0.0;
+    }
+    double centre = 0;
+    for (int k = 0; k < 3; ++k) centre += n[k] * (m.box.lo[k] + 0.5 * m.box.len[k]);
+    r.slice_position = d.has("render.slice_position") ? d.real("render.slice_position") : centre;
     r.slice_component = d.string("render.slice_component");
   } else {
-    for (const char* k : {"render.slice_axis", "render.slice_position", "render.slice_component", "render.slab_center",
-                          "render.slab_normal", "render.slab_half_width"})
+    for (const char* k : {"render.slice_axis", "render.slice_normal", "render.slice_position", "render.slice_component",
+                          "render.slab_center", "render.slab_normal", "render.slab_half_width"})
       if (d.has(k)) d.fail(k, std::string(k) + " applies to 3D scenes only");
   }
   r.azimuth = d.real("render.camera.azimuth");

@@ -4,39 +4,16 @@
 #include <cmath>
 #include <cstdio>
 
-#include "render/camera.hpp"
-#include "silt/render.hpp"
+#include "render/render_support.hpp"
 #include "support/scenes.hpp"
 
 using namespace silt;
 using namespace silt::render;
+using silt::test::kRow;
+using silt::test::pixel_of;
+using silt::test::white;
 
 namespace {
-
-// Three disks in a row along x, pressed together: the left contact overlaps 4 times the right one.
-const char* kRow = R"(
-[scene]
-dimension = 2
-[domain]
-lo = [0, 0]
-hi = [8, 4]
-[contact]
-model = "linear"
-k_n = 1000
-[[grains]]
-radius = 1.0
-placement = "explicit"
-positions = [[1.5, 2], [3.46, 2], [5.45, 2]]
-[run]
-dt = 1e-3
-)";
-
-bool white(Rgba c) { return c.r > 245 && c.g > 245 && c.b > 245; }
-
-std::array<int, 2> pixel_of(const RenderScene& rs, double x, double y, double z = 0) {
-  const auto p = project(rs.camera, {x, y, z}, rs.width, rs.height);
-  return {static_cast<int>(std::lround(p[0] - 0.5)), static_cast<int>(std::lround(p[1] - 0.5))};
-}
 
 // Number of non-white pixels in the column through (x, y), within `reach` pixels of it.
 int thickness(const Image& img, std::array<int, 2> at, int reach) {
@@ -45,13 +22,7 @@ int thickness(const Image& img, std::array<int, 2> at, int reach) {
   return n;
 }
 
-View plain(int w, int h, std::vector<std::string> draw) {
-  View v;
-  v.width = w;
-  v.height = h;
-  v.draw = std::move(draw);
-  return v;
-}
+View plain(int w, int h, std::vector<std::string> draw) { return test::plain_view(w, h, std::move(draw)); }
 
 }  // namespace
 
@@ -82,7 +53,7 @@ TEST_CASE("a force chain colours the pixels along the segment and nowhere else, 
 
 TEST_CASE("a known vorticity field: positive red, negative blue, zero white") {
   auto sim = test::simulation_from(kRow);
-  ScalarGrid g;
+  GridField g;
   g.name = "vorticity";
   g.nx = 8;
   g.ny = 4;
@@ -115,7 +86,7 @@ TEST_CASE("a known vorticity field: positive red, negative blue, zero white") {
 TEST_CASE("Lamb-Oseen and Taylor-Green vortices put the expected colours at known points") {
   auto sim = test::simulation_from(kRow);
   View v = plain(800, 400, {"field"});
-  const ScalarGrid lo = lamb_oseen_vorticity(256, 128, {0, 0}, {8, 4}, {4, 2}, 1.0, 0.5);
+  const GridField lo = lamb_oseen_vorticity(256, 128, {0, 0}, {8, 4}, {4, 2}, 1.0, 0.5);
   RenderScene rs = build_render_scene(sim->model(), sim->state(), v, &lo);
   Rasterizer raster(1);
   Image img = raster.draw(rs);
@@ -123,7 +94,7 @@ TEST_CASE("Lamb-Oseen and Taylor-Green vortices put the expected colours at know
   CHECK(img.pixel(c[0], c[1]).r > img.pixel(c[0], c[1]).b + 60);  // the core: strongest positive
   CHECK(white(img.pixel(far[0], far[1])));                          // exp(-r^2/rc^2) ~ 0 far away
   // Taylor-Green on [0, 4]^2: omega > 0 at (1, 1), < 0 at (3, 1), 0 on the cell edges.
-  const ScalarGrid tg = taylor_green_vorticity(128, 128, 4.0, 1.0);
+  const GridField tg = taylor_green_vorticity(128, 128, 4.0, 1.0);
   rs = build_render_scene(sim->model(), sim->state(), v, &tg);
   img = raster.draw(rs);
   const auto a = pixel_of(rs, 1.0, 1.0), b = pixel_of(rs, 3.0, 1.0), e = pixel_of(rs, 2.0, 1.0);
@@ -232,12 +203,19 @@ TEST_CASE("bad input: sizes, colormaps, NaN fields and empty frames give message
                        RenderError);
   v = plain(100000, 100, {"grains"});
   CHECK_THROWS_AS(build_render_scene(sim->model(), sim->state(), v), RenderError);
+  // At most 64 Mpx (16384 x 16384 would take 4.3 GB).
+  v = plain(16384, 16384, {"grains"});
+  CHECK_THROWS_WITH_AS(build_render_scene(sim->model(), sim->state(), v), doctest::Contains("above the limit of 64 Mpx"),
+                       RenderError);
+  CHECK_THROWS_AS(build_render_scene(sim->model(), sim->state(), plain(8193, 8192, {})), RenderError);
+  CHECK(build_render_scene(sim->model(), sim->state(), plain(8192, 8192, {})).width == 8192);
+  CHECK(build_render_scene(sim->model(), sim->state(), plain(16384, 64, {})).width == 16384);
   v = plain(200, 100, {"grains"});
   v.colormap = "jet";
   CHECK_THROWS_WITH_AS(build_render_scene(sim->model(), sim->state(), v), doctest::Contains("unknown colormap 'jet'"),
                        RenderError);
   // NaN in a field: drawn grey, with a warning.
-  ScalarGrid g;
+  GridField g;
   g.name = "vorticity";
   g.nx = 2;
   g.ny = 1;
@@ -261,15 +239,14 @@ TEST_CASE("bad input: sizes, colormaps, NaN fields and empty frames give message
   CHECK(build_render_scene(sim->model(), sim->state(), v).warnings.size() == 1);
 }
 
-TEST_CASE("rendering never changes the state") {
-  auto sim = test::simulation_from(kRow);
-  sim->prepare();
-  const uint64_t before = state_hash(sim->state());
-  Rasterizer raster(1);
-  View v = plain(200, 100, {"grains", "chains", "colorbar", "time", "scalebar"});
-  v.periodic_images = true;
-  render_frame(raster, sim->model(), sim->state(), v);
-  CHECK(state_hash(sim->state()) == before);
+TEST_CASE("a frame above 64 Mpx is a scene error at render.width, with its file:line:col") {
+  const std::string big = std::string(kRow) + "[render]\nwidth = 16384\nheight = 16384\n";
+  const std::string e = test::scene_error(big);
+  CHECK(e.find("bad.toml:17:9: ") == 0);
+  CHECK(e.find("render.width x render.height = 16384 x 16384") != std::string::npos);
+  CHECK(e.find("limit of 64 Mpx") != std::string::npos);
+  CHECK(test::scene_error(std::string(kRow) + "[render]\nwidth = 8192\nheight = 8192\n").empty());
+  CHECK(test::scene_error(std::string(kRow) + "[render]\nheight = 8193\nwidth = 8192\n").find("bad.toml:18:9: ") == 0);
 }
 
 TEST_CASE("3D: chains in a slab, a field slice with the grains it cuts") {
@@ -306,13 +283,18 @@ dt_over_tc = 0.05
   CHECK(slab.segments.size() < all.segments.size());
   CHECK(slab.segments.size() > 0);
   for (const auto& s : slab.segments) CHECK(std::abs(0.5 * (s.a[1] + s.b[1]) - v.slab_center[1]) <= 0.5 + 1e-6);
-  // Translucent grains over chains in 3D by default.
+  // Translucent flat grains over chains in 3D by default; with a slab, only the grains in it.
   v.draw = {"grains", "chains"};
-  v.grain_opacity = 0.25;
+  v.color_by = "";
   const RenderScene both = build_render_scene(sim->model(), sim->state(), v);
-  CHECK(both.spheres.front().color.a == 64);
+  REQUIRE(!both.spheres.empty());
+  CHECK(both.spheres.front().color == Rgba{191, 191, 199, 64});
+  CHECK(static_cast<int64_t>(both.spheres.size()) < sim->state().n);
+  for (const auto& g : both.spheres) CHECK(std::abs(g.centre[1] - v.slab_center[1]) <= 0.5 + 1e-6);
+  v.slab_half_width = 0;
+  CHECK(static_cast<int64_t>(build_render_scene(sim->model(), sim->state(), v).spheres.size()) == sim->state().n);
   // A slice at z = 3 of a field equal to z: one colour on the plane, and only the grains it cuts.
-  ScalarGrid g;
+  GridField g;
   g.name = "vorticity";
   g.nx = g.ny = g.nz = 6;
   g.lo = {0, 0, 0};
@@ -321,14 +303,17 @@ dt_over_tc = 0.05
     for (int j = 0; j < 6; ++j)
       for (int i = 0; i < 6; ++i) g.value.push_back(k + 0.5 - 3.0);  // cell centres z - 3
   v.draw = {"field"};
-  v.slice_axis = "z";
+  v.slice_normal[0] = v.slice_normal[1] = 0;
+  v.slice_normal[2] = 1;
   v.slice_position = 3.2;
   v.field_range_auto = false;
   v.field_range[0] = -3;
   v.field_range[1] = 3;
   const RenderScene sl = build_render_scene(sim->model(), sim->state(), v, &g);
   REQUIRE(sl.fields.size() == 1);
-  CHECK(sl.fields[0].texels.front() == Colormap::get("diverging").at((0.5 + 3.0) / 6.0));
+  CHECK(sl.fields[0].tex_w == 6);  // one texel per cell along an axis
+  // Between the cell centres z = 2.5 (-0.5) and 3.5 (0.5), linearly: 0.2 at z = 3.2.
+  CHECK(test::near(sl.fields[0].texels.front(), Colormap::get("diverging").at((0.2 + 3.0) / 6.0), 1));
   for (const auto& c : sl.fields[0].corners) CHECK(c[2] == doctest::Approx(3.2));
   int64_t cut = 0;
   for (int64_t i = 0; i < sim->state().n; ++i) cut += std::abs(sim->state().particle_x[3 * i + 2] - 3.2) < sim->state().particle_r[i];
@@ -366,23 +351,6 @@ dt = 1e-3
   rs = build_render_scene(sim->model(), sim->state(), v);
   CHECK(rs.spheres.size() == 2);
   CHECK_FALSE(white(raster.draw(rs).pixel(right[0], right[1])));
-}
-
-TEST_CASE("the frame writer numbers its PNGs, and a bad directory is refused") {
-  auto sim = test::simulation_from(kRow);
-  {
-    FrameWriter w("frame_writer_test", 1);
-    for (int k = 0; k < 3; ++k) w.submit(build_render_scene(sim->model(), sim->state(), plain(64, 32, {"grains"})));
-    w.finish();
-    CHECK(w.written() == 3);
-    CHECK(w.error().empty());
-  }
-  for (const char* f : {"frame_writer_test/frame_000000.png", "frame_writer_test/frame_000002.png"}) {
-    CHECK(read_png(f).width == 64);
-    std::remove(f);
-  }
-  std::remove("frame_writer_test/frame_000001.png");
-  CHECK_THROWS_AS(FrameWriter("no_such_dir/sub"), IoError);
 }
 
 TEST_CASE("under Lees-Edwards shear the image of a grain across y is shifted by the offset") {

@@ -93,7 +93,7 @@ TEST_CASE("silt run: prepare, save, restore and shear with a linear mean velocit
   std::ifstream in("cli_shear.json");
   const auto j = nlohmann::json::parse(in);
   const silt::Model m = silt::test::model_from(kShear);
-  const double gd = 0.1 / std::sqrt(m.m_mean);  // I = gammadot sqrt(m / P), P = 1
+  const double gd = 0.1 / std::sqrt(m.m_a);  // I = gammadot sqrt(m / P), P = 1, m of the largest grain
   CHECK(j["observables"]["I"]["mean"].get<double>() == doctest::Approx(0.1));
   CHECK(j["observables"]["gamma"]["last"].get<double>() == doctest::Approx(gd * j["observables"]["t"]["last"].get<double>()));
   // The time-averaged profile follows the imposed flow v_x = gammadot (y - lo): slab centres at
@@ -107,6 +107,15 @@ TEST_CASE("silt run: prepare, save, restore and shear with a linear mean velocit
     CHECK(y == doctest::Approx((k + 0.5) / n));
     CHECK(std::abs(prof["mean"][k].get<double>() - gd * ly * y) < 0.05 * gd * ly);
   }
+  // Other run parameters are no error, but each is named, on stderr and in the summary.
+  REQUIRE(run("run cli_shear.toml --quiet --steps 10 --restore cli_shear_prep.ckpt --set shear.inertial_number=0.05 "
+              "--summary cli_shear_w.json",
+              &out) == 0);
+  CHECK(out.find("warning: shear.inertial_number = 0.1 in the checkpoint, 0.05 in the scene") != std::string::npos);
+  std::ifstream win("cli_shear_w.json");
+  const auto w = nlohmann::json::parse(win);
+  REQUIRE(w["warnings"].size() == 1);
+  CHECK(w["warnings"][0].get<std::string>().find("shear.inertial_number") == 0);
   // A checkpoint of these grains under another scene's run parameters restores; another system does not.
   CHECK(run("run " + silt::test::scene_path("pack_2d") + " --steps 1 --restore cli_shear_prep.ckpt", &out) == 4);
 }

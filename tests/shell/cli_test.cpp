@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "shell/shell_fixtures.hpp"
 #include "support/scenes.hpp"
 
 namespace {
@@ -110,25 +111,7 @@ TEST_CASE("silt run: stats CSV, summary JSON, --observe, --every") {
 }
 
 TEST_CASE("silt run: a numerical failure exits 3 and keeps the last good state") {
-  const std::string scene = write_file("cli_soft.toml", R"(
-[scene]
-dimension = 3
-[domain]
-lo = [-5, -5, -5]
-hi = [5, 5, 5]
-[contact]
-model = "hooke"
-k_n = 100
-[[grains]]
-radius = 0.5
-placement = "explicit"
-positions = [[-1, 0, 0], [1, 0, 0]]
-velocity = "explicit"
-velocities = [[10, 0, 0], [-10, 0, 0]]
-[run]
-dt = 1e-3
-steps = 1000
-)");
+  const std::string scene = write_file("cli_soft.toml", std::string(silt::test::kSoftCollision) + "steps = 1000\n");
   std::remove("cli_fail.last_good.ckpt");
   const Result r = silt_cli("run " + scene + " --quiet --summary cli_fail.json");
   CHECK(r.code == 3);

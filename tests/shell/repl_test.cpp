@@ -1,4 +1,5 @@
-// The real interactive shell through a pseudo-terminal, and scripts through `silt play`.
+// The real interactive shell through a pseudo-terminal: line editing on GNU readline, Ctrl-C,
+// completion, history across sessions, output that does not collide with the prompt.
 #include <doctest/doctest.h>
 #include <poll.h>
 #include <pty.h>
@@ -13,30 +14,31 @@
 #include <string>
 #include <thread>
 
-#include "silt/io.hpp"
+#include "shell/shell_fixtures.hpp"
 #include "support/scenes.hpp"
+
+using silt::test::contains;
+using silt::test::TempDir;
 
 namespace {
 
-// A `silt shell` on a pseudo-terminal: type lines, read what it prints.
+// A `silt shell` on a pseudo-terminal, with HOME (the history file) and the working directory
+// given: type lines, read what it prints.
 class Terminal {
  public:
-  explicit Terminal(const std::string& scene) {
+  Terminal(const std::string& scene, const std::string& home) {
     pid_ = forkpty(&fd_, nullptr, nullptr, nullptr);
     if (pid_ == 0) {
-      setenv("HOME", "/tmp", 1);  // history file
+      setenv("HOME", home.c_str(), 1);
+      setenv("TERM", "xterm", 1);
+      if (chdir(home.c_str()) != 0) _exit(126);
       execl(silt::test::silt_binary().c_str(), "silt", "shell", scene.c_str(), "--threads", "2", nullptr);
       _exit(127);
     }
   }
-  ~Terminal() {
-    if (pid_ > 0) {
-      kill(pid_, SIGKILL);
-      waitpid(pid_, nullptr, 0);
-    }
-  }
+  ~Terminal() { kill_now(); }
   void type(const std::string& s) { (void)!write(fd_, s.data(), s.size()); }
-  // Output until `marker` appears (or the timeout).
+  // Output until `marker` appears (or the timeout): "" when it did not.
   std::string read_until(const std::string& marker, double seconds = 10) {
     const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
     while (std::chrono::steady_clock::now() < end && seen_.find(marker) == std::string::npos) {
@@ -60,6 +62,13 @@ class Terminal {
     pid_ = -1;
     return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   }
+  // As a crash or a hang-up would end it: no chance to write anything.
+  void kill_now() {
+    if (pid_ <= 0) return;
+    kill(pid_, SIGKILL);
+    waitpid(pid_, nullptr, 0);
+    pid_ = -1;
+  }
 
  private:
   int fd_ = -1;
@@ -67,110 +76,77 @@ class Terminal {
   std::string seen_;
 };
 
-std::string run_play(const std::string& script_text, const std::string& flags, int* code) {
-  std::ofstream("play_test.silt") << script_text;
-  const std::string cmd = silt::test::silt_binary() + " play play_test.silt " + flags + " 2>&1";
-  std::FILE* p = popen(cmd.c_str(), "r");
-  std::string out;
-  char buf[4096];
-  size_t n;
-  while ((n = std::fread(buf, 1, sizeof buf, p)) > 0) out.append(buf, n);
-  const int status = pclose(p);
-  *code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return out;
+std::string read_text(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
 }
 
 }  // namespace
 
-TEST_CASE("the interactive shell: commands, Ctrl-C pauses a run, tab completion, history, quit") {
-  std::remove("/tmp/.silt_history");
-  Terminal t(silt::test::scene_path("chute"));
-  REQUIRE(!t.read_until("silt[t=0]> ").empty());
+TEST_CASE("the interactive shell: GNU readline, Ctrl-C pauses a run, tab completion, quit") {
+  TempDir home;
+  Terminal t(silt::test::scene_path("chute"), home.path());
+  const std::string banner = t.read_until("silt[t=0]> ");
+  REQUIRE(!banner.empty());
+  // The rl_* symbols are GNU readline's, not those of the libedit that OSMesa's LLVM loads.
+  CHECK(contains(banner, "(GNU readline "));
+  CHECK_FALSE(contains(banner, "warning"));
   t.type("run 100000000\n");
   std::this_thread::sleep_for(std::chrono::milliseconds(800));
   t.type("\x03");  // Ctrl-C
   CHECK(!t.read_until("paused: ").empty());
   CHECK(!t.read_until("]> ").empty());  // the prompt is back
   t.type("prin\tste\t\n");  // completes to "print step"
-  CHECK(!t.read_until("step = ").empty());
+  // The command's output follows the line typed: readline does not draw the prompt again first
+  // (the output would overwrite it from column 0: "step = 0]> ").
+  const std::string shown = t.read_until("step = ");
+  REQUIRE(!shown.empty());
+  CHECK_FALSE(contains(shown.substr(shown.rfind("print step")), "silt["));
+  CHECK(!t.read_until("silt[t=").empty());  // then the prompt, once
   t.type("nonsense\n");
   CHECK(!t.read_until("unknown command 'nonsense'").empty());
   t.type("quit\n");
   CHECK(t.wait_exit() == 0);
-  std::ifstream history("/tmp/.silt_history");
-  std::stringstream h;
-  h << history.rdbuf();
-  CHECK(h.str().find("print step") != std::string::npos);
 }
 
-TEST_CASE("silt play: echoes each command with its line, stops at the first error with SCRIPT:LINE") {
-  int code = -1;
-  const std::string script = "# a script\nload " + silt::test::scene_path("collision_normal") +
-                             "\nrun 100\nprint step\nprnt t\nrun 100\n";
-  std::string out = run_play(script, "", &code);
-  CHECK(code == 2);
-  CHECK(out.find("play_test.silt:3> run 100") != std::string::npos);
-  CHECK(out.find("step = 100") != std::string::npos);
-  CHECK(out.find("play_test.silt:5: unknown command 'prnt'; did you mean 'print'?") != std::string::npos);
-  CHECK(out.find("play_test.silt:6>") == std::string::npos);
-  out = run_play(script, "--keep-going", &code);
-  CHECK(code == 2);
-  CHECK(out.find("play_test.silt:6> run 100") != std::string::npos);
-  out = run_play("load " + silt::test::scene_path("collision_normal") + "\nrun 10\n", "", &code);
-  CHECK(code == 0);
-  run_play("", "", &code);
-  CHECK(code == 0);
-  std::remove("play_test.silt");
-}
-
-TEST_CASE("the shipped example script plays") {
-  const std::string cmd = "cd " + std::string(SILT_SOURCE_DIR) + " && " + silt::test::silt_binary() +
-                          " play scenes/steer_and_save.silt > /dev/null 2>&1";
-  CHECK(std::system(cmd.c_str()) == 0);
-}
-
-TEST_CASE("a checkpoint killed while being written leaves the previous one intact") {
-  // Write a valid checkpoint, then let another process rewrite the same file in a loop and kill it
-  // at random moments: the file must always read back whole, old or new.
-  const std::string scene = silt::test::scene_path("chute");
-  const std::string path = "kill_test.ckpt";
-  auto sim = silt::test::simulation_from(R"(
-[scene]
-dimension = 3
-[domain]
-lo = [0, 0, -0.5]
-hi = [40, 20, 30]
-periodic = [true, true, false]
-[gravity]
-magnitude = 1.0
-angle = 26.0
-[contact]
-model = "hooke"
-k_n = 2e5
-gamma_n = 50.0
-friction = 0.5
-[[grains]]
-radius = 0.49
-density = 1.9099
-placement = "lattice"
-spacing = 1.0
-region_lo = [0.0, 0.0, 0.75]
-region_hi = [40.0, 20.0, 21.25]
-[run]
-dt = 1e-4
-)");
-  (void)scene;
-  silt::write_checkpoint(path, sim->model(), sim->state());
-  for (int round = 0; round < 6; ++round) {
-    const pid_t child = fork();
-    if (child == 0) {
-      for (;;) silt::write_checkpoint(path, sim->model(), sim->state());
-    }
-    std::this_thread::sleep_for(std::chrono::milliseconds(7 + 13 * round));
-    kill(child, SIGKILL);
-    waitpid(child, nullptr, 0);
-    CHECK_NOTHROW(silt::read_checkpoint(path, sim->model()));
+TEST_CASE("history: each line is saved as it is entered, and the next session has it") {
+  TempDir home;
+  {
+    Terminal t(silt::test::scene_path("collision_normal"), home.path());
+    REQUIRE(!t.read_until("silt[t=0]> ").empty());
+    t.type("run 7\n");
+    REQUIRE(!t.read_until("done: 7 steps").empty());
+    REQUIRE(!t.read_until("]> ").empty());
+    t.kill_now();  // no clean exit: what is in the file was written line by line
   }
-  std::remove(path.c_str());
-  std::remove((path + ".tmp").c_str());
+  CHECK(contains(read_text(home / ".silt_history"), "run 7"));
+  Terminal t(silt::test::scene_path("collision_normal"), home.path());
+  REQUIRE(!t.read_until("silt[t=0]> ").empty());
+  t.type("\x1b[A\n");  // Up: the previous session's line
+  CHECK(!t.read_until("done: 7 steps").empty());
+  t.type("quit\n");
+  CHECK(t.wait_exit() == 0);
+}
+
+TEST_CASE("tab completes file names only where a command takes a file") {
+  TempDir home;
+  std::ofstream(home / "zz_only_file.txt") << "x\n";
+  Terminal t(silt::test::scene_path("collision_normal"), home.path());
+  REQUIRE(!t.read_until("silt[t=0]> ").empty());
+  // stats takes no argument: nothing to complete, and no file name either.
+  t.type("stats zz\t\n");
+  const std::string stats = t.read_until("usage: stats");
+  REQUIRE(!stats.empty());
+  CHECK_FALSE(contains(stats, "zz_only_file"));
+  t.type("set contact.friction zz\t\n");
+  const std::string set = t.read_until("set contact.friction: ");  // the error, after the echo
+  REQUIRE(!set.empty());
+  CHECK_FALSE(contains(set, "zz_only_file"));
+  // load takes a file: its name is completed.
+  t.type("load zz\t\n");
+  CHECK(!t.read_until("zz_only_file.txt").empty());
+  t.type("quit\n");
+  CHECK(t.wait_exit() == 0);
 }

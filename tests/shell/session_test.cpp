@@ -7,37 +7,13 @@
 #include <sstream>
 #include <thread>
 
-#include "shell/session.hpp"
+#include "shell/shell_fixtures.hpp"
 #include "support/scenes.hpp"
 
 using namespace silt;
 using namespace silt::shell;
-
-namespace {
-
-struct Fixture {
-  std::ostringstream out, err;
-  Session s{out, err, 2};
-  bool run(const std::string& line) { return s.execute(line); }
-  std::string take_out() {
-    std::string x = out.str();
-    out.str("");
-    return x;
-  }
-  std::string take_err() {
-    std::string x = err.str();
-    err.str("");
-    return x;
-  }
-  double value(const std::string& obs) {
-    take_out();
-    REQUIRE(run("print " + obs));
-    const std::string o = take_out();
-    return std::stod(o.substr(o.find('=') + 1));
-  }
-};
-
-}  // namespace
+using test::contains;
+using test::Fixture;
 
 TEST_CASE("the shell survives every mistake and keeps the previous scene") {
   Fixture f;
@@ -66,17 +42,16 @@ TEST_CASE("the shell survives every mistake and keeps the previous scene") {
 }
 
 TEST_CASE("set steers a run: a changed gravity changes the next steps") {
-  // Two identical bouncing balls; gravity doubled in one after 1000 steps.
+  // Two identical balls in free fall (dt = 1 us); gravity doubled in one after 1000 steps.
   Fixture a, b;
   for (Fixture* f : {&a, &b}) REQUIRE(f->run("load " + test::scene_path("bounce_dry")));
   for (Fixture* f : {&a, &b}) REQUIRE(f->run("run 1000"));
-  CHECK(a.value("p[0].z") == b.value("p[0].z"));
+  CHECK(a.hash() == b.hash());
   REQUIRE(b.run("set gravity.magnitude 19.62"));
   CHECK(b.take_out().find("gravity.magnitude = 19.62") != std::string::npos);
   for (Fixture* f : {&a, &b}) REQUIRE(f->run("run 1000"));
-  const double za = a.value("p[0].z"), zb = b.value("p[0].z");
-  // Extra fall over 1 ms after the change: g dt^2/2 more, ~4.9e-6 m.
-  CHECK(za - zb == doctest::Approx(0.5 * 9.81 * 1e-3 * 1e-3).epsilon(0.01));
+  // 1 ms more at the extra 9.81 m/s^2: 9.81e-3 m/s faster.
+  CHECK(a.value("p[0].vz") - b.value("p[0].vz") == doctest::Approx(9.81e-3).epsilon(1e-4));
   REQUIRE(b.run("get gravity.magnitude"));
   CHECK(b.take_out().find("19.62") != std::string::npos);
 }
@@ -99,18 +74,42 @@ TEST_CASE("non-steerable values recompile the scene, keeping the state when the 
 TEST_CASE("save, restore and reset: a restored run is bitwise the uninterrupted one") {
   Fixture f;
   REQUIRE(f.run("load " + test::scene_path("collision_normal")));
-  REQUIRE(f.run("run 150"));
+  REQUIRE(f.run("run 150"));  // the grains touch from step ~200: the save is before, the end after
+  const std::string saved = f.hash();
   REQUIRE(f.run("save session_test.ckpt"));
   REQUIRE(f.run("run 150"));
-  const double x = f.value("p[0].x"), v = f.value("p[1].vx");
+  const std::string uninterrupted = f.hash();
   REQUIRE(f.run("reset"));
   CHECK(f.value("t") == 0);
+  CHECK(f.hash() != saved);
   REQUIRE(f.run("restore session_test.ckpt"));
-  CHECK(f.value("step") == 150);
+  CHECK(f.hash() == saved);
   REQUIRE(f.run("run 150"));
-  CHECK(f.value("p[0].x") == x);
-  CHECK(f.value("p[1].vx") == v);
+  CHECK(f.hash() == uninterrupted);
   std::remove("session_test.ckpt");
+}
+
+TEST_CASE("restore shows the parameters that differ from the checkpoint's, and refuses directories") {
+  Fixture f;
+  REQUIRE(f.run("load " + test::scene_path("collision_normal")));
+  REQUIRE(f.run("set contact.friction 0.25"));  // steered, then saved
+  REQUIRE(f.run("save session_params.ckpt"));
+  REQUIRE(f.run("reload"));
+  REQUIRE(f.run("set contact.friction 0.5"));
+  f.take_out();
+  REQUIRE(f.run("restore session_params.ckpt"));
+  const std::string out = f.take_out();
+  CHECK(contains(out, "warning: contact.friction = 0.25 in the checkpoint, 0.5 in the scene"));
+  CHECK(std::count(out.begin(), out.end(), '\n') == 2);  // the restore line and that one warning
+  std::remove("session_params.ckpt");
+  CHECK_FALSE(f.run("restore /tmp"));
+  CHECK(contains(f.take_err(), "'/tmp' is a directory"));
+  CHECK_FALSE(f.run("load /tmp"));
+  CHECK(contains(f.take_err(), "'/tmp' is a directory"));
+  CHECK_FALSE(f.run("source /tmp"));
+  CHECK(contains(f.take_err(), "'/tmp' is a directory"));
+  CHECK_FALSE(f.run("save /tmp"));
+  CHECK(contains(f.take_err(), "is a directory"));
 }
 
 TEST_CASE("run lengths: steps, time, until a condition") {
@@ -128,9 +127,16 @@ TEST_CASE("run lengths: steps, time, until a condition") {
   REQUIRE(f.run("run until t >= 0.0009"));
   CHECK(f.value("step") == 900);
   CHECK_FALSE(f.run("run until kee > 1"));
+  // Lengths past what a step counter holds are refused, not wrapped around.
+  CHECK_FALSE(f.run("run 9e18s"));
+  CHECK(contains(f.take_err(), "too long"));
+  CHECK_FALSE(f.run("watch t every 1e300"));
+  CHECK_FALSE(f.run("frames x every 1e300"));
+  CHECK_FALSE(f.run("run 1e19"));
+  CHECK(f.value("step") == 900);
 }
 
-TEST_CASE("a background run keeps the prompt; set acts at the next step boundary; stop pauses") {
+TEST_CASE("a background run keeps the prompt, set acts at the next step boundary, stop pauses") {
   Fixture f;
   REQUIRE(f.run("load " + test::scene_path("chute")));
   REQUIRE(f.run("watch t every 100"));
@@ -147,17 +153,19 @@ TEST_CASE("a background run keeps the prompt; set acts at the next step boundary
   const double t2 = f.value("t");
   CHECK(t2 > t1);
   REQUIRE(f.run("save bg_test.ckpt"));
+  f.take_out();
   REQUIRE(f.run("stop"));
   CHECK_FALSE(f.s.running());
-  CHECK(f.take_out().find("paused") != std::string::npos);
+  // stop prints what the run said: the watch lines (one at least, at its first state) and its end.
+  const std::string stopped = f.take_out();
+  CHECK(contains(stopped, "step 0:  t = 0 s\n"));
+  CHECK(contains(stopped, "paused"));
+  CHECK(f.s.take_messages().empty());
   const double t3 = f.value("t");
   std::this_thread::sleep_for(std::chrono::milliseconds(100));
   CHECK(f.value("t") == t3);
   REQUIRE(f.run("get contact.friction"));
   CHECK(f.take_out().find("0.2") != std::string::npos);
-  const auto watched = f.s.take_messages();
-  CHECK(!watched.empty());
-  CHECK(watched.front().find("t = ") != std::string::npos);
   std::remove("bg_test.ckpt");
 }
 
@@ -204,10 +212,10 @@ TEST_CASE("help, params, stats, profile, render and frames print what a person r
   std::system("rm -rf session_frames");
 }
 
-TEST_CASE("completion: commands, keys, observables") {
+TEST_CASE("completion: commands, keys, observables, and file names only for file arguments") {
   Fixture f;
-  auto has = [](const std::vector<std::string>& v, const std::string& x) {
-    return std::find(v.begin(), v.end(), x) != v.end();
+  auto has = [](const std::optional<std::vector<std::string>>& v, const std::string& x) {
+    return v && std::find(v->begin(), v->end(), x) != v->end();
   };
   CHECK(has(f.s.complete("", "re"), "reload"));
   CHECK(has(f.s.complete("", "re"), "restore"));
@@ -216,35 +224,27 @@ TEST_CASE("completion: commands, keys, observables") {
   CHECK(has(f.s.complete("set ", "walls[4]"), "walls[4].friction"));
   CHECK(has(f.s.complete("print t ", "wall[4].f"), "wall[4].fz"));
   CHECK(has(f.s.complete("help ", "wa"), "watch"));
-  CHECK(f.s.complete("load ", "sce").empty());  // files: left to the line editor
+  CHECK_FALSE(f.s.complete("load ", "sce").has_value());  // files: left to the line editor
+  for (const char* line : {"source ", "save ", "restore ", "render ", "frames "}) CHECK_FALSE(f.s.complete(line, "").has_value());
+  // Commands without file arguments offer no file names, even with nothing to offer.
+  for (const char* line : {"set contact.friction ", "stats ", "reset ", "quit ", "load scene.toml "}) {
+    CAPTURE(line);
+    const auto none = f.s.complete(line, "sce");
+    REQUIRE(none.has_value());
+    CHECK(none->empty());
+  }
+  CHECK(has(f.s.complete("render x.png ", "ch"), "chains"));
+  CHECK(has(f.s.complete("frames dir ", ""), "every"));
 }
 
 TEST_CASE("a numerical failure stops the run, the shell stays, and the last good state can be saved") {
-  std::ofstream("session_soft.toml") << R"(
-[scene]
-dimension = 3
-[domain]
-lo = [-5, -5, -5]
-hi = [5, 5, 5]
-[contact]
-model = "hooke"
-k_n = 100
-[[grains]]
-radius = 0.5
-placement = "explicit"
-positions = [[-1, 0, 0], [1, 0, 0]]
-velocity = "explicit"
-velocities = [[10, 0, 0], [-10, 0, 0]]
-[run]
-dt = 1e-3
-)";
+  std::ofstream("session_soft.toml") << test::kSoftCollision;
   Fixture f;
   REQUIRE(f.run("load session_soft.toml"));
-  REQUIRE(f.run("run 1000"));
-  const std::string out = f.take_out();
-  CHECK(out.find("failed: step") != std::string::npos);
-  CHECK(out.find("contact.k_n") != std::string::npos);
-  CHECK(out.find("back to the last good state") != std::string::npos);
+  CHECK_FALSE(f.run("run 1000"));  // the command failed (exit code 3 in a script) ...
+  CHECK(f.s.last_error_code() == 3);
+  CHECK(contains(f.take_err(), "contact.k_n"));  // ... saying which parameter to change
+  CHECK(contains(f.take_out(), "back to the last good state"));
   const double step = f.value("step");
   CHECK(step > 0);
   REQUIRE(f.run("save session_soft.ckpt"));

@@ -1,6 +1,7 @@
 // Outputs of a run: block-averaged statistics, the stats CSV, the summary JSON, checkpoints.
 #pragma once
 
+#include <array>
 #include <cstdio>
 #include <map>
 #include <string>
@@ -66,20 +67,39 @@ struct SummaryInput {
 // Summary JSON of INTERFACE.md. Throws IoError.
 void write_summary(const std::string& path, const SummaryInput& in, const Simulation& sim, const StatsWriter& stats);
 
+// A field on a regular grid of cells (a fluid's vorticity, velocity, pressure; analytic fields
+// in tests): `components` values per cell (1: a scalar, 3: a vector, x y z interleaved) at the
+// cell centres lo + (i + 1/2) h, x fastest. A 2D field has nz = 1 (its cells one h[2] thick).
+struct GridField {
+  std::string name;  // "vorticity", ...
+  int components = 1;
+  int nx = 0, ny = 0, nz = 1;
+  std::array<double, 3> lo{0, 0, 0}, h{1, 1, 1};
+  std::vector<double> value;  // nx * ny * nz * components
+  size_t cell(int i, int j, int k = 0) const { return (static_cast<size_t>(k) * ny + j) * nx + i; }
+  double at(int i, int j, int k = 0, int c = 0) const { return value[cell(i, j, k) * components + c]; }
+  bool same_grid(const GridField& o) const { return nx == o.nx && ny == o.ny && nz == o.nz && lo == o.lo && h == o.h; }
+};
+
+// Fields on one grid as VTK ImageData (.vti): Origin at the grid's lower corner, Spacing h, the
+// values as CellData (they are cell averages at the cell centres). Throws IoError, and
+// std::invalid_argument for fields on different grids or of the wrong size.
+void write_vti(const std::string& path, const std::vector<GridField>& fields);
+
 // VTK XML output for ParaView and OVITO: DIR/grains_NNNNNN.vtu (points with radius, velocity,
 // angular velocity, force, id, frozen), DIR/contacts_NNNNNN.vtp (one line per contact with its
-// normal and tangential force) and DIR/index.pvd (the time series). Fluid fields (.vti) come with
-// the fluid module.
+// normal and tangential force), DIR/fields_NNNNNN.vti for the grid fields given (a fluid's, once
+// a fluid module provides them; none today) and DIR/index.pvd (the time series).
 class VtkWriter {
  public:
   explicit VtkWriter(std::string dir);  // creates dir; throws IoError
-  void write(const Model& m, const State& s);
+  void write(const Model& m, const State& s, const std::vector<GridField>& fields = {});
   int64_t count() const { return count_; }
 
  private:
   struct Entry {
     double t;
-    std::string grains, contacts;
+    std::string grains, contacts, fields;  // fields: "" when none
   };
   std::string dir_;
   int64_t count_ = 0;
@@ -87,9 +107,16 @@ class VtkWriter {
 };
 
 // Checkpoints: binary, versioned, with a checksum; written to a temporary file then renamed,
-// so an interrupted write leaves the previous checkpoint intact.
+// so an interrupted write leaves the previous checkpoint intact. A checkpoint belongs to a system
+// (dimension, grains, walls, periodicity) and records the scene's name and parameters.
 void write_checkpoint(const std::string& path, const Model& m, const State& s);
-// Throws IoError for unreadable, corrupt, foreign-scene or other-version files.
-State read_checkpoint(const std::string& path, const Model& m);
+// Throws IoError for unreadable, corrupt, other-system or other-version files (saying what
+// differs, or which version was found). Parameters of the scene that differ from those recorded
+// (other run parameters, steered values) are not an error: `differences` receives them as
+// "contact.friction = 0.1 in the checkpoint, 0.5 in the scene".
+State read_checkpoint(const std::string& path, const Model& m, std::vector<std::string>* differences = nullptr);
+// Every key of the schema, with the indices of the scene's tables, and its resolved value as text
+// (given, else the default; "" when neither): what checkpoints record.
+std::vector<std::pair<std::string, std::string>> scene_parameters(const SceneDesc& d);
 
 }  // namespace silt

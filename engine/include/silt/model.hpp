@@ -112,9 +112,11 @@ struct RunLimits {
 
 // What a frame shows ([render] of the scene), read by the renderer; plain data, no GL here.
 struct RenderSettings {
+  // Largest frame: 64 Mpx, about 1 GB drawn (colour and depth buffers, the image, PNG rows).
+  static constexpr int64_t kMaxPixels = int64_t{8192} * 8192;
   int width = 1280, height = 720;
   std::vector<std::string> draw{"grains", "colorbar", "time", "scalebar"};
-  std::string color_by = "speed";        // flat | speed | vx | vy | vz | height | id | group | frozen
+  std::string color_by = "speed";        // flat | speed | vx | vy | vz | height | id | group | frozen; "": speed, or flat with chains or a field
   std::string colormap = "sequential";   // sequential | diverging
   bool range_auto = true;
   double range[2] = {0, 1};
@@ -129,8 +131,8 @@ struct RenderSettings {
   std::string field = "vorticity";       // vorticity | velocity | pressure (fluid fields)
   bool field_range_auto = true;
   double field_range[2] = {-1, 1};
-  std::string slice_axis = "z";          // 3D field slice: plane normal
-  double slice_position = 0;             // coordinate of the slice along its axis
+  double slice_normal[3] = {0, 0, 1};    // 3D field slice: unit normal n of the plane n . x = slice_position
+  double slice_position = 0;             // [m] (an axis normal: the coordinate along that axis)
   std::string slice_component = "magnitude";  // x | y | z | magnitude (3D vector fields)
   double azimuth = 30, elevation = 25, distance = 0, fov = 30;  // 3D orbit camera [deg]; distance 0: auto
   bool target_auto = true;
@@ -158,6 +160,8 @@ struct Model {
   GrainInit init;
   double r_min = 0, r_max = 0, r_mean = 0, m_min = 0, m_mean = 0;
   double a_max = 0;  // largest diameter, the length unit of Peyneau's criteria
+  double m_a = 0;    // mass of a grain of diameter a_max (at the free grains' mean density): the
+                     // mass unit of the inertial number (Peyneau 2009 sec. 5.3.3)
 
   Box box;
   BoxControl box_control;
@@ -194,6 +198,13 @@ struct Model {
 // Compile a validated scene into a Model. Throws SceneError with the location of the value that
 // makes the scene impossible to simulate (bad geometry, overlaps, unstable time step, ...).
 Model compile(const SceneDesc& desc);
+
+// Apply a change a user typed (`set KEY VALUE`) to a scene: checked like the file's values, it
+// replaces the keys it is an alternative to (run.dt replaces run.dt_over_tc, gravity.vector
+// gravity.magnitude and gravity.angle, one shear mode the others). change.key is canonical
+// ("grains[0].radius"). Errors, and those compile() later finds in this value, are located at
+// `where` (e.g. "set run.dt") instead of a file position. Throws SceneError.
+void apply_change(SceneDesc& desc, const Override& change, const std::string& where);
 
 // Change one value of a compiled model between two steps ("live steering"). Only keys marked
 // steerable in the schema are accepted (gravity, friction, time step, imposed pressure, render

@@ -19,8 +19,12 @@ struct Measurements {
   double volume = 0;       // box volume (area in 2D)
   int64_t n_contacts = 0;  // touching pairs (grain-grain) + grain-wall contacts
   double z = 0;            // contacts per free grain
-  double z_star = 0;       // same, rattlers removed (fewer than 2 contacts with friction, D+1 without)
-  int64_t n_rattlers = 0;
+  double z_star = 0;       // z / (1 - p0): contacts per free grain that has one (Peyneau 2009 sec. 3.4)
+  double p0 = 0;           // fraction of free grains with no contact (Peyneau's rattlers)
+  std::vector<double> pn;  // pn[n]: fraction of free grains with exactly n contacts, n = 0 .. the largest
+  double z_mech = 0;       // contacts per grain of the mechanical skeleton: grains with fewer than 2
+                           // contacts with friction, D+1 without, removed repeatedly
+  int64_t n_off_skeleton = 0;  // free grains outside that skeleton
   std::array<std::array<double, 3>, 3> stress{};  // contact + kinetic, compression positive [Pa]
   double pressure = 0;     // trace / D
   double max_net_force = 0;  // largest |contact + wall + gravity force| on a free grain [N]
@@ -37,8 +41,8 @@ struct VelocityProfile {
 };
 VelocityProfile velocity_profile(const Model& m, const State& s, int n_slabs);
 
-// Inertial number I = |gammadot| sqrt(m / (a^(d-2) P)) (Peyneau 2009 eq. 1.30), m the mean grain
-// mass and a the largest diameter; 0 when P <= 0.
+// Inertial number I = |gammadot| sqrt(m / (a^(d-2) P)) (Peyneau 2009 eq. 1.30), a the largest
+// diameter and m the mass of a grain of diameter a (Model::m_a; Peyneau sec. 5.3.3); 0 when P <= 0.
 double inertial_number(const Model& m, double shear_rate, double pressure);
 // Stiffness number kappa: (E~/P)^(2/3) for Hertz contacts (Peyneau eq. 1.31), k_n / (a^(d-2) P)
 // for the linear laws (eq. 1.33; k_n of the lightest pair for the damping-ratio laws); 0 when P <= 0.
@@ -55,6 +59,8 @@ class Observer {
   // Throws std::invalid_argument naming the first bad observable.
   Observer(const Model& m, std::vector<std::string> names);
   const std::vector<std::string>& names() const { return names_; }
+  // Their units ("s", "J", "Pa", "m/s", ...; "" for dimensionless numbers and counts).
+  const std::vector<std::string>& units() const { return units_; }
   // Values in the order of names().
   std::vector<double> sample(const Model& m, const State& s) const;
 
@@ -64,7 +70,7 @@ class Observer {
     int component;  // axis or tensor index
     int64_t grain;  // for p[K].*
   };
-  std::vector<std::string> names_;
+  std::vector<std::string> names_, units_;
   std::vector<Item> items_;
   bool needs_measure_ = false;
 };

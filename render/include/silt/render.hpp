@@ -10,11 +10,13 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
+#include "silt/io.hpp"
 #include "silt/model.hpp"
 #include "silt/state.hpp"
 
@@ -44,26 +46,29 @@ class Colormap {
 // Directory of the colormaps and the font (SILT_ASSETS overrides the built-in path).
 std::string assets_dir();
 
-// A scalar field on a regular grid of cell centres: value(i, j, k) at lo + (i + 1/2) h.
-struct ScalarGrid {
-  std::string name;  // "vorticity", ...
-  int nx = 0, ny = 0, nz = 1;
-  std::array<double, 3> lo{0, 0, 0}, h{1, 1, 1};
-  std::vector<double> value;  // nx * ny * nz, x fastest
-  double at(int i, int j, int k = 0) const { return value[(static_cast<size_t>(k) * ny + j) * nx + i]; }
-};
-// Analytic test fields: a Lamb-Oseen vortex (circulation gamma, core radius rc) and a
-// Taylor-Green cell; both give the out-of-plane vorticity on an nx x ny grid over [lo, hi].
-ScalarGrid lamb_oseen_vorticity(int nx, int ny, std::array<double, 2> lo, std::array<double, 2> hi,
-                                std::array<double, 2> centre, double gamma, double rc);
-ScalarGrid taylor_green_vorticity(int nx, int ny, double length, double u0);
+// Fields on grids: silt::GridField (silt/io.hpp), a scalar or a 3-component vector at the cell
+// centres. A scalar field is drawn with the diverging map, symmetric about zero; a vector field
+// through View::slice_component: a component (diverging) or its magnitude (sequential, from 0).
+//
+// Analytic test fields, until the fluid module provides real ones: a Lamb-Oseen vortex
+// (circulation gamma, core radius rc) and a Taylor-Green cell give the out-of-plane vorticity on
+// an nx x ny grid; the 3D Taylor-Green vortex gives the vorticity vector on an n^3 grid.
+GridField lamb_oseen_vorticity(int nx, int ny, std::array<double, 2> lo, std::array<double, 2> hi,
+                               std::array<double, 2> centre, double gamma, double rc);
+GridField taylor_green_vorticity(int nx, int ny, double length, double u0);
+GridField taylor_green_vorticity_3d(int n, double length, double u0);
+// One component ("x", "y", "z") or the "magnitude" of a vector field, as a scalar field on the
+// same grid (a scalar field is returned as it is). Throws RenderError for other names.
+GridField field_component(const GridField& f, const std::string& which);
 
 // Camera: world -> clip, column-major 4x4 matrices, and whether it is orthographic.
 struct Camera {
   std::array<float, 16> view{}, proj{};
   bool ortho = true;
   std::array<float, 3> eye{0, 0, 1};
-  double pixels_per_unit = 0;                  // ortho only
+  std::array<double, 3> target{0, 0, 0};       // the point looked at
+  double pixels_per_unit = 0;                  // ortho: everywhere; perspective: in the plane through
+                                               // the target facing the camera
   std::array<int, 4> domain_px{0, 0, 0, 0};    // ortho only: the box in pixels (x, y from the bottom, w, h)
 };
 
@@ -104,25 +109,32 @@ struct RenderScene {
     float width;  // world units
     Rgba color;
   };
-  std::vector<Segment> segments;  // force chains
+  std::vector<Segment> segments;  // force chains: capsules (round ends), lit in 3D, flat in 2D
+  struct Line {
+    std::array<float, 3> a, b;
+    float width_px;
+    Rgba color;
+  };
+  std::vector<Line> lines;  // the box outline: a constant width on screen, depth-tested
   struct FieldQuad {
     std::array<std::array<float, 3>, 4> corners;  // lo-lo, hi-lo, hi-hi, lo-hi of the texture
     int tex_w = 0, tex_h = 0;
     std::vector<Rgba> texels;  // tex_w * tex_h, row 0 at the first corner
   };
-  std::vector<FieldQuad> fields;
+  std::vector<FieldQuad> fields;  // texels of alpha 0 (off the grid) are not drawn
   std::array<int, 4> clip{0, 0, 0, 0};  // pixel scissor x, y (from the bottom), w, h; w = 0: none
   std::vector<TextItem> texts;
   ColorBar colorbar;
   ScaleBar scalebar;
   std::vector<std::string> warnings;  // e.g. NaN values in a field
+  bool cull_hidden = true;  // 3D: skip the grains and chains that opaque grains hide wholly (same picture)
 };
 
 // What to draw and how (from Model::render, or set by hand).
 using View = RenderSettings;
 
 // Build a frame's content. `field` (optional) is drawn when the view asks for it.
-RenderScene build_render_scene(const Model& m, const State& s, const View& v, const ScalarGrid* field = nullptr);
+RenderScene build_render_scene(const Model& m, const State& s, const View& v, const GridField* field = nullptr);
 
 struct Image {
   int width = 0, height = 0;
@@ -152,14 +164,19 @@ class Rasterizer {
 void compose_overlays(const RenderScene& scene, Image& image);
 
 // A complete frame: build, rasterize, overlays.
-Image render_frame(Rasterizer& r, const Model& m, const State& s, const View& v, const ScalarGrid* field = nullptr);
+Image render_frame(Rasterizer& r, const Model& m, const State& s, const View& v, const GridField* field = nullptr);
 
 // Writes frames DIR/frame_000000.png, ... on a worker thread (with its own Rasterizer), so the
-// simulation goes on while a frame is drawn. At most one frame waits: submit() blocks for at most
-// the time of one frame. An error (no GL context, disk full) stops the frames, not the caller.
+// simulation goes on while a frame is drawn. At most one frame waits: submit() returns at once
+// when the worker is free or busy with one frame, and otherwise blocks until that frame is done,
+// so for at most the time of one frame. An error (no GL context, disk full) stops the frames
+// (later submits return at once and drop theirs), not the caller.
 class FrameWriter {
  public:
+  // What the worker does with frame number `index`; throws to stop the frames.
+  using Sink = std::function<void(const RenderScene& scene, int64_t index)>;
   FrameWriter(std::string dir, int threads = 0);  // creates dir; throws IoError
+  explicit FrameWriter(Sink sink);                // frames to `sink`, on the worker thread
   ~FrameWriter();
   FrameWriter(const FrameWriter&) = delete;
   FrameWriter& operator=(const FrameWriter&) = delete;
@@ -173,7 +190,7 @@ class FrameWriter {
   std::unique_ptr<Impl> impl_;
 };
 
-void write_png(const std::string& path, const Image& image);  // throws IoError
+void write_png(const std::string& path, const Image& image);  // RGB (frames are opaque); throws IoError
 Image read_png(const std::string& path);                      // throws IoError
 
 }  // namespace silt::render

@@ -2,6 +2,7 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <string>
 
 #include "dem/contact_laws.hpp"
 #include "support/scenes.hpp"
@@ -145,6 +146,51 @@ TEST_CASE("Hertz with a dashpot 2 zeta sqrt(m* K_N): restitution independent of 
     if (e_ref < 0) e_ref = e;
     CHECK(e == doctest::Approx(e_ref).epsilon(5e-3));
   }
+}
+
+namespace {
+
+// The number after "restitution " in `silt check`'s description of a model.
+double printed_restitution(const Model& m) {
+  const std::string text = describe(m);
+  const size_t at = text.find("restitution ");
+  REQUIRE(at != std::string::npos);
+  return std::stod(text.substr(at + 12));
+}
+
+}  // namespace
+
+TEST_CASE("check prints the restitution of one collision under the scene's law, Hertz included") {
+  // Hertz with the dashpot 2 zeta sqrt(m* K_N) has no closed form: the printed value is a
+  // collision integrated under the law, and two grains colliding in a run give the same (within
+  // the run's first-order error at t_c/1600).
+  for (const bool clip : {false, true})
+    for (const double zeta : {0.05, 0.25, 0.55, 0.98}) {
+      CAPTURE(clip);
+      CAPTURE(zeta);
+      const std::string text = test::fill(kHertzPair, {{"zeta", zeta}, {"v", 0.1}, {"dt", 5e-9}});
+      const Override clipping = parse_override(std::string("contact.clip_attractive=") + (clip ? "true" : "false"));
+      Simulation sim(compile(parse_scene(text, "pair.toml", {clipping})), 1);
+      const double printed = printed_restitution(sim.model());
+      if (!clip && zeta > 0.9) {
+        // Near critical damping the unclipped dashpot pulls the grains together while the overlap
+        // decays as a power of time: they part with no speed. In a run, 20 contact times (8 us
+        // each) after the impact they are still together, at a thousandth of the impact speed.
+        CHECK(describe(sim.model()).find("restitution 0 (the dashpot holds the grains") != std::string::npos);
+        for (int k = 0; k < 32000; ++k) REQUIRE(sim.step());
+        CHECK(std::abs(sim.state().particle_v[3] - sim.state().particle_v[0]) < 2e-4);
+      } else {
+        CHECK(printed > 0.05);
+        CHECK(printed == doctest::Approx(test::head_on_collision(sim, 0.2).restitution).epsilon(3e-3));
+      }
+    }
+  // The shipped frictionless shear scene (zeta = 0.98, no clipping): not the linear spring's 1.9e-7.
+  CHECK(printed_restitution(compile(load_scene_file(test::scene_path("shear3d_frictionless")))) == 0);
+  // Linear disks: exp(-pi zeta / sqrt(1 - zeta^2)), 1.9e-7 at zeta = 0.98.
+  const Model disks = compile(load_scene_file(test::scene_path("shear2d_dry")));
+  const double zeta = disks.zeta_max;
+  CHECK(printed_restitution(disks) ==
+        doctest::Approx(std::exp(-std::acos(-1.0) * zeta / std::sqrt(1 - zeta * zeta))).epsilon(1e-3));
 }
 
 TEST_CASE("pure laws: linear family coefficients and reduced radius") {

@@ -1,9 +1,15 @@
 // Checkpoints: round trip, bitwise continuation, refusal of corrupt or foreign files.
 #include <doctest/doctest.h>
 
+#include <sys/resource.h>
+
+#include <csignal>
 #include <cstdio>
+#include <cstring>
+#include <filesystem>
 #include <fstream>
 
+#include "core/rng.hpp"
 #include "silt/io.hpp"
 #include "support/scenes.hpp"
 
@@ -85,15 +91,85 @@ TEST_CASE("corrupt, truncated and foreign checkpoints are refused") {
   std::remove(path.c_str());
 }
 
-TEST_CASE("a checkpoint write never leaves a half file in place of the previous one") {
+TEST_CASE("a checkpoint of another system is refused, naming what differs, and other parameters are reported") {
   const std::string path = "checkpoint_test3.ckpt";
   auto a = test::simulation_from(kScene, 1);
   write_checkpoint(path, a->model(), a->state());
-  // Writing into a directory that does not exist fails cleanly and leaves nothing behind.
-  CHECK_THROWS_AS(write_checkpoint("no_dir/x.ckpt", a->model(), a->state()), IoError);
-  // The temporary name is the only file written before the rename.
-  std::FILE* f = std::fopen((path + ".tmp").c_str(), "r");
-  CHECK(f == nullptr);
-  CHECK_NOTHROW(read_checkpoint(path, a->model()));
+  auto refused = [&](std::string scene, const std::string& from, const std::string& to) {
+    scene.replace(scene.find(from), from.size(), to);
+    const Model m = test::model_from(scene);
+    std::string message;
+    try {
+      read_checkpoint(path, m);
+    } catch (const IoError& e) {
+      message = e.what();
+    }
+    return message;
+  };
+  // A wall elsewhere: same grains, same count of walls, another system.
+  CHECK(refused(kScene, "point = [0, 0, 0]", "point = [0, 0, -0.5]") ==
+        "checkpoint 'checkpoint_test3.ckpt' was written for a different system: wall 0: point (0, 0, 0), normal (0, 0, 1) "
+        "in the checkpoint, point (0, 0, -0.5), normal (0, 0, 1) in the scene");
+  CHECK(refused(kScene, "periodic = [true, true, false]", "periodic = [true, false, false]")
+            .find("periodic along x y in the checkpoint, x in the scene") != std::string::npos);
+  CHECK(refused(kScene, "radius_max = 0.4", "radius_max = 0.41").find("the grains differ") != std::string::npos);
+  // Other run parameters restore, and are reported.
+  std::string steered = kScene;
+  steered.replace(steered.find("friction = 0.5"), 14, "friction = 0.1");
+  steered.replace(steered.find("dt_over_tc = 0.05"), 17, "dt = 1e-4");
+  const Model d = test::model_from(steered);
+  std::vector<std::string> differences;
+  const State s = read_checkpoint(path, d, &differences);
+  CHECK(state_hash(s) == state_hash(a->state()));
+  REQUIRE(differences.size() == 3);
+  CHECK(differences[0] == "contact.friction = 0.5 in the checkpoint, 0.1 in the scene");
+  CHECK(differences[1] == "run.dt = (not set) in the checkpoint, 0.0001 in the scene");
+  CHECK(differences[2] == "run.dt_over_tc = 0.05 in the checkpoint, (not set) in the scene");
+  std::remove(path.c_str());
+}
+
+TEST_CASE("a checkpoint of another format version is refused with both versions") {
+  const std::string path = "checkpoint_test4.ckpt";
+  auto a = test::simulation_from(kScene, 1);
+  write_checkpoint(path, a->model(), a->state());
+  std::vector<char> bytes;
+  {
+    std::ifstream in(path, std::ios::binary);
+    bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  }
+  uint32_t version;
+  std::memcpy(&version, bytes.data() + 8, 4);
+  CHECK(version == 4);
+  version = 3;  // an older silt's file, whole and with a right checksum
+  std::memcpy(bytes.data() + 8, &version, 4);
+  const uint64_t sum = fnv1a(bytes.data(), bytes.size() - 8);
+  std::memcpy(bytes.data() + bytes.size() - 8, &sum, 8);
+  std::ofstream(path, std::ios::binary | std::ios::trunc).write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  CHECK_THROWS_WITH_AS(read_checkpoint(path, a->model()),
+                       doctest::Contains("has format version 3; this silt reads version 4"), IoError);
+  std::remove(path.c_str());
+}
+
+TEST_CASE("a checkpoint write that fails halfway leaves the previous file and no temporary one") {
+  // The file size limit makes the write of the new checkpoint fail after its first bytes.
+  const std::string path = "checkpoint_test5.ckpt";
+  auto a = test::simulation_from(kScene, 1);
+  write_checkpoint(path, a->model(), a->state());
+  const uint64_t before = state_hash(read_checkpoint(path, a->model()));
+  for (int k = 0; k < 10; ++k) REQUIRE(a->step());
+  rlimit old{};
+  REQUIRE(getrlimit(RLIMIT_FSIZE, &old) == 0);
+  const auto previous = std::signal(SIGXFSZ, SIG_IGN);  // write() then fails with EFBIG
+  rlimit small = old;
+  small.rlim_cur = 4096;
+  REQUIRE(setrlimit(RLIMIT_FSIZE, &small) == 0);
+  CHECK_THROWS_WITH_AS(write_checkpoint(path, a->model(), a->state()), doctest::Contains("cannot write checkpoint"), IoError);
+  REQUIRE(setrlimit(RLIMIT_FSIZE, &old) == 0);
+  std::signal(SIGXFSZ, previous);
+  CHECK(state_hash(read_checkpoint(path, a->model())) == before);
+  CHECK_FALSE(std::filesystem::exists(path + ".tmp"));
+  // Not into a directory either, and a directory is not read as one.
+  CHECK_THROWS_WITH_AS(write_checkpoint(".", a->model(), a->state()), doctest::Contains("is a directory"), IoError);
+  CHECK_THROWS_WITH_AS(read_checkpoint(".", a->model()), doctest::Contains("'.' is a directory"), IoError);
   std::remove(path.c_str());
 }

@@ -1,6 +1,9 @@
-// VTK output: grains, contacts and the time index, readable by ParaView/OVITO.
+// VTK output: grains, contacts, grid fields and the time index, readable by ParaView/OVITO.
 #include <doctest/doctest.h>
 
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -30,10 +33,9 @@ std::vector<double> array_of(const std::string& xml, const std::string& name) {
   return out;
 }
 
-}  // namespace
-
-TEST_CASE("VTK: grains with their data, contacts with normal and tangential forces, a time index") {
-  const char* scene = R"(
+// Three frictional disks, 0 touching 1 and, across the periodic boundary, 2; grain 0 moving and
+// spinning.
+const char* kThree = R"(
 [scene]
 dimension = 2
 [domain]
@@ -54,7 +56,11 @@ angular_velocities = [[2.0], [0], [0]]
 [run]
 dt = 1e-3
 )";
-  auto sim = test::simulation_from(scene);
+
+}  // namespace
+
+TEST_CASE("VTK: grains with their data, contacts with normal and tangential forces, a time index") {
+  auto sim = test::simulation_from(kThree);
   sim->prepare();
   VtkWriter vtk("vtk_test_out");
   vtk.write(sim->model(), sim->state());
@@ -115,4 +121,87 @@ dt = 1e-3
   // velocity = relative velocity + (0.5 (y - 1), 0, 0).
   CHECK(array_of(grains, "velocity") == std::vector<double>{0.1 + 0.5 * 2, 0.2, 0, 0.5 * 8, 0, 0});
   CHECK(array_of(grains, "velocity_relative_to_shear_flow") == std::vector<double>{0.1, 0.2, 0, 0, 0, 0});
+}
+
+TEST_CASE("VTK: the grains' force and the contacts' force vectors, normal and tangential parts") {
+  // Grain 0 slides along grain 1 (its velocity and spin are across the contact normal x): after a
+  // step the tangential spring carries a force.
+  auto sim = test::simulation_from(kThree);
+  sim->prepare();
+  for (int k = 0; k < 3; ++k) REQUIRE(sim->step());
+  VtkWriter vtk("vtk_force_out");
+  vtk.write(sim->model(), sim->state());
+  const std::string grains = slurp("vtk_force_out/grains_000000.vtu"), contacts = slurp("vtk_force_out/contacts_000000.vtp");
+  const auto gf = array_of(grains, "force");
+  REQUIRE(gf.size() == 9);
+  for (int i = 0; i < 3; ++i) {
+    CHECK(gf[3 * i] == doctest::Approx(sim->state().particle_f[2 * i]));
+    CHECK(gf[3 * i + 1] == doctest::Approx(sim->state().particle_f[2 * i + 1]));
+    CHECK(gf[3 * i + 2] == 0);
+  }
+  // Contacts 0-1 and 0-2 (across the periodic boundary), forces on grain 0.
+  const auto f = array_of(contacts, "force"), fn = array_of(contacts, "normal_force"), ft = array_of(contacts, "tangential_force");
+  const auto ends = array_of(contacts, "position");
+  REQUIRE(f.size() == 6);
+  REQUIRE(ft.size() == 2);
+  CHECK(ft[0] > 1e-4 * fn[0]);  // the sliding contact
+  for (int c = 0; c < 2; ++c) {
+    // Normal: along the line from the partner to grain 0; tangential: the rest of the force.
+    double n[3], len = 0;
+    for (int k = 0; k < 3; ++k) len += std::pow(ends[6 * c + k] - ends[6 * c + 3 + k], 2);
+    for (int k = 0; k < 3; ++k) n[k] = (ends[6 * c + k] - ends[6 * c + 3 + k]) / std::sqrt(len);
+    const double along = f[3 * c] * n[0] + f[3 * c + 1] * n[1] + f[3 * c + 2] * n[2];
+    CHECK(along == doctest::Approx(fn[c]));
+    double rest = 0;
+    for (int k = 0; k < 3; ++k) rest += std::pow(f[3 * c + k] - along * n[k], 2);
+    CHECK(std::sqrt(rest) == doctest::Approx(ft[c]).epsilon(1e-6));
+  }
+  // Each grain's force is the sum of its contacts' (no walls, no gravity in particle_f).
+  CHECK(gf[0] == doctest::Approx(f[0] + f[3]));
+  CHECK(gf[1] == doctest::Approx(f[1] + f[4]));
+  CHECK(gf[3] == doctest::Approx(-f[0]));
+  CHECK(gf[7] == doctest::Approx(-f[4]));
+  std::filesystem::remove_all("vtk_force_out");
+}
+
+TEST_CASE("VTK image data: scalar and vector grid fields as cell data, read back") {
+  GridField p, w;
+  p.name = "pressure";
+  p.nx = 3;
+  p.ny = 2;
+  p.nz = 2;
+  p.lo = {1, 2, 3};
+  p.h = {0.5, 0.25, 1};
+  w = p;
+  w.name = "vorticity";
+  w.components = 3;
+  for (int k = 0; k < 12; ++k) p.value.push_back(0.5 * k - 1);
+  for (int k = 0; k < 36; ++k) w.value.push_back(k * 0.125 - 2);  // exact in decimal
+  write_vti("vtk_fields.vti", {p, w});
+  const std::string vti = slurp("vtk_fields.vti");
+  CHECK(vti.find("<VTKFile type=\"ImageData\"") != std::string::npos);
+  CHECK(vti.find("WholeExtent=\"0 3 0 2 0 2\" Origin=\"1 2 3\" Spacing=\"0.5 0.25 1\"") != std::string::npos);
+  CHECK(vti.find("<CellData Scalars=\"pressure\" Vectors=\"vorticity\">") != std::string::npos);
+  CHECK(vti.find("Name=\"vorticity\" NumberOfComponents=\"3\"") != std::string::npos);
+  CHECK(array_of(vti, "pressure") == p.value);
+  CHECK(array_of(vti, "vorticity") == w.value);
+  std::remove("vtk_fields.vti");
+  // Fields on other grids, or not filling theirs, are refused.
+  GridField q = p;
+  q.nx = 4;
+  CHECK_THROWS_WITH_AS(write_vti("vtk_fields.vti", {p, q}), doctest::Contains("not on the grid"), IoError);
+  q = p;
+  q.value.pop_back();
+  CHECK_THROWS_WITH_AS(write_vti("vtk_fields.vti", {q}), doctest::Contains("does not fill"), IoError);
+  // In a time series: DIR/fields_NNNNNN.vti, part 2 of the index; none without fields.
+  auto sim = test::simulation_from(kThree);
+  VtkWriter vtk("vtk_fields_out");
+  vtk.write(sim->model(), sim->state());
+  vtk.write(sim->model(), sim->state(), {p});
+  CHECK_FALSE(std::ifstream("vtk_fields_out/fields_000000.vti").good());
+  CHECK(array_of(slurp("vtk_fields_out/fields_000001.vti"), "pressure") == p.value);
+  const std::string pvd = slurp("vtk_fields_out/index.pvd");
+  CHECK(pvd.find("part=\"2\" file=\"fields_000001.vti\"") != std::string::npos);
+  CHECK(pvd.find("fields_000000") == std::string::npos);
+  std::filesystem::remove_all("vtk_fields_out");
 }

@@ -1,0 +1,88 @@
+// Force chains and the box outline of a frame (no GL).
+#include <algorithm>
+#include <cmath>
+
+#include "render/scene_parts.hpp"
+#include "silt/contacts.hpp"
+
+namespace silt::render {
+
+bool in_slab(const View& v, const std::array<float, 3>& x) {
+  double off = 0, nn = 0;
+  for (int a = 0; a < 3; ++a) {
+    off += (x[a] - v.slab_center[a]) * v.slab_normal[a];
+    nn += v.slab_normal[a] * v.slab_normal[a];
+  }
+  return std::abs(off) <= v.slab_half_width * std::sqrt(nn);
+}
+
+// The standard force-chain picture (Radjai et al. 1998, PRL 80, 61): a segment between the
+// centres of every pair in contact, its width proportional to the normal force relative to the
+// mean. Proportional up to a mean grain diameter, that is to F / <F> = 2 / chain_width (5 with the
+// default 0.4, far in the exponential tail of the force distribution), where wider lines would
+// only hide their neighbours.
+ColorScale add_force_chains(RenderScene& rs, const State& s, const View& v, double r_mean, float lift) {
+  const int D = s.dim;
+  struct Chain {
+    std::array<float, 3> a, b;
+    double fn;
+  };
+  std::vector<Chain> contacts;
+  double sum = 0;
+  for_each_contact(s, [&](const Contact& k) {
+    if (!(k.fn > 0)) return;
+    Chain c{{0, 0, 0}, {0, 0, 0}, k.fn};
+    for (int a = 0; a < D; ++a) {
+      c.a[a] = static_cast<float>(s.particle_x[D * k.i + a]);
+      c.b[a] = static_cast<float>(s.particle_x[D * k.i + a] - k.d[a]);  // the image of j next to i
+    }
+    if (D == 3 && v.slab_half_width > 0 &&
+        !in_slab(v, {0.5f * (c.a[0] + c.b[0]), 0.5f * (c.a[1] + c.b[1]), 0.5f * (c.a[2] + c.b[2])}))
+      return;
+    contacts.push_back(c);
+    sum += k.fn;
+  });
+  const double mean = contacts.empty() ? 1.0 : sum / contacts.size();
+  const Colormap& cm = Colormap::get("sequential");
+  rs.segments.reserve(rs.segments.size() + contacts.size());
+  for (const Chain& c : contacts) {
+    const double rel = c.fn / mean;
+    if (v.chains_above_mean && rel <= 1) continue;
+    const float width = static_cast<float>(std::min(v.chain_width * rel, kChainMaxWidthRadii) * r_mean);
+    RenderScene::Segment seg{c.a, c.b, width, cm.at(rel / kChainColorMax)};
+    seg.a[2] += lift;
+    seg.b[2] += lift;
+    rs.segments.push_back(seg);
+  }
+  return {"sequential", 0.0, kChainColorMax, "normal force / mean"};
+}
+
+void add_box_outline(RenderScene& rs, const State& s, float z) {
+  const int D = s.dim;
+  const bool dark = rs.background.r + rs.background.g + rs.background.b < 384;
+  const Rgba ink = dark ? Rgba{220, 220, 220, 255} : Rgba{40, 40, 40, 255};
+  constexpr float kWidthPx = 2;
+  const Box& b = s.box;
+  auto corner = [&](int c) {
+    std::array<float, 3> x{0, 0, z};
+    for (int k = 0; k < D; ++k) x[k] = static_cast<float>(b.lo[k] + ((c >> k) & 1) * b.len[k]);
+    return x;
+  };
+  for (int c = 0; c < (1 << D); ++c)
+    for (int k = 0; k < D; ++k)
+      if (!((c >> k) & 1)) rs.lines.push_back({corner(c), corner(c | (1 << k)), kWidthPx, ink});
+  if (b.lees_edwards) {
+    // Where the origin of the image one period up lands on the upper face: x = lo + offset.
+    std::array<float, 3> a = corner(2), e = corner(2);
+    a[0] = e[0] = static_cast<float>(b.lo[0] + b.le_offset);
+    if (D == 2) {
+      a[1] -= static_cast<float>(0.03 * b.len[1]);
+      e[1] += static_cast<float>(0.03 * b.len[1]);
+    } else {
+      e[2] = static_cast<float>(b.lo[2] + b.len[2]);
+    }
+    rs.lines.push_back({a, e, kWidthPx, ink});
+  }
+}
+
+}  // namespace silt::render

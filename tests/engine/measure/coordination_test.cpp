@@ -1,0 +1,105 @@
+// Coordination of a contact network built by hand: z, Peyneau's z* = z/(1 - p0) and p_n, and the
+// mechanical skeleton z_mech, as measurements and as observables.
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <string>
+#include <vector>
+
+#include "silt/observables.hpp"
+#include "support/scenes.hpp"
+
+using namespace silt;
+
+namespace {
+
+// 14 disks of radius 0.5 in an open box, centres 0.99 apart where they touch (overlap 2 % of the
+// radius):
+//  - a hexagon around a centre grain (grain 0: 6 contacts; grains 1-6: 3 each, the centre and
+//    two ring neighbours), and grain 7 touching ring grain 1 only (grain 1: 4 contacts);
+//  - a triangle (grains 8, 9, 10: 2 contacts each, 10 has a third) and grain 11 on top of 10
+//    only;
+//  - grains 12 and 13 far from everything (no contact).
+// Contacts per grain: 6, 4, 3, 3, 3, 3, 3, 1, 2, 2, 3, 1, 0, 0: 34 in all for 14 grains.
+const char* kCluster = R"(
+[scene]
+dimension = 2
+[domain]
+lo = [0, 0]
+hi = [20, 20]
+[contact]
+model = "linear"
+k_n = 1e3
+damping = 0.5
+friction = {mu}
+[[grains]]
+radius = 0.5
+placement = "explicit"
+positions = [[5, 5], [5.99, 5], [5.495, 5.857365], [4.505, 5.857365], [4.01, 5], [4.505, 4.142635],
+             [5.495, 4.142635], [6.98, 5],
+             [12, 12], [12.99, 12], [12.495, 12.857365], [12.495, 13.847365],
+             [2, 17], [17, 2]]
+[run]
+dt = 1e-3
+)";
+
+double observe(const Model& m, const State& s, const std::string& name) { return Observer(m, {name}).sample(m, s)[0]; }
+
+}  // namespace
+
+TEST_CASE("coordination of a hand-built network: z, z* = z/(1 - p0), p_n and the mechanical skeleton") {
+  for (double mu : {0.0, 0.3}) {
+    CAPTURE(mu);
+    auto sim = test::simulation_from(test::fill(kCluster, {{"mu", mu}}));
+    sim->prepare();  // lists and forces at t = 0, no motion
+    const Model& m = sim->model();
+    const State& s = sim->state();
+    const Measurements q = measure(m, s);
+    CHECK(q.n_contacts == 17);
+    CHECK(q.z == doctest::Approx(34.0 / 14));
+    // Peyneau: rattlers are the grains with no contact (12 and 13).
+    CHECK(q.p0 == doctest::Approx(2.0 / 14));
+    CHECK(q.z_star == doctest::Approx(34.0 / 12));
+    const std::vector<double> pn = {2, 2, 2, 6, 1, 0, 1};  // grains with n = 0 .. 6 contacts
+    REQUIRE(q.pn.size() == pn.size());
+    for (size_t n = 0; n < pn.size(); ++n) CHECK(q.pn[n] == doctest::Approx(pn[n] / 14));
+    // Mechanical skeleton. Frictionless disks need D + 1 = 3 contacts: 7, 11, 12 and 13 go, then
+    // ring grain 1 is back to 3 and stays; the triangle goes grain by grain (8 and 9 at once,
+    // then 10, left with none). What remains is the hexagon: 6 + 6 x 3 = 24 contacts on 7 grains.
+    // With friction 2 contacts suffice: 7, 11, 12, 13 go and the triangle stays (6 on 3 more).
+    if (mu == 0) {
+      CHECK(q.z_mech == doctest::Approx(24.0 / 7));
+      CHECK(q.n_off_skeleton == 7);
+    } else {
+      CHECK(q.z_mech == doctest::Approx(30.0 / 10));
+      CHECK(q.n_off_skeleton == 4);
+    }
+    // The same as observables; pn.K beyond the largest count is 0.
+    CHECK(observe(m, s, "z") == q.z);
+    CHECK(observe(m, s, "z_star") == q.z_star);
+    CHECK(observe(m, s, "z_mech") == q.z_mech);
+    CHECK(observe(m, s, "p0") == q.p0);
+    CHECK(observe(m, s, "pn.0") == q.p0);
+    CHECK(observe(m, s, "pn.3") == doctest::Approx(6.0 / 14));
+    CHECK(observe(m, s, "pn.6") == doctest::Approx(1.0 / 14));
+    CHECK(observe(m, s, "pn.7") == 0);
+    CHECK(observe(m, s, "pn.120") == 0);
+  }
+}
+
+TEST_CASE("connectivity observable names: pn.K with a count K, apart from the grain syntax p[K].x") {
+  const Model m = test::model_from(test::fill(kCluster, {{"mu", 0.0}}));
+  for (const char* good : {"pn.0", "pn.4", "pn.12", "pn.999", "p0", "z_mech", "p[0].x"}) {
+    CAPTURE(good);
+    CHECK(check_observable(good, m).empty());
+  }
+  for (const char* bad : {"pn.", "pn.x", "pn.-1", "pn.1000", "pn", "p1"}) {
+    CAPTURE(bad);
+    CHECK(!check_observable(bad, m).empty());
+  }
+  const auto names = observable_names(m);
+  for (const char* listed : {"z_star", "z_mech", "p0", "pn.0", "pn.12"}) {
+    CAPTURE(listed);
+    CHECK(std::count(names.begin(), names.end(), listed) == 1);
+  }
+}

@@ -1,0 +1,158 @@
+// Runs of a shell session and what goes on around them: requests served at step boundaries while a
+// background run ends, runs that end or fail on their own, Ctrl-C in a sourced script, keys that
+// replace one another, units.
+#include <doctest/doctest.h>
+
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <thread>
+
+#include "shell/shell_fixtures.hpp"
+#include "support/scenes.hpp"
+
+using namespace silt;
+using test::contains;
+using test::Fixture;
+
+namespace {
+
+void wait_until_stopped(Fixture& f) {
+  const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+  while (f.s.running() && std::chrono::steady_clock::now() < end) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  REQUIRE_FALSE(f.s.running());
+}
+
+}  // namespace
+
+TEST_CASE("requests made while a background run ends are served once, by the run or after it") {
+  // Short background runs, with requests sent as they end: every request gets its answer, and
+  // none is left queued for the next run (which would run it again with dangling references: the
+  // sanitizer build reports that). Runs that fail also go back to the last good state as they
+  // end, a wider window.
+  std::ofstream("runs_soft.toml") << test::kSoftCollision;
+  for (const char* scene : {"collision_normal", "soft"}) {
+    CAPTURE(scene);
+    Fixture f;
+    REQUIRE(f.run(std::string("load ") + (scene == std::string("soft") ? "runs_soft.toml" : test::scene_path(scene))));
+    double last = -1;
+    for (int round = 0; round < 60; ++round) {
+      REQUIRE(f.run("reset"));
+      REQUIRE(f.run("start 40"));
+      for (int k = 0; k < 4; ++k) {
+        const double step = f.value("step");
+        CHECK(step >= 0);
+        CHECK(step <= 40);
+        CHECK(f.run("set contact.friction 0." + std::to_string(round % 9 + 1)));
+        last = step;
+      }
+      wait_until_stopped(f);
+      REQUIRE(f.run("stop"));  // ended by itself: said, not an error
+      f.take_out();
+    }
+    CHECK(last >= 0);
+    // The next run starts clean: exactly the steps asked for.
+    REQUIRE(f.run("reset"));
+    f.s.take_background_failure();
+    REQUIRE(f.run("start 5"));
+    wait_until_stopped(f);
+    CHECK(f.value("step") == 5);
+    CHECK(f.take_err().empty());
+  }
+  std::remove("runs_soft.toml");
+}
+
+TEST_CASE("stop after a background run that already ended says so, and its failure is kept for scripts") {
+  Fixture f;
+  REQUIRE(f.run("load " + test::scene_path("collision_normal")));
+  REQUIRE(f.run("start 10"));
+  wait_until_stopped(f);
+  REQUIRE(f.run("stop"));
+  const std::string out = f.take_out();
+  CHECK(contains(out, "done: 10 steps"));
+  CHECK(contains(out, "the run had already ended at step 10"));
+  CHECK_FALSE(f.run("stop"));  // nothing started since
+  CHECK(f.s.take_background_failure().empty());
+
+  std::ofstream("runs_soft2.toml") << test::kSoftCollision;
+  REQUIRE(f.run("load runs_soft2.toml"));
+  REQUIRE(f.run("start 1000"));
+  wait_until_stopped(f);
+  CHECK(contains(f.s.take_background_failure(), "contact.k_n"));
+  CHECK(f.s.take_background_failure().empty());  // taken once
+  const auto messages = f.s.take_messages();
+  REQUIRE(!messages.empty());
+  CHECK(contains(messages.back(), "failed: "));
+  CHECK(contains(messages.back(), "back to the last good state"));
+  std::remove("runs_soft2.toml");
+}
+
+TEST_CASE("Ctrl-C during a sourced script pauses the run and abandons the script and those that sourced it") {
+  std::ofstream("runs_inner.silt") << "load " << test::scene_path("chute") << "\nrun 100000000\nprint step\n";
+  std::ofstream("runs_outer.silt") << "source runs_inner.silt\nprint t\n";
+  Fixture f;
+  std::thread ctrl_c([&] {
+    std::this_thread::sleep_for(std::chrono::milliseconds(600));
+    f.s.interrupt();
+  });
+  CHECK_FALSE(f.run("source runs_outer.silt"));
+  ctrl_c.join();
+  const std::string out = f.take_out(), err = f.take_err();
+  CHECK(contains(out, "paused"));
+  CHECK_FALSE(contains(out, "\nstep = "));  // the lines after the run were not played
+  CHECK_FALSE(contains(out, "\nt = "));
+  CHECK(contains(err, "source runs_inner.silt interrupted at line 2"));
+  // The next command is not interrupted.
+  REQUIRE(f.run("run 3"));
+  CHECK(contains(f.take_out(), "done: 3 steps"));
+  std::remove("runs_inner.silt");
+  std::remove("runs_outer.silt");
+}
+
+TEST_CASE("set replaces the keys a value is an alternative to, and errors name what was typed") {
+  Fixture f;
+  REQUIRE(f.run("load " + test::scene_path("collision_normal")));  // gives run.dt_over_tc
+  REQUIRE(f.run("set run.dt 2e-7"));
+  REQUIRE(f.run("run 1"));  // the state takes the time step at its next step
+  CHECK(f.value("dt") == 2e-7);
+  REQUIRE(f.run("get run.dt_over_tc"));
+  CHECK(contains(f.take_out(), "(not set)"));
+  REQUIRE(f.run("set run.dt_over_tc 0.02"));
+  REQUIRE(f.run("set scene.seed 5"));  // recompiled from the file and every value set so far
+  REQUIRE(f.run("run 1"));
+  CHECK(f.value("dt") == doctest::Approx(2e-6));
+  REQUIRE(f.run("set gravity.vector [0,0,-1]"));
+  REQUIRE(f.run("set gravity.magnitude 2"));
+  REQUIRE(f.run("reload"));
+  REQUIRE(f.run("get gravity.vector"));
+  CHECK(contains(f.take_out(), "(not set)"));
+  // A value out of range: its key as typed, no made-up file position.
+  CHECK_FALSE(f.run("set contact.friction -1"));
+  std::string err = f.take_err();
+  CHECK(contains(err, "set contact.friction: "));
+  CHECK_FALSE(contains(err, "--set"));
+  CHECK_FALSE(f.run("set run.dt 1"));  // compiles, but past the stability limit
+  err = f.take_err();
+  CHECK(contains(err, "set run.dt: "));
+  CHECK(contains(err, "stability limit"));
+  CHECK_FALSE(contains(err, "--set"));
+}
+
+TEST_CASE("print, watch and stats show units and sensible digits") {
+  Fixture f;
+  REQUIRE(f.run("load " + test::scene_path("bounce_dry")));
+  REQUIRE(f.run("watch t p[0].vz every 500"));
+  REQUIRE(f.run("run 1000"));
+  const std::string watched = f.take_out();
+  CHECK(contains(watched, "step 500:  t = 0.0005 s  p[0].vz = -0.004905 m/s"));
+  REQUIRE(f.run("print t step ke p[0].z phi"));
+  const std::string printed = f.take_out();
+  CHECK(printed.rfind("t      = 0.001 s\nstep   = 1000\nke     = ", 0) == 0);
+  CHECK(contains(printed, " J\np[0].z = 0.0529951 m\n"));  // 0.053 - g (1 ms)^2 / 2, six digits
+  CHECK(contains(printed, "phi    = 0.000706858\n"));       // dimensionless
+  REQUIRE(f.run("stats"));
+  const std::string table = f.take_out();
+  CHECK(table.rfind("observable  unit", 0) == 0);
+  CHECK(contains(table, "p[0].vz     m/s"));
+  CHECK(contains(table, "ke          J"));
+}
