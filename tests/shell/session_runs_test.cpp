@@ -88,9 +88,11 @@ TEST_CASE("stop after a background run that already ended says so, and its failu
 }
 
 TEST_CASE("Ctrl-C during a sourced script pauses the run and abandons the script and those that sourced it") {
-  std::ofstream("runs_inner.silt") << "load " << test::scene_path("chute") << "\nrun 100000000\nprint step\n";
+  std::ofstream("runs_inner.silt") << "run 100000000\nprint step\n";
   std::ofstream("runs_outer.silt") << "source runs_inner.silt\nprint t\n";
   Fixture f;
+  REQUIRE(f.run("load " + test::scene_path("chute")));  // before the clock starts: Ctrl-C lands in the run
+  f.take_out();
   std::thread ctrl_c([&] {
     std::this_thread::sleep_for(std::chrono::milliseconds(600));
     f.s.interrupt();
@@ -101,7 +103,7 @@ TEST_CASE("Ctrl-C during a sourced script pauses the run and abandons the script
   CHECK(contains(out, "paused"));
   CHECK_FALSE(contains(out, "\nstep = "));  // the lines after the run were not played
   CHECK_FALSE(contains(out, "\nt = "));
-  CHECK(contains(err, "source runs_inner.silt interrupted at line 2"));
+  CHECK(contains(err, "source runs_inner.silt interrupted at line 1"));
   // The next command is not interrupted.
   REQUIRE(f.run("run 3"));
   CHECK(contains(f.take_out(), "done: 3 steps"));
