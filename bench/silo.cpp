@@ -33,10 +33,9 @@ int run(int argc, char** argv) {
   Model model = compile(load_scene_file(scene, {parse_override("scene.seed=" + std::to_string(seed))}));
   const double g = model.gravity.norm();
   double weight = 0, volume = 0;
-  const double pi = 3.14159265358979323846;
   for (int64_t i = 0; i < model.n_grains; ++i) {
     weight += model.init.mass[i] * g;
-    volume += 4.0 / 3.0 * pi * std::pow(model.init.radius[i], 3);
+    volume += grain_volume(3, model.init.radius[i]);
   }
   const double side = model.walls[1].point.x() - model.walls[0].point.x();  // square tube, walls 0-3
   const double mu_w = model.walls[0].friction;

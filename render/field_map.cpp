@@ -28,14 +28,10 @@ GridField field_component(const GridField& f, const std::string& which) {
 
 namespace {
 
-using P3 = std::array<double, 3>;
-
-double dot(const P3& a, const P3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-
 // A cell-centred scalar field at x, interpolated trilinearly between the cell centres and constant
 // from the outermost centres to the grid's faces. `inside` is false off the grid. Corners of zero
 // weight are skipped, so that a sample at a cell centre is that cell's value even next to a NaN.
-double sample(const GridField& g, const P3& x, bool& inside) {
+double sample(const GridField& g, const Vec3& x, bool& inside) {
   const int n[3] = {g.nx, g.ny, g.nz};
   int i0[3], i1[3];
   double f[3];
@@ -67,35 +63,31 @@ double sample(const GridField& g, const P3& x, bool& inside) {
 
 // The plane n . x = p through the grid's box: its extent [u0, u1] x [w0, w1] in the in-plane
 // basis (u, w), from the points where the box's twelve edges cross it. False if it misses.
-bool plane_extent(const GridField& g, const P3& n, double p, const P3& u, const P3& w, double ext[4]) {
+bool plane_extent(const GridField& g, const Vec3& n, double p, const Vec3& u, const Vec3& w, double ext[4]) {
   const int n_cells[3] = {g.nx, g.ny, g.nz};
   auto corner = [&](int c) {
-    P3 x;
+    Vec3 x;
     for (int k = 0; k < 3; ++k) x[k] = g.lo[k] + ((c >> k) & 1) * n_cells[k] * g.h[k];
     return x;
   };
   ext[0] = ext[2] = 1e308;
   ext[1] = ext[3] = -1e308;
   bool hit = false;
-  auto add = [&](const P3& x) {
-    ext[0] = std::min(ext[0], dot(x, u));
-    ext[1] = std::max(ext[1], dot(x, u));
-    ext[2] = std::min(ext[2], dot(x, w));
-    ext[3] = std::max(ext[3], dot(x, w));
+  auto add = [&](const Vec3& x) {
+    ext[0] = std::min(ext[0], x.dot(u));
+    ext[1] = std::max(ext[1], x.dot(u));
+    ext[2] = std::min(ext[2], x.dot(w));
+    ext[3] = std::max(ext[3], x.dot(w));
     hit = true;
   };
   for (int c = 0; c < 8; ++c)
     for (int k = 0; k < 3; ++k) {
       if ((c >> k) & 1) continue;  // each edge once, from its lower end
-      const P3 a = corner(c), b = corner(c | (1 << k));
-      const double sa = dot(n, a) - p, sb = dot(n, b) - p;
+      const Vec3 a = corner(c), b = corner(c | (1 << k));
+      const double sa = n.dot(a) - p, sb = n.dot(b) - p;
       if (sa == 0) add(a);
       if (sb == 0) add(b);
-      if ((sa < 0 && sb > 0) || (sa > 0 && sb < 0)) {
-        P3 x;
-        for (int m = 0; m < 3; ++m) x[m] = a[m] + sa / (sa - sb) * (b[m] - a[m]);
-        add(x);
-      }
+      if ((sa < 0 && sb > 0) || (sa > 0 && sb < 0)) add(a + sa / (sa - sb) * (b - a));
     }
   return hit && ext[1] > ext[0] && ext[3] > ext[2];
 }
@@ -137,27 +129,20 @@ ColorScale add_field(RenderScene& rs, const GridField& f, const View& v, int dim
   // 3D: an in-plane basis (u, w). Along an axis, the next two axes in cyclic order and one texel
   // per cell, texel centres on the cell centres; otherwise texels of half the smallest cell size
   // (the samples are interpolated: finer texels show it smoothly).
-  P3 n{v.slice_normal[0], v.slice_normal[1], v.slice_normal[2]};
-  const double len = std::sqrt(dot(n, n));
-  if (!(len > 0)) n = {0, 0, 1};
-  else
-    for (double& c : n) c /= len;
+  Vec3 n(v.slice_normal[0], v.slice_normal[1], v.slice_normal[2]);
+  n = n.norm() > 0 ? Vec3(n.normalized()) : Vec3(Vec3::UnitZ());
   int axis = -1;
   for (int k = 0; k < 3; ++k)
     if (std::abs(n[k]) > 1 - 1e-12) axis = k;
-  P3 u{0, 0, 0}, w{0, 0, 0};
+  Vec3 u = Vec3::Zero(), w = Vec3::Zero();
   if (axis >= 0) {
     u[(axis + 1) % 3] = 1;
     w[(axis + 2) % 3] = 1;
   } else {
     int k = 0;  // the axis least aligned with n
-    for (int m = 1; m < 3; ++m)
-      if (std::abs(n[m]) < std::abs(n[k])) k = m;
-    u[k] = 1;
-    for (int m = 0; m < 3; ++m) u[m] -= n[k] * n[m];
-    const double ul = std::sqrt(dot(u, u));
-    for (double& c : u) c /= ul;
-    w = {n[1] * u[2] - n[2] * u[1], n[2] * u[0] - n[0] * u[2], n[0] * u[1] - n[1] * u[0]};
+    n.cwiseAbs().minCoeff(&k);
+    u = (Vec3::Unit(k) - n[k] * n).normalized();
+    w = n.cross(u);
   }
   const double p = v.slice_position;
   double ext[4];
@@ -172,11 +157,7 @@ ColorScale add_field(RenderScene& rs, const GridField& f, const View& v, int dim
   q.tex_h = std::clamp(static_cast<int>(std::lround((ext[3] - ext[2]) / sw)), 1, kMaxTexels);
   const double du = (ext[1] - ext[0]) / q.tex_w, dw = (ext[3] - ext[2]) / q.tex_h;
   q.texels.resize(static_cast<size_t>(q.tex_w) * q.tex_h);
-  auto point = [&](double a, double b) {
-    P3 x;
-    for (int k = 0; k < 3; ++k) x[k] = p * n[k] + a * u[k] + b * w[k];
-    return x;
-  };
+  auto point = [&](double a, double b) -> Vec3 { return p * n + a * u + b * w; };
   for (int j = 0; j < q.tex_h; ++j)
     for (int i = 0; i < q.tex_w; ++i) {
       bool inside = false;
@@ -187,7 +168,7 @@ ColorScale add_field(RenderScene& rs, const GridField& f, const View& v, int dim
     }
   const double cu[4] = {ext[0], ext[1], ext[1], ext[0]}, cw[4] = {ext[2], ext[2], ext[3], ext[3]};
   for (int c = 0; c < 4; ++c) {
-    const P3 x = point(cu[c], cw[c]);
+    const Vec3 x = point(cu[c], cw[c]);
     q.corners[c] = {static_cast<float>(x[0]), static_cast<float>(x[1]), static_cast<float>(x[2])};
   }
   rs.fields.push_back(std::move(q));

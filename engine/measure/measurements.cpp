@@ -94,7 +94,7 @@ Measurements measure_dim(const Model& m, const State& s) {
   int64_t n_free = 0;
   for (int64_t i = 0; i < n; ++i) {
     const double r = s.particle_r[i];
-    solid += D == 3 ? 4.18879020478639098 * r * r * r : 3.14159265358979324 * r * r;
+    solid += grain_volume(D, r);
     if (s.particle_frozen[i]) continue;
     ++n_free;
     const double mass = 1.0 / s.particle_inv_m[i];

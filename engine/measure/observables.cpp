@@ -12,33 +12,35 @@ namespace {
 
 enum Kind { kT, kStep, kDt, kKe, kKeRot, kPhi, kZ, kZStar, kNContacts, kStress, kPressure, kMu, kBoxL, kGrainX, kGrainV, kGrainW, kGrainF, kNBuilds, kNPairs, kWallF, kShearRate, kStrain, kInertial, kKeFluct, kFabric, kKappa, kZeta, kZMech, kP0, kPn };
 
-// Every kind of observable with its name and unit ("" for dimensionless numbers and counts).
-// Names with a pattern are families parsed in parse(): A, B an axis, K a grain or wall index.
+// Every kind of observable with its name, its unit ("" for dimensionless numbers and counts) and
+// whether it needs measure() (a pass over the grains and contacts). Names with a pattern are
+// families parsed in parse(): A, B an axis, K a grain or wall index.
 struct KindInfo {
   Kind kind;
   const char* name;
   const char* unit;
+  bool measured;
 };
 constexpr KindInfo kKinds[] = {
-    {kT, "t", "s"},               {kStep, "step", ""},           {kDt, "dt", "s"},
-    {kKe, "ke", "J"},             {kKeRot, "ke_rot", "J"},       {kKeFluct, "ke_fluct", "J"},
-    {kPhi, "phi", ""},            {kZ, "z", ""},                 {kZStar, "z_star", ""},
-    {kNContacts, "n_contacts", ""}, {kPressure, "pressure", "Pa"}, {kMu, "mu", ""},
-    {kNBuilds, "n_builds", ""},   {kNPairs, "n_pairs", ""},      {kStrain, "gamma", ""},
-    {kShearRate, "gammadot", "1/s"}, {kInertial, "I", ""},       {kKappa, "kappa", ""},
-    {kZeta, "zeta", ""},          {kZMech, "z_mech", ""},        {kP0, "p0", ""},
-    {kPn, "pn.K", ""},
-    {kStress, "stress.AB", "Pa"}, {kFabric, "fabric.AB", ""},    {kBoxL, "box.LA", "m"},
-    {kGrainX, "p[K].A", "m"},     {kGrainV, "p[K].vA", "m/s"},   {kGrainW, "p[K].wA", "rad/s"},
-    {kGrainF, "p[K].fA", "N"},    {kWallF, "wall[K].fA", "N"},
+    {kT, "t", "s", false},          {kStep, "step", "", false},        {kDt, "dt", "s", false},
+    {kKe, "ke", "J", true},         {kKeRot, "ke_rot", "J", true},     {kKeFluct, "ke_fluct", "J", true},
+    {kPhi, "phi", "", true},        {kZ, "z", "", true},               {kZStar, "z_star", "", true},
+    {kNContacts, "n_contacts", "", true}, {kPressure, "pressure", "Pa", true}, {kMu, "mu", "", true},
+    {kNBuilds, "n_builds", "", false}, {kNPairs, "n_pairs", "", false}, {kStrain, "gamma", "", false},
+    {kShearRate, "gammadot", "1/s", false}, {kInertial, "I", "", false}, {kKappa, "kappa", "", false},
+    {kZeta, "zeta", "", false},     {kZMech, "z_mech", "", true},      {kP0, "p0", "", true},
+    {kPn, "pn.K", "", true},
+    {kStress, "stress.AB", "Pa", true}, {kFabric, "fabric.AB", "", true}, {kBoxL, "box.LA", "m", false},
+    {kGrainX, "p[K].A", "m", false}, {kGrainV, "p[K].vA", "m/s", false}, {kGrainW, "p[K].wA", "rad/s", false},
+    {kGrainF, "p[K].fA", "N", false}, {kWallF, "wall[K].fA", "N", false},
 };
 
 bool is_family(const KindInfo& k) { return std::strpbrk(k.name, ".[") != nullptr; }
 
-const char* unit_of(int kind) {
+const KindInfo& info_of(int kind) {
   for (const KindInfo& k : kKinds)
-    if (k.kind == kind) return k.unit;
-  return "";
+    if (k.kind == kind) return k;
+  throw std::logic_error("observable kind without an entry in kKinds");
 }
 
 const char* kAxes = "xyz";
@@ -203,12 +205,10 @@ Observer::Observer(const Model& m, std::vector<std::string> names) : names_(std:
     Parsed p = parse(n, m);
     if (!p.error.empty()) throw std::invalid_argument(p.error);
     items_.push_back({p.kind, p.component, p.grain});
-    units_.push_back(unit_of(p.kind));
-    if (p.kind == kKe || p.kind == kKeRot || p.kind == kPhi || p.kind == kZ || p.kind == kZStar ||
-        p.kind == kZMech || p.kind == kP0 || p.kind == kPn ||
-        p.kind == kNContacts || p.kind == kStress || p.kind == kPressure || p.kind == kMu || p.kind == kKeFluct ||
-        p.kind == kFabric || ((p.kind == kInertial || p.kind == kKappa) && !m.box_control.on))
-      needs_measure_ = true;
+    const KindInfo& info = info_of(p.kind);
+    units_.push_back(info.unit);
+    // I and kappa take the measured pressure when no pressure is imposed.
+    if (info.measured || ((p.kind == kInertial || p.kind == kKappa) && !m.box_control.on)) needs_measure_ = true;
   }
 }
 

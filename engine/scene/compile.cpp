@@ -110,15 +110,13 @@ void setup_box_control(const SceneDesc& d, Model& m) {
 // diameters in [0.7 a, a]; the monodisperse spheres of ch. 3 have a single mass). With several
 // densities, that of the free grains' total mass over their total volume.
 void setup_inertial_mass(Model& m) {
-  constexpr double kPi = 3.14159265358979323846;
-  auto vol = [&](double r) { return m.dim == 3 ? 4.0 / 3.0 * kPi * r * r * r : kPi * r * r; };
   double mass = 0, volume = 0;
   for (int64_t i = 0; i < m.n_grains; ++i)
     if (!m.init.frozen[i] || m.n_frozen == m.n_grains) {
       mass += m.init.mass[i];
-      volume += vol(m.init.radius[i]);
+      volume += grain_volume(m.dim, m.init.radius[i]);
     }
-  m.m_a = mass / volume * vol(0.5 * m.a_max);
+  m.m_a = mass / volume * grain_volume(m.dim, 0.5 * m.a_max);
 }
 
 // Lees-Edwards simple shear: flow along x, gradient along y, both periodic.

@@ -20,7 +20,6 @@ namespace {
 std::string fmt_(double x) { return format_number(x, 6); }
 
 
-constexpr double kPi = 3.14159265358979323846;
 
 std::string key(int g, const char* leaf) { return "grains[" + std::to_string(g) + "]." + leaf; }
 
@@ -296,7 +295,7 @@ void place_random(const SceneDesc& d, Model& m, int g, const Group& G, int64_t f
       double vol = 1, solid = 0;
       for (int k = 0; k < D; ++k) vol *= G.hi[k] - G.lo[k];
       for (int64_t j = first; j < first + G.count; ++j)
-        solid += D == 3 ? 4.0 / 3.0 * kPi * std::pow(rs[j], 3) : kPi * rs[j] * rs[j];
+        solid += grain_volume(D, rs[j]);
       d.fail(key(g, "count"), "could not place grain " + std::to_string(q + 1) + " of " + std::to_string(G.count) +
                                   " at random without overlap (the group alone fills " + fmt_(solid / vol) +
                                   " of its region; random addition jams near 0.55 in 2D and 0.38 in 3D): use a "
@@ -392,7 +391,7 @@ void setup_grains(const SceneDesc& d, Model& m) {
   for (int g = 0; g < n_groups; ++g) {
     const Group& G = groups[g];
     for (double r : G.radius) {
-      const double mass = D == 3 ? G.density * 4.0 / 3.0 * kPi * r * r * r : G.density * kPi * r * r;
+      const double mass = G.density * grain_volume(D, r);
       I.radius.push_back(r);
       I.mass.push_back(mass);
       I.inertia.push_back(D == 3 ? 0.4 * mass * r * r : 0.5 * mass * r * r);  // sphere, disk

@@ -103,6 +103,13 @@ struct GrainInit {
   std::vector<int32_t> group;
 };
 
+// Volume of a grain of radius r: a sphere's in 3D, a disk's area in 2D (disks are per unit
+// thickness, as their masses).
+inline double grain_volume(int dim, double r) {
+  constexpr double kPi = 3.14159265358979323846;
+  return dim == 3 ? 4.0 / 3.0 * kPi * r * r * r : kPi * r * r;
+}
+
 struct RunLimits {
   double max_overlap = 0.2;    // fraction of the smaller radius
   double energy_factor = 100;  // runaway when ke > energy_factor * energy_scale
