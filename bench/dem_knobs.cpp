@@ -22,6 +22,8 @@
 #include <vector>
 
 #include "bench_util.hpp"
+#include "core/workspace.hpp"
+#include "dem/workspace.hpp"
 #include "silt/io.hpp"
 #include "silt/observables.hpp"
 #include "silt/scene.hpp"
@@ -134,14 +136,15 @@ double contact_skin_run(const State& settled, int64_t steps, double skin, double
   Simulation sim(compile(load_scene_file(chute_scene(), {parse_override(o.str())})), 1);
   sim.restore(settled);
   sim.step();  // lists and candidates of this run, outside the timing
-  const int64_t sel0 = sim.state().scratch.cand_selections;
+  const dem::DemWorkspace& w = sim.workspaces().get<dem::DemWorkspace>();
+  const int64_t sel0 = w.cand_selections;
   const double t0 = bench::now_s();
   run_steps(sim, steps - 1);
   const double rate = sim.state().n * static_cast<double>(steps - 1) / (bench::now_s() - t0);
   const State& s = sim.state();
   *hash = state_hash(s);
-  *selections = s.scratch.cand_selections - sel0;
-  *per_grain = static_cast<double>(s.n_candidates()) / s.n;
+  *selections = w.cand_selections - sel0;
+  *per_grain = static_cast<double>(w.n_candidates(s.nbr_start)) / s.n;
   return rate;
 }
 

@@ -1,73 +1,114 @@
 #include "silt/state.hpp"
 
+#include <stdexcept>
+
 #include "core/rng.hpp"
 
 namespace silt {
 
-void Alarm::raise(int64_t index, double v) {
-  int64_t cur = first.load();
-  while (index < cur) {
-    if (first.compare_exchange_weak(cur, index)) {
-      value.store(v);
-      return;
-    }
+int64_t extent_size(const State& s, Extent e) {
+  const int64_t n = s.n, D = s.dim, R = s.rot, W = s.n_walls;
+  const int64_t p = s.n_pairs();
+  const auto& c = s.cells;
+  switch (e) {
+    case Extent::kScalar: return 1;
+    case Extent::kGrain: return n;
+    case Extent::kGrainVec: return n * D;
+    case Extent::kGrainRot: return n * R;
+    case Extent::kGrainWallVec: return n * W * D;
+    case Extent::kRowStart: return n + 1;
+    case Extent::kPair: return p;
+    case Extent::kPairVec: return p * D;
+    case Extent::kCell: return c[0] * c[1] * (D == 3 ? c[2] : 1);
+    case Extent::kFaceX: return (c[0] + 1) * c[1] * (D == 3 ? c[2] : 1);
+    case Extent::kFaceY: return c[0] * (c[1] + 1) * (D == 3 ? c[2] : 1);
+    case Extent::kFaceZ: return D == 3 ? c[0] * c[1] * (c[2] + 1) : 0;
   }
+  return 0;
 }
 
 State make_state(const Model& m) {
   State s;
   const int64_t n = m.n_grains;
-  const int D = m.dim, R = m.rot;
-  s.dim = D;
-  s.rot = R;
+  s.dim = m.dim;
+  s.rot = m.rot;
   s.n = n;
   s.n_walls = static_cast<int>(m.walls.size());
+  // Every array at its extent, zero (the pair list is empty until the first neighbour build);
+  // the fields of the modules the scene enables, the others empty.
+  s.module_fields.resize(field_infos().size() - fid::kBuiltinCount);
+  for_each_field(s, [&](const FieldInfo& f, auto& v) {
+    if constexpr (kIsArray<std::remove_cvref_t<decltype(v)>>) {
+      const bool on = f.id < fid::kBuiltinCount || m.module_on(f.module);
+      v.assign(on ? static_cast<size_t>(extent_size(s, f.extent)) : 0, {});
+    }
+  });
+  // The initial values.
   s.dt = m.dt;
   s.box = m.box;
   s.particle_x = m.init.x;
   s.particle_v = m.init.v;
   s.particle_w = m.init.w;
-  s.particle_f.assign(n * D, 0);
-  s.particle_t.assign(n * R, 0);
   s.particle_r = m.init.radius;
-  s.particle_inv_m.resize(n);
-  s.particle_inv_i.resize(n);
   for (int64_t i = 0; i < n; ++i) {
     const bool frozen = m.init.frozen[i];
     s.particle_inv_m[i] = frozen ? 0.0 : 1.0 / m.init.mass[i];
     s.particle_inv_i[i] = frozen ? 0.0 : 1.0 / m.init.inertia[i];
+    s.particle_id[i] = static_cast<int32_t>(i);
   }
-  s.particle_disp.assign(n * D, 0.0);
-  s.shear_rate = m.shear.rate;
-  s.wall_f.assign(n * s.n_walls * D, 0);
-  s.particle_t_wall.assign(s.n_walls ? n * R : 0, 0);
-  s.wall_hist.assign(n * s.n_walls * D, 0);
-  s.nbr_start.assign(n + 1, 0);
   s.particle_frozen = m.init.frozen;
-  s.particle_id.resize(n);
-  for (int64_t i = 0; i < n; ++i) s.particle_id[i] = static_cast<int32_t>(i);
   s.particle_group = m.init.group;
+  s.shear_rate = m.shear.rate;
   s.nbr_valid = false;
   return s;
 }
 
-uint64_t state_hash(const State& s) {
+uint64_t field_hash(const State& s, FieldId id) {
   uint64_t h = 0xcbf29ce484222325ull;
-  for_each_array(s, [&](const char*, const auto& v) {
-    const size_t n = v.size();
-    h = fnv1a(&n, sizeof n, h);
-    if (n) h = fnv1a(v.data(), n * sizeof(v[0]), h);
+  for_each_field(s, [&](const FieldInfo& f, const auto& v) {
+    if (f.id == id) field_bytes(v, [&](const void* p, size_t bytes) { h = fnv1a(p, bytes, h); });
   });
-  h = fnv1a(&s.t, sizeof s.t, h);
-  h = fnv1a(&s.step, sizeof s.step, h);
-  h = fnv1a(&s.dt, sizeof s.dt, h);
-  h = fnv1a(s.box.len.data(), sizeof(double) * 3, h);
-  h = fnv1a(s.box_rate.data(), sizeof(double) * 3, h);
-  h = fnv1a(&s.shear_rate, sizeof s.shear_rate, h);
-  h = fnv1a(&s.le_displacement, sizeof s.le_displacement, h);
-  h = fnv1a(&s.shear_strain, sizeof s.shear_strain, h);
   return h;
 }
+
+std::vector<uint64_t> field_hashes(const State& s) {
+  std::vector<uint64_t> out;
+  for_each_field(s, [&](const FieldInfo&, const auto& v) {
+    uint64_t h = 0xcbf29ce484222325ull;
+    field_bytes(v, [&](const void* p, size_t bytes) { h = fnv1a(p, bytes, h); });
+    out.push_back(h);
+  });
+  return out;
+}
+
+uint64_t state_hash(const State& s) {
+  uint64_t h = 0xcbf29ce484222325ull;
+  for_each_field(s, [&](const FieldInfo&, const auto& v) {
+    field_bytes(v, [&](const void* p, size_t bytes) { h = fnv1a(p, bytes, h); });
+  });
+  return h;
+}
+
+namespace {
+template <class S>
+auto double_field_of(S& s, FieldId id) {
+  using Span = std::conditional_t<std::is_const_v<S>, std::span<const double>, std::span<double>>;
+  Span out;
+  bool found = false;
+  for_each_field(s, [&](const FieldInfo& f, auto& v) {
+    if (f.id != id) return;
+    if constexpr (std::is_same_v<std::decay_t<decltype(v)>, std::vector<double>>) {
+      out = Span(v.data(), v.size());
+      found = true;
+    }
+  });
+  if (!found) throw std::logic_error("field " + field_info(id).name + " is not an array of doubles");
+  return out;
+}
+}  // namespace
+
+std::span<double> double_field(State& s, FieldId id) { return double_field_of(s, id); }
+std::span<const double> double_field(const State& s, FieldId id) { return double_field_of(s, id); }
 
 std::vector<int64_t> index_of_ids(const State& s) {
   std::vector<int64_t> out(s.n, -1);
@@ -77,7 +118,9 @@ std::vector<int64_t> index_of_ids(const State& s) {
 
 size_t state_bytes(const State& s) {
   size_t b = sizeof(State);
-  for_each_array(s, [&](const char*, const auto& v) { b += v.capacity() * sizeof(v[0]); });
+  for_each_field(s, [&](const FieldInfo&, const auto& v) {
+    if constexpr (kIsArray<std::remove_cvref_t<decltype(v)>>) b += v.capacity() * sizeof(v[0]);
+  });
   return b;
 }
 

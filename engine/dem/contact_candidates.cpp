@@ -12,9 +12,8 @@ namespace silt::dem {
 namespace {
 
 template <int D, bool All>
-void select_block(State& s, const shear::PeriodicImage<D>& img, double gap, int64_t blk) {
+void select_block(State& s, DemWorkspace& sc, const PeriodicImage<D>& img, double gap, int64_t blk) {
   constexpr int64_t B = PairSchedule::kBlock;
-  State::Scratch& sc = s.scratch;
   const int64_t p0 = s.nbr_start[blk * B], p1 = s.nbr_start[std::min(s.n, (blk + 1) * B)];
   const int32_t* pi = s.pair_i.data();
   const int32_t* pj = s.pair_j.data();
@@ -47,20 +46,19 @@ void select_block(State& s, const shear::PeriodicImage<D>& img, double gap, int6
 }
 
 template <int D>
-void select_dim(const Model& m, State& s) {
-  auto& sc = s.scratch;
+void select_dim(const Model& m, State& s, DemWorkspace& sc) {
   const int64_t np = s.n_pairs();
   const int64_t nb = (s.n + PairSchedule::kBlock - 1) / PairSchedule::kBlock;
   resize_exact(sc.cand_p, np);
   resize_exact(sc.cand_i, np);
   resize_exact(sc.cand_j, np);
   sc.cand_end.assign(nb, 0);
-  const shear::PeriodicImage<D> img(s.box);
+  const PeriodicImage<D> img(s.box);
   const bool all = m.contact_skin >= m.skin;
   parallel_for(nb, 8, [&](int64_t b, int64_t e) {
     for (int64_t k = b; k < e; ++k) {
-      if (all) select_block<D, true>(s, img, m.contact_skin, k);
-      else select_block<D, false>(s, img, m.contact_skin, k);
+      if (all) select_block<D, true>(s, sc, img, m.contact_skin, k);
+      else select_block<D, false>(s, sc, img, m.contact_skin, k);
     }
   });
   sc.candidates_valid = true;
@@ -71,20 +69,18 @@ void select_dim(const Model& m, State& s) {
 
 }  // namespace
 
-void select_candidates(const Model& m, State& s) {
-  if (m.dim == 2) select_dim<2>(m, s);
-  else select_dim<3>(m, s);
+void select_candidates(const Model& m, State& s, DemWorkspace& w) {
+  if (m.dim == 2) select_dim<2>(m, s, w);
+  else select_dim<3>(m, s, w);
 }
 
-void update_candidates(const Model& m, State& s, bool rebuilt) {
-  auto& sc = s.scratch;
+void update_candidates(const Model& m, State& s, DemWorkspace& sc, bool rebuilt) {
   if (!rebuilt && sc.candidates_valid) {
     if (m.contact_skin >= m.skin) return;  // every listed pair: valid as long as the list
     sc.cand_travel += s.nbr_step_disp;
-    const double range = 2 * m.r_max + m.skin;
-    if (2 * sc.cand_travel + (s.nbr_strain - sc.cand_strain) * range <= m.contact_skin) return;
+    if (2 * sc.cand_travel + (s.nbr_strain - sc.cand_strain) * m.interaction_range() <= m.contact_skin) return;
   }
-  select_candidates(m, s);
+  select_candidates(m, s, sc);
 }
 
 }  // namespace silt::dem

@@ -14,16 +14,17 @@
 // still hold a force or a spring (pair_touch) has them cleared, as the touch test would.
 #pragma once
 
+#include "dem/workspace.hpp"
 #include "silt/model.hpp"
 #include "silt/state.hpp"
 
 namespace silt::dem {
 
 // Select the candidates of the current list (per block of rows of the pair schedule).
-void select_candidates(const Model& m, State& s);
+void select_candidates(const Model& m, State& s, DemWorkspace& w);
 
 // Account for the last drift, and select anew when the candidates may miss a contact (or when
 // `rebuilt`: the list itself changed).
-void update_candidates(const Model& m, State& s, bool rebuilt);
+void update_candidates(const Model& m, State& s, DemWorkspace& w, bool rebuilt);
 
 }  // namespace silt::dem

@@ -28,8 +28,7 @@
 #include "dem/simd_level.hpp"
 #include "dem/stages.hpp"
 #include "dem/touch_pass.hpp"
-#include "shear/periodic_image.hpp"
-#include "shear/stages.hpp"
+#include "core/periodic_image.hpp"
 
 namespace silt::dem {
 namespace {
@@ -135,7 +134,7 @@ void tangential_pass(int64_t c, double dt, double kt_ratio, double friction, dou
 template <int D>
 struct PairArgs {
   ContactParams cp;
-  shear::PeriodicImage<D> img;
+  PeriodicImage<D> img;
   double dt, max_overlap, shear_rate;
   double fn_floor;  // 0 when attractive normal forces are clipped, -inf otherwise
   SVec<D> grad;  // affine velocity gradient: stretching rates on the diagonal
@@ -157,7 +156,7 @@ struct PairArgs {
   uint8_t* touch;
   double* force;
   double* torque;
-  Alarm* overlap_alarm;
+  EventSlot* overlap_alarm;
   bool keep_pf;  // store the pair forces (State::boundary_seen)
 };
 
@@ -288,22 +287,21 @@ void pair_block(const PairArgs<D> a, int64_t blk) {
 }
 
 template <int D, bool Hertz, bool Friction, bool Affine>
-void pair_forces(const Model& m, State& s) {
+void pair_forces(const Model& m, State& s, DemWorkspace& sc) {
   constexpr int R = kRotDim<D>;
-  auto& sc = s.scratch;
   if (!sc.schedule_valid) {
     sc.schedule = build_pair_schedule(s.n, s.nbr_start, s.pair_j);
     sc.schedule_valid = true;
   }
-  if (!sc.candidates_valid) select_candidates(m, s);
-  PairArgs<D> a{m.contact, shear::PeriodicImage<D>(s.box), s.dt, m.limits.max_overlap, s.shear_rate,
+  if (!sc.candidates_valid) select_candidates(m, s, sc);
+  PairArgs<D> a{m.contact, PeriodicImage<D>(s.box), s.dt, m.limits.max_overlap, s.shear_rate,
                 m.contact.clip_attractive ? 0.0 : -std::numeric_limits<double>::infinity(), SVec<D>::Zero(), s.n,
                 s.particle_x.data(), s.particle_v.data(), s.particle_w.data(), s.particle_r.data(),
                 s.particle_inv_m.data(), s.nbr_start.data(), s.pair_i.data(), s.pair_j.data(), sc.cand_end.data(),
                 sc.cand_p.data(), sc.cand_i.data(), sc.cand_j.data(), s.pair_f.data(), s.pair_hist.data(),
-                s.pair_touch.data(), s.particle_f.data(), s.particle_t.data(), &s.alarm_overlap,
-                // The box stage reads them at the end of every step.
-                s.boundary_seen || shear::box_stage_on(m)};
+                s.pair_touch.data(), s.particle_f.data(), s.particle_t.data(), &s.events[event::kOverlap],
+                // A stage may read them at the end of every step (a controlled box).
+                s.boundary_seen || m.pair_forces_every_step};
   if constexpr (Affine)
     for (int k = 0; k < D; ++k) a.grad[k] = s.box_rate[k] / s.box.len[k];
   PairSchedule& sched = sc.schedule;
@@ -320,12 +318,12 @@ void pair_forces(const Model& m, State& s) {
 }
 
 template <int D>
-void dispatch(const Model& m, State& s) {
+void dispatch(const Model& m, State& s, DemWorkspace& w) {
   const bool hertz = m.contact.law == NormalLaw::kHertz;
   const bool fr = m.contact.friction > 0;
-  const bool aff = m.box_control.on || m.shear.on;
+  const bool aff = m.deforming_box();
 #define SILT_CASE(H, F, A) \
-  if (hertz == H && fr == F && aff == A) return pair_forces<D, H, F, A>(m, s);
+  if (hertz == H && fr == F && aff == A) return pair_forces<D, H, F, A>(m, s, w);
   SILT_CASE(false, false, false)
   SILT_CASE(false, true, false)
   SILT_CASE(true, false, false)
@@ -339,9 +337,9 @@ void dispatch(const Model& m, State& s) {
 
 }  // namespace
 
-void contact_forces(const Model& m, State& s) {
-  if (m.dim == 2) dispatch<2>(m, s);
-  else dispatch<3>(m, s);
+void contact_forces(const Model& m, State& s, DemWorkspace& w) {
+  if (m.dim == 2) dispatch<2>(m, s, w);
+  else dispatch<3>(m, s, w);
 }
 
 }  // namespace silt::dem

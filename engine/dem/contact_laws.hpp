@@ -4,6 +4,7 @@
 // positive. SI units throughout (in 2D, masses and stiffnesses are per unit thickness).
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 
 #include "silt/model.hpp"
@@ -70,6 +71,22 @@ inline NormalForce normal_force(const ContactParams& p, double m_eff, double r_e
                       : linear_normal(linear_coeffs(p, m_eff), overlap, overlap_rate);
   if (p.clip_attractive) f.fn = clip_attractive(f.fn);
   return f;
+}
+
+// Elastic energy of the normal spring at this overlap [J] (the dashpot stores none): k_n h^2 / 2
+// for the linear family; for Hertz the integral of F_e = (E~/3) sqrt(2 R_eq) h^(3/2),
+// (2/15) E~ sqrt(2 R_eq) h^(5/2). 0 when apart.
+inline double normal_elastic_energy(const ContactParams& p, double m_eff, double r_eq, double overlap) {
+  if (!(overlap > 0)) return 0.0;
+  if (p.law == NormalLaw::kHertz) return 2.0 / 15.0 * p.e_tilde * std::sqrt(2.0 * r_eq) * std::pow(overlap, 2.5);
+  return 0.5 * linear_coeffs(p, m_eff).k * overlap * overlap;
+}
+
+// Normal stiffness dF/dh at this overlap (Hertz: K_N = (E~/2) sqrt(2 R_eq h)), of which the
+// tangential spring takes kt_over_kn.
+inline double normal_stiffness(const ContactParams& p, double m_eff, double r_eq, double overlap) {
+  if (p.law == NormalLaw::kHertz) return 0.5 * p.e_tilde * std::sqrt(2.0 * r_eq * std::max(overlap, 0.0));
+  return linear_coeffs(p, m_eff).k;
 }
 
 // Tangential elastic-perfectly-plastic spring capped by Coulomb friction (Peyneau 2009 eq.

@@ -11,13 +11,14 @@
 // lambda = L(t + dt) / L(t); lambda = 1 when no length moves, and the scheme is plain Verlet.
 // The neighbour lists need the displacement relative to that flow (particle_disp) and the
 // affine strain (nbr_strain): a pair's separation changes by at most both.
+#include <algorithm>
 #include <array>
 #include <cmath>
 
+#include "core/assert.hpp"
 #include "core/parallel.hpp"
+#include "core/periodic_image.hpp"
 #include "dem/stages.hpp"
-#include "shear/periodic_image.hpp"
-#include "shear/stages.hpp"
 
 namespace silt::dem {
 namespace {
@@ -37,7 +38,7 @@ template <int D>
 struct DriftArgs {
   double dt, h, gd;
   double lo[D], g[D], lambda[D];
-  shear::PeriodicImage<D> img;
+  PeriodicImage<D> img;
   Box box;
   double* x;
   double* v;
@@ -99,9 +100,9 @@ std::array<double, 2> drift_range(const DriftArgs<D> a, int64_t b, int64_t e) {
 
 template <int D, bool Affine>
 void kick_drift_dim(const Model& m, State& s) {
-  double lambda[3] = {1, 1, 1};
-  if constexpr (Affine) shear::box_drift(m, s, lambda);
-  DriftArgs<D> a{s.dt, 0.5 * s.dt, s.shear_rate, {}, {}, {}, shear::PeriodicImage<D>(s.box), s.box,
+  // The box lengths moved first (shear::box_drift): L(t + dt) / L(t) of each.
+  const Vec3a lambda = Affine ? s.box_stretch : Vec3a{1, 1, 1};
+  DriftArgs<D> a{s.dt, 0.5 * s.dt, s.shear_rate, {}, {}, {}, PeriodicImage<D>(s.box), s.box,
                  s.particle_x.data(), s.particle_v.data(), s.particle_w.data(), s.particle_disp.data(),
                  s.particle_f.data(), s.particle_t.data(), s.particle_inv_m.data(), s.particle_inv_i.data(),
                  s.particle_frozen.data()};
@@ -115,13 +116,17 @@ void kick_drift_dim(const Model& m, State& s) {
   s.nbr_step_disp = std::sqrt(max_d2[1]);
 }
 
+// At most this many force (or torque) sources besides the pair sums.
+constexpr int kMaxSources = 8;
+
 template <int D>
 struct KickArgs {
   double h, gd;  // half step, shear rate (0 without shear)
   double g[D];
-  int nw;
-  const double* fwall;
-  const double* twall;
+  int n_force, n_torque;
+  const double* force_src[kMaxSources];  // per grain: force_items[k] vectors of D
+  int force_items[kMaxSources];          // 1, or W for a per grain-wall source
+  const double* torque_src[kMaxSources];
   const double* inv_m;
   const double* inv_i;
   const uint8_t* frozen;
@@ -129,12 +134,13 @@ struct KickArgs {
   double* torq;
   double* v;
   double* w;
-  Alarm* nonfinite;
+  EventSlot* nonfinite;
 };
 
-// Wall forces into particle_f / particle_t (contact_forces left the pair sums there) and, with
-// Kick, the second half kick of grains [b, e). Arguments by value, as in drift_range.
-template <int D, bool Kick, bool Walls, bool Torque>
+// The force sources into particle_f / particle_t (contact_forces left the pair sums there;
+// without friction it wrote no torque: Torque false starts from zero) and, with Kick, the second
+// half kick of grains [b, e). Arguments by value, as in drift_range.
+template <int D, bool Kick, bool Torque>
 void kick_range(const KickArgs<D> a, int64_t b, int64_t e) {
   constexpr int R = kRotDim<D>;
   double* __restrict force = a.force;
@@ -146,12 +152,16 @@ void kick_range(const KickArgs<D> a, int64_t b, int64_t e) {
     for (int k = 0; k < D; ++k) f[k] = force[D * i + k];
     if constexpr (!Torque)
       for (int k = 0; k < R; ++k) torq[R * i + k] = 0;
-    if constexpr (Walls) {
-      for (int wi = 0; wi < a.nw; ++wi)
-        for (int k = 0; k < D; ++k) f[k] += a.fwall[D * (i * a.nw + wi) + k];
-      for (int k = 0; k < R; ++k) torq[R * i + k] += a.twall[R * i + k];
-      for (int k = 0; k < D; ++k) force[D * i + k] = f[k];
+    for (int src = 0; src < a.n_force; ++src) {
+      const int items = a.force_items[src];
+      const double* p = a.force_src[src] + D * i * items;
+      for (int q = 0; q < items; ++q)
+        for (int k = 0; k < D; ++k) f[k] += p[D * q + k];
     }
+    for (int src = 0; src < a.n_torque; ++src)
+      for (int k = 0; k < R; ++k) torq[R * i + k] += a.torque_src[src][R * i + k];
+    if (a.n_force > 0)
+      for (int k = 0; k < D; ++k) force[D * i + k] = f[k];
     if constexpr (Kick) {
       if (a.frozen[i]) continue;
       const double im = a.inv_m[i], ii = a.inv_i[i];
@@ -164,14 +174,16 @@ void kick_range(const KickArgs<D> a, int64_t b, int64_t e) {
   }
 }
 
-template <int D, bool Kick, bool Walls, bool Torque>
-void kick_dim(const Model& m, State& s) {
+template <int D, bool Kick>
+void kick_dim(const Model& m, State& s, const ForceSources& sources) {
   KickArgs<D> a{0.5 * s.dt,
                 m.shear.on ? s.shear_rate : 0.0,
                 {},
-                s.n_walls,
-                s.wall_f.data(),
-                s.particle_t_wall.data(),
+                0,
+                0,
+                {},
+                {},
+                {},
                 s.particle_inv_m.data(),
                 s.particle_inv_i.data(),
                 s.particle_frozen.data(),
@@ -179,37 +191,44 @@ void kick_dim(const Model& m, State& s) {
                 s.particle_t.data(),
                 s.particle_v.data(),
                 s.particle_w.data(),
-                &s.alarm_nonfinite};
+                &s.events[event::kNonFinite]};
   for (int k = 0; k < D; ++k) a.g[k] = m.gravity[k];
-  parallel_for(s.n, kGrain, [a](int64_t b, int64_t e) { kick_range<D, Kick, Walls, Torque>(a, b, e); });
-}
-
-template <int D, bool Kick>
-void second_kick(const Model& m, State& s) {
-  const bool walls = s.n_walls > 0;
-  const bool torque = m.contact.friction > 0;  // contact_forces writes no torque without friction
-  if (walls && torque) kick_dim<D, Kick, true, true>(m, s);
-  else if (walls) kick_dim<D, Kick, true, false>(m, s);
-  else if (torque) kick_dim<D, Kick, false, true>(m, s);
-  else kick_dim<D, Kick, false, false>(m, s);
+  SILT_ASSERT(sources.size() <= static_cast<size_t>(kMaxSources), "too many force sources");
+  for (const ForceSource& src : sources) {
+    const Extent e = field_info(src.force).extent;
+    SILT_ASSERT(e == Extent::kGrainVec || e == Extent::kGrainWallVec, "a force source is per grain or per grain and wall");
+    a.force_items[a.n_force] = e == Extent::kGrainWallVec ? s.n_walls : 1;
+    a.force_src[a.n_force++] = double_field(s, src.force).data();
+    if (src.torque != kNoField) a.torque_src[a.n_torque++] = double_field(s, src.torque).data();
+  }
+  // contact_forces writes no torque without friction: the sum then starts from zero.
+  if (m.contact.friction > 0)
+    parallel_for(s.n, kGrain, [a](int64_t b, int64_t e) { kick_range<D, Kick, true>(a, b, e); });
+  else
+    parallel_for(s.n, kGrain, [a](int64_t b, int64_t e) { kick_range<D, Kick, false>(a, b, e); });
 }
 
 }  // namespace
 
 void kick_drift(const Model& m, State& s) {
-  const bool affine = m.box_control.on || m.shear.on;
+  const bool affine = m.deforming_box();
   if (m.dim == 2) affine ? kick_drift_dim<2, true>(m, s) : kick_drift_dim<2, false>(m, s);
   else affine ? kick_drift_dim<3, true>(m, s) : kick_drift_dim<3, false>(m, s);
 }
 
-void kick(const Model& m, State& s) {
-  if (m.dim == 2) second_kick<2, true>(m, s);
-  else second_kick<3, true>(m, s);
+void kick(const Model& m, State& s, const ForceSources& sources) {
+  if (m.dim == 2) kick_dim<2, true>(m, s, sources);
+  else kick_dim<3, true>(m, s, sources);
 }
 
-void add_wall_forces(const Model& m, State& s) {
-  if (m.dim == 2) second_kick<2, false>(m, s);
-  else second_kick<3, false>(m, s);
+void sum_forces(const Model& m, State& s, const ForceSources& sources) {
+  if (m.dim == 2) kick_dim<2, false>(m, s, sources);
+  else kick_dim<3, false>(m, s, sources);
+}
+
+void clear_springs(const Model&, State& s) {
+  std::fill(s.pair_hist.begin(), s.pair_hist.end(), 0.0);
+  std::fill(s.wall_hist.begin(), s.wall_hist.end(), 0.0);
 }
 
 }  // namespace silt::dem

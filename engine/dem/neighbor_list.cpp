@@ -15,7 +15,7 @@
 
 #include "core/buffers.hpp"
 #include "core/parallel.hpp"
-#include "shear/periodic_image.hpp"
+#include "core/periodic_image.hpp"
 #include "dem/contact_candidates.hpp"
 #include "dem/pair_schedule.hpp"
 #include "dem/stages.hpp"
@@ -138,8 +138,7 @@ int stencil(const CellGrid& g, int32_t c, int32_t* out) {
 // Renumber the grains in the order of sc.cell_items (by cell, then by index). Returns false when
 // they already are in that order. Afterwards sc.perm[new] = old and the cell arrays follow.
 template <int D>
-bool permute_to_cell_order(State& s) {
-  auto& sc = s.scratch;
+bool permute_to_cell_order(State& s, DemWorkspace& sc) {
   const int64_t n = s.n;
   bool identity = true;
   for (int64_t k = 0; k < n && identity; ++k) identity = sc.cell_items[k] == k;
@@ -156,16 +155,14 @@ bool permute_to_cell_order(State& s) {
       for (int64_t k = b; k < e; ++k) std::memcpy(dst + k * row, old + sc.perm[k] * row, row);
     });
   };
-  const int64_t per_grain_wall = static_cast<int64_t>(s.n_walls) * D;
-  for_each_array_shaped(s, [&](const char*, const char* shape, auto& v) {
-    const std::string sh(shape);
-    int64_t stride = 0;
-    if (sh == "N") stride = 1;
-    else if (sh == "N*D") stride = D;
-    else if (sh == "N*R") stride = kRotDim<D>;
-    else if (sh == "N*W*D") stride = per_grain_wall;
-    if (stride == 0 || static_cast<int64_t>(v.size()) != n * stride) return;  // lists, or unused
-    renumber(v.data(), static_cast<size_t>(stride) * sizeof(v[0]));
+  // Every field that follows the grains (silt/fields.hpp), whatever module owns it.
+  for_each_field(s, [&](const FieldInfo& f, auto& v) {
+    if constexpr (kIsArray<std::remove_cvref_t<decltype(v)>>) {
+      if (!follows_grains(f.extent) || v.empty()) return;
+      const int64_t items = extent_size(s, f.extent);
+      if (static_cast<int64_t>(v.size()) != items || items % n != 0) return;
+      renumber(v.data(), static_cast<size_t>(items / n) * sizeof(v[0]));
+    }
   });
   renumber(sc.cell_of.data(), sizeof(int32_t));
   for (int64_t k = 0; k < n; ++k) sc.cell_items[k] = static_cast<int32_t>(k);
@@ -173,12 +170,11 @@ bool permute_to_cell_order(State& s) {
 }
 
 template <int D>
-void rebuild(const Model& m, State& s) {
+void rebuild(const Model& m, State& s, DemWorkspace& sc) {
   const int64_t n = s.n;
   const double skin = m.skin;
-  const double cutoff = 2 * m.r_max + skin;
+  const double cutoff = m.interaction_range();
   const CellGrid g = make_grid<D>(m, s, cutoff);
-  auto& sc = s.scratch;
   // Counting sort of grains by cell; grains in a cell stay in index order.
   sc.cell_of.resize(n);
   sc.cell_start.assign(g.count() + 1, 0);
@@ -195,7 +191,7 @@ void rebuild(const Model& m, State& s) {
   // In cell order (renumbered now or already), grain j > i lies in a cell after i's or later in
   // i's own: the search skips the cells before it, about half of them.
   const bool in_order = m.sort_grains && n > Model::kSortMin;
-  const bool sorted = in_order && permute_to_cell_order<D>(s);
+  const bool sorted = in_order && permute_to_cell_order<D>(s, sc);
   // Keep the springs of the old list for the new one: only its pairs that hold one (most listed
   // pairs do not touch, and would carry zeros; a -0 is kept), as rows of partners and springs.
   // The new list then reuses the State's arrays.
@@ -213,7 +209,7 @@ void rebuild(const Model& m, State& s) {
       sc.old_start[i + 1] = static_cast<int32_t>(sc.old_j.size());
     }
   }
-  const shear::PeriodicImage<D> img(s.box);
+  const PeriodicImage<D> img(s.box);
   // The cells around grain i's cell (at most 3 z-layers x (3 + 4 + 4) cells: rows across a
   // sheared boundary take 4); grains come mostly in cell order, so the last stencil is reused.
   struct Stencil {
@@ -311,28 +307,27 @@ void rebuild(const Model& m, State& s) {
   s.nbr_strain = 0;
   s.nbr_max_disp = 0;
   s.nbr_valid = true;
-  s.scratch.schedule = build_pair_schedule(n, s.nbr_start, s.pair_j);
-  s.scratch.schedule_valid = true;
+  sc.schedule = build_pair_schedule(n, s.nbr_start, s.pair_j);
+  sc.schedule_valid = true;
   ++s.nbr_builds;
 }
 
 template <int D>
-void update(const Model& m, State& s) {
+void update(const Model& m, State& s, DemWorkspace& w) {
   // Two grains approached by at most twice the largest displacement relative to the flow, plus
   // the affine strain times their separation (at most the list range).
-  const double range = 2 * m.r_max + m.skin;
-  const bool stale = !s.nbr_valid || 2 * s.nbr_max_disp + s.nbr_strain * range > m.skin;
-  if (stale) rebuild<D>(m, s);
-  update_candidates(m, s, stale);
+  const bool stale = !s.nbr_valid || 2 * s.nbr_max_disp + s.nbr_strain * m.interaction_range() > m.skin;
+  if (stale) rebuild<D>(m, s, w);
+  update_candidates(m, s, w, stale);
 }
 
 }  // namespace
 
-void update_neighbors(const Model& m, State& s) {
+void update_neighbors(const Model& m, State& s, DemWorkspace& w) {
   if (m.dim == 2)
-    update<2>(m, s);
+    update<2>(m, s, w);
   else
-    update<3>(m, s);
+    update<3>(m, s, w);
 }
 
 }  // namespace silt::dem

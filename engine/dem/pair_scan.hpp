@@ -19,7 +19,7 @@
 
 #include "core/small_vec.hpp"
 #include "dem/simd_level.hpp"
-#include "shear/periodic_image.hpp"
+#include "core/periodic_image.hpp"
 
 namespace silt::dem {
 
@@ -29,7 +29,7 @@ namespace scan_detail {
 template <int D, bool Reach, class Sink>
 [[gnu::always_inline]] inline int64_t scalar(const double* __restrict x, const double* __restrict r,
                                              const int32_t* __restrict pi, const int32_t* __restrict pj,
-                                             const shear::PeriodicImage<D>& img, double reach, int64_t q, int64_t q1,
+                                             const PeriodicImage<D>& img, double reach, int64_t q, int64_t q1,
                                              int64_t c, const Sink& sink) {
   using V = SVec<D>;
   for (; q < q1; ++q) {
@@ -61,7 +61,7 @@ template <int D, bool Reach>
                                                                          const double* __restrict r,
                                                                          const int32_t* __restrict pi,
                                                                          const int32_t* __restrict pj,
-                                                                         const shear::PeriodicImage<D>& img,
+                                                                         const PeriodicImage<D>& img,
                                                                          double reach, int64_t q, __m256d* d,
                                                                          __m256d* d2_out = nullptr) {
   const int64_t i0 = pi[q], i1 = pi[q + 1], i2 = pi[q + 2], i3 = pi[q + 3];
@@ -89,7 +89,7 @@ template <int D, bool Reach>
 template <int D, bool Reach, class Sink>
 [[gnu::target("avx2")]] int64_t avx2(const double* __restrict x, const double* __restrict r,
                                      const int32_t* __restrict pi, const int32_t* __restrict pj,
-                                     const shear::PeriodicImage<D> img, double reach, int64_t q0, int64_t q1,
+                                     const PeriodicImage<D> img, double reach, int64_t q0, int64_t q1,
                                      const Sink sink) {
   int64_t q = q0, c = 0;
   for (; q + 3 < q1; q += 4) {
@@ -109,7 +109,7 @@ template <int D, bool Reach, class Sink>
 // Two entries per iteration, then the scalar loop.
 template <int D, bool Reach, class Sink>
 inline int64_t sse(const double* __restrict x, const double* __restrict r, const int32_t* __restrict pi,
-                   const int32_t* __restrict pj, const shear::PeriodicImage<D> img, double reach, int64_t q0,
+                   const int32_t* __restrict pj, const PeriodicImage<D> img, double reach, int64_t q0,
                    int64_t q1, const Sink sink) {
   int64_t q = q0, c = 0;
   const __m128d zero = _mm_setzero_pd();
@@ -152,7 +152,7 @@ inline int64_t sse(const double* __restrict x, const double* __restrict r, const
 // returns the last c.
 template <int D, bool Reach, class Sink>
 inline int64_t scan_pairs(const double* __restrict x, const double* __restrict r, const int32_t* __restrict pi,
-                          const int32_t* __restrict pj, const shear::PeriodicImage<D> img, double reach, int64_t q0,
+                          const int32_t* __restrict pj, const PeriodicImage<D> img, double reach, int64_t q0,
                           int64_t q1, const Sink sink) {
 #if defined(__SSE4_1__)
   if (avx2_in_use()) return scan_detail::avx2<D, Reach>(x, r, pi, pj, img, reach, q0, q1, sink);

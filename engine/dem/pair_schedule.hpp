@@ -30,6 +30,21 @@
 
 namespace silt::dem {
 
+// A conflict-free order of the pair loop's blocks of rows.
+struct PairSchedule {
+  static constexpr int64_t kBlock = 256;  // rows per block
+  std::vector<int32_t> blocks;        // block indices, grouped by colour
+  std::vector<int32_t> colour_start;  // colour c holds blocks[colour_start[c] .. colour_start[c + 1])
+  int colours() const { return static_cast<int>(colour_start.size()) - 1; }
+  // The same order as a graph: block b may run once its n_before[b] predecessors have run (the
+  // blocks of earlier colours that write a grain it writes, the nearest for each such grain); its
+  // successors are after[after_start[b] .. after_start[b + 1]). roots: the blocks without
+  // predecessors. Block b is the first to write the grains of the blocks
+  // clears[clears_start[b] .. clears_start[b + 1]).
+  std::vector<int32_t> n_before, after_start, after, roots, clears_start, clears;
+  std::vector<int32_t> waiting;  // predecessors not yet run, during a pass
+};
+
 // The schedule of a half list in CSR form (row i holds its partners j).
 PairSchedule build_pair_schedule(int64_t n, const std::vector<int32_t>& nbr_start, const std::vector<int32_t>& pair_j);
 

@@ -1,43 +1,72 @@
-// The DEM stages of a step. Each is `void stage(const Model&, State&)`; the first comment line
-// of each is its contract: (what it reads) => (what it writes). They are wired together in
-// engine/graph/step_graph.cpp.
+// The DEM stages. Each is `void stage(const Model&, State&, ...)`; the first comment line of each
+// is its contract: (what it reads) => (what it writes). They enter the step in
+// engine/graph/dem_stages.cpp, which declares the same sets as field ids.
 #pragma once
 
+#include "core/workspace.hpp"
+#include "dem/workspace.hpp"
 #include "silt/model.hpp"
 #include "silt/state.hpp"
 
 namespace silt::dem {
 
-// (particle_v, particle_f, particle_t, particle_x, box_stress, shear_stress) => (particle_v,
-//  particle_w, particle_x, particle_disp, box, box_rate, shear_rate, le_displacement,
-//  nbr_max_disp, nbr_step_disp, nbr_strain)
+// (dt, box, box_stretch, shear_rate, particle_v, particle_w, particle_f, particle_t, particle_x,
+//  particle_disp, inv_m, inv_i, frozen) => (particle_v, particle_w, particle_x, particle_disp,
+//  nbr_max_disp, nbr_step_disp)
 // First half kick v += dt/2 a, drift x += dt v (plus the affine flow of a deforming or sheared
-// box), wrap into the periodic box (Lees-Edwards shifted), and the largest displacement since
-// the last neighbour build.
+// box, whose lengths shear::box_drift has moved), wrap into the periodic box (Lees-Edwards
+// shifted), and the largest displacement since the last neighbour build.
 void kick_drift(const Model& m, State& s);
 
-// (particle_x, particle_r, nbr_max_disp, nbr_step_disp, box) => (nbr_start, pair_i, pair_j,
-//  pair_hist, pair_f, pair_touch, particle_disp, nbr_strain)
+// (particle_x, particle_r, particle_frozen, nbr_*, box, pair_*, every per-grain field when it
+//  renumbers) => (nbr_start, pair_i, pair_j, pair_hist, pair_f, pair_touch, particle_disp,
+//  nbr_strain, nbr_max_disp, nbr_valid, nbr_builds, every per-grain field)
 // Rebuild the half Verlet list (cell list, pairs within r_i + r_j + skin) only when a grain
 // moved more than skin/2 since the last build; tangential histories of surviving pairs are kept.
 // Then re-select the contact candidates (contact_candidates.hpp) when they may have gone stale.
-void update_neighbors(const Model& m, State& s);
+// Pre: nbr_start has N + 1 entries or the list is invalid. Post: nbr_valid; nbr_start[N] = P.
+void update_neighbors(const Model& m, State& s, DemWorkspace& w);
 
-// (particle_x, particle_v, particle_w, pair_i, pair_j, pair_hist, pair_touch) => (pair_f,
-//  pair_hist, pair_touch, particle_f, particle_t, alarm_overlap)
-// Normal law + tangential spring for every listed pair; the force on i stored per pair, and the
-// sum over all pairs of each grain in particle_f / particle_t (in the order of the pair schedule).
-void contact_forces(const Model& m, State& s);
+// (dt, box, box_rate, shear_rate, particle_x, particle_v, particle_w, particle_r, inv_m,
+//  nbr_start, pair_i, pair_j, pair_hist, pair_touch, pair_f) => (pair_f, pair_hist, pair_touch,
+//  particle_f, particle_t [with friction], events.overlap)
+// Normal law + tangential spring for every listed pair; the force on i stored per pair (in the
+// steps whose end is seen), and the sum over all pairs of each grain in particle_f / particle_t
+// (in the order of the pair schedule).
+void contact_forces(const Model& m, State& s, DemWorkspace& w);
 
-// (particle_x, particle_v, particle_w, wall_hist) => (wall_f, particle_t_wall,
-//  wall_hist, alarm_overlap)
+// (dt, particle_x, particle_v, particle_w, particle_r, inv_m, frozen, wall_hist) => (wall_f,
+//  particle_t_wall, wall_hist, events.overlap)
 void wall_forces(const Model& m, State& s);
 
-// (particle_f, particle_t [pair sums], wall_f, particle_t_wall) => (particle_f, particle_t,
-//  particle_v, particle_w, alarm_nonfinite)
-// Add the wall forces, then the second half kick.
-void kick(const Model& m, State& s);
-// Same sum without the kick, to start a run with the forces of t = 0.
-void add_wall_forces(const Model& m, State& s);
+// (dt, particle_f, particle_t [pair sums], every force source, inv_m, inv_i, frozen, shear_rate)
+//  => (particle_f, particle_t, particle_v, particle_w, events.non_finite)
+// Add the registered force sources (walls, then the other modules', in order) to the pair sums,
+// then the second half kick.
+void kick(const Model& m, State& s, const ForceSources& sources);
+// (particle_f, particle_t, every force source) => (particle_f, particle_t)
+// The same sum without the kick: the forces of the first state.
+void sum_forces(const Model& m, State& s, const ForceSources& sources);
+
+// (pair_hist, wall_hist) => (pair_hist, wall_hist)
+// No tangential history exists before the first step: the springs that the first force
+// evaluation stretched are reset.
+void clear_springs(const Model& m, State& s);
+
+// (step, particle_v, particle_w, inv_m, inv_i, frozen) => (events.runaway)
+// Every limits.check_every steps (at the step that makes the count a multiple of it): the
+// kinetic energy against limits.energy_factor times what the scene can supply.
+void energy_check(const Model& m, State& s);
+
+// Kinetic energy of the free grains, translation + rotation, and its rotational part, summed in
+// grain order (the energy check and the `ke` observable).
+struct KineticEnergy {
+  double total = 0, rot = 0;
+};
+KineticEnergy kinetic_energy(const State& s);
+// Elastic energy stored in the contacts, normal and tangential springs, grain-grain and
+// grain-wall (contact_laws.hpp); with k_t = kt_over_kn k_n(h), exact for the linear laws, for
+// Hertz the spring's energy at its current stiffness.
+double contact_energy(const Model& m, const State& s);
 
 }  // namespace silt::dem

@@ -110,7 +110,7 @@ inline constexpr LeftPack kLeftPack = make_left_pack();
 // The touch pass four entries at a time: the touching ones of each four are packed with one
 // permutation per column (no branch, no per-entry stores).
 template <int D>
-[[gnu::target("avx2")]] int64_t touch_avx2(const TouchArrays a, const shear::PeriodicImage<D> img, int64_t q0,
+[[gnu::target("avx2")]] int64_t touch_avx2(const TouchArrays a, const PeriodicImage<D> img, int64_t q0,
                                            int64_t q1, int32_t* __restrict tp, double* const* td) {
   double* __restrict tdk[D + 2];
   for (int k = 0; k < D + 2; ++k) tdk[k] = td[k];
@@ -143,7 +143,7 @@ template <int D>
 // cleared; pair_touch is updated. The arguments come by value: local copies that the stores
 // cannot alias.
 template <int D>
-int64_t touch_pass(const TouchArrays a, const shear::PeriodicImage<D> img, int64_t q0, int64_t q1,
+int64_t touch_pass(const TouchArrays a, const PeriodicImage<D> img, int64_t q0, int64_t q1,
                    int32_t* __restrict tp, double* const* td) {
 #if defined(__SSE4_1__)
   if (avx2_in_use()) return scan_detail::touch_avx2<D>(a, img, q0, q1, tp, td);

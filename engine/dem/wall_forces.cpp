@@ -31,13 +31,13 @@ void walls_dim(const Model& m, State& s) {
           const Wall& wall = m.walls[wi];
           const Vec<D> n = wall.normal.head<D>();
           Eigen::Map<Vec<D>> hist(s.wall_hist.data() + D * (static_cast<int64_t>(i) * nw + wi));
-          const double gap = (x - wall.point.head<D>()).dot(n) - r;
+          const double gap = wall.gap<D>(x, r);
           if (gap >= 0) {
             hist.setZero();
             continue;
           }
           const double overlap = -gap;
-          if (overlap > m.limits.max_overlap * r) s.alarm_overlap.raise(i, overlap / r);
+          if (overlap > m.limits.max_overlap * r) s.events[event::kOverlap].raise(i, overlap / r);
           const double vn = v.dot(n);
           const double m_eff = 1.0 / s.particle_inv_m[i];
           NormalForce nf = normal_force(cp, m_eff, 2.0 * r, overlap, -vn);

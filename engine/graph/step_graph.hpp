@@ -1,4 +1,7 @@
-// The step as a graph of named stages, built once per Model from the modules it enables.
+// The executors of a stage list: a serial one, the reference (stages one after the other in
+// topological order, loop bodies `times` times), and a oneTBB flow graph on which independent
+// stages run at the same time. Both time every stage into State::profile, and neither lets an
+// exception escape a stage: it becomes the step's internal error.
 #pragma once
 
 #include <tbb/flow_graph.h>
@@ -7,57 +10,40 @@
 #include <string>
 #include <vector>
 
-#include "silt/model.hpp"
-#include "silt/state.hpp"
+#include "graph/graph_builder.hpp"
 
 namespace silt::graph {
 
-using StageFn = void (*)(const Model&, State&);
-
-struct Stage {
-  std::string name;
-  StageFn fn = nullptr;
-  std::vector<int> deps;          // indices of stages that must finish first
-  std::vector<std::string> why;   // one reason per dependency
-  // State the stage reads and writes (array names, or "grain_order" for the numbering of the
-  // grains, which a neighbour rebuild may change). Checked by check_access().
-  std::vector<std::string> reads, writes;
-};
-
-// Two stages that the graph may run at the same time must not touch the same data with at least
-// one of them writing it. Returns "" or a description of the first conflict.
-std::string check_access(const std::vector<Stage>& stages);
-
 class StepGraph {
  public:
-  // Must be constructed inside the task arena that will run it.
-  explicit StepGraph(const Model& m);
+  // The graph of the modules `m` enables, for a step or for the forces of the first state. Must
+  // be constructed inside the task arena that will run it.
+  StepGraph(const Model& m, Workspaces& ws, Phase phase = Phase::kStep);
+  // Any stage list (tests build their own).
+  explicit StepGraph(StageList list, std::vector<Diagnosis> diagnoses = {});
+  ~StepGraph();
   StepGraph(const StepGraph&) = delete;
   StepGraph& operator=(const StepGraph&) = delete;
 
-  // The reference executor: stages one after the other in topological order.
   void run_serial(const Model& m, State& s);
-  // The same stages on the TBB flow graph: independent stages run concurrently.
   void run_flow(const Model& m, State& s);
 
-  const std::vector<Stage>& stages() const { return stages_; }
-  // "a -> b  (why)" lines, for `silt check`.
+  const std::vector<Stage>& stages() const;
+  // The stages with their modules, loop nodes with their bodies, and why each runs after
+  // another, for `silt check`.
   std::string describe() const;
+  // After a step: the failure the events it raised make (the modules' diagnoses), an internal
+  // error first. Fills s.failure; false when the step failed.
+  bool diagnose(const Model& m, State& s) const;
+
+  // Whether the serial executor checks that each stage writes and reads only the fields it
+  // declares (graph/access_check.hpp). On by default in the sanitizer build (SILT_CHECK_ACCESS).
+  void set_access_check(bool on);
 
  private:
-  void run_stage(size_t k);
-  void bind(const Model& m, State& s);
-
-  std::vector<Stage> stages_;
-  std::vector<StageTime*> timers_;
-  const Model* model_ = nullptr;
-  State* state_ = nullptr;
-  std::unique_ptr<tbb::flow::graph> graph_;
-  std::unique_ptr<tbb::flow::broadcast_node<tbb::flow::continue_msg>> start_;
-  std::vector<std::unique_ptr<tbb::flow::continue_node<tbb::flow::continue_msg>>> nodes_;
+  struct Runner;
+  std::unique_ptr<Runner> root_;
+  std::vector<Diagnosis> diagnoses_;
 };
-
-// The stage list of a Model, in topological order (used by the graph and by `silt check`).
-std::vector<Stage> build_stages(const Model& m);
 
 }  // namespace silt::graph

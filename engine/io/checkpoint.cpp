@@ -1,5 +1,5 @@
-// Checkpoint file layout (little-endian, version 4):
-//   "SILTCKPT" | u32 version | system | scene | scalars | arrays | u64 FNV-1a of all before it
+// Checkpoint file layout (little-endian, version 5):
+//   "SILTCKPT" | u32 version | system | scene | fields | u64 FNV-1a of all before it
 //   system: u64 fingerprint (compile.cpp) | i32 dim | i64 n | u8 periodic[3] | u32 walls |
 //           per wall f64 point[3], f64 normal[3]
 //   scene:  str name | u32 count | count x (str key, str value)     str: u32 length, bytes
@@ -7,14 +7,20 @@
 // periodicity, and is refused elsewhere with what differs. The scene part, every parameter's
 // resolved value, only informs: a prepared packing is meant to be restored under other run
 // parameters, and the values that differ (steered ones, say) are reported.
-// Arrays follow the field list of State (name, element size, count, bytes), so a field added
-// to SILT_STATE_ARRAYS is saved without touching this file. The file is written to PATH.tmp,
+//   fields: every field of State in the order of its field list (silt/fields.hpp), module fields
+//           last: str name | u32 element size | u64 count | bytes. A scalar is one element whose
+//           size is that of its bytes (a Box member by member). A field added to the list is
+//           saved without touching this file.
+// On reading, every array's length is checked against the state's dimensions, every index
+// against its range and every floating-point value for finiteness: a file that passes the
+// checksum but not these is corrupt. The file is written to PATH.tmp,
 // flushed to disk, renamed over PATH and the directory flushed: a crash or a kill during the write
 // keeps the previous file, and a crash after it keeps the new one.
 #include <fcntl.h>
 #include <unistd.h>
 
 #include <array>
+#include <cmath>
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
@@ -30,7 +36,7 @@ namespace silt {
 namespace {
 
 constexpr char kMagic[8] = {'S', 'I', 'L', 'T', 'C', 'K', 'P', 'T'};
-constexpr uint32_t kVersion = 4;
+constexpr uint32_t kVersion = 5;
 
 class Writer {
  public:
@@ -81,28 +87,6 @@ class Reader {
   std::string path_;
   size_t pos_ = 0;
 };
-
-template <class W, class S>
-void scalars(W& io, S& s) {
-  io(s.t);
-  io(s.step);
-  io(s.dt);
-  io(s.box.lo);
-  io(s.box.len);
-  io(s.box.periodic);
-  io(s.box_rate);
-  io(s.box_stress);
-  io(s.box.lees_edwards);
-  io(s.box.le_offset);
-  io(s.shear_rate);
-  io(s.shear_stress);
-  io(s.le_displacement);
-  io(s.shear_strain);
-  io(s.nbr_strain);
-  io(s.nbr_valid);
-  io(s.nbr_max_disp);
-  io(s.nbr_builds);
-}
 
 // What a checkpoint belongs to: the refusal rule (layout above).
 struct System {
@@ -211,6 +195,53 @@ void sync_directory(const std::string& path) {
   ::close(fd);
 }
 
+// "" when the state is one a simulation of m can hold: every array as long as its extent says,
+// every index in range, every floating-point value finite; else what is wrong.
+std::string check_state(const State& s, const Model& m) {
+  const int64_t n = s.n;
+  if (static_cast<int64_t>(s.nbr_start.size()) != n + 1) return "nbr_start has " + std::to_string(s.nbr_start.size()) + " entries, not N + 1";
+  const int64_t np = s.n_pairs();
+  std::string bad;
+  for_each_field(s, [&](const FieldInfo& f, const auto& v) {
+    if (!bad.empty()) return;
+    if constexpr (kIsArray<std::remove_cvref_t<decltype(v)>>) {
+      const bool on = f.id < fid::kBuiltinCount || m.module_on(f.module);
+      const int64_t want = on ? extent_size(s, f.extent) : 0;
+      if (static_cast<int64_t>(v.size()) != want) {
+        bad = f.name + " has " + std::to_string(v.size()) + " entries where " + std::to_string(want) + " are expected (" +
+              extent_name(f.extent) + ")";
+        return;
+      }
+      if constexpr (std::is_same_v<std::decay_t<decltype(v[0])>, double>)
+        for (size_t k = 0; k < v.size(); ++k)
+          if (!std::isfinite(v[k])) {
+            bad = f.name + "[" + std::to_string(k) + "] is not finite";
+            return;
+          }
+    }
+  });
+  if (!bad.empty()) return bad;
+  if (s.nbr_start[0] != 0 || s.nbr_start[n] != np) return "nbr_start does not span the pair list";
+  for (int64_t i = 0; i < n; ++i) {
+    if (s.nbr_start[i + 1] < s.nbr_start[i]) return "nbr_start decreases at row " + std::to_string(i);
+    for (int32_t p = s.nbr_start[i]; p < s.nbr_start[i + 1]; ++p)
+      if (s.pair_i[p] != i || s.pair_j[p] <= i || s.pair_j[p] >= n) return "pair " + std::to_string(p) + " is not a pair of row " + std::to_string(i);
+  }
+  std::vector<uint8_t> seen(n, 0);
+  for (int64_t i = 0; i < n; ++i) {
+    const int32_t id = s.particle_id[i];
+    if (id < 0 || id >= n || seen[id]) return "particle_id is not a numbering of the grains";
+    seen[id] = 1;
+    if (s.particle_group[i] < 0 || s.particle_group[i] >= static_cast<int32_t>(std::max<size_t>(1, m.group_names.size())))
+      return "particle_group[" + std::to_string(i) + "] is not a group of the scene";
+    if (s.particle_frozen[i] > 1) return "particle_frozen[" + std::to_string(i) + "] is neither 0 nor 1";
+  }
+  for (int k = 0; k < 3; ++k)
+    if (!std::isfinite(s.box.lo[k]) || !(s.box.len[k] > 0) || !std::isfinite(s.box.len[k])) return "the box is not finite";
+  if (!std::isfinite(s.t) || !std::isfinite(s.dt) || s.step < 0) return "the time is not finite";
+  return "";
+}
+
 }  // namespace
 
 std::vector<std::pair<std::string, std::string>> scene_parameters(const SceneDesc& d) {
@@ -247,13 +278,20 @@ void write_checkpoint(const std::string& path, const Model& m, const State& s) {
     w.str(key);
     w.str(value);
   }
-  auto put = [&w](const auto& v) { w.put(v); };
-  scalars(put, s);
-  for_each_array(s, [&](const char* name, const auto& v) {
-    w.str(name);
-    w.put(static_cast<uint32_t>(sizeof(v[0])));
-    w.put(static_cast<uint64_t>(v.size()));
-    if (!v.empty()) w.bytes(v.data(), v.size() * sizeof(v[0]));
+  w.put(static_cast<uint32_t>(field_infos().size()));
+  for_each_field(s, [&](const FieldInfo& f, const auto& v) {
+    w.str(f.name);
+    if constexpr (kIsArray<std::remove_cvref_t<decltype(v)>>) {
+      w.put(static_cast<uint32_t>(sizeof(v[0])));
+      w.put(static_cast<uint64_t>(v.size()));
+      if (!v.empty()) w.bytes(v.data(), v.size() * sizeof(v[0]));
+    } else {
+      std::vector<char> blob;
+      field_bytes(v, [&](const void* p, size_t n) { blob.insert(blob.end(), static_cast<const char*>(p), static_cast<const char*>(p) + n); });
+      w.put(static_cast<uint32_t>(blob.size()));
+      w.put(uint64_t{1});
+      w.bytes(blob.data(), blob.size());
+    }
   });
   const uint64_t sum = fnv1a(w.buf_.data(), w.buf_.size());
   w.put(sum);
@@ -312,18 +350,31 @@ State read_checkpoint(const std::string& path, const Model& m, std::vector<std::
   }
   if (differences) *differences = parameter_differences(params, scene_parameters(m.desc));
   State s = make_state(m);
-  auto get = [&r](auto& v) { r.bytes(&v, sizeof v); };
-  scalars(get, s);
-  for_each_array(s, [&](const char* name, auto& v) {
+  const auto n_fields = r.get<uint32_t>();
+  if (n_fields != field_infos().size())
+    throw IoError("checkpoint '" + path + "' holds " + std::to_string(n_fields) + " fields where this silt has " +
+                  std::to_string(field_infos().size()) + " (another silt version, or modules this one does not have)");
+  for_each_field(s, [&](const FieldInfo& f, auto& v) {
     const std::string stored_name = r.str();
-    if (stored_name != name)
-      throw IoError("checkpoint '" + path + "' was written by another silt version (field " + stored_name + " where " + name + " is expected)");
+    if (stored_name != f.name)
+      throw IoError("checkpoint '" + path + "' was written by another silt version (field " + stored_name + " where " +
+                    f.name + " is expected)");
     const auto elem = r.get<uint32_t>();
     const auto count = r.get<uint64_t>();
-    if (elem != sizeof(v[0]) || count > buf.size()) throw IoError("checkpoint '" + path + "': bad field " + stored_name);
-    v.resize(count);
-    if (count) r.bytes(v.data(), count * sizeof(v[0]));
+    if constexpr (kIsArray<std::remove_cvref_t<decltype(v)>>) {
+      if (elem != sizeof(v[0]) || count > buf.size() / sizeof(v[0])) throw IoError("checkpoint '" + path + "' is corrupt: bad field " + stored_name);
+      v.resize(count);
+      if (count) r.bytes(v.data(), count * sizeof(v[0]));
+    } else {
+      size_t size = 0;
+      field_bytes(v, [&](const void*, size_t n) { size += n; });
+      if (elem != size || count != 1) throw IoError("checkpoint '" + path + "' is corrupt: bad field " + stored_name);
+      // The runs of field_bytes point into v: fill them in order.
+      field_bytes(v, [&](const void* p, size_t n) { r.bytes(const_cast<void*>(p), n); });
+    }
   });
+  if (const std::string bad = check_state(s, m); !bad.empty())
+    throw IoError("checkpoint '" + path + "' is corrupt: " + bad);
   return s;
 }
 

@@ -1,6 +1,6 @@
 #include <cmath>
 
-#include "silt/io.hpp"
+#include "silt/statistics.hpp"
 
 namespace silt {
 

@@ -4,14 +4,12 @@
 // to the affine flow, so the kinetic stress and ke_fluct are those of the fluctuations
 // (Peyneau 2009 eq. 3.11 and 3.13).
 //
-// Stress (Peyneau 2009 eq. 1.4 with the kinetic term of eq. 3.11), compression positive:
-//   sigma = (1/V) [ sum_i m_i v_i (x) v_i  +  sum_contacts f_ij (x) d_ij ],
-// where f_ij is the force on i from j and d_ij = x_i - x_j (nearest image); for a repulsive
-// contact both point the same way, so compression is positive. Grain-wall contacts are not in
-// the sum (walls are outside the averaging volume).
+// Stress: dem/stress.hpp, the sums a controlled box is driven by.
 #include <algorithm>
 #include <cmath>
 
+#include "dem/stages.hpp"
+#include "dem/stress.hpp"
 #include "silt/contacts.hpp"
 #include "silt/observables.hpp"
 
@@ -83,12 +81,14 @@ void coordination(const Model& m, const State& s, const std::vector<std::pair<in
 
 template <int D>
 Measurements measure_dim(const Model& m, const State& s) {
-  constexpr int R = kRotDim<D>;
   Measurements out;
   const int64_t n = s.n;
   double vol = 1;
   for (int k = 0; k < D; ++k) vol *= s.box.len[k];
   out.volume = vol;
+  const dem::KineticEnergy ke = dem::kinetic_energy(s);
+  out.ke = ke.total;
+  out.ke_rot = ke.rot;
   std::vector<int32_t> contacts(n, 0);
   double solid = 0;
   int64_t n_free = 0;
@@ -98,19 +98,21 @@ Measurements measure_dim(const Model& m, const State& s) {
     if (s.particle_frozen[i]) continue;
     ++n_free;
     const double mass = 1.0 / s.particle_inv_m[i];
-    const auto v = at<D>(s.particle_v.data(), i);
-    out.ke += 0.5 * mass * v.squaredNorm();
-    double w2 = 0;
-    for (int k = 0; k < R; ++k) w2 += s.particle_w[R * i + k] * s.particle_w[R * i + k];
-    const double erot = 0.5 * w2 / s.particle_inv_i[i];
-    out.ke_rot += erot;
-    out.ke += erot;
-    for (int a = 0; a < D; ++a)
-      for (int b = 0; b < D; ++b) out.stress[a][b] += mass * v[a] * v[b];
     Vec<D> f = at<D>(s.particle_f.data(), i) + mass * m.gravity.head<D>();
     out.max_net_force = std::max(out.max_net_force, f.norm());
+    // Momentum in the lab frame: the velocity relative to the affine flow, plus the flow.
+    for (int k = 0; k < D; ++k) {
+      double v = s.particle_v[D * i + k];
+      if (m.box_control.on) v += s.box_rate[k] / s.box.len[k] * (s.particle_x[D * i + k] - s.box.lo[k]);
+      if (k == 0 && m.shear.on) v += s.shear_rate * (s.particle_x[D * i + 1] - s.box.lo[1]);
+      out.momentum[k] += mass * v;
+    }
   }
   out.phi = solid / vol;
+  // Stress: the virial sums the controlled box uses (dem/stress.hpp).
+  const std::array<double, 9> sigma = dem::virial_sums<true>(s);
+  for (int a = 0; a < D; ++a)
+    for (int b = 0; b < D; ++b) out.stress[a][b] = sigma[3 * a + b] / vol;
   // Grain-grain contacts.
   std::vector<std::pair<int32_t, int32_t>> touching;
   for_each_contact(s, [&](const Contact& c) {
@@ -120,28 +122,21 @@ Measurements measure_dim(const Model& m, const State& s) {
     touching.push_back({static_cast<int32_t>(c.i), static_cast<int32_t>(c.j)});
     const double dn = c.dist;
     for (int a = 0; a < D; ++a)
-      for (int b = 0; b < D; ++b) {
-        out.stress[a][b] += c.f[a] * c.d[b];
-        out.fabric[a][b] += c.d[a] * c.d[b] / (dn * dn);
-      }
+      for (int b = 0; b < D; ++b) out.fabric[a][b] += c.d[a] * c.d[b] / (dn * dn);
   });
   if (!touching.empty())
     for (int a = 0; a < D; ++a)
       for (int b = 0; b < D; ++b) out.fabric[a][b] /= static_cast<double>(touching.size());
   // Grain-wall contacts count for coordination.
   for (int64_t i = 0; i < n; ++i)
-    for (int w = 0; w < s.n_walls; ++w) {
-      const Wall& wall = m.walls[w];
-      const double gap = (at<D>(s.particle_x.data(), i) - wall.point.head<D>()).dot(wall.normal.head<D>()) - s.particle_r[i];
-      if (gap < 0) {
+    for (int w = 0; w < s.n_walls; ++w)
+      if (m.walls[w].gap<D>(at<D>(s.particle_x.data(), i), s.particle_r[i]) < 0) {
         ++out.n_contacts;
         ++contacts[i];
       }
-    }
-  for (int a = 0; a < D; ++a)
-    for (int b = 0; b < D; ++b) out.stress[a][b] /= vol;
   for (int a = 0; a < D; ++a) out.pressure += out.stress[a][a] / D;
   out.ke_fluct = n_free ? (out.ke - out.ke_rot) / n_free : 0;
+  out.e_contact = dem::contact_energy(m, s);
   coordination(m, s, touching, contacts, n_free, out);
   return out;
 }

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <string>
 
+#include "scene/core_module.hpp"
 #include "scene/render_settings.hpp"
 
 namespace silt {
@@ -68,7 +69,6 @@ void read_render_settings(const SceneDesc& d, Model& m) {
     // The slice plane n . x = position, n a unit normal: along an axis, or any direction.
     double* n = r.slice_normal;
     if (d.has("render.slice_normal")) {
-      if (d.has("render.slice_axis")) d.fail("render.slice_normal", "give render.slice_normal or render.slice_axis, not both");
       vec("render.slice_normal", n);
       const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
       if (!(len > 0) || !std::isfinite(len)) d.fail("render.slice_normal", "needs a non-zero finite vector");
@@ -102,4 +102,66 @@ void read_render_settings(const SceneDesc& d, Model& m) {
 }
 
 }  // namespace scene
+namespace scene {
+namespace {
+
+std::vector<KeySpec> render_keys() {
+  using K = KeyType;
+  using S = std::vector<std::string>;
+  std::vector<KeySpec> s = {
+      // ---- render
+      {"render.width", K::kInt, Value(int64_t{1280}), Range::closed(16, 16384), "px", false, {}, "Frame width (width x height at most 64 Mpx, e.g. 8192 x 8192)."},
+      {"render.height", K::kInt, Value(int64_t{720}), Range::closed(16, 16384), "px", false, {}, "Frame height."},
+      {"render.draw", K::kStringList, Value(std::vector<std::string>{"grains", "colorbar", "time", "scalebar"}), Range::any(), "", true,
+       S{"grains", "chains", "field", "colorbar", "time", "scalebar", "box"}, "What frames show."},
+      {"render.color_by", K::kString, std::nullopt, Range::any(), "", true,
+       S{"flat", "speed", "vx", "vy", "vz", "height", "id", "group", "frozen"}, "Quantity that colours the grains (default: speed, or flat when chains or a field are drawn)."},
+      {"render.colormap", K::kString, Value(std::string("sequential")), Range::any(), "", true, S{"sequential", "diverging"}, "Colormap of the grains (assets/*.csv)."},
+      {"render.range", K::kRealList, std::nullopt, Range::any(), "", true, {}, "Colour range [lo, hi] of the grain quantity (default: automatic)."},
+      {"render.flat_color", K::kRealList, Value(std::vector<double>{0.75, 0.75, 0.78}), Range::closed(0, 1), "", true, {}, "RGB of grains when color_by = flat (and of frozen grains)."},
+      {"render.background", K::kRealList, Value(std::vector<double>{1, 1, 1}), Range::closed(0, 1), "", true, {}, "RGB of the background."},
+      {"render.chain_width", K::kReal, Value(0.4), Range::open_closed(0, 10), "", true, {}, "Force-chain width at the mean normal force, in mean grain radii; proportional to the force, at most a mean grain diameter."},
+      {"render.chains_above_mean", K::kBool, Value(false), Range::any(), "", true, {}, "Draw only contacts carrying more than the mean normal force."},
+      {"render.slab_half_width", K::kReal, Value(0.0), Range::non_negative(), "m", true, {}, "3D: draw only the chains and grains within this distance of the slab plane (0: all)."},
+      {"render.slab_center", K::kRealList, std::nullopt, Range::any(), "m", true, {}, "3D: a point of the chain slab (default: domain centre)."},
+      {"render.slab_normal", K::kRealList, std::nullopt, Range::any(), "", true, {}, "3D: normal of the chain slab (default: y)."},
+      {"render.grain_opacity", K::kReal, std::nullopt, Range::open_closed(0, 1), "", true, {}, "Grain opacity (default: 1, or 0.25 in 3D with chains)."},
+      {"render.field", K::kString, Value(std::string("vorticity")), Range::any(), "", true, S{"vorticity", "velocity", "pressure"}, "Fluid field drawn with draw = field."},
+      {"render.field_range", K::kRealList, std::nullopt, Range::any(), "", true, {}, "Colour range of the field (default: symmetric about zero, from its extremes)."},
+      {"render.slice_axis", K::kString, Value(std::string("z")), Range::any(), "", true, S{"x", "y", "z"}, "3D: normal of the field slice, along an axis."},
+      {"render.slice_normal", K::kRealList, std::nullopt, Range::any(), "", true, {}, "3D: normal of the field slice, any direction (instead of slice_axis)."},
+      {"render.slice_position", K::kReal, std::nullopt, Range::any(), "m", true, {}, "3D: the slice is the plane n . x = slice_position, n the unit normal (default: through the domain centre)."},
+      {"render.slice_component", K::kString, Value(std::string("magnitude")), Range::any(), "", true, S{"x", "y", "z", "magnitude"}, "3D: component of a vector field on the slice."},
+      {"render.camera.azimuth", K::kReal, Value(30.0), Range::closed(-360, 360), "deg", true, {}, "3D orbit camera: azimuth about z from +x."},
+      {"render.camera.elevation", K::kReal, Value(25.0), Range::closed(-89, 89), "deg", true, {}, "3D orbit camera: elevation above the x-y plane."},
+      {"render.camera.distance", K::kReal, Value(0.0), Range::non_negative(), "m", true, {}, "3D orbit camera: distance to the target (0: frame the domain)."},
+      {"render.camera.target", K::kRealList, std::nullopt, Range::any(), "m", true, {}, "3D orbit camera: point looked at (default: domain centre)."},
+      {"render.camera.fov", K::kReal, Value(30.0), Range::closed(1, 120), "deg", true, {}, "3D: vertical field of view."},
+      {"render.periodic_images", K::kBool, Value(false), Range::any(), "", true, {}, "Also draw the periodic images of grains that cross the box."},
+      {"render.every", K::kInt, std::nullopt, Range::closed(1, 1e12), "", true, {}, "Steps between frames (default: output.every)."},
+  };
+  return s;
+}
+
+}  // namespace
+
+const ModuleSpec& render_module() {
+  static const ModuleSpec spec = [] {
+    ModuleSpec s;
+    s.name = "render";
+    s.doc = "what frames show";
+    s.keys = render_keys();
+    s.rules = {KeyRule::one_of({{"render.slice_axis"}, {"render.slice_normal"}})};
+    s.finish = read_render_settings;
+    s.steer = [](Model& m, const Model& fresh) {
+      m.render = fresh.render;
+      return std::string();
+    };
+    return s;
+  }();
+  return spec;
+}
+
+}  // namespace scene
+
 }  // namespace silt

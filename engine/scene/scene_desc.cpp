@@ -140,6 +140,67 @@ std::vector<std::string> SceneDesc::strings(std::string_view p) const {
   return std::get<std::vector<std::string>>(*lookup(p, KeyType::kStringList));
 }
 
+namespace {
+
+std::string list_keys(const std::vector<std::string>& keys, const char* sep) {
+  std::string out;
+  for (size_t k = 0; k < keys.size(); ++k) out += (k ? (k + 1 == keys.size() ? std::string(" ") + sep + " " : ", ") : "") + keys[k];
+  return out;
+}
+
+// "run.dt", "gravity.magnitude (with gravity.angle)".
+std::string side_text(const std::vector<std::string>& side) {
+  std::string out = side[0];
+  if (side.size() > 1) out += " (with " + list_keys({side.begin() + 1, side.end()}, "and") + ")";
+  return out;
+}
+
+}  // namespace
+
+void SceneDesc::check_rules() const {
+  for (const KeyRule& r : scene_rules()) {
+    if (r.kind == KeyRule::Kind::kOneOf) {
+      const std::vector<std::string>* first = nullptr;
+      for (const auto& side : r.sides) {
+        const std::string* given = nullptr;
+        for (const std::string& k : side)
+          if (has(k)) {
+            given = &k;
+            break;
+          }
+        if (!given) continue;
+        if (!first) {
+          first = &side;
+          continue;
+        }
+        std::vector<std::string> names;
+        for (const auto& s : r.sides) names.push_back(side_text(s));
+        fail(*given, r.sides.size() == 2 ? "give " + names[0] + " or " + names[1] + ", not both"
+                                         : "give one of " + list_keys(names, "and") + ", not two");
+      }
+      continue;
+    }
+    if (!has(r.key)) continue;
+    const auto& e = entries.at(r.key);
+    if (const bool* b = std::get_if<bool>(&e.value); b && !*b) continue;  // a boolean needs only when true
+    bool met = false;
+    for (const std::string& k : r.needs) met = met || has(k);
+    if (!met) fail(r.key, r.key + " needs " + list_keys(r.needs, "or") + ": " + r.why);
+  }
+}
+
+void SceneDesc::erase_alternatives_of(const std::string& key) {
+  for (const KeyRule& r : scene_rules()) {
+    if (r.kind != KeyRule::Kind::kOneOf) continue;
+    for (const auto& side : r.sides) {
+      if (std::find(side.begin(), side.end(), key) == side.end()) continue;
+      for (const auto& other : r.sides)
+        if (&other != &side)
+          for (const std::string& k : other) entries.erase(k);
+    }
+  }
+}
+
 void SceneDesc::check_all_used() const {
   for (const auto& [path, entry] : entries) {
     if (used_.count(path)) continue;

@@ -232,6 +232,8 @@ void apply_override_at(SceneDesc& desc, const Override& o, int ordinal) {
   const std::string err = convert(*t.get("v"), *spec, path, e.value, err_loc, "--set");
   if (!err.empty()) throw SceneError(where, err);
   desc.entries[path] = std::move(e);
+  // As the shell's `set`: a key replaces the keys it is an alternative to (run.dt run.dt_over_tc).
+  desc.erase_alternatives_of(path);
 }
 
 }  // namespace

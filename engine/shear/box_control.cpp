@@ -11,46 +11,22 @@
 #include <algorithm>
 #include <cmath>
 
-#include "core/parallel.hpp"
-#include "shear/periodic_image.hpp"
+#include "dem/stress.hpp"
 #include "shear/stages.hpp"
 
 namespace silt::shear {
 namespace {
 
-// sigma_aa on the controlled axes and, under stress-controlled shear, tau = -sigma_xy: the
-// components (xx, yy, zz, xy) of Omega sigma = sum m v_a v_b + sum f_a d_b in one pass over
-// fixed chunks in order.
-template <int D>
-void stress_dim(const Model& m, State& s) {
-  const PeriodicImage<D> img(s.box);
+// sigma_aa on the controlled axes and, under stress-controlled shear, tau = -sigma_xy, from the
+// grains' virial sums (dem/stress.hpp).
+void set_box_stresses(const Model& m, State& s) {
   double vol = 1;
-  for (int k = 0; k < D; ++k) vol *= s.box.len[k];
-  const std::array<double, 4> sum = deterministic_sums<4>(s.n, 2048, [&](int64_t lo, int64_t hi) {
-    std::array<double, 4> acc{};
-    for (int64_t i = lo; i < hi; ++i) {
-      if (!s.particle_frozen[i]) {
-        const double* v = &s.particle_v[D * i];
-        for (int a = 0; a < D; ++a) acc[a] += v[a] * v[a] / s.particle_inv_m[i];
-        acc[3] += v[0] * v[1] / s.particle_inv_m[i];
-      }
-      for (int32_t p = s.nbr_start[i]; p < s.nbr_start[i + 1]; ++p) {
-        const double* f = &s.pair_f[D * p];
-        bool apart = true;  // contact_forces zeroes the force of pairs apart
-        for (int a = 0; a < D; ++a) apart = apart && f[a] == 0.0;
-        if (apart) continue;
-        Vec<D> d = at<D>(s.particle_x.data(), i) - at<D>(s.particle_x.data(), s.pair_j[p]);
-        img.apply(d);
-        for (int a = 0; a < D; ++a) acc[a] += f[a] * d[a];
-        acc[3] += f[0] * d[1];
-      }
-    }
-    return acc;
-  });
+  for (int k = 0; k < m.dim; ++k) vol *= s.box.len[k];
+  const std::array<double, 9> sum = dem::virial_sums<false>(s);
   if (m.box_control.on)
-    for (int a = 0; a < D; ++a)
-      if (m.box_control.controlled[a]) s.box_stress[a] = sum[a] / vol;
-  if (m.shear.stress_controlled) s.shear_stress = -sum[3] / vol;
+    for (int a = 0; a < m.dim; ++a)
+      if (m.box_control.controlled[a]) s.box_stress[a] = sum[3 * a + a] / vol;
+  if (m.shear.stress_controlled) s.shear_stress = -sum[1] / vol;
 }
 
 // Half kick dt/2 of the controlled lengths (eq. 3.11) and of a stress-controlled shear rate
@@ -71,10 +47,12 @@ void half_kick(const Model& m, State& s) {
 }  // namespace
 
 // Box lengths and shear: half kicks from the stresses of the previous step (box_kick computed
-// them), then their drift. Returns the stretch factors of the lengths.
-void box_drift(const Model& m, State& s, double* lambda) {
+// them), then their drift.
+void box_drift(const Model& m, State& s) {
   const int D = m.dim;
   const double dt = s.dt;
+  Vec3a& lambda = s.box_stretch;
+  lambda = {1, 1, 1};
   half_kick(m, s);
   if (m.box_control.on)
     for (int k = 0; k < D; ++k) {
@@ -82,6 +60,8 @@ void box_drift(const Model& m, State& s, double* lambda) {
       const double next = s.box.len[k] + dt * s.box_rate[k];
       lambda[k] = next / s.box.len[k];
       s.box.len[k] = next;
+      // Below twice the interaction range, a grain would meet its own image.
+      if (next < 2 * m.interaction_range()) s.events[event::kBoxCollapse].raise(k, next);
     }
   if (m.shear.on) {
     if (!m.shear.stress_controlled) s.shear_rate = m.shear.rate;  // imposed (and steerable)
@@ -96,10 +76,7 @@ void box_drift(const Model& m, State& s, double* lambda) {
   s.nbr_strain += strain;
 }
 
-void box_stress(const Model& m, State& s) {
-  if (m.dim == 2) stress_dim<2>(m, s);
-  else stress_dim<3>(m, s);
-}
+void box_stress(const Model& m, State& s) { set_box_stresses(m, s); }
 
 void box_kick(const Model& m, State& s) {
   box_stress(m, s);

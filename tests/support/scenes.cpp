@@ -1,8 +1,12 @@
 #include "support/scenes.hpp"
 
+#include "core/workspace.hpp"
+#include "dem/workspace.hpp"
 #include "silt/scene.hpp"
 
 namespace silt::test {
+
+dem::DemWorkspace& dem_workspace(Simulation& sim) { return sim.workspaces().get<dem::DemWorkspace>(); }
 
 Model model_from(const std::string& toml, const std::string& name) { return compile(parse_scene(toml, name)); }
 

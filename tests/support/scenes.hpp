@@ -9,6 +9,10 @@
 #include "silt/model.hpp"
 #include "silt/simulation.hpp"
 
+namespace silt::dem {
+struct DemWorkspace;
+}
+
 namespace silt::test {
 
 // Parse and compile a scene given as TOML text (throws SceneError).
@@ -25,6 +29,9 @@ std::string with_lists(std::string text, const std::string& lo, const std::strin
 
 // The neighbour pairs (i, j) listed in the state's pair list.
 std::set<std::pair<int, int>> listed_pairs(const State& s);
+
+// The DEM workspace of a simulation (cell lists, pair schedule, contact candidates).
+dem::DemWorkspace& dem_workspace(Simulation& sim);
 
 // A scene file of the repository, by name ("chute" -> scenes/chute.toml).
 std::string scene_path(const std::string& name);

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "silt/module_params.hpp"
 #include "silt/scene.hpp"
 #include "silt/vec.hpp"
 
@@ -38,10 +39,19 @@ struct ContactParams {
   double restitution = 0, contact_time_given = 0, hertz_ref_overlap = 0.01;
 };
 
+// Three components of a box quantity (lengths, rates, stresses), whatever the dimension.
+using Vec3a = std::array<double, 3>;
+
 struct Wall {
   Vec3 point = Vec3::Zero();
   Vec3 normal = Vec3::UnitZ();  // unit, pointing into the domain
   double friction = 0;          // grain-wall Coulomb coefficient (steerable)
+  // Gap between the wall and a grain of radius r centred at x (D components), negative when they
+  // overlap: (x - point) . normal - r.
+  template <int D, class V>
+  double gap(const V& x, double r) const {
+    return (x - point.head<D>()).dot(normal.head<D>()) - r;
+  }
 };
 
 // The periodic box. Its lengths may change in time (stress control), so State holds the
@@ -160,6 +170,12 @@ struct Model {
   uint64_t scene_hash = 0;  // of the grains, walls and periodicity: checkpoints refuse other systems
   SceneDesc desc;           // what the file said (for `check`, `params`, `get`)
 
+  // The modules the scene turns on (silt/module.hpp), in the order of the module list; core and
+  // dem are always on. Parameters of modules Model does not name are in `params`.
+  std::vector<std::string> modules;
+  bool module_on(std::string_view name) const;
+  ModuleParams params;
+
   int dim = 3;
   int rot = 3;  // rotational degrees of freedom per grain
   int64_t n_grains = 0, n_frozen = 0;
@@ -171,6 +187,9 @@ struct Model {
                      // mass unit of the inertial number (Peyneau 2009 sec. 5.3.3)
 
   Box box;
+  // Whether a stage reads the pair forces at the end of every step (a controlled box does), so
+  // that contact_forces stores them even in the steps whose end nothing sees.
+  bool pair_forces_every_step = false;
   BoxControl box_control;
   ShearControl shear;
   Preparation prepare;
@@ -194,6 +213,12 @@ struct Model {
   double contact_skin = 0;  // gap below which listed pairs are tested every step [m]; >= skin: all
   bool sort_grains = true;  // reorder grains by cell at list builds (N > kSortMin)
   static constexpr int64_t kSortMin = 1024;
+  // Whether the box deforms (controlled lengths, or simple shear): the grains then follow its
+  // affine flow.
+  bool deforming_box() const { return box_control.on || shear.on; }
+  // Largest centre distance at which two grains interact, 2 r_max + skin: the reach of the
+  // neighbour list, of its cells, and the smallest half period a box may have.
+  double interaction_range() const { return 2 * r_max + skin; }
 
   RenderSettings render;
 
@@ -201,6 +226,11 @@ struct Model {
   int64_t sample_every = 100;
   RunLimits limits;
 };
+
+// The number of steps of dt in a run of `time` [s]: ceil(time / dt), a last step that would
+// overshoot by less than 1e-9 dt not counted; -1 when it is more than 9e18. The one conversion of
+// a run length in time to steps (scene files, --time, the shell's `run Ts`).
+int64_t steps_in(double time, double dt);
 
 // Compile a validated scene into a Model. Throws SceneError with the location of the value that
 // makes the scene impossible to simulate (bad geometry, overlaps, unstable time step, ...).

@@ -2,6 +2,8 @@
 #pragma once
 
 #include <array>
+#include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -30,6 +32,8 @@ struct Measurements {
   double max_net_force = 0;  // largest |contact + wall + gravity force| on a free grain [N]
   double ke_fluct = 0;     // (1/2N) sum m |v - v_affine|^2: fluctuating translational energy per grain [J]
   std::array<std::array<double, 3>, 3> fabric{};  // <n (x) n> over grain-grain contacts (Peyneau 3.4.2)
+  Vec3a momentum{0, 0, 0};  // sum m v over free grains, the affine flow included [kg m/s]
+  double e_contact = 0;     // elastic energy stored in the contacts (normal and tangential springs) [J]
 };
 Measurements measure(const Model& m, const State& s);
 
@@ -48,10 +52,53 @@ double inertial_number(const Model& m, double shear_rate, double pressure);
 // for the linear laws (eq. 1.33; k_n of the lightest pair for the damping-ratio laws); 0 when P <= 0.
 double stiffness_number(const Model& m, double pressure);
 
+// Observables are declared by the modules (ModuleSpec::observables), one spec per name or per
+// family of names. A pattern names a family with placeholders: {a} and {b} an axis below the
+// dimension (x, y, z), {w} an axis of rotation (z only in 2D), {k} an index (a grain id, a wall,
+// a count): "stress.{a}{b}", "p[{k}].v{a}", "wall[{k}].f{a}", "pn.{k}".
+struct ObservableArgs {
+  int a = 0, b = 0;  // axes of {a} and {b}
+  int w = 0;         // component of {w} in the rotation arrays (0 for z in 2D)
+  int64_t k = -1;    // index of {k}
+};
+
+// What an observable's value is computed from: the state, and the measurements of it (a pass
+// over grains and contacts), made once per sample and only when an observable asks for them.
+class ObservableContext {
+ public:
+  ObservableContext(const Model& model, const State& state) : m(model), s(state) {}
+  const Model& m;
+  const State& s;
+  const Measurements& meas() const;
+  // Index of the grain with this id (grains are renumbered, ids are not).
+  int64_t index_of(int64_t id) const;
+
+ private:
+  mutable std::optional<Measurements> meas_;
+  mutable std::vector<int64_t> index_;
+};
+
+struct ObservableSpec {
+  std::string pattern;
+  std::string unit;  // "" for dimensionless numbers and counts
+  std::string doc;
+  std::function<double(const ObservableContext&, const ObservableArgs&)> value;
+  // "" when it applies to this model (with these arguments), else why not; empty: always.
+  std::function<std::string(const Model&, const ObservableArgs&)> check;
+  // {k}: how many indices exist (an index at or past it is refused, naming `k_what`), and how many
+  // of them `help` and completion list.
+  std::function<int64_t(const Model&)> k_count;
+  std::string k_what = "grain";
+  int64_t k_listed = 1;
+  std::string module;  // set when the table is assembled
+};
+
 // Returns "" when `name` is an observable of this model, else the reason (with a suggestion).
 std::string check_observable(const std::string& name, const Model& m);
-// Every observable name that applies to this model (for help and completion).
+// Every observable name that applies to this model (families listed with their first indices),
+// and its unit: for help and completion.
 std::vector<std::string> observable_names(const Model& m);
+std::vector<std::pair<std::string, std::string>> observable_units(const Model& m);
 
 // A compiled list of observables.
 class Observer {
@@ -66,13 +113,11 @@ class Observer {
 
  private:
   struct Item {
-    int kind;       // see observables.cpp
-    int component;  // axis or tensor index
-    int64_t grain;  // for p[K].*
+    const ObservableSpec* spec;
+    ObservableArgs args;
   };
   std::vector<std::string> names_, units_;
   std::vector<Item> items_;
-  bool needs_measure_ = false;
 };
 
 }  // namespace silt

@@ -8,6 +8,8 @@
 #pragma once
 
 #include <cstdint>
+#include <deque>
+#include <functional>
 #include <map>
 #include <optional>
 #include <string>
@@ -32,7 +34,15 @@ struct Range {
   bool lo_open = false, hi_open = false;
   bool contains(double x) const;
   std::string str() const;  // "[0, 1)", "> 0", ...
+  static Range any() { return {}; }
+  static Range positive() { return {0.0, 1e308, true, false}; }
+  static Range non_negative() { return {0.0, 1e308, false, false}; }
+  static Range closed(double lo, double hi) { return {lo, hi, false, false}; }
+  static Range open_closed(double lo, double hi) { return {lo, hi, true, false}; }
+  static Range closed_open(double lo, double hi) { return {lo, hi, false, true}; }
 };
+
+struct Model;
 
 struct KeySpec {
   std::string path;            // dotted; an array of tables is written "grains[]"
@@ -43,9 +53,35 @@ struct KeySpec {
   bool steerable = false;      // may change between two steps of a running simulation
   std::vector<std::string> choices;  // allowed strings (kString, kStringList), empty = any
   std::string doc;
+  // The value compile() chose when the scene gives none and there is no fixed default (a skin of
+  // a tenth of the largest diameter, a time step from the contact time, ...), for `params`.
+  std::function<std::string(const Model&)> computed;
+  std::string module;          // the module that owns the key (set when the schema is assembled)
 };
 
-const std::vector<KeySpec>& scene_schema();
+// Constraints between keys, declared with the keys of a module and checked when a scene is read:
+//   one_of: at most one of the alternatives may be given (each a set of keys: gravity.vector, or
+//           gravity.magnitude with gravity.angle); a change of one replaces the others;
+//   requires: `key` (given, or true for a boolean) needs one of `needs`.
+struct KeyRule {
+  enum class Kind { kOneOf, kRequires };
+  Kind kind = Kind::kOneOf;
+  std::vector<std::vector<std::string>> sides;  // kOneOf
+  std::string key;                              // kRequires
+  std::vector<std::string> needs;
+  std::string why;  // the end of the message: "... needs box.pressure: <why>"
+  static KeyRule one_of(std::vector<std::vector<std::string>> sides) {
+    return {Kind::kOneOf, std::move(sides), {}, {}, {}};
+  }
+  static KeyRule requires_any(std::string key, std::vector<std::string> needs, std::string why) {
+    return {Kind::kRequires, {}, std::move(key), std::move(needs), std::move(why)};
+  }
+};
+
+// Every key of the modules silt knows (silt/module.hpp), module by module; a deque, so that
+// pointers to keys stay valid when a module registers later.
+const std::deque<KeySpec>& scene_schema();
+const std::vector<KeyRule>& scene_rules();
 // The spec of a key path, with array indices normalised ("grains[3].radius" -> "grains[]...").
 const KeySpec* find_key_spec(std::string_view path);
 std::string normalise_key(std::string_view path);
@@ -83,6 +119,10 @@ class SceneDesc {
 
   // A SceneError at the location of `path`.
   [[noreturn]] void fail(std::string_view path, const std::string& message) const;
+  // Refuse a scene that breaks a KeyRule (two alternatives, a key without what it needs).
+  void check_rules() const;
+  // Remove the keys that `key` is an alternative to (a KeyRule::one_of).
+  void erase_alternatives_of(const std::string& key);
   // Refuse values that were given but never read (pbrt's rule).
   void check_all_used() const;
 

@@ -12,6 +12,11 @@
 
 namespace silt {
 
+namespace graph {
+class StepGraph;
+}
+class Workspaces;
+
 enum class RunEnd { kDone, kStatic, kInterrupted, kFailed };
 
 // Something to do with the state every `every` steps (samples, frames, VTK files), and at the
@@ -23,6 +28,7 @@ struct PeriodicHook {
 
 struct RunOptions {
   int64_t steps = 0;  // steps to do from the current state
+  double time = -1;   // or, when >= 0, simulated time to run [s] (steps_in(time, dt) steps)
   std::vector<PeriodicHook> hooks;
   std::function<void(const State&)> on_progress;  // a few times per second
   // At every step boundary, before the stop checks: where a shell applies steering and serves
@@ -74,11 +80,15 @@ class Simulation {
 
   std::vector<std::string> stage_names() const;
   std::string describe_graph() const;
+  // The modules' workspaces (core/workspace.hpp), for tests and benchmarks that look inside.
+  Workspaces& workspaces();
+  // The access check of the serial executor (graph/access_check.hpp), on by default in the
+  // sanitizer build.
+  void set_access_check(bool on);
 
  private:
   struct Impl;
-  void advance(State& s);
-  bool check(State& s);
+  void execute(graph::StepGraph& g, State& s);
   Model model_;
   State state_;
   int threads_;

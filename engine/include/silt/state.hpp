@@ -1,126 +1,116 @@
-// State: everything that changes during a run, as flat arrays (structure of arrays).
+// State: everything that changes during a run, as flat arrays (structure of arrays) and scalars.
 //
-// The array list is declared once (SILT_STATE_ARRAYS) and allocation, hashing, checkpoints and
-// printing are derived from it. Arrays are named <entity>_<quantity>; each line gives its shape,
-// unit, and the stage that writes it. Vectors are stored interleaved (x0 y0 z0 x1 ...): D
+// The field list is declared once (SILT_STATE_FIELDS), grouped by the module that owns each
+// field, with its extent (what it is indexed by, silt/fields.hpp), unit, and the stage that
+// writes it. Allocation, hashing, checkpoints, grain renumbering, the ids of the stages' access
+// sets and the shell's `fields` command are derived from it; a module may add fields of its own
+// (double arrays) through its ModuleSpec. Vectors are stored interleaved (x0 y0 z0 x1 ...): D
 // entries per grain, with D = Model::dim; rotations have R = Model::rot entries (1 in 2D).
 // Several States can share one Model (snapshots, restore, determinism tests).
 #pragma once
 
-#include <atomic>
+#include <array>
 #include <cstddef>
 #include <cstdint>
-#include <limits>
 #include <map>
+#include <span>
 #include <string>
+#include <type_traits>
 #include <vector>
 
+#include "silt/events.hpp"
+#include "silt/fields.hpp"
 #include "silt/model.hpp"
 
 namespace silt {
 
+// X(module, type, name, extent, unit, doc)
 // clang-format off
-#define SILT_STATE_ARRAYS(X)                                                                                   \
-  /* hot per-grain arrays */                                                                                   \
-  X(double,  particle_x,      "N*D", "m",     "centre, wrapped into periodic directions; kick_drift")            \
-  X(double,  particle_v,      "N*D", "m/s",   "velocity relative to the affine box flow; kick_drift, kick") \
-  X(double,  particle_w,      "N*R", "rad/s", "angular velocity; kick_drift, kick")                       \
-  X(double,  particle_f,      "N*D", "N",     "contact + wall force (gravity excluded); kick")            \
-  X(double,  particle_t,      "N*R", "N m",   "torque; kick")                                             \
-  X(double,  particle_r,      "N",   "m",     "radius; compile")                                                 \
-  X(double,  particle_inv_m,  "N",   "1/kg",  "inverse mass, 0 for frozen grains; compile")                      \
-  X(double,  particle_inv_i,  "N",   "1/(kg m^2)", "inverse moment of inertia, 0 for frozen grains; compile")    \
-  X(double,  particle_disp,   "N*D", "m",     "displacement relative to the affine flow since the last neighbour build; kick_drift") \
-  /* walls */                                                                                                  \
-  X(double,  wall_f,          "N*W*D", "N",   "force on the grain from each wall this step; wall_forces")         \
-  X(double,  particle_t_wall, "N*R", "N m",   "torque from the walls this step; wall_forces")                    \
-  X(double,  wall_hist,       "N*W*D", "m",   "grain-wall tangential spring elongation; wall_forces")            \
-  /* neighbour pairs: half Verlet list in CSR form, row i holds j > i sorted */                               \
-  X(int32_t, nbr_start,       "N+1", "",      "first pair of row i; update_neighbors")                           \
-  X(int32_t, pair_i,          "P",   "",      "first grain of the pair (the row); update_neighbors")             \
-  X(int32_t, pair_j,          "P",   "",      "second grain of the pair; update_neighbors")                      \
-  X(double,  pair_hist,       "P*D", "m",     "tangential spring elongation, kept while the pair is listed; contact_forces") \
-  X(double,  pair_f,          "P*D", "N",     "force on i from j (0 when apart); contact_forces")                \
-  X(uint8_t, pair_touch,      "P",   "",      "1 if the pair may hold a force or a spring: it touched at the last force evaluation, or was listed anew with a carried spring; 0 means both are zero; contact_forces") \
-  /* cold per-grain arrays */                                                                                  \
-  X(uint8_t, particle_frozen, "N",   "",      "1 for frozen grains; compile")                                    \
-  X(int32_t, particle_id,     "N",   "",      "stable identity (index in the scene); compile")                   \
-  X(int32_t, particle_group,  "N",   "",      "index of the [[grains]] table; compile")
+#define SILT_STATE_FIELDS(X)                                                                                    \
+  /* ---- core: time and the periodic box */                                                                   \
+  X(core,  double,  t,               kScalar,      "s",     "simulated time; advance_clock")                   \
+  X(core,  int64_t, step,            kScalar,      "",      "steps done; advance_clock")                       \
+  X(core,  double,  dt,              kScalar,      "s",     "time step of the step under way; choose_dt")      \
+  X(core,  Box,     box,             kScalar,      "m",     "current box: lengths change under stress control, the Lees-Edwards offset under shear; kick_drift") \
+  /* ---- dem: hot per-grain arrays */                                                                         \
+  X(dem,   double,  particle_x,      kGrainVec,    "m",     "centre, wrapped into periodic directions; kick_drift") \
+  X(dem,   double,  particle_v,      kGrainVec,    "m/s",   "velocity relative to the affine box flow; kick_drift, kick") \
+  X(dem,   double,  particle_w,      kGrainRot,    "rad/s", "angular velocity; kick_drift, kick")              \
+  X(dem,   double,  particle_f,      kGrainVec,    "N",     "pair forces, then the sum of every force source (gravity excluded); contact_forces, kick") \
+  X(dem,   double,  particle_t,      kGrainRot,    "N m",   "pair torques, then the sum of every torque source; contact_forces, kick") \
+  X(dem,   double,  particle_r,      kGrain,       "m",     "radius; compile")                                 \
+  X(dem,   double,  particle_inv_m,  kGrain,       "1/kg",  "inverse mass, 0 for frozen grains; compile")      \
+  X(dem,   double,  particle_inv_i,  kGrain,       "1/(kg m^2)", "inverse moment of inertia, 0 for frozen grains; compile") \
+  X(dem,   double,  particle_disp,   kGrainVec,    "m",     "displacement relative to the affine flow since the last neighbour build; kick_drift") \
+  /* ---- dem: walls */                                                                                        \
+  X(dem,   double,  wall_f,          kGrainWallVec, "N",    "force on the grain from each wall this step; wall_forces") \
+  X(dem,   double,  particle_t_wall, kGrainRot,    "N m",   "torque from the walls this step; wall_forces")    \
+  X(dem,   double,  wall_hist,       kGrainWallVec, "m",    "grain-wall tangential spring elongation; wall_forces") \
+  /* ---- dem: neighbour pairs, a half Verlet list in CSR form: row i holds j > i sorted */                  \
+  X(dem,   int32_t, nbr_start,       kRowStart,    "",      "first pair of row i; update_neighbors")           \
+  X(dem,   int32_t, pair_i,          kPair,        "",      "first grain of the pair (the row); update_neighbors") \
+  X(dem,   int32_t, pair_j,          kPair,        "",      "second grain of the pair; update_neighbors")      \
+  X(dem,   double,  pair_hist,       kPairVec,     "m",     "tangential spring elongation, kept while the pair is listed; contact_forces") \
+  X(dem,   double,  pair_f,          kPairVec,     "N",     "force on i from j (0 when apart); contact_forces") \
+  X(dem,   uint8_t, pair_touch,      kPair,        "",      "1 if the pair may hold a force or a spring: it touched at the last force evaluation, or was listed anew with a carried spring; 0 means both are zero; contact_forces") \
+  /* ---- dem: neighbour-list bookkeeping */                                                                  \
+  X(dem,   bool,    nbr_valid,       kScalar,      "",      "false forces a rebuild at the next update_neighbors; update_neighbors") \
+  X(dem,   double,  nbr_max_disp,    kScalar,      "m",     "largest non-affine displacement since the last build; kick_drift") \
+  X(dem,   double,  nbr_step_disp,   kScalar,      "m",     "largest non-affine displacement of the last drift; kick_drift") \
+  X(dem,   double,  nbr_strain,      kScalar,      "",      "affine strain since the last neighbour build; kick_drift, update_neighbors") \
+  X(dem,   int64_t, nbr_builds,      kScalar,      "",      "neighbour-list builds so far; update_neighbors") \
+  /* ---- dem: cold per-grain arrays */                                                                       \
+  X(dem,   uint8_t, particle_frozen, kGrain,       "",      "1 for frozen grains; compile")                    \
+  X(dem,   int32_t, particle_id,     kGrain,       "",      "stable identity (index in the scene); compile")   \
+  X(dem,   int32_t, particle_group,  kGrain,       "",      "index of the [[grains]] table; compile")          \
+  /* ---- shear: stress-controlled box lengths and Lees-Edwards shear */                                      \
+  X(shear, Vec3a,   box_rate,        kScalar,      "m/s",   "dL/dt of each box length; kick_drift, box_kick")  \
+  X(shear, Vec3a,   box_stress,      kScalar,      "Pa",    "sigma_aa driving each controlled length; box_kick") \
+  X(shear, Vec3a,   box_stretch,     kScalar,      "",      "L(t + dt) / L(t) of each length in the step under way; box_drift") \
+  X(shear, double,  shear_rate,      kScalar,      "1/s",   "gammadot of the flow v_x = gammadot (y - lo_y); kick_drift, box_kick") \
+  X(shear, double,  shear_stress,    kScalar,      "Pa",    "tau = -sigma_xy driving a stress-controlled shear; box_kick") \
+  X(shear, double,  le_displacement, kScalar,      "m",     "displacement of the upper image since t = 0; kick_drift") \
+  X(shear, double,  shear_strain,    kScalar,      "",      "accumulated strain, the integral of gammadot dt; kick_drift")
 // clang-format on
 
-// Where a numerical event was first seen in a step (lowest index wins: deterministic).
-struct Alarm {
-  std::atomic<int64_t> first{std::numeric_limits<int64_t>::max()};
-  std::atomic<double> value{0};
-  Alarm() = default;
-  Alarm(const Alarm& o) : first(o.first.load()), value(o.value.load()) {}
-  Alarm& operator=(const Alarm& o) {
-    first = o.first.load();
-    value = o.value.load();
-    return *this;
-  }
-  bool raised() const { return first.load() != std::numeric_limits<int64_t>::max(); }
-  void raise(int64_t index, double v);
-  void clear() { first = std::numeric_limits<int64_t>::max(); }
+// Ids of the built-in fields: fid::particle_x, ...; module fields follow fid::kBuiltinCount.
+namespace fid {
+enum : FieldId {
+#define SILT_FIELD_ID(module, type, name, extent, unit, doc) name,
+  SILT_STATE_FIELDS(SILT_FIELD_ID)
+#undef SILT_FIELD_ID
+      kBuiltinCount
 };
+}  // namespace fid
 
-// Why a run stopped on a numerical failure (exit code 3).
-struct StepFailure {
-  bool failed = false;
-  int64_t step = 0;
-  std::string stage;      // stage that detected it
-  int64_t particle = -1;  // grain id, when one is to blame
-  std::string parameter;  // the parameter to change
-  std::string message;    // full sentence
-};
+// Storage of a field: the value itself for a scalar, a vector otherwise.
+template <class T, Extent E>
+using FieldStorage = std::conditional_t<E == Extent::kScalar, T, std::vector<T>>;
+// Whether a field's storage (as for_each_field passes it) is an array.
+template <class T>
+inline constexpr bool kIsArray = false;
+template <class T>
+inline constexpr bool kIsArray<std::vector<T>> = true;
+
 
 struct StageTime {
   double seconds = 0;
   int64_t calls = 0;
 };
 
-// A conflict-free order of the pair loop's blocks of rows (built in dem/pair_schedule.cpp).
-struct PairSchedule {
-  static constexpr int64_t kBlock = 256;  // rows per block
-  std::vector<int32_t> blocks;        // block indices, grouped by colour
-  std::vector<int32_t> colour_start;  // colour c holds blocks[colour_start[c] .. colour_start[c + 1])
-  int colours() const { return static_cast<int>(colour_start.size()) - 1; }
-  // The same order as a graph: block b may run once its n_before[b] predecessors have run (the
-  // blocks of earlier colours that write a grain it writes, the nearest for each such grain); its
-  // successors are after[after_start[b] .. after_start[b + 1]). roots: the blocks without
-  // predecessors. Block b is the first to write the grains of the blocks
-  // clears[clears_start[b] .. clears_start[b + 1]).
-  std::vector<int32_t> n_before, after_start, after, roots, clears_start, clears;
-  std::vector<int32_t> waiting;  // predecessors not yet run, during a pass (dem/pair_schedule.hpp)
-};
-
 struct State {
-#define SILT_DECLARE_ARRAY(type, name, shape, unit, doc) std::vector<type> name;
-  SILT_STATE_ARRAYS(SILT_DECLARE_ARRAY)
-#undef SILT_DECLARE_ARRAY
+#define SILT_DECLARE_FIELD(module, type, name, extent, unit, doc) FieldStorage<type, Extent::extent> name{};
+  SILT_STATE_FIELDS(SILT_DECLARE_FIELD)
+#undef SILT_DECLARE_FIELD
+  // Fields of modules (double arrays), by id - fid::kBuiltinCount; empty for modules the scene
+  // does not enable.
+  std::vector<std::vector<double>> module_fields;
 
+  // Dimensions of the arrays (from the Model).
   int dim = 3, rot = 3;
-  int64_t n = 0;      // grains
+  int64_t n = 0;  // grains
   int n_walls = 0;
-
-  double t = 0;       // simulated time [s]
-  int64_t step = 0;   // steps done
-  double dt = 0;      // step in use [s]
-
-  Box box;                                    // current box; lengths change under stress control
-  std::array<double, 3> box_rate{0, 0, 0};    // dL/dt [m/s]; kick_drift, box_kick
-  std::array<double, 3> box_stress{0, 0, 0};  // sigma_aa driving the box [Pa]; box_kick
-  double shear_rate = 0;         // gammadot of the Lees-Edwards flow v_x = gammadot (y - lo_y) [1/s]
-  double shear_stress = 0;       // tau = -sigma_xy driving a stress-controlled shear [Pa]; box_kick
-  double le_displacement = 0;    // displacement of the upper image since t = 0 [m]; kick_drift
-  double shear_strain = 0;       // accumulated strain gamma = integral of gammadot dt; kick_drift
-  double nbr_strain = 0;         // affine strain since the last neighbour build; kick_drift
-
-  // Neighbour-list bookkeeping.
-  bool nbr_valid = false;     // false forces a rebuild at the next update_neighbors
-  double nbr_max_disp = 0;    // largest non-affine displacement since the last build [m]; kick_drift
-  double nbr_step_disp = 0;   // largest non-affine displacement of the last drift [m]; kick_drift
-  int64_t nbr_builds = 0;
+  std::array<int64_t, 3> cells{0, 0, 0};  // grid cells per direction (0: no grid)
 
   // Whether anything looks at the state at the end of this step. Simulation::run clears it for
   // the steps whose end nothing sees; such a step leaves pair_f as it was (scattered stores per
@@ -129,84 +119,79 @@ struct State {
   // at every boundary that a hook, a request, an interrupt or the caller sees.
   bool boundary_seen = true;
 
-  // Numerical events raised by stages during the current step.
-  Alarm alarm_nonfinite;  // grain index with a NaN/Inf velocity or position
-  Alarm alarm_overlap;    // grain index of a pair overlapping beyond limits.max_overlap
+  // Numerical events raised by stages during the current step, an exception thrown by one, and
+  // the failure they made (Simulation::step).
+  Events events;
+  InternalErrorSlot internal;
   StepFailure failure;
 
   std::map<std::string, StageTime> profile;  // wall time per stage
 
-  // Scratch space of the stages (cell lists, previous neighbour lists). Not part of the state's
-  // identity: never hashed nor saved.
-  struct Scratch {
-    Scratch() = default;
-    Scratch(const Scratch&) {}  // copies of a State start empty
-    Scratch& operator=(const Scratch&) {  // and keep their own buffers, but not a schedule or
-      schedule_valid = false;             // candidates of another list
-      candidates_valid = false;
-      return *this;
-    }
-    std::vector<int32_t> cell_of, cell_start, cell_items, row_count;
-    std::vector<std::vector<int32_t>> chunk_j;  // partners found per chunk of rows
-    std::vector<int32_t> old_start, old_j;
-    std::vector<double> old_hist;
-    std::vector<int32_t> perm;  // new index -> old index of the last spatial sort
-    std::vector<std::byte> permute_buf;  // a per-grain array being renumbered by perm
-    PairSchedule schedule;      // of the current pair list when schedule_valid
-    bool schedule_valid = false;
-    // Contact candidates (dem/contact_candidates.hpp): the listed pairs of block b that may touch
-    // are cand_p/i/j[nbr_start[b * kBlock] .. cand_end[b]) (pair index, grains).
-    std::vector<int32_t> cand_p, cand_i, cand_j, cand_end;
-    bool candidates_valid = false;
-    double cand_travel = 0;  // bound on any grain's displacement since the selection [m]
-    double cand_strain = 0;  // nbr_strain at the selection
-    int64_t cand_selections = 0;
-  } scratch;
-
   int64_t n_pairs() const { return static_cast<int64_t>(pair_j.size()); }
-  // Contact candidates of the current selection (dem/contact_candidates.hpp).
-  int64_t n_candidates() const {
-    int64_t c = 0;
-    for (size_t b = 0; b < scratch.cand_end.size(); ++b)
-      c += scratch.cand_end[b] - nbr_start[b * PairSchedule::kBlock];
-    return c;
-  }
+  // A module's field by id.
+  std::vector<double>& module_field(FieldId id) { return module_fields.at(id - fid::kBuiltinCount); }
+  const std::vector<double>& module_field(FieldId id) const { return module_fields.at(id - fid::kBuiltinCount); }
 };
 
-// A fresh State at t = 0 from the Model's initial grains.
+// A fresh State at t = 0 from the Model's initial grains; every field of the enabled modules
+// allocated at its extent.
 State make_state(const Model& m);
 
-// FNV-1a hash of every array and of t, step, dt and the box: equal hashes mean bitwise equal
-// states (the determinism test).
+// Number of items of a field of this extent in this state (pair extents: the current list).
+int64_t extent_size(const State& s, Extent e);
+
+// Visit every field: f(const FieldInfo&, storage&), storage being the scalar (T&) or the vector
+// (std::vector<T>&); module fields come last, as std::vector<double>&.
+template <class S, class F>
+void for_each_field(S& s, F&& f) {
+  const auto& info = field_infos();
+#define SILT_VISIT_FIELD(module, type, name, extent, unit, doc) f(info[fid::name], s.name);
+  SILT_STATE_FIELDS(SILT_VISIT_FIELD)
+#undef SILT_VISIT_FIELD
+  for (size_t k = 0; k < s.module_fields.size(); ++k) f(info[fid::kBuiltinCount + k], s.module_fields[k]);
+}
+
+// The bytes that make a field's value, in a fixed order: g(const void*, size_t) once per run of
+// bytes (a vector: its length, then its data; a Box: member by member, without padding).
+template <class G>
+void field_bytes(const double& v, G&& g) { g(&v, sizeof v); }
+template <class G>
+void field_bytes(const int64_t& v, G&& g) { g(&v, sizeof v); }
+template <class G>
+void field_bytes(const bool& v, G&& g) { g(&v, sizeof v); }
+template <class G>
+void field_bytes(const Vec3a& v, G&& g) { g(v.data(), sizeof(double) * 3); }
+template <class G>
+void field_bytes(const Box& b, G&& g) {
+  g(b.lo.data(), sizeof(double) * 3);
+  g(b.len.data(), sizeof(double) * 3);
+  g(b.periodic.data(), sizeof(bool) * 3);
+  g(&b.lees_edwards, sizeof(bool));
+  g(&b.le_offset, sizeof(double));
+}
+template <class T, class G>
+void field_bytes(const std::vector<T>& v, G&& g) {
+  const uint64_t n = v.size();
+  g(&n, sizeof n);
+  if (n) g(v.data(), n * sizeof(T));
+}
+
+// FNV-1a hash of one field, and of every field: equal hashes mean bitwise equal states (every
+// field of the list is in it, and nothing else is state).
+uint64_t field_hash(const State& s, FieldId id);
 uint64_t state_hash(const State& s);
+// Hash of every field, by id (the access check compares them around a stage).
+std::vector<uint64_t> field_hashes(const State& s);
 
-// Visit every array of the field list: f(name, std::vector<T>&).
-template <class F>
-void for_each_array(State& s, F&& f) {
-#define SILT_VISIT_ARRAY(type, name, shape, unit, doc) f(#name, s.name);
-  SILT_STATE_ARRAYS(SILT_VISIT_ARRAY)
-#undef SILT_VISIT_ARRAY
-}
-template <class F>
-void for_each_array(const State& s, F&& f) {
-#define SILT_VISIT_ARRAY(type, name, shape, unit, doc) f(#name, s.name);
-  SILT_STATE_ARRAYS(SILT_VISIT_ARRAY)
-#undef SILT_VISIT_ARRAY
-}
-
-// Visit every array with its declared shape ("N", "N*D", "P", ...): f(name, shape, vector&).
-template <class F>
-void for_each_array_shaped(State& s, F&& f) {
-#define SILT_VISIT_ARRAY(type, name, shape, unit, doc) f(#name, shape, s.name);
-  SILT_STATE_ARRAYS(SILT_VISIT_ARRAY)
-#undef SILT_VISIT_ARRAY
-}
+// A double array field by id (built-in or a module's); throws std::logic_error for another kind.
+std::span<double> double_field(State& s, FieldId id);
+std::span<const double> double_field(const State& s, FieldId id);
 
 // Index of every grain id (inverse of particle_id): grains are kept in spatial order, so an
 // index is not an identity.
 std::vector<int64_t> index_of_ids(const State& s);
 
-// Bytes held by the State's arrays (capacity), for memory reports.
+// Bytes held by the State's fields (capacity), for memory reports.
 size_t state_bytes(const State& s);
 
 }  // namespace silt

@@ -8,12 +8,14 @@
 
 #include "core/small_vec.hpp"
 #include "dem/contact_candidates.hpp"
-#include "shear/periodic_image.hpp"
+#include "dem/workspace.hpp"
+#include "core/periodic_image.hpp"
 #include "silt/scene.hpp"
 #include "silt/simulation.hpp"
 #include "support/scenes.hpp"
 
 using namespace silt;
+using silt::dem::PairSchedule;
 
 namespace {
 
@@ -21,9 +23,8 @@ std::string scene(int dim, double contact_skin) { return test::frictional_gas(di
 
 // Every pair touching now is among the candidates of its block, which are in list order.
 template <int D>
-int64_t missing_candidates(const State& s) {
-  const shear::PeriodicImage<D> img(s.box);
-  const auto& sc = s.scratch;
+int64_t missing_candidates(const State& s, const dem::DemWorkspace& sc) {
+  const PeriodicImage<D> img(s.box);
   std::vector<char> is_cand(s.n_pairs(), 0);
   int64_t bad = 0;
   for (size_t b = 0; b < sc.cand_end.size(); ++b) {
@@ -57,8 +58,9 @@ TEST_CASE("contact candidates hold every touching pair and change no bit of the 
       for (int step = 0; step < 300; ++step) {
         REQUIRE(sim->step());
         const State& s = sim->state();
-        REQUIRE((dim == 2 ? missing_candidates<2>(s) : missing_candidates<3>(s)) == 0);
-        candidates += s.n_candidates();
+        const dem::DemWorkspace& w = test::dem_workspace(*sim);
+        REQUIRE((dim == 2 ? missing_candidates<2>(s, w) : missing_candidates<3>(s, w)) == 0);
+        candidates += w.n_candidates(s.nbr_start);
         pairs += s.n_pairs();
         for (uint8_t t : s.pair_touch) touching += t;
       }
@@ -68,7 +70,7 @@ TEST_CASE("contact candidates hold every touching pair and change no bit of the 
         CHECK(candidates == pairs);  // every listed pair
       } else {
         CHECK(candidates < pairs);
-        CHECK(s.scratch.cand_selections > s.nbr_builds);  // re-selected between rebuilds
+        CHECK(test::dem_workspace(*sim).cand_selections > s.nbr_builds);  // re-selected between rebuilds
       }
       hashes.push_back(state_hash(s));
     }

@@ -3,7 +3,7 @@
 
 #include <cmath>
 
-#include "shear/periodic_image.hpp"
+#include "core/periodic_image.hpp"
 #include "support/scenes.hpp"
 
 using namespace silt;
@@ -94,7 +94,7 @@ double total_energy(const Model& m, const State& s) {
     for (int a = 0; a < 3; ++a) e += 0.5 * s.particle_v[3 * i + a] * s.particle_v[3 * i + a] / s.particle_inv_m[i];
     for (int a = 0; a < 3; ++a) e += 0.5 * s.particle_w[3 * i + a] * s.particle_w[3 * i + a] / s.particle_inv_i[i];
   }
-  const shear::PeriodicImage<3> img(s.box);
+  const PeriodicImage<3> img(s.box);
   for (int64_t i = 0; i < s.n; ++i)
     for (int32_t p = s.nbr_start[i]; p < s.nbr_start[i + 1]; ++p) {
       Vec3 d = at<3>(s.particle_x.data(), i) - at<3>(s.particle_x.data(), s.pair_j[p]);

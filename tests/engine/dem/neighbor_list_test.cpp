@@ -5,7 +5,7 @@
 #include <map>
 #include <set>
 
-#include "shear/periodic_image.hpp"
+#include "core/periodic_image.hpp"
 #include "dem/stages.hpp"
 #include "support/scenes.hpp"
 
@@ -86,7 +86,7 @@ TEST_CASE("cell list + Verlet list find exactly the pairs of a brute-force searc
           // Move on and force a rebuild.
           for (int k = 0; k < 200; ++k) REQUIRE(sim->step());
           sim->state().nbr_valid = false;
-          dem::update_neighbors(sim->model(), sim->state());
+          dem::update_neighbors(sim->model(), sim->state(), test::dem_workspace(*sim));
         }
       }
     }
@@ -134,7 +134,7 @@ TEST_CASE("tangential histories survive a rebuild of the list") {
   for (int64_t i = 0; i < s.n; ++i)
     for (int32_t p = s.nbr_start[i]; p < s.nbr_start[i + 1]; ++p) before[{static_cast<int>(i), s.pair_j[p]}] = s.pair_hist[3 * p + 1];
   s.nbr_valid = false;
-  dem::update_neighbors(sim->model(), s);  // same positions: same pairs
+  dem::update_neighbors(sim->model(), s, test::dem_workspace(*sim));  // same positions: same pairs
   int64_t checked = 0;
   for (int64_t i = 0; i < s.n; ++i)
     for (int32_t p = s.nbr_start[i]; p < s.nbr_start[i + 1]; ++p) {
@@ -184,10 +184,10 @@ dt_over_tc = 0.05
   a->model_for_steering().sort_grains = true;
   for (auto* sim : {a.get(), b.get()}) {
     sim->state().nbr_valid = false;
-    dem::update_neighbors(sim->model(), sim->state());
-    dem::contact_forces(sim->model(), sim->state());
+    dem::update_neighbors(sim->model(), sim->state(), test::dem_workspace(*sim));
+    dem::contact_forces(sim->model(), sim->state(), test::dem_workspace(*sim));
     dem::wall_forces(sim->model(), sim->state());
-    dem::add_wall_forces(sim->model(), sim->state());
+    dem::sum_forces(sim->model(), sim->state(), {{fid::wall_f, fid::particle_t_wall}});
   }
   const State& sa = a->state();
   const State& sb = b->state();

@@ -28,7 +28,7 @@ void check_touch_pass(bool lees_edwards, int64_t n_pairs) {
   }
   box.lees_edwards = lees_edwards;
   box.le_offset = lees_edwards ? 2.37 : 0.0;
-  const shear::PeriodicImage<D> img(box);
+  const PeriodicImage<D> img(box);
   std::mt19937_64 rng(17 + D + 10 * lees_edwards);
   std::uniform_real_distribution<double> u(0.0, 1.0);
   const int n = 40;
@@ -109,7 +109,7 @@ TEST_CASE("after every step pair_touch says which listed pairs touch, and pairs 
   for (int step = 0; step < 400; ++step) {
     REQUIRE(sim.step());
     const State& s = sim.state();
-    const shear::PeriodicImage<3> img(s.box);
+    const PeriodicImage<3> img(s.box);
     int64_t wrong = 0;
     for (int64_t p = 0; p < s.n_pairs(); ++p) {
       const int32_t i = s.pair_i[p], j = s.pair_j[p];

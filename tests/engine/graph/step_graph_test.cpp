@@ -1,35 +1,188 @@
-// The step graph: stages per enabled module, and the access check that keeps concurrent stages
-// from touching the same data.
+// The step graph: stages per enabled module, the static access check that keeps concurrent stages
+// from touching the same field, the run-time check that a stage touches only what it declares,
+// loop nodes, and the claim that the graph is the only place where stages are called.
 #include <doctest/doctest.h>
+#include <tbb/task_arena.h>
 
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "graph/adders.hpp"
 #include "graph/step_graph.hpp"
 #include "support/scenes.hpp"
 
 using namespace silt;
 
+namespace {
+
+std::vector<std::string> names(const Model& m, graph::Phase phase = graph::Phase::kStep) {
+  Workspaces ws;
+  std::vector<std::string> out;
+  for (const auto& s : graph::build_stage_list(m, ws, phase).stages) out.push_back(s.name);
+  return out;
+}
+
+graph::Stage stage(const char* name, std::vector<int> deps, graph::Access reads, graph::Access writes,
+                   graph::StageFn fn = nullptr) {
+  graph::Stage s;
+  s.name = name;
+  s.deps = std::move(deps);
+  s.why.assign(s.deps.size(), "test");
+  s.reads = std::move(reads);
+  s.writes = std::move(writes);
+  s.fn = std::move(fn);
+  return s;
+}
+
+}  // namespace
+
 TEST_CASE("stages follow the modules a scene enables") {
-  auto names = [](const Model& m) {
-    std::vector<std::string> out;
-    for (const auto& s : graph::build_stages(m)) out.push_back(s.name);
-    return out;
-  };
   const Model chute = compile(load_scene_file(test::scene_path("chute")));
-  CHECK(names(chute) == std::vector<std::string>{"kick_drift", "update_neighbors", "contact_forces", "kick"});
+  CHECK(names(chute) == std::vector<std::string>{"choose_dt", "kick_drift", "update_neighbors", "contact_forces", "kick",
+                                                 "energy_check", "advance_clock"});
   const Model silo = compile(load_scene_file(test::scene_path("silo")));
-  CHECK(names(silo) ==
-        std::vector<std::string>{"kick_drift", "update_neighbors", "contact_forces", "wall_forces", "kick"});
+  CHECK(names(silo) == std::vector<std::string>{"choose_dt", "kick_drift", "update_neighbors", "contact_forces",
+                                                "wall_forces", "kick", "energy_check", "advance_clock"});
+  // A deforming box drifts before the grains and is kicked after them.
   const Model pack = compile(load_scene_file(test::scene_path("pack_2d")));
-  CHECK(names(pack).back() == "box_kick");
+  CHECK(names(pack) == std::vector<std::string>{"choose_dt", "box_drift", "kick_drift", "update_neighbors",
+                                                "contact_forces", "kick", "energy_check", "box_kick", "advance_clock"});
+  // The forces of the first state (what Simulation::prepare runs): the same adders.
+  CHECK(names(silo, graph::Phase::kSetup) ==
+        std::vector<std::string>{"update_neighbors", "contact_forces", "wall_forces", "sum_forces", "clear_springs"});
+  CHECK(names(pack, graph::Phase::kSetup).back() == "box_stress");
+}
+
+TEST_CASE("silt check's graph names the module of every stage and why each waits") {
+  auto sim = test::simulation_from(test::frictional_gas(3, 0.5, 0.0, 0.0), 1);
+  const std::string g = sim->describe_graph();
+  CHECK(g.find("contact_forces") != std::string::npos);
+  CHECK(g.find("[dem]") != std::string::npos);
+  CHECK(g.find("[shear]") != std::string::npos);
+  CHECK(g.find("after update_neighbors: iterates the (possibly rebuilt) pair list") != std::string::npos);
 }
 
 TEST_CASE("the access check finds stages that may race") {
-  std::vector<graph::Stage> st(3);
-  st[0] = {"a", nullptr, {}, {}, {"x"}, {"y"}};
-  st[1] = {"b", nullptr, {0}, {"needs y"}, {"y"}, {"z"}};
-  st[2] = {"c", nullptr, {0}, {"needs y"}, {"z"}, {"w"}};  // reads z while b writes it, unordered
-  CHECK(graph::check_access(st).find("b and c may run at the same time and both use z") != std::string::npos);
+  std::vector<graph::Stage> st;
+  st.push_back(stage("a", {}, {fid::particle_x}, {fid::particle_v}));
+  st.push_back(stage("b", {0}, {fid::particle_v}, {fid::particle_f}));
+  st.push_back(stage("c", {0}, {fid::particle_f}, {fid::particle_t}));  // reads what b writes, unordered
+  CHECK(graph::check_access(st).find("b and c may run at the same time and both use particle_f") != std::string::npos);
   st[2].deps.push_back(1);
+  st[2].why.push_back("test");
   CHECK(graph::check_access(st).empty());
-  st[0].writes.push_back("w");  // a is before c: no conflict
+  st[0].writes.push_back(fid::particle_t);  // a is before c: no conflict
   CHECK(graph::check_access(st).empty());
+}
+
+TEST_CASE("a graph whose dependencies form a cycle is refused") {
+  const Model m = compile(load_scene_file(test::scene_path("chute")));
+  Workspaces ws;
+  graph::GraphBuilder b(m, ws, graph::Phase::kStep);
+  const int x = b.add("x", nullptr, {}, {fid::particle_v});
+  const int y = b.add("y", nullptr, {}, {fid::particle_x});
+  b.after(x, y, "x needs y");
+  b.after(y, x, "y needs x");
+  CHECK_THROWS_WITH_AS(b.take(), doctest::Contains("cycle"), std::logic_error);
+}
+
+TEST_CASE("the run-time access check names a stage that writes or reads an undeclared field") {
+  const Model m = compile(load_scene_file(test::scene_path("collision_normal")));
+  auto run = [&](graph::Stage st) {
+    graph::StageList list;
+    list.stages.push_back(std::move(st));
+    graph::StepGraph g(std::move(list));
+    g.set_access_check(true);
+    State s = make_state(m);
+    g.run_serial(m, s);
+    return s.internal.raised() ? s.internal.message() : std::string();
+  };
+  // Declares nothing, writes the velocities.
+  CHECK(run(stage("sloppy_writer", {}, {}, {}, [](const Model&, State& s) { s.particle_v[0] += 1; }))
+            .find("stage sloppy_writer writes field particle_v") != std::string::npos);
+  // Declares the force it writes, but not the positions it reads.
+  CHECK(run(stage("sloppy_reader", {}, {}, {fid::particle_f},
+                  [](const Model&, State& s) { s.particle_f[0] = 2 * s.particle_x[0]; }))
+            .find("stage sloppy_reader reads field particle_x") != std::string::npos);
+  // A stage that writes part of a field reads the rest of it.
+  CHECK(run(stage("partial", {}, {}, {fid::particle_f}, [](const Model&, State& s) { s.particle_f[0] = 1; }))
+            .find("reads field particle_f") != std::string::npos);
+  // Honest stages pass.
+  CHECK(run(stage("honest", {}, {fid::particle_x}, {fid::particle_f}, [](const Model&, State& s) {
+          for (size_t k = 0; k < s.particle_f.size(); ++k) s.particle_f[k] = 2 * s.particle_x[k];
+        })).empty());
+}
+
+TEST_CASE("every stage of the shipped scenes touches only what it declares") {
+  for (std::string name : {"collision_normal", "bounce_dry", "pack_2d", "silo", "shear2d_dry"}) {
+    CAPTURE(name);
+    Model m = compile(load_scene_file(test::scene_path(name)));
+    Simulation sim(std::move(m), 1);
+    sim.set_access_check(true);
+    for (int k = 0; k < 40; ++k) {
+      const bool ok = sim.step();
+      INFO(sim.state().failure.message);
+      REQUIRE(ok);
+    }
+  }
+}
+
+TEST_CASE("a loop node runs its body M times, on the serial and the flow executor") {
+  // The DEM's stages with the clock, four times per run of the node: the same state as four
+  // steps of the plain graph.
+  const Model m = test::model_from(test::frictional_gas(3, 0.0, 0.0, 0.0));
+  tbb::task_arena arena(2);
+  for (bool flow : {false, true}) {
+    CAPTURE(flow);
+    Workspaces ws;
+    Simulation plain(m, 1);
+    plain.prepare();
+    State s = plain.state();
+    std::unique_ptr<graph::StepGraph> looped;
+    arena.execute([&] {
+      graph::GraphBuilder b(m, ws, graph::Phase::kStep);
+      b.set_module("test");
+      b.loop("dem_cycle", 4, [](graph::GraphBuilder& body) {
+        graph::add_core_stages(body);
+        graph::add_dem_stages(body);
+        body.add_last("advance_clock", [](const Model&, State& st) {
+          st.t += st.dt;
+          ++st.step;
+        }, {fid::dt, fid::t, fid::step}, {fid::t, fid::step});
+      });
+      looped = std::make_unique<graph::StepGraph>(b.take());
+    });
+    CHECK(looped->describe().find("dem_cycle x 4") != std::string::npos);
+    CHECK(looped->stages().size() == 1);
+    for (int k = 0; k < 10; ++k) arena.execute([&] { flow ? looped->run_flow(m, s) : looped->run_serial(m, s); });
+    for (int k = 0; k < 40; ++k) REQUIRE(plain.step());
+    CHECK(s.step == 40);
+    CHECK(state_hash(s) == state_hash(plain.state()));
+    CHECK(s.profile["kick"].calls == 40);
+    CHECK(s.profile["dem_cycle"].calls == 10);
+  }
+}
+
+TEST_CASE("the step graph is the only place where stages are called") {
+  // No engine source outside engine/graph/ calls a stage function; tests and benchmarks may.
+  const std::vector<std::string> stages = {"kick_drift", "update_neighbors", "contact_forces", "wall_forces",
+                                           "kick",       "sum_forces",       "clear_springs",  "energy_check",
+                                           "box_drift",  "box_kick",         "box_stress"};
+  namespace fs = std::filesystem;
+  int files = 0;
+  for (const auto& e : fs::recursive_directory_iterator(fs::path(SILT_SOURCE_DIR) / "engine")) {
+    if (e.path().extension() != ".cpp" || e.path().parent_path().filename() == "graph") continue;
+    ++files;
+    std::ifstream in(e.path());
+    std::stringstream text;
+    text << in.rdbuf();
+    const std::string src = text.str();
+    for (const std::string& name : stages)
+      for (const char* ns : {"dem::", "shear::"}) {
+        INFO(e.path().string() << " calls " << ns << name);
+        CHECK(src.find(ns + name + "(") == std::string::npos);
+      }
+  }
+  CHECK(files > 20);
 }

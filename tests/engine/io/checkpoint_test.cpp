@@ -139,14 +139,14 @@ TEST_CASE("a checkpoint of another format version is refused with both versions"
   }
   uint32_t version;
   std::memcpy(&version, bytes.data() + 8, 4);
-  CHECK(version == 4);
-  version = 3;  // an older silt's file, whole and with a right checksum
+  CHECK(version == 5);
+  version = 4;  // an older silt's file, whole and with a right checksum
   std::memcpy(bytes.data() + 8, &version, 4);
   const uint64_t sum = fnv1a(bytes.data(), bytes.size() - 8);
   std::memcpy(bytes.data() + bytes.size() - 8, &sum, 8);
   std::ofstream(path, std::ios::binary | std::ios::trunc).write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
   CHECK_THROWS_WITH_AS(read_checkpoint(path, a->model()),
-                       doctest::Contains("has format version 3; this silt reads version 4"), IoError);
+                       doctest::Contains("has format version 4; this silt reads version 5"), IoError);
   std::remove(path.c_str());
 }
 

@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "shear/periodic_image.hpp"
+#include "core/periodic_image.hpp"
 #include "dem/stages.hpp"
 #include "silt/contacts.hpp"
 #include "silt/observables.hpp"
@@ -168,13 +168,13 @@ TEST_CASE("Lees-Edwards nearest image: hand-computed separations through the she
   }
   // The kernels' PeriodicImage gives the same numbers.
   {
-    const shear::PeriodicImage<3> img(b3);
+    const PeriodicImage<3> img(b3);
     Vec3 d(4, 7, 5);
     img.apply(d);
     CHECK(d[0] == doctest::Approx(4.5));
     CHECK(d[1] == doctest::Approx(-1.0));
     CHECK(d[2] == doctest::Approx(-1.0));
-    const shear::PeriodicImage<2> img2(c);
+    const PeriodicImage<2> img2(c);
     Vec2 e(-4, -6);
     img2.apply(e);
     CHECK(e[0] == doctest::Approx(-4.5));
@@ -209,11 +209,11 @@ TEST_CASE("Lees-Edwards nearest image agrees with an exhaustive search over the 
       for (int k = 0; k < dim; ++k) REQUIRE(got[k] == doctest::Approx(want[k]).epsilon(1e-12).scale(10));
       if (dim == 2) {
         Vec2 v(d[0], d[1]);
-        shear::PeriodicImage<2>(b).apply(v);
+        PeriodicImage<2>(b).apply(v);
         for (int k = 0; k < 2; ++k) REQUIRE(v[k] == got[k]);
       } else {
         Vec3 v(d[0], d[1], d[2]);
-        shear::PeriodicImage<3>(b).apply(v);
+        PeriodicImage<3>(b).apply(v);
         for (int k = 0; k < 3; ++k) REQUIRE(v[k] == got[k]);
       }
     }
@@ -225,7 +225,7 @@ TEST_CASE("PeriodicImage wrap of a point leaving through the top or the bottom o
   // lo = (-3, 2), L = (10, 8), offset 7.5. Through the top: y - L_y, x - offset; through the
   // bottom: y + L_y, x + offset; then x wrapped into [-3, 7).
   const Box b = sheared_box(2, {-3, 2, 0}, {10, 8, 1}, 7.5);
-  const shear::PeriodicImage<2> img(b);
+  const PeriodicImage<2> img(b);
   struct Case {
     double x, y, want_x, want_y;
   };
@@ -262,7 +262,7 @@ TEST_CASE("PeriodicImage wrap of a point leaving through the top or the bottom o
   // 3D: z wrapped independently of the shift.
   const Box b3 = sheared_box(3, {0, 0, 0}, {10, 8, 6}, 2.25);
   Vec3 p(1, 8.5, 6.5);
-  shear::PeriodicImage<3>(b3).wrap(p, b3);
+  PeriodicImage<3>(b3).wrap(p, b3);
   CHECK(p[0] == doctest::Approx(8.75));  // 1 - 2.25 + 10
   CHECK(p[1] == doctest::Approx(0.5));
   CHECK(p[2] == doctest::Approx(0.5));
@@ -553,12 +553,12 @@ dt = 1e-3
       CHECK(contacts_seen > 0);  // the shear brought grains into contact
       // Fresh lists at these positions for offsets across [0, L_x): shifts by whole and
       // fractional cells, half the box, just below L_x.
-      const double lx = s.box.len[0], cell = lx / std::floor(lx / (2 * m.r_max + m.skin));
+      const double lx = s.box.len[0], cell = lx / std::floor(lx / m.interaction_range());
       for (double off : {0.0, 0.37 * cell, cell, 1.5 * cell, 0.5 * lx, lx - 0.6 * cell, lx - 1e-9, s.box.le_offset}) {
         CAPTURE(off);
         s.box.le_offset = off;
         s.nbr_valid = false;
-        dem::update_neighbors(m, s);
+        dem::update_neighbors(m, s, test::dem_workspace(*sim));
         const auto list = test::listed_pairs(s);
         CHECK(static_cast<int64_t>(list.size()) == s.n_pairs());  // no duplicate
         const auto near = pairs_within(s, m.skin);
@@ -567,7 +567,7 @@ dt = 1e-3
         const auto want = pairs_within(s, 0.0);
         CHECK(touching(s) == want);
         // The force stage sees the same contacts: a force on exactly the touching pairs.
-        dem::contact_forces(m, s);
+        dem::contact_forces(m, s, test::dem_workspace(*sim));
         std::set<std::pair<int, int>> forced;
         for (int64_t i = 0; i < s.n; ++i)
           for (int32_t p = s.nbr_start[i]; p < s.nbr_start[i + 1]; ++p) {

@@ -3,7 +3,7 @@
 
 #include "silt/model.hpp"
 
-namespace silt::scene {
+namespace silt::dem {
 
 // Fills m.init, m.n_grains, m.n_frozen, m.group_names and the radius/mass statistics.
 // Requires m.dim, m.box and m.walls. Throws SceneError at the offending key.
@@ -12,4 +12,4 @@ void setup_grains(const SceneDesc& d, Model& m);
 // Refuse overlaps beyond limits.max_overlap at t = 0 (grain-grain and grain-wall).
 void check_initial_overlaps(const Model& m);
 
-}  // namespace silt::scene
+}  // namespace silt::dem

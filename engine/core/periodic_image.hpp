@@ -11,7 +11,7 @@
 #include "silt/model.hpp"
 #include "silt/vec.hpp"
 
-namespace silt::shear {
+namespace silt {
 
 template <int D>
 struct PeriodicImage {
@@ -70,4 +70,4 @@ struct PeriodicImage {
   double image_inv[D];
 };
 
-}  // namespace silt::shear
+}  // namespace silt

@@ -3,7 +3,7 @@
 
 #include "silt/model.hpp"
 
-namespace silt::scene {
+namespace silt::dem {
 
 // Reads [contact] into m.contact (only the keys of the chosen law).
 void read_contact_law(const SceneDesc& d, Model& m);
@@ -16,4 +16,4 @@ void derive_contact_scales(const SceneDesc& d, Model& m);
 // reduced radius r_eq; Hertz needs the largest overlap reached (its contact time depends on it).
 double contact_time(const ContactParams& p, double m_eff, double r_eq, double max_overlap);
 
-}  // namespace silt::scene
+}  // namespace silt::dem

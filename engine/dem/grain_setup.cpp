@@ -3,7 +3,7 @@
 // All draws come from one seeded generator per table (scene.seed, table index), so a scene gives
 // the same grains everywhere. Random placement is random sequential addition: each grain is
 // tried at uniform positions until it overlaps neither a placed grain nor a wall.
-#include "scene/grain_setup.hpp"
+#include "dem/grain_setup.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -14,7 +14,7 @@
 #include "core/rng.hpp"
 #include "core/text.hpp"
 
-namespace silt::scene {
+namespace silt::dem {
 namespace {
 
 std::string fmt_(double x) { return format_number(x, 6); }
@@ -257,9 +257,7 @@ int64_t group_count(const SceneDesc& d, const Model& m, int g, Group& G) {
 }
 
 double wall_gap(const Model& m, const double* x, double r, const Wall& w) {
-  double s = 0;
-  for (int k = 0; k < m.dim; ++k) s += (x[k] - w.point[k]) * w.normal[k];
-  return s - r;
+  return m.dim == 2 ? w.gap<2>(at<2>(x, 0), r) : w.gap<3>(at<3>(x, 0), r);
 }
 
 void place_random(const SceneDesc& d, Model& m, int g, const Group& G, int64_t first, Rng& rng,
@@ -492,4 +490,4 @@ void check_initial_overlaps(const Model& m) {
   }
 }
 
-}  // namespace silt::scene
+}  // namespace silt::dem

@@ -1,11 +1,19 @@
-#include "scene/contact_setup.hpp"
+#include "dem/contact_setup.hpp"
 
 #include <algorithm>
 #include <cmath>
 
 #include "dem/contact_laws.hpp"
 
-namespace silt::scene {
+namespace silt {
+
+double verlet_stability_limit(double w0, double zeta) {
+  return 2.0 / w0 * (std::sqrt(1.0 + zeta * zeta) - zeta);
+}
+
+}  // namespace silt
+
+namespace silt::dem {
 
 constexpr double kPi = 3.14159265358979323846;
 
@@ -87,4 +95,4 @@ void derive_contact_scales(const SceneDesc& d, Model& m) {
   m.dt_stable = verlet_stability_limit(std::sqrt(m.k_max / m.m_eff_min), zeta);
 }
 
-}  // namespace silt::scene
+}  // namespace silt::dem

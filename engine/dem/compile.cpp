@@ -1,0 +1,123 @@
+// The DEM's part of compile(): contact law, walls, grains, neighbour search, contact time and
+// stability limit; then, once every module is in, the energy the scene can supply and the
+// initial overlaps.
+#include <cmath>
+
+#include "core/rng.hpp"
+#include "core/text.hpp"
+#include "dem/contact_setup.hpp"
+#include "dem/grain_setup.hpp"
+#include "dem/module.hpp"
+
+namespace silt::dem {
+namespace {
+
+std::string fmt_(double x) { return format_number(x, 6); }
+
+void setup_walls(const SceneDesc& d, Model& m) {
+  const int n = d.group_count("walls");
+  for (int w = 0; w < n; ++w) {
+    const std::string p = "walls[" + std::to_string(w) + "].";
+    const auto pt = d.reals(p + "point"), nr = d.reals(p + "normal");
+    if (static_cast<int>(pt.size()) != m.dim) d.fail(p + "point", "needs " + std::to_string(m.dim) + " entries");
+    if (static_cast<int>(nr.size()) != m.dim) d.fail(p + "normal", "needs " + std::to_string(m.dim) + " entries");
+    Wall wall;
+    wall.point = Vec3::Zero();
+    wall.normal = Vec3::Zero();
+    for (int k = 0; k < m.dim; ++k) {
+      wall.point[k] = pt[k];
+      wall.normal[k] = nr[k];
+    }
+    const double len = wall.normal.norm();
+    if (!(len > 0)) d.fail(p + "normal", "the wall normal is zero");
+    wall.normal /= len;
+    for (int k = 0; k < m.dim; ++k)
+      if (m.box.periodic[k] && std::abs(wall.normal[k]) > 1e-12)
+        d.fail(p + "normal", "a wall cannot cut a periodic direction (axis " + std::string(1, "xyz"[k]) + ")");
+    wall.friction = d.has(p + "friction") ? d.real(p + "friction") : m.contact.friction;
+    m.walls.push_back(wall);
+  }
+}
+
+// The mass unit of the inertial number I = gammadot sqrt(m / (a^(d-2) P)): Peyneau (2009) takes
+// "the mass of a grain of diameter a", a the largest diameter (sec. 5.3.3, for the 2D disks of
+// diameters in [0.7 a, a]; the monodisperse spheres of ch. 3 have a single mass). With several
+// densities, that of the free grains' total mass over their total volume.
+void setup_inertial_mass(Model& m) {
+  double mass = 0, volume = 0;
+  for (int64_t i = 0; i < m.n_grains; ++i)
+    if (!m.init.frozen[i] || m.n_frozen == m.n_grains) {
+      mass += m.init.mass[i];
+      volume += grain_volume(m.dim, m.init.radius[i]);
+    }
+  m.m_a = mass / volume * grain_volume(m.dim, 0.5 * m.a_max);
+}
+
+// Identity of the system a checkpoint belongs to: dimension, periodicity, walls and every
+// grain's size, mass, group and frozen flag. Run parameters (friction, time step, pressure, ...)
+// are not part of it, so a prepared packing can be restored and run with other values.
+uint64_t system_fingerprint(const Model& m) {
+  uint64_t h = fnv1a(&m.dim, sizeof m.dim);
+  h = fnv1a(&m.n_grains, sizeof m.n_grains, h);
+  h = fnv1a(m.box.periodic.data(), sizeof(bool) * 3, h);
+  const size_t nw = m.walls.size();
+  h = fnv1a(&nw, sizeof nw, h);
+  h = fnv1a(m.init.radius.data(), sizeof(double) * m.init.radius.size(), h);
+  h = fnv1a(m.init.mass.data(), sizeof(double) * m.init.mass.size(), h);
+  h = fnv1a(m.init.frozen.data(), m.init.frozen.size(), h);
+  h = fnv1a(m.init.group.data(), sizeof(int32_t) * m.init.group.size(), h);
+  return h;
+}
+
+void setup_neighbors(const SceneDesc& d, Model& m) {
+  m.skin = d.has("neighbor.skin") ? d.real("neighbor.skin") : 0.1 * m.a_max;
+  m.contact_skin = d.has("neighbor.contact_skin") ? d.real("neighbor.contact_skin") : 0.2 * m.skin;
+  if (m.contact_skin <= 0) m.contact_skin = m.skin;
+  m.sort_grains = d.boolean("neighbor.sort");
+  const double range = m.interaction_range();
+  for (int k = 0; k < m.dim; ++k)
+    if (m.box.periodic[k] && m.box.len[k] < 2 * range)
+      d.fail("domain.hi", "the periodic length along " + std::string(1, "xyz"[k]) + " (" + fmt_(m.box.len[k]) +
+                              ") must be at least twice the interaction range 2 r_max + skin = " + fmt_(range));
+}
+
+// Energy the scene can supply: initial kinetic energy, the potential energy of free grains
+// across the domain, the work of the imposed pressure, and one contact at the largest allowed
+// overlap per grain. A run whose kinetic energy exceeds a large multiple of this is unstable.
+void setup_energy_scale(Model& m) {
+  double e = 0, vol = 1;
+  for (int k = 0; k < m.dim; ++k) vol *= m.box.len[k];
+  for (int64_t i = 0; i < m.n_grains; ++i) {
+    if (m.init.frozen[i]) continue;
+    double v2 = 0, w2 = 0, h = 0;
+    for (int k = 0; k < m.dim; ++k) {
+      v2 += m.init.v[m.dim * i + k] * m.init.v[m.dim * i + k];
+      h += std::abs(m.gravity[k]) * m.box.len[k];
+    }
+    for (int k = 0; k < m.rot; ++k) w2 += m.init.w[m.rot * i + k] * m.init.w[m.rot * i + k];
+    e += 0.5 * m.init.mass[i] * v2 + 0.5 * m.init.inertia[i] * w2 + m.init.mass[i] * h;
+  }
+  const double dmax = m.limits.max_overlap * m.r_min;
+  e += (m.n_grains - m.n_frozen) * 0.5 * m.k_max * dmax * dmax;
+  if (m.box_control.on) e += m.box_control.pressure * vol;
+  m.limits.energy_scale = e;
+}
+
+}  // namespace
+
+void compile_dem(const SceneDesc& d, Model& m) {
+  read_contact_law(d, m);
+  setup_walls(d, m);
+  setup_grains(d, m);
+  setup_inertial_mass(m);
+  m.scene_hash = system_fingerprint(m);
+  setup_neighbors(d, m);
+  derive_contact_scales(d, m);
+}
+
+void finish_dem(const SceneDesc&, Model& m) {
+  setup_energy_scale(m);
+  check_initial_overlaps(m);
+}
+
+}  // namespace silt::dem

@@ -1,0 +1,108 @@
+// The DEM's part of `silt check`: grains, walls, contact law, time step, neighbour search.
+#include <cmath>
+#include <sstream>
+
+#include "core/text.hpp"
+#include "dem/contact_laws.hpp"
+#include "dem/module.hpp"
+
+namespace silt {
+
+const char* normal_law_name(NormalLaw law) {
+  switch (law) {
+    case NormalLaw::kSpringDashpot: return "spring_dashpot (Izard 2014 eq. 3.13-3.17)";
+    case NormalLaw::kHooke: return "hooke (LAMMPS gran/hooke, dashpot m* gamma_n)";
+    case NormalLaw::kHertz: return "hertz (Peyneau 2009 eq. 1.22, 3.3)";
+    case NormalLaw::kLinear: return "linear (Peyneau 2009 eq. 1.23)";
+  }
+  return "?";
+}
+
+namespace {
+
+// Restitution of one head-on collision of two grains of reduced mass m_eff and reduced radius
+// r_eq under the scene's normal law (clipping included): m* h'' = -F_n(h, h') from h = 0 at the
+// impact speed v, integrated by RK4 in steps of a 2000th of the undamped contact time until the
+// overlap closes; e = -h'/v then. Returns -1 when the overlap has not closed after 50 contact
+// times: a dashpot near critical damping that may pull (no clipping) holds the grains while the
+// overlap decays as a power of time, so they part with no speed (e = 0 in the limit).
+// For the linear laws this is exp(-pi zeta / sqrt(1 - zeta^2)) without clipping; for Hertz with
+// the dashpot 2 zeta sqrt(m* K_N) it does not depend on v (Peyneau 2009 sec. 3.1.1).
+double binary_restitution(const ContactParams& p, double m_eff, double r_eq, double v, double t_elastic) {
+  auto accel = [&](double h, double hd) { return -dem::normal_force(p, m_eff, r_eq, h, hd).fn / m_eff; };
+  const double dt = t_elastic / 2000;
+  double h = 0, hd = v;
+  for (int64_t k = 0; k < 100000; ++k) {
+    // RK4 on (h, h'); the force law is evaluated at h >= 0 only (the overlap closes below).
+    const double a1 = accel(h, hd);
+    const double h2 = h + 0.5 * dt * hd, v2 = hd + 0.5 * dt * a1, a2 = accel(std::max(h2, 0.0), v2);
+    const double h3 = h + 0.5 * dt * v2, v3 = hd + 0.5 * dt * a2, a3 = accel(std::max(h3, 0.0), v3);
+    const double h4 = h + dt * v3, v4 = hd + dt * a3, a4 = accel(std::max(h4, 0.0), v4);
+    h += dt / 6 * (hd + 2 * v2 + 2 * v3 + v4);
+    hd += dt / 6 * (a1 + 2 * a2 + 2 * a3 + a4);
+    if (h <= 0) return -hd / v;
+  }
+  return -1;
+}
+
+// The restitution of the lightest pair, as `check` prints it.
+std::string restitution_text(const Model& m) {
+  const ContactParams& c = m.contact;
+  const double r_eq = m.r_min;
+  double v = 1;
+  if (c.law == NormalLaw::kHertz) {
+    // The speed whose undamped collision reaches the reference overlap, where t_c is quoted:
+    // 1/2 m* v^2 = (2/5) k_h h^(5/2).
+    const double kh = c.e_tilde / 3.0 * std::sqrt(2.0 * r_eq), h = c.hertz_ref_overlap * r_eq;
+    v = std::sqrt(0.8 * kh * std::pow(h, 2.5) / m.m_eff_min);
+  }
+  const double e = binary_restitution(c, m.m_eff_min, r_eq, v, m.t_contact);
+  const std::string how = c.law == NormalLaw::kHertz ? ", any impact speed" : "";
+  if (e < 0) return "restitution 0 (the dashpot holds the grains until the overlap vanishes" + how + ")";
+  return "restitution " + format_number(e, 4) + " (one collision integrated" + how + ")";
+}
+
+}  // namespace
+
+}  // namespace silt
+
+namespace silt::dem {
+
+std::string describe_dem(const Model& m) {
+  std::ostringstream o;
+  o.precision(5);
+  o << "grains       " << m.n_grains << " (" << m.n_grains - m.n_frozen << " free, " << m.n_frozen << " frozen) in "
+    << m.group_names.size() << " group(s)\n";
+  o << "radii        " << m.r_min << " .. " << m.r_max << " (mean " << m.r_mean << ")\n";
+  o << "walls        " << m.walls.size() << "\n";
+  o << "contact      " << normal_law_name(m.contact.law) << "\n";
+  o << "friction     mu = " << m.contact.friction << ", k_t/k_n = " << m.contact.kt_ratio
+    << (m.contact.friction > 0 ? "" : " (frictionless: no tangential stage work)") << "\n";
+  const bool hertz = m.contact.law == NormalLaw::kHertz;
+  const char* tc_meaning = m.contact.law == NormalLaw::kSpringDashpot
+                               ? "given"
+                               : (hertz ? "duration of an undamped collision reaching contact.hertz_ref_overlap"
+                                        : "elastic, pi sqrt(m*/k)");
+  // A damping ratio of exactly zero prints as 0, not -0 (e = 1 gives -ln(1) = -0).
+  const double zeta = m.zeta_max == 0 ? 0.0 : m.zeta_max;
+  o << "time         t_c = " << m.t_contact << " s (" << tc_meaning << "; lightest pair m* = " << m.m_eff_min
+    << " kg, damping ratio " << zeta << ", " << restitution_text(m) << ")\n";
+  o << "             dt = " << m.dt << " s = t_c/" << m.t_contact / m.dt << "; stability limit " << m.dt_stable
+    << " s for one contact (dt/limit = " << m.dt / m.dt_stable << ")\n";
+  o << "             a grain held by z contacts is stable below about limit/sqrt(z): "
+    << m.dt_stable / std::sqrt(6.0) << " s at z = 6\n";
+  if (m.dt > 0.1 * m.t_contact)
+    o << "             warning: fewer than 10 steps per contact; collisions are poorly resolved\n";
+  o << "neighbours   skin " << m.skin << " (" << m.skin / m.a_max << " largest diameter); contact candidates "
+    << (m.contact_skin < m.skin ? "within a gap of " + format_number(m.contact_skin, 4) : std::string("every listed pair"))
+    << "\n";
+  const double g = m.gravity.norm();
+  if (g > 0) {
+    // Stiffness relative to a grain's weight: overlap under its own weight / radius.
+    const double mg = m.m_mean * g;
+    o << "groups       weight overlap m g / (k_n r) = " << mg / (m.k_max * m.r_mean) << "\n";
+  }
+  return o.str();
+}
+
+}  // namespace silt::dem

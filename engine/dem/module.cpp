@@ -1,0 +1,31 @@
+// The DEM module as the rest of silt sees it (silt/module.hpp).
+#include "dem/module.hpp"
+
+namespace silt::dem {
+namespace {
+
+std::string steer_dem(Model& m, const Model& fresh) {
+  m.contact.friction = fresh.contact.friction;
+  for (size_t w = 0; w < m.walls.size(); ++w) m.walls[w].friction = fresh.walls[w].friction;
+  return "";
+}
+
+}  // namespace
+
+const ModuleSpec& module() {
+  static const ModuleSpec spec = [] {
+    ModuleSpec s;
+    s.name = "dem";
+    s.doc = "soft-sphere grains: contact laws, walls, neighbour lists, velocity Verlet";
+    s.keys = dem_keys();
+    s.observables = dem_observables();
+    s.compile = compile_dem;
+    s.finish = finish_dem;
+    s.describe = describe_dem;
+    s.steer = steer_dem;
+    return s;
+  }();
+  return spec;
+}
+
+}  // namespace silt::dem

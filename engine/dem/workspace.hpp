@@ -1,0 +1,44 @@
+// What the DEM stages keep between steps that is not state: cell lists, the previous pair list
+// during a rebuild, the renumbering, the pair schedule and the contact candidates. Rebuilt when
+// invalid (after a restore or a replay: Simulation invalidates it), never hashed nor saved.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "core/workspace.hpp"
+#include "dem/pair_schedule.hpp"
+
+namespace silt::dem {
+
+struct DemWorkspace final : Workspace {
+  std::vector<int32_t> cell_of, cell_start, cell_items, row_count;
+  std::vector<std::vector<int32_t>> chunk_j;  // partners found per chunk of rows
+  std::vector<int32_t> old_start, old_j;
+  std::vector<double> old_hist;
+  std::vector<int32_t> perm;           // new index -> old index of the last spatial sort
+  std::vector<std::byte> permute_buf;  // a per-grain array being renumbered by perm
+  PairSchedule schedule;               // of the current pair list when schedule_valid
+  bool schedule_valid = false;
+  // Contact candidates (dem/contact_candidates.hpp): the listed pairs of block b that may touch
+  // are cand_p/i/j[nbr_start[b * kBlock] .. cand_end[b]) (pair index, grains).
+  std::vector<int32_t> cand_p, cand_i, cand_j, cand_end;
+  bool candidates_valid = false;
+  double cand_travel = 0;  // bound on any grain's displacement since the selection [m]
+  double cand_strain = 0;  // nbr_strain at the selection
+  int64_t cand_selections = 0;
+
+  void invalidate() override {
+    schedule_valid = false;
+    candidates_valid = false;
+  }
+  // Contact candidates of the current selection.
+  int64_t n_candidates(const std::vector<int32_t>& nbr_start) const {
+    int64_t c = 0;
+    for (size_t b = 0; b < cand_end.size(); ++b) c += cand_end[b] - nbr_start[b * PairSchedule::kBlock];
+    return c;
+  }
+};
+
+}  // namespace silt::dem

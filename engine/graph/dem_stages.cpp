@@ -1,0 +1,155 @@
+// The DEM's stages. In a step:
+//
+//   choose_dt -> kick_drift -> update_neighbors -> contact_forces --> kick -> energy_check
+//                                      \------> wall_forces ---/
+//
+// and for the forces of the first state: update_neighbors -> (contact_forces | wall_forces) ->
+// sum_forces, then clear_springs.
+#include <memory>
+
+#include "core/text.hpp"
+#include "dem/stages.hpp"
+#include "graph/adders.hpp"
+
+namespace silt::graph {
+namespace {
+
+// The key a user changes to stiffen contacts under the scene's law.
+std::string stiffness_key(const Model& m) {
+  switch (m.contact.law) {
+    case NormalLaw::kSpringDashpot: return "contact.contact_time";
+    case NormalLaw::kHertz: return "contact.young_modulus";
+    default: return "contact.k_n";
+  }
+}
+
+std::string fmt(double x) { return format_number(x, 4); }
+
+// What each stage reads and writes (their contracts in dem/stages.hpp).
+const Access kGrainConst = {fid::particle_r, fid::particle_inv_m, fid::particle_inv_i, fid::particle_frozen};
+
+Access with(Access a, const Access& b) { return join(std::move(a), b); }
+
+Access kick_drift_reads(const Model& m) {
+  Access r = with({fid::dt, fid::box, fid::particle_v, fid::particle_w, fid::particle_f, fid::particle_t,
+                   fid::particle_x, fid::particle_disp},
+                  kGrainConst);
+  if (m.deforming_box()) r = with(r, {fid::box_stretch, fid::shear_rate});
+  return r;
+}
+
+Access neighbor_reads() {
+  return with(grain_fields(), {fid::box, fid::nbr_valid, fid::nbr_max_disp, fid::nbr_step_disp, fid::nbr_strain,
+                               fid::nbr_builds, fid::nbr_start, fid::pair_i, fid::pair_j, fid::pair_hist, fid::pair_f,
+                               fid::pair_touch});
+}
+Access neighbor_writes() {
+  return with(grain_fields(), {fid::nbr_start, fid::pair_i, fid::pair_j, fid::pair_hist, fid::pair_f, fid::pair_touch,
+                               fid::nbr_strain, fid::nbr_max_disp, fid::nbr_valid, fid::nbr_builds});
+}
+
+Access contact_reads(const Model& m) {
+  Access r = with({fid::dt, fid::box, fid::particle_x, fid::particle_v, fid::particle_w, fid::nbr_start, fid::pair_i,
+                   fid::pair_j, fid::pair_touch, fid::pair_f},
+                  kGrainConst);
+  if (m.contact.friction > 0) r = with(r, {fid::pair_hist});
+  if (m.deforming_box()) r = with(r, {fid::box_rate, fid::shear_rate});
+  return r;
+}
+Access contact_writes(const Model& m) {
+  Access w = {fid::pair_f, fid::pair_touch, fid::particle_f};
+  if (m.contact.friction > 0) w = with(w, {fid::pair_hist, fid::particle_t});
+  return w;
+}
+
+const Access kWallReads = with({fid::dt, fid::particle_x, fid::particle_v, fid::particle_w, fid::wall_hist}, kGrainConst);
+const Access kWallWrites = {fid::wall_f, fid::particle_t_wall, fid::wall_hist};
+
+Access kick_reads(const Model& m) {
+  Access r = with({fid::dt, fid::particle_f, fid::particle_v, fid::particle_w}, kGrainConst);
+  if (m.contact.friction > 0) r = with(r, {fid::particle_t});
+  if (m.shear.on) r = with(r, {fid::shear_rate});
+  return r;
+}
+const Access kKickWrites = {fid::particle_f, fid::particle_t, fid::particle_v, fid::particle_w};
+
+void diagnose_dem(GraphBuilder& b) {
+  b.diagnose(event::kNonFinite, [](const Model&, const State& s, const EventSlot& e, StepFailure& f) {
+    const int64_t id = s.particle_id[e.first()];
+    f.stage = "kick";
+    f.particle = id;
+    f.parameter = "run.dt";
+    f.message = "grain " + std::to_string(id) + " has a non-finite velocity or position; the time step " + fmt(s.dt) +
+                " s is too large for the contacts it meets: reduce run.dt (or run.dt_over_tc)";
+  });
+  b.diagnose(event::kOverlap, [](const Model& m, const State& s, const EventSlot& e, StepFailure& f) {
+    const int64_t id = s.particle_id[e.first()];
+    const std::string what = "grain " + std::to_string(id) + " overlaps a neighbour by " + fmt(100 * e.value()) +
+                             "% of the smaller radius, beyond limits.max_overlap = " + fmt(m.limits.max_overlap);
+    f.stage = s.n_walls ? "contact_forces/wall_forces" : "contact_forces";
+    f.particle = id;
+    if (s.dt > m.dt_stable) {
+      f.parameter = "run.dt";
+      f.message = what + ": the time step " + fmt(s.dt) + " s exceeds the stability limit " + fmt(m.dt_stable) +
+                  " s; reduce run.dt";
+    } else {
+      f.parameter = stiffness_key(m);
+      f.message = what + ": the contacts are too soft for the loads or the impacts; increase " + stiffness_key(m) +
+                  " (stiffer contacts) or reduce the loads";
+    }
+  });
+  b.diagnose(event::kRunaway, [](const Model& m, const State&, const EventSlot& e, StepFailure& f) {
+    f.stage = "energy_check";
+    f.parameter = "run.dt";
+    f.message = "kinetic energy " + fmt(e.value()) + " J exceeds " + fmt(m.limits.energy_factor) +
+                " times the energy the scene can supply (" + fmt(m.limits.energy_scale) +
+                " J): the integration is unstable; reduce run.dt (or run.dt_over_tc)";
+  });
+}
+
+}  // namespace
+
+void add_dem_stages(GraphBuilder& b) {
+  const Model& m = b.model();
+  auto& w = b.workspaces().get<dem::DemWorkspace>();
+  const bool walls = !m.walls.empty();
+  auto forces = b.forces();
+  const int nbr = b.add("update_neighbors", [&w](const Model& mm, State& s) { dem::update_neighbors(mm, s, w); },
+                        neighbor_reads(), neighbor_writes());
+  const int pairs = b.add("contact_forces", [&w](const Model& mm, State& s) { dem::contact_forces(mm, s, w); },
+                          contact_reads(m), contact_writes(m));
+  // depends on: the list, and the grains' numbering, that update_neighbors leaves.
+  b.after(pairs, nbr, "iterates the (possibly rebuilt) pair list");
+  if (walls) {
+    const int wf = b.add("wall_forces", &dem::wall_forces, kWallReads, kWallWrites);
+    // Runs concurrently with contact_forces; not with update_neighbors, which may renumber grains.
+    b.after(wf, nbr, "a rebuild may renumber the grains (cell order)");
+    b.add_force({fid::wall_f, fid::particle_t_wall}, wf);
+  }
+  if (b.phase() == Phase::kSetup) {
+    const int sum = b.add("sum_forces", [forces](const Model& mm, State& s) { dem::sum_forces(mm, s, *forces); },
+                          with({fid::particle_f, fid::particle_t}, {}), {fid::particle_f, fid::particle_t});
+    b.after(sum, pairs, "adds the pair forces of the first state");
+    b.sums_forces(sum);
+    const int clear = b.add("clear_springs", &dem::clear_springs, {}, {fid::pair_hist, fid::wall_hist});
+    b.after(clear, pairs, "resets the springs the first evaluation stretched");
+    if (walls) b.after(clear, b.find("wall_forces"), "resets the springs the first evaluation stretched");
+    return;
+  }
+  const int drift = b.add("kick_drift", &dem::kick_drift, kick_drift_reads(m),
+                          {fid::particle_v, fid::particle_w, fid::particle_x, fid::particle_disp, fid::nbr_max_disp,
+                           fid::nbr_step_disp});
+  b.after(drift, b.find("choose_dt"), "moves the grains by this step's dt");
+  // depends on: the displacement since the last build, known after the drift.
+  b.after(nbr, drift, "rebuild decision needs the drifted positions");
+  const int kick = b.add("kick", [forces](const Model& mm, State& s) { dem::kick(mm, s, *forces); }, kick_reads(m),
+                         kKickWrites);
+  b.after(kick, pairs, "kicks with the pair forces of this step");
+  b.sums_forces(kick);
+  const int energy = b.add("energy_check", &dem::energy_check,
+                           with({fid::step, fid::particle_v, fid::particle_w}, kGrainConst), {});
+  b.after(energy, kick, "the energy of the full-step velocities");
+  diagnose_dem(b);
+}
+
+}  // namespace silt::graph

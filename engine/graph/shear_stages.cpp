@@ -1,0 +1,57 @@
+// The stages of a deforming box. In a step, box_drift before the grains' drift and box_kick
+// after their kick:
+//
+//   choose_dt -> box_drift -> kick_drift ... kick -> box_kick
+//
+// and for the forces of the first state, box_stress after the pair forces.
+#include "core/text.hpp"
+#include "graph/adders.hpp"
+#include "shear/stages.hpp"
+
+namespace silt::graph {
+namespace {
+
+const Access kStressReads = {fid::box,          fid::pair_f,         fid::particle_v,      fid::particle_x,
+                             fid::particle_inv_m, fid::particle_frozen, fid::nbr_start,      fid::pair_j};
+
+}  // namespace
+
+void add_shear_stages(GraphBuilder& b) {
+  const Model& m = b.model();
+  const bool box_stage = shear::box_stage_on(m);
+  if (b.phase() == Phase::kSetup) {
+    if (!box_stage) return;
+    const int st = b.add("box_stress", &shear::box_stress, kStressReads, {fid::box_stress, fid::shear_stress});
+    b.after(st, b.find("contact_forces"), "the contact stress of the first state's pair forces");
+    return;
+  }
+  const int drift = b.add(
+      "box_drift", &shear::box_drift,
+      {fid::dt, fid::box, fid::box_rate, fid::box_stress, fid::shear_stress, fid::shear_rate, fid::le_displacement,
+       fid::shear_strain, fid::nbr_strain},
+      {fid::box, fid::box_rate, fid::shear_rate, fid::box_stretch, fid::le_displacement, fid::shear_strain,
+       fid::nbr_strain});
+  b.after(drift, b.find("choose_dt"), "moves the box by this step's dt");
+  // depends on: the new lengths (box_stretch) and shear rate, which the grains follow.
+  b.after(b.find("kick_drift"), drift, "the grains follow the affine flow of the box's drift");
+  b.diagnose(event::kBoxCollapse, [](const Model& mm, const State& s, const EventSlot& e, StepFailure& f) {
+    f.stage = "box_drift";
+    f.parameter = "box.pressure";
+    f.message = "the box length along " + std::string(1, "xyz"[e.first()]) + " fell to " + format_number(e.value(), 4) +
+                ", below twice the interaction range " + format_number(2 * mm.interaction_range(), 4) +
+                ": use more grains or a lower box.pressure";
+    (void)s;
+  });
+  if (!box_stage) return;
+  const int kick = b.add("box_kick", &shear::box_kick,
+                         [&] {
+                           Access r = kStressReads;
+                           for (FieldId f : {fid::dt, fid::box_rate, fid::shear_rate, fid::box_stress, fid::shear_stress})
+                             r.push_back(f);
+                           return r;
+                         }(),
+                         {fid::box_stress, fid::shear_stress, fid::box_rate, fid::shear_rate});
+  b.after(kick, b.find("kick"), "kinetic stress uses the full-step velocities; contact stress the new pair forces");
+}
+
+}  // namespace silt::graph

@@ -1,0 +1,67 @@
+// A module of physics (dem, shear, and later paste, fluid, coupling) as the rest of silt sees it:
+// its scene keys with their constraints, its observables, its own State fields and numerical
+// events, how it compiles its part of the Model, how it describes it in `silt check`, and which
+// parts of it may change while a run goes on. Its stages enter the step through one adder in
+// engine/graph/ (DESIGN.md, "Many modules, one step"). The list of modules is in
+// engine/graph/modules.cpp: adding a module adds its files and one line there.
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "silt/fields.hpp"
+#include "silt/observables.hpp"
+#include "silt/scene.hpp"
+
+namespace silt {
+
+namespace graph {
+class GraphBuilder;
+}
+
+struct ModuleField {
+  std::string name;
+  Extent extent;
+  std::string unit, doc;
+};
+
+struct ModuleSpec {
+  std::string name;  // "dem", "shear", ...; the prefix of its fields' module column
+  std::string doc;   // one line, for `silt check`
+  std::vector<KeySpec> keys;
+  std::vector<KeyRule> rules;
+  std::vector<ObservableSpec> observables;
+  std::vector<ModuleField> fields;  // State fields of its own (double arrays)
+  std::vector<std::string> events;  // numerical events of its own (silt/events.hpp)
+  // Whether a scene turns the module on; empty: always on.
+  std::function<bool(const SceneDesc&)> enabled;
+  // Its part of compile(), in module order, before the time step is chosen; then, once every
+  // module has compiled and the time step is known, `finish`.
+  std::function<void(const SceneDesc&, Model&)> compile, finish;
+  // Lines for `silt check` ("name   value\n").
+  std::function<std::string(const Model&)> describe;
+  // Take over the steerable parts of a freshly compiled model (live steering): "" when done,
+  // else why the change cannot be made while running (then the model is left as it was).
+  std::function<std::string(Model& m, const Model& fresh)> steer;
+};
+
+// The stages of a module, added to a step graph (or to the graph that computes the forces of the
+// first state; GraphBuilder::phase()).
+using StageAdder = std::function<void(graph::GraphBuilder&)>;
+
+struct Module {
+  const ModuleSpec* spec = nullptr;
+  StageAdder add_stages;
+};
+
+// Every module, in order: core, dem, shear, render, then those registered. A module's position
+// is the order of its keys, compile step, stages and observables.
+const std::vector<Module>& modules();
+const Module* find_module(std::string_view name);
+// Adds a module after the built-in ones (a module of a test, or of a user's build). Its fields and
+// events are registered, and its keys and observables join the schema and the observable table.
+// Call before scenes using it are read; not thread-safe.
+void register_module(const ModuleSpec* spec, StageAdder add_stages);
+
+}  // namespace silt

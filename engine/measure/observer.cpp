@@ -1,0 +1,194 @@
+// Observable names -> values, from the tables of the modules a scene enables (ModuleSpec).
+#include <algorithm>
+#include <cstring>
+#include <stdexcept>
+
+#include "core/text.hpp"
+#include "silt/module.hpp"
+
+namespace silt {
+namespace {
+
+const char* kAxes = "xyz";
+
+// Matches `name` against a pattern with placeholders ({a}, {b}, {w}, {k}); fills args.
+bool match(const std::string& pattern, const std::string& name, int dim, ObservableArgs& args) {
+  size_t p = 0, n = 0;
+  while (p < pattern.size()) {
+    if (pattern[p] == '{' && p + 2 < pattern.size() && pattern[p + 2] == '}') {
+      const char ph = pattern[p + 1];
+      p += 3;
+      if (ph == 'k') {
+        size_t e = n;
+        while (e < name.size() && e - n < 11 && name[e] >= '0' && name[e] <= '9') ++e;
+        if (e == n) return false;
+        args.k = std::stoll(name.substr(n, e - n));
+        n = e;
+        continue;
+      }
+      if (n >= name.size()) return false;
+      const char* at = std::strchr(kAxes, name[n]);
+      if (!at || !*at) return false;
+      const int axis = static_cast<int>(at - kAxes);
+      if (ph == 'a' || ph == 'b') {
+        if (axis >= dim) return false;
+        (ph == 'a' ? args.a : args.b) = axis;
+      } else if (ph == 'w') {
+        if (dim == 2 && axis != 2) return false;  // a disk turns about z only
+        args.w = dim == 2 ? 0 : axis;
+      } else {
+        return false;
+      }
+      ++n;
+      continue;
+    }
+    if (n >= name.size() || name[n] != pattern[p]) return false;
+    ++p;
+    ++n;
+  }
+  return n == name.size();
+}
+
+// Every name a pattern stands for in this model, with the indices it lists.
+std::vector<std::string> expand(const ObservableSpec& o, const Model& m) {
+  std::vector<std::string> out{""};
+  const std::string& pat = o.pattern;
+  for (size_t p = 0; p < pat.size();) {
+    std::vector<std::string> choices;
+    if (pat[p] == '{' && p + 2 < pat.size() && pat[p + 2] == '}') {
+      const char ph = pat[p + 1];
+      if (ph == 'k') {
+        const int64_t count = o.k_count ? std::min(o.k_count(m), o.k_listed) : o.k_listed;
+        for (int64_t k = 0; k < count; ++k) choices.push_back(std::to_string(k));
+      } else if (ph == 'w' && m.dim == 2) {
+        choices.push_back("z");
+      } else {
+        const int axes = ph == 'w' ? 3 : m.dim;
+        for (int k = 0; k < axes; ++k) choices.push_back(std::string(1, kAxes[k]));
+      }
+      p += 3;
+    } else {
+      choices.push_back(std::string(1, pat[p]));
+      ++p;
+    }
+    std::vector<std::string> next;
+    for (const std::string& head : out)
+      for (const std::string& c : choices) next.push_back(head + c);
+    out = std::move(next);
+  }
+  return out;
+}
+
+// Names in the contract whose module this version does not have (INTERFACE.md).
+bool needs_other_module(const std::string& name) {
+  static const char* later[] = {"Vi", "fluid.ke", "fluid.enstrophy", "fluid.div_max", "fluid.cfl", "fluid.dt",
+                                "solver.iters", "solver.residual", "mobilisation", "p_cont_ratio", "p_lub_ratio",
+                                "eta_eff"};
+  return std::any_of(std::begin(later), std::end(later), [&](const char* s) { return name == s; });
+}
+
+struct Found {
+  const ObservableSpec* spec = nullptr;
+  ObservableArgs args;
+  std::string error;
+};
+
+Found find(const std::string& name, const Model& m) {
+  Found f;
+  for (const Module& mod : modules())
+    for (const ObservableSpec& o : mod.spec->observables) {
+      ObservableArgs args;
+      if (!match(o.pattern, name, m.dim, args)) continue;
+      if (!m.module_on(mod.spec->name)) {
+        // The observable's own words when it has them ("applies where the scene shears").
+        f.error = o.check ? o.check(m, args) : std::string();
+        if (f.error.empty())
+          f.error = "observable '" + name + "' does not apply to this scene (it needs the " + mod.spec->name +
+                    " module, which the scene does not enable)";
+        return f;
+      }
+      if (o.k_count && args.k >= o.k_count(m)) {
+        f.error = "'" + name + "': there is no " + o.k_what + " " + std::to_string(args.k) + " (the scene has " +
+                  std::to_string(o.k_count(m)) + ")";
+        return f;
+      }
+      if (o.check)
+        if (std::string why = o.check(m, args); !why.empty()) {
+          f.error = why;
+          return f;
+        }
+      f.spec = &o;
+      f.args = args;
+      return f;
+    }
+  if (needs_other_module(name)) {
+    f.error = "observable '" + name + "' does not apply to this scene (it needs a module the scene does not enable)";
+    return f;
+  }
+  f.error = "unknown observable '" + name + "'";
+  std::string best;
+  size_t best_d = 3;
+  for (const std::string& c : observable_names(m)) {
+    const size_t dist = edit_distance(name, c);
+    if (dist < best_d) {
+      best_d = dist;
+      best = c;
+    }
+  }
+  if (!best.empty()) f.error += "; did you mean '" + best + "'?";
+  return f;
+}
+
+}  // namespace
+
+const Measurements& ObservableContext::meas() const {
+  if (!meas_) meas_ = measure(m, s);
+  return *meas_;
+}
+
+int64_t ObservableContext::index_of(int64_t id) const {
+  if (index_.empty()) index_ = index_of_ids(s);
+  return index_[id];
+}
+
+std::string check_observable(const std::string& name, const Model& m) { return find(name, m).error; }
+
+std::vector<std::pair<std::string, std::string>> observable_units(const Model& m) {
+  std::vector<std::pair<std::string, std::string>> out;
+  for (const Module& mod : modules()) {
+    if (!m.module_on(mod.spec->name)) continue;
+    for (const ObservableSpec& o : mod.spec->observables)
+      for (const std::string& name : expand(o, m)) {
+        ObservableArgs args;
+        match(o.pattern, name, m.dim, args);
+        if (o.check && !o.check(m, args).empty()) continue;
+        out.emplace_back(name, o.unit);
+      }
+  }
+  return out;
+}
+
+std::vector<std::string> observable_names(const Model& m) {
+  std::vector<std::string> out;
+  for (auto& [name, unit] : observable_units(m)) out.push_back(name);
+  return out;
+}
+
+Observer::Observer(const Model& m, std::vector<std::string> names) : names_(std::move(names)) {
+  for (const std::string& n : names_) {
+    Found f = find(n, m);
+    if (!f.spec) throw std::invalid_argument(f.error);
+    items_.push_back({f.spec, f.args});
+    units_.push_back(f.spec->unit);
+  }
+}
+
+std::vector<double> Observer::sample(const Model& m, const State& s) const {
+  const ObservableContext ctx(m, s);
+  std::vector<double> out;
+  out.reserve(items_.size());
+  for (const Item& it : items_) out.push_back(it.spec->value(ctx, it.args));
+  return out;
+}
+
+}  // namespace silt

@@ -1,0 +1,196 @@
+// The shear module: box lengths driven by an imposed pressure (Peyneau 2009 eq. 3.11), simple
+// shear by Lees-Edwards conditions at imposed rate, inertial number or shear stress (eq. 3.12),
+// and the isotropic compression that prepares a packing (procedure O).
+#include <cmath>
+#include <sstream>
+
+#include "shear/module.hpp"
+#include "shear/stages.hpp"
+
+namespace silt::shear {
+namespace {
+
+using K = KeyType;
+using S = std::vector<std::string>;
+
+std::vector<KeySpec> shear_keys() {
+  std::vector<KeySpec> s = {
+      // ---- box
+      {"box.pressure", K::kReal, std::nullopt, Range::positive(), "Pa", true, {}, "Imposed pressure on the controlled box lengths (Peyneau 2009 eq. 3.11); absent: fixed box."},
+      {"box.controlled", K::kBoolList, std::nullopt, Range::any(), "", false, {}, "Which box lengths follow the pressure (default: every periodic one)."},
+      {"box.mass_factor", K::kReal, Value(1.0), Range::positive(), "", true, {}, "Box mass M in units of the total grain mass N m (Peyneau: M = N m), for the box lengths and a stress-controlled shear."},
+      // ---- shear
+      {"shear.rate", K::kReal, std::nullopt, Range::any(), "1/s", true, {}, "Imposed shear rate gammadot of the flow v_x = gammadot y (liquid regime)."},
+      {"shear.inertial_number", K::kReal, std::nullopt, Range::positive(), "", true, {}, "Imposed inertial number I = gammadot sqrt(m / (a^(d-2) P)) (Peyneau eq. 1.30), with P = box.pressure."},
+      {"shear.stress", K::kReal, std::nullopt, Range::any(), "Pa", true, {}, "Imposed shear stress tau = -sigma_xy (solid regime, Peyneau eq. 3.12): gammadot follows it."},
+      // ---- prepare
+      {"prepare.compress", K::kBool, Value(false), Range::any(), "", false, {}, "Before the run, compress the grains isotropically at box.pressure (every periodic length controlled, no shear) until static: Peyneau's procedure O."},
+      {"prepare.max_steps", K::kInt, Value(int64_t{2000000}), Range::closed(1, 4.6e18), "", false, {}, "Longest preparation; the run then starts from where it got, with a warning."},
+  };
+  return s;
+}
+
+std::vector<KeyRule> shear_rules() {
+  return {
+      KeyRule::one_of({{"shear.rate"}, {"shear.inertial_number"}, {"shear.stress"}}),
+      KeyRule::requires_any("box.controlled", {"box.pressure"}, "only a pressure moves the box lengths"),
+      KeyRule::requires_any("box.mass_factor", {"box.pressure", "shear.stress"},
+                            "it is the inertia of the controlled lengths and of a stress-controlled shear"),
+      KeyRule::requires_any("shear.inertial_number", {"box.pressure"}, "I is relative to the imposed pressure"),
+      KeyRule::requires_any("prepare.compress", {"box.pressure"}, "the isotropic compression is at the imposed pressure"),
+  };
+}
+
+const std::string kNeedsShear =
+    "applies where the scene shears (shear.rate, shear.inertial_number or shear.stress)";
+
+std::vector<ObservableSpec> shear_observables() {
+  auto sheared = [](const char* name) {
+    return [name](const Model& m, const ObservableArgs&) {
+      return m.shear.on ? std::string() : "observable '" + std::string(name) + "' " + kNeedsShear;
+    };
+  };
+  std::vector<ObservableSpec> o = {
+      {"gamma", "", "accumulated shear strain", [](const ObservableContext& c, const ObservableArgs&) { return c.s.shear_strain; }},
+      {"gammadot", "1/s", "shear rate", [](const ObservableContext& c, const ObservableArgs&) { return c.s.shear_rate; }},
+      {"I", "", "inertial number at the imposed (else the measured sigma_yy) pressure",
+       [](const ObservableContext& c, const ObservableArgs&) {
+         return inertial_number(c.m, c.s.shear_rate,
+                                c.m.box_control.on ? c.m.box_control.pressure : c.meas().stress[1][1]);
+       }},
+  };
+  o[0].check = sheared("gamma");
+  o[1].check = sheared("gammadot");
+  o[2].check = sheared("I");
+  return o;
+}
+
+void setup_box_control(const SceneDesc& d, Model& m) {
+  BoxControl& b = m.box_control;
+  double grain_mass = 0;
+  for (int64_t i = 0; i < m.n_grains; ++i)
+    if (!m.init.frozen[i]) grain_mass += m.init.mass[i];
+  if (d.has("box.pressure") || d.has("shear.stress")) {
+    b.mass_factor = d.real("box.mass_factor");
+    b.mass = b.mass_factor * grain_mass;
+  }
+  if (!d.has("box.pressure")) return;
+  if (m.n_frozen > 0)
+    d.fail("box.pressure", "a stress-controlled box cannot hold frozen grains (they would not follow its deformation)");
+  b.on = true;
+  b.pressure = d.real("box.pressure");
+  std::vector<bool> c(m.box.periodic.begin(), m.box.periodic.begin() + m.dim);
+  if (d.has("box.controlled")) c = d.booleans("box.controlled");
+  if (static_cast<int>(c.size()) != m.dim) d.fail("box.controlled", "needs " + std::to_string(m.dim) + " entries");
+  bool any = false;
+  for (int k = 0; k < m.dim; ++k) {
+    if (c[k] && !m.box.periodic[k]) d.fail("box.controlled", "only periodic box lengths can follow the pressure");
+    b.controlled[k] = c[k];
+    any = any || c[k];
+  }
+  if (!any) d.fail("box.pressure", "box.pressure is set but no box length is controlled (make a direction periodic)");
+}
+
+// Lees-Edwards simple shear: flow along x, gradient along y, both periodic.
+void setup_shear(const SceneDesc& d, Model& m) {
+  ShearControl& sh = m.shear;
+  const int given = d.has("shear.rate") + d.has("shear.inertial_number") + d.has("shear.stress");
+  if (given == 0) return;
+  const std::string key = d.has("shear.rate") ? "shear.rate" : (d.has("shear.inertial_number") ? "shear.inertial_number" : "shear.stress");
+  if (!m.box.periodic[0] || !m.box.periodic[1])
+    d.fail(key, "simple shear (Lees-Edwards) needs a domain periodic along x (flow) and y (gradient)");
+  if (!m.walls.empty()) d.fail(key, "simple shear by Lees-Edwards conditions has no walls");
+  if (m.n_frozen > 0) d.fail(key, "simple shear by Lees-Edwards conditions cannot hold frozen grains");
+  sh.on = true;
+  m.box.lees_edwards = true;
+  if (d.has("shear.rate")) {
+    sh.rate = d.real("shear.rate");
+  } else if (d.has("shear.inertial_number")) {
+    // I is linear in gammadot (Peyneau eq. 1.30): the rate of I = 1, scaled.
+    sh.rate = d.real("shear.inertial_number") / inertial_number(m, 1.0, m.box_control.pressure);
+  } else {
+    sh.stress_controlled = true;
+    sh.stress = d.real("shear.stress");
+  }
+}
+
+void compile_shear(const SceneDesc& d, Model& m) {
+  setup_box_control(d, m);
+  setup_shear(d, m);
+  m.prepare.compress = d.boolean("prepare.compress");
+  m.prepare.max_steps = d.integer("prepare.max_steps");
+  m.pair_forces_every_step = box_stage_on(m);
+}
+
+std::string describe_shear(const Model& m) {
+  std::ostringstream o;
+  o.precision(5);
+  if (m.box_control.on) {
+    o << "box control  pressure " << m.box_control.pressure << " Pa on";
+    for (int k = 0; k < m.dim; ++k)
+      if (m.box_control.controlled[k]) o << " L" << "xyz"[k];
+    o << ", box mass " << m.box_control.mass << " kg\n";
+  }
+  if (m.shear.on) {
+    o << "shear        Lees-Edwards, flow along x, gradient along y; ";
+    if (m.shear.stress_controlled) o << "imposed shear stress " << m.shear.stress << " Pa (eq. 3.12)\n";
+    else o << "imposed rate gammadot = " << m.shear.rate << " 1/s\n";
+  }
+  if (m.prepare.compress)
+    o << "prepare      isotropic compression at " << m.box_control.pressure << " Pa until static (at most "
+      << m.prepare.max_steps << " steps)\n";
+  if (m.box_control.on) {
+    const double P = m.box_control.pressure;
+    const double a = m.a_max;
+    const bool hertz = m.contact.law == NormalLaw::kHertz;
+    o << "groups       kappa = " << (hertz ? "(E~/P)^(2/3)" : "k_n / (a^(d-2) P)") << " = " << stiffness_number(m, P)
+      << (hertz ? " (Peyneau eq. 1.31)\n" : " (Peyneau eq. 1.33)\n");
+    o << "             zeta = " << (m.zeta_max == 0 ? 0.0 : m.zeta_max) << " (damping ratio of the lightest pair)\n";
+    o << "             inertial time sqrt(m / (a^(d-2) P)) = " << std::sqrt(m.m_a / (std::pow(a, m.dim - 2) * P))
+      << " s (m = " << m.m_a << " kg, a grain of diameter a = " << a << " m)\n";
+    if (m.shear.on && !m.shear.stress_controlled) {
+      const double I = inertial_number(m, m.shear.rate, P);
+      o << "             I = gammadot sqrt(m / (a^(d-2) P)) = " << I << " (Peyneau eq. 1.30); "
+        << 1.0 / (m.shear.rate * m.dt) << " steps per unit strain\n";
+    }
+  }
+  return o.str();
+}
+
+std::string steer_shear(Model& m, const Model& fresh) {
+  if (fresh.shear.on != m.shear.on || fresh.shear.stress_controlled != m.shear.stress_controlled)
+    return "it would switch the shear on or off, or between imposed rate and imposed stress: set it when stopped";
+  m.box_control.pressure = fresh.box_control.pressure;
+  m.box_control.mass_factor = fresh.box_control.mass_factor;
+  m.box_control.mass = fresh.box_control.mass;
+  m.shear.rate = fresh.shear.rate;
+  m.shear.stress = fresh.shear.stress;
+  return "";
+}
+
+bool shear_enabled(const SceneDesc& d) {
+  for (const auto& [path, entry] : d.entries)
+    if (path.rfind("box.", 0) == 0 || path.rfind("shear.", 0) == 0 || path.rfind("prepare.", 0) == 0) return true;
+  return false;
+}
+
+}  // namespace
+
+const ModuleSpec& module() {
+  static const ModuleSpec spec = [] {
+    ModuleSpec s;
+    s.name = "shear";
+    s.doc = "stress-controlled box lengths, Lees-Edwards simple shear, isotropic compression";
+    s.keys = shear_keys();
+    s.rules = shear_rules();
+    s.observables = shear_observables();
+    s.enabled = shear_enabled;
+    s.compile = compile_shear;
+    s.describe = describe_shear;
+    s.steer = steer_shear;
+    return s;
+  }();
+  return spec;
+}
+
+}  // namespace silt::shear
