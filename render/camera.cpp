@@ -2,6 +2,7 @@
 // matrices as OpenGL expects.
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 #include "render/camera.hpp"
 
@@ -23,7 +24,7 @@ M4 ortho(double l, double r, double b, double t, double n, double f) {
 }
 
 M4 perspective(double fovy_deg, double aspect, double n, double f) {
-  const double t = 1.0 / std::tan(fovy_deg * 3.14159265358979323846 / 360.0);
+  const double t = 1.0 / std::tan(fovy_deg * std::numbers::pi / 360.0);
   M4 m{};
   m[0] = static_cast<float>(t / aspect);
   m[5] = static_cast<float>(t);
@@ -77,7 +78,7 @@ Camera orbit_3d(const Vec3& target, const std::vector<Vec3>& points, double azim
                 double distance, double fov_deg, int width, int height, const Margins& mg) {
   Camera c;
   c.ortho = false;
-  const double deg = 3.14159265358979323846 / 180.0;
+  const double deg = std::numbers::pi / 180.0;
   const double t = 1.0 / std::tan(0.5 * fov_deg * deg);  // perspective scale: ndc_y = t y / depth
   const double aspect = static_cast<double>(width) / height;
   const double az = azimuth_deg * deg, el = elevation_deg * deg;

@@ -1,12 +1,12 @@
 // Analytic vorticity fields for tests and demonstrations, until the fluid module provides real ones.
 #include <cmath>
+#include <numbers>
 
 #include "silt/render.hpp"
 
 namespace silt::render {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 GridField grid(int nx, int ny, int nz, int components) {
   GridField g;
@@ -31,7 +31,7 @@ GridField lamb_oseen_vorticity(int nx, int ny, std::array<double, 2> lo, std::ar
     for (int i = 0; i < nx; ++i) {
       const double x = lo[0] + (i + 0.5) * g.h[0] - centre[0];
       const double y = lo[1] + (j + 0.5) * g.h[1] - centre[1];
-      g.value[g.cell(i, j)] = gamma / (kPi * rc * rc) * std::exp(-(x * x + y * y) / (rc * rc));
+      g.value[g.cell(i, j)] = gamma / (std::numbers::pi * rc * rc) * std::exp(-(x * x + y * y) / (rc * rc));
     }
   return g;
 }
@@ -41,7 +41,7 @@ GridField lamb_oseen_vorticity(int nx, int ny, std::array<double, 2> lo, std::ar
 GridField taylor_green_vorticity(int nx, int ny, double length, double u0) {
   GridField g = grid(nx, ny, 1, 1);
   g.h = {length / nx, length / ny, 1};
-  const double k = 2 * kPi / length;
+  const double k = 2 * std::numbers::pi / length;
   for (int j = 0; j < ny; ++j)
     for (int i = 0; i < nx; ++i)
       g.value[g.cell(i, j)] = 2 * u0 * k * std::sin(k * (i + 0.5) * g.h[0]) * std::sin(k * (j + 0.5) * g.h[1]);
@@ -57,7 +57,7 @@ GridField taylor_green_vorticity(int nx, int ny, double length, double u0) {
 // (omega_z at z = 0 is the 2D cell's vorticity).
 GridField taylor_green_vorticity_3d(int n, double length, double u0) {
   GridField g = grid(n, n, n, 3);
-  const double h = length / n, k = 2 * kPi / length;
+  const double h = length / n, k = 2 * std::numbers::pi / length;
   g.h = {h, h, h};
   for (int c = 0; c < n; ++c)
     for (int j = 0; j < n; ++j)

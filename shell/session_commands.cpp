@@ -208,19 +208,21 @@ void Session::cmd_stats(const Command&) {
 }
 
 void Session::cmd_profile(const Command&) {
-  std::map<std::string, StageTime> prof;
-  at_boundary([&] { prof = sim_ ? sim_->state().profile : prof; });
+  Profile::Map prof;
+  at_boundary([&] {
+    if (sim_) prof = sim_->state().profile.stages();
+  });
   sim();
   double total = 0;
-  for (const auto& [name, st] : prof) total += st.seconds;
+  for (const auto& [name, st] : prof) total += st.seconds();
   if (total == 0) throw std::runtime_error("no step yet (run first)");
   std::vector<std::pair<std::string, StageTime>> order(prof.begin(), prof.end());
   std::stable_sort(order.begin(), order.end(),
-                   [](const auto& a, const auto& b) { return a.second.seconds > b.second.seconds; });
+                   [](const auto& a, const auto& b) { return a.second.seconds() > b.second.seconds(); });
   Table t({"stage", "seconds", "calls", "us/call", "share"}, {false, true, true, true, true});
   for (const auto& [name, st] : order)
-    t.add({name, fixed(st.seconds, 3), std::to_string(st.calls), format_number(st.calls ? 1e6 * st.seconds / st.calls : 0.0, 3),
-           fixed(100 * st.seconds / total, 1) + " %"});
+    t.add({name, fixed(st.seconds(), 3), std::to_string(st.calls), format_number(st.calls ? 1e6 * st.seconds() / st.calls : 0.0, 3),
+           fixed(100 * st.seconds() / total, 1) + " %"});
   t.add({"total", fixed(total, 3), "", "", "100.0 %"});
   t.print(out_);
 }

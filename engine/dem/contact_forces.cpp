@@ -232,12 +232,7 @@ void pair_block(const PairArgs<D> a, int64_t blk) {
     }
     const double vn = vr.dot(nrm);
     const double m_eff = 1.0 / (im[i] + im[j]);
-    NormalForce nf;
-    if constexpr (Hertz) {
-      nf = hertz_normal(a.cp.e_tilde, reduced_radius(ri, rj), a.cp.zeta, m_eff, overlap, -vn);
-    } else {
-      nf = linear_normal(linear_coeffs(a.cp, m_eff), overlap, -vn);
-    }
+    NormalForce nf = normal_law<Hertz>(a.cp, m_eff, Hertz ? reduced_radius(ri, rj) : 0.0, overlap, -vn);
     // Without a branch: the sign of F_n varies from contact to contact in no predictable order.
     nf.fn = std::max(nf.fn, a.fn_floor);
     for (int k = 0; k < D; ++k) cn[k][q] = nrm[k];

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 #include "silt/model.hpp"
 
@@ -18,17 +19,17 @@ struct NormalForce {
 
 // Linear spring-dashpot stiffness and dashpot from a restitution e and a contact time t_c.
 // Izard (2014) eq. 3.16-3.17 (Schafer et al. 1996):
-//   gamma_n = -(2 m*/t_c) ln e,   k_n = m* pi^2 / t_c^2 + gamma_n^2 / (4 m*).
-// With this choice the half period of the damped oscillator is exactly t_c and the rebound
-// velocity is exactly e times the impact velocity (without clipping). Valid 0 < e <= 1.
+//   gamma_n = -(2 m*/t_c) ln e,   k_n = m* pi^2 / t_c^2 + gamma_n^2 / (4 m*),
+// both proportional to m*: per unit reduced mass, k_n / m* = (pi^2 + ln^2 e) / t_c^2 and
+// gamma_n / m* = -2 ln e / t_c (ContactParams k1 and c1 of the linear family). With this choice
+// the half period of the damped oscillator is exactly t_c and the rebound velocity is exactly e
+// times the impact velocity (without clipping). Valid 0 < e <= 1.
 struct LinearCoeffs {
   double k, c;
 };
-inline LinearCoeffs spring_dashpot_coeffs(double e, double t_c, double m_eff) {
-  const double pi = 3.14159265358979323846;
-  const double c = -2.0 * m_eff / t_c * std::log(e);
-  const double k = m_eff * pi * pi / (t_c * t_c) + c * c / (4.0 * m_eff);
-  return {k, c};
+inline LinearCoeffs spring_dashpot_rates(double e, double t_c) {
+  const double ln_e = std::log(e);
+  return {(std::numbers::pi * std::numbers::pi + ln_e * ln_e) / (t_c * t_c), -2.0 * ln_e / t_c};
 }
 
 // The linear family (spring_dashpot, hooke, linear): F_n = k_n overlap + c_n overlap_rate with
@@ -57,18 +58,34 @@ inline NormalForce hertz_normal(double e_tilde, double r_eq, double zeta, double
   return {fe + 2.0 * zeta * std::sqrt(m_eff * k) * overlap_rate, k};
 }
 
+// Duration of an undamped Hertz collision in units of (m*/k_h)^(2/5) v^(-1/5), F = k_h h^(3/2),
+// v the impact speed (Johnson 1985, sec. 11.4): t = 2 int_0^h_m dh / sqrt(v^2 - (4/5)(k_h/m*) h^(5/2))
+// = 2 (2/5) B(2/5, 1/2) h_m / v with h_m = (5 m* v^2 / (4 k_h))^(2/5), so the constant is
+// 2 (2/5) B(2/5, 1/2) (5/4)^(2/5) = 3.21807...
+inline double hertz_duration() {
+  static const double c = 2.0 * 0.4 * std::beta(0.4, 0.5) * std::pow(1.25, 0.4);
+  return c;
+}
+
 // Reduced radius of Peyneau (2009) eq. 1.22: 2/R_eq = 1/R_i + 1/R_j.
 inline double reduced_radius(double ri, double rj) { return 2.0 * ri * rj / (ri + rj); }
 
 // Izard (2014) eq. 3.13: the dashpot may not pull the grains together.
 inline double clip_attractive(double fn) { return fn > 0.0 ? fn : 0.0; }
 
-// Normal force of the scene's law for one contact.
+// The normal law of the scene, Hertz or the linear family, without clipping: the one dispatch
+// (the pair loop takes it as a template argument, walls and reports at run time).
+template <bool Hertz>
+inline NormalForce normal_law(const ContactParams& p, double m_eff, double r_eq, double overlap, double overlap_rate) {
+  if constexpr (Hertz) return hertz_normal(p.e_tilde, r_eq, p.zeta, m_eff, overlap, overlap_rate);
+  else return linear_normal(linear_coeffs(p, m_eff), overlap, overlap_rate);
+}
+
+// Normal force of the scene's law for one contact, clipped when the scene says so.
 inline NormalForce normal_force(const ContactParams& p, double m_eff, double r_eq, double overlap,
                                 double overlap_rate) {
-  NormalForce f = p.law == NormalLaw::kHertz
-                      ? hertz_normal(p.e_tilde, r_eq, p.zeta, m_eff, overlap, overlap_rate)
-                      : linear_normal(linear_coeffs(p, m_eff), overlap, overlap_rate);
+  NormalForce f = p.law == NormalLaw::kHertz ? normal_law<true>(p, m_eff, r_eq, overlap, overlap_rate)
+                                             : normal_law<false>(p, m_eff, r_eq, overlap, overlap_rate);
   if (p.clip_attractive) f.fn = clip_attractive(f.fn);
   return f;
 }

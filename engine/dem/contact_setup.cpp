@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 #include "dem/contact_laws.hpp"
 
@@ -15,7 +16,6 @@ double verlet_stability_limit(double w0, double zeta) {
 
 namespace silt::dem {
 
-constexpr double kPi = 3.14159265358979323846;
 
 void read_contact_law(const SceneDesc& d, Model& m) {
   ContactParams& c = m.contact;
@@ -24,10 +24,9 @@ void read_contact_law(const SceneDesc& d, Model& m) {
     c.law = NormalLaw::kSpringDashpot;
     c.restitution = d.real("contact.restitution");
     c.contact_time_given = d.real("contact.contact_time");
-    const double ln_e = std::log(c.restitution);
-    const double tc = c.contact_time_given;
-    c.k1 = (kPi * kPi + ln_e * ln_e) / (tc * tc);  // Izard eq. 3.17 divided by m*
-    c.c1 = -2.0 * ln_e / tc;                       // Izard eq. 3.16 divided by m*
+    const LinearCoeffs per_mass = spring_dashpot_rates(c.restitution, c.contact_time_given);
+    c.k1 = per_mass.k;  // Izard eq. 3.17 divided by m*
+    c.c1 = per_mass.c;  // Izard eq. 3.16 divided by m*
   } else if (model == "hooke") {
     c.law = NormalLaw::kHooke;
     c.k0 = d.real("contact.k_n");
@@ -53,18 +52,18 @@ void read_contact_law(const SceneDesc& d, Model& m) {
 double contact_time(const ContactParams& p, double m_eff, double r_eq, double max_overlap) {
   if (p.law == NormalLaw::kHertz) {
     // Undamped Hertz collision reaching overlap h_m: 1/2 m* v^2 = (2/5) k_h h_m^(5/2) with
-    // F = k_h h^(3/2), k_h = (E~/3) sqrt(2 R_eq); duration 3.2145 (m*/k_h)^(2/5) v^(-1/5)
-    // (Johnson 1985, sec. 11.4).
+    // F = k_h h^(3/2), k_h = (E~/3) sqrt(2 R_eq); duration kHertzDuration (m*/k_h)^(2/5) v^(-1/5)
+    // (Johnson 1985, sec. 11.4; contact_laws.hpp).
     const double kh = p.e_tilde / 3.0 * std::sqrt(2.0 * r_eq);
     const double v = std::sqrt(0.8 * kh * std::pow(max_overlap, 2.5) / m_eff);
-    return 3.2145 * std::pow(m_eff / kh, 0.4) * std::pow(v, -0.2);
+    return hertz_duration() * std::pow(m_eff / kh, 0.4) * std::pow(v, -0.2);
   }
   if (p.law == NormalLaw::kSpringDashpot) return p.contact_time_given;
   // Damping-ratio laws: the elastic (undamped) contact time pi / w0. It is the time unit of
   // run.dt_over_tc: the damped duration grows without bound as zeta -> 1 and would allow steps
   // near the stability limit.
   const dem::LinearCoeffs kc = dem::linear_coeffs(p, m_eff);
-  return kPi / std::sqrt(kc.k / m_eff);
+  return std::numbers::pi / std::sqrt(kc.k / m_eff);
 }
 
 void derive_contact_scales(const SceneDesc& d, Model& m) {

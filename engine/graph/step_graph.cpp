@@ -3,7 +3,6 @@
 // (graph/*_stages.cpp); this file only runs them.
 #include "graph/step_graph.hpp"
 
-#include <chrono>
 #include <sstream>
 
 #include "core/text.hpp"
@@ -35,16 +34,19 @@ struct StepGraph::Runner {
   void bind(const Model& m, State& s) {
     model = &m;
     state = &s;
-    // Insert the profile entries before any stage runs, so that concurrent stages only look up.
-    for (size_t k = 0; k < list.stages.size(); ++k) {
-      timers[k] = &s.profile[list.stages[k].name];
-      if (bodies[k]) bodies[k]->bind(m, s);
+    // Insert the profile entries before any stage runs, so that concurrent stages only look up;
+    // again only for another profile (the entries of a map stay where they are).
+    if (s.profile.id() != profile_id) {
+      profile_id = s.profile.id();
+      for (size_t k = 0; k < list.stages.size(); ++k) timers[k] = &s.profile[list.stages[k].name];
     }
+    for (auto& b : bodies)
+      if (b) b->bind(m, s);
   }
 
   void run_stage(size_t k, bool serial) {
     const Stage& st = list.stages[k];
-    const auto t0 = std::chrono::steady_clock::now();
+    const uint64_t t0 = stage_ticks();
     try {
       if (st.is_loop()) {
         for (int i = 0; i < st.times; ++i) serial ? bodies[k]->run_serial() : bodies[k]->run_flow();
@@ -57,8 +59,7 @@ struct StepGraph::Runner {
       // No exception may escape a task: it is the step's internal error.
       state->internal.raise(st.name, std::string("internal error in stage ") + st.name + ": " + e.what());
     }
-    const auto t1 = std::chrono::steady_clock::now();
-    timers[k]->seconds += std::chrono::duration<double>(t1 - t0).count();
+    timers[k]->ticks += stage_ticks() - t0;
     ++timers[k]->calls;
   }
 
@@ -104,6 +105,7 @@ struct StepGraph::Runner {
   std::vector<StageTime*> timers;
   const Model* model = nullptr;
   State* state = nullptr;
+  uint64_t profile_id = 0;  // of the profile the timers point into
   bool access_check = false;
   std::unique_ptr<tbb::flow::graph> graph;
   std::unique_ptr<tbb::flow::broadcast_node<tbb::flow::continue_msg>> start;

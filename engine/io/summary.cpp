@@ -27,7 +27,7 @@ void write_summary(const std::string& path, const SummaryInput& in, const Simula
   j["neighbor_builds"] = s.nbr_builds;
   j["memory_bytes"] = state_bytes(s);
   json stages = json::object();
-  for (const auto& [name, st] : s.profile) stages[name] = st.seconds;
+  for (const auto& [name, st] : s.profile) stages[name] = st.seconds();
   j["stages"] = stages;
   json obs = json::object();
   const auto& names = stats.names();

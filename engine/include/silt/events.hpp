@@ -56,12 +56,12 @@ class EventSlot {
     }
     lock_.store(false, std::memory_order_release);
   }
-  bool raised() const { return count_.load() > 0; }
-  int64_t count() const { return count_.load(); }
+  bool raised() const { return count_.load(std::memory_order_relaxed) > 0; }
+  int64_t count() const { return count_.load(std::memory_order_relaxed); }
   int64_t first() const { return first_; }
   double value() const { return value_; }
   void clear() {
-    count_ = 0;
+    count_.store(0, std::memory_order_relaxed);
     first_ = kNone;
     value_ = 0;
   }
@@ -82,8 +82,10 @@ struct Events {
       if (s.raised()) return true;
     return false;
   }
+  // Between steps (no stage runs): only the slots raised need it.
   void clear() {
-    for (EventSlot& s : slot) s.clear();
+    for (EventSlot& s : slot)
+      if (s.raised()) s.clear();
   }
 };
 

@@ -6,6 +6,7 @@
 
 #include <array>
 #include <cmath>
+#include <numbers>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -116,8 +117,7 @@ struct GrainInit {
 // Volume of a grain of radius r: a sphere's in 3D, a disk's area in 2D (disks are per unit
 // thickness, as their masses).
 inline double grain_volume(int dim, double r) {
-  constexpr double kPi = 3.14159265358979323846;
-  return dim == 3 ? 4.0 / 3.0 * kPi * r * r * r : kPi * r * r;
+  return dim == 3 ? 4.0 / 3.0 * std::numbers::pi * r * r * r : std::numbers::pi * r * r;
 }
 
 struct RunLimits {

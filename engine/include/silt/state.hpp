@@ -21,6 +21,7 @@
 #include "silt/events.hpp"
 #include "silt/fields.hpp"
 #include "silt/model.hpp"
+#include "silt/profile.hpp"
 
 namespace silt {
 
@@ -93,11 +94,6 @@ template <class T>
 inline constexpr bool kIsArray<std::vector<T>> = true;
 
 
-struct StageTime {
-  double seconds = 0;
-  int64_t calls = 0;
-};
-
 struct State {
 #define SILT_DECLARE_FIELD(module, type, name, extent, unit, doc) FieldStorage<type, Extent::extent> name{};
   SILT_STATE_FIELDS(SILT_DECLARE_FIELD)
@@ -125,7 +121,7 @@ struct State {
   InternalErrorSlot internal;
   StepFailure failure;
 
-  std::map<std::string, StageTime> profile;  // wall time per stage
+  Profile profile;  // wall time per stage
 
   int64_t n_pairs() const { return static_cast<int64_t>(pair_j.size()); }
   // A module's field by id.

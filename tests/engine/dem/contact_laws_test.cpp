@@ -2,6 +2,7 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <numbers>
 #include <string>
 
 #include "dem/contact_laws.hpp"
@@ -41,9 +42,9 @@ std::string pair_scene(double e, bool clip, double dt_over_tc) {
 // Clipped spring-dashpot: the force k d + c d' reaches zero at t* while the grains still overlap;
 // they then separate at constant speed. Returns {restitution, duration} of the exact solution.
 test::Collision clipped_closed_form(double e, double tc) {
-  const double pi = 3.14159265358979323846;
-  const double m = 1.0;  // the result does not depend on m*
-  const auto kc = dem::spring_dashpot_coeffs(e, tc, m);
+  const double pi = std::numbers::pi;
+  const double m = 1.0;  // the result does not depend on m*: the coefficients per unit reduced mass
+  const auto kc = dem::spring_dashpot_rates(e, tc);
   const double beta = kc.c / (2 * m), wd = std::sqrt(kc.k / m - beta * beta);
   const double ts = (pi - std::atan2(kc.c * wd, kc.k - kc.c * beta)) / wd;
   const double d = std::exp(-beta * ts) * std::sin(wd * ts) / wd;                               // v0 = 1
@@ -52,6 +53,19 @@ test::Collision clipped_closed_form(double e, double tc) {
 }
 
 }  // namespace
+
+TEST_CASE("spring-dashpot: the coefficients a scene compiles to are the law's") {
+  // compile() takes k_n / m* and gamma_n / m* from spring_dashpot_rates, the function checked
+  // below against the closed forms; a second copy of the formula could drift from it.
+  const Model m = test::model_from(pair_scene(0.6, false, 0.01));
+  const auto r = dem::spring_dashpot_rates(0.6, 1e-4);
+  CHECK(m.contact.k1 == r.k);
+  CHECK(m.contact.c1 == r.c);
+  // Undamped pulsation and damping of the law: the half period is t_c and the rebound e.
+  const double beta = r.c / 2, wd = std::sqrt(r.k - beta * beta);
+  CHECK(std::numbers::pi / wd == doctest::Approx(1e-4).epsilon(1e-12));
+  CHECK(std::exp(-beta * std::numbers::pi / wd) == doctest::Approx(0.6).epsilon(1e-12));
+}
 
 TEST_CASE("spring-dashpot: rebound is e and contact lasts t_c (Izard eq. 3.16-3.17)") {
   // Velocity Verlet with the dashpot on half-step velocities is second order: at t_c/200 the
@@ -119,17 +133,26 @@ dt = {dt}
 
 }  // namespace
 
-TEST_CASE("Hertz contact time scales as v^(-1/5) and matches 3.2145 (m*/k_h)^(2/5) v^(-1/5)") {
-  const double pi = 3.14159265358979323846;
+TEST_CASE("the Hertz duration constant is 2 (2/5) B(2/5, 1/2) (5/4)^(2/5)") {
+  // B(2/5, 1/2) = Gamma(2/5) Gamma(1/2) / Gamma(9/10).
+  const double beta = std::tgamma(0.4) * std::tgamma(0.5) / std::tgamma(0.9);
+  CHECK(dem::hertz_duration() == doctest::Approx(0.8 * beta * std::pow(1.25, 0.4)).epsilon(1e-14));
+  CHECK(dem::hertz_duration() == doctest::Approx(3.21807).epsilon(2e-6));
+}
+
+TEST_CASE("Hertz contact time scales as v^(-1/5) and matches 3.21807 (m*/k_h)^(2/5) v^(-1/5)") {
+  const double pi = std::numbers::pi;
   const double r = 1e-3, m = 2500 * 4.0 / 3.0 * pi * r * r * r, m_eff = m / 2;
   const double e_tilde = 7e10 / (1 - 0.09);
   const double kh = e_tilde / 3 * std::sqrt(2 * r);  // R_eq = r for equal spheres
   for (double v : {0.01, 0.1, 1.0}) {
     CAPTURE(v);
-    const double tc = 3.2145 * std::pow(m_eff / kh, 0.4) * std::pow(2 * v, -0.2);
-    auto sim = test::simulation_from(test::fill(kHertzPair, {{"zeta", 0.0}, {"v", v}, {"dt", tc / 2000}}));
+    const double tc = 3.21807 * std::pow(m_eff / kh, 0.4) * std::pow(2 * v, -0.2);
+    // 20,000 steps per contact: the duration is measured to 5e-5, well below the 1.1e-3 by which
+    // the constant 3.2145 once quoted here is off.
+    auto sim = test::simulation_from(test::fill(kHertzPair, {{"zeta", 0.0}, {"v", v}, {"dt", tc / 20000}}));
     const auto c = test::head_on_collision(*sim, 2 * v);
-    CHECK(c.duration == doctest::Approx(tc).epsilon(2e-3));
+    CHECK(c.duration == doctest::Approx(tc).epsilon(2e-4));
     CHECK(c.restitution == doctest::Approx(1.0).epsilon(1e-3));  // undamped: elastic
   }
 }
