@@ -159,7 +159,6 @@ void Session::install(Model m, const std::optional<State>& keep) {
   }
   sim_ = std::move(next);
   stats_.emplace("", sim_->model().observe);
-  stats_observer_.emplace(sim_->model(), sim_->model().observe);
   watch_.observer.reset();
   if (!watch_.names.empty()) {
     try {
@@ -221,11 +220,11 @@ RunOptions Session::run_options(const RunLength& len, bool background) {
   switch (len.kind) {
     case RunLength::kSteps: opt.steps = len.steps; break;
     case RunLength::kTime: {
-      const double n = std::ceil(len.time / m.dt - 1e-9);
-      if (!(n <= kMaxSteps))
-        throw std::runtime_error("run " + format_number(len.time) + "s: too long, " + format_number(n) + " steps of " +
-                                 format_number(m.dt) + " s (at most " + format_number(kMaxSteps) + ")");
-      opt.steps = static_cast<int64_t>(n);
+      opt.time = len.time;
+      const int64_t n = s.steps_for(opt);
+      if (n < 0 || !(static_cast<double>(n) <= kMaxSteps))
+        throw std::runtime_error("run " + format_number(len.time) + "s: too long, more than " + format_number(kMaxSteps) +
+                                 " steps of " + format_number(m.dt) + " s");
       break;
     }
     case RunLength::kUntil: opt.steps = kForever; break;
@@ -236,9 +235,6 @@ RunOptions Session::run_options(const RunLength& len, bool background) {
     shown_t_ = sim_->state().t;
     if (has_requests_) serve_requests(false);
   };
-  opt.hooks.push_back({m.sample_every, [this](const State& st) {
-                         if (stats_) stats_->add(stats_observer_->sample(sim_->model(), st), st.t);
-                       }});
   if (watch_.every > 0 && watch_.observer) {
     opt.hooks.push_back({watch_.every, [this, background](const State& st) {
                            const auto v = watch_.observer->sample(sim_->model(), st);
@@ -312,7 +308,10 @@ void Session::run_for(const RunLength& len, bool background) {
       bar.emplace(true, s.state().step, opt.steps < std::numeric_limits<int64_t>::max() / 8 ? opt.steps : 0, s.model().n_grains);
       opt.on_progress = [&bar](const State& st) { bar->update(st); };
     }
-    const RunReport r = s.run(opt);
+    RunJobOptions jo;
+    jo.series = &*stats_;
+    RunJob job(s, jo);
+    const RunReport r = job.run(opt);
     if (bar) bar->finish();
     if (frames_) frames_->finish();
     if (const std::string failure = report(r, false); !failure.empty()) throw RunFailure(failure);
@@ -320,8 +319,11 @@ void Session::run_for(const RunLength& len, bool background) {
   }
   bg_done_ = false;
   background_started_ = true;
-  background_ = std::thread([this, opt, report] {
-    const RunReport r = sim_->run(opt);
+  RunJobOptions jo;
+  jo.series = &*stats_;
+  auto job = std::make_shared<RunJob>(*sim_, jo);
+  background_ = std::thread([this, opt, report, job] {
+    const RunReport r = job->run(opt);
     if (const std::string failure = report(r, true); !failure.empty()) {
       std::lock_guard<std::mutex> lock(mutex_);
       background_failure_ = failure;

@@ -24,6 +24,7 @@
 #include "silt/io.hpp"
 #include "silt/observables.hpp"
 #include "silt/render.hpp"
+#include "silt/run_job.hpp"
 #include "silt/simulation.hpp"
 
 namespace silt::shell {
@@ -115,7 +116,6 @@ class Session {
   std::vector<Override> overrides_;
   std::unique_ptr<Simulation> sim_;
   std::optional<StatsWriter> stats_;  // samples of the scene's observables since load
-  std::optional<Observer> stats_observer_;
 
   struct Watch {
     std::vector<std::string> names;

@@ -137,9 +137,16 @@ void Session::cmd_get(const Command& c) {
 void Session::cmd_params(const Command& c) {
   const std::string prefix = c.args.empty() ? "" : canonical_key(c.args[0].text);
   Table t({"key", "value", "unit", "range", "live"});
-  for (const auto& [key, value] : scene_parameters(sim_ ? sim_->model().desc : kNoScene)) {
+  const SceneDesc& desc = sim_ ? sim_->model().desc : kNoScene;
+  for (auto [key, value] : scene_parameters(desc)) {
     if (key.rfind(prefix, 0) != 0) continue;
     const KeySpec* spec = find_key_spec(key);
+    // What the scene gave, else what compile() chose, else the schema's default.
+    if (!desc.has(key)) {
+      const std::string chosen = sim_ && spec->computed ? spec->computed(sim_->model()) : std::string();
+      if (!chosen.empty()) value = chosen + " (computed)";
+      else if (!value.empty()) value += " (default)";
+    }
     const bool numeric = spec->type == KeyType::kInt || spec->type == KeyType::kReal || spec->type == KeyType::kRealList;
     t.add({key, value.empty() ? "-" : value, spec->unit, numeric ? spec->range.str() : "", spec->steerable ? "yes" : ""});
   }
@@ -196,12 +203,13 @@ void Session::cmd_stats(const Command&) {
   // never became independent.
   Table t({"observable", "unit", "mean", "error", "", "last", "samples"}, {false, false, true, true, false, true, true});
   const auto& names = stats_->names();
+  const Observer units(sim().model(), names);
   for (size_t k = 0; k < names.size(); ++k) {
     std::vector<double> series;
     for (const auto& r : rows) series.push_back(r[k]);
     const BlockAverage b = block_average(series);
     const auto [mean, err] = mean_and_error(b.mean, b.err);
-    t.add({names[k], stats_observer_->units()[k], mean, err, b.converged ? "" : "(lower bound)", format_value(series.back()),
+    t.add({names[k], units.units()[k], mean, err, b.converged ? "" : "(lower bound)", format_value(series.back()),
            std::to_string(b.n)});
   }
   t.print(out_);

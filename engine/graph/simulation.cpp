@@ -125,12 +125,16 @@ bool Simulation::is_static() const {
   return (meas.ke - meas.ke_rot) / std::max<int64_t>(1, n_free) <= m.until_static.ke_tol * std::pow(a, m.dim) * P;
 }
 
+int64_t Simulation::steps_for(const RunOptions& opt) const {
+  // The one conversion of a time to steps (the time step is fixed: choose_dt's).
+  return opt.time >= 0 ? steps_in(opt.time, model_.dt) : opt.steps;
+}
+
 RunReport Simulation::run(const RunOptions& options) {
   RunReport rep;
   RunOptions opt = options;
   if (opt.time >= 0) {
-    // The one conversion of a time to steps (the time step is fixed: choose_dt's).
-    opt.steps = steps_in(opt.time, model_.dt);
+    opt.steps = steps_for(opt);
     if (opt.steps < 0) throw std::invalid_argument("run of " + format_number(opt.time) + " s: more than 9e18 steps");
   }
   const auto t0 = std::chrono::steady_clock::now();

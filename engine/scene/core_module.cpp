@@ -41,6 +41,9 @@ std::vector<KeySpec> core_keys() {
       // ---- output
       {"output.observe", K::kStringList, Value(std::vector<std::string>{"t", "step", "ke"}), Range::any(), "", false, {}, "Observables written to the stats file."},
       {"output.every", K::kInt, Value(int64_t{100}), Range::closed(1, 1e12), "", false, {}, "Sample every N steps."},
+      {"output.profile_axis", K::kString, std::nullopt, Range::any(), "", false, S{"x", "y", "z"}, "Axis across which the summary's velocity profile is taken, in slabs (default: y under shear, else none); the chute's is z."},
+      {"output.profile_component", K::kString, Value(std::string("x")), Range::any(), "", false, S{"x", "y", "z"}, "Velocity component of the profile (with the shear flow)."},
+      {"output.profile_slabs", K::kInt, std::nullopt, Range::closed(1, 10000), "", false, {}, "Slabs of the profile (default: about one largest diameter thick, 4 to 40)."},
       // ---- limits
       {"limits.max_overlap", K::kReal, Value(0.2), Range::open_closed(0, 1), "", false, {}, "Stop when an overlap exceeds this fraction of the smaller radius."},
       {"limits.energy_factor", K::kReal, Value(100.0), Range::open_closed(1, 1e12), "", false, {}, "Stop when kinetic energy exceeds this factor times the energy the scene can supply."},
@@ -57,6 +60,13 @@ std::vector<KeySpec> core_keys() {
         return v + "]";
       };
     if (k.path == "run.steps") k.computed = [](const Model& m) { return std::to_string(m.run_steps); };
+    if (k.path == "output.profile_slabs")
+      k.computed = [](const Model& m) {
+        return m.profile.axis >= 0 && m.profile.slabs == 0 ? std::string("box length at the start / largest diameter, 4 to 40")
+                                                           : std::string();
+      };
+    if (k.path == "output.profile_axis")
+      k.computed = [](const Model& m) { return m.profile.axis >= 0 ? std::string(1, "xyz"[m.profile.axis]) : std::string(); };
   }
   return s;
 }
@@ -131,6 +141,14 @@ void finish_core(const SceneDesc& d, Model& m) {
   for (const std::string& name : m.observe)
     if (auto err = check_observable(name, m); !err.empty()) d.fail("output.observe", err);
   m.sample_every = d.integer("output.every");
+  // The summary's velocity profile: across y under shear, else where the scene asks.
+  VelocityProfileSpec& p = m.profile;
+  p.axis = d.has("output.profile_axis") ? d.string("output.profile_axis")[0] - 'x' : (m.shear.on ? 1 : -1);
+  p.component = d.string("output.profile_component")[0] - 'x';
+  for (const char* key : {"output.profile_axis", "output.profile_component"})
+    if (d.has(key) && d.string(key)[0] - 'x' >= m.dim) d.fail(key, std::string(key) + " names an axis this 2D scene does not have");
+  if (d.has("output.profile_slabs") && p.axis < 0) d.fail("output.profile_slabs", "output.profile_slabs needs a profile (output.profile_axis)");
+  p.slabs = d.has("output.profile_slabs") ? static_cast<int>(d.integer("output.profile_slabs")) : 0;
 }
 
 std::string describe_core(const Model& m) {

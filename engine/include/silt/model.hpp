@@ -159,6 +159,12 @@ struct RenderSettings {
   bool wants(const std::string& item) const;
 };
 
+// The velocity profile a run's summary gives (RunJob): slabs across `axis` (-1: none); slabs 0:
+// about one largest diameter thick at the start of the run, 4 to 40.
+struct VelocityProfileSpec {
+  int axis = -1, component = 0, slabs = 0;
+};
+
 struct StaticCriterion {
   bool on = false;
   double force_tol = 1e-4, stress_tol = 1e-4, ke_tol = 1e-8;
@@ -224,6 +230,7 @@ struct Model {
 
   std::vector<std::string> observe;  // stats columns
   int64_t sample_every = 100;
+  VelocityProfileSpec profile;
   RunLimits limits;
 };
 

@@ -37,13 +37,14 @@ struct Measurements {
 };
 Measurements measure(const Model& m, const State& s);
 
-// Mean x velocity (affine flow included) in n_slabs slabs across y; a grain counts in every slab
-// it overlaps (Peyneau 2009 sec. 3.2.1). y: slab centres as a fraction of L_y, from lo_y.
+// Mean velocity component `component` (the shear flow included) in n_slabs slabs across `axis`;
+// a grain counts in every slab it overlaps (Peyneau 2009 sec. 3.2.1). y: slab centres as a
+// fraction of the box length along the axis, from its lower end; vx: the mean velocity.
 struct VelocityProfile {
   std::vector<double> y, vx;
   std::vector<int64_t> count;
 };
-VelocityProfile velocity_profile(const Model& m, const State& s, int n_slabs);
+VelocityProfile velocity_profile(const Model& m, const State& s, int n_slabs, int axis = 1, int component = 0);
 
 // Inertial number I = |gammadot| sqrt(m / (a^(d-2) P)) (Peyneau 2009 eq. 1.30), a the largest
 // diameter and m the mass of a grain of diameter a (Model::m_a; Peyneau sec. 5.3.3); 0 when P <= 0.

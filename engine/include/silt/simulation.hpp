@@ -71,6 +71,8 @@ class Simulation {
   // histories are used as they are, so the continuation is bitwise that of the original run.
   void restore(State s);
   RunReport run(const RunOptions& opt);
+  // The steps a run of these options does at most: opt.steps, or steps_in(opt.time, dt).
+  int64_t steps_for(const RunOptions& opt) const;
 
   // The state after the last step that completed without failure (replayed deterministically
   // from the last restart point, taken every limits.check_every steps).

@@ -1,0 +1,79 @@
+// A run with its outputs: the observables sampled into the stats series, VTK files, a velocity
+// profile, and at the end the summary, the last good state after a failure and the final
+// checkpoint. `silt run` and the shell's runs are jobs; so will be the runs of a parameter sweep.
+// Pictures are not the engine's: a caller adds a hook for its frames.
+#pragma once
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "silt/io.hpp"
+#include "silt/observables.hpp"
+#include "silt/simulation.hpp"
+
+namespace silt {
+
+struct RunJobOptions {
+  std::string scene;                 // as the summary names it
+  std::vector<std::string> observe;  // the stats' observables (default: the scene's)
+  int64_t every = 0;                 // samples every N steps (0: the scene's output.every)
+  std::string stats;                 // stats CSV ("" none)
+  std::string summary;               // summary JSON ("" none)
+  std::string save;                  // checkpoint of the final state ("" none)
+  std::string vtk;                   // VTK directory ("" none)
+  int64_t vtk_every = 0;             // (0: output.every)
+  double average_from = 0;           // means and errors over samples with t >= this [s]
+  // Samples go into this series instead of a new one (the shell's, kept since the scene was
+  // loaded); `observe` and `stats` are then its own.
+  StatsWriter* series = nullptr;
+};
+
+class RunJob {
+ public:
+  // Checks the observables (std::invalid_argument) and opens the stats and VTK outputs (IoError),
+  // before any step.
+  RunJob(Simulation& sim, RunJobOptions options);
+  ~RunJob();
+  RunJob(const RunJob&) = delete;
+  RunJob& operator=(const RunJob&) = delete;
+
+  // Something else to do every N steps (frames).
+  void add_hook(PeriodicHook hook) { extra_.push_back(std::move(hook)); }
+  void add_warning(std::string w) { warnings_.push_back(std::move(w)); }
+  // A failure of an output that the run went on without (exit code 4 at the end).
+  void add_output_error(std::string e) { output_errors_.push_back(std::move(e)); }
+
+  // The run, with the job's hooks added to opt's.
+  RunReport run(RunOptions opt);
+  // After the run: the stats flushed, the last good state written after a failure (beside the
+  // summary, else the stats), the summary, the final checkpoint. Returns the process's exit code
+  // (0, 3 numerical failure, 4 an output failed, 130 interrupted), the one the summary records.
+  // Throws IoError when a file cannot be written.
+  int finish(const RunReport& rep);
+
+  const StatsWriter& stats() const { return o_.series ? *o_.series : *stats_; }
+  const Observer& observer() const { return *observer_; }
+  // What the summary calls the end of the run: ok, static, interrupted, failed.
+  static const char* status(RunEnd end);
+  // Where finish() wrote the last good state, "" when it did not.
+  const std::string& last_good_path() const { return last_good_; }
+
+ private:
+  Simulation& sim_;
+  RunJobOptions o_;
+  std::optional<Observer> observer_;
+  std::optional<StatsWriter> stats_;
+  std::unique_ptr<VtkWriter> vtk_;
+  std::string vtk_error_;
+  std::vector<ProfileSeries> profiles_;
+  int profile_axis_ = -1, profile_component_ = 0, profile_slabs_ = 0;
+  std::vector<PeriodicHook> extra_;
+  std::vector<std::string> warnings_, output_errors_;
+  std::string last_good_;
+  double wall_s_ = 0;
+  int64_t steps_ = 0;
+};
+
+}  // namespace silt
