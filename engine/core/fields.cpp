@@ -1,6 +1,7 @@
 // The field table: the built-in fields of SILT_STATE_FIELDS, then the fields modules register.
 #include <stdexcept>
 
+#include "silt/module.hpp"
 #include "silt/state.hpp"
 
 namespace silt {
@@ -42,7 +43,11 @@ bool follows_grains(Extent e) {
   return e == Extent::kGrain || e == Extent::kGrainVec || e == Extent::kGrainRot || e == Extent::kGrainWallVec;
 }
 
-const std::deque<FieldInfo>& field_infos() { return table(); }
+// The modules' fields are registered when the module list is made: make it first.
+const std::deque<FieldInfo>& field_infos() {
+  (void)modules();
+  return table();
+}
 
 const FieldInfo& field_info(FieldId id) {
   const auto& t = table();
@@ -50,15 +55,22 @@ const FieldInfo& field_info(FieldId id) {
   return t[id];
 }
 
-const FieldInfo* find_field(std::string_view name) {
+namespace {
+const FieldInfo* find_in_table(std::string_view name) {
   for (const FieldInfo& f : table())
     if (f.name == name) return &f;
   return nullptr;
 }
+}  // namespace
+
+const FieldInfo* find_field(std::string_view name) {
+  (void)modules();
+  return find_in_table(name);
+}
 
 FieldId register_module_field(const std::string& name, const std::string& module, Extent extent,
                               const std::string& unit, const std::string& doc) {
-  if (const FieldInfo* f = find_field(name)) {
+  if (const FieldInfo* f = find_in_table(name)) {
     if (f->module != module) throw std::logic_error("field '" + name + "' is registered by module " + f->module);
     return f->id;
   }

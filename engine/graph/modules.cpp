@@ -1,23 +1,53 @@
-// The list of modules: each with its spec (keys, observables, fields, events, compile) and the
-// adder that puts its stages into a step. Adding a module adds its files and one line here.
+// The list of modules: each with its spec (keys, observables, fields, events, compile steps) and
+// the adder that puts its stages into a step. Adding a module adds its files and one line to
+// SILT_MODULES: (namespace of its spec, function returning it, its adder in silt::graph).
 #include <stdexcept>
 
-#include "dem/module.hpp"
-#include "graph/adders.hpp"
-#include "scene/core_module.hpp"
-#include "shear/module.hpp"
+#include "graph/graph_builder.hpp"
 #include "silt/module.hpp"
 
+// clang-format off
+#define SILT_MODULES(X)                                 \
+  X(scene, core_module,   add_core_stages)              \
+  X(dem,   module,        add_dem_stages)               \
+  X(shear, module,        add_shear_stages)             \
+  X(scene, render_module, add_no_stages)
+// clang-format on
+
+#define SILT_DECLARE_MODULE(ns, spec, adder) \
+  namespace silt::ns {                       \
+  const ModuleSpec& spec();                  \
+  }                                          \
+  namespace silt::graph {                    \
+  void adder(GraphBuilder& b);               \
+  }
+SILT_MODULES(SILT_DECLARE_MODULE)
+#undef SILT_DECLARE_MODULE
+
 namespace silt {
+
+namespace graph {
+// A module with keys but no stages (the render settings).
+void add_no_stages(GraphBuilder&) {}
+}  // namespace graph
+
 namespace {
 
+void register_parts(const ModuleSpec& spec) {
+  for (const ModuleField& f : spec.fields) register_module_field(f.name, spec.name, f.extent, f.unit, f.doc);
+  for (const std::string& e : spec.events) register_module_event(e);
+}
+
 std::vector<Module>& list() {
-  static std::vector<Module> l = {
-      {&scene::core_module(), graph::add_core_stages},
-      {&dem::module(), graph::add_dem_stages},
-      {&shear::module(), graph::add_shear_stages},
-      {&scene::render_module(), nullptr},
-  };
+  static std::vector<Module> l = [] {
+    std::vector<Module> out = {
+#define SILT_LIST_MODULE(ns, spec, adder) {&ns::spec(), graph::adder},
+        SILT_MODULES(SILT_LIST_MODULE)
+#undef SILT_LIST_MODULE
+    };
+    for (const Module& m : out) register_parts(*m.spec);
+    return out;
+  }();
   return l;
 }
 
@@ -33,8 +63,7 @@ const Module* find_module(std::string_view name) {
 
 void register_module(const ModuleSpec* spec, StageAdder add_stages) {
   if (find_module(spec->name)) throw std::logic_error("module " + spec->name + " is already registered");
-  for (const ModuleField& f : spec->fields) register_module_field(f.name, spec->name, f.extent, f.unit, f.doc);
-  for (const std::string& e : spec->events) register_module_event(e);
+  register_parts(*spec);
   list().push_back({spec, std::move(add_stages)});
 }
 
