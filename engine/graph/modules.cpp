@@ -11,6 +11,7 @@
   X(scene, core_module,   add_core_stages)              \
   X(dem,   module,        add_dem_stages)               \
   X(shear, module,        add_shear_stages)             \
+  X(drag,  module,        add_drag_stages)              \
   X(scene, render_module, add_no_stages)
 // clang-format on
 
