@@ -3,8 +3,9 @@
 //   build/bench/dem_knobs [--settled FILE] [--steps N]
 //
 // 1. Time step: restitution and contact duration of the binary collision of
-//    scenes/collision_normal.toml (Izard's linear law, e = 0.5 and 0.9) against the closed form, for dt = t_c/10 ... t_c/400; cost = steps per
-//    contact. Velocity Verlet with the dashpot on half-step velocities is first order in dt for e.
+//    scenes/collision_normal.toml (Izard's linear law, e = 0.5 and 0.9) against the closed form, for dt = t_c/10 ...
+//    t_c/400; cost = steps per contact. Velocity Verlet with the dashpot on half-step velocities is first order in dt
+//    for e.
 // 2. Verlet skin: cost of the chute (17,600 grains, settled state) for skins of 0.025 to 0.3
 //    diameters; the skin changes no result, only how often lists are rebuilt and how many pairs
 //    are tested per step.
@@ -13,8 +14,8 @@
 //    that gap); the state after the run must be the same, bit for bit, as testing every pair.
 // Appends to bench/results/dem_knobs.csv.
 #include <cmath>
-#include <cstdlib>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <sstream>
@@ -76,8 +77,8 @@ void time_step_table() {
       const double dur = touching * s.dt / 1e-4;
       std::printf("%-8.2f %-10.0f %-14.6f %-14.3e %-14.4f\n", e, per, em, std::abs(em - e) / e, dur);
       std::ostringstream row;
-      row << bench::today() << ",dt_over_tc," << 1.0 / per << ",restitution_e" << e << "," << std::abs(em - e) / e << ","
-          << dur << "," << per;
+      row << bench::today() << ",dt_over_tc," << 1.0 / per << ",restitution_e" << e << "," << std::abs(em - e) / e
+          << "," << dur << "," << per;
       bench::append_csv(csv_path(), kHeader, row.str());
     }
   }
@@ -101,8 +102,8 @@ State settled_chute(const std::string& settled_file) {
 void skin_table(const State& settled, int64_t steps) {
   const std::string& scene = chute_scene();
   std::printf("\n2. Verlet skin: chute, %lld steps from the settled state, 1 thread\n", static_cast<long long>(steps));
-  std::printf("%-10s %-16s %-10s %-14s %-12s %-12s\n", "skin/d", "particle-steps/s", "builds", "pairs/grain", "bytes/grain",
-              "KE at end");
+  std::printf("%-10s %-16s %-10s %-14s %-12s %-12s\n", "skin/d", "particle-steps/s", "builds", "pairs/grain",
+              "bytes/grain", "KE at end");
   for (double skin : {0.025, 0.05, 0.1, 0.2, 0.3}) {
     std::ostringstream o;
     o << "neighbor.skin=" << skin * 0.98;
@@ -117,11 +118,12 @@ void skin_table(const State& settled, int64_t steps) {
     const double rate = sim.state().n * static_cast<double>(steps) / (bench::now_s() - t0);
     const Measurements meas = measure(sim.model(), sim.state());
     std::printf("%-10.3f %-16.4g %-10lld %-14.2f %-12.0f %-12.1f\n", skin, rate,
-                static_cast<long long>(sim.state().nbr_builds - b0), static_cast<double>(sim.state().n_pairs()) / sim.state().n,
+                static_cast<long long>(sim.state().nbr_builds - b0),
+                static_cast<double>(sim.state().n_pairs()) / sim.state().n,
                 static_cast<double>(state_bytes(sim.state())) / sim.state().n, meas.ke);
     std::ostringstream row;
-    row << bench::today() << ",skin_over_d," << skin << ",chute_1thread," << rate << ","
-        << sim.state().nbr_builds - b0 << "," << static_cast<double>(sim.state().n_pairs()) / sim.state().n;
+    row << bench::today() << ",skin_over_d," << skin << ",chute_1thread," << rate << "," << sim.state().nbr_builds - b0
+        << "," << static_cast<double>(sim.state().n_pairs()) / sim.state().n;
     bench::append_csv(csv_path(), kHeader, row.str());
   }
 }
@@ -157,16 +159,17 @@ void contact_skin_table(const State& settled, int64_t steps) {
   const double skin = compile(load_scene_file(chute_scene())).skin;
   for (int r = 0; r < repeats; ++r)
     for (size_t k = 0; k < fractions.size(); ++k)
-      best[k] = std::max(best[k],
-                         contact_skin_run(settled, steps, skin, fractions[k], &hash[k], &sel[k], &per_grain[k]));
+      best[k] =
+          std::max(best[k], contact_skin_run(settled, steps, skin, fractions[k], &hash[k], &sel[k], &per_grain[k]));
   std::printf("\n3. contact skin: chute, %lld steps from the settled state, 1 thread, best of %d\n",
               static_cast<long long>(steps), repeats);
   std::printf("%-16s %-16s %-12s %-18s %-10s\n", "contact/skin", "particle-steps/s", "selections", "candidates/grain",
               "same bits");
   for (size_t k = 0; k < fractions.size(); ++k) {
     const bool same = hash[k] == hash[0];
-    std::printf("%-16s %-16.4g %-12lld %-18.2f %-10s\n", k == 0 ? "0 (all pairs)" : std::to_string(fractions[k]).c_str(),
-                best[k], static_cast<long long>(sel[k]), per_grain[k], same ? "yes" : "NO");
+    std::printf("%-16s %-16.4g %-12lld %-18.2f %-10s\n",
+                k == 0 ? "0 (all pairs)" : std::to_string(fractions[k]).c_str(), best[k],
+                static_cast<long long>(sel[k]), per_grain[k], same ? "yes" : "NO");
     std::ostringstream row;
     row << bench::today() << ",contact_skin_over_skin," << fractions[k] << ",chute_1thread," << best[k] << "," << sel[k]
         << "," << (same ? 1 : 0);

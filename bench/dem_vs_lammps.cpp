@@ -18,12 +18,12 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <vector>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <regex>
 #include <sstream>
+#include <vector>
 
 #include "bench_util.hpp"
 #include "machine_reference.hpp"
@@ -75,7 +75,8 @@ int run(int argc, char** argv) {
   State settled;
   if (!settled_file.empty() && std::ifstream(settled_file).good()) {
     settled = read_checkpoint(settled_file, model);
-    std::printf("  settled state read from %s (step %lld)\n", settled_file.c_str(), static_cast<long long>(settled.step));
+    std::printf("  settled state read from %s (step %lld)\n", settled_file.c_str(),
+                static_cast<long long>(settled.step));
   } else {
     Simulation sim(model, 2);
     const double t0 = bench::now_s();
@@ -107,8 +108,9 @@ int run(int argc, char** argv) {
     std::ofstream(copy) << text.str();
     std::printf("LAMMPS: lmp -in %s -var settle %lld -var steps %lld (the last run %d times) ...\n", input.c_str(),
                 static_cast<long long>(settle), static_cast<long long>(steps), repeat);
-    const std::string out = bench::capture("OMP_NUM_THREADS=1 lmp -in " + copy + " -var settle " + std::to_string(settle) +
-                                           " -var steps " + std::to_string(steps) + " -log none 2>&1");
+    const std::string out =
+        bench::capture("OMP_NUM_THREADS=1 lmp -in " + copy + " -var settle " + std::to_string(settle) + " -var steps " +
+                       std::to_string(steps) + " -log none 2>&1");
     std::filesystem::remove(copy);
     const std::regex loop(R"(Loop time of ([0-9.eE+-]+) on 1 procs for ([0-9]+) steps with ([0-9]+) atoms)");
     std::vector<double> lmp_rates;
@@ -203,8 +205,8 @@ int run(int argc, char** argv) {
   std::printf("%-28s %16lld\n", "silt builds in timed steps", static_cast<long long>(builds));
 
   std::ostringstream row;
-  row << bench::today() << ",\"" << bench::cpu_model() << "\"," << model.n_grains << "," << settle << "," << steps << ","
-      << lmp_rate << "," << rate[1] << "," << rate[2] << "," << (lmp_rate > 0 ? rate[1] / lmp_rate : 0) << ","
+  row << bench::today() << ",\"" << bench::cpu_model() << "\"," << model.n_grains << "," << settle << "," << steps
+      << "," << lmp_rate << "," << rate[1] << "," << rate[2] << "," << (lmp_rate > 0 ? rate[1] / lmp_rate : 0) << ","
       << rate[2] / rate[1] << "," << bytes_per_grain << "," << ke_end << "," << lmp_ke << ","
       << bench::peak_rss_bytes() / n << "," << median[1] / std::max(lmp_median, 1e-300) << "," << median[2] / median[1];
   bench::append_csv(std::string(SILT_SOURCE_DIR) + "/bench/results/dem.csv",

@@ -50,7 +50,8 @@ int run(int argc, char** argv) {
         f << "contact.friction=" << mu;
         sd << "scene.seed=" << seed;
         mf << "box.mass_factor=" << factor;
-        Model m = compile(load_scene_file(scene, {parse_override(f.str()), parse_override(sd.str()), parse_override(mf.str())}));
+        Model m = compile(
+            load_scene_file(scene, {parse_override(f.str()), parse_override(sd.str()), parse_override(mf.str())}));
         Simulation sim(std::move(m), threads);
         RunOptions opt;
         opt.steps = sim.model().run_steps;
@@ -79,8 +80,8 @@ int run(int argc, char** argv) {
       std::snprintf(pbuf, sizeof pbuf, "%.4f +- %.4f (%.4f)", pm, ps, ps / std::sqrt(phi.size()));
       std::snprintf(zbuf, sizeof zbuf, "%.3f +- %.3f", zsm, zssd);
       std::snprintf(mbuf, sizeof mbuf, "%.3f +- %.3f", zmm, zmsd);
-      std::printf("%-6.2f %-8.3g %-22s %-16s %-16s %-7.4f %d/%-6d %-10.0f %-8.1f %s\n", mu, factor, pbuf, zbuf, mbuf, p0m,
-                  n_static, seeds, steps, wall, mu > 0 ? "0.802 +- 0.010" : "0.836 +- 0.002");
+      std::printf("%-6.2f %-8.3g %-22s %-16s %-16s %-7.4f %d/%-6d %-10.0f %-8.1f %s\n", mu, factor, pbuf, zbuf, mbuf,
+                  p0m, n_static, seeds, steps, wall, mu > 0 ? "0.802 +- 0.010" : "0.836 +- 0.002");
       std::ostringstream row;
       row << bench::today() << "," << mu << "," << factor << "," << seeds << "," << pm << "," << ps << "," << zsm << ","
           << zssd << "," << n_static << "," << steps << "," << wall << "," << (mu > 0 ? 0.802 : 0.836) << ","

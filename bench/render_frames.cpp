@@ -42,7 +42,8 @@ double median(std::vector<double> x) {
   return n % 2 ? x[n / 2] : 0.5 * (x[n / 2 - 1] + x[n / 2]);
 }
 
-Times time_frames(const Model& m, const State& s, const render::View& v, const GridField* field, int frames, int threads) {
+Times time_frames(const Model& m, const State& s, const render::View& v, const GridField* field, int frames,
+                  int threads) {
   render::Rasterizer r(threads);
   std::vector<double> build, raster, overlay, png, total;
   Times t;
@@ -89,7 +90,7 @@ int child(const std::string& which, int threads, int frames, const std::string& 
     v.width = 1920;
     v.height = 1080;
     v.draw = {"grains", "chains", "colorbar", "time"};
-    v.color_by = "";                                      // flat grains, the chains' colour bar
+    v.color_by = "";                                       // flat grains, the chains' colour bar
     v.grain_opacity = which == "chute_opaque" ? 1.0 : -1;  // -1: the 3D default with chains, 0.25
     t = time_frames(sim.model(), sim.state(), v, nullptr, frames, threads);
     t.step = sim.state().step;
@@ -104,8 +105,8 @@ int child(const std::string& which, int threads, int frames, const std::string& 
     v.draw = {"field", "grains", "colorbar", "time", "scalebar"};
     t = time_frames(sim.model(), sim.state(), v, &g, frames, threads);
   }
-  std::printf("%.6f %.6f %.6f %.6f %.6f %zu %.3f %lld\n", t.build, t.raster, t.overlay, t.png, t.total, t.segments, t.opacity,
-              static_cast<long long>(t.step));
+  std::printf("%.6f %.6f %.6f %.6f %.6f %zu %.3f %lld\n", t.build, t.raster, t.overlay, t.png, t.total, t.segments,
+              t.opacity, static_cast<long long>(t.step));
   return 0;
 }
 
@@ -124,15 +125,16 @@ int run(int argc, char** argv) {
     std::fprintf(stderr, "render_frames: no checkpoint '%s'\n", settled.c_str());
     return 2;
   }
-  if (settled.empty()) std::fprintf(stderr, "render_frames: no --settled checkpoint: the chute after 3,000 steps, few contacts\n");
+  if (settled.empty())
+    std::fprintf(stderr, "render_frames: no --settled checkpoint: the chute after 3,000 steps, few contacts\n");
   std::printf("1920 x 1080, median of %d frames\n", frames);
-  std::printf("%-30s %7s %8s %7s %9s %9s %9s %9s %9s\n", "frame", "threads", "segments", "opacity", "build ms", "raster ms",
-              "overlay ms", "png ms", "total ms");
+  std::printf("%-30s %7s %8s %7s %9s %9s %9s %9s %9s\n", "frame", "threads", "segments", "opacity", "build ms",
+              "raster ms", "overlay ms", "png ms", "total ms");
   for (const char* which : {"chute_opaque", "chute", "vorticity"}) {
     for (int threads : {1, 2}) {
       std::ostringstream cmd;
-      cmd << argv[0] << " --frames " << frames << (settled.empty() ? "" : " --settled " + settled) << " --child " << which
-          << ":" << threads;
+      cmd << argv[0] << " --frames " << frames << (settled.empty() ? "" : " --settled " + settled) << " --child "
+          << which << ":" << threads;
       std::istringstream out(bench::capture(cmd.str()));
       Times t;
       if (!(out >> t.build >> t.raster >> t.overlay >> t.png >> t.total >> t.segments >> t.opacity >> t.step)) {
@@ -144,7 +146,8 @@ int run(int argc, char** argv) {
       std::ostringstream row;
       row << bench::today() << "," << which << "," << threads << "," << t.build << "," << t.raster << "," << t.overlay
           << "," << t.png << "," << t.total << "," << t.segments << "," << t.opacity << ","
-          << (std::strcmp(which, "vorticity") == 0 ? std::string("pack_2d prepared") : "chute step " + std::to_string(t.step))
+          << (std::strcmp(which, "vorticity") == 0 ? std::string("pack_2d prepared")
+                                                   : "chute step " + std::to_string(t.step))
           << ",median of " << frames;
       bench::append_csv(std::string(SILT_SOURCE_DIR) + "/bench/results/render.csv",
                         "date,case,threads,build_s,raster_s,overlay_s,png_s,total_s,segments,grain_opacity,bed,stat",

@@ -57,9 +57,9 @@ struct Args {
   int threads = 2;
   bool low = false;
   bool two_d = false;
-  std::string only;  // run only the cases of this knob (I, dt, mass, skin)
-  double mass_factor = 1;  // box mass / (N m) of the I cases (--mass)
-  double dt_over_tc = 0.05;  // time step of the I cases (--dt)
+  std::string only;              // run only the cases of this knob (I, dt, mass, skin)
+  double mass_factor = 1;        // box mass / (N m) of the I cases (--mass)
+  double dt_over_tc = 0.05;      // time step of the I cases (--dt)
   std::vector<double> inertial;  // --inertial: replaces the list of I
   double strain_scale = 1;
   std::string scene = std::string(SILT_SOURCE_DIR) + "/scenes/shear3d_frictionless.toml";
@@ -72,7 +72,7 @@ struct Case {
   double transient = 0, measured = 0;  // strains
   double friction = -1;                // < 0: the scene's
   double thesis_mu = 0, thesis_phi = 0;
-  bool from_steady = false;   // start from the steady flow at I = 3.16e-2 instead of the packing
+  bool from_steady = false;    // start from the steady flow at I = 3.16e-2 instead of the packing
   bool lift_dt_bound = false;  // compile at 0.05 t_c, then run at dt_over_tc (dt_probe)
 };
 
@@ -202,17 +202,17 @@ int run(int argc, char** argv) {
       std::istringstream in(argv[++i]);
       std::string item;
       while (std::getline(in, item, ',')) a.inertial.push_back(std::stod(item));
-    }
-    else if (!std::strcmp(argv[i], "--2d")) {
+    } else if (!std::strcmp(argv[i], "--2d")) {
       a.two_d = true;
       a.scene = std::string(SILT_SOURCE_DIR) + "/scenes/shear2d_dry.toml";
-    }
-    else if (!std::strcmp(argv[i], "--scene") && i + 1 < argc) a.scene = argv[++i];
+    } else if (!std::strcmp(argv[i], "--scene") && i + 1 < argc) a.scene = argv[++i];
     else if (!std::strcmp(argv[i], "--mass") && i + 1 < argc) a.mass_factor = std::stod(argv[++i]);
     else if (!std::strcmp(argv[i], "--dt") && i + 1 < argc) a.dt_over_tc = std::stod(argv[++i]);
     else if (!std::strcmp(argv[i], "--set") && i + 1 < argc) a.sets.push_back(argv[++i]);
     else {
-      std::fprintf(stderr, "usage: shear [--threads N] [--low] [--quick] [--2d] [--only KNOB] [--inertial LIST] [--mass F] [--dt F] [--scene FILE] [--set KEY=VALUE ...]\n");
+      std::fprintf(stderr,
+                   "usage: shear [--threads N] [--low] [--quick] [--2d] [--only KNOB] [--inertial LIST] [--mass F] "
+                   "[--dt F] [--scene FILE] [--set KEY=VALUE ...]\n");
       return 1;
     }
   }
@@ -231,8 +231,8 @@ int run(int argc, char** argv) {
   const double t0 = bench::now_s();
   const State prepared = prepare_packing(m0, a.threads, &prep);
   const double phi_iso = measure(m0, prepared).phi;
-  std::printf("procedure O: N = %lld, Phi_iso = %.4f after %lld steps (%.1f s)%s\n", static_cast<long long>(m0.n_grains),
-              phi_iso, static_cast<long long>(prep.steps), bench::now_s() - t0,
+  std::printf("procedure O: N = %lld, Phi_iso = %.4f after %lld steps (%.1f s)%s\n",
+              static_cast<long long>(m0.n_grains), phi_iso, static_cast<long long>(prep.steps), bench::now_s() - t0,
               prep.end == RunEnd::kStatic ? ", static" : ", NOT static");
 
   std::vector<Case> cases;
@@ -342,11 +342,12 @@ int run(int argc, char** argv) {
     const double psps = r.wall > 0 ? m0.n_grains * r.steps / r.wall : 0;
     const std::string status =
         r.ok ? "ok" : "failed after a strain of " + std::to_string(strain).substr(0, 6) + ": " + r.failure;
-    std::printf("%-8s %-8.4g %-6.3g %-6.0e %-5.3g %-17s %-17s %-17s %-17s %-16s %-6.3f %-6.3f %-6.3f %-6.4f %-7.4f %-8.3f "
-                "%-8.3f %-11s %s\n",
-                c.knob.c_str(), c.inertial, c.dt_over_tc, c.mass_factor, c.skin, mu, indep, mu314, phi, syy, r.z.mean,
-                r.z_star.mean, r.z_mech.mean, r.pn[0], r.profile_dev, strain > 0 ? r.wall / strain : 0, psps / 1e6, ref,
-                status.c_str());
+    std::printf(
+        "%-8s %-8.4g %-6.3g %-6.0e %-5.3g %-17s %-17s %-17s %-17s %-16s %-6.3f %-6.3f %-6.3f %-6.4f %-7.4f %-8.3f "
+        "%-8.3f %-11s %s\n",
+        c.knob.c_str(), c.inertial, c.dt_over_tc, c.mass_factor, c.skin, mu, indep, mu314, phi, syy, r.z.mean,
+        r.z_star.mean, r.z_mech.mean, r.pn[0], r.profile_dev, strain > 0 ? r.wall / strain : 0, psps / 1e6, ref,
+        status.c_str());
     std::fflush(stdout);
     std::string failure = r.failure;  // one CSV field
     for (char& ch : failure)

@@ -81,16 +81,18 @@ int run(int argc, char** argv) {
   const double gamma_n = 2 * zeta * std::sqrt(kn / (0.5 * dry.m_mean));
   const int64_t steps = static_cast<int64_t>(strain / (gd * dt));
   const int64_t every = 1000;
-  std::printf("packing: %lld disks, Phi = %.4f, box %.4f x %.4f; gammadot = %.6g, dt = %.6g, %lld steps, gamma_n = %.4g\n",
-              static_cast<long long>(dry.n_grains), measure(dry, packed).phi, lx, ly, gd, dt,
-              static_cast<long long>(steps), gamma_n);
+  std::printf(
+      "packing: %lld disks, Phi = %.4f, box %.4f x %.4f; gammadot = %.6g, dt = %.6g, %lld steps, gamma_n = %.4g\n",
+      static_cast<long long>(dry.n_grains), measure(dry, packed).phi, lx, ly, gd, dt, static_cast<long long>(steps),
+      gamma_n);
 
   // silt: the same grains at fixed volume, hooke law, imposed shear rate.
   std::ostringstream toml;
   toml.precision(17);
   toml << "[scene]\ndimension = 2\nseed = 1\n[domain]\nlo = [0.0, 0.0]\nhi = [39.5, 39.5]\nperiodic = [true, true]\n"
        << "[shear]\nrate = " << gd << "\n[contact]\nmodel = \"hooke\"\nk_n = " << kn << "\ngamma_n = " << gamma_n
-       << "\nfriction = " << mu << "\nkt_over_kn = 0.5\n[[grains]]\nname = \"disks\"\ncount = 896\nradius_min = 0.35\nradius_max = 0.5\n"
+       << "\nfriction = " << mu
+       << "\nkt_over_kn = 0.5\n[[grains]]\nname = \"disks\"\ncount = 896\nradius_min = 0.35\nradius_max = 0.5\n"
        << "density = 1.0\nplacement = \"random\"\n[run]\ndt = " << dt << "\n";
   Simulation sim(compile(parse_scene(toml.str(), "shear2d_fixed_volume.toml")), threads);
   sim.restore(packed);
@@ -110,7 +112,8 @@ int run(int argc, char** argv) {
   {
     std::ofstream d(data);
     d.precision(17);
-    d << "silt prepared packing\n\n" << packed.n << " atoms\n1 atom types\n\n0 " << lx << " xlo xhi\n0 " << ly
+    d << "silt prepared packing\n\n"
+      << packed.n << " atoms\n1 atom types\n\n0 " << lx << " xlo xhi\n0 " << ly
       << " ylo yhi\n-0.5 0.5 zlo zhi\n0 0 0 xy xz yz\n\nAtoms # sphere\n\n";
     for (int64_t i = 0; i < packed.n; ++i) {
       const double r = packed.particle_r[i];
@@ -120,8 +123,8 @@ int run(int argc, char** argv) {
     }
     std::ofstream in(input);
     in.precision(17);
-    in << "dimension 2\nunits lj\natom_style sphere\nboundary p p p\nnewton off\ncomm_modify vel yes\nread_data " << data
-       << "\npair_style gran/hooke/history " << kn << " " << 0.5 * kn << " " << gamma_n << " 0 " << mu
+    in << "dimension 2\nunits lj\natom_style sphere\nboundary p p p\nnewton off\ncomm_modify vel yes\nread_data "
+       << data << "\npair_style gran/hooke/history " << kn << " " << 0.5 * kn << " " << gamma_n << " 0 " << mu
        << " 0\npair_coeff * *\nneighbor 0.1 bin\nneigh_modify every 1 delay 0\ntimestep " << dt
        << "\nvelocity all ramp vx 0.0 " << gd * ly << " y 0 " << ly << " sum no units box\n"
        << "fix 1 all nve/sphere disc\nfix 2 all enforce2d\nfix 3 all deform 1 xy erate " << gd << " remap v flip yes\n"
@@ -154,11 +157,12 @@ int run(int argc, char** argv) {
   std::ostringstream row;
   row << bench::today() << "," << mu << "," << strain << "," << silt_series.csv() << "," << lammps_series.csv() << ","
       << threads << "," << measure(dry, packed).phi;
-  bench::append_csv(std::string(SILT_SOURCE_DIR) + "/bench/results/shear2d_vs_lammps.csv",
-                    "date,friction,strain,mu_silt,mu_ratio_silt,mu_ratio_err_silt,syy_silt,syy_err_silt,wall_s_silt,"
-                    "mu_lammps,mu_ratio_lammps,mu_ratio_err_lammps,syy_lammps,syy_err_lammps,wall_s_lammps,threads_silt,"
-                    "phi",
-                    row.str());
+  bench::append_csv(
+      std::string(SILT_SOURCE_DIR) + "/bench/results/shear2d_vs_lammps.csv",
+      "date,friction,strain,mu_silt,mu_ratio_silt,mu_ratio_err_silt,syy_silt,syy_err_silt,wall_s_silt,"
+      "mu_lammps,mu_ratio_lammps,mu_ratio_err_lammps,syy_lammps,syy_err_lammps,wall_s_lammps,threads_silt,"
+      "phi",
+      row.str());
   return 0;
 }
 

@@ -70,8 +70,8 @@ int run(int argc, char** argv) {
   std::printf("floor carries %.4f of the weight, side walls %.4f (positive: they hold grains up)\n", floor / weight,
               sides / weight);
   std::ostringstream row;
-  row << bench::today() << "," << seed << "," << m.n_grains << "," << s.t << "," << weight << "," << floor / weight << ","
-      << sides / weight << "," << top << "," << phi;
+  row << bench::today() << "," << seed << "," << m.n_grains << "," << s.t << "," << weight << "," << floor / weight
+      << "," << sides / weight << "," << top << "," << phi;
   for (double K : {0.4, 0.5, 0.6}) {
     const double lambda = area / (perimeter * K * mu_w);
     const double janssen = lambda / top * (1 - std::exp(-top / lambda));

@@ -101,7 +101,8 @@ Camera orbit_3d(const Vec3& target, const std::vector<Vec3>& points, double azim
     const Vec3 r = q - target;
     cam.emplace_back(right.dot(r), upv.dot(r), back.dot(r));
     const Vec3& p = cam.back();
-    upper = std::max(upper, p[2] + std::max(t / aspect * std::abs(p[0]) / (kFill * fw), t * std::abs(p[1]) / (kFill * fh)));
+    upper =
+        std::max(upper, p[2] + std::max(t / aspect * std::abs(p[0]) / (kFill * fw), t * std::abs(p[1]) / (kFill * fh)));
     nearest = std::max(nearest, p[2]);
     reach = std::max(reach, r.norm());
   }

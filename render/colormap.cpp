@@ -31,7 +31,8 @@ const Colormap& Colormap::get(const std::string& name) {
     std::array<float, 3> rgb{};
     char comma;
     std::istringstream row(line);
-    if (!(row >> rgb[0] >> comma >> rgb[1] >> comma >> rgb[2])) throw RenderError("bad colormap row in " + path + ": " + line);
+    if (!(row >> rgb[0] >> comma >> rgb[1] >> comma >> rgb[2]))
+      throw RenderError("bad colormap row in " + path + ": " + line);
     c.rgb_.push_back(rgb);
   }
   if (c.rgb_.size() < 2) throw RenderError("colormap " + path + " has fewer than 2 colours");

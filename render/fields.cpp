@@ -7,7 +7,6 @@
 namespace silt::render {
 namespace {
 
-
 GridField grid(int nx, int ny, int nz, int components) {
   GridField g;
   g.name = "vorticity";

@@ -74,7 +74,7 @@ struct FrameWriter::Impl {
 FrameWriter::FrameWriter(std::string dir, int threads) : impl_(std::make_unique<Impl>()) {
   if (::mkdir(dir.c_str(), 0755) != 0 && errno != EEXIST)
     throw IoError("cannot create the frame directory '" + dir + "': " + std::strerror(errno));
-  struct stat st{};
+  struct stat st {};
   if (::stat(dir.c_str(), &st) != 0 || !S_ISDIR(st.st_mode)) throw IoError("'" + dir + "' is not a directory");
   impl_->dir = std::move(dir);
   impl_->threads = threads;

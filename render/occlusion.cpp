@@ -50,7 +50,8 @@ struct Eye {
 
 // The tiles touched by the projection of the eye-space box [lo, hi]; false if part of it is not
 // in front of the eye (never culled then).
-bool tile_rect(const Eye& eye, const std::array<double, 3>& lo, const std::array<double, 3>& hi, int nx, int ny, int r[4]) {
+bool tile_rect(const Eye& eye, const std::array<double, 3>& lo, const std::array<double, 3>& hi, int nx, int ny,
+               int r[4]) {
   if (hi[2] > -1e-6 * (std::abs(lo[2]) + 1)) return false;
   double x0 = 1e308, x1 = -1e308, y0 = 1e308, y1 = -1e308;
   for (int k = 0; k < 8; ++k) {
@@ -100,7 +101,8 @@ Hidden find_hidden(const RenderScene& scene) {
   std::vector<char> inside;
   for (const Item& it : items) {
     int r[4];
-    const std::array<double, 3> lo{it.e[0] - it.r, it.e[1] - it.r, it.e[2] - it.r}, hi{it.e[0] + it.r, it.e[1] + it.r, it.e[2] + it.r};
+    const std::array<double, 3> lo{it.e[0] - it.r, it.e[1] - it.r, it.e[2] - it.r},
+        hi{it.e[0] + it.r, it.e[1] + it.r, it.e[2] + it.r};
     if (!tile_rect(eye, lo, hi, nx, ny, r)) continue;
     if (hidden(r, it.nearest)) {
       h.spheres[it.index] = 1;

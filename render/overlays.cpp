@@ -104,9 +104,11 @@ void compose_overlays(const RenderScene& scene, Image& image) {
     const int tx = b.x + b.width + 5;
     draw_text(image, {label(b.hi), tx, b.y + 6, 12, ink});
     draw_text(image, {label(b.lo), tx, b.y + b.height + 4, 12, ink});
-    if (b.lo < 0 && b.hi > 0) draw_text(image, {"0", tx, b.y + static_cast<int>(b.height * b.hi / (b.hi - b.lo)) + 4, 12, ink});
+    if (b.lo < 0 && b.hi > 0)
+      draw_text(image, {"0", tx, b.y + static_cast<int>(b.height * b.hi / (b.hi - b.lo)) + 4, 12, ink});
     const int w = text_width(b.label, 13);
-    draw_text(image, {b.label, std::max(0, std::min(image.width - w - 2, b.x + b.width / 2 - w / 2)), b.y - 8, 13, ink});
+    draw_text(image,
+              {b.label, std::max(0, std::min(image.width - w - 2, b.x + b.width / 2 - w / 2)), b.y - 8, 13, ink});
   }
   if (scene.scalebar.on) {
     const ScaleBar& s = scene.scalebar;

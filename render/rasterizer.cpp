@@ -6,8 +6,8 @@
 // (lit in 3D, flat in 2D), the box outline lines of a constant width on screen, fields textured
 // quads (shaders.hpp). Translucent grains are drawn last, back to front.
 #define GL_GLEXT_PROTOTYPES
-#include <GL/osmesa.h>
 #include <GL/glcorearb.h>
+#include <GL/osmesa.h>
 
 #include <algorithm>
 #include <cmath>
@@ -41,7 +41,8 @@ GLuint compile_shader(GLenum type, const char* prefix, const char* src) {
 
 GLuint link_program(const char* vs_prefix, const char* vs, const char* fs_prefix, const char* fs) {
   const GLuint p = glCreateProgram();
-  const GLuint v = compile_shader(GL_VERTEX_SHADER, vs_prefix, vs), f = compile_shader(GL_FRAGMENT_SHADER, fs_prefix, fs);
+  const GLuint v = compile_shader(GL_VERTEX_SHADER, vs_prefix, vs),
+               f = compile_shader(GL_FRAGMENT_SHADER, fs_prefix, fs);
   glAttachShader(p, v);
   glAttachShader(p, f);
   glLinkProgram(p);
@@ -79,8 +80,17 @@ struct Rasterizer::Impl {
 
   void make_current(int w, int h) {
     if (!ctx) {
-      const int attribs[] = {OSMESA_FORMAT, OSMESA_RGBA, OSMESA_DEPTH_BITS, 24, OSMESA_PROFILE, OSMESA_CORE_PROFILE,
-                             OSMESA_CONTEXT_MAJOR_VERSION, 4, OSMESA_CONTEXT_MINOR_VERSION, 5, 0};
+      const int attribs[] = {OSMESA_FORMAT,
+                             OSMESA_RGBA,
+                             OSMESA_DEPTH_BITS,
+                             24,
+                             OSMESA_PROFILE,
+                             OSMESA_CORE_PROFILE,
+                             OSMESA_CONTEXT_MAJOR_VERSION,
+                             4,
+                             OSMESA_CONTEXT_MINOR_VERSION,
+                             5,
+                             0};
       ctx = OSMesaCreateContextAttribs(attribs, nullptr);
       if (!ctx) throw RenderError("cannot create an OSMesa OpenGL 4.5 core context (is libosmesa6 installed?)");
     }
@@ -90,7 +100,8 @@ struct Rasterizer::Impl {
       height = h;
     }
     if (!OSMesaMakeCurrent(ctx, buffer.data(), GL_UNSIGNED_BYTE, w, h))
-      throw RenderError("cannot bind the OSMesa context to a " + std::to_string(w) + " x " + std::to_string(h) + " image");
+      throw RenderError("cannot bind the OSMesa context to a " + std::to_string(w) + " x " + std::to_string(h) +
+                        " image");
     if (!sphere_prog) {
       using namespace shaders;
       sphere_prog = link_program("", kSphereVs, kImpostor, kSphereFs);
@@ -234,7 +245,9 @@ Image Rasterizer::draw(const RenderScene& scene) {
   glUniform1i(glGetUniformLocation(g.capsule_prog, "u_lit"), scene.camera.ortho ? 0 : 1);
   glUniform2f(glGetUniformLocation(g.capsule_prog, "u_viewport"), static_cast<float>(scene.width),
               static_cast<float>(scene.height));
-  g.draw_segments(segments(scene.segments, [](const RenderScene::Segment& s) { return s.width; }, hidden.segments), 4);
+  g.draw_segments(segments(
+                      scene.segments, [](const RenderScene::Segment& s) { return s.width; }, hidden.segments),
+                  4);
   std::vector<SphereVertex> opaque, clear;
   opaque.reserve(scene.spheres.size());
   std::vector<float> depth;

@@ -117,8 +117,8 @@ ColorScale add_grains(RenderScene& rs, const Model& m, const State& s, const Vie
       if (crossing && s.box.lees_edwards && (mask & 2) && y[1] != x[1]) {
         const double shifted = y[0] + (y[1] > x[1] ? 1.0 : -1.0) * s.box.le_offset;
         // Back into the box along x, unless this is also the image across x.
-        y[0] = static_cast<float>((mask & 1) ? shifted
-                                             : shifted - s.box.len[0] * std::floor((shifted - s.box.lo[0]) / s.box.len[0]));
+        y[0] = static_cast<float>(
+            (mask & 1) ? shifted : shifted - s.box.len[0] * std::floor((shifted - s.box.lo[0]) / s.box.len[0]));
       }
       if (crossing) rs.spheres.push_back({y, radius, c});
     }
@@ -216,10 +216,12 @@ RenderScene build_render_scene(const Model& m, const State& s, const View& v, co
 
   // Overlays.
   if (bar != Bar::kNone) {
-    rs.colorbar = {true, v.width - 90, mg.top + 20, 18, std::max(20, v.height - mg.top - mg.bottom - 40),
-                   scale.colormap, scale.lo, scale.hi, scale.label};
+    rs.colorbar = {
+        true,           v.width - 90, mg.top + 20, 18,         std::max(20, v.height - mg.top - mg.bottom - 40),
+        scale.colormap, scale.lo,     scale.hi,    scale.label};
   }
-  const Rgba ink = (v.background[0] + v.background[1] + v.background[2]) > 1.5 ? Rgba{20, 20, 20, 255} : Rgba{235, 235, 235, 255};
+  const Rgba ink =
+      (v.background[0] + v.background[1] + v.background[2]) > 1.5 ? Rgba{20, 20, 20, 255} : Rgba{235, 235, 235, 255};
   if (v.wants("time")) {
     char buf[96];
     std::snprintf(buf, sizeof buf, "t = %.6g s    step %lld", s.t, static_cast<long long>(s.step));

@@ -1,14 +1,17 @@
 #!/usr/bin/env bash
-# Build silt (Release) and run the unit tests, fuzz the shell's command parser for 20 s, then run
-# the tests again under AddressSanitizer and UndefinedBehaviorSanitizer in a Debug build.
+# Build silt (Release, warnings as errors), check the format and lint of the files the last change
+# touched, run the unit tests, fuzz the shell's command parser for 20 s, then run the tests again
+# under AddressSanitizer and UndefinedBehaviorSanitizer in a Debug build, where the serial
+# executor also checks every stage's access set.
 # Usage: scripts/test.sh [--no-sanitize]
 set -euo pipefail
 cd "$(dirname "$0")/.."
-scripts/setup.sh build
+scripts/setup.sh build -DSILT_WERROR=ON
+scripts/lint.sh build
 ctest --test-dir build --output-on-failure -j"$(nproc)"
 scripts/fuzz.sh 20
 if [ "${1:-}" != "--no-sanitize" ]; then
-  cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=Debug -DSILT_SANITIZE=ON -DSILT_BUILD_BENCH=OFF > /dev/null
+  cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=Debug -DSILT_SANITIZE=ON -DSILT_BUILD_BENCH=OFF -DSILT_WERROR=ON > /dev/null
   cmake --build build-asan -j"$(nproc)"
   ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
     ctest --test-dir build-asan --output-on-failure -j"$(nproc)" -LE long

@@ -2,8 +2,8 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <csignal>
 #include <cmath>
+#include <csignal>
 #include <iostream>
 #include <sstream>
 
@@ -147,12 +147,12 @@ int run_command(const RunArgs& a) {
     return report_error(e.what(), 4);
   }
   if (!job->last_good_path().empty())
-    std::cerr << "silt: last good state (step " << sim.state().failure.step - 1 << ") written to " << job->last_good_path()
-              << "\n";
+    std::cerr << "silt: last good state (step " << sim.state().failure.step - 1 << ") written to "
+              << job->last_good_path() << "\n";
   if (!frame_error.empty()) report_error("frames stopped (the run went on): " + frame_error, 4);
   const double rate = rep.wall_s > 0 ? model.n_grains * static_cast<double>(rep.steps_done) / rep.wall_s : 0;
-  std::printf("%s: %lld steps (t = %.6g s) in %.3f s, %.4g grain-steps/s on %d thread(s); status %s\n",
-              a.scene.c_str(), static_cast<long long>(rep.steps_done), sim.state().t, rep.wall_s, rate, sim.threads(),
+  std::printf("%s: %lld steps (t = %.6g s) in %.3f s, %.4g grain-steps/s on %d thread(s); status %s\n", a.scene.c_str(),
+              static_cast<long long>(rep.steps_done), sim.state().t, rep.wall_s, rate, sim.threads(),
               RunJob::status(rep.end));
   return code;
 }

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <cstdlib>
 
-#include "core/text.hpp"
+#include "silt/text.hpp"
 
 namespace silt::shell {
 
@@ -59,34 +59,66 @@ std::optional<Command> parse_line(std::string_view line) {
 
 const std::vector<CommandSpec>& command_specs() {
   static const std::vector<CommandSpec> specs = {
-      {"load", "load FILE", "load a scene", "Reads and compiles FILE. On an error the previous scene stays loaded.", 1, 1, ArgKind::kFile},
-      {"reload", "reload", "load the current scene file again", "Re-reads the scene file (with the values changed by set), from t = 0.", 0, 0, ArgKind::kNone},
-      {"check", "check", "describe the loaded scene", "Prints the compiled model: dimension, grains, laws, time step and its stability limit, stages.", 0, 0, ArgKind::kNone},
+      {"load", "load FILE", "load a scene", "Reads and compiles FILE. On an error the previous scene stays loaded.", 1,
+       1, ArgKind::kFile},
+      {"reload", "reload", "load the current scene file again",
+       "Re-reads the scene file (with the values changed by set), from t = 0.", 0, 0, ArgKind::kNone},
+      {"check", "check", "describe the loaded scene",
+       "Prints the compiled model: dimension, grains, laws, time step and its stability limit, stages.", 0, 0,
+       ArgKind::kNone},
       {"run", "run N | run Ts | run until EXPR", "run in the foreground",
-       "Runs N steps, or T seconds of simulated time (\"run 0.5s\"), or until a condition on observables holds (\"run until t >= 1 and ke < 1e-6\"). Ctrl-C pauses at the next step boundary.",
+       "Runs N steps, or T seconds of simulated time (\"run 0.5s\"), or until a condition on observables holds (\"run "
+       "until t >= 1 and ke < 1e-6\"). Ctrl-C pauses at the next step boundary.",
        1, -1, ArgKind::kObservable},
       {"start", "start [N | Ts | until EXPR]", "run in the background",
-       "Runs in the background (for ever, or as long as given) while the prompt stays responsive; stop pauses it. set, get, print and the others act at the next step boundary.",
+       "Runs in the background (for ever, or as long as given) while the prompt stays responsive; stop pauses it. set, "
+       "get, print and the others act at the next step boundary.",
        0, -1, ArgKind::kObservable},
-      {"stop", "stop", "pause a background run", "Stops a background run at the next step boundary.", 0, 0, ArgKind::kNone},
+      {"stop", "stop", "pause a background run", "Stops a background run at the next step boundary.", 0, 0,
+       ArgKind::kNone},
       {"set", "set KEY VALUE", "change a scene value",
-       "Changes a value of the scene (dotted key, TOML value). Steerable values (params shows them) act at the next step boundary, even while a run goes on; the others are refused while running, and otherwise recompile the scene (the state is kept when the grains are the same).",
+       "Changes a value of the scene (dotted key, TOML value). Steerable values (params shows them) act at the next "
+       "step boundary, even while a run goes on; the others are refused while running, and otherwise recompile the "
+       "scene (the state is kept when the grains are the same).",
        2, 2, ArgKind::kKey},
-      {"get", "get KEY", "show a scene value", "Prints the value of a scene key (given or default), with its unit.", 1, 1, ArgKind::kKey},
-      {"params", "params [PREFIX]", "list the scene keys", "Lists every scene key (or those starting with PREFIX) with its value, unit, range and whether it is steerable.", 0, 1, ArgKind::kKey},
-      {"print", "print OBS...", "print observables now", "Prints the current values of the observables.", 1, -1, ArgKind::kObservable},
-      {"watch", "watch OBS... every N | watch off", "print observables during runs", "Prints the observables every N steps while a run goes on; watch off stops it.", 1, -1, ArgKind::kObservable},
-      {"stats", "stats", "means of the observables", "Mean, error of the mean (block averaging) and last value of the observables sampled since the scene was loaded.", 0, 0, ArgKind::kNone},
-      {"profile", "profile", "time per stage", "Wall time spent in each stage of the step graph.", 0, 0, ArgKind::kNone},
-      {"render", "render FILE.png [ITEM...]", "draw the current state", "Writes a PNG of the current state with the scene's [render] settings; ITEMs (grains chains field colorbar time scalebar box) replace render.draw.", 1, -1, ArgKind::kFile},
-      {"frames", "frames DIR every N | frames off", "write frames during runs", "Writes DIR/frame_000000.png, ... every N steps while running; frames off stops.", 1, 3, ArgKind::kFile},
-      {"save", "save FILE", "write a checkpoint", "Writes a checkpoint of the current state (atomically: a temporary file renamed).", 1, 1, ArgKind::kFile},
-      {"restore", "restore FILE", "read a checkpoint", "Continues from a checkpoint of the same system.", 1, 1, ArgKind::kFile},
+      {"get", "get KEY", "show a scene value", "Prints the value of a scene key (given or default), with its unit.", 1,
+       1, ArgKind::kKey},
+      {"params", "params [PREFIX]", "list the scene keys",
+       "Lists every scene key (or those starting with PREFIX) with its value, unit, range and whether it is steerable.",
+       0, 1, ArgKind::kKey},
+      {"print", "print OBS...", "print observables now", "Prints the current values of the observables.", 1, -1,
+       ArgKind::kObservable},
+      {"watch", "watch OBS... every N | watch off", "print observables during runs",
+       "Prints the observables every N steps while a run goes on; watch off stops it.", 1, -1, ArgKind::kObservable},
+      {"stats", "stats", "means of the observables",
+       "Mean, error of the mean (block averaging) and last value of the observables sampled since the scene was "
+       "loaded.",
+       0, 0, ArgKind::kNone},
+      {"profile", "profile", "time per stage", "Wall time spent in each stage of the step graph.", 0, 0,
+       ArgKind::kNone},
+      {"render", "render FILE.png [ITEM...]", "draw the current state",
+       "Writes a PNG of the current state with the scene's [render] settings; ITEMs (grains chains field colorbar time "
+       "scalebar box) replace render.draw.",
+       1, -1, ArgKind::kFile},
+      {"frames", "frames DIR every N | frames off", "write frames during runs",
+       "Writes DIR/frame_000000.png, ... every N steps while running; frames off stops.", 1, 3, ArgKind::kFile},
+      {"save", "save FILE", "write a checkpoint",
+       "Writes a checkpoint of the current state (atomically: a temporary file renamed).", 1, 1, ArgKind::kFile},
+      {"restore", "restore FILE", "read a checkpoint", "Continues from a checkpoint of the same system.", 1, 1,
+       ArgKind::kFile},
       {"reset", "reset", "back to t = 0", "Returns to the scene's initial state.", 0, 0, ArgKind::kNone},
-      {"hash", "hash", "a fingerprint of the state", "Prints a 64-bit hash of every array and scalar of the state: equal hashes mean bitwise equal states (a restored run against an uninterrupted one, runs on other thread counts).", 0, 0, ArgKind::kNone},
-      {"source", "source SCRIPT", "run commands from a file", "Runs the commands of SCRIPT (relative files: the current directory, else the script's), stopping at its first error or at Ctrl-C.", 1, 1, ArgKind::kFile},
-      {"help", "help [COMMAND]", "list commands, or explain one", "help alone lists the commands; help COMMAND explains it.", 0, 1, ArgKind::kCommand},
-      {"quit", "quit", "leave the shell", "Stops any run and leaves (EOF, Ctrl-D, does the same).", 0, 0, ArgKind::kNone},
+      {"hash", "hash", "a fingerprint of the state",
+       "Prints a 64-bit hash of every array and scalar of the state: equal hashes mean bitwise equal states (a "
+       "restored run against an uninterrupted one, runs on other thread counts).",
+       0, 0, ArgKind::kNone},
+      {"source", "source SCRIPT", "run commands from a file",
+       "Runs the commands of SCRIPT (relative files: the current directory, else the script's), stopping at its first "
+       "error or at Ctrl-C.",
+       1, 1, ArgKind::kFile},
+      {"help", "help [COMMAND]", "list commands, or explain one",
+       "help alone lists the commands; help COMMAND explains it.", 0, 1, ArgKind::kCommand},
+      {"quit", "quit", "leave the shell", "Stops any run and leaves (EOF, Ctrl-D, does the same).", 0, 0,
+       ArgKind::kNone},
   };
   return specs;
 }
@@ -168,7 +200,8 @@ RunLength parse_run_length(const std::vector<Token>& args) {
     size_t k = 1;
     for (;;) {
       if (k + 2 >= args.size())
-        throw ParseError(k < args.size() ? args[k].col : args.back().col, "expected: OBSERVABLE OP NUMBER (e.g. t >= 0.5)");
+        throw ParseError(k < args.size() ? args[k].col : args.back().col,
+                         "expected: OBSERVABLE OP NUMBER (e.g. t >= 0.5)");
       Clause c;
       c.observable = args[k].text;
       c.op = args[k + 1].text;

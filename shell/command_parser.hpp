@@ -37,9 +37,9 @@ std::optional<Command> parse_line(std::string_view line);
 enum class ArgKind { kNone, kFile, kKey, kObservable, kCommand, kWord };
 struct CommandSpec {
   std::string name;
-  std::string usage;    // "run N | run Ts | run until EXPR"
-  std::string summary;  // one line
-  std::string help;     // a paragraph
+  std::string usage;               // "run N | run Ts | run until EXPR"
+  std::string summary;             // one line
+  std::string help;                // a paragraph
   int min_args = 0, max_args = 0;  // max -1: any number
   ArgKind completes = ArgKind::kNone;
 };

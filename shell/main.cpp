@@ -16,11 +16,13 @@ int main(int argc, char** argv) {
   auto* r = app.add_subcommand("run", "Run a scene headless (the main job)");
   r->add_option("scene", run.scene, "Scene file (TOML)")->required();
   r->add_option("--set", run.sets, "Override a scene value: KEY=VALUE (dotted TOML path); repeatable");
-  auto* steps = r->add_option("--steps", run.steps, "Run length in steps (overrides [run])")->check(CLI::NonNegativeNumber);
+  auto* steps =
+      r->add_option("--steps", run.steps, "Run length in steps (overrides [run])")->check(CLI::NonNegativeNumber);
   r->add_option("--time", run.time, "Run length in simulated seconds (overrides [run])")
       ->excludes(steps)
       ->check(CLI::NonNegativeNumber);
-  r->add_option("--threads", run.threads, "Worker threads (default: all cores; 1 = serial reference)")->check(CLI::PositiveNumber);
+  r->add_option("--threads", run.threads, "Worker threads (default: all cores; 1 = serial reference)")
+      ->check(CLI::PositiveNumber);
   r->add_option("--stats", run.stats, "Time series of observables (CSV)");
   r->add_option("--observe", run.observe, "Comma-separated observables (default: the scene's [output] list)");
   r->add_option("--every", run.every, "Sample every N steps (default: the scene's)")->check(CLI::PositiveNumber);
@@ -31,8 +33,10 @@ int main(int argc, char** argv) {
   r->add_option("--frame-every", run.frame_every, "One frame every N steps (default: render.every, else output.every)")
       ->check(CLI::PositiveNumber);
   r->add_option("--vtk", run.vtk, "Write VTK files for ParaView/OVITO to DIR (grains .vtu, contacts .vtp, index.pvd)");
-  r->add_option("--vtk-every", run.vtk_every, "VTK files every N steps (default: output.every)")->check(CLI::PositiveNumber);
-  r->add_option("--restore", run.restore, "Start from a checkpoint of the same grains (a prepared packing, a .last_good.ckpt)");
+  r->add_option("--vtk-every", run.vtk_every, "VTK files every N steps (default: output.every)")
+      ->check(CLI::PositiveNumber);
+  r->add_option("--restore", run.restore,
+                "Start from a checkpoint of the same grains (a prepared packing, a .last_good.ckpt)");
   r->add_option("--save", run.save, "Checkpoint of the final state (written atomically)");
 
   CheckArgs check;

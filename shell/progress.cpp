@@ -18,8 +18,8 @@ void Progress::update(const State& s) {
                  static_cast<long long>(s.step), static_cast<long long>(first_ + total_), 100.0 * done / total_, s.t,
                  rate * n_, static_cast<int>(eta) / 60, static_cast<int>(eta) % 60);
   else
-    std::fprintf(stderr, "\r  step %lld  t = %-10.4g  %.3g grain-steps/s  (Ctrl-C pauses)  ", static_cast<long long>(s.step),
-                 s.t, rate * n_);
+    std::fprintf(stderr, "\r  step %lld  t = %-10.4g  %.3g grain-steps/s  (Ctrl-C pauses)  ",
+                 static_cast<long long>(s.step), s.t, rate * n_);
   std::fflush(stderr);
   drawn_ = true;
 }

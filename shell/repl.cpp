@@ -12,9 +12,9 @@
 // executable (CMakeLists.txt links it ahead of the renderer) and libedit an indirect one, so
 // readline wins. The start-up check below (rl_library_version) says so if that ever changes, and
 // tests/shell/repl_test.cpp drives completion and history through a pseudo-terminal.
+#include <fcntl.h>
 #include <readline/history.h>
 #include <readline/readline.h>
-#include <fcntl.h>
 #include <sys/select.h>
 #include <unistd.h>
 
@@ -90,7 +90,7 @@ char* completion_generator(const char*, int state) {
 char** completion(const char* text, int, int) {
   const std::string before(rl_line_buffer, rl_line_buffer + (rl_point - std::strlen(text)));
   const auto words = g_session->complete(before, text);
-  if (!words) return nullptr;  // a file name: readline's own completion
+  if (!words) return nullptr;        // a file name: readline's own completion
   rl_attempted_completion_over = 1;  // no file names where the command takes none
   g_matches = *words;
   return rl_completion_matches(text, completion_generator);
@@ -104,7 +104,7 @@ int shell_command(const std::string& scene, int threads) {
   g_session = &session;
   if (::pipe(g_pipe) != 0) return report_error("cannot create a pipe", 4);
   ::fcntl(g_pipe[0], F_SETFL, O_NONBLOCK);
-  struct sigaction sa{};
+  struct sigaction sa {};
   sa.sa_handler = on_shell_sigint;
   sigemptyset(&sa.sa_mask);
   sigaction(SIGINT, &sa, nullptr);
@@ -117,7 +117,8 @@ int shell_command(const std::string& scene, int threads) {
   std::cout << "silt " << SILT_VERSION << " shell (" << (gnu_readline() ? "GNU readline " : "line editor ")
             << rl_library_version << "): help lists the commands, quit leaves.\n";
   if (!gnu_readline())
-    std::cout << "warning: the rl_* functions resolve to another library than GNU readline; history and completion may not work\n";
+    std::cout << "warning: the rl_* functions resolve to another library than GNU readline; history and completion may "
+                 "not work\n";
   if (!scene.empty()) session.execute("load \"" + scene + "\"");
   std::string prompt = session.prompt();
   rl_callback_handler_install(prompt.c_str(), on_line);

@@ -9,10 +9,10 @@
 #include <limits>
 #include <sstream>
 
-#include "core/text.hpp"
 #include "shell/progress.hpp"
 #include "shell/table.hpp"
 #include "silt/observables.hpp"
+#include "silt/text.hpp"
 
 namespace silt::shell {
 namespace {
@@ -115,7 +115,8 @@ bool Session::execute(const std::string& line, const std::string& where) {
     if (const std::optional<Command> c = parse_line(line)) dispatch(*c);
     code = 0;
   } catch (const ParseError& e) {
-    err_ << at << ": " << (e.col > 0 && where.empty() ? "column " + std::to_string(e.col) + ": " : std::string()) << e.what() << "\n";
+    err_ << at << ": " << (e.col > 0 && where.empty() ? "column " + std::to_string(e.col) + ": " : std::string())
+         << e.what() << "\n";
   } catch (const RunFailure& e) {
     err_ << at << ": " << e.what() << "\n";
     code = static_cast<int>(ExitCode::kNumerical);
@@ -137,8 +138,8 @@ void Session::dispatch(const Command& c) {
       {"print", &Session::cmd_print},     {"watch", &Session::cmd_watch},     {"stats", &Session::cmd_stats},
       {"profile", &Session::cmd_profile}, {"render", &Session::cmd_render},   {"frames", &Session::cmd_frames},
       {"save", &Session::cmd_save},       {"restore", &Session::cmd_restore}, {"reset", &Session::cmd_reset},
-      {"hash", &Session::cmd_hash},
-      {"source", &Session::cmd_source},   {"help", &Session::cmd_help},       {"quit", &Session::cmd_quit},
+      {"hash", &Session::cmd_hash},       {"source", &Session::cmd_source},   {"help", &Session::cmd_help},
+      {"quit", &Session::cmd_quit},
   };
   const CommandSpec& spec = check_command(c);
   for (const auto& [name, handler] : table)
@@ -223,8 +224,8 @@ RunOptions Session::run_options(const RunLength& len, bool background) {
       opt.time = len.time;
       const int64_t n = s.steps_for(opt);
       if (n < 0 || !(static_cast<double>(n) <= kMaxSteps))
-        throw std::runtime_error("run " + format_number(len.time) + "s: too long, more than " + format_number(kMaxSteps) +
-                                 " steps of " + format_number(m.dt) + " s");
+        throw std::runtime_error("run " + format_number(len.time) + "s: too long, more than " +
+                                 format_number(kMaxSteps) + " steps of " + format_number(m.dt) + " s");
       break;
     }
     case RunLength::kUntil: opt.steps = kForever; break;
@@ -276,7 +277,8 @@ void Session::run_for(const RunLength& len, bool background) {
                              "); restore a checkpoint, reset, or change the parameter and reset");
   if (len.kind == RunLength::kUntil)
     for (const Clause& c : len.until.clauses)
-      if (const std::string err = check_observable(c.observable, s.model()); !err.empty()) throw std::runtime_error(err);
+      if (const std::string err = check_observable(c.observable, s.model()); !err.empty())
+        throw std::runtime_error(err);
   RunOptions opt = run_options(len, background);
   // Says how the run ended. After a failure the state goes back to the last good one (it can be
   // saved, or run again once the parameter is changed) and the failure's message is returned.
@@ -291,7 +293,8 @@ void Session::run_for(const RunLength& len, bool background) {
     }
     // A foreground failure is the command's error (on err); a background one has only this line.
     if (!failure.empty()) how = from_background ? "failed: " + failure + "\n " : "failed after";
-    std::string line = how + (failure.empty() ? ": " : " ") + std::to_string(r.steps_done) + " steps in " + format_number(r.wall_s, 3) + " s";
+    std::string line = how + (failure.empty() ? ": " : " ") + std::to_string(r.steps_done) + " steps in " +
+                       format_number(r.wall_s, 3) + " s";
     if (!failure.empty()) {
       sim_->restore(sim_->last_good_state());
       line += "; back to the last good state";
@@ -305,7 +308,8 @@ void Session::run_for(const RunLength& len, bool background) {
   if (!background) {
     std::optional<cli::Progress> bar;
     if (progress_) {
-      bar.emplace(true, s.state().step, opt.steps < std::numeric_limits<int64_t>::max() / 8 ? opt.steps : 0, s.model().n_grains);
+      bar.emplace(true, s.state().step, opt.steps < std::numeric_limits<int64_t>::max() / 8 ? opt.steps : 0,
+                  s.model().n_grains);
       opt.on_progress = [&bar](const State& st) { bar->update(st); };
     }
     RunJobOptions jo;
@@ -330,7 +334,7 @@ void Session::run_for(const RunLength& len, bool background) {
     }
     shown_t_ = sim_->state().t;
     background_end_step_ = sim_->state().step;  // read after the join
-    serve_requests(true);  // the requests that came after the last step; no more after these
+    serve_requests(true);                       // the requests that came after the last step; no more after these
   });
   say("running in the background (stop pauses it)", false);
 }

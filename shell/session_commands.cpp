@@ -7,10 +7,10 @@
 #include <iomanip>
 #include <limits>
 
-#include "core/text.hpp"
 #include "shell/session.hpp"
 #include "shell/table.hpp"
 #include "silt/observables.hpp"
+#include "silt/text.hpp"
 
 namespace silt::shell {
 namespace {
@@ -36,8 +36,8 @@ void Session::cmd_load(const Command& c) {
   overrides_.clear();
   install(std::move(m), std::nullopt);
   const Model& model = sim_->model();
-  out_ << "loaded " << file << ": " << model.n_grains << " grains (" << model.dim << "D), dt = " << format_number(model.dt)
-       << " s, " << model.walls.size() << " wall(s)\n";
+  out_ << "loaded " << file << ": " << model.n_grains << " grains (" << model.dim
+       << "D), dt = " << format_number(model.dt) << " s, " << model.walls.size() << " wall(s)\n";
 }
 
 void Session::cmd_reload(const Command&) {
@@ -93,7 +93,8 @@ void Session::cmd_set(const Command& c) {
   }
   // The changes typed so far, with this one last (replacing an earlier value of its key).
   std::vector<Override> next = overrides_;
-  next.erase(std::remove_if(next.begin(), next.end(), [&](const Override& o) { return o.key == change.key; }), next.end());
+  next.erase(std::remove_if(next.begin(), next.end(), [&](const Override& o) { return o.key == change.key; }),
+             next.end());
   next.push_back(change);
   if (spec->steerable) {
     std::string error;
@@ -108,7 +109,8 @@ void Session::cmd_set(const Command& c) {
     if (running()) throw std::runtime_error("set " + change.key + ": " + error);
   }
   if (running())
-    throw std::runtime_error("'" + change.key + "' cannot change while a run goes on (it is not steerable): stop first");
+    throw std::runtime_error("'" + change.key +
+                             "' cannot change while a run goes on (it is not steerable): stop first");
   // Recompile with the new value; keep the state when the grains are the same.
   Model m = compile(scene_with(next));
   const bool same = m.scene_hash == s.model().scene_hash && m.walls.size() == s.model().walls.size();
@@ -116,7 +118,8 @@ void Session::cmd_set(const Command& c) {
   if (same) keep = s.state();
   install(std::move(m), keep);
   overrides_ = std::move(next);
-  out_ << change.key << " = " << c.args[1].text << (same ? " (state kept)" : " (the grains changed: back to t = 0)") << "\n";
+  out_ << change.key << " = " << c.args[1].text << (same ? " (state kept)" : " (the grains changed: back to t = 0)")
+       << "\n";
 }
 
 void Session::cmd_get(const Command& c) {
@@ -147,8 +150,10 @@ void Session::cmd_params(const Command& c) {
       if (!chosen.empty()) value = chosen + " (computed)";
       else if (!value.empty()) value += " (default)";
     }
-    const bool numeric = spec->type == KeyType::kInt || spec->type == KeyType::kReal || spec->type == KeyType::kRealList;
-    t.add({key, value.empty() ? "-" : value, spec->unit, numeric ? spec->range.str() : "", spec->steerable ? "yes" : ""});
+    const bool numeric =
+        spec->type == KeyType::kInt || spec->type == KeyType::kReal || spec->type == KeyType::kRealList;
+    t.add(
+        {key, value.empty() ? "-" : value, spec->unit, numeric ? spec->range.str() : "", spec->steerable ? "yes" : ""});
   }
   if (t.rows() == 0) throw std::runtime_error("no key starts with '" + prefix + "'");
   t.print(out_);
@@ -168,7 +173,8 @@ void Session::cmd_print(const Command& c) {
   size_t w = 0;
   for (const auto& n : names) w = std::max(w, n.size());
   for (size_t k = 0; k < names.size(); ++k)
-    out_ << std::left << std::setw(static_cast<int>(w)) << names[k] << " = " << format_value(values[k], obs->units()[k]) << "\n";
+    out_ << std::left << std::setw(static_cast<int>(w)) << names[k] << " = " << format_value(values[k], obs->units()[k])
+         << "\n";
 }
 
 void Session::cmd_watch(const Command& c) {
@@ -201,7 +207,8 @@ void Session::cmd_stats(const Command&) {
   if (rows.empty()) throw std::runtime_error("no samples yet (run first)");
   // The error of the mean by block averaging, to two digits; "(lower bound)" when the blocks
   // never became independent.
-  Table t({"observable", "unit", "mean", "error", "", "last", "samples"}, {false, false, true, true, false, true, true});
+  Table t({"observable", "unit", "mean", "error", "", "last", "samples"},
+          {false, false, true, true, false, true, true});
   const auto& names = stats_->names();
   const Observer units(sim().model(), names);
   for (size_t k = 0; k < names.size(); ++k) {
@@ -229,7 +236,8 @@ void Session::cmd_profile(const Command&) {
                    [](const auto& a, const auto& b) { return a.second.seconds() > b.second.seconds(); });
   Table t({"stage", "seconds", "calls", "us/call", "share"}, {false, true, true, true, true});
   for (const auto& [name, st] : order)
-    t.add({name, fixed(st.seconds(), 3), std::to_string(st.calls), format_number(st.calls ? 1e6 * st.seconds() / st.calls : 0.0, 3),
+    t.add({name, fixed(st.seconds(), 3), std::to_string(st.calls),
+           format_number(st.calls ? 1e6 * st.seconds() / st.calls : 0.0, 3),
            fixed(100 * st.seconds() / total, 1) + " %"});
   t.add({"total", fixed(total, 3), "", "", "100.0 %"});
   t.print(out_);
@@ -244,7 +252,8 @@ void Session::cmd_render(const Command& c) {
     for (size_t k = 1; k < c.args.size(); ++k) {
       const std::string& item = c.args[k].text;
       if (std::find(spec->choices.begin(), spec->choices.end(), item) == spec->choices.end())
-        throw ParseError(c.args[k].col, "'" + item + "' is not something to draw (grains chains field colorbar time scalebar box)");
+        throw ParseError(c.args[k].col,
+                         "'" + item + "' is not something to draw (grains chains field colorbar time scalebar box)");
       v.draw.push_back(item);
     }
   }
@@ -268,7 +277,8 @@ void Session::cmd_frames(const Command& c) {
     out_ << "frames off (" << n << " written)\n";
     return;
   }
-  if (c.args.size() != 3 || c.args[1].text != "every") throw ParseError(c.name_col, "usage: frames DIR every N | frames off");
+  if (c.args.size() != 3 || c.args[1].text != "every")
+    throw ParseError(c.name_col, "usage: frames DIR every N | frames off");
   const auto every = parse_count(c.args[2].text, 1);
   if (!every) throw ParseError(c.args[2].col, "every needs a positive number of steps");
   require_stopped("cannot change frames");
@@ -342,13 +352,15 @@ void Session::cmd_help(const Command& c) {
     Table t({"command", "what"});
     for (const CommandSpec& s : command_specs()) t.add({s.usage, s.summary});
     t.print(out_);
-    out_ << "help COMMAND explains one; params lists the scene keys; observables: t step ke phi z stress.xy p[K].vx ...\n";
+    out_ << "help COMMAND explains one; params lists the scene keys; observables: t step ke phi z stress.xy p[K].vx "
+            "...\n";
     return;
   }
   const CommandSpec* s = find_command(c.args[0].text);
   if (!s) {
     std::string msg = "unknown command '" + c.args[0].text + "'";
-    if (const std::string hint = suggest_command(c.args[0].text); !hint.empty()) msg += "; did you mean '" + hint + "'?";
+    if (const std::string hint = suggest_command(c.args[0].text); !hint.empty())
+      msg += "; did you mean '" + hint + "'?";
     throw std::runtime_error(msg);
   }
   out_ << s->usage << "\n  " << s->help << "\n";

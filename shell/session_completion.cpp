@@ -33,8 +33,7 @@ std::optional<std::vector<std::string>> Session::complete(const std::string& bef
         if (c->name == "render") pool = find_key_spec("render.draw")->choices;
         if (c->name == "frames" && c->args.size() == 1) pool = {"every"};
         break;
-      default:
-        break;  // nothing to offer (and no file names: the command takes none)
+      default: break;  // nothing to offer (and no file names: the command takes none)
     }
   }
   std::vector<std::string> out;

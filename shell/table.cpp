@@ -4,7 +4,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "core/text.hpp"
+#include "silt/text.hpp"
 
 namespace silt::shell {
 
@@ -45,14 +45,15 @@ std::string format_value(double x, const std::string& unit) {
 std::pair<std::string, std::string> mean_and_error(double mean, double err) {
   if (!(err > 0) || !std::isfinite(err) || !std::isfinite(mean)) return {format_number(mean), format_number(err)};
   const int e = static_cast<int>(std::floor(std::log10(err)));  // the error's leading digit
-  const int decimals = 1 - e;                                    // keeps two digits of it
+  const int decimals = 1 - e;                                   // keeps two digits of it
   if (decimals >= 0 && decimals <= 10 && std::fabs(mean) < 1e9) return {fixed(mean, decimals), fixed(err, decimals)};
   if (decimals < 0 && std::fabs(mean) < 1e15) {  // rounded to tens, hundreds, ...
     const double unit = std::pow(10.0, -decimals);
     return {fixed(std::round(mean / unit) * unit, 0), fixed(std::round(err / unit) * unit, 0)};
   }
   char m[64], s[64];
-  const int mean_digits = mean == 0 ? 0 : std::max(0, static_cast<int>(std::floor(std::log10(std::fabs(mean)))) - e + 1);
+  const int mean_digits =
+      mean == 0 ? 0 : std::max(0, static_cast<int>(std::floor(std::log10(std::fabs(mean)))) - e + 1);
   std::snprintf(m, sizeof m, "%.*e", mean_digits, mean);
   std::snprintf(s, sizeof s, "%.1e", err);
   return {m, s};

@@ -24,8 +24,8 @@ class InternalError : public std::logic_error {
 
 }  // namespace silt
 
-#define SILT_ASSERT(cond, message) \
-  do {                             \
+#define SILT_ASSERT(cond, message)                                             \
+  do {                                                                         \
     if (!(cond)) ::silt::assertion_failed(__FILE__, __LINE__, #cond, message); \
   } while (false)
 

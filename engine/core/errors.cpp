@@ -11,9 +11,7 @@ std::string FileLoc::str() const {
   return s;
 }
 
-static std::string located(const FileLoc& loc, const std::string& message) {
-  return loc.str() + ": " + message;
-}
+static std::string located(const FileLoc& loc, const std::string& message) { return loc.str() + ": " + message; }
 
 SceneError::SceneError(FileLoc loc, const std::string& message)
     : std::runtime_error(located(loc, message)), loc_(std::move(loc)), message_(message) {}

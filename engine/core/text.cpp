@@ -1,4 +1,4 @@
-#include "core/text.hpp"
+#include "silt/text.hpp"
 
 #include <algorithm>
 #include <sstream>

@@ -4,10 +4,10 @@
 #include <cmath>
 
 #include "core/rng.hpp"
-#include "core/text.hpp"
 #include "dem/contact_setup.hpp"
 #include "dem/grain_setup.hpp"
 #include "dem/module.hpp"
+#include "silt/text.hpp"
 
 namespace silt::dem {
 namespace {

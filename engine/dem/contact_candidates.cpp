@@ -32,8 +32,8 @@ void select_block(State& s, DemWorkspace& sc, const PeriodicImage<D>& img, doubl
     for (int64_t p = p0; p < p1; ++p) c = keep(p, 1, c);
   } else {
     // Entry p is pair p here.
-    const TouchArrays ta{s.particle_x.data(), s.particle_r.data(), nullptr, pi, pj,
-                         s.pair_touch.data(), s.pair_f.data(), s.pair_hist.data()};
+    const TouchArrays ta{s.particle_x.data(), s.particle_r.data(), nullptr,           pi, pj,
+                         s.pair_touch.data(), s.pair_f.data(),     s.pair_hist.data()};
     c = scan_pairs<D, true>(s.particle_x.data(), s.particle_r.data(), pi, pj, img, gap, p0, p1,
                             [=](int64_t p, const double*, uint8_t within, int64_t n) {
                               // A pair left out is apart: clear what it may hold, as the touch

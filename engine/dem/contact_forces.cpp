@@ -14,13 +14,15 @@
 // (pair_schedule.hpp), which makes the sums independent of the number of threads; the force on
 // i is also kept per pair (pair_f) for the stress and the contact network, in the steps whose
 // end is seen (State::boundary_seen).
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <algorithm>
 #include <limits>
 #include <type_traits>
 #include <vector>
 
+#include "core/assert.hpp"
+#include "core/periodic_image.hpp"
 #include "core/small_vec.hpp"
 #include "dem/contact_candidates.hpp"
 #include "dem/contact_laws.hpp"
@@ -28,7 +30,6 @@
 #include "dem/simd_level.hpp"
 #include "dem/stages.hpp"
 #include "dem/touch_pass.hpp"
-#include "core/periodic_image.hpp"
 
 namespace silt::dem {
 namespace {
@@ -55,7 +56,7 @@ struct Touching {
   enum Column { kN = 0, kVt = D, kXi = 2 * D, kFn = 3 * D, kK, kMeff, kColumns };
   std::vector<int32_t> pair;
   std::vector<int32_t> gi, gj;  // the grains of each touching pair
-  std::vector<double> d;  // separation (nearest image), |d|, 1 / |d|: column k from d[k * cap]
+  std::vector<double> d;        // separation (nearest image), |d|, 1 / |d|: column k from d[k * cap]
   std::vector<double> columns;
   std::vector<double> out;  // kOut<D> per entry, laid out by record<D>
   size_t cap = 0;
@@ -107,8 +108,7 @@ template <int D, bool Dashpot>
       const SOmega<D> mt = moment(nq, ft);
       if constexpr (D == 3)
         for (int k = 0; k < 3; ++k) o[(2 * D + k) * kLanes] = mt[k];
-      else
-        o[2 * D * kLanes] = mt;
+      else o[2 * D * kLanes] = mt;
     }
   }
 }
@@ -117,9 +117,9 @@ template <int D, bool Dashpot>
 // IEEE operations on each pair (no fused multiply-add), so the same bits (simd_level.hpp).
 template <int D, bool Dashpot>
 [[gnu::target("avx2")]] void tangential_columns_avx2(int64_t c, double dt, double kt_ratio, double friction,
-                                                    double zeta_t, double* const* n, double* const* vt,
-                                                    const double* fn, const double* kn, const double* m,
-                                                    double* const* xi, double* __restrict out) {
+                                                     double zeta_t, double* const* n, double* const* vt,
+                                                     const double* fn, const double* kn, const double* m,
+                                                     double* const* xi, double* __restrict out) {
   tangential_columns<D, Dashpot>(c, dt, kt_ratio, friction, zeta_t, n, vt, fn, kn, m, xi, out);
 }
 
@@ -137,7 +137,7 @@ struct PairArgs {
   PeriodicImage<D> img;
   double dt, max_overlap, shear_rate;
   double fn_floor;  // 0 when attractive normal forces are clipped, -inf otherwise
-  SVec<D> grad;  // affine velocity gradient: stretching rates on the diagonal
+  SVec<D> grad;     // affine velocity gradient: stretching rates on the diagonal
   int64_t n;
   const double* x;
   const double* v;
@@ -251,8 +251,7 @@ void pair_block(const PairArgs<D> a, int64_t blk) {
   if constexpr (Friction) {
     if (a.cp.zeta_t > 0)
       tangential_pass<D, true>(c, a.dt, a.cp.kt_ratio, a.cp.friction, a.cp.zeta_t, cn, cvt, cfn, ck, cm, cxi, out);
-    else
-      tangential_pass<D, false>(c, a.dt, a.cp.kt_ratio, a.cp.friction, 0.0, cn, cvt, cfn, ck, cm, cxi, out);
+    else tangential_pass<D, false>(c, a.dt, a.cp.kt_ratio, a.cp.friction, 0.0, cn, cvt, cfn, ck, cm, cxi, out);
   } else {
     for (int64_t q = 0; q < c; ++q)
       for (int k = 0; k < D; ++k) out[record<D>(q) + k * kLanes] = cfn[q] * cn[k][q];
@@ -333,6 +332,9 @@ void dispatch(const Model& m, State& s, DemWorkspace& w) {
 }  // namespace
 
 void contact_forces(const Model& m, State& s, DemWorkspace& w) {
+  // Pre: update_neighbors left a valid list (its postcondition).
+  SILT_ASSERT(s.nbr_valid && static_cast<int64_t>(s.nbr_start.size()) == s.n + 1,
+              "contact_forces needs a valid pair list");
   if (m.dim == 2) dispatch<2>(m, s, w);
   else dispatch<3>(m, s, w);
 }

@@ -13,8 +13,8 @@
 namespace silt::dem {
 
 struct NormalForce {
-  double fn;      // normal force magnitude along n (repulsive > 0) [N]
-  double k;       // current normal stiffness dF/d(overlap) [N/m], for the tangential spring
+  double fn;  // normal force magnitude along n (repulsive > 0) [N]
+  double k;   // current normal stiffness dF/d(overlap) [N/m], for the tangential spring
 };
 
 // Linear spring-dashpot stiffness and dashpot from a restitution e and a contact time t_c.

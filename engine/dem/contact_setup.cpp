@@ -8,14 +8,11 @@
 
 namespace silt {
 
-double verlet_stability_limit(double w0, double zeta) {
-  return 2.0 / w0 * (std::sqrt(1.0 + zeta * zeta) - zeta);
-}
+double verlet_stability_limit(double w0, double zeta) { return 2.0 / w0 * (std::sqrt(1.0 + zeta * zeta) - zeta); }
 
 }  // namespace silt
 
 namespace silt::dem {
-
 
 void read_contact_law(const SceneDesc& d, Model& m) {
   ContactParams& c = m.contact;

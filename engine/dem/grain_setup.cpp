@@ -12,14 +12,12 @@
 #include <unordered_map>
 
 #include "core/rng.hpp"
-#include "core/text.hpp"
+#include "silt/text.hpp"
 
 namespace silt::dem {
 namespace {
 
 std::string fmt_(double x) { return format_number(x, 6); }
-
-
 
 std::string key(int g, const char* leaf) { return "grains[" + std::to_string(g) + "]." + leaf; }
 
@@ -44,8 +42,8 @@ class PlacementGrid {
   }
   // Largest overlap (as a fraction of the smaller radius) of a grain at x with radius r against
   // the grains already inserted; returns the partner index through `who`.
-  double worst_overlap(const double* x, double r, const std::vector<double>& xs,
-                       const std::vector<double>& rs, int64_t* who = nullptr) const {
+  double worst_overlap(const double* x, double r, const std::vector<double>& xs, const std::vector<double>& rs,
+                       int64_t* who = nullptr) const {
     const int D = m_.dim;
     int64_t c[3];
     cell_of(x, c);
@@ -109,8 +107,8 @@ struct Group {
   std::string placement;
   int64_t count = 0;
   std::vector<double> radius;
-  std::vector<double> sites;  // lattice or explicit centres (D per grain)
-  std::vector<double> lo, hi; // region
+  std::vector<double> sites;   // lattice or explicit centres (D per grain)
+  std::vector<double> lo, hi;  // region
   double density = 1;
   bool frozen = false;
 };
@@ -121,8 +119,10 @@ void region_of(const SceneDesc& d, const Model& m, int g, Group& G) {
   for (int k = 0; k < m.dim; ++k) G.hi[k] = m.box.lo[k] + m.box.len[k];
   if (d.has(key(g, "region_lo"))) G.lo = d.reals(key(g, "region_lo"));
   if (d.has(key(g, "region_hi"))) G.hi = d.reals(key(g, "region_hi"));
-  if (static_cast<int>(G.lo.size()) != m.dim) d.fail(key(g, "region_lo"), "needs " + std::to_string(m.dim) + " entries");
-  if (static_cast<int>(G.hi.size()) != m.dim) d.fail(key(g, "region_hi"), "needs " + std::to_string(m.dim) + " entries");
+  if (static_cast<int>(G.lo.size()) != m.dim)
+    d.fail(key(g, "region_lo"), "needs " + std::to_string(m.dim) + " entries");
+  if (static_cast<int>(G.hi.size()) != m.dim)
+    d.fail(key(g, "region_hi"), "needs " + std::to_string(m.dim) + " entries");
   for (int k = 0; k < m.dim; ++k)
     if (!(G.hi[k] > G.lo[k])) d.fail(key(g, "region_hi"), "region_hi must exceed region_lo in every direction");
 }
@@ -197,10 +197,10 @@ std::vector<double> draw_radii(const SceneDesc& d, const Model& m, int g, int64_
   } else if (disc) {
     const auto sizes = d.reals(key(g, "radii"));
     const auto frac = d.reals(key(g, "volume_fractions"));
-    if (frac.size() != sizes.size())
-      d.fail(key(g, "volume_fractions"), "needs one entry per radius in radii");
+    if (frac.size() != sizes.size()) d.fail(key(g, "volume_fractions"), "needs one entry per radius in radii");
     const double total = std::accumulate(frac.begin(), frac.end(), 0.0);
-    if (std::abs(total - 1) > 1e-9) d.fail(key(g, "volume_fractions"), "must add up to 1 (they add up to " + fmt_(total) + ")");
+    if (std::abs(total - 1) > 1e-9)
+      d.fail(key(g, "volume_fractions"), "must add up to 1 (they add up to " + fmt_(total) + ")");
     // Number fraction of size k is proportional to phi_k / r_k^D; largest-remainder rounding.
     std::vector<double> w(sizes.size());
     for (size_t k = 0; k < sizes.size(); ++k) w[k] = frac[k] / std::pow(sizes[k], m.dim);
@@ -221,7 +221,8 @@ std::vector<double> draw_radii(const SceneDesc& d, const Model& m, int g, int64_
   } else {
     r = d.reals(key(g, "radius_list"));
     if (static_cast<int64_t>(r.size()) != count)
-      d.fail(key(g, "radius_list"), "has " + std::to_string(r.size()) + " radii for " + std::to_string(count) + " grains");
+      d.fail(key(g, "radius_list"),
+             "has " + std::to_string(r.size()) + " radii for " + std::to_string(count) + " grains");
   }
   return r;
 }
@@ -233,8 +234,7 @@ int64_t group_count(const SceneDesc& d, const Model& m, int g, Group& G) {
     G.sites = lattice_sites(d, m, g, G);
     const int64_t n_sites = static_cast<int64_t>(G.sites.size()) / m.dim;
     if (n_sites == 0) d.fail(key(g, "spacing"), "the region holds no lattice site");
-    if (count > n_sites)
-      d.fail(key(g, "count"), "the lattice region holds only " + std::to_string(n_sites) + " sites");
+    if (count > n_sites) d.fail(key(g, "count"), "the lattice region holds only " + std::to_string(n_sites) + " sites");
     const int64_t n = given ? count : n_sites;
     G.sites.resize(n * m.dim);
     return n;
@@ -248,7 +248,8 @@ int64_t group_count(const SceneDesc& d, const Model& m, int g, Group& G) {
     const int64_t n = static_cast<int64_t>(pos.size());
     if (n == 0) d.fail(key(g, "positions"), "no positions given");
     if (given && count != n)
-      d.fail(key(g, "count"), "count = " + std::to_string(count) + " but " + std::to_string(n) + " positions are given");
+      d.fail(key(g, "count"),
+             "count = " + std::to_string(count) + " but " + std::to_string(n) + " positions are given");
     return n;
   }
   if (given) return count;
@@ -260,8 +261,7 @@ double wall_gap(const Model& m, const double* x, double r, const Wall& w) {
   return m.dim == 2 ? w.gap<2>(at<2>(x, 0), r) : w.gap<3>(at<3>(x, 0), r);
 }
 
-void place_random(const SceneDesc& d, Model& m, int g, const Group& G, int64_t first, Rng& rng,
-                  PlacementGrid& grid) {
+void place_random(const SceneDesc& d, Model& m, int g, const Group& G, int64_t first, Rng& rng, PlacementGrid& grid) {
   const int D = m.dim;
   auto& xs = m.init.x;
   const auto& rs = m.init.radius;
@@ -273,8 +273,7 @@ void place_random(const SceneDesc& d, Model& m, int g, const Group& G, int64_t f
       const bool whole = m.box.periodic[k] && G.lo[k] <= m.box.lo[k] && G.hi[k] >= m.box.lo[k] + m.box.len[k];
       lo[k] = whole ? G.lo[k] : G.lo[k] + r;
       hi[k] = whole ? G.hi[k] : G.hi[k] - r;
-      if (hi[k] < lo[k])
-        d.fail(key(g, "region_hi"), "the placement region is narrower than a grain diameter");
+      if (hi[k] < lo[k]) d.fail(key(g, "region_hi"), "the placement region is narrower than a grain diameter");
     }
     bool placed = false;
     for (int attempt = 0; attempt < 20000 && !placed; ++attempt) {
@@ -292,8 +291,7 @@ void place_random(const SceneDesc& d, Model& m, int g, const Group& G, int64_t f
     if (!placed) {
       double vol = 1, solid = 0;
       for (int k = 0; k < D; ++k) vol *= G.hi[k] - G.lo[k];
-      for (int64_t j = first; j < first + G.count; ++j)
-        solid += grain_volume(D, rs[j]);
+      for (int64_t j = first; j < first + G.count; ++j) solid += grain_volume(D, rs[j]);
       d.fail(key(g, "count"), "could not place grain " + std::to_string(q + 1) + " of " + std::to_string(G.count) +
                                   " at random without overlap (the group alone fills " + fmt_(solid / vol) +
                                   " of its region; random addition jams near 0.55 in 2D and 0.38 in 3D): use a "
@@ -336,7 +334,8 @@ void set_velocities(const SceneDesc& d, Model& m, int g, int64_t first, int64_t 
     if (static_cast<int64_t>(vel.size()) != count)
       d.fail(key(g, "velocities"), "needs one velocity per grain (" + std::to_string(count) + ")");
     for (int64_t q = 0; q < count; ++q) {
-      if (static_cast<int>(vel[q].size()) != D) d.fail(key(g, "velocities"), "every velocity needs " + std::to_string(D) + " components");
+      if (static_cast<int>(vel[q].size()) != D)
+        d.fail(key(g, "velocities"), "every velocity needs " + std::to_string(D) + " components");
       for (int k = 0; k < D; ++k) v[D * (first + q) + k] = vel[q][k];
     }
   }
@@ -475,10 +474,10 @@ void check_initial_overlaps(const Model& m) {
     int64_t j = -1;
     const double f = grid.worst_overlap(x, I.radius[i], I.x, I.radius, &j);
     if (f > m.limits.max_overlap && !(I.frozen[i] && I.frozen[j]))
-      m.desc.fail(group_location_key(m.desc, I.group[i]), "grains " + std::to_string(j) + " and " + std::to_string(i) +
-                                            " overlap by " + fmt_(100 * f) +
-                                            "% of the smaller radius at t = 0, beyond limits.max_overlap = " +
-                                            fmt_(m.limits.max_overlap) + ": move them apart or reduce their radii");
+      m.desc.fail(group_location_key(m.desc, I.group[i]),
+                  "grains " + std::to_string(j) + " and " + std::to_string(i) + " overlap by " + fmt_(100 * f) +
+                      "% of the smaller radius at t = 0, beyond limits.max_overlap = " + fmt_(m.limits.max_overlap) +
+                      ": move them apart or reduce their radii");
     grid.insert(i, x);
     for (size_t w = 0; w < m.walls.size(); ++w) {
       const double gap = wall_gap(m, x, I.radius[i], m.walls[w]);

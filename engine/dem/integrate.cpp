@@ -102,16 +102,30 @@ template <int D, bool Affine>
 void kick_drift_dim(const Model& m, State& s) {
   // The box lengths moved first (shear::box_drift): L(t + dt) / L(t) of each.
   const Vec3a lambda = Affine ? s.box_stretch : Vec3a{1, 1, 1};
-  DriftArgs<D> a{s.dt, 0.5 * s.dt, s.shear_rate, {}, {}, {}, PeriodicImage<D>(s.box), s.box,
-                 s.particle_x.data(), s.particle_v.data(), s.particle_w.data(), s.particle_disp.data(),
-                 s.particle_f.data(), s.particle_t.data(), s.particle_inv_m.data(), s.particle_inv_i.data(),
+  DriftArgs<D> a{s.dt,
+                 0.5 * s.dt,
+                 s.shear_rate,
+                 {},
+                 {},
+                 {},
+                 PeriodicImage<D>(s.box),
+                 s.box,
+                 s.particle_x.data(),
+                 s.particle_v.data(),
+                 s.particle_w.data(),
+                 s.particle_disp.data(),
+                 s.particle_f.data(),
+                 s.particle_t.data(),
+                 s.particle_inv_m.data(),
+                 s.particle_inv_i.data(),
                  s.particle_frozen.data()};
   for (int k = 0; k < D; ++k) {
     a.lo[k] = s.box.lo[k];
     a.g[k] = m.gravity[k];
     a.lambda[k] = lambda[k];
   }
-  const auto max_d2 = parallel_max<2>(s.n, kGrain, [a](int64_t b, int64_t e) { return drift_range<D, Affine>(a, b, e); });
+  const auto max_d2 =
+      parallel_max<2>(s.n, kGrain, [a](int64_t b, int64_t e) { return drift_range<D, Affine>(a, b, e); });
   s.nbr_max_disp = std::sqrt(max_d2[0]);
   s.nbr_step_disp = std::sqrt(max_d2[1]);
 }
@@ -196,7 +210,8 @@ void kick_dim(const Model& m, State& s, const ForceSources& sources) {
   SILT_ASSERT(sources.size() <= static_cast<size_t>(kMaxSources), "too many force sources");
   for (const ForceSource& src : sources) {
     const Extent e = field_info(src.force).extent;
-    SILT_ASSERT(e == Extent::kGrainVec || e == Extent::kGrainWallVec, "a force source is per grain or per grain and wall");
+    SILT_ASSERT(e == Extent::kGrainVec || e == Extent::kGrainWallVec,
+                "a force source is per grain or per grain and wall");
     a.force_items[a.n_force] = e == Extent::kGrainWallVec ? s.n_walls : 1;
     a.force_src[a.n_force++] = double_field(s, src.force).data();
     if (src.torque != kNoField) a.torque_src[a.n_torque++] = double_field(s, src.torque).data();
@@ -204,8 +219,7 @@ void kick_dim(const Model& m, State& s, const ForceSources& sources) {
   // contact_forces writes no torque without friction: the sum then starts from zero.
   if (m.contact.friction > 0)
     parallel_for(s.n, kGrain, [a](int64_t b, int64_t e) { kick_range<D, Kick, true>(a, b, e); });
-  else
-    parallel_for(s.n, kGrain, [a](int64_t b, int64_t e) { kick_range<D, Kick, false>(a, b, e); });
+  else parallel_for(s.n, kGrain, [a](int64_t b, int64_t e) { kick_range<D, Kick, false>(a, b, e); });
 }
 
 }  // namespace

@@ -1,12 +1,13 @@
 // The DEM's scene keys: contact law, walls, grains, neighbour search.
-#include "core/text.hpp"
 #include "dem/module.hpp"
+#include "silt/text.hpp"
 
 namespace silt::dem {
 
 std::vector<KeySpec> dem_keys() {
   using K = KeyType;
   using S = std::vector<std::string>;
+  // clang-format off
   std::vector<KeySpec> s = {
       // ---- contact
       {"contact.model", K::kString, std::nullopt, Range::any(), "", false, S{"spring_dashpot", "hooke", "hertz", "linear"},
@@ -54,6 +55,7 @@ std::vector<KeySpec> dem_keys() {
       {"neighbor.contact_skin", K::kReal, std::nullopt, Range::non_negative(), "m", false, {}, "Listed pairs closer than this gap are the ones tested for contact each step, re-selected when grains have moved half of it (default: skin/5; 0 tests every listed pair). Changes the cost, never the result."},
       {"neighbor.sort", K::kBool, Value(true), Range::any(), "", false, {}, "Keep grains in cell order at each list build when there are more than 1024 (cache locality; ids are kept)."},
   };
+  // clang-format on
   for (KeySpec& k : s) {
     if (k.path == "neighbor.skin") k.computed = [](const Model& m) { return format_number(m.skin); };
     if (k.path == "neighbor.contact_skin") k.computed = [](const Model& m) { return format_number(m.contact_skin); };

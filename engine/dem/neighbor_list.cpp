@@ -3,7 +3,8 @@
 // A pair (i, j), i < j, is listed when |d_ij| < r_i + r_j + skin; the list stays valid until
 // twice the largest displacement since the build (relative to the affine flow of a deforming
 // box), plus the affine strain times the list range, exceeds the skin. Rows are sorted by j, so
-// the list, and everything summed over it, is the same whatever the number of threads. Pairs of two frozen grains are never listed.
+// the list, and everything summed over it, is the same whatever the number of threads. Pairs of two frozen grains are
+// never listed.
 //
 // Above Model::kSortMin grains, each build also renumbers the grains in cell order (LAMMPS's
 // atom sorting): a flowing bed scatters neighbours in memory, and the pair loop then waits on
@@ -13,6 +14,7 @@
 #include <cmath>
 #include <cstring>
 
+#include "core/assert.hpp"
 #include "core/buffers.hpp"
 #include "core/parallel.hpp"
 #include "core/periodic_image.hpp"
@@ -28,7 +30,7 @@ struct CellGrid {
   double lo[3] = {0, 0, 0};
   double inv_size[3] = {1, 1, 1};
   bool wrap[3] = {false, false, false};
-  double le_shift = 0;  // Lees-Edwards offset in x cells (the image above is shifted by it)
+  double le_shift = 0;     // Lees-Edwards offset in x cells (the image above is shifted by it)
   bool may_repeat = true;  // a stencil may name a cell twice (a periodic direction of few cells)
   int64_t count() const { return int64_t{n[0]} * n[1] * n[2]; }
 };
@@ -324,10 +326,16 @@ void update(const Model& m, State& s, DemWorkspace& w) {
 }  // namespace
 
 void update_neighbors(const Model& m, State& s, DemWorkspace& w) {
-  if (m.dim == 2)
-    update<2>(m, s, w);
-  else
-    update<3>(m, s, w);
+  if (m.dim == 2) update<2>(m, s, w);
+  else update<3>(m, s, w);
+  // Post: a valid list in CSR form, its per-pair arrays as long as it.
+  const int64_t np = s.n_pairs();
+  SILT_ASSERT(s.nbr_valid && static_cast<int64_t>(s.nbr_start.size()) == s.n + 1 && s.nbr_start[s.n] == np,
+              "the pair list's row starts do not span it");
+  SILT_ASSERT(static_cast<int64_t>(s.pair_i.size()) == np && static_cast<int64_t>(s.pair_f.size()) == np * m.dim &&
+                  static_cast<int64_t>(s.pair_hist.size()) == np * m.dim &&
+                  static_cast<int64_t>(s.pair_touch.size()) == np,
+              "a per-pair array is not as long as the pair list");
 }
 
 }  // namespace silt::dem

@@ -38,52 +38,58 @@ std::vector<ObservableSpec> dem_observables() {
                [](const Measurements& x, const Args&) { return x.e_contact; }),
       measured("momentum.{a}", "kg m/s", "total momentum of the free grains, the affine flow included",
                [](const Measurements& x, const Args& a) { return x.momentum[a.a]; }),
-      measured("phi", "", "solid fraction of the grains in the box", [](const Measurements& x, const Args&) { return x.phi; }),
+      measured("phi", "", "solid fraction of the grains in the box",
+               [](const Measurements& x, const Args&) { return x.phi; }),
       measured("z", "", "contacts per free grain", [](const Measurements& x, const Args&) { return x.z; }),
-      measured("z_star", "", "contacts per free grain that has one", [](const Measurements& x, const Args&) { return x.z_star; }),
-      measured("z_mech", "", "contacts per grain of the mechanical skeleton", [](const Measurements& x, const Args&) { return x.z_mech; }),
-      measured("p0", "", "fraction of free grains with no contact", [](const Measurements& x, const Args&) { return x.p0; }),
+      measured("z_star", "", "contacts per free grain that has one",
+               [](const Measurements& x, const Args&) { return x.z_star; }),
+      measured("z_mech", "", "contacts per grain of the mechanical skeleton",
+               [](const Measurements& x, const Args&) { return x.z_mech; }),
+      measured("p0", "", "fraction of free grains with no contact",
+               [](const Measurements& x, const Args&) { return x.p0; }),
       measured("n_contacts", "", "grain-grain and grain-wall contacts",
                [](const Measurements& x, const Args&) { return static_cast<double>(x.n_contacts); }),
-      measured("pressure", "Pa", "trace of the stress / dimension", [](const Measurements& x, const Args&) { return x.pressure; }),
-      measured("mu", "", "stress ratio |stress.xy| / stress.yy", [](const Measurements& x, const Args&) {
-        return x.stress[1][1] != 0 ? std::abs(x.stress[0][1]) / x.stress[1][1] : 0;
-      }),
+      measured("pressure", "Pa", "trace of the stress / dimension",
+               [](const Measurements& x, const Args&) { return x.pressure; }),
+      measured("mu", "", "stress ratio |stress.xy| / stress.yy",
+               [](const Measurements& x, const Args&) {
+                 return x.stress[1][1] != 0 ? std::abs(x.stress[0][1]) / x.stress[1][1] : 0;
+               }),
       measured("stress.{a}{b}", "Pa", "grain stress tensor (contact + kinetic), compression positive",
                [](const Measurements& x, const Args& a) { return x.stress[a.a][a.b]; }),
       measured("fabric.{a}{b}", "", "fabric tensor <n n> over grain-grain contacts",
                [](const Measurements& x, const Args& a) { return x.fabric[a.a][a.b]; }),
       {"n_builds", "", "neighbour-list builds so far",
        [](const Ctx& c, const Args&) { return static_cast<double>(c.s.nbr_builds); }},
-      {"n_pairs", "", "listed neighbour pairs", [](const Ctx& c, const Args&) { return static_cast<double>(c.s.n_pairs()); }},
-      {"kappa", "", "stiffness number at the imposed (else the measured) pressure", [](const Ctx& c, const Args&) {
+      {"n_pairs", "", "listed neighbour pairs",
+       [](const Ctx& c, const Args&) { return static_cast<double>(c.s.n_pairs()); }},
+      {"kappa", "", "stiffness number at the imposed (else the measured) pressure",
+       [](const Ctx& c, const Args&) {
          return stiffness_number(c.m, c.m.box_control.on ? c.m.box_control.pressure : c.meas().pressure);
        }},
       {"zeta", "", "damping ratio of the lightest pair", [](const Ctx& c, const Args&) { return c.m.zeta_max; }},
-      grain("p[{k}].{a}", "m", "position of grain K", [](const Ctx& c, int64_t i, const Args& a) {
-        return c.s.particle_x[c.s.dim * i + a.a];
-      }),
-      grain("p[{k}].v{a}", "m/s", "velocity of grain K (relative to the affine flow)", [](const Ctx& c, int64_t i, const Args& a) {
-        return c.s.particle_v[c.s.dim * i + a.a];
-      }),
-      grain("p[{k}].w{w}", "rad/s", "angular velocity of grain K", [](const Ctx& c, int64_t i, const Args& a) {
-        return c.s.particle_w[c.s.rot * i + a.w];
-      }),
-      grain("p[{k}].f{a}", "N", "total force on grain K, gravity included", [](const Ctx& c, int64_t i, const Args& a) {
-        const double g = c.s.particle_frozen[i] ? 0 : c.m.gravity[a.a] / c.s.particle_inv_m[i];
-        return c.s.particle_f[c.s.dim * i + a.a] + g;
-      }),
-      grain("p[{k}].r", "m", "radius of grain K", [](const Ctx& c, int64_t i, const Args&) { return c.s.particle_r[i]; }),
+      grain("p[{k}].{a}", "m", "position of grain K",
+            [](const Ctx& c, int64_t i, const Args& a) { return c.s.particle_x[c.s.dim * i + a.a]; }),
+      grain("p[{k}].v{a}", "m/s", "velocity of grain K (relative to the affine flow)",
+            [](const Ctx& c, int64_t i, const Args& a) { return c.s.particle_v[c.s.dim * i + a.a]; }),
+      grain("p[{k}].w{w}", "rad/s", "angular velocity of grain K",
+            [](const Ctx& c, int64_t i, const Args& a) { return c.s.particle_w[c.s.rot * i + a.w]; }),
+      grain("p[{k}].f{a}", "N", "total force on grain K, gravity included",
+            [](const Ctx& c, int64_t i, const Args& a) {
+              const double g = c.s.particle_frozen[i] ? 0 : c.m.gravity[a.a] / c.s.particle_inv_m[i];
+              return c.s.particle_f[c.s.dim * i + a.a] + g;
+            }),
+      grain("p[{k}].r", "m", "radius of grain K",
+            [](const Ctx& c, int64_t i, const Args&) { return c.s.particle_r[i]; }),
       grain("p[{k}].m", "kg", "mass of grain K (0 for a frozen grain: it has no finite mass)",
             [](const Ctx& c, int64_t i, const Args&) {
               return c.s.particle_frozen[i] ? 0.0 : 1.0 / c.s.particle_inv_m[i];
             }),
   };
   // pn.K: the fraction of grains with exactly K contacts (Peyneau 2009 Table 3.14).
-  ObservableSpec pn = measured("pn.{k}", "", "fraction of free grains with exactly K contacts",
-                               [](const Measurements& x, const Args& a) {
-                                 return a.k < static_cast<int64_t>(x.pn.size()) ? x.pn[a.k] : 0.0;
-                               });
+  ObservableSpec pn = measured(
+      "pn.{k}", "", "fraction of free grains with exactly K contacts",
+      [](const Measurements& x, const Args& a) { return a.k < static_cast<int64_t>(x.pn.size()) ? x.pn[a.k] : 0.0; });
   pn.k_count = [](const Model&) { return int64_t{1000}; };
   pn.k_what = "contact count";
   pn.k_listed = 13;

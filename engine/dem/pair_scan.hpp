@@ -17,9 +17,9 @@
 #include <immintrin.h>
 #endif
 
+#include "core/periodic_image.hpp"
 #include "core/small_vec.hpp"
 #include "dem/simd_level.hpp"
-#include "core/periodic_image.hpp"
 
 namespace silt::dem {
 
@@ -57,13 +57,9 @@ constexpr int kRound = _MM_FROUND_CUR_DIRECTION | _MM_FROUND_NO_EXC;  // std::ne
 // The separations d (one register per component) of entries q .. q + 3 and which of them are
 // within reach (bit e for entry q + e).
 template <int D, bool Reach>
-[[gnu::target("avx2"), gnu::always_inline]] inline int four_separations(const double* __restrict x,
-                                                                         const double* __restrict r,
-                                                                         const int32_t* __restrict pi,
-                                                                         const int32_t* __restrict pj,
-                                                                         const PeriodicImage<D>& img,
-                                                                         double reach, int64_t q, __m256d* d,
-                                                                         __m256d* d2_out = nullptr) {
+[[gnu::target("avx2"), gnu::always_inline]] inline int four_separations(
+    const double* __restrict x, const double* __restrict r, const int32_t* __restrict pi, const int32_t* __restrict pj,
+    const PeriodicImage<D>& img, double reach, int64_t q, __m256d* d, __m256d* d2_out = nullptr) {
   const int64_t i0 = pi[q], i1 = pi[q + 1], i2 = pi[q + 2], i3 = pi[q + 3];
   const int64_t j0 = pj[q], j1 = pj[q + 1], j2 = pj[q + 2], j3 = pj[q + 3];
   for (int k = 0; k < D; ++k)
@@ -109,8 +105,8 @@ template <int D, bool Reach, class Sink>
 // Two entries per iteration, then the scalar loop.
 template <int D, bool Reach, class Sink>
 inline int64_t sse(const double* __restrict x, const double* __restrict r, const int32_t* __restrict pi,
-                   const int32_t* __restrict pj, const PeriodicImage<D> img, double reach, int64_t q0,
-                   int64_t q1, const Sink sink) {
+                   const int32_t* __restrict pj, const PeriodicImage<D> img, double reach, int64_t q0, int64_t q1,
+                   const Sink sink) {
   int64_t q = q0, c = 0;
   const __m128d zero = _mm_setzero_pd();
   for (; q + 1 < q1; q += 2) {

@@ -110,8 +110,8 @@ inline constexpr LeftPack kLeftPack = make_left_pack();
 // The touch pass four entries at a time: the touching ones of each four are packed with one
 // permutation per column (no branch, no per-entry stores).
 template <int D>
-[[gnu::target("avx2")]] int64_t touch_avx2(const TouchArrays a, const PeriodicImage<D> img, int64_t q0,
-                                           int64_t q1, int32_t* __restrict tp, double* const* td) {
+[[gnu::target("avx2")]] int64_t touch_avx2(const TouchArrays a, const PeriodicImage<D> img, int64_t q0, int64_t q1,
+                                           int32_t* __restrict tp, double* const* td) {
   double* __restrict tdk[D + 2];
   for (int k = 0; k < D + 2; ++k) tdk[k] = td[k];
   int64_t q = q0, c = 0;
@@ -127,7 +127,8 @@ template <int D>
     _mm256_storeu_pd(tdk[D + 1] + c, left_pack(_mm256_div_pd(_mm256_set1_pd(1.0), dist), pd));
     const __m256i pairs = _mm256_castsi128_si256(_mm_loadu_si128(reinterpret_cast<const __m128i*>(a.pp + q)));
     const __m256i pk = _mm256_load_si256(reinterpret_cast<const __m256i*>(kLeftPack.of_int[mask]));
-    _mm_storeu_si128(reinterpret_cast<__m128i*>(tp + c), _mm256_castsi256_si128(_mm256_permutevar8x32_epi32(pairs, pk)));
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(tp + c),
+                     _mm256_castsi256_si128(_mm256_permutevar8x32_epi32(pairs, pk)));
     c += __builtin_popcount(static_cast<unsigned>(mask));
   }
   return scalar<D, false>(a.x, a.r, a.pi, a.pj, img, 0.0, q, q1, c, touch_sink<D>(a, tp, td));
@@ -143,8 +144,8 @@ template <int D>
 // cleared; pair_touch is updated. The arguments come by value: local copies that the stores
 // cannot alias.
 template <int D>
-int64_t touch_pass(const TouchArrays a, const PeriodicImage<D> img, int64_t q0, int64_t q1,
-                   int32_t* __restrict tp, double* const* td) {
+int64_t touch_pass(const TouchArrays a, const PeriodicImage<D> img, int64_t q0, int64_t q1, int32_t* __restrict tp,
+                   double* const* td) {
 #if defined(__SSE4_1__)
   if (avx2_in_use()) return scan_detail::touch_avx2<D>(a, img, q0, q1, tp, td);
 #endif

@@ -4,9 +4,9 @@
 #include <numbers>
 #include <sstream>
 
-#include "core/text.hpp"
 #include "drag/drag.hpp"
 #include "silt/module.hpp"
+#include "silt/text.hpp"
 
 namespace silt::drag {
 namespace {
@@ -47,8 +47,15 @@ const ModuleSpec& module() {
     ModuleSpec s;
     s.name = "drag";
     s.doc = "Stokes drag on every grain (a still viscous liquid)";
-    s.keys = {{"drag.viscosity", KeyType::kReal, std::nullopt, Range::positive(), "Pa s", true, {},
-               "Viscosity of the liquid around the grains: Stokes drag 6 pi eta r v and torque 8 pi eta r^3 omega on each."}};
+    s.keys = {
+        {"drag.viscosity",
+         KeyType::kReal,
+         std::nullopt,
+         Range::positive(),
+         "Pa s",
+         true,
+         {},
+         "Viscosity of the liquid around the grains: Stokes drag 6 pi eta r v and torque 8 pi eta r^3 omega on each."}};
     s.fields = {{"particle_f_drag", Extent::kGrainVec, "N", "Stokes drag force on the grain; drag_forces"},
                 {"particle_t_drag", Extent::kGrainRot, "N m", "Stokes drag torque on the grain; drag_forces"}};
     ObservableSpec power{"drag.power", "W", "power the drag takes from the grains (negative)",

@@ -80,9 +80,10 @@ void run_checked(const Stage& st, const Model& m, State& s) {
     State c = pristine;
     poison_field(c, id);
     if (differs(c, run_on(st, m, c)))
-      throw std::logic_error("access check: stage " + st.name + " reads field " + field_info(id).name +
-                             ", which its access set does not declare" +
-                             (declared(st.writes, id) ? " (it writes it: a stage that leaves part of a field as it was reads it)" : ""));
+      throw std::logic_error(
+          "access check: stage " + st.name + " reads field " + field_info(id).name +
+          ", which its access set does not declare" +
+          (declared(st.writes, id) ? " (it writes it: a stage that leaves part of a field as it was reads it)" : ""));
   }
   throw std::logic_error("access check: stage " + st.name +
                          " gives other results when the fields it does not read change (several of them together)");

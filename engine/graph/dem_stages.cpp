@@ -7,9 +7,9 @@
 // sum_forces, then clear_springs.
 #include <memory>
 
-#include "core/text.hpp"
 #include "dem/stages.hpp"
 #include "graph/adders.hpp"
+#include "silt/text.hpp"
 
 namespace silt::graph {
 namespace {
@@ -39,9 +39,9 @@ Access kick_drift_reads(const Model& m) {
 }
 
 Access neighbor_reads() {
-  return with(grain_fields(), {fid::box, fid::nbr_valid, fid::nbr_max_disp, fid::nbr_step_disp, fid::nbr_strain,
-                               fid::nbr_builds, fid::nbr_start, fid::pair_i, fid::pair_j, fid::pair_hist, fid::pair_f,
-                               fid::pair_touch});
+  return with(grain_fields(),
+              {fid::box, fid::nbr_valid, fid::nbr_max_disp, fid::nbr_step_disp, fid::nbr_strain, fid::nbr_builds,
+               fid::nbr_start, fid::pair_i, fid::pair_j, fid::pair_hist, fid::pair_f, fid::pair_touch});
 }
 Access neighbor_writes() {
   return with(grain_fields(), {fid::nbr_start, fid::pair_i, fid::pair_j, fid::pair_hist, fid::pair_f, fid::pair_touch,
@@ -49,8 +49,8 @@ Access neighbor_writes() {
 }
 
 Access contact_reads(const Model& m) {
-  Access r = with({fid::dt, fid::box, fid::particle_x, fid::particle_v, fid::particle_w, fid::nbr_start, fid::pair_i,
-                   fid::pair_j, fid::pair_touch, fid::pair_f},
+  Access r = with({fid::dt, fid::box, fid::particle_x, fid::particle_v, fid::particle_w, fid::nbr_valid, fid::nbr_start,
+                   fid::pair_i, fid::pair_j, fid::pair_touch, fid::pair_f},
                   kGrainConst);
   if (m.contact.friction > 0) r = with(r, {fid::pair_hist});
   if (m.deforming_box()) r = with(r, {fid::box_rate, fid::shear_rate});
@@ -62,7 +62,8 @@ Access contact_writes(const Model& m) {
   return w;
 }
 
-const Access kWallReads = with({fid::dt, fid::particle_x, fid::particle_v, fid::particle_w, fid::wall_hist}, kGrainConst);
+const Access kWallReads =
+    with({fid::dt, fid::particle_x, fid::particle_v, fid::particle_w, fid::wall_hist}, kGrainConst);
 const Access kWallWrites = {fid::wall_f, fid::particle_t_wall, fid::wall_hist};
 
 Access kick_reads(const Model& m) {
@@ -114,10 +115,12 @@ void add_dem_stages(GraphBuilder& b) {
   auto& w = b.workspaces().get<dem::DemWorkspace>();
   const bool walls = !m.walls.empty();
   auto forces = b.forces();
-  const int nbr = b.add("update_neighbors", [&w](const Model& mm, State& s) { dem::update_neighbors(mm, s, w); },
-                        neighbor_reads(), neighbor_writes());
-  const int pairs = b.add("contact_forces", [&w](const Model& mm, State& s) { dem::contact_forces(mm, s, w); },
-                          contact_reads(m), contact_writes(m));
+  const int nbr = b.add(
+      "update_neighbors", [&w](const Model& mm, State& s) { dem::update_neighbors(mm, s, w); }, neighbor_reads(),
+      neighbor_writes());
+  const int pairs = b.add(
+      "contact_forces", [&w](const Model& mm, State& s) { dem::contact_forces(mm, s, w); }, contact_reads(m),
+      contact_writes(m));
   // depends on: the list, and the grains' numbering, that update_neighbors leaves.
   b.after(pairs, nbr, "iterates the (possibly rebuilt) pair list");
   if (walls) {
@@ -136,18 +139,18 @@ void add_dem_stages(GraphBuilder& b) {
     if (walls) b.after(clear, b.find("wall_forces"), "resets the springs the first evaluation stretched");
     return;
   }
-  const int drift = b.add("kick_drift", &dem::kick_drift, kick_drift_reads(m),
-                          {fid::particle_v, fid::particle_w, fid::particle_x, fid::particle_disp, fid::nbr_max_disp,
-                           fid::nbr_step_disp});
+  const int drift = b.add(
+      "kick_drift", &dem::kick_drift, kick_drift_reads(m),
+      {fid::particle_v, fid::particle_w, fid::particle_x, fid::particle_disp, fid::nbr_max_disp, fid::nbr_step_disp});
   b.after(drift, b.find("choose_dt"), "moves the grains by this step's dt");
   // depends on: the displacement since the last build, known after the drift.
   b.after(nbr, drift, "rebuild decision needs the drifted positions");
-  const int kick = b.add("kick", [forces](const Model& mm, State& s) { dem::kick(mm, s, *forces); }, kick_reads(m),
-                         kKickWrites);
+  const int kick = b.add(
+      "kick", [forces](const Model& mm, State& s) { dem::kick(mm, s, *forces); }, kick_reads(m), kKickWrites);
   b.after(kick, pairs, "kicks with the pair forces of this step");
   b.sums_forces(kick);
-  const int energy = b.add("energy_check", &dem::energy_check,
-                           with({fid::step, fid::particle_v, fid::particle_w}, kGrainConst), {});
+  const int energy =
+      b.add("energy_check", &dem::energy_check, with({fid::step, fid::particle_v, fid::particle_w}, kGrainConst), {});
   b.after(energy, kick, "the energy of the full-step velocities");
   diagnose_dem(b);
 }

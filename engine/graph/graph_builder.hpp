@@ -27,10 +27,10 @@ struct StageList;
 struct Stage {
   std::string name;
   std::string module;
-  StageFn fn;                      // empty for a loop
-  std::vector<int> deps;           // stages that must finish first
-  std::vector<std::string> why;    // one reason per dependency
-  Access reads, writes;            // for a loop, the union of its body's
+  StageFn fn;                       // empty for a loop
+  std::vector<int> deps;            // stages that must finish first
+  std::vector<std::string> why;     // one reason per dependency
+  Access reads, writes;             // for a loop, the union of its body's
   std::shared_ptr<StageList> body;  // a loop node: its body, run `times` times per run
   int times = 0;
   bool is_loop() const { return body != nullptr; }

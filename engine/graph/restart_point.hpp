@@ -20,9 +20,9 @@ class RestartPoint {
   State give() const;
 
  private:
-  State base_;                   // s without pair_i, pair_f and pair_hist
-  std::vector<int32_t> held_;    // pairs with a non-zero force or spring (any bit set)
-  std::vector<double> held_f_;   // their forces and springs, D per pair
+  State base_;                  // s without pair_i, pair_f and pair_hist
+  std::vector<int32_t> held_;   // pairs with a non-zero force or spring (any bit set)
+  std::vector<double> held_f_;  // their forces and springs, D per pair
   std::vector<double> held_hist_;
 };
 

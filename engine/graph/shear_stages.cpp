@@ -4,15 +4,16 @@
 //   choose_dt -> box_drift -> kick_drift ... kick -> box_kick
 //
 // and for the forces of the first state, box_stress after the pair forces.
-#include "core/text.hpp"
 #include "graph/adders.hpp"
 #include "shear/stages.hpp"
+#include "silt/text.hpp"
 
 namespace silt::graph {
 namespace {
 
-const Access kStressReads = {fid::box,          fid::pair_f,         fid::particle_v,      fid::particle_x,
-                             fid::particle_inv_m, fid::particle_frozen, fid::nbr_start,      fid::pair_j};
+const Access kStressReads = {fid::box,        fid::pair_f,         fid::particle_v,
+                             fid::particle_x, fid::particle_inv_m, fid::particle_frozen,
+                             fid::nbr_start,  fid::pair_j};
 
 }  // namespace
 
@@ -25,12 +26,11 @@ void add_shear_stages(GraphBuilder& b) {
     b.after(st, b.find("contact_forces"), "the contact stress of the first state's pair forces");
     return;
   }
-  const int drift = b.add(
-      "box_drift", &shear::box_drift,
-      {fid::dt, fid::box, fid::box_rate, fid::box_stress, fid::shear_stress, fid::shear_rate, fid::le_displacement,
-       fid::shear_strain, fid::nbr_strain},
-      {fid::box, fid::box_rate, fid::shear_rate, fid::box_stretch, fid::le_displacement, fid::shear_strain,
-       fid::nbr_strain});
+  const int drift = b.add("box_drift", &shear::box_drift,
+                          {fid::dt, fid::box, fid::box_rate, fid::box_stress, fid::shear_stress, fid::shear_rate,
+                           fid::le_displacement, fid::shear_strain, fid::nbr_strain},
+                          {fid::box, fid::box_rate, fid::shear_rate, fid::box_stretch, fid::le_displacement,
+                           fid::shear_strain, fid::nbr_strain});
   b.after(drift, b.find("choose_dt"), "moves the box by this step's dt");
   // depends on: the new lengths (box_stretch) and shear rate, which the grains follow.
   b.after(b.find("kick_drift"), drift, "the grains follow the affine flow of the box's drift");
@@ -43,14 +43,15 @@ void add_shear_stages(GraphBuilder& b) {
     (void)s;
   });
   if (!box_stage) return;
-  const int kick = b.add("box_kick", &shear::box_kick,
-                         [&] {
-                           Access r = kStressReads;
-                           for (FieldId f : {fid::dt, fid::box_rate, fid::shear_rate, fid::box_stress, fid::shear_stress})
-                             r.push_back(f);
-                           return r;
-                         }(),
-                         {fid::box_stress, fid::shear_stress, fid::box_rate, fid::shear_rate});
+  const int kick =
+      b.add("box_kick", &shear::box_kick,
+            [&] {
+              Access r = kStressReads;
+              for (FieldId f : {fid::dt, fid::box_rate, fid::shear_rate, fid::box_stress, fid::shear_stress})
+                r.push_back(f);
+              return r;
+            }(),
+            {fid::box_stress, fid::shear_stress, fid::box_rate, fid::shear_rate});
   b.after(kick, b.find("kick"), "kinetic stress uses the full-step velocities; contact stress the new pair forces");
 }
 

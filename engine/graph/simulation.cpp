@@ -9,20 +9,20 @@
 #include <cmath>
 #include <sstream>
 
-#include "core/text.hpp"
 #include "graph/restart_point.hpp"
 #include "graph/step_graph.hpp"
 #include "silt/observables.hpp"
+#include "silt/text.hpp"
 
 namespace silt {
 
 struct Simulation::Impl {
   explicit Impl(int threads) : arena(threads) {}
   tbb::task_arena arena;
-  Workspaces workspaces;                   // the modules' (graph/graph_builder.hpp)
-  std::unique_ptr<graph::StepGraph> step;  // one time step
+  Workspaces workspaces;                    // the modules' (graph/graph_builder.hpp)
+  std::unique_ptr<graph::StepGraph> step;   // one time step
   std::unique_ptr<graph::StepGraph> setup;  // the forces of the first state
-  graph::RestartPoint restart;             // last restart point
+  graph::RestartPoint restart;              // last restart point
   bool primed = false;
 };
 

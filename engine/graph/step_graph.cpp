@@ -5,8 +5,8 @@
 
 #include <sstream>
 
-#include "core/text.hpp"
 #include "graph/access_check.hpp"
+#include "silt/text.hpp"
 
 namespace silt::graph {
 

@@ -20,8 +20,8 @@
 #include <unistd.h>
 
 #include <array>
-#include <cmath>
 #include <cerrno>
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -29,8 +29,8 @@
 #include <sstream>
 
 #include "core/rng.hpp"
-#include "core/text.hpp"
 #include "silt/io.hpp"
+#include "silt/text.hpp"
 
 namespace silt {
 namespace {
@@ -143,7 +143,9 @@ std::string wall_text(const std::array<double, 6>& w, int dim) {
 
 // What differs between the system of a checkpoint and the scene's, "" when nothing.
 std::string difference(const System& saved, const System& now) {
-  auto both = [](const std::string& a, const std::string& b) { return a + " in the checkpoint, " + b + " in the scene"; };
+  auto both = [](const std::string& a, const std::string& b) {
+    return a + " in the checkpoint, " + b + " in the scene";
+  };
   if (saved.dim != now.dim) return both("dimension " + std::to_string(saved.dim), std::to_string(now.dim));
   if (saved.n != now.n) return both(std::to_string(saved.n) + " grains", std::to_string(now.n));
   if (saved.periodic != now.periodic)
@@ -152,7 +154,8 @@ std::string difference(const System& saved, const System& now) {
     return both(std::to_string(saved.walls.size()) + " wall(s)", std::to_string(now.walls.size()));
   for (size_t k = 0; k < now.walls.size(); ++k)
     if (saved.walls[k] != now.walls[k])
-      return "wall " + std::to_string(k) + ": " + both(wall_text(saved.walls[k], saved.dim), wall_text(now.walls[k], now.dim));
+      return "wall " + std::to_string(k) + ": " +
+             both(wall_text(saved.walls[k], saved.dim), wall_text(now.walls[k], now.dim));
   if (saved.fingerprint != now.fingerprint) return "the grains differ (sizes, masses, groups or frozen flags)";
   return "";
 }
@@ -199,7 +202,8 @@ void sync_directory(const std::string& path) {
 // every index in range, every floating-point value finite; else what is wrong.
 std::string check_state(const State& s, const Model& m) {
   const int64_t n = s.n;
-  if (static_cast<int64_t>(s.nbr_start.size()) != n + 1) return "nbr_start has " + std::to_string(s.nbr_start.size()) + " entries, not N + 1";
+  if (static_cast<int64_t>(s.nbr_start.size()) != n + 1)
+    return "nbr_start has " + std::to_string(s.nbr_start.size()) + " entries, not N + 1";
   const int64_t np = s.n_pairs();
   std::string bad;
   for_each_field(s, [&](const FieldInfo& f, const auto& v) {
@@ -208,8 +212,8 @@ std::string check_state(const State& s, const Model& m) {
       const bool on = f.id < fid::kBuiltinCount || m.module_on(f.module);
       const int64_t want = on ? extent_size(s, f.extent) : 0;
       if (static_cast<int64_t>(v.size()) != want) {
-        bad = f.name + " has " + std::to_string(v.size()) + " entries where " + std::to_string(want) + " are expected (" +
-              extent_name(f.extent) + ")";
+        bad = f.name + " has " + std::to_string(v.size()) + " entries where " + std::to_string(want) +
+              " are expected (" + extent_name(f.extent) + ")";
         return;
       }
       if constexpr (std::is_same_v<std::decay_t<decltype(v[0])>, double>)
@@ -225,19 +229,22 @@ std::string check_state(const State& s, const Model& m) {
   for (int64_t i = 0; i < n; ++i) {
     if (s.nbr_start[i + 1] < s.nbr_start[i]) return "nbr_start decreases at row " + std::to_string(i);
     for (int32_t p = s.nbr_start[i]; p < s.nbr_start[i + 1]; ++p)
-      if (s.pair_i[p] != i || s.pair_j[p] <= i || s.pair_j[p] >= n) return "pair " + std::to_string(p) + " is not a pair of row " + std::to_string(i);
+      if (s.pair_i[p] != i || s.pair_j[p] <= i || s.pair_j[p] >= n)
+        return "pair " + std::to_string(p) + " is not a pair of row " + std::to_string(i);
   }
   std::vector<uint8_t> seen(n, 0);
   for (int64_t i = 0; i < n; ++i) {
     const int32_t id = s.particle_id[i];
     if (id < 0 || id >= n || seen[id]) return "particle_id is not a numbering of the grains";
     seen[id] = 1;
-    if (s.particle_group[i] < 0 || s.particle_group[i] >= static_cast<int32_t>(std::max<size_t>(1, m.group_names.size())))
+    if (s.particle_group[i] < 0 ||
+        s.particle_group[i] >= static_cast<int32_t>(std::max<size_t>(1, m.group_names.size())))
       return "particle_group[" + std::to_string(i) + "] is not a group of the scene";
     if (s.particle_frozen[i] > 1) return "particle_frozen[" + std::to_string(i) + "] is neither 0 nor 1";
   }
   for (int k = 0; k < 3; ++k)
-    if (!std::isfinite(s.box.lo[k]) || !(s.box.len[k] > 0) || !std::isfinite(s.box.len[k])) return "the box is not finite";
+    if (!std::isfinite(s.box.lo[k]) || !(s.box.len[k] > 0) || !std::isfinite(s.box.len[k]))
+      return "the box is not finite";
   if (!std::isfinite(s.t) || !std::isfinite(s.dt) || s.step < 0) return "the time is not finite";
   return "";
 }
@@ -259,14 +266,16 @@ std::vector<std::pair<std::string, std::string>> scene_parameters(const SceneDes
       continue;
     }
     const std::string group = k.path.substr(0, br);
-    for (int i = 0; i < d.group_count(group); ++i) add(group + "[" + std::to_string(i) + "]" + k.path.substr(br + 2), k);
+    for (int i = 0; i < d.group_count(group); ++i)
+      add(group + "[" + std::to_string(i) + "]" + k.path.substr(br + 2), k);
   }
   return out;
 }
 
 void write_checkpoint(const std::string& path, const Model& m, const State& s) {
   std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) throw IoError("cannot write checkpoint '" + path + "': it is a directory");
+  if (std::filesystem::is_directory(path, ec))
+    throw IoError("cannot write checkpoint '" + path + "': it is a directory");
   Writer w;
   w.bytes(kMagic, sizeof kMagic);
   w.put(kVersion);
@@ -287,7 +296,9 @@ void write_checkpoint(const std::string& path, const Model& m, const State& s) {
       if (!v.empty()) w.bytes(v.data(), v.size() * sizeof(v[0]));
     } else {
       std::vector<char> blob;
-      field_bytes(v, [&](const void* p, size_t n) { blob.insert(blob.end(), static_cast<const char*>(p), static_cast<const char*>(p) + n); });
+      field_bytes(v, [&](const void* p, size_t n) {
+        blob.insert(blob.end(), static_cast<const char*>(p), static_cast<const char*>(p) + n);
+      });
       w.put(static_cast<uint32_t>(blob.size()));
       w.put(uint64_t{1});
       w.bytes(blob.data(), blob.size());
@@ -334,8 +345,9 @@ State read_checkpoint(const std::string& path, const Model& m, std::vector<std::
   // The version first: another version may lay out (and check) the rest differently.
   const auto version = r.get<uint32_t>();
   if (version != kVersion)
-    throw IoError("checkpoint '" + path + "' has format version " + std::to_string(version) + "; this silt reads version " +
-                  std::to_string(kVersion) + " (write it again with the silt that can read it)");
+    throw IoError("checkpoint '" + path + "' has format version " + std::to_string(version) +
+                  "; this silt reads version " + std::to_string(kVersion) +
+                  " (write it again with the silt that can read it)");
   uint64_t stored;
   std::memcpy(&stored, buf.data() + buf.size() - 8, 8);
   if (fnv1a(buf.data(), buf.size() - 8) != stored)
@@ -362,7 +374,8 @@ State read_checkpoint(const std::string& path, const Model& m, std::vector<std::
     const auto elem = r.get<uint32_t>();
     const auto count = r.get<uint64_t>();
     if constexpr (kIsArray<std::remove_cvref_t<decltype(v)>>) {
-      if (elem != sizeof(v[0]) || count > buf.size() / sizeof(v[0])) throw IoError("checkpoint '" + path + "' is corrupt: bad field " + stored_name);
+      if (elem != sizeof(v[0]) || count > buf.size() / sizeof(v[0]))
+        throw IoError("checkpoint '" + path + "' is corrupt: bad field " + stored_name);
       v.resize(count);
       if (count) r.bytes(v.data(), count * sizeof(v[0]));
     } else {

@@ -32,9 +32,9 @@ RunJob::RunJob(Simulation& sim, RunJobOptions options) : sim_(sim), o_(std::move
     const char* ax = "xyz";
     const bool sheared = m.shear.on && profile_component_ == 0;
     profiles_.push_back({std::string("v") + ax[profile_component_] + "(" + ax[profile_axis_] + ")",
-                         std::string(1, ax[profile_axis_]) + " / L_" + ax[profile_axis_] +
-                             " (slab centres); mean " + ax[profile_component_] + " velocity" +
-                             (sheared ? " with the shear flow" : "") + ", grains counted in every slab they overlap",
+                         std::string(1, ax[profile_axis_]) + " / L_" + ax[profile_axis_] + " (slab centres); mean " +
+                             ax[profile_component_] + " velocity" + (sheared ? " with the shear flow" : "") +
+                             ", grains counted in every slab they overlap",
                          {},
                          {}});
   }
@@ -55,7 +55,8 @@ const char* RunJob::status(RunEnd end) {
 RunReport RunJob::run(RunOptions opt) {
   const Model& m = sim_.model();
   StatsWriter* series = o_.series ? o_.series : &*stats_;
-  opt.hooks.push_back({o_.every, [this, series](const State& s) { series->add(observer_->sample(sim_.model(), s), s.t); }});
+  opt.hooks.push_back(
+      {o_.every, [this, series](const State& s) { series->add(observer_->sample(sim_.model(), s), s.t); }});
   if (vtk_)
     opt.hooks.push_back({o_.vtk_every > 0 ? o_.vtk_every : m.sample_every, [this](const State& s) {
                            if (!vtk_error_.empty()) return;

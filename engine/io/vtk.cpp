@@ -35,9 +35,11 @@ void write_vti(const std::string& path, const std::vector<GridField>& fields) {
   if (fields.empty()) throw IoError("cannot write '" + path + "': no field");
   const GridField& g = fields.front();
   for (const GridField& f : fields) {
-    if (!f.same_grid(g)) throw IoError("cannot write '" + path + "': field '" + f.name + "' is not on the grid of '" + g.name + "'");
+    if (!f.same_grid(g))
+      throw IoError("cannot write '" + path + "': field '" + f.name + "' is not on the grid of '" + g.name + "'");
     if (f.components != 1 && f.components != 3)
-      throw IoError("cannot write '" + path + "': field '" + f.name + "' has " + std::to_string(f.components) + " components (1 or 3)");
+      throw IoError("cannot write '" + path + "': field '" + f.name + "' has " + std::to_string(f.components) +
+                    " components (1 or 3)");
     if (g.nx < 1 || g.ny < 1 || g.nz < 1 || f.value.size() != static_cast<size_t>(g.nx) * g.ny * g.nz * f.components)
       throw IoError("cannot write '" + path + "': field '" + f.name + "' does not fill its grid");
   }
@@ -153,7 +155,8 @@ void VtkWriter::write(const Model& m, const State& s, const std::vector<GridFiel
       << "  <PolyData>\n    <Piece NumberOfPoints=\"" << 2 * lines.size() << "\" NumberOfLines=\"" << lines.size()
       << "\">\n      <Points>\n";
     array_header(o, "Float64", "position", 3);
-    for (const Line& l : lines) o << l.a[0] << ' ' << l.a[1] << ' ' << l.a[2] << ' ' << l.b[0] << ' ' << l.b[1] << ' ' << l.b[2] << ' ';
+    for (const Line& l : lines)
+      o << l.a[0] << ' ' << l.a[1] << ' ' << l.a[2] << ' ' << l.b[0] << ' ' << l.b[1] << ' ' << l.b[2] << ' ';
     o << kArrayEnd << "      </Points>\n      <Lines>\n";
     array_header(o, "Int64", "connectivity", 1);
     for (size_t k = 0; k < 2 * lines.size(); ++k) o << k << ' ';

@@ -3,8 +3,8 @@
 #include <cstring>
 #include <stdexcept>
 
-#include "core/text.hpp"
 #include "silt/module.hpp"
+#include "silt/text.hpp"
 
 namespace silt {
 namespace {
@@ -81,9 +81,9 @@ std::vector<std::string> expand(const ObservableSpec& o, const Model& m) {
 
 // Names in the contract whose module this version does not have (INTERFACE.md).
 bool needs_other_module(const std::string& name) {
-  static const char* later[] = {"Vi", "fluid.ke", "fluid.enstrophy", "fluid.div_max", "fluid.cfl", "fluid.dt",
-                                "solver.iters", "solver.residual", "mobilisation", "p_cont_ratio", "p_lub_ratio",
-                                "eta_eff"};
+  static const char* later[] = {"Vi",           "fluid.ke",     "fluid.enstrophy", "fluid.div_max",
+                                "fluid.cfl",    "fluid.dt",     "solver.iters",    "solver.residual",
+                                "mobilisation", "p_cont_ratio", "p_lub_ratio",     "eta_eff"};
   return std::any_of(std::begin(later), std::end(later), [&](const char* s) { return name == s; });
 }
 

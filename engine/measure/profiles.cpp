@@ -24,7 +24,8 @@ VelocityProfile velocity_profile(const Model& m, const State& s, int n_slabs, in
   for (int64_t i = 0; i < s.n; ++i) {
     if (s.particle_frozen[i]) continue;
     const double y = s.particle_x[D * i + axis] - lo, r = s.particle_r[i];
-    const double v = s.particle_v[D * i + component] + (affine ? s.shear_rate * (s.particle_x[D * i + 1] - s.box.lo[1]) : 0.0);
+    const double v =
+        s.particle_v[D * i + component] + (affine ? s.shear_rate * (s.particle_x[D * i + 1] - s.box.lo[1]) : 0.0);
     int first = static_cast<int>(std::floor((y - r) / h)), last = static_cast<int>(std::floor((y + r) / h));
     if (!periodic) {
       first = std::max(first, 0);

@@ -4,8 +4,8 @@
 #include <algorithm>
 #include <cmath>
 
-#include "core/text.hpp"
 #include "silt/module.hpp"
+#include "silt/text.hpp"
 
 namespace silt {
 namespace {

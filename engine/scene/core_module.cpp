@@ -5,9 +5,9 @@
 #include <numbers>
 #include <sstream>
 
-#include "core/text.hpp"
 #include "scene/core_module.hpp"
 #include "silt/module.hpp"
+#include "silt/text.hpp"
 
 namespace silt::scene {
 namespace {
@@ -16,6 +16,7 @@ using K = KeyType;
 using S = std::vector<std::string>;
 
 std::vector<KeySpec> core_keys() {
+  // clang-format off
   std::vector<KeySpec> s = {
       // ---- scene
       {"scene.name", K::kString, Value(std::string()), Range::any(), "", false, {}, "A name for the scene, shown in outputs."},
@@ -50,9 +51,11 @@ std::vector<KeySpec> core_keys() {
       {"limits.check_every", K::kInt, Value(int64_t{100}), Range::closed(1, 1e9), "", false, {}, "Steps between energy checks (and saved restart points)."},
 
   };
+  // clang-format on
   for (KeySpec& k : s) {
     if (k.path == "run.dt") k.computed = [](const Model& m) { return format_number(m.dt); };
-    if (k.path == "run.dt_over_tc" ) k.computed = [](const Model& m) { return m.t_contact > 0 ? format_number(m.dt / m.t_contact) : std::string(); };
+    if (k.path == "run.dt_over_tc")
+      k.computed = [](const Model& m) { return m.t_contact > 0 ? format_number(m.dt / m.t_contact) : std::string(); };
     if (k.path == "gravity.vector")
       k.computed = [](const Model& m) {
         std::string v = "[";
@@ -62,11 +65,14 @@ std::vector<KeySpec> core_keys() {
     if (k.path == "run.steps") k.computed = [](const Model& m) { return std::to_string(m.run_steps); };
     if (k.path == "output.profile_slabs")
       k.computed = [](const Model& m) {
-        return m.profile.axis >= 0 && m.profile.slabs == 0 ? std::string("box length at the start / largest diameter, 4 to 40")
-                                                           : std::string();
+        return m.profile.axis >= 0 && m.profile.slabs == 0
+                   ? std::string("box length at the start / largest diameter, 4 to 40")
+                   : std::string();
       };
     if (k.path == "output.profile_axis")
-      k.computed = [](const Model& m) { return m.profile.axis >= 0 ? std::string(1, "xyz"[m.profile.axis]) : std::string(); };
+      k.computed = [](const Model& m) {
+        return m.profile.axis >= 0 ? std::string(1, "xyz"[m.profile.axis]) : std::string();
+      };
   }
   return s;
 }
@@ -87,16 +93,21 @@ const char* kAxes = "xyz";
 std::vector<ObservableSpec> core_observables() {
   return {
       {"t", "s", "simulated time", [](const ObservableContext& c, const ObservableArgs&) { return c.s.t; }},
-      {"step", "", "step index", [](const ObservableContext& c, const ObservableArgs&) { return static_cast<double>(c.s.step); }},
-      {"dt", "s", "time step of the last step", [](const ObservableContext& c, const ObservableArgs&) { return c.s.dt; }},
-      {"box.L{a}", "m", "box length", [](const ObservableContext& c, const ObservableArgs& a) { return c.s.box.len[a.a]; }},
+      {"step", "", "step index",
+       [](const ObservableContext& c, const ObservableArgs&) { return static_cast<double>(c.s.step); }},
+      {"dt", "s", "time step of the last step",
+       [](const ObservableContext& c, const ObservableArgs&) { return c.s.dt; }},
+      {"box.L{a}", "m", "box length",
+       [](const ObservableContext& c, const ObservableArgs& a) { return c.s.box.len[a.a]; }},
   };
 }
 
 void setup_domain(const SceneDesc& d, Model& m) {
   const auto lo = d.reals("domain.lo"), hi = d.reals("domain.hi");
-  if (static_cast<int>(lo.size()) != m.dim) d.fail("domain.lo", "needs " + std::to_string(m.dim) + " entries (scene.dimension)");
-  if (static_cast<int>(hi.size()) != m.dim) d.fail("domain.hi", "needs " + std::to_string(m.dim) + " entries (scene.dimension)");
+  if (static_cast<int>(lo.size()) != m.dim)
+    d.fail("domain.lo", "needs " + std::to_string(m.dim) + " entries (scene.dimension)");
+  if (static_cast<int>(hi.size()) != m.dim)
+    d.fail("domain.hi", "needs " + std::to_string(m.dim) + " entries (scene.dimension)");
   std::vector<bool> per(m.dim, false);
   if (d.has("domain.periodic")) per = d.booleans("domain.periodic");
   if (static_cast<int>(per.size()) != m.dim) d.fail("domain.periodic", "needs " + std::to_string(m.dim) + " entries");
@@ -146,8 +157,10 @@ void finish_core(const SceneDesc& d, Model& m) {
   p.axis = d.has("output.profile_axis") ? d.string("output.profile_axis")[0] - 'x' : (m.shear.on ? 1 : -1);
   p.component = d.string("output.profile_component")[0] - 'x';
   for (const char* key : {"output.profile_axis", "output.profile_component"})
-    if (d.has(key) && d.string(key)[0] - 'x' >= m.dim) d.fail(key, std::string(key) + " names an axis this 2D scene does not have");
-  if (d.has("output.profile_slabs") && p.axis < 0) d.fail("output.profile_slabs", "output.profile_slabs needs a profile (output.profile_axis)");
+    if (d.has(key) && d.string(key)[0] - 'x' >= m.dim)
+      d.fail(key, std::string(key) + " names an axis this 2D scene does not have");
+  if (d.has("output.profile_slabs") && p.axis < 0)
+    d.fail("output.profile_slabs", "output.profile_slabs needs a profile (output.profile_axis)");
   p.slabs = d.has("output.profile_slabs") ? static_cast<int>(d.integer("output.profile_slabs")) : 0;
 }
 
@@ -161,8 +174,8 @@ std::string describe_core(const Model& m) {
   o << "\n";
   o << "box          ";
   for (int k = 0; k < m.dim; ++k)
-    o << kAxes[k] << " [" << m.box.lo[k] << ", " << m.box.lo[k] + m.box.len[k] << ")" << (m.box.periodic[k] ? " periodic" : "")
-      << (k + 1 < m.dim ? ", " : "\n");
+    o << kAxes[k] << " [" << m.box.lo[k] << ", " << m.box.lo[k] + m.box.len[k] << ")"
+      << (m.box.periodic[k] ? " periodic" : "") << (k + 1 < m.dim ? ", " : "\n");
   o << "gravity      (";
   for (int k = 0; k < m.dim; ++k) o << m.gravity[k] << (k + 1 < m.dim ? ", " : ")\n");
   return o.str();

@@ -108,6 +108,7 @@ namespace {
 std::vector<KeySpec> render_keys() {
   using K = KeyType;
   using S = std::vector<std::string>;
+  // clang-format off
   std::vector<KeySpec> s = {
       // ---- render
       {"render.width", K::kInt, Value(int64_t{1280}), Range::closed(16, 16384), "px", false, {}, "Frame width (width x height at most 64 Mpx, e.g. 8192 x 8192)."},
@@ -140,6 +141,7 @@ std::vector<KeySpec> render_keys() {
       {"render.periodic_images", K::kBool, Value(false), Range::any(), "", true, {}, "Also draw the periodic images of grains that cross the box."},
       {"render.every", K::kInt, std::nullopt, Range::closed(1, 1e12), "", true, {}, "Steps between frames (default: output.every)."},
   };
+  // clang-format on
   return s;
 }
 

@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <sstream>
 
-#include "core/text.hpp"
 #include "silt/scene.hpp"
+#include "silt/text.hpp"
 
 namespace silt {
 
@@ -104,9 +104,7 @@ FileLoc SceneDesc::loc(std::string_view path) const {
   return FileLoc{file, 0, 0};
 }
 
-void SceneDesc::fail(std::string_view path, const std::string& message) const {
-  throw SceneError(loc(path), message);
-}
+void SceneDesc::fail(std::string_view path, const std::string& message) const { throw SceneError(loc(path), message); }
 
 const Value* SceneDesc::lookup(std::string_view path, KeyType want) const {
   const KeySpec* spec = find_key_spec(path);
@@ -124,9 +122,7 @@ const Value* SceneDesc::lookup(std::string_view path, KeyType want) const {
 bool SceneDesc::boolean(std::string_view p) const { return std::get<bool>(*lookup(p, KeyType::kBool)); }
 int64_t SceneDesc::integer(std::string_view p) const { return std::get<int64_t>(*lookup(p, KeyType::kInt)); }
 double SceneDesc::real(std::string_view p) const { return std::get<double>(*lookup(p, KeyType::kReal)); }
-std::string SceneDesc::string(std::string_view p) const {
-  return std::get<std::string>(*lookup(p, KeyType::kString));
-}
+std::string SceneDesc::string(std::string_view p) const { return std::get<std::string>(*lookup(p, KeyType::kString)); }
 std::vector<double> SceneDesc::reals(std::string_view p) const {
   return std::get<std::vector<double>>(*lookup(p, KeyType::kRealList));
 }
@@ -144,7 +140,8 @@ namespace {
 
 std::string list_keys(const std::vector<std::string>& keys, const char* sep) {
   std::string out;
-  for (size_t k = 0; k < keys.size(); ++k) out += (k ? (k + 1 == keys.size() ? std::string(" ") + sep + " " : ", ") : "") + keys[k];
+  for (size_t k = 0; k < keys.size(); ++k)
+    out += (k ? (k + 1 == keys.size() ? std::string(" ") + sep + " " : ", ") : "") + keys[k];
   return out;
 }
 

@@ -41,8 +41,8 @@ std::optional<double> as_number(const toml::node& n) {
 }
 
 // Convert a TOML node to the schema's type; returns an error message or "".
-std::string convert(const toml::node& n, const KeySpec& spec, const std::string& path, Value& out,
-                    FileLoc& where, const std::string& file) {
+std::string convert(const toml::node& n, const KeySpec& spec, const std::string& path, Value& out, FileLoc& where,
+                    const std::string& file) {
   auto type_error = [&] {
     const std::string type = key_type_name(spec.type);
     return "'" + path + "' must be " + (type[0] == 'i' ? "an " : "a ") + type;
@@ -149,14 +149,12 @@ class Reader {
       const FileLoc where = loc_of(key.source(), file_);
       const std::string norm = normalise_key(path);
       if (node.is_table()) {
-        if (is_group(norm))
-          throw SceneError(where, "'" + path + "' is a list of tables: write [[" + path + "]]");
+        if (is_group(norm)) throw SceneError(where, "'" + path + "' is a list of tables: write [[" + path + "]]");
         if (!is_table_prefix(norm)) throw SceneError(where, unknown_key_message(path));
         table(*node.as_table(), path);
       } else if (node.is_array_of_tables() && is_group(norm)) {
         int index = 0;
-        for (const toml::node& e : *node.as_array())
-          table(*e.as_table(), path + "[" + std::to_string(index++) + "]");
+        for (const toml::node& e : *node.as_array()) table(*e.as_table(), path + "[" + std::to_string(index++) + "]");
         desc_.group_counts[path] = index;
       } else {
         leaf(path, norm, node, where);
@@ -164,12 +162,10 @@ class Reader {
     }
   }
 
-  void leaf(const std::string& path, const std::string& norm, const toml::node& node,
-            const FileLoc& key_loc) {
+  void leaf(const std::string& path, const std::string& norm, const toml::node& node, const FileLoc& key_loc) {
     const KeySpec* spec = find_key_spec(norm);
     if (!spec) {
-      if (is_group(norm) || is_table_prefix(norm))
-        throw SceneError(key_loc, "'" + path + "' is a table, not a value");
+      if (is_group(norm) || is_table_prefix(norm)) throw SceneError(key_loc, "'" + path + "' is a table, not a value");
       throw SceneError(key_loc, unknown_key_message(path));
     }
     SceneEntry e;
@@ -193,10 +189,8 @@ std::string canonical_override_key(const std::string& key) {
   std::istringstream in(key);
   while (std::getline(in, part, '.')) {
     const bool index = !part.empty() && part.find_first_not_of("0123456789") == std::string::npos;
-    if (index && !out.empty())
-      out += "[" + part + "]";
-    else
-      out += (out.empty() ? "" : ".") + part;
+    if (index && !out.empty()) out += "[" + part + "]";
+    else out += (out.empty() ? "" : ".") + part;
   }
   return out;
 }
@@ -247,8 +241,7 @@ Override parse_override(const std::string& key_eq_value) {
   return Override{key_eq_value.substr(0, eq), key_eq_value.substr(eq + 1)};
 }
 
-SceneDesc parse_scene(const std::string& text, const std::string& name,
-                      const std::vector<Override>& overrides) {
+SceneDesc parse_scene(const std::string& text, const std::string& name, const std::vector<Override>& overrides) {
   SceneDesc desc;
   desc.file = name;
   desc.text = text;

@@ -88,8 +88,8 @@ std::string schema_markdown() {
     const bool numeric = k.type == KeyType::kInt || k.type == KeyType::kReal || k.type == KeyType::kRealList;
     o << "| `" << k.path << "` | " << k.module << " | " << key_type_name(k.type) << " | "
       << (k.def ? "`" + value_to_string(*k.def) + "`" : std::string("-")) << " | "
-      << (numeric ? k.range.str() : std::string("")) << " | " << k.unit << " | "
-      << (k.steerable ? "yes" : "") << " | " << doc << " |\n";
+      << (numeric ? k.range.str() : std::string("")) << " | " << k.unit << " | " << (k.steerable ? "yes" : "") << " | "
+      << doc << " |\n";
   }
   return o.str();
 }

@@ -14,6 +14,7 @@ using K = KeyType;
 using S = std::vector<std::string>;
 
 std::vector<KeySpec> shear_keys() {
+  // clang-format off
   std::vector<KeySpec> s = {
       // ---- box
       {"box.pressure", K::kReal, std::nullopt, Range::positive(), "Pa", true, {}, "Imposed pressure on the controlled box lengths (Peyneau 2009 eq. 3.11); absent: fixed box."},
@@ -27,6 +28,7 @@ std::vector<KeySpec> shear_keys() {
       {"prepare.compress", K::kBool, Value(false), Range::any(), "", false, {}, "Before the run, compress the grains isotropically at box.pressure (every periodic length controlled, no shear) until static: Peyneau's procedure O."},
       {"prepare.max_steps", K::kInt, Value(int64_t{2000000}), Range::closed(1, 4.6e18), "", false, {}, "Longest preparation; the run then starts from where it got, with a warning."},
   };
+  // clang-format on
   return s;
 }
 
@@ -37,12 +39,12 @@ std::vector<KeyRule> shear_rules() {
       KeyRule::requires_any("box.mass_factor", {"box.pressure", "shear.stress"},
                             "it is the inertia of the controlled lengths and of a stress-controlled shear"),
       KeyRule::requires_any("shear.inertial_number", {"box.pressure"}, "I is relative to the imposed pressure"),
-      KeyRule::requires_any("prepare.compress", {"box.pressure"}, "the isotropic compression is at the imposed pressure"),
+      KeyRule::requires_any("prepare.compress", {"box.pressure"},
+                            "the isotropic compression is at the imposed pressure"),
   };
 }
 
-const std::string kNeedsShear =
-    "applies where the scene shears (shear.rate, shear.inertial_number or shear.stress)";
+const std::string kNeedsShear = "applies where the scene shears (shear.rate, shear.inertial_number or shear.stress)";
 
 std::vector<ObservableSpec> shear_observables() {
   auto sheared = [](const char* name) {
@@ -51,8 +53,10 @@ std::vector<ObservableSpec> shear_observables() {
     };
   };
   std::vector<ObservableSpec> o = {
-      {"gamma", "", "accumulated shear strain", [](const ObservableContext& c, const ObservableArgs&) { return c.s.shear_strain; }},
-      {"gammadot", "1/s", "shear rate", [](const ObservableContext& c, const ObservableArgs&) { return c.s.shear_rate; }},
+      {"gamma", "", "accumulated shear strain",
+       [](const ObservableContext& c, const ObservableArgs&) { return c.s.shear_strain; }},
+      {"gammadot", "1/s", "shear rate",
+       [](const ObservableContext& c, const ObservableArgs&) { return c.s.shear_rate; }},
       {"I", "", "inertial number at the imposed (else the measured sigma_yy) pressure",
        [](const ObservableContext& c, const ObservableArgs&) {
          return inertial_number(c.m, c.s.shear_rate,
@@ -96,7 +100,8 @@ void setup_shear(const SceneDesc& d, Model& m) {
   ShearControl& sh = m.shear;
   const int given = d.has("shear.rate") + d.has("shear.inertial_number") + d.has("shear.stress");
   if (given == 0) return;
-  const std::string key = d.has("shear.rate") ? "shear.rate" : (d.has("shear.inertial_number") ? "shear.inertial_number" : "shear.stress");
+  const std::string key =
+      d.has("shear.rate") ? "shear.rate" : (d.has("shear.inertial_number") ? "shear.inertial_number" : "shear.stress");
   if (!m.box.periodic[0] || !m.box.periodic[1])
     d.fail(key, "simple shear (Lees-Edwards) needs a domain periodic along x (flow) and y (gradient)");
   if (!m.walls.empty()) d.fail(key, "simple shear by Lees-Edwards conditions has no walls");
@@ -128,7 +133,9 @@ std::string describe_shear(const Model& m) {
   if (m.box_control.on) {
     o << "box control  pressure " << m.box_control.pressure << " Pa on";
     for (int k = 0; k < m.dim; ++k)
-      if (m.box_control.controlled[k]) o << " L" << "xyz"[k];
+      if (m.box_control.controlled[k])
+        o << " L"
+          << "xyz"[k];
     o << ", box mass " << m.box_control.mass << " kg\n";
   }
   if (m.shear.on) {

@@ -47,19 +47,21 @@ const ModuleSpec& tether() {
     ModuleSpec s;
     s.name = "tether";
     s.doc = "each grain tied to where it started";
-    s.keys = {{"tether.stiffness", KeyType::kReal, std::nullopt, Range::positive(), "N/m", true, {}, "Tether stiffness."}};
+    s.keys = {
+        {"tether.stiffness", KeyType::kReal, std::nullopt, Range::positive(), "N/m", true, {}, "Tether stiffness."}};
     s.fields = {{"particle_x0", Extent::kGrainVec, "m", "where the grain started; compile"},
                 {"particle_f_tether", Extent::kGrainVec, "N", "tether force; tether_forces"}};
-    s.observables = {{"tether.energy", "J", "energy stored in the tethers", [](const ObservableContext& c, const ObservableArgs&) {
-                        const double k = c.m.params.get<TetherParams>().k;
-                        const auto x0 = double_field(c.s, field("particle_x0"));
-                        double e = 0;
-                        for (int64_t i = 0; i < c.s.n; ++i) {
-                          const auto d = stretch(c.s, x0, i);
-                          e += 0.5 * k * (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-                        }
-                        return e;
-                      }}};
+    s.observables = {
+        {"tether.energy", "J", "energy stored in the tethers", [](const ObservableContext& c, const ObservableArgs&) {
+           const double k = c.m.params.get<TetherParams>().k;
+           const auto x0 = double_field(c.s, field("particle_x0"));
+           double e = 0;
+           for (int64_t i = 0; i < c.s.n; ++i) {
+             const auto d = stretch(c.s, x0, i);
+             e += 0.5 * k * (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+           }
+           return e;
+         }}};
     s.enabled = [](const SceneDesc& d) { return d.has("tether.stiffness"); };
     s.compile = [](const SceneDesc& d, Model& m) { m.params.get<TetherParams>().k = d.real("tether.stiffness"); };
     return s;
@@ -71,10 +73,12 @@ void add_tether_stages(graph::GraphBuilder& b) {
   const FieldId x0 = field("particle_x0"), f = field("particle_f_tether");
   if (b.phase() == graph::Phase::kSetup) {
     // The anchors: the positions of the first state.
-    const int anchor = b.add("tether_anchor", [x0](const Model&, State& s) {
-      auto a = double_field(s, x0);
-      std::copy(s.particle_x.begin(), s.particle_x.end(), a.begin());
-    }, {fid::particle_x}, {x0});
+    const int anchor = b.add("tether_anchor",
+                             [x0](const Model&, State& s) {
+                               auto a = double_field(s, x0);
+                               std::copy(s.particle_x.begin(), s.particle_x.end(), a.begin());
+                             },
+                             {fid::particle_x}, {x0});
     b.after(anchor, b.find("update_neighbors"), "anchors in the grains' numbering of the first state");
   }
   // A loop of one cycle: a module's sub-graph, visible in silt check.

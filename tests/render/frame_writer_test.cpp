@@ -44,7 +44,9 @@ struct Gate {
 };
 
 bool done_soon(std::future<void>& f) { return f.wait_for(std::chrono::seconds(10)) == std::future_status::ready; }
-bool still_blocked(std::future<void>& f) { return f.wait_for(std::chrono::milliseconds(200)) == std::future_status::timeout; }
+bool still_blocked(std::future<void>& f) {
+  return f.wait_for(std::chrono::milliseconds(200)) == std::future_status::timeout;
+}
 
 // `silt ARGS`, its exit code; its output in `out`.
 int silt_run(const std::string& args, std::string& out) {
@@ -64,7 +66,8 @@ TEST_CASE("the frame writer numbers its PNGs, and a bad directory is refused") {
   std::filesystem::remove_all("frame_writer_test");
   {
     FrameWriter w("frame_writer_test", 1);
-    for (int k = 0; k < 3; ++k) w.submit(build_render_scene(sim->model(), sim->state(), test::plain_view(64, 32, {"grains"})));
+    for (int k = 0; k < 3; ++k)
+      w.submit(build_render_scene(sim->model(), sim->state(), test::plain_view(64, 32, {"grains"})));
     w.finish();
     CHECK(w.written() == 3);
     CHECK(w.error().empty());
@@ -120,9 +123,10 @@ TEST_CASE("silt run: a frame that cannot be written stops the frames, the run go
   // The third frame's temporary file is taken by a directory: writing it fails mid-run.
   std::filesystem::create_directories(dir + "/frame_000002.png.tmp");
   std::string out;
-  const int code = silt_run("run " + test::scene_path("collision_normal") + " --quiet --steps 1000 --frames " + dir +
-                                " --frame-every 100 --set render.width=64 --set render.height=32 --save render_cli_end.ckpt",
-                            out);
+  const int code =
+      silt_run("run " + test::scene_path("collision_normal") + " --quiet --steps 1000 --frames " + dir +
+                   " --frame-every 100 --set render.width=64 --set render.height=32 --save render_cli_end.ckpt",
+               out);
   CAPTURE(out);
   CHECK(code == 4);
   CHECK(out.find("frames stopped (the run went on)") != std::string::npos);
@@ -131,7 +135,8 @@ TEST_CASE("silt run: a frame that cannot be written stops the frames, the run go
   CHECK(std::filesystem::exists(dir + "/frame_000001.png"));
   CHECK_FALSE(std::filesystem::exists(dir + "/frame_000003.png"));
   // A frame directory that cannot be made: refused before the run, with the same exit code.
-  CHECK(silt_run("run " + test::scene_path("collision_normal") + " --quiet --steps 10 --frames no_such_dir/sub", out) == 4);
+  CHECK(silt_run("run " + test::scene_path("collision_normal") + " --quiet --steps 10 --frames no_such_dir/sub", out) ==
+        4);
   CHECK(out.find("cannot create the frame directory") != std::string::npos);
   std::filesystem::remove_all(dir);
   std::filesystem::remove("render_cli_end.ckpt");

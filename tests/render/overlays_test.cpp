@@ -53,9 +53,10 @@ struct Corners {
 Corners project_corners(const RenderScene& rs, const Box& b) {
   Corners c;
   for (int k = 0; k < 8; ++k) {
-    const auto p = project(rs.camera,
-                           {b.lo[0] + (k & 1) * b.len[0], b.lo[1] + ((k >> 1) & 1) * b.len[1], b.lo[2] + ((k >> 2) & 1) * b.len[2]},
-                           rs.width, rs.height);
+    const auto p = project(
+        rs.camera,
+        {b.lo[0] + (k & 1) * b.len[0], b.lo[1] + ((k >> 1) & 1) * b.len[1], b.lo[2] + ((k >> 2) & 1) * b.len[2]},
+        rs.width, rs.height);
     c.inside = c.inside && p[0] >= 0 && p[0] < rs.width && p[1] >= 0 && p[1] < rs.height && p[2] > 0;
     c.x0 = std::min(c.x0, p[0]);
     c.x1 = std::max(c.x1, p[0]);

@@ -76,8 +76,8 @@ TEST_CASE("silt run with and without --frames saves the same state, byte for byt
                            " --set 'render.draw=[\"grains\",\"chains\",\"colorbar\",\"time\",\"box\"]'";
   std::filesystem::remove_all("render_state_cli");
   CHECK(std::system((base + " --save render_state_plain.ckpt > /dev/null 2>&1").c_str()) == 0);
-  const int framed =
-      std::system((base + " --frames render_state_cli --frame-every 7 --save render_state_framed.ckpt > /dev/null 2>&1").c_str());
+  const int framed = std::system(
+      (base + " --frames render_state_cli --frame-every 7 --save render_state_framed.ckpt > /dev/null 2>&1").c_str());
   CHECK(WIFEXITED(framed));
   CHECK(WEXITSTATUS(framed) == 0);
   CHECK(std::filesystem::exists("render_state_cli/frame_000043.png"));  // steps 0, 7, ..., 301

@@ -39,7 +39,8 @@ inline std::array<int, 2> pixel_of(const render::RenderScene& rs, double x, doub
   return {static_cast<int>(std::lround(p[0] - 0.5)), static_cast<int>(std::lround(p[1] - 0.5))};
 }
 
-inline render::Rgba pixel_at(const render::Image& img, const render::RenderScene& rs, double x, double y, double z = 0) {
+inline render::Rgba pixel_at(const render::Image& img, const render::RenderScene& rs, double x, double y,
+                             double z = 0) {
   const auto p = pixel_of(rs, x, y, z);
   return img.pixel(p[0], p[1]);
 }

@@ -60,8 +60,8 @@ TEST_CASE("a known vorticity field: positive red, negative blue, zero white") {
   g.h = {1, 1, 1};
   g.value.assign(32, 0.0);
   for (int j = 0; j < 4; ++j) {
-    g.value[j * 8 + 0] = g.value[j * 8 + 1] = 1.0;    // x in [0, 2): positive
-    g.value[j * 8 + 6] = g.value[j * 8 + 7] = -1.0;   // x in [6, 8): negative
+    g.value[j * 8 + 0] = g.value[j * 8 + 1] = 1.0;   // x in [0, 2): positive
+    g.value[j * 8 + 6] = g.value[j * 8 + 7] = -1.0;  // x in [6, 8): negative
   }
   View v = plain(800, 400, {"field"});
   v.field_range_auto = false;
@@ -92,7 +92,7 @@ TEST_CASE("Lamb-Oseen and Taylor-Green vortices put the expected colours at know
   Image img = raster.draw(rs);
   const auto c = pixel_of(rs, 4.0, 2.0), far = pixel_of(rs, 7.5, 3.5);
   CHECK(img.pixel(c[0], c[1]).r > img.pixel(c[0], c[1]).b + 60);  // the core: strongest positive
-  CHECK(white(img.pixel(far[0], far[1])));                          // exp(-r^2/rc^2) ~ 0 far away
+  CHECK(white(img.pixel(far[0], far[1])));                        // exp(-r^2/rc^2) ~ 0 far away
   // Taylor-Green on [0, 4]^2: omega > 0 at (1, 1), < 0 at (3, 1), 0 on the cell edges.
   const GridField tg = taylor_green_vorticity(128, 128, 4.0, 1.0);
   rs = build_render_scene(sim->model(), sim->state(), v, &tg);
@@ -170,7 +170,7 @@ dt = 1e-3
   Rasterizer raster(1);
   const auto centre = pixel_of(rs, 0, 0, 2.5);
   const Rgba front = raster.draw(rs).pixel(centre[0], centre[1]);
-  CHECK(front.r > front.b + 60);  // id 1: red end
+  CHECK(front.r > front.b + 60);            // id 1: red end
   std::swap(rs.spheres[0], rs.spheres[1]);  // other drawing order, same picture
   CHECK(raster.draw(rs).pixel(centre[0], centre[1]) == front);
   // From below, grain 0 (blue) is in front.
@@ -205,8 +205,8 @@ TEST_CASE("bad input: sizes, colormaps, NaN fields and empty frames give message
   CHECK_THROWS_AS(build_render_scene(sim->model(), sim->state(), v), RenderError);
   // At most 64 Mpx (16384 x 16384 would take 4.3 GB).
   v = plain(16384, 16384, {"grains"});
-  CHECK_THROWS_WITH_AS(build_render_scene(sim->model(), sim->state(), v), doctest::Contains("above the limit of 64 Mpx"),
-                       RenderError);
+  CHECK_THROWS_WITH_AS(build_render_scene(sim->model(), sim->state(), v),
+                       doctest::Contains("above the limit of 64 Mpx"), RenderError);
   CHECK_THROWS_AS(build_render_scene(sim->model(), sim->state(), plain(8193, 8192, {})), RenderError);
   CHECK(build_render_scene(sim->model(), sim->state(), plain(8192, 8192, {})).width == 8192);
   CHECK(build_render_scene(sim->model(), sim->state(), plain(16384, 64, {})).width == 16384);
@@ -316,7 +316,8 @@ dt_over_tc = 0.05
   CHECK(test::near(sl.fields[0].texels.front(), Colormap::get("diverging").at((0.2 + 3.0) / 6.0), 1));
   for (const auto& c : sl.fields[0].corners) CHECK(c[2] == doctest::Approx(3.2));
   int64_t cut = 0;
-  for (int64_t i = 0; i < sim->state().n; ++i) cut += std::abs(sim->state().particle_x[3 * i + 2] - 3.2) < sim->state().particle_r[i];
+  for (int64_t i = 0; i < sim->state().n; ++i)
+    cut += std::abs(sim->state().particle_x[3 * i + 2] - 3.2) < sim->state().particle_r[i];
   CHECK(static_cast<int64_t>(sl.spheres.size()) == cut);
   for (const auto& s : sl.spheres) CHECK(s.centre[2] == doctest::Approx(3.2));
 }

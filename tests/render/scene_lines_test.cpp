@@ -38,7 +38,8 @@ k_n = 1000
 [[grains]]
 radius = 1.0
 placement = "explicit"
-positions = [)" + pos.str() + R"(]
+positions = [)" +
+         pos.str() + R"(]
 [run]
 dt = 1e-3
 )";
@@ -71,7 +72,8 @@ TEST_CASE("chain widths are proportional to the normal force: 1, 2 and 4 times t
   Rasterizer raster(1);
   const Image img = raster.draw(rs);
   const State& s = sim->state();
-  const int t1 = thickness(img, pixel_of(rs, contact_x(s, 0), 2)), t2 = thickness(img, pixel_of(rs, contact_x(s, 2), 2)),
+  const int t1 = thickness(img, pixel_of(rs, contact_x(s, 0), 2)),
+            t2 = thickness(img, pixel_of(rs, contact_x(s, 2), 2)),
             t4 = thickness(img, pixel_of(rs, contact_x(s, 4), 2));
   CAPTURE(t1);
   CAPTURE(t2);
@@ -202,7 +204,7 @@ dt = 1e-3
         const double off = std::hypot(p[0] - c[0], p[1] - c[1]);
         if (std::abs(off - r_px) < 6) continue;  // the silhouette
         const Rgba px = img.pixel(static_cast<int>(p[0]), static_cast<int>(p[1]));
-        const bool ink = px.r < 80 && px.g < 80 && px.b < 80, red = px.r > 90 && px.r > px.g + 40;
+        const bool ink = px.r < 80 && px.g < 80 && px.b<80, red = px.r> 90 && px.r > px.g + 40;
         CAPTURE(x[0]);
         CAPTURE(x[1]);
         CAPTURE(x[2]);

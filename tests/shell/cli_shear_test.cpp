@@ -95,7 +95,8 @@ TEST_CASE("silt run: prepare, save, restore and shear with a linear mean velocit
   const silt::Model m = silt::test::model_from(kShear);
   const double gd = 0.1 / std::sqrt(m.m_a);  // I = gammadot sqrt(m / P), P = 1, m of the largest grain
   CHECK(j["observables"]["I"]["mean"].get<double>() == doctest::Approx(0.1));
-  CHECK(j["observables"]["gamma"]["last"].get<double>() == doctest::Approx(gd * j["observables"]["t"]["last"].get<double>()));
+  CHECK(j["observables"]["gamma"]["last"].get<double>() ==
+        doctest::Approx(gd * j["observables"]["t"]["last"].get<double>()));
   // The time-averaged profile follows the imposed flow v_x = gammadot (y - lo): slab centres at
   // (k + 1/2) L_y / n. Each slab within 0.05 gammadot L_y of it (about 3 errors of the mean here).
   const auto& prof = j["profiles"]["vx(y)"];

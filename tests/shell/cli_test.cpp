@@ -52,7 +52,8 @@ TEST_CASE("silt check: a shipped scene, a bad one, a missing one") {
   const std::string bad = write_file("cli_bad.toml", "[scene]\ndimension = 3\n[contact]\nmodle = \"hooke\"\n");
   const Result b = silt_cli("check " + bad);
   CHECK(b.code == 2);
-  CHECK(b.out.find("cli_bad.toml:4:1: unknown key 'contact.modle'; did you mean 'contact.model'?") != std::string::npos);
+  CHECK(b.out.find("cli_bad.toml:4:1: unknown key 'contact.modle'; did you mean 'contact.model'?") !=
+        std::string::npos);
   const Result missing = silt_cli("check no_such_scene.toml");
   CHECK(missing.code == 4);
   const Result set = silt_cli("check " + silt::test::scene_path("collision_normal") + " --set contact.restitution=2");
@@ -75,7 +76,7 @@ TEST_CASE("silt check: a shipped scene, a bad one, a missing one") {
   CHECK(silt_cli("run x.toml --steps abc").code == 1);
   // Numbers that make no sense are usage errors, not silently replaced by defaults.
   for (const char* option : {"--threads 0", "--threads -3", "--every 0", "--steps -5", "--time -1", "--frame-every 0",
-                          "--vtk-every 0", "--time 1e300"}) {
+                             "--vtk-every 0", "--time 1e300"}) {
     CAPTURE(option);
     CHECK(silt_cli("run " + silt::test::scene_path("collision_normal") + " --quiet " + option).code == 1);
   }
@@ -84,9 +85,10 @@ TEST_CASE("silt check: a shipped scene, a bad one, a missing one") {
 }
 
 TEST_CASE("silt run: stats CSV, summary JSON, --observe, --every") {
-  const Result r = silt_cli("run " + silt::test::scene_path("collision_normal") +
-                            " --quiet --stats cli_stats.csv --summary cli_summary.json --observe t,ke,p[1].vx --every 50 "
-                            "--average-from 5e-4 --threads 2");
+  const Result r =
+      silt_cli("run " + silt::test::scene_path("collision_normal") +
+               " --quiet --stats cli_stats.csv --summary cli_summary.json --observe t,ke,p[1].vx --every 50 "
+               "--average-from 5e-4 --threads 2");
   CHECK(r.code == 0);
   const std::string csv = read_file("cli_stats.csv");
   CHECK(csv.rfind("t,ke,p[1].vx\n", 0) == 0);
@@ -103,7 +105,8 @@ TEST_CASE("silt run: stats CSV, summary JSON, --observe, --every") {
   CHECK(j["average_from"] == 5e-4);
   // --average-from applies whether or not t is among the observables.
   REQUIRE(silt_cli("run " + silt::test::scene_path("collision_normal") +
-                   " --quiet --summary cli_summary_ke.json --observe ke --every 50 --average-from 5e-4").code == 0);
+                   " --quiet --summary cli_summary_ke.json --observe ke --every 50 --average-from 5e-4")
+              .code == 0);
   const auto k = nlohmann::json::parse(read_file("cli_summary_ke.json"));
   CHECK(k["observables"]["ke"]["n"] == 11);
   CHECK(silt_cli("run " + silt::test::scene_path("collision_normal") + " --observe t,kee").code == 1);
@@ -127,8 +130,8 @@ TEST_CASE("silt run: a numerical failure exits 3 and keeps the last good state")
 TEST_CASE("silt run draws a progress line on a terminal, and none with --quiet or without one") {
   // `script` gives the run a pseudo-terminal; the line is redrawn (\r) a few times per second.
   auto redraws = [](const std::string& extra) {
-    const std::string cmd = "script -qec '" + silt::test::silt_binary() + " run " +
-                            silt::test::scene_path("pack_2d") + " --steps 150000 --set run.stop_when_static=false " + extra + "' /dev/null";
+    const std::string cmd = "script -qec '" + silt::test::silt_binary() + " run " + silt::test::scene_path("pack_2d") +
+                            " --steps 150000 --set run.stop_when_static=false " + extra + "' /dev/null";
     std::FILE* p = popen(cmd.c_str(), "r");
     std::string out;
     char buf[4096];
@@ -142,7 +145,8 @@ TEST_CASE("silt run draws a progress line on a terminal, and none with --quiet o
   CHECK(lines >= 2);  // at least one redraw during the run and the final one
   CHECK(complete);
   CHECK(redraws("--quiet").first <= 0);
-  CHECK(silt_cli("run " + silt::test::scene_path("collision_normal") + " --steps 100").out.find("\r") == std::string::npos);
+  CHECK(silt_cli("run " + silt::test::scene_path("collision_normal") + " --steps 100").out.find("\r") ==
+        std::string::npos);
 }
 
 TEST_CASE("the README's parameter table is the schema's") {
@@ -158,8 +162,9 @@ TEST_CASE("the README's parameter table is the schema's") {
 TEST_CASE("silt run --frames writes numbered PNGs and nothing else, and --vtk writes ParaView files") {
   const std::string dir = "cli_frames";
   std::system(("rm -rf " + dir + " cli_vtk").c_str());
-  const Result r = silt_cli("run " + silt::test::scene_path("collision_normal") + " --quiet --frames " + dir +
-                            " --frame-every 250 --vtk cli_vtk --vtk-every 500 --set render.width=200 --set render.height=100");
+  const Result r =
+      silt_cli("run " + silt::test::scene_path("collision_normal") + " --quiet --frames " + dir +
+               " --frame-every 250 --vtk cli_vtk --vtk-every 500 --set render.width=200 --set render.height=100");
   CHECK(r.code == 0);
   std::FILE* p = popen(("ls " + dir).c_str(), "r");
   char buf[4096];
@@ -171,7 +176,8 @@ TEST_CASE("silt run --frames writes numbered PNGs and nothing else, and --vtk wr
   CHECK_FALSE(std::ifstream("cli_vtk/grains_000003.vtu").good());
   // A render value that cannot be drawn is a scene error, before the run.
   CHECK(silt_cli("run " + silt::test::scene_path("collision_normal") + " --frames " + dir +
-                 " --set render.color_by=temperature").code == 2);
+                 " --set render.color_by=temperature")
+            .code == 2);
 }
 
 TEST_CASE("every shipped scene passes silt check") {

@@ -32,11 +32,11 @@ TEST_CASE("malformed lines: the column and the reason") {
     }
     return -1;
   };
-  CHECK(col_of("load \"a.toml") == 6);        // unterminated quote
-  CHECK(col_of("load \"a\"b") == 9);          // no blank after a quoted word
-  CHECK(col_of("load a\"b") == 7);            // quote inside a word
-  CHECK(col_of("print t\x01") == 8);          // control character
-  CHECK(col_of("print t # \"") == -1);        // quotes in comments are fine
+  CHECK(col_of("load \"a.toml") == 6);  // unterminated quote
+  CHECK(col_of("load \"a\"b") == 9);    // no blank after a quoted word
+  CHECK(col_of("load a\"b") == 7);      // quote inside a word
+  CHECK(col_of("print t\x01") == 8);    // control character
+  CHECK(col_of("print t # \"") == -1);  // quotes in comments are fine
 }
 
 TEST_CASE("commands are checked: unknown names with a suggestion, wrong argument counts") {
@@ -74,8 +74,8 @@ TEST_CASE("run lengths: steps, simulated time, conditions") {
   CHECK(u.until.holds({2, 0, 0}));
   CHECK_FALSE(u.until.holds({2, 1, 0}));
   CHECK(u.until.holds({0, 1, 5}));
-  for (const char* bad : {"run -3", "run 1.5", "run abc", "run 0s", "run xs", "run 10 20", "run until t", "run until t >= x",
-                          "run until t => 1", "run until t > 1 and", "run until t > 1 but x < 2"})
+  for (const char* bad : {"run -3", "run 1.5", "run abc", "run 0s", "run xs", "run 10 20", "run until t",
+                          "run until t >= x", "run until t => 1", "run until t > 1 and", "run until t > 1 but x < 2"})
     CHECK_THROWS_AS(len(bad), ParseError);
 }
 

@@ -28,7 +28,8 @@ namespace {
 // Plays `script` (written to DIR/play.silt) from DIR; stdout and stderr together.
 std::string play(const TempDir& dir, const std::string& script, const std::string& flags, int* code) {
   std::ofstream(dir / "play.silt") << script;
-  const std::string cmd = "cd " + dir.path() + " && " + silt::test::silt_binary() + " play play.silt --threads 2 " + flags + " 2>&1";
+  const std::string cmd =
+      "cd " + dir.path() + " && " + silt::test::silt_binary() + " play play.silt --threads 2 " + flags + " 2>&1";
   std::FILE* p = popen(cmd.c_str(), "r");
   std::string out;
   char buf[4096];
@@ -70,8 +71,8 @@ std::vector<std::string> hashes(const std::string& out) {
 TEST_CASE("silt play: echoes each command with its line, stops at the first error with SCRIPT:LINE") {
   TempDir dir;
   int code = -1;
-  const std::string script = "# a script\nload " + silt::test::scene_path("collision_normal") +
-                             "\nrun 100\nprint step\nprnt t\nrun 100\n";
+  const std::string script =
+      "# a script\nload " + silt::test::scene_path("collision_normal") + "\nrun 100\nprint step\nprnt t\nrun 100\n";
   std::string out = play(dir, script, "", &code);
   CHECK(code == 2);
   CHECK(contains(out, "play.silt:3> run 100"));
@@ -118,7 +119,8 @@ TEST_CASE("silt play: steering acts on the next steps, also during a background 
   CHECK(code == 0);
   CHECK(contains(out, "p[0].vz = -0.02943 m/s"));  // -(9.81 + 19.62) m/s^2 x 1 ms; -0.01962 unsteered
   // Gravity switched off while the ball falls in the background: from then on its velocity stays.
-  out = play(dir, load + "start\nset gravity.magnitude 0\nstop\nprint t p[0].vz\nrun 1000\nprint t p[0].vz\n", "", &code);
+  out =
+      play(dir, load + "start\nset gravity.magnitude 0\nstop\nprint t p[0].vz\nrun 1000\nprint t p[0].vz\n", "", &code);
   CHECK(code == 0);
   CHECK(contains(out, "gravity.magnitude = 0 (from the next step)"));
   const auto t = printed(out, "t"), vz = printed(out, "p[0].vz");
@@ -129,20 +131,22 @@ TEST_CASE("silt play: steering acts on the next steps, also during a background 
   CHECK(-vz[0] / 9.81 <= t[0] * (1 + 1e-5));  // it fell until the change, which came before the stop
 }
 
-TEST_CASE("silt play: save and restore give bitwise the uninterrupted run, and stop after an ended start is not an error") {
+TEST_CASE(
+    "silt play: save and restore give bitwise the uninterrupted run, and stop after an ended start is not an error") {
   TempDir dir;
-  const std::string script = "load " + silt::test::scene_path("collision_normal") +
-                             "\nrun 150\nsave a.ckpt\nhash\nrun 150\nhash\nreset\nhash\nrestore a.ckpt\nhash\nrun 150\nhash\n"
-                             "watch step every 100\nstart 200\nstop\nprint step\n";
+  const std::string script =
+      "load " + silt::test::scene_path("collision_normal") +
+      "\nrun 150\nsave a.ckpt\nhash\nrun 150\nhash\nreset\nhash\nrestore a.ckpt\nhash\nrun 150\nhash\n"
+      "watch step every 100\nstart 200\nstop\nprint step\n";
   int code = -1;
   const std::string out = play(dir, script, "", &code);
   CHECK(code == 0);
   const auto h = hashes(out);
   REQUIRE(h.size() == 5);
   CHECK(h[0] != h[1]);
-  CHECK(h[2] != h[0]);    // reset
-  CHECK(h[3] == h[0]);    // restored
-  CHECK(h[4] == h[1]);    // and run on: the same bits
+  CHECK(h[2] != h[0]);  // reset
+  CHECK(h[3] == h[0]);  // restored
+  CHECK(h[4] == h[1]);  // and run on: the same bits
   // However fast the background run went, its output comes before the next command's echo.
   const size_t next = out.find("play.silt:16> print step");
   REQUIRE(next != std::string::npos);

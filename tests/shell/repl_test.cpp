@@ -98,7 +98,7 @@ TEST_CASE("the interactive shell: GNU readline, Ctrl-C pauses a run, tab complet
   t.type("\x03");  // Ctrl-C
   CHECK(!t.read_until("paused: ").empty());
   CHECK(!t.read_until("]> ").empty());  // the prompt is back
-  t.type("prin\tste\t\n");  // completes to "print step"
+  t.type("prin\tste\t\n");              // completes to "print step"
   // The command's output follows the line typed: readline does not draw the prompt again first
   // (the output would overwrite it from column 0: "step = 0]> ").
   const std::string shown = t.read_until("step = ");

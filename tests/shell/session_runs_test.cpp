@@ -19,7 +19,8 @@ namespace {
 
 void wait_until_stopped(Fixture& f) {
   const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(20);
-  while (f.s.running() && std::chrono::steady_clock::now() < end) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  while (f.s.running() && std::chrono::steady_clock::now() < end)
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
   REQUIRE_FALSE(f.s.running());
 }
 
@@ -151,7 +152,7 @@ TEST_CASE("print, watch and stats show units and sensible digits") {
   const std::string printed = f.take_out();
   CHECK(printed.rfind("t      = 0.001 s\nstep   = 1000\nke     = ", 0) == 0);
   CHECK(contains(printed, " J\np[0].z = 0.0529951 m\n"));  // 0.053 - g (1 ms)^2 / 2, six digits
-  CHECK(contains(printed, "phi    = 0.000706858\n"));       // dimensionless
+  CHECK(contains(printed, "phi    = 0.000706858\n"));      // dimensionless
   REQUIRE(f.run("stats"));
   const std::string table = f.take_out();
   CHECK(table.rfind("observable  unit", 0) == 0);

@@ -225,7 +225,8 @@ TEST_CASE("completion: commands, keys, observables, and file names only for file
   CHECK(has(f.s.complete("print t ", "wall[4].f"), "wall[4].fz"));
   CHECK(has(f.s.complete("help ", "wa"), "watch"));
   CHECK_FALSE(f.s.complete("load ", "sce").has_value());  // files: left to the line editor
-  for (const char* line : {"source ", "save ", "restore ", "render ", "frames "}) CHECK_FALSE(f.s.complete(line, "").has_value());
+  for (const char* line : {"source ", "save ", "restore ", "render ", "frames "})
+    CHECK_FALSE(f.s.complete(line, "").has_value());
   // Commands without file arguments offer no file names, even with nothing to offer.
   for (const char* line : {"set contact.friction ", "stats ", "reset ", "quit ", "load scene.toml "}) {
     CAPTURE(line);

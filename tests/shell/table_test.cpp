@@ -4,8 +4,8 @@
 #include <limits>
 #include <sstream>
 
-#include "core/text.hpp"
 #include "shell/table.hpp"
+#include "silt/text.hpp"
 
 using namespace silt;
 using namespace silt::shell;

@@ -3,8 +3,8 @@
 
 #include <memory>
 #include <set>
-#include <utility>
 #include <string>
+#include <utility>
 
 #include "silt/model.hpp"
 #include "silt/simulation.hpp"

@@ -1,8 +1,9 @@
 // Errors that cross the engine's public boundary.
 //
 // Three tiers (DESIGN.md): input errors carry the file location of the offending value and are
-// thrown as SceneError; numerical events during a step are flags returned by step() (see
-// step_status.hpp); programming errors are asserts.
+// thrown as SceneError; numerical events during a step are raised in State::events and turned
+// into a StepFailure by the modules' diagnoses (silt/events.hpp); programming errors are
+// SILT_ASSERT (engine/core/assert.hpp), which a step reports as its internal error.
 #pragma once
 
 #include <stdexcept>
@@ -13,8 +14,8 @@ namespace silt {
 // Where a value came from: a scene file, a `--set` override, or a string given to the parser.
 struct FileLoc {
   std::string file;
-  int line = 0;  // 1-based; 0 when unknown
-  int col = 0;   // 1-based; 0 when unknown
+  int line = 0;             // 1-based; 0 when unknown
+  int col = 0;              // 1-based; 0 when unknown
   std::string str() const;  // "file:line:col"
 };
 

@@ -42,10 +42,10 @@ struct FieldInfo {
   std::string name;    // <entity>_<quantity>
   std::string module;  // core, dem, shear, or the module that registered it
   Extent extent = Extent::kScalar;
-  std::string type;    // C++ element type, for reports
+  std::string type;  // C++ element type, for reports
   size_t elem_size = 0;
   std::string unit;
-  std::string doc;     // meaning; the stage that writes it
+  std::string doc;  // meaning; the stage that writes it
 };
 
 // Every field: the built-in ones in the order of SILT_STATE_FIELDS, then those registered (a

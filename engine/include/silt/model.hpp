@@ -6,8 +6,8 @@
 
 #include <array>
 #include <cmath>
-#include <numbers>
 #include <cstdint>
+#include <numbers>
 #include <string>
 #include <vector>
 
@@ -31,11 +31,11 @@ const char* normal_law_name(NormalLaw law);
 struct ContactParams {
   NormalLaw law = NormalLaw::kHooke;
   double k0 = 0, k1 = 0, c1 = 0, zeta = 0;
-  double e_tilde = 0;               // Hertz: E / (1 - nu^2) [Pa]
-  bool clip_attractive = false;     // Izard eq. 3.13
-  double friction = 0;              // Coulomb mu between grains (steerable)
-  double kt_ratio = 2.0 / 7.0;      // k_t / k_n
-  double zeta_t = 0;                // tangential dashpot, fraction of critical damping
+  double e_tilde = 0;            // Hertz: E / (1 - nu^2) [Pa]
+  bool clip_attractive = false;  // Izard eq. 3.13
+  double friction = 0;           // Coulomb mu between grains (steerable)
+  double kt_ratio = 2.0 / 7.0;   // k_t / k_n
+  double zeta_t = 0;             // tangential dashpot, fraction of critical damping
   // As given, for reports.
   double restitution = 0, contact_time_given = 0, hertz_ref_overlap = 0.01;
 };
@@ -93,9 +93,9 @@ struct BoxControl {
 // M L_x L_y / Omega d(gammadot)/dt = tau - tau_imposed... with tau = -sigma_xy).
 struct ShearControl {
   bool on = false;
-  double rate = 0;             // imposed gammadot [1/s] (steerable); initial value under stress control
+  double rate = 0;  // imposed gammadot [1/s] (steerable); initial value under stress control
   bool stress_controlled = false;
-  double stress = 0;           // imposed shear stress tau [Pa] (steerable)
+  double stress = 0;  // imposed shear stress tau [Pa] (steerable)
 };
 
 // Preparation before the run: Peyneau's "procedure O" (2009 sec. 3.1.2), an isotropic
@@ -108,7 +108,7 @@ struct Preparation {
 
 // Initial grains, as placed by compile(); State is made from them.
 struct GrainInit {
-  std::vector<double> x, v, w;   // N*D, N*D, N*kRotDim
+  std::vector<double> x, v, w;  // N*D, N*D, N*kRotDim
   std::vector<double> radius, mass, inertia;
   std::vector<uint8_t> frozen;
   std::vector<int32_t> group;
@@ -133,29 +133,30 @@ struct RenderSettings {
   static constexpr int64_t kMaxPixels = int64_t{8192} * 8192;
   int width = 1280, height = 720;
   std::vector<std::string> draw{"grains", "colorbar", "time", "scalebar"};
-  std::string color_by = "speed";        // flat | speed | vx | vy | vz | height | id | group | frozen; "": speed, or flat with chains or a field
-  std::string colormap = "sequential";   // sequential | diverging
+  // flat | speed | vx | vy | vz | height | id | group | frozen; "": speed, or flat with chains or a field
+  std::string color_by = "speed";
+  std::string colormap = "sequential";  // sequential | diverging
   bool range_auto = true;
   double range[2] = {0, 1};
   double flat_color[3] = {0.75, 0.75, 0.78};
   double background[3] = {1, 1, 1};
-  double chain_width = 0.4;              // line width at the mean normal force, in mean radii
+  double chain_width = 0.4;  // line width at the mean normal force, in mean radii
   bool chains_above_mean = false;
-  double slab_half_width = 0;            // 3D chains: only those within this distance of the slab plane (0: all)
+  double slab_half_width = 0;  // 3D chains: only those within this distance of the slab plane (0: all)
   double slab_center[3] = {0, 0, 0};
   double slab_normal[3] = {0, 1, 0};
-  double grain_opacity = -1;             // -1: opaque, or 0.25 in 3D when chains are drawn
-  std::string field = "vorticity";       // vorticity | velocity | pressure (fluid fields)
+  double grain_opacity = -1;        // -1: opaque, or 0.25 in 3D when chains are drawn
+  std::string field = "vorticity";  // vorticity | velocity | pressure (fluid fields)
   bool field_range_auto = true;
   double field_range[2] = {-1, 1};
-  double slice_normal[3] = {0, 0, 1};    // 3D field slice: unit normal n of the plane n . x = slice_position
-  double slice_position = 0;             // [m] (an axis normal: the coordinate along that axis)
+  double slice_normal[3] = {0, 0, 1};         // 3D field slice: unit normal n of the plane n . x = slice_position
+  double slice_position = 0;                  // [m] (an axis normal: the coordinate along that axis)
   std::string slice_component = "magnitude";  // x | y | z | magnitude (3D vector fields)
   double azimuth = 30, elevation = 25, distance = 0, fov = 30;  // 3D orbit camera [deg]; distance 0: auto
   bool target_auto = true;
   double target[3] = {0, 0, 0};
   bool periodic_images = false;
-  int64_t every = 0;                     // steps between frames (0: output.every)
+  int64_t every = 0;  // steps between frames (0: output.every)
   bool wants(const std::string& item) const;
 };
 
@@ -204,15 +205,15 @@ struct Model {
   Vec3 gravity = Vec3::Zero();  // steerable
 
   // Time stepping.
-  double dt = 0;            // steerable
-  double t_contact = 0;     // contact time of the lightest, stiffest pair [s]: the given t_c
-                            // (spring_dashpot), else the elastic time pi sqrt(m*/k) (Hertz: at
-                            // contact.hertz_ref_overlap)
-  double zeta_max = 0;      // damping ratio of that pair
-  double dt_stable = 0;     // velocity-Verlet stability limit of that pair [s]
-  double m_eff_min = 0;     // lightest reduced mass of a possible contact [kg]
-  double k_max = 0;         // stiffest normal contact (Hertz: at the largest allowed overlap)
-  int64_t run_steps = 0;    // from [run] (steps or time / dt), overridable on the command line
+  double dt = 0;          // steerable
+  double t_contact = 0;   // contact time of the lightest, stiffest pair [s]: the given t_c
+                          // (spring_dashpot), else the elastic time pi sqrt(m*/k) (Hertz: at
+                          // contact.hertz_ref_overlap)
+  double zeta_max = 0;    // damping ratio of that pair
+  double dt_stable = 0;   // velocity-Verlet stability limit of that pair [s]
+  double m_eff_min = 0;   // lightest reduced mass of a possible contact [kg]
+  double k_max = 0;       // stiffest normal contact (Hertz: at the largest allowed overlap)
+  int64_t run_steps = 0;  // from [run] (steps or time / dt), overridable on the command line
   StaticCriterion until_static;
 
   double skin = 0;          // Verlet skin [m]

@@ -15,25 +15,25 @@ namespace silt {
 // Bulk measurements of one configuration. Sums run serially in grain and pair order, so the
 // values do not depend on the number of threads.
 struct Measurements {
-  double ke = 0;           // translational + rotational kinetic energy of free grains [J]
+  double ke = 0;  // translational + rotational kinetic energy of free grains [J]
   double ke_rot = 0;
-  double phi = 0;          // grain volume / box volume
-  double volume = 0;       // box volume (area in 2D)
-  int64_t n_contacts = 0;  // touching pairs (grain-grain) + grain-wall contacts
-  double z = 0;            // contacts per free grain
-  double z_star = 0;       // z / (1 - p0): contacts per free grain that has one (Peyneau 2009 sec. 3.4)
-  double p0 = 0;           // fraction of free grains with no contact (Peyneau's rattlers)
-  std::vector<double> pn;  // pn[n]: fraction of free grains with exactly n contacts, n = 0 .. the largest
-  double z_mech = 0;       // contacts per grain of the mechanical skeleton: grains with fewer than 2
-                           // contacts with friction, D+1 without, removed repeatedly
+  double phi = 0;              // grain volume / box volume
+  double volume = 0;           // box volume (area in 2D)
+  int64_t n_contacts = 0;      // touching pairs (grain-grain) + grain-wall contacts
+  double z = 0;                // contacts per free grain
+  double z_star = 0;           // z / (1 - p0): contacts per free grain that has one (Peyneau 2009 sec. 3.4)
+  double p0 = 0;               // fraction of free grains with no contact (Peyneau's rattlers)
+  std::vector<double> pn;      // pn[n]: fraction of free grains with exactly n contacts, n = 0 .. the largest
+  double z_mech = 0;           // contacts per grain of the mechanical skeleton: grains with fewer than 2
+                               // contacts with friction, D+1 without, removed repeatedly
   int64_t n_off_skeleton = 0;  // free grains outside that skeleton
   std::array<std::array<double, 3>, 3> stress{};  // contact + kinetic, compression positive [Pa]
-  double pressure = 0;     // trace / D
-  double max_net_force = 0;  // largest |contact + wall + gravity force| on a free grain [N]
-  double ke_fluct = 0;     // (1/2N) sum m |v - v_affine|^2: fluctuating translational energy per grain [J]
+  double pressure = 0;                            // trace / D
+  double max_net_force = 0;                       // largest |contact + wall + gravity force| on a free grain [N]
+  double ke_fluct = 0;  // (1/2N) sum m |v - v_affine|^2: fluctuating translational energy per grain [J]
   std::array<std::array<double, 3>, 3> fabric{};  // <n (x) n> over grain-grain contacts (Peyneau 3.4.2)
-  Vec3a momentum{0, 0, 0};  // sum m v over free grains, the affine flow included [kg m/s]
-  double e_contact = 0;     // elastic energy stored in the contacts (normal and tangential springs) [J]
+  Vec3a momentum{0, 0, 0};                        // sum m v over free grains, the affine flow included [kg m/s]
+  double e_contact = 0;  // elastic energy stored in the contacts (normal and tangential springs) [J]
 };
 Measurements measure(const Model& m, const State& s);
 
@@ -80,10 +80,14 @@ class ObservableContext {
 };
 
 struct ObservableSpec {
+  using ValueFn = std::function<double(const ObservableContext&, const ObservableArgs&)>;
+  ObservableSpec() = default;
+  ObservableSpec(std::string pattern_, std::string unit_, std::string doc_, ValueFn value_)
+      : pattern(std::move(pattern_)), unit(std::move(unit_)), doc(std::move(doc_)), value(std::move(value_)) {}
   std::string pattern;
   std::string unit;  // "" for dimensionless numbers and counts
   std::string doc;
-  std::function<double(const ObservableContext&, const ObservableArgs&)> value;
+  ValueFn value;
   // "" when it applies to this model (with these arguments), else why not; empty: always.
   std::function<std::string(const Model&, const ObservableArgs&)> check;
   // {k}: how many indices exist (an index at or past it is refused, naming `k_what`), and how many

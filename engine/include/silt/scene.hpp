@@ -24,9 +24,8 @@ namespace silt {
 enum class KeyType { kBool, kInt, kReal, kString, kRealList, kRealMatrix, kBoolList, kStringList };
 const char* key_type_name(KeyType t);
 
-using Value = std::variant<bool, int64_t, double, std::string, std::vector<double>,
-                           std::vector<std::vector<double>>, std::vector<bool>,
-                           std::vector<std::string>>;
+using Value = std::variant<bool, int64_t, double, std::string, std::vector<double>, std::vector<std::vector<double>>,
+                           std::vector<bool>, std::vector<std::string>>;
 
 // An inclusive or open interval for a number (or for every entry of a list of numbers).
 struct Range {
@@ -45,18 +44,29 @@ struct Range {
 struct Model;
 
 struct KeySpec {
-  std::string path;            // dotted; an array of tables is written "grains[]"
-  KeyType type;
-  std::optional<Value> def;    // no default: required, or one of several alternatives
+  KeySpec() = default;
+  KeySpec(std::string path_, KeyType type_, std::optional<Value> def_, Range range_, std::string unit_, bool steerable_,
+          std::vector<std::string> choices_, std::string doc_)
+      : path(std::move(path_)),
+        type(type_),
+        def(std::move(def_)),
+        range(range_),
+        unit(std::move(unit_)),
+        steerable(steerable_),
+        choices(std::move(choices_)),
+        doc(std::move(doc_)) {}
+  std::string path;  // dotted; an array of tables is written "grains[]"
+  KeyType type = KeyType::kReal;
+  std::optional<Value> def;  // no default: required, or one of several alternatives
   Range range;
-  std::string unit;            // "" for dimensionless
-  bool steerable = false;      // may change between two steps of a running simulation
+  std::string unit;                  // "" for dimensionless
+  bool steerable = false;            // may change between two steps of a running simulation
   std::vector<std::string> choices;  // allowed strings (kString, kStringList), empty = any
   std::string doc;
   // The value compile() chose when the scene gives none and there is no fixed default (a skin of
   // a tenth of the largest diameter, a time step from the contact time, ...), for `params`.
   std::function<std::string(const Model&)> computed;
-  std::string module;          // the module that owns the key (set when the schema is assembled)
+  std::string module;  // the module that owns the key (set when the schema is assembled)
 };
 
 // Constraints between keys, declared with the keys of a module and checked when a scene is read:
@@ -97,8 +107,8 @@ struct SceneEntry {
 
 class SceneDesc {
  public:
-  std::string file;  // the scene file ("" for a string scene)
-  std::string text;  // its full text, hashed into checkpoints
+  std::string file;                           // the scene file ("" for a string scene)
+  std::string text;                           // its full text, hashed into checkpoints
   std::map<std::string, SceneEntry> entries;  // concrete paths: "grains[0].radius"
   std::map<std::string, int> group_counts;    // "grains" -> number of [[grains]] tables
 
@@ -143,8 +153,7 @@ void apply_override(SceneDesc& desc, const Override& o);
 // Read and validate a scene. Throws SceneError ("file:line:col: message") on any bad input;
 // throws IoError when the file cannot be read.
 SceneDesc load_scene_file(const std::string& path, const std::vector<Override>& overrides = {});
-SceneDesc parse_scene(const std::string& text, const std::string& name,
-                      const std::vector<Override>& overrides = {});
+SceneDesc parse_scene(const std::string& text, const std::string& name, const std::vector<Override>& overrides = {});
 
 // The schema as a Markdown table (README) or aligned text (help).
 std::string schema_markdown();

@@ -37,8 +37,8 @@ struct RunOptions {
   // True when between_steps has work for the next boundary (it is then served one step later
   // if the state at this boundary is not complete; see State::boundary_seen).
   std::function<bool()> boundary_wanted;
-  const std::atomic<bool>* interrupt = nullptr;   // checked at every step boundary
-  bool stop_when_static = false;                  // Model::until_static criterion
+  const std::atomic<bool>* interrupt = nullptr;  // checked at every step boundary
+  bool stop_when_static = false;                 // Model::until_static criterion
 };
 
 struct RunReport {

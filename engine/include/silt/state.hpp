@@ -93,7 +93,6 @@ inline constexpr bool kIsArray = false;
 template <class T>
 inline constexpr bool kIsArray<std::vector<T>> = true;
 
-
 struct State {
 #define SILT_DECLARE_FIELD(module, type, name, extent, unit, doc) FieldStorage<type, Extent::extent> name{};
   SILT_STATE_FIELDS(SILT_DECLARE_FIELD)
@@ -150,13 +149,21 @@ void for_each_field(S& s, F&& f) {
 // The bytes that make a field's value, in a fixed order: g(const void*, size_t) once per run of
 // bytes (a vector: its length, then its data; a Box: member by member, without padding).
 template <class G>
-void field_bytes(const double& v, G&& g) { g(&v, sizeof v); }
+void field_bytes(const double& v, G&& g) {
+  g(&v, sizeof v);
+}
 template <class G>
-void field_bytes(const int64_t& v, G&& g) { g(&v, sizeof v); }
+void field_bytes(const int64_t& v, G&& g) {
+  g(&v, sizeof v);
+}
 template <class G>
-void field_bytes(const bool& v, G&& g) { g(&v, sizeof v); }
+void field_bytes(const bool& v, G&& g) {
+  g(&v, sizeof v);
+}
 template <class G>
-void field_bytes(const Vec3a& v, G&& g) { g(v.data(), sizeof(double) * 3); }
+void field_bytes(const Vec3a& v, G&& g) {
+  g(v.data(), sizeof(double) * 3);
+}
 template <class G>
 void field_bytes(const Box& b, G&& g) {
   g(b.lo.data(), sizeof(double) * 3);

@@ -36,7 +36,7 @@ struct Rgba {
 class Colormap {
  public:
   static const Colormap& get(const std::string& name);  // throws RenderError for unknown names
-  Rgba at(double t) const;  // t in [0, 1], clamped; NaN gives grey
+  Rgba at(double t) const;                              // t in [0, 1], clamped; NaN gives grey
   const std::string& name() const { return name_; }
 
  private:
@@ -66,10 +66,10 @@ struct Camera {
   std::array<float, 16> view{}, proj{};
   bool ortho = true;
   std::array<float, 3> eye{0, 0, 1};
-  std::array<double, 3> target{0, 0, 0};       // the point looked at
-  double pixels_per_unit = 0;                  // ortho: everywhere; perspective: in the plane through
-                                               // the target facing the camera
-  std::array<int, 4> domain_px{0, 0, 0, 0};    // ortho only: the box in pixels (x, y from the bottom, w, h)
+  std::array<double, 3> target{0, 0, 0};     // the point looked at
+  double pixels_per_unit = 0;                // ortho: everywhere; perspective: in the plane through
+                                             // the target facing the camera
+  std::array<int, 4> domain_px{0, 0, 0, 0};  // ortho only: the box in pixels (x, y from the bottom, w, h)
 };
 
 struct TextItem {
@@ -121,13 +121,13 @@ struct RenderScene {
     int tex_w = 0, tex_h = 0;
     std::vector<Rgba> texels;  // tex_w * tex_h, row 0 at the first corner
   };
-  std::vector<FieldQuad> fields;  // texels of alpha 0 (off the grid) are not drawn
+  std::vector<FieldQuad> fields;        // texels of alpha 0 (off the grid) are not drawn
   std::array<int, 4> clip{0, 0, 0, 0};  // pixel scissor x, y (from the bottom), w, h; w = 0: none
   std::vector<TextItem> texts;
   ColorBar colorbar;
   ScaleBar scalebar;
   std::vector<std::string> warnings;  // e.g. NaN values in a field
-  bool cull_hidden = true;  // 3D: skip the grains and chains that opaque grains hide wholly (same picture)
+  bool cull_hidden = true;            // 3D: skip the grains and chains that opaque grains hide wholly (same picture)
 };
 
 // What to draw and how (from Model::render, or set by hand).
@@ -181,9 +181,9 @@ class FrameWriter {
   FrameWriter(const FrameWriter&) = delete;
   FrameWriter& operator=(const FrameWriter&) = delete;
   void submit(RenderScene scene);
-  void finish();                  // waits for the pending frame
+  void finish();  // waits for the pending frame
   int64_t written() const;
-  std::string error() const;      // "" while all is well
+  std::string error() const;  // "" while all is well
 
  private:
   struct Impl;

@@ -47,7 +47,7 @@ test::Collision clipped_closed_form(double e, double tc) {
   const auto kc = dem::spring_dashpot_rates(e, tc);
   const double beta = kc.c / (2 * m), wd = std::sqrt(kc.k / m - beta * beta);
   const double ts = (pi - std::atan2(kc.c * wd, kc.k - kc.c * beta)) / wd;
-  const double d = std::exp(-beta * ts) * std::sin(wd * ts) / wd;                               // v0 = 1
+  const double d = std::exp(-beta * ts) * std::sin(wd * ts) / wd;  // v0 = 1
   const double ddot = std::exp(-beta * ts) * (wd * std::cos(wd * ts) - beta * std::sin(wd * ts)) / wd;
   return {-ddot, ts + d / -ddot};
 }

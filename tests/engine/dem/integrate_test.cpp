@@ -144,7 +144,8 @@ TEST_CASE("elastic collisions (e = 1) conserve energy over many collisions") {
       std::vector<uint8_t> now(s.n, 0);
       for (int64_t i = 0; i < s.n; ++i)
         for (int32_t p = s.nbr_start[i]; p < s.nbr_start[i + 1]; ++p)
-          if (s.pair_f[3 * p] != 0 || s.pair_f[3 * p + 1] != 0 || s.pair_f[3 * p + 2] != 0) now[i] = now[s.pair_j[p]] = 1;
+          if (s.pair_f[3 * p] != 0 || s.pair_f[3 * p + 1] != 0 || s.pair_f[3 * p + 2] != 0)
+            now[i] = now[s.pair_j[p]] = 1;
       for (int64_t i = 0; i < s.n; ++i) collisions += now[i] && !was[i];
       was.swap(now);
     }

@@ -132,7 +132,8 @@ TEST_CASE("tangential histories survive a rebuild of the list") {
     for (int a = 0; a < 3; ++a) s.pair_hist[3 * p + a] = 1000.0 * p + a;
   std::map<std::pair<int, int>, double> before;
   for (int64_t i = 0; i < s.n; ++i)
-    for (int32_t p = s.nbr_start[i]; p < s.nbr_start[i + 1]; ++p) before[{static_cast<int>(i), s.pair_j[p]}] = s.pair_hist[3 * p + 1];
+    for (int32_t p = s.nbr_start[i]; p < s.nbr_start[i + 1]; ++p)
+      before[{static_cast<int>(i), s.pair_j[p]}] = s.pair_hist[3 * p + 1];
   s.nbr_valid = false;
   dem::update_neighbors(sim->model(), s, test::dem_workspace(*sim));  // same positions: same pairs
   int64_t checked = 0;

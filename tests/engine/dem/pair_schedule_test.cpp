@@ -118,7 +118,8 @@ TEST_CASE("pair schedule: the list of a real packing in cell order needs few col
   const State& s = sim.state();
   const int colours = check_schedule(s.n, s.nbr_start, s.pair_j);
   CHECK(colours <= 8);
-  CHECK(static_cast<int64_t>(test::dem_workspace(sim).schedule.blocks.size()) == (s.n + PairSchedule::kBlock - 1) / PairSchedule::kBlock);
+  CHECK(static_cast<int64_t>(test::dem_workspace(sim).schedule.blocks.size()) ==
+        (s.n + PairSchedule::kBlock - 1) / PairSchedule::kBlock);
 }
 
 TEST_CASE("pair schedule: the parallel pass runs each block once, after the blocks before it") {

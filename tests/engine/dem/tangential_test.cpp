@@ -22,7 +22,7 @@ TEST_CASE("tangential spring: elastic while |F_t| < mu F_n, then slides at mu F_
     if (elastic < mu_fn - 1e-12) {
       CHECK(f.x() == doctest::Approx(-elastic));  // stick
     } else {
-      CHECK(f.x() == doctest::Approx(-mu_fn));     // slide
+      CHECK(f.x() == doctest::Approx(-mu_fn));       // slide
       CHECK(xi.x() == doctest::Approx(mu_fn / kt));  // spring held at the Coulomb limit
     }
     CHECK(f.y() == 0);
@@ -127,7 +127,7 @@ TEST_CASE("a disk and a sphere roll without slipping down an incline: a = g sin(
   const double s = std::sin(theta * pi / 180);
   for (int dim : {2, 3}) {
     CAPTURE(dim);
-    const double k = dim == 2 ? 0.5 : 0.4;  // I / (m r^2): disk, sphere
+    const double k = dim == 2 ? 0.5 : 0.4;     // I / (m r^2): disk, sphere
     auto sim = incline(dim, theta, 0.5, 0.0);  // mu = 0.5 > tan(theta) k / (1 + k)
     for (int i = 0; i < 200000; ++i) REQUIRE(sim->step());
     const State& st = sim->state();

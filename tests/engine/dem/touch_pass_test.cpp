@@ -53,9 +53,9 @@ void check_touch_pass(bool lees_edwards, int64_t n_pairs) {
   std::vector<double> td((D + 2) * n_pairs);
   double* td_cols[D + 2];
   for (int k = 0; k < D + 2; ++k) td_cols[k] = td.data() + k * n_pairs;
-  const int64_t c = dem::touch_pass<D>(
-      {x.data(), r.data(), pp.data(), pi.data(), pj.data(), touch.data(), pf.data(), hist.data()}, img, 0, n_pairs,
-      tp.data(), td_cols);
+  const int64_t c =
+      dem::touch_pass<D>({x.data(), r.data(), pp.data(), pi.data(), pj.data(), touch.data(), pf.data(), hist.data()},
+                         img, 0, n_pairs, tp.data(), td_cols);
   int64_t expect = 0, apart = 0;
   for (int64_t q = 0; q < n_pairs; ++q) {
     const int64_t p = pp[q];

@@ -53,9 +53,9 @@ TEST_CASE("drag: a sphere reaches Stokes' terminal velocity m g / (6 pi eta r), 
     CHECK(after_tau == doctest::Approx(vt * (1 - std::exp(-1.0))).epsilon(0.6 * dt_over_tau));
     for (int64_t k = 0; k < 40 * n; ++k) REQUIRE(sim->step());
     const auto x = v.sample(sim->model(), sim->state());
-    CHECK(-x[0] == doctest::Approx(vt).epsilon(1e-12));  // the scheme's fixed point is exact
+    CHECK(-x[0] == doctest::Approx(vt).epsilon(1e-12));            // the scheme's fixed point is exact
     CHECK(x[1] == doctest::Approx(-m * 9.81 * vt).epsilon(1e-9));  // power: the weight's work, dissipated
-    CHECK(std::abs(x[2]) < 1e-9 * m * 9.81);  // at terminal velocity the net force vanishes
+    CHECK(std::abs(x[2]) < 1e-9 * m * 9.81);                       // at terminal velocity the net force vanishes
   }
 }
 
@@ -87,7 +87,8 @@ TEST_CASE("drag: a module that plugs in through its own files") {
 }
 
 TEST_CASE("drag: a time step past the Stokes time is refused at the viscosity") {
-  const double r = 1e-3, m = 2500 * 4.0 / 3.0 * std::numbers::pi * r * r * r, eta = 20;  // tau = 28 us, under the contacts' stability limit
+  const double r = 1e-3, m = 2500 * 4.0 / 3.0 * std::numbers::pi * r * r * r,
+               eta = 20;  // tau = 28 us, under the contacts' stability limit
   const double tau = m / (6 * std::numbers::pi * eta * r);
   const std::string text = test::fill(kFall, {{"eta", eta}, {"dt", 1.5 * tau}});
   const std::string err = test::scene_error(text);

@@ -39,8 +39,8 @@ graph::Stage stage(const char* name, std::vector<int> deps, graph::Access reads,
 
 TEST_CASE("stages follow the modules a scene enables") {
   const Model chute = compile(load_scene_file(test::scene_path("chute")));
-  CHECK(names(chute) == std::vector<std::string>{"choose_dt", "kick_drift", "update_neighbors", "contact_forces", "kick",
-                                                 "energy_check", "advance_clock"});
+  CHECK(names(chute) == std::vector<std::string>{"choose_dt", "kick_drift", "update_neighbors", "contact_forces",
+                                                 "kick", "energy_check", "advance_clock"});
   const Model silo = compile(load_scene_file(test::scene_path("silo")));
   CHECK(names(silo) == std::vector<std::string>{"choose_dt", "kick_drift", "update_neighbors", "contact_forces",
                                                 "wall_forces", "kick", "energy_check", "advance_clock"});
@@ -99,15 +99,17 @@ TEST_CASE("the run-time access check names a stage that writes or reads an undec
     return s.internal.raised() ? s.internal.message() : std::string();
   };
   // Declares nothing, writes the velocities.
-  CHECK(run(stage("sloppy_writer", {}, {}, {}, [](const Model&, State& s) { s.particle_v[0] += 1; }))
-            .find("stage sloppy_writer writes field particle_v") != std::string::npos);
+  CHECK(run(stage("sloppy_writer", {}, {}, {}, [](const Model&, State& s) {
+          s.particle_v[0] += 1;
+        })).find("stage sloppy_writer writes field particle_v") != std::string::npos);
   // Declares the force it writes, but not the positions it reads.
-  CHECK(run(stage("sloppy_reader", {}, {}, {fid::particle_f},
-                  [](const Model&, State& s) { s.particle_f[0] = 2 * s.particle_x[0]; }))
-            .find("stage sloppy_reader reads field particle_x") != std::string::npos);
+  CHECK(run(stage("sloppy_reader", {}, {}, {fid::particle_f}, [](const Model&, State& s) {
+          s.particle_f[0] = 2 * s.particle_x[0];
+        })).find("stage sloppy_reader reads field particle_x") != std::string::npos);
   // A stage that writes part of a field reads the rest of it.
-  CHECK(run(stage("partial", {}, {}, {fid::particle_f}, [](const Model&, State& s) { s.particle_f[0] = 1; }))
-            .find("reads field particle_f") != std::string::npos);
+  CHECK(run(stage("partial", {}, {}, {fid::particle_f}, [](const Model&, State& s) {
+          s.particle_f[0] = 1;
+        })).find("reads field particle_f") != std::string::npos);
   // Honest stages pass.
   CHECK(run(stage("honest", {}, {fid::particle_x}, {fid::particle_f}, [](const Model&, State& s) {
           for (size_t k = 0; k < s.particle_f.size(); ++k) s.particle_f[k] = 2 * s.particle_x[k];
@@ -146,10 +148,12 @@ TEST_CASE("a loop node runs its body M times, on the serial and the flow executo
       b.loop("dem_cycle", 4, [](graph::GraphBuilder& body) {
         graph::add_core_stages(body);
         graph::add_dem_stages(body);
-        body.add_last("advance_clock", [](const Model&, State& st) {
-          st.t += st.dt;
-          ++st.step;
-        }, {fid::dt, fid::t, fid::step}, {fid::t, fid::step});
+        body.add_last("advance_clock",
+                      [](const Model&, State& st) {
+                        st.t += st.dt;
+                        ++st.step;
+                      },
+                      {fid::dt, fid::t, fid::step}, {fid::t, fid::step});
       });
       looped = std::make_unique<graph::StepGraph>(b.take());
     });

@@ -108,7 +108,8 @@ TEST_CASE("a checkpoint of another system is refused, naming what differs, and o
   };
   // A wall elsewhere: same grains, same count of walls, another system.
   CHECK(refused(kScene, "point = [0, 0, 0]", "point = [0, 0, -0.5]") ==
-        "checkpoint 'checkpoint_test3.ckpt' was written for a different system: wall 0: point (0, 0, 0), normal (0, 0, 1) "
+        "checkpoint 'checkpoint_test3.ckpt' was written for a different system: wall 0: point (0, 0, 0), normal (0, 0, "
+        "1) "
         "in the checkpoint, point (0, 0, -0.5), normal (0, 0, 1) in the scene");
   CHECK(refused(kScene, "periodic = [true, true, false]", "periodic = [true, false, false]")
             .find("periodic along x y in the checkpoint, x in the scene") != std::string::npos);
@@ -144,7 +145,8 @@ TEST_CASE("a checkpoint of another format version is refused with both versions"
   std::memcpy(bytes.data() + 8, &version, 4);
   const uint64_t sum = fnv1a(bytes.data(), bytes.size() - 8);
   std::memcpy(bytes.data() + bytes.size() - 8, &sum, 8);
-  std::ofstream(path, std::ios::binary | std::ios::trunc).write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  std::ofstream(path, std::ios::binary | std::ios::trunc)
+      .write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
   CHECK_THROWS_WITH_AS(read_checkpoint(path, a->model()),
                        doctest::Contains("has format version 4; this silt reads version 5"), IoError);
   std::remove(path.c_str());
@@ -163,7 +165,8 @@ TEST_CASE("a checkpoint write that fails halfway leaves the previous file and no
   rlimit small = old;
   small.rlim_cur = 4096;
   REQUIRE(setrlimit(RLIMIT_FSIZE, &small) == 0);
-  CHECK_THROWS_WITH_AS(write_checkpoint(path, a->model(), a->state()), doctest::Contains("cannot write checkpoint"), IoError);
+  CHECK_THROWS_WITH_AS(write_checkpoint(path, a->model(), a->state()), doctest::Contains("cannot write checkpoint"),
+                       IoError);
   REQUIRE(setrlimit(RLIMIT_FSIZE, &old) == 0);
   std::signal(SIGXFSZ, previous);
   CHECK(state_hash(read_checkpoint(path, a->model())) == before);

@@ -131,7 +131,8 @@ TEST_CASE("VTK: the grains' force and the contacts' force vectors, normal and ta
   for (int k = 0; k < 3; ++k) REQUIRE(sim->step());
   VtkWriter vtk("vtk_force_out");
   vtk.write(sim->model(), sim->state());
-  const std::string grains = slurp("vtk_force_out/grains_000000.vtu"), contacts = slurp("vtk_force_out/contacts_000000.vtp");
+  const std::string grains = slurp("vtk_force_out/grains_000000.vtu"),
+                    contacts = slurp("vtk_force_out/contacts_000000.vtp");
   const auto gf = array_of(grains, "force");
   REQUIRE(gf.size() == 9);
   for (int i = 0; i < 3; ++i) {
@@ -140,7 +141,8 @@ TEST_CASE("VTK: the grains' force and the contacts' force vectors, normal and ta
     CHECK(gf[3 * i + 2] == 0);
   }
   // Contacts 0-1 and 0-2 (across the periodic boundary), forces on grain 0.
-  const auto f = array_of(contacts, "force"), fn = array_of(contacts, "normal_force"), ft = array_of(contacts, "tangential_force");
+  const auto f = array_of(contacts, "force"), fn = array_of(contacts, "normal_force"),
+             ft = array_of(contacts, "tangential_force");
   const auto ends = array_of(contacts, "position");
   REQUIRE(f.size() == 6);
   REQUIRE(ft.size() == 2);

@@ -105,7 +105,7 @@ density = 3.0
 dt = 1e-3
 )");
   REQUIRE(e.n_grains == 2);
-  CHECK(e.init.mass[1] == doctest::Approx(3.0 * kPi * 0.0625));          // disk: rho pi r^2
+  CHECK(e.init.mass[1] == doctest::Approx(3.0 * kPi * 0.0625));                // disk: rho pi r^2
   CHECK(e.init.inertia[1] == doctest::Approx(0.5 * e.init.mass[1] * 0.0625));  // m r^2 / 2
 }
 
@@ -129,10 +129,14 @@ TEST_CASE("random placement never overlaps, wraps periodic directions, and depen
 }
 
 TEST_CASE("lattices: square, triangular (2D) and fcc (3D) fill the half-open region") {
-  const Model sc = with("radius = 0.25\nplacement = \"lattice\"\nlattice = \"sc\"\nspacing = 1.0\nregion_lo = [0, 0, 0]\nregion_hi = [20, 20, 5]");
+  const Model sc = with(
+      "radius = 0.25\nplacement = \"lattice\"\nlattice = \"sc\"\nspacing = 1.0\nregion_lo = [0, 0, 0]\nregion_hi = "
+      "[20, 20, 5]");
   CHECK(sc.n_grains == 2000);  // count = 2000 of the 20 x 20 x 5 = 2000 sites
   // 14 fcc cells across the periodic box of 20: spacing 20 / (14 sqrt 2).
-  const Model fcc = with("radius = 0.25\nplacement = \"lattice\"\nlattice = \"fcc\"\nspacing = 1.0101525445522108\nregion_lo = [0, 0, 0]\nregion_hi = [20, 20, 20]");
+  const Model fcc = with(
+      "radius = 0.25\nplacement = \"lattice\"\nlattice = \"fcc\"\nspacing = 1.0101525445522108\nregion_lo = [0, 0, "
+      "0]\nregion_hi = [20, 20, 20]");
   // Nearest neighbours of the fcc lattice at distance `spacing`.
   double dmin = 1e9;
   for (int64_t j = 1; j < 200; ++j) {
@@ -141,7 +145,9 @@ TEST_CASE("lattices: square, triangular (2D) and fcc (3D) fill the half-open reg
     dmin = std::min(dmin, std::sqrt(d2));
   }
   CHECK(dmin == doctest::Approx(1.0101525445522108));
-  const Model off = with("radius = 0.25\nplacement = \"lattice\"\nspacing = 1.0\nlattice_origin = [0.5, 0.5, 0.5]\nregion_lo = [0, 0, 0]\nregion_hi = [20, 20, 5]");
+  const Model off = with(
+      "radius = 0.25\nplacement = \"lattice\"\nspacing = 1.0\nlattice_origin = [0.5, 0.5, 0.5]\nregion_lo = [0, 0, "
+      "0]\nregion_hi = [20, 20, 5]");
   CHECK(off.init.x[0] == 0.5);
   CHECK_THROWS_WITH_AS(with("radius = 0.25\nplacement = \"lattice\"\nspacing = 1.0\nregion_hi = [5, 5, 5]"),
                        doctest::Contains("holds only 125 sites"), SceneError);

@@ -53,7 +53,8 @@ TEST_CASE("wrong type: location of the value") {
   const std::string e = test::scene_error(with("k_n = 1e5", "k_n = \"stiff\""));
   CHECK(e.rfind("bad.toml:8:7: ", 0) == 0);
   CHECK(e.find("'contact.k_n' must be a number") != std::string::npos);
-  CHECK(test::scene_error(with("count = 10", "count = 10.5")).find("'grains[0].count' must be an integer") != std::string::npos);
+  CHECK(test::scene_error(with("count = 10", "count = 10.5")).find("'grains[0].count' must be an integer") !=
+        std::string::npos);
 }
 
 TEST_CASE("out of range: the range and unit are named") {
@@ -88,8 +89,8 @@ TEST_CASE("scenes that cannot be simulated are refused before the first step") {
   // Wrong vector length.
   CHECK(test::scene_error(with("lo = [0, 0, 0]", "lo = [0, 0]")).find("needs 3 entries") != std::string::npos);
   // Overlapping explicit grains.
-  const std::string ov = test::scene_error(with("count = 10\nradius = 0.5",
-                                       "radius = 0.5\nplacement = \"explicit\"\npositions = [[1, 1, 1], [1.2, 1, 1]]"));
+  const std::string ov = test::scene_error(
+      with("count = 10\nradius = 0.5", "radius = 0.5\nplacement = \"explicit\"\npositions = [[1, 1, 1], [1.2, 1, 1]]"));
   CHECK(ov.find("overlap by") != std::string::npos);
   CHECK(ov.rfind("bad.toml:12:13: ", 0) == 0);  // at the positions of the group
   // Unknown observable with a suggestion.
@@ -98,7 +99,8 @@ TEST_CASE("scenes that cannot be simulated are refused before the first step") {
 }
 
 TEST_CASE("--set overrides: typed, located, and checked like the file") {
-  SceneDesc d = parse_scene(kGood, "bad.toml", {parse_override("contact.friction=0.25"), parse_override("grains.0.count=12")});
+  SceneDesc d =
+      parse_scene(kGood, "bad.toml", {parse_override("contact.friction=0.25"), parse_override("grains.0.count=12")});
   CHECK(d.real("contact.friction") == 0.25);
   CHECK(d.integer("grains[0].count") == 12);
   CHECK_THROWS_WITH_AS(parse_scene(kGood, "bad.toml", {parse_override("contact.friciton=0.25")}),
@@ -114,8 +116,7 @@ TEST_CASE("the schema is consistent") {
   for (const KeySpec& k : scene_schema()) {
     CAPTURE(k.path);
     CHECK(!k.doc.empty());
-    if (k.def && (k.type == KeyType::kReal))
-      CHECK(k.range.contains(std::get<double>(*k.def)));
+    if (k.def && (k.type == KeyType::kReal)) CHECK(k.range.contains(std::get<double>(*k.def)));
     CHECK(find_key_spec(k.path) == &k);
   }
   CHECK(schema_markdown().find("| `contact.friction` |") != std::string::npos);

@@ -118,8 +118,8 @@ dt_over_tc = 0.05
   const State packed = prepare_packing(model, 1, &rep);
   REQUIRE(rep.end == RunEnd::kStatic);
   const Measurements m = measure(model, packed);
-  INFO("after " << rep.steps << " steps: Phi = " << m.phi << ", z = " << m.z << ", z* = " << m.z_star << ", p0 = " << m.p0
-                << ", z_mech = " << m.z_mech);
+  INFO("after " << rep.steps << " steps: Phi = " << m.phi << ", z = " << m.z << ", z* = " << m.z_star
+                << ", p0 = " << m.p0 << ", z_mech = " << m.z_mech);
   for (int a = 0; a < 3; ++a) CHECK(std::abs(m.stress[a][a] - 1.0) < 1e-4);
   CHECK(m.phi > 0.61);
   CHECK(m.phi < 0.65);

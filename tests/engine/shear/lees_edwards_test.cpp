@@ -388,8 +388,9 @@ dt = 1e-3
         }
       pos.back() = ']';
       vel.back() = ']';
-      std::string text = test::with_lists(scene, dim == 3 ? "[-2, 1, 0]" : "[-2, 1]", dim == 3 ? "[8, 11, 6]" : "[8, 11]",
-                                    dim == 3 ? "[true, true, true]" : "[true, true]");
+      std::string text =
+          test::with_lists(scene, dim == 3 ? "[-2, 1, 0]" : "[-2, 1]", dim == 3 ? "[8, 11, 6]" : "[8, 11]",
+                           dim == 3 ? "[true, true, true]" : "[true, true]");
       text.replace(text.find("POS"), 3, pos);
       text.replace(text.find("VEL"), 3, vel);
       auto sim = test::simulation_from(test::fill(text, {{"dim", dim}}));

@@ -248,7 +248,7 @@ dt = 1e-3
 )";
   auto make = [&](int dim, const std::string& extra) {
     std::string text = test::with_lists(base, dim == 3 ? "[0, 0, 0]" : "[0, 0]", dim == 3 ? "[5, 6, 5]" : "[5, 6]",
-                                  dim == 3 ? "[true, true, true]" : "[true, true]");
+                                        dim == 3 ? "[true, true, true]" : "[true, true]");
     text.replace(text.find("EXTRA"), 5, extra);
     return test::fill(text, {{"dim", dim}, {"n", dim == 3 ? 60 : 40}});
   };
@@ -335,9 +335,11 @@ dt = 1e-4
   CHECK(e1.rfind("bad.toml:8:", 0) == 0);  // the line of shear.rate
   CHECK(e1.find("periodic along x (flow) and y (gradient)") != std::string::npos);
   // Flow direction x not periodic.
-  CHECK(test::scene_error(with("[true, true, false]", "[false, true, true]")).find("periodic along x") != std::string::npos);
+  CHECK(test::scene_error(with("[true, true, false]", "[false, true, true]")).find("periodic along x") !=
+        std::string::npos);
   // Walls.
-  const std::string e2 = test::scene_error(with("[contact]", "[[walls]]\npoint = [0, 0, 0]\nnormal = [0, 0, 1]\n[contact]"));
+  const std::string e2 =
+      test::scene_error(with("[contact]", "[[walls]]\npoint = [0, 0, 0]\nnormal = [0, 0, 1]\n[contact]"));
   CHECK(e2.find("has no walls") != std::string::npos);
   // Rate and stress together (and rate with inertial number).
   const std::string e3 = test::scene_error(with("rate = 0.5", "rate = 0.5\nstress = 0.1"));
@@ -352,7 +354,8 @@ dt = 1e-4
 
 TEST_CASE("stiffness number and damping of the shipped shear scenes, as observables") {
   // Hertz: kappa = (E~/P)^(2/3) with E~ = E / (1 - nu^2); the scene has nu = 0, E = 7.7017e6.
-  const Model hertz = compile(load_scene_file(test::scene_path("shear3d_frictionless"), {parse_override("box.pressure=2")}));
+  const Model hertz =
+      compile(load_scene_file(test::scene_path("shear3d_frictionless"), {parse_override("box.pressure=2")}));
   const State s3 = make_state(hertz);
   CHECK(sample(hertz, s3, "kappa") == doctest::Approx(std::pow(7.7017e6 / 2, 2.0 / 3.0)).epsilon(1e-12));
   CHECK(sample(hertz, s3, "zeta") == doctest::Approx(0.98));

@@ -1,4 +1,5 @@
-// Text helpers for messages: short number formatting and "did you mean" distances.
+// Text helpers for messages: short number formatting and "did you mean" distances (the engine's and
+// the shell's).
 #pragma once
 
 #include <string>
