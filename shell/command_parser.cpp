@@ -107,6 +107,18 @@ const std::vector<CommandSpec>& command_specs() {
       {"restore", "restore FILE", "read a checkpoint", "Continues from a checkpoint of the same system.", 1, 1,
        ArgKind::kFile},
       {"reset", "reset", "back to t = 0", "Returns to the scene's initial state.", 0, 0, ArgKind::kNone},
+      {"freeze", "freeze AXIS < VALUE | freeze AXIS > VALUE", "freeze grains",
+       "Freezes the free grains whose centre is below (or above) VALUE along AXIS (x, y or z): they stop for good. "
+       "A checkpoint saved then makes a rough base for another scene ([[grains]] frozen_from = FILE).",
+       3, 3, ArgKind::kNone},
+      {"fields", "fields [PREFIX]", "list the state's fields",
+       "Lists every field of the state (or those starting with PREFIX): module, extent, type, entries, bytes, unit, "
+       "and the stage that writes it.",
+       0, 1, ArgKind::kNone},
+      {"field", "field NAME [K]", "print a field of the state",
+       "Prints a scalar field, or entry K of an array (for a per-grain field, grain K by its id; without K, its "
+       "smallest, largest and mean value).",
+       1, 2, ArgKind::kNone},
       {"hash", "hash", "a fingerprint of the state",
        "Prints a 64-bit hash of every array and scalar of the state: equal hashes mean bitwise equal states (a "
        "restored run against an uninterrupted one, runs on other thread counts).",

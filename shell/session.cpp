@@ -138,7 +138,8 @@ void Session::dispatch(const Command& c) {
       {"print", &Session::cmd_print},     {"watch", &Session::cmd_watch},     {"stats", &Session::cmd_stats},
       {"profile", &Session::cmd_profile}, {"render", &Session::cmd_render},   {"frames", &Session::cmd_frames},
       {"save", &Session::cmd_save},       {"restore", &Session::cmd_restore}, {"reset", &Session::cmd_reset},
-      {"hash", &Session::cmd_hash},       {"source", &Session::cmd_source},   {"help", &Session::cmd_help},
+      {"hash", &Session::cmd_hash},       {"freeze", &Session::cmd_freeze},   {"fields", &Session::cmd_fields},
+      {"field", &Session::cmd_field},     {"source", &Session::cmd_source},   {"help", &Session::cmd_help},
       {"quit", &Session::cmd_quit},
   };
   const CommandSpec& spec = check_command(c);

@@ -83,6 +83,9 @@ class Session {
   void cmd_frames(const Command& c);
   void cmd_save(const Command& c);
   void cmd_hash(const Command& c);
+  void cmd_freeze(const Command& c);
+  void cmd_fields(const Command& c);
+  void cmd_field(const Command& c);
   void cmd_restore(const Command& c);
   void cmd_reset(const Command& c);
   void cmd_source(const Command& c);

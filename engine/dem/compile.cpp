@@ -1,6 +1,7 @@
 // The DEM's part of compile(): contact law, walls, grains, neighbour search, contact time and
 // stability limit; then, once every module is in, the energy the scene can supply and the
 // initial overlaps.
+#include <algorithm>
 #include <cmath>
 
 #include "core/rng.hpp"
@@ -113,6 +114,13 @@ void compile_dem(const SceneDesc& d, Model& m) {
   m.scene_hash = system_fingerprint(m);
   setup_neighbors(d, m);
   derive_contact_scales(d, m);
+}
+
+void refresh_frozen(Model& m) {
+  m.n_frozen = std::count(m.init.frozen.begin(), m.init.frozen.end(), 1);
+  setup_inertial_mass(m);
+  m.scene_hash = system_fingerprint(m);
+  setup_energy_scale(m);
 }
 
 void finish_dem(const SceneDesc&, Model& m) {

@@ -7,11 +7,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <numeric>
 #include <sstream>
 #include <unordered_map>
 
 #include "core/rng.hpp"
+#include "io/checkpoint_file.hpp"
 #include "silt/text.hpp"
 
 namespace silt::dem {
@@ -354,6 +356,56 @@ void set_velocities(const SceneDesc& d, Model& m, int g, int64_t first, int64_t 
 
 }  // namespace
 
+// The grains of a checkpoint inside the group's region, frozen (grains[].frozen_from), in the
+// order of their ids in the file.
+void grains_from_checkpoint(const SceneDesc& d, const Model& m, int g, Group& G) {
+  const std::string k = key(g, "frozen_from");
+  std::string path = d.string(k);
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec) && std::filesystem::path(path).is_relative() && !d.file.empty()) {
+    const std::string beside = (std::filesystem::path(d.file).parent_path() / path).string();
+    if (std::filesystem::exists(beside, ec)) path = beside;
+  }
+  if (d.has(key(g, "placement")))
+    d.fail(key(g, "placement"), "a group taken from a checkpoint (frozen_from) is placed as it was");
+  if (d.has(key(g, "frozen")) && !d.boolean(key(g, "frozen")))
+    d.fail(key(g, "frozen"), "the grains of frozen_from are frozen");
+  for (const char* leaf : {"count", "radius", "radius_min", "radius_max", "radii", "volume_fractions", "radius_list"})
+    if (d.has(key(g, leaf)))
+      d.fail(key(g, leaf), std::string(leaf) + " does not apply: the checkpoint gives the grains");
+  try {
+    const ckpt::RawCheckpoint c = ckpt::read_raw(path);
+    if (c.system.dim != m.dim)
+      d.fail(k, "'" + path + "' holds a " + std::to_string(c.system.dim) + "D system; this scene is " +
+                    std::to_string(m.dim) + "D");
+    const auto x = c.doubles("particle_x", path), r = c.doubles("particle_r", path);
+    const auto id = c.ints("particle_id", path);
+    const int64_t n = static_cast<int64_t>(r.size());
+    if (static_cast<int64_t>(x.size()) != n * m.dim || static_cast<int64_t>(id.size()) != n)
+      throw IoError("checkpoint '" + path + "' is corrupt: its grain arrays differ in length");
+    std::vector<int64_t> order(n, -1);
+    for (int64_t i = 0; i < n; ++i) {
+      if (id[i] < 0 || id[i] >= n || order[id[i]] >= 0)
+        throw IoError("checkpoint '" + path + "' is corrupt: bad grain ids");
+      order[id[i]] = i;
+    }
+    G.placement = "checkpoint";
+    G.frozen = true;
+    for (int64_t q = 0; q < n; ++q) {
+      const int64_t i = order[q];
+      bool inside = true;
+      for (int a = 0; a < m.dim; ++a) inside = inside && x[m.dim * i + a] >= G.lo[a] && x[m.dim * i + a] <= G.hi[a];
+      if (!inside) continue;
+      G.sites.insert(G.sites.end(), &x[m.dim * i], &x[m.dim * i] + m.dim);
+      G.radius.push_back(r[i]);
+    }
+  } catch (const IoError& e) {
+    d.fail(k, e.what());
+  }
+  G.count = static_cast<int64_t>(G.radius.size());
+  if (G.count == 0) d.fail(k, "no grain of '" + path + "' lies in the group's region");
+}
+
 void setup_grains(const SceneDesc& d, Model& m) {
   const int n_groups = d.group_count("grains");
   if (n_groups == 0) throw SceneError(FileLoc{d.file, 0, 0}, "the scene has no [[grains]] table");
@@ -365,10 +417,14 @@ void setup_grains(const SceneDesc& d, Model& m) {
     Group& G = groups[g];
     G.name = d.string(key(g, "name"));
     if (G.name.empty()) G.name = "group" + std::to_string(g);
-    G.placement = d.string(key(g, "placement"));
     G.density = d.real(key(g, "density"));
-    G.frozen = d.boolean(key(g, "frozen"));
     region_of(d, m, g, G);
+    if (d.has(key(g, "frozen_from"))) {
+      grains_from_checkpoint(d, m, g, G);
+      continue;
+    }
+    G.placement = d.string(key(g, "placement"));
+    G.frozen = d.boolean(key(g, "frozen"));
     G.count = group_count(d, m, g, G);
     Rng rng(seed, 2 * g);
     G.radius = draw_radii(d, m, g, G.count, rng);
@@ -416,7 +472,8 @@ void setup_grains(const SceneDesc& d, Model& m) {
         if (m.box.periodic[k]) {
           x[k] = lo + (x[k] - lo) - m.box.len[k] * std::floor((x[k] - lo) / m.box.len[k]);
         } else if (x[k] < lo || x[k] > hi) {
-          d.fail(key(g, G.placement == "lattice" ? "region_hi" : "positions"),
+          d.fail(key(g, G.placement == "lattice" ? "region_hi"
+                                                 : (G.placement == "checkpoint" ? "frozen_from" : "positions")),
                  "grain " + std::to_string(q) + " of grains[" + std::to_string(g) + "] lies outside the domain");
         }
       }

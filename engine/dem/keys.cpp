@@ -39,6 +39,7 @@ std::vector<KeySpec> dem_keys() {
       {"grains[].radius_list", K::kRealList, std::nullopt, Range::positive(), "m", false, {}, "Explicit radius of every grain."},
       {"grains[].density", K::kReal, Value(1.0), Range::positive(), "kg/m^3", false, {}, "Grain density (per area for 2D disks)."},
       {"grains[].frozen", K::kBool, Value(false), Range::any(), "", false, {}, "Frozen grains never move (rough bases); their velocity still enters contacts."},
+      {"grains[].frozen_from", K::kString, std::nullopt, Range::any(), "", false, {}, "A checkpoint of any scene of the same dimension: its grains within region_lo/region_hi, frozen, make this group (a dense rough base made by a pour); relative paths from the scene's folder."},
       {"grains[].placement", K::kString, Value(std::string("random")), Range::any(), "", false, S{"lattice", "random", "explicit"}, "How grains are placed."},
       {"grains[].lattice", K::kString, Value(std::string("sc")), Range::any(), "", false, S{"sc", "hex", "fcc"}, "Lattice: sc (square/cubic), hex (2D triangular), fcc (3D)."},
       {"grains[].spacing", K::kReal, std::nullopt, Range::positive(), "m", false, {}, "Lattice spacing (nearest sites)."},

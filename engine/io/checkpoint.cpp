@@ -29,99 +29,24 @@
 #include <sstream>
 
 #include "core/rng.hpp"
+#include "io/checkpoint_file.hpp"
 #include "silt/io.hpp"
 #include "silt/text.hpp"
 
 namespace silt {
 namespace {
 
-constexpr char kMagic[8] = {'S', 'I', 'L', 'T', 'C', 'K', 'P', 'T'};
-constexpr uint32_t kVersion = 5;
-
-class Writer {
- public:
-  template <class T>
-  void put(const T& v) {
-    bytes(&v, sizeof v);
-  }
-  void bytes(const void* p, size_t n) {
-    const size_t old = buf_.size();
-    buf_.resize(old + n);
-    std::memcpy(buf_.data() + old, p, n);
-  }
-  void str(const std::string& x) {
-    put(static_cast<uint32_t>(x.size()));
-    bytes(x.data(), x.size());
-  }
-  std::vector<char> buf_;
-};
-
-class Reader {
- public:
-  Reader(const std::vector<char>& b, const std::string& path) : b_(b), path_(path) {}
-  template <class T>
-  T get() {
-    T v;
-    bytes(&v, sizeof v);
-    return v;
-  }
-  void bytes(void* p, size_t n) {
-    if (pos_ + n > b_.size()) throw IoError("checkpoint '" + path_ + "' is truncated");
-    std::memcpy(p, b_.data() + pos_, n);
-    pos_ += n;
-  }
-  // A count of items of `each` bytes that must fit in what is left of the file.
-  uint32_t count(size_t each) {
-    const auto n = get<uint32_t>();
-    if (n * each > b_.size() - pos_) throw IoError("checkpoint '" + path_ + "' is truncated");
-    return n;
-  }
-  std::string str() {
-    std::string x(count(1), '\0');
-    bytes(x.data(), x.size());
-    return x;
-  }
-
- private:
-  const std::vector<char>& b_;
-  std::string path_;
-  size_t pos_ = 0;
-};
-
-// What a checkpoint belongs to: the refusal rule (layout above).
-struct System {
-  uint64_t fingerprint = 0;  // Model::scene_hash: grains, wall count, periodicity, dimension
-  int32_t dim = 0;
-  int64_t n = 0;
-  std::array<uint8_t, 3> periodic{};
-  std::vector<std::array<double, 6>> walls;  // point, unit normal
-};
+using ckpt::get_system;
+using ckpt::put_system;
+using ckpt::Reader;
+using ckpt::System;
+using ckpt::Writer;
 
 System system_of(const Model& m) {
   System y{m.scene_hash, m.dim, m.n_grains, {}, {}};
   for (int k = 0; k < 3; ++k) y.periodic[k] = m.box.periodic[k];
   for (const Wall& w : m.walls)
     y.walls.push_back({w.point[0], w.point[1], w.point[2], w.normal[0], w.normal[1], w.normal[2]});
-  return y;
-}
-
-void put_system(Writer& w, const System& y) {
-  w.put(y.fingerprint);
-  w.put(y.dim);
-  w.put(y.n);
-  w.put(y.periodic);
-  w.put(static_cast<uint32_t>(y.walls.size()));
-  for (const auto& wall : y.walls) w.put(wall);
-}
-
-System get_system(Reader& r) {
-  System y;
-  y.fingerprint = r.get<uint64_t>();
-  y.dim = r.get<int32_t>();
-  y.n = r.get<int64_t>();
-  y.periodic = r.get<std::array<uint8_t, 3>>();
-  y.walls.resize(r.count(sizeof(y.walls[0])));
-  for (auto& wall : y.walls) wall = r.get<std::array<double, 6>>();
   return y;
 }
 
@@ -173,19 +98,6 @@ std::vector<std::string> parameter_differences(const std::vector<std::pair<std::
     out.push_back(key + " = " + shown(values.first) + " in the checkpoint, " + shown(values.second) + " in the scene");
   }
   return out;
-}
-
-// The file at `path`, whole; IoError with the reason when it cannot be read.
-std::vector<char> read_whole(const std::string& path) {
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) throw IoError("'" + path + "' is a directory, not a checkpoint");
-  if (!std::filesystem::exists(path, ec)) throw IoError("cannot read checkpoint '" + path + "': no such file");
-  try {
-    std::ifstream in(path, std::ios::binary);
-    if (in) return std::vector<char>((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  } catch (const std::exception&) {  // the stream library's words ("basic_filebuf::underflow error") help no one
-  }
-  throw IoError("cannot read checkpoint '" + path + "' (" + std::strerror(errno) + ")");
 }
 
 // Flushes the directory holding `path`, so that a rename in it survives a crash.
@@ -277,8 +189,8 @@ void write_checkpoint(const std::string& path, const Model& m, const State& s) {
   if (std::filesystem::is_directory(path, ec))
     throw IoError("cannot write checkpoint '" + path + "': it is a directory");
   Writer w;
-  w.bytes(kMagic, sizeof kMagic);
-  w.put(kVersion);
+  w.bytes(ckpt::kMagic, sizeof ckpt::kMagic);
+  w.put(ckpt::kVersion);
   put_system(w, system_of(m));
   w.str(m.scene_name);
   const auto params = scene_parameters(m.desc);
@@ -336,22 +248,8 @@ void write_checkpoint(const std::string& path, const Model& m, const State& s) {
 }
 
 State read_checkpoint(const std::string& path, const Model& m, std::vector<std::string>* differences) {
-  const std::vector<char> buf = read_whole(path);
-  if (buf.size() < sizeof kMagic + 12 || std::memcmp(buf.data(), kMagic, sizeof kMagic) != 0)
-    throw IoError("'" + path + "' is not a silt checkpoint");
-  Reader r(buf, path);
-  char magic[8];
-  r.bytes(magic, 8);
-  // The version first: another version may lay out (and check) the rest differently.
-  const auto version = r.get<uint32_t>();
-  if (version != kVersion)
-    throw IoError("checkpoint '" + path + "' has format version " + std::to_string(version) +
-                  "; this silt reads version " + std::to_string(kVersion) +
-                  " (write it again with the silt that can read it)");
-  uint64_t stored;
-  std::memcpy(&stored, buf.data() + buf.size() - 8, 8);
-  if (fnv1a(buf.data(), buf.size() - 8) != stored)
-    throw IoError("checkpoint '" + path + "' is corrupt (checksum mismatch)");
+  const std::vector<char> buf = ckpt::read_checked(path);
+  Reader r = ckpt::body(buf, path);
   if (const std::string diff = difference(get_system(r), system_of(m)); !diff.empty())
     throw IoError("checkpoint '" + path + "' was written for a different system: " + diff);
   r.str();  // the scene's name, also among the parameters (scene.name)

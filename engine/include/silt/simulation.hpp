@@ -82,6 +82,11 @@ class Simulation {
 
   std::vector<std::string> stage_names() const;
   std::string describe_graph() const;
+  // Freeze the free grains whose centre is below (or above) `value` along `axis`, between steps:
+  // they stop and never move again (a rough base made by a run). The model's grains change with
+  // them (a checkpoint saved now belongs to a new system, for [[grains]] frozen_from). Refused
+  // (std::invalid_argument) under a deforming box. Returns how many were frozen.
+  int64_t freeze(int axis, bool below, double value);
   // The modules' workspaces (core/workspace.hpp), for tests and benchmarks that look inside.
   Workspaces& workspaces();
   // The access check of the serial executor (graph/access_check.hpp), on by default in the
