@@ -7,6 +7,7 @@
 #include "core/rng.hpp"
 #include "dem/contact_setup.hpp"
 #include "dem/grain_setup.hpp"
+#include "dem/materials.hpp"
 #include "dem/module.hpp"
 #include "silt/text.hpp"
 
@@ -110,6 +111,7 @@ void compile_dem(const SceneDesc& d, Model& m) {
   read_contact_law(d, m);
   setup_walls(d, m);
   setup_grains(d, m);
+  setup_materials(d, m);
   setup_inertial_mass(m);
   m.scene_hash = system_fingerprint(m);
   setup_neighbors(d, m);

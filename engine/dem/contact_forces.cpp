@@ -53,7 +53,7 @@ inline int64_t record(int64_t q) {
 // tangential pass leaves for the sums.
 template <int D>
 struct Touching {
-  enum Column { kN = 0, kVt = D, kXi = 2 * D, kFn = 3 * D, kK, kMeff, kColumns };
+  enum Column { kN = 0, kVt = D, kXi = 2 * D, kFn = 3 * D, kK, kMeff, kMu, kColumns };
   std::vector<int32_t> pair;
   std::vector<int32_t> gi, gj;  // the grains of each touching pair
   std::vector<double> d;        // separation (nearest image), |d|, 1 / |d|: column k from d[k * cap]
@@ -80,11 +80,13 @@ struct Touching {
 // normals n, tangential velocities vt, normal forces fn, normal stiffnesses kn, reduced masses m;
 // springs xi. Out, one record of kOut values per pair (pass 3 reads them together; record<D>):
 // the pair force f = fn n + F_t, the updated spring, and the moment n x F_t. Dashpot: zeta_t > 0.
-template <int D, bool Dashpot>
+// PairMu: the friction coefficient of each pair in mu (pairs of different materials), else
+// `friction` for all.
+template <int D, bool Dashpot, bool PairMu>
 [[gnu::always_inline]] inline void tangential_columns(int64_t c, double dt, double kt_ratio, double friction,
-                                                      double zeta_t, double* const* n, double* const* vt,
-                                                      const double* fn, const double* kn, const double* m,
-                                                      double* const* xi, double* __restrict out) {
+                                                      const double* mu, double zeta_t, double* const* n,
+                                                      double* const* vt, const double* fn, const double* kn,
+                                                      const double* m, double* const* xi, double* __restrict out) {
   // Whole groups of kLanes: the last one may run on values past c, which are ignored.
   for (int64_t b = 0; b < c; b += kLanes) {
     double* __restrict ob = out + kOut<D> * b;
@@ -99,7 +101,8 @@ template <int D, bool Dashpot>
         vq[k] = vt[k][q];
       }
       const double ct = Dashpot ? tangential_dashpot(zeta_t, m[q], kt) : 0.0;
-      tangential_spring<D, Dashpot>(s.c, nq.c, vq.c, dt, kt, friction * std::abs(fn[q]), ct, ft.c);
+      const double mu_q = PairMu ? mu[q] : friction;
+      tangential_spring<D, Dashpot>(s.c, nq.c, vq.c, dt, kt, mu_q * std::abs(fn[q]), ct, ft.c);
       double* o = ob + l;
       for (int k = 0; k < D; ++k) {
         o[k * kLanes] = fn[q] * nq[k] + ft[k];
@@ -115,20 +118,21 @@ template <int D, bool Dashpot>
 
 // The same loop on processors with AVX2, four pairs per instruction instead of two: the same
 // IEEE operations on each pair (no fused multiply-add), so the same bits (simd_level.hpp).
-template <int D, bool Dashpot>
+template <int D, bool Dashpot, bool PairMu>
 [[gnu::target("avx2")]] void tangential_columns_avx2(int64_t c, double dt, double kt_ratio, double friction,
-                                                     double zeta_t, double* const* n, double* const* vt,
-                                                     const double* fn, const double* kn, const double* m,
-                                                     double* const* xi, double* __restrict out) {
-  tangential_columns<D, Dashpot>(c, dt, kt_ratio, friction, zeta_t, n, vt, fn, kn, m, xi, out);
+                                                     const double* mu, double zeta_t, double* const* n,
+                                                     double* const* vt, const double* fn, const double* kn,
+                                                     const double* m, double* const* xi, double* __restrict out) {
+  tangential_columns<D, Dashpot, PairMu>(c, dt, kt_ratio, friction, mu, zeta_t, n, vt, fn, kn, m, xi, out);
 }
 
-template <int D, bool Dashpot>
-void tangential_pass(int64_t c, double dt, double kt_ratio, double friction, double zeta_t, double* const* n,
-                     double* const* vt, const double* fn, const double* kn, const double* m, double* const* xi,
-                     double* __restrict out) {
-  if (avx2_in_use()) tangential_columns_avx2<D, Dashpot>(c, dt, kt_ratio, friction, zeta_t, n, vt, fn, kn, m, xi, out);
-  else tangential_columns<D, Dashpot>(c, dt, kt_ratio, friction, zeta_t, n, vt, fn, kn, m, xi, out);
+template <int D, bool Dashpot, bool PairMu>
+void tangential_pass(int64_t c, double dt, double kt_ratio, double friction, const double* mu, double zeta_t,
+                     double* const* n, double* const* vt, const double* fn, const double* kn, const double* m,
+                     double* const* xi, double* __restrict out) {
+  if (avx2_in_use())
+    tangential_columns_avx2<D, Dashpot, PairMu>(c, dt, kt_ratio, friction, mu, zeta_t, n, vt, fn, kn, m, xi, out);
+  else tangential_columns<D, Dashpot, PairMu>(c, dt, kt_ratio, friction, mu, zeta_t, n, vt, fn, kn, m, xi, out);
 }
 
 template <int D>
@@ -158,6 +162,10 @@ struct PairArgs {
   double* torque;
   EventSlot* overlap_alarm;
   bool keep_pf;  // store the pair forces (State::boundary_seen)
+  // Materials: the law of each pair of groups, [g_i * n_groups + g_j] (Model::pair_contact).
+  const ContactParams* table;
+  const int32_t* group;
+  int64_t n_groups;
 };
 
 // The pairs of one block of rows, in two passes. The first tests every listed pair and packs
@@ -167,7 +175,7 @@ struct PairArgs {
 // and stalls the pipeline. Pairs that were already apart are not written at all (the list is
 // mostly those). The arguments come by value: a local copy that the stores to the arrays cannot
 // alias, so the loops keep them in registers.
-template <int D, bool Hertz, bool Friction, bool Affine>
+template <int D, bool Hertz, bool Friction, bool Affine, bool Mat>
 void pair_block(const PairArgs<D> a, int64_t blk) {
   using V = SVec<D>;
   const double* __restrict x = a.x;
@@ -209,6 +217,7 @@ void pair_block(const PairArgs<D> a, int64_t blk) {
   double* __restrict cfn = tl.col(T::kFn);
   double* __restrict ck = tl.col(T::kK);
   double* __restrict cm = tl.col(T::kMeff);
+  double* __restrict cmu = tl.col(T::kMu);
   int32_t* __restrict gi = tl.gi.data();
   int32_t* __restrict gj = tl.gj.data();
   for (int64_t q = 0; q < c; ++q) {
@@ -232,7 +241,8 @@ void pair_block(const PairArgs<D> a, int64_t blk) {
     }
     const double vn = vr.dot(nrm);
     const double m_eff = 1.0 / (im[i] + im[j]);
-    NormalForce nf = normal_law<Hertz>(a.cp, m_eff, Hertz ? reduced_radius(ri, rj) : 0.0, overlap, -vn);
+    const ContactParams& cp = Mat ? a.table[a.group[i] * a.n_groups + a.group[j]] : a.cp;
+    NormalForce nf = normal_law<Hertz>(cp, m_eff, Hertz ? reduced_radius(ri, rj) : 0.0, overlap, -vn);
     // Without a branch: the sign of F_n varies from contact to contact in no predictable order.
     nf.fn = std::max(nf.fn, a.fn_floor);
     for (int k = 0; k < D; ++k) cn[k][q] = nrm[k];
@@ -246,12 +256,15 @@ void pair_block(const PairArgs<D> a, int64_t blk) {
       }
       ck[q] = nf.k;
       cm[q] = m_eff;
+      if constexpr (Mat) cmu[q] = cp.friction;
     }
   }
   if constexpr (Friction) {
     if (a.cp.zeta_t > 0)
-      tangential_pass<D, true>(c, a.dt, a.cp.kt_ratio, a.cp.friction, a.cp.zeta_t, cn, cvt, cfn, ck, cm, cxi, out);
-    else tangential_pass<D, false>(c, a.dt, a.cp.kt_ratio, a.cp.friction, 0.0, cn, cvt, cfn, ck, cm, cxi, out);
+      tangential_pass<D, true, Mat>(c, a.dt, a.cp.kt_ratio, a.cp.friction, cmu, a.cp.zeta_t, cn, cvt, cfn, ck, cm, cxi,
+                                    out);
+    else
+      tangential_pass<D, false, Mat>(c, a.dt, a.cp.kt_ratio, a.cp.friction, cmu, 0.0, cn, cvt, cfn, ck, cm, cxi, out);
   } else {
     for (int64_t q = 0; q < c; ++q)
       for (int k = 0; k < D; ++k) out[record<D>(q) + k * kLanes] = cfn[q] * cn[k][q];
@@ -280,7 +293,7 @@ void pair_block(const PairArgs<D> a, int64_t blk) {
   else sums(std::false_type{});
 }
 
-template <int D, bool Hertz, bool Friction, bool Affine>
+template <int D, bool Hertz, bool Friction, bool Affine, bool Mat>
 void pair_forces(const Model& m, State& s, DemWorkspace& sc) {
   constexpr int R = kRotDim<D>;
   if (!sc.schedule_valid) {
@@ -295,7 +308,8 @@ void pair_forces(const Model& m, State& s, DemWorkspace& sc) {
                 sc.cand_p.data(), sc.cand_i.data(), sc.cand_j.data(), s.pair_f.data(), s.pair_hist.data(),
                 s.pair_touch.data(), s.particle_f.data(), s.particle_t.data(), &s.events[event::kOverlap],
                 // A stage may read them at the end of every step (a controlled box).
-                s.boundary_seen || m.pair_forces_every_step};
+                s.boundary_seen || m.pair_forces_every_step, m.pair_contact.data(), s.particle_group.data(),
+                static_cast<int64_t>(m.materials.size())};
   if constexpr (Affine)
     for (int k = 0; k < D; ++k) a.grad[k] = s.box_rate[k] / s.box.len[k];
   PairSchedule& sched = sc.schedule;
@@ -307,17 +321,21 @@ void pair_forces(const Model& m, State& s, DemWorkspace& sc) {
       std::fill(a.force + D * b, a.force + D * e, 0.0);
       if constexpr (Friction) std::fill(a.torque + R * b, a.torque + R * e, 0.0);
     }
-    pair_block<D, Hertz, Friction, Affine>(a, blk);
+    pair_block<D, Hertz, Friction, Affine, Mat>(a, blk);
   });
 }
 
 template <int D>
 void dispatch(const Model& m, State& s, DemWorkspace& w) {
   const bool hertz = m.contact.law == NormalLaw::kHertz;
-  const bool fr = m.contact.friction > 0;
+  const bool fr = m.pair_friction();
   const bool aff = m.deforming_box();
-#define SILT_CASE(H, F, A) \
-  if (hertz == H && fr == F && aff == A) return pair_forces<D, H, F, A>(m, s, w);
+  const bool mat = !m.pair_contact.empty();
+#define SILT_CASE(H, F, A)                                  \
+  if (hertz == H && fr == F && aff == A) {                  \
+    if (mat) return pair_forces<D, H, F, A, true>(m, s, w); \
+    return pair_forces<D, H, F, A, false>(m, s, w);         \
+  }
   SILT_CASE(false, false, false)
   SILT_CASE(false, true, false)
   SILT_CASE(true, false, false)

@@ -89,6 +89,28 @@ void derive_contact_scales(const SceneDesc& d, Model& m) {
   }
   m.zeta_max = zeta;
   m.dt_stable = verlet_stability_limit(std::sqrt(m.k_max / m.m_eff_min), zeta);
+  // Other materials (dem/materials.hpp): the stiffest of their laws with the lightest grains, a
+  // grain against a wall (m* = m, R_eq = 2 r) included, may lower the limit; t_c stays the scene
+  // material's (the unit of run.dt_over_tc).
+  auto limit_of = [&](const ContactParams& p, double m_eff, double req) {
+    double k = 0, z = 0;
+    if (p.law == NormalLaw::kHertz) {
+      k = 0.5 * p.e_tilde * std::sqrt(2.0 * req * m.limits.max_overlap * m.r_min);
+      z = p.zeta;
+    } else {
+      const LinearCoeffs kc = linear_coeffs(p, m_eff);
+      k = kc.k;
+      z = kc.c / (2.0 * std::sqrt(kc.k * m_eff));
+    }
+    if (verlet_stability_limit(std::sqrt(k / m_eff), z) < m.dt_stable) {
+      m.dt_stable = verlet_stability_limit(std::sqrt(k / m_eff), z);
+      m.k_max = k;
+      m.zeta_max = z;
+    }
+  };
+  for (const ContactParams& p : m.pair_contact) limit_of(p, m.m_eff_min, r_eq);
+  const double m_free = free_mass[0];  // the lightest free grain against a wall
+  for (const ContactParams& p : m.wall_contact) limit_of(p, m_free, 2.0 * m.r_min);
 }
 
 }  // namespace silt::dem

@@ -217,8 +217,7 @@ void kick_dim(const Model& m, State& s, const ForceSources& sources) {
     if (src.torque != kNoField) a.torque_src[a.n_torque++] = double_field(s, src.torque).data();
   }
   // contact_forces writes no torque without friction: the sum then starts from zero.
-  if (m.contact.friction > 0)
-    parallel_for(s.n, kGrain, [a](int64_t b, int64_t e) { kick_range<D, Kick, true>(a, b, e); });
+  if (m.pair_friction()) parallel_for(s.n, kGrain, [a](int64_t b, int64_t e) { kick_range<D, Kick, true>(a, b, e); });
   else parallel_for(s.n, kGrain, [a](int64_t b, int64_t e) { kick_range<D, Kick, false>(a, b, e); });
 }
 

@@ -7,6 +7,9 @@ namespace {
 std::string steer_dem(Model& m, const Model& fresh) {
   m.contact.friction = fresh.contact.friction;
   for (size_t w = 0; w < m.walls.size(); ++w) m.walls[w].friction = fresh.walls[w].friction;
+  m.materials = fresh.materials;
+  m.pair_contact = fresh.pair_contact;
+  m.wall_contact = fresh.wall_contact;
   return "";
 }
 

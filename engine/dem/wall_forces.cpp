@@ -1,5 +1,6 @@
 // Planar walls: the grain-grain laws with an infinite mass and radius (Izard 2014 sec. 2.1.1:
-// m* = m_i; Hertz R_eq = 2 r_i from 2/R_eq = 1/r_i + 0).
+// m* = m_i; Hertz R_eq = 2 r_i from 2/R_eq = 1/r_i + 0), with the parameters of the wall's
+// material against the grain's (Model::wall_contact).
 //
 // With the wall normal n pointing into the domain and gap = (x - p) . n - r, the contact point
 // is at -r n from the centre, so the slip velocity is v - (v.n) n - r w x n and the torque of
@@ -16,7 +17,7 @@ namespace {
 template <int D>
 void walls_dim(const Model& m, State& s) {
   constexpr int R = kRotDim<D>;
-  const ContactParams& cp = m.contact;
+  const int64_t groups = static_cast<int64_t>(m.materials.size());
   const int nw = s.n_walls;
   const double dt = s.dt;
   parallel_for(s.n, 1024, [&](int64_t b, int64_t e) {
@@ -29,6 +30,8 @@ void walls_dim(const Model& m, State& s) {
         const double r = s.particle_r[i];
         for (int wi = 0; wi < nw; ++wi) {
           const Wall& wall = m.walls[wi];
+          // The law between this wall and the grain's material (dem/materials.hpp).
+          const ContactParams& cp = m.wall_contact[wi * groups + s.particle_group[i]];
           const Vec<D> n = wall.normal.head<D>();
           Eigen::Map<Vec<D>> hist(s.wall_hist.data() + D * (static_cast<int64_t>(i) * nw + wi));
           const double gap = wall.gap<D>(x, r);
@@ -42,11 +45,11 @@ void walls_dim(const Model& m, State& s) {
           const double m_eff = 1.0 / s.particle_inv_m[i];
           NormalForce nf = normal_force(cp, m_eff, 2.0 * r, overlap, -vn);
           Vec<D> f = nf.fn * n;
-          if (wall.friction > 0) {
+          if (cp.friction > 0) {
             const Vec<D> vt = v - vn * n - cross_w(r * omega_at<D>(s.particle_w.data(), i), n);
             Vec<D> spring = hist;
             const double kt = cp.kt_ratio * nf.k;
-            const Vec<D> ft = tangential_force(spring, n, vt, dt, kt, wall.friction * std::abs(nf.fn),
+            const Vec<D> ft = tangential_force(spring, n, vt, dt, kt, cp.friction * std::abs(nf.fn),
                                                tangential_dashpot(cp.zeta_t, m_eff, kt));
             hist = spring;
             f += ft;

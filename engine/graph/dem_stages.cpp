@@ -52,23 +52,26 @@ Access contact_reads(const Model& m) {
   Access r = with({fid::dt, fid::box, fid::particle_x, fid::particle_v, fid::particle_w, fid::nbr_valid, fid::nbr_start,
                    fid::pair_i, fid::pair_j, fid::pair_touch, fid::pair_f},
                   kGrainConst);
-  if (m.contact.friction > 0) r = with(r, {fid::pair_hist});
+  // Friction is steerable: the springs and torques are declared whether or not it is on now
+  // (without it they are left as they were: read).
+  r = with(r, {fid::pair_hist, fid::particle_t});
   if (m.deforming_box()) r = with(r, {fid::box_rate, fid::shear_rate});
+  if (!m.pair_contact.empty()) r = with(r, {fid::particle_group});  // the materials of the pair
   return r;
 }
-Access contact_writes(const Model& m) {
+Access contact_writes() {
   Access w = {fid::pair_f, fid::pair_touch, fid::particle_f};
-  if (m.contact.friction > 0) w = with(w, {fid::pair_hist, fid::particle_t});
+  w = with(w, {fid::pair_hist, fid::particle_t});
   return w;
 }
 
-const Access kWallReads =
-    with({fid::dt, fid::particle_x, fid::particle_v, fid::particle_w, fid::wall_hist}, kGrainConst);
+const Access kWallReads = with(
+    {fid::dt, fid::particle_x, fid::particle_v, fid::particle_w, fid::wall_hist, fid::particle_group}, kGrainConst);
 const Access kWallWrites = {fid::wall_f, fid::particle_t_wall, fid::wall_hist};
 
 Access kick_reads(const Model& m) {
   Access r = with({fid::dt, fid::particle_f, fid::particle_v, fid::particle_w}, kGrainConst);
-  if (m.contact.friction > 0) r = with(r, {fid::particle_t});
+  r = with(r, {fid::particle_t});
   if (m.shear.on) r = with(r, {fid::shear_rate});
   return r;
 }
@@ -120,7 +123,7 @@ void add_dem_stages(GraphBuilder& b) {
       neighbor_writes());
   const int pairs = b.add(
       "contact_forces", [&w](const Model& mm, State& s) { dem::contact_forces(mm, s, w); }, contact_reads(m),
-      contact_writes(m));
+      contact_writes());
   // depends on: the list, and the grains' numbering, that update_neighbors leaves.
   b.after(pairs, nbr, "iterates the (possibly rebuilt) pair list");
   if (walls) {

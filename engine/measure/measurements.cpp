@@ -45,7 +45,7 @@ void coordination(const Model& m, const State& s, const std::vector<std::pair<in
   out.p0 = out.pn[0];
   out.z_star = with[0] < n_free ? static_cast<double>(sum) / (n_free - with[0]) : 0;
   // Mechanical skeleton: peel the grains under the bound until none is left.
-  const int need = m.contact.friction > 0 ? 2 : m.dim + 1;
+  const int need = m.pair_friction() ? 2 : m.dim + 1;
   std::vector<std::vector<int32_t>> adj(n);
   for (auto [i, j] : touching) {
     adj[i].push_back(j);

@@ -43,6 +43,13 @@ struct ContactParams {
 // Three components of a box quantity (lengths, rates, stresses), whatever the dimension.
 using Vec3a = std::array<double, 3>;
 
+// What a group of grains, or a wall, is made of (dem/materials.hpp mixes two of them).
+struct Material {
+  double compliance = 0;  // Hertz: (1 - nu^2) / E [1/Pa]; 0 for a rigid wall
+  double k_n = 0;         // hooke, linear: the material's spring [N/m]
+  double friction = 0;    // Coulomb coefficient
+};
+
 struct Wall {
   Vec3 point = Vec3::Zero();
   Vec3 normal = Vec3::UnitZ();  // unit, pointing into the domain
@@ -202,6 +209,13 @@ struct Model {
   Preparation prepare;
   std::vector<Wall> walls;
   ContactParams contact;
+  // Materials (dem/materials.hpp): one per [[grains]] group, the contact law of every pair of
+  // groups, [g_i * G + g_j], and of every wall with every group, [w * G + g]. Grain pairs use
+  // `contact` alone when every group is of the scene's material (pair_contact empty).
+  std::vector<Material> materials;
+  std::vector<ContactParams> pair_contact, wall_contact;
+  // Whether a grain-grain contact may carry a tangential force (some pair has friction).
+  bool pair_friction() const;
   Vec3 gravity = Vec3::Zero();  // steerable
 
   // Time stepping.
