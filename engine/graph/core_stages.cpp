@@ -8,7 +8,7 @@ void add_core_stages(GraphBuilder& b) {
   if (b.phase() != Phase::kStep) return;
   // () => (dt). Fixed: the scene's (steerable) time step. A module that needs another (the CFL
   // number of a fluid, the adaptive step of a paste) will choose it here.
-  b.add("choose_dt", [](const Model& m, State& s) { s.dt = m.dt; }, {}, {fid::dt});
+  b.light(b.add("choose_dt", [](const Model& m, State& s) { s.dt = m.dt; }, {}, {fid::dt}));
 }
 
 }  // namespace silt::graph

@@ -155,6 +155,7 @@ void add_dem_stages(GraphBuilder& b) {
   const int energy =
       b.add("energy_check", &dem::energy_check, with({fid::step, fid::particle_v, fid::particle_w}, kGrainConst), {});
   b.after(energy, kick, "the energy of the full-step velocities");
+  b.light(energy);  // a pass over the grains once in limits.check_every steps
   diagnose_dem(b);
 }
 

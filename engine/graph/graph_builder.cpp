@@ -178,13 +178,14 @@ StageList build_stage_list(const Model& m, Workspaces& ws, Phase phase, std::vec
   // The clock ends the step: after every other stage, it advances t by the step's dt.
   if (phase == Phase::kStep) {
     b.set_module("core");
-    b.add_last("advance_clock",
-               [](const Model&, State& s) {
-                 // (dt, t, step) => (t, step)
-                 s.t += s.dt;
-                 ++s.step;
-               },
-               {fid::dt, fid::t, fid::step}, {fid::t, fid::step});
+    const int clock = b.add_last("advance_clock",
+                                 [](const Model&, State& s) {
+                                   // (dt, t, step) => (t, step)
+                                   s.t += s.dt;
+                                   ++s.step;
+                                 },
+                                 {fid::dt, fid::t, fid::step}, {fid::t, fid::step});
+    b.light(clock);
   }
   StageList list = b.take();
   if (diagnoses) *diagnoses = b.take_diagnoses();

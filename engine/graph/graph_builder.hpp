@@ -33,6 +33,10 @@ struct Stage {
   Access reads, writes;             // for a loop, the union of its body's
   std::shared_ptr<StageList> body;  // a loop node: its body, run `times` times per run
   int times = 0;
+  // A few scalar operations, no parallel work (choosing dt, advancing the clock): the flow
+  // executor runs such stages at the start or the end of a step on its own thread instead of as
+  // nodes of the graph, where a hand-over costs more than the stage.
+  bool light = false;
   bool is_loop() const { return body != nullptr; }
 };
 
@@ -60,6 +64,8 @@ class GraphBuilder {
 
   // A stage; returns its index.
   int add(std::string name, StageFn fn, Access reads, Access writes);
+  // Mark a stage light (Stage::light).
+  void light(int stage) { stages_.at(stage).light = true; }
   // A stage after every stage added so far (the end of a step).
   int add_last(std::string name, StageFn fn, Access reads, Access writes);
   // `stage` runs after `on`; why says what it needs from it ("depends on: ..."). Stages may wait

@@ -19,14 +19,40 @@ struct StepGraph::Runner {
     checks.resize(n, 0);
     for (size_t k = 0; k < n; ++k)
       if (list.stages[k].is_loop()) bodies[k] = std::make_unique<Runner>(*list.stages[k].body);
+    // Light stages that only light stages precede run before the graph (choose_dt), those that
+    // only light stages follow after it (energy_check, advance_clock); the others are its nodes.
+    role.assign(n, kNode);
+    for (size_t k = 0; k < n; ++k) {
+      bool head = list.stages[k].light;
+      for (int d : list.stages[k].deps) head = head && role[d] == kHead;
+      if (head) role[k] = kHead;
+    }
+    std::vector<std::vector<int>> dependents(n);
+    for (size_t k = 0; k < n; ++k)
+      for (int d : list.stages[k].deps) dependents[d].push_back(static_cast<int>(k));
+    for (size_t k = n; k-- > 0;) {
+      if (!list.stages[k].light || role[k] == kHead) continue;
+      bool tail = true;
+      for (int c : dependents[k]) tail = tail && role[c] == kTail;
+      if (tail) role[k] = kTail;
+    }
     graph = std::make_unique<tbb::flow::graph>();
     start = std::make_unique<broadcast_node<continue_msg>>(*graph);
+    nodes.resize(n);
     for (size_t k = 0; k < n; ++k)
-      nodes.push_back(std::make_unique<continue_node<continue_msg>>(
-          *graph, [this, k](const continue_msg&) { run_stage(k, false); }));
+      if (role[k] == kNode)
+        nodes[k] = std::make_unique<continue_node<continue_msg>>(
+            *graph, [this, k](const continue_msg&) { run_stage(k, false); });
     for (size_t k = 0; k < n; ++k) {
-      if (list.stages[k].deps.empty()) make_edge(*start, *nodes[k]);
-      for (int d : list.stages[k].deps) make_edge(*nodes[d], *nodes[k]);
+      if (role[k] != kNode) continue;
+      bool from_start = true;
+      for (int d : list.stages[k].deps)
+        if (role[d] == kNode) {
+          make_edge(*nodes[d], *nodes[k]);
+          from_start = false;
+        }
+      if (from_start) make_edge(*start, *nodes[k]);
+      has_nodes = true;
     }
     timers.resize(n, nullptr);
   }
@@ -74,8 +100,14 @@ struct StepGraph::Runner {
   }
 
   void run_flow() {
-    start->try_put(tbb::flow::continue_msg());
-    graph->wait_for_all();
+    for (size_t k = 0; k < list.stages.size(); ++k)
+      if (role[k] == kHead) run_stage(k, false);
+    if (has_nodes) {
+      start->try_put(tbb::flow::continue_msg());
+      graph->wait_for_all();
+    }
+    for (size_t k = 0; k < list.stages.size(); ++k)
+      if (role[k] == kTail) run_stage(k, false);
   }
 
   void set_check(bool on) {
@@ -100,6 +132,9 @@ struct StepGraph::Runner {
   }
 
   StageList list;
+  enum Role { kHead, kNode, kTail };
+  std::vector<Role> role;
+  bool has_nodes = false;
   std::vector<std::unique_ptr<Runner>> bodies;
   std::vector<int64_t> checks;
   std::vector<StageTime*> timers;
