@@ -79,7 +79,7 @@ void Session::cmd_field(const Command& c) {
         // Entries per item: a vector per grain or pair, one per wall of a grain.
         int64_t per = 1;
         if (f.extent == Extent::kGrainVec || f.extent == Extent::kPairVec) per = s.dim;
-        if (f.extent == Extent::kGrainRot) per = s.rot;
+        if (f.extent == Extent::kGrainRot || f.extent == Extent::kGrainRotWalls) per = s.rot;
         if (f.extent == Extent::kGrainWallVec) per = int64_t{s.dim} * s.n_walls;
         if (k) {
           int64_t at = *k;

@@ -27,6 +27,7 @@ const char* extent_name(Extent e) {
     case Extent::kGrain: return "N";
     case Extent::kGrainVec: return "N*D";
     case Extent::kGrainRot: return "N*R";
+    case Extent::kGrainRotWalls: return "N*R if walls";
     case Extent::kGrainWallVec: return "N*W*D";
     case Extent::kRowStart: return "N+1";
     case Extent::kPair: return "P";
@@ -40,7 +41,8 @@ const char* extent_name(Extent e) {
 }
 
 bool follows_grains(Extent e) {
-  return e == Extent::kGrain || e == Extent::kGrainVec || e == Extent::kGrainRot || e == Extent::kGrainWallVec;
+  return e == Extent::kGrain || e == Extent::kGrainVec || e == Extent::kGrainRot || e == Extent::kGrainRotWalls ||
+         e == Extent::kGrainWallVec;
 }
 
 // The modules' fields are registered when the module list is made: make it first.

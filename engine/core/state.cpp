@@ -15,6 +15,7 @@ int64_t extent_size(const State& s, Extent e) {
     case Extent::kGrain: return n;
     case Extent::kGrainVec: return n * D;
     case Extent::kGrainRot: return n * R;
+    case Extent::kGrainRotWalls: return W > 0 ? n * R : 0;
     case Extent::kGrainWallVec: return n * W * D;
     case Extent::kRowStart: return n + 1;
     case Extent::kPair: return p;

@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <type_traits>
 
 #include "core/assert.hpp"
 #include "core/parallel.hpp"
@@ -154,7 +155,7 @@ struct KickArgs {
 // The force sources into particle_f / particle_t (contact_forces left the pair sums there;
 // without friction it wrote no torque: Torque false starts from zero) and, with Kick, the second
 // half kick of grains [b, e). Arguments by value, as in drift_range.
-template <int D, bool Kick, bool Torque>
+template <int D, bool Kick, bool Torque, bool Sources>
 void kick_range(const KickArgs<D> a, int64_t b, int64_t e) {
   constexpr int R = kRotDim<D>;
   double* __restrict force = a.force;
@@ -166,16 +167,18 @@ void kick_range(const KickArgs<D> a, int64_t b, int64_t e) {
     for (int k = 0; k < D; ++k) f[k] = force[D * i + k];
     if constexpr (!Torque)
       for (int k = 0; k < R; ++k) torq[R * i + k] = 0;
-    for (int src = 0; src < a.n_force; ++src) {
-      const int items = a.force_items[src];
-      const double* p = a.force_src[src] + D * i * items;
-      for (int q = 0; q < items; ++q)
-        for (int k = 0; k < D; ++k) f[k] += p[D * q + k];
+    if constexpr (Sources) {
+      for (int src = 0; src < a.n_force; ++src) {
+        const int items = a.force_items[src];
+        const double* p = a.force_src[src] + D * i * items;
+        for (int q = 0; q < items; ++q)
+          for (int k = 0; k < D; ++k) f[k] += p[D * q + k];
+      }
+      for (int src = 0; src < a.n_torque; ++src)
+        for (int k = 0; k < R; ++k) torq[R * i + k] += a.torque_src[src][R * i + k];
+      if (a.n_force > 0)
+        for (int k = 0; k < D; ++k) force[D * i + k] = f[k];
     }
-    for (int src = 0; src < a.n_torque; ++src)
-      for (int k = 0; k < R; ++k) torq[R * i + k] += a.torque_src[src][R * i + k];
-    if (a.n_force > 0)
-      for (int k = 0; k < D; ++k) force[D * i + k] = f[k];
     if constexpr (Kick) {
       if (a.frozen[i]) continue;
       const double im = a.inv_m[i], ii = a.inv_i[i];
@@ -216,9 +219,16 @@ void kick_dim(const Model& m, State& s, const ForceSources& sources) {
     a.force_src[a.n_force++] = double_field(s, src.force).data();
     if (src.torque != kNoField) a.torque_src[a.n_torque++] = double_field(s, src.torque).data();
   }
-  // contact_forces writes no torque without friction: the sum then starts from zero.
-  if (m.pair_friction()) parallel_for(s.n, kGrain, [a](int64_t b, int64_t e) { kick_range<D, Kick, true>(a, b, e); });
-  else parallel_for(s.n, kGrain, [a](int64_t b, int64_t e) { kick_range<D, Kick, false>(a, b, e); });
+  // contact_forces writes no torque without friction: the sum then starts from zero. Without
+  // sources (no walls, no module's force) the loop has nothing to add.
+  auto sweep = [&](auto torque, auto with_sources) {
+    parallel_for(s.n, kGrain, [a](int64_t b, int64_t e) {
+      kick_range<D, Kick, decltype(torque)::value, decltype(with_sources)::value>(a, b, e);
+    });
+  };
+  const bool any = !sources.empty();
+  if (m.pair_friction()) any ? sweep(std::true_type{}, std::true_type{}) : sweep(std::true_type{}, std::false_type{});
+  else any ? sweep(std::false_type{}, std::true_type{}) : sweep(std::false_type{}, std::false_type{});
 }
 
 }  // namespace

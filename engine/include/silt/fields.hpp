@@ -17,18 +17,19 @@ namespace silt {
 // What a field is indexed by. N grains, D = dimension, R = rotational degrees of freedom (1 in
 // 2D), W walls, P listed pairs; grid fields follow the cells or the faces of a staggered grid.
 enum class Extent : uint8_t {
-  kScalar,        // one value
-  kGrain,         // N
-  kGrainVec,      // N*D
-  kGrainRot,      // N*R
-  kGrainWallVec,  // N*W*D
-  kRowStart,      // N+1: first pair of each row of the pair list
-  kPair,          // P
-  kPairVec,       // P*D
-  kCell,          // grid cells
-  kFaceX,         // grid faces normal to x
-  kFaceY,         // ... to y
-  kFaceZ,         // ... to z
+  kScalar,         // one value
+  kGrain,          // N
+  kGrainVec,       // N*D
+  kGrainRot,       // N*R
+  kGrainRotWalls,  // N*R when the scene has walls, else nothing (what walls alone write)
+  kGrainWallVec,   // N*W*D
+  kRowStart,       // N+1: first pair of each row of the pair list
+  kPair,           // P
+  kPairVec,        // P*D
+  kCell,           // grid cells
+  kFaceX,          // grid faces normal to x
+  kFaceY,          // ... to y
+  kFaceZ,          // ... to z
 };
 const char* extent_name(Extent e);  // "1", "N", "N*D", "N*R", "N*W*D", "N+1", "P", "P*D", "cells", "x faces", ...
 // Whether a field moves with the grains when they are renumbered (grid and pair fields do not:

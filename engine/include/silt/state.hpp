@@ -45,7 +45,7 @@ namespace silt {
   X(dem,   double,  particle_disp,   kGrainVec,    "m",     "displacement relative to the affine flow since the last neighbour build; kick_drift") \
   /* ---- dem: walls */                                                                                        \
   X(dem,   double,  wall_f,          kGrainWallVec, "N",    "force on the grain from each wall this step; wall_forces") \
-  X(dem,   double,  particle_t_wall, kGrainRot,    "N m",   "torque from the walls this step; wall_forces")    \
+  X(dem,   double,  particle_t_wall, kGrainRotWalls, "N m", "torque from the walls this step; wall_forces")    \
   X(dem,   double,  wall_hist,       kGrainWallVec, "m",    "grain-wall tangential spring elongation; wall_forces") \
   /* ---- dem: neighbour pairs, a half Verlet list in CSR form: row i holds j > i sorted */                  \
   X(dem,   int32_t, nbr_start,       kRowStart,    "",      "first pair of row i; update_neighbors")           \
