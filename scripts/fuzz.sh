@@ -7,7 +7,7 @@ seconds=${1:-20}
 out=build-fuzz
 mkdir -p "$out/corpus"
 clang++ -std=c++20 -O1 -g -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined \
-  -I. -Iengine tests/fuzz/command_parser_fuzz.cpp shell/command_parser.cpp engine/core/text.cpp \
+  -I. -Iengine -Iengine/include tests/fuzz/command_parser_fuzz.cpp shell/command_parser.cpp engine/core/text.cpp \
   -o "$out/command_parser_fuzz"
 # Seeds: every line of the shipped scripts.
 n=0
