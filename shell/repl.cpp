@@ -6,6 +6,15 @@
 // background run's messages. Ctrl-C during a foreground run pauses it at the next step boundary
 // (and abandons a sourced script); at the prompt it clears the line.
 //
+// Without a terminal on standard input (a pipe, a file, a scheduler's job) there is no line
+// editing at all: lines are read as they are, a control character is part of the line, and
+// nothing of readline runs (its callback interface crashes on some key sequences, below).
+//
+// On a terminal, the key sequences that crash GNU readline 8.2's callback interface are unbound:
+// the incremental history searches (Ctrl-R, Ctrl-S), which Ctrl-X and another key then crash, and
+// keyboard macros (Ctrl-X ( ) e), which crash when they hold a newline. The arrow keys still walk
+// the history, and a prefix of the line walks it with Page Up/Down.
+//
 // Two libraries in the process export the rl_* symbols: GNU readline, which silt links, and
 // libedit, which Mesa's llvmpipe (OSMesa -> libLLVM) brings in. The dynamic linker binds each
 // symbol to the first library in breadth-first load order; readline is a direct dependency of the
@@ -18,10 +27,12 @@
 #include <sys/select.h>
 #include <unistd.h>
 
+#include <cerrno>
 #include <csignal>
 #include <cstdlib>
 #include <cstring>
 #include <iostream>
+#include <utility>
 
 #include "shell/commands.hpp"
 #include "shell/session.hpp"
@@ -96,6 +107,60 @@ char** completion(const char* text, int, int) {
   return rl_completion_matches(text, completion_generator);
 }
 
+// Unbinds the key sequences that crash readline's callback interface (see above).
+void unbind_crashing_keys() {
+  for (Keymap map : {emacs_standard_keymap, vi_insertion_keymap, vi_movement_keymap})
+    for (const char* seq : {"\\C-r", "\\C-s"}) rl_bind_keyseq_in_map(seq, nullptr, map);
+  for (const char* seq : {"\\C-x(", "\\C-x)", "\\C-xe"}) rl_bind_keyseq_in_map(seq, nullptr, emacs_standard_keymap);
+  rl_bind_keyseq("\\e[5~", rl_history_search_backward);  // Page Up: history with this prefix
+  rl_bind_keyseq("\\e[6~", rl_history_search_forward);
+}
+
+// The shell without a terminal: plain lines (a pipe, a file), a background run's messages
+// printed between them, Ctrl-C (SIGINT) pausing a run as on a terminal.
+int plain_lines(shell::Session& session) {
+  std::string buf;
+  bool eof = false;
+  while (!session.quit_requested()) {
+    const auto messages = session.take_messages();
+    for (const auto& m : messages) std::cout << m << "\n";
+    if (!messages.empty()) std::cout << std::flush;
+    const auto nl = buf.find('\n');
+    if (nl != std::string::npos) {
+      std::string line = buf.substr(0, nl);
+      buf.erase(0, nl + 1);
+      if (!line.empty() && line.back() == '\r') line.pop_back();
+      session.execute(line);
+      char drain[64];  // a Ctrl-C that paused the command is spent
+      while (::read(g_pipe[0], drain, sizeof drain) > 0) {
+      }
+      continue;
+    }
+    if (eof) {
+      if (!buf.empty()) session.execute(std::exchange(buf, std::string()));
+      break;
+    }
+    fd_set fds;
+    FD_ZERO(&fds);
+    FD_SET(STDIN_FILENO, &fds);
+    FD_SET(g_pipe[0], &fds);
+    timeval tv{0, 200000};
+    const int r = select(std::max(STDIN_FILENO, g_pipe[0]) + 1, &fds, nullptr, nullptr, &tv);
+    if (r > 0 && FD_ISSET(g_pipe[0], &fds)) {
+      char drain[64];
+      (void)!::read(g_pipe[0], drain, sizeof drain);
+    }
+    if (r > 0 && FD_ISSET(STDIN_FILENO, &fds)) {
+      char chunk[4096];
+      const ssize_t n = ::read(STDIN_FILENO, chunk, sizeof chunk);
+      if (n > 0) buf.append(chunk, static_cast<size_t>(n));
+      else if (n == 0 || errno != EINTR) eof = true;
+    }
+  }
+  session.execute("quit");
+  return 0;
+}
+
 }  // namespace
 
 int shell_command(const std::string& scene, int threads) {
@@ -108,9 +173,19 @@ int shell_command(const std::string& scene, int threads) {
   sa.sa_handler = on_shell_sigint;
   sigemptyset(&sa.sa_mask);
   sigaction(SIGINT, &sa, nullptr);
+  if (!::isatty(STDIN_FILENO)) {
+    if (!scene.empty()) session.execute("load \"" + scene + "\"");
+    const int code = plain_lines(session);
+    g_session = nullptr;
+    ::close(g_pipe[0]);
+    ::close(g_pipe[1]);
+    return code;
+  }
   rl_catch_signals = 0;
   rl_attempted_completion_function = completion;
   rl_readline_name = "silt";
+  rl_initialize();
+  unbind_crashing_keys();
   using_history();
   read_history(history_path().c_str());
   stifle_history(kHistoryLines);

@@ -150,3 +150,50 @@ TEST_CASE("tab completes file names only where a command takes a file") {
   t.type("quit\n");
   CHECK(t.wait_exit() == 0);
 }
+
+TEST_CASE("on a terminal, the key sequences that crash readline's callback interface do nothing") {
+  TempDir home;
+  Terminal t(silt::test::scene_path("collision_normal"), home.path());
+  REQUIRE(!t.read_until("silt[t=0]> ").empty());
+  t.type("\x12\x18"
+         "a\x15");  // Ctrl-R, Ctrl-X, a: a segmentation fault in GNU readline 8.2; Ctrl-U clears the line
+  t.type("\x18(\n\n\x18)\x18" "e\x15");  // a keyboard macro holding newlines, played
+  t.type("print step\n");
+  CHECK(!t.read_until("step = 0").empty());
+  t.type("quit\n");
+  CHECK(t.wait_exit() == 0);
+}
+
+TEST_CASE("without a terminal the shell reads plain lines: control characters are part of them") {
+  TempDir dir;
+  const std::string bin = silt::test::silt_binary();
+  auto shell = [&](const std::string& input) {
+    std::ofstream(dir / "in.txt", std::ios::binary) << input;
+    const std::string cmd = bin + " shell " + silt::test::scene_path("collision_normal") + " < " + (dir / "in.txt") +
+                            " > " + (dir / "out.txt") + " 2>&1";
+    const int status = std::system(cmd.c_str());
+    return std::make_pair(WIFEXITED(status) ? WEXITSTATUS(status) : -1, read_text(dir / "out.txt"));
+  };
+  // Ctrl-R, Ctrl-X and a letter, as `printf '\x12\x18a' | silt shell` sends them.
+  auto [code, out] = shell("\x12\x18"
+                           "a");
+  CHECK(code == 0);
+  CHECK(contains(out, "control character"));
+  // Ctrl-A is not "beginning of line": the line is not "xhelp".
+  std::tie(code, out) = shell("help\x01x\nprint step\n");
+  CHECK(code == 0);
+  CHECK(contains(out, "control character"));
+  CHECK_FALSE(contains(out, "xhelp"));
+  CHECK(contains(out, "step = 0"));
+  // Random bytes: never a crash nor a hang.
+  std::string noise;
+  uint64_t x = 88172645463325252ull;
+  for (int k = 0; k < 20000; ++k) {
+    x ^= x << 13;
+    x ^= x >> 7;
+    x ^= x << 17;
+    noise.push_back(static_cast<char>(x & 0xff));
+  }
+  std::tie(code, out) = shell(noise);
+  CHECK(code == 0);
+}
