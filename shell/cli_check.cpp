@@ -16,9 +16,12 @@ int check_command(const CheckArgs& a) {
   sim.prepare();
   const State& s = sim.state();
   std::cout << "step graph\n" << sim.describe_graph();
-  const double bytes = static_cast<double>(state_bytes(s));
-  std::printf("memory       %.3g MiB for the state (%.0f bytes per grain), %lld neighbour pairs\n", bytes / (1 << 20),
-              bytes / std::max<int64_t>(1, s.n), static_cast<long long>(s.n_pairs()));
+  const double state = static_cast<double>(state_bytes(s)), all = static_cast<double>(sim.memory_bytes());
+  std::printf(
+      "memory       %.3g MiB estimated before the start; %.3g MiB held now: %.3g MiB for the state (%.0f bytes "
+      "per grain), the rest for the restart point, cell lists and pair schedule; %lld neighbour pairs\n",
+      estimated_memory_bytes(sim.model()) / (1 << 20), all / (1 << 20), state / (1 << 20),
+      state / std::max<int64_t>(1, s.n), static_cast<long long>(s.n_pairs()));
   std::cout << "ok\n";
   return 0;
 }

@@ -31,6 +31,7 @@ std::string input_file_problem(const std::string& path) {
   const auto st = std::filesystem::status(path, ec);
   if (!std::filesystem::exists(st)) return "cannot read '" + path + "': no such file";
   if (std::filesystem::is_directory(st)) return "'" + path + "' is a directory, not a file";
+  if (!std::filesystem::is_regular_file(st)) return "'" + path + "' is not a regular file (a device, a pipe)";
   return "";
 }
 

@@ -16,6 +16,7 @@ class Workspace {
  public:
   virtual ~Workspace() = default;
   virtual void invalidate() = 0;
+  virtual size_t bytes() const = 0;  // held, for memory reports
 };
 
 class Workspaces {
@@ -30,6 +31,11 @@ class Workspaces {
   }
   void invalidate() {
     for (auto& item : items_) item.second->invalidate();
+  }
+  size_t bytes() const {
+    size_t b = 0;
+    for (const auto& item : items_) b += item.second->bytes();
+    return b;
   }
 
  private:

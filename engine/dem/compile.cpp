@@ -125,8 +125,35 @@ void refresh_frozen(Model& m) {
   setup_energy_scale(m);
 }
 
-void finish_dem(const SceneDesc&, Model& m) {
+// Initial velocities no scene can have: a grain that crosses the whole domain in one time step
+// (a speed of 1e308, say) is not simulated, it is thrown away, and every neighbour build after
+// it would span the distance.
+void check_initial_speeds(const SceneDesc& d, const Model& m) {
+  double extent = 0;
+  for (int k = 0; k < m.dim; ++k) extent = std::max(extent, m.box.len[k]);
+  for (int64_t i = 0; i < m.n_grains; ++i) {
+    if (m.init.frozen[i]) continue;
+    double v2 = 0;
+    for (int k = 0; k < m.dim; ++k) v2 += m.init.v[m.dim * i + k] * m.init.v[m.dim * i + k];
+    const double v = std::sqrt(v2);
+    if (!(v * m.dt <= extent)) {
+      const std::string p = "grains[" + std::to_string(m.init.group[i]) + "].";
+      d.fail(d.has(p + "velocities") ? p + "velocities" : (d.has(p + "temperature") ? p + "temperature" : "run.dt"),
+             "grain " + std::to_string(i) + " starts at " + fmt_(v) + " m/s: it would cross the whole domain (" +
+                 fmt_(extent) + " m) in one time step of " + fmt_(m.dt) + " s: reduce its speed or run.dt");
+    }
+  }
+}
+
+void finish_dem(const SceneDesc& d, Model& m) {
+  check_initial_speeds(d, m);
   setup_energy_scale(m);
+  if (!std::isfinite(m.limits.energy_scale))
+    d.fail("limits.energy_factor", "the energy the scene can supply is not finite (its grains, heights or pressure)");
+  // With the radii and the skin known: their pairs too.
+  const int last = d.group_count("grains") - 1;
+  const std::string p = "grains[" + std::to_string(last) + "].";
+  check_memory(d, m, m.n_grains, d.has(p + "count") ? p + "count" : p + "placement");
   check_initial_overlaps(m);
 }
 

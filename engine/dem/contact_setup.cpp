@@ -5,6 +5,7 @@
 #include <numbers>
 
 #include "dem/contact_laws.hpp"
+#include "silt/text.hpp"
 
 namespace silt {
 
@@ -64,7 +65,6 @@ double contact_time(const ContactParams& p, double m_eff, double r_eq, double ma
 }
 
 void derive_contact_scales(const SceneDesc& d, Model& m) {
-  (void)d;
   // Lightest pair: the two lightest free grains, or one free grain against a wall or a frozen
   // grain (m* = m) when it is alone.
   std::vector<double> free_mass;
@@ -111,6 +111,15 @@ void derive_contact_scales(const SceneDesc& d, Model& m) {
   for (const ContactParams& p : m.pair_contact) limit_of(p, m.m_eff_min, r_eq);
   const double m_free = free_mass[0];  // the lightest free grain against a wall
   for (const ContactParams& p : m.wall_contact) limit_of(p, m_free, 2.0 * m.r_min);
+  // Numbers at the ends of the doubles' range (a tiny radius, a huge modulus) can make these 0,
+  // infinite or NaN: a scene that cannot be integrated.
+  for (const auto& [name, value] :
+       {std::pair{"contact time", m.t_contact}, std::pair{"stiffness", m.k_max},
+        std::pair{"stability limit of the time step", m.dt_stable}, std::pair{"reduced mass", m.m_eff_min}})
+    if (!(value > 0) || !std::isfinite(value))
+      d.fail("contact.model", std::string("the contacts' ") + name + " is " + format_number(value) +
+                                  " with these grains and this law: it must be finite and positive (check the radii, "
+                                  "densities and the law's parameters)");
 }
 
 }  // namespace silt::dem

@@ -13,6 +13,7 @@
 #include <unordered_map>
 
 #include "core/rng.hpp"
+#include "dem/module.hpp"
 #include "io/checkpoint_file.hpp"
 #include "silt/text.hpp"
 
@@ -154,13 +155,17 @@ std::vector<double> lattice_sites(const SceneDesc& d, const Model& m, int g, con
   std::vector<double> origin(D, 0.0);
   if (d.has(key(g, "lattice_origin"))) origin = d.reals(key(g, "lattice_origin"));
   if (static_cast<int>(origin.size()) != D) d.fail(key(g, "lattice_origin"), "needs " + std::to_string(D) + " entries");
+  // The cells to scan, counted in floating point first: a tiny spacing must not overflow them.
+  double cells = static_cast<double>(basis.size());
+  for (int k = 0; k < D; ++k) cells *= std::ceil((G.hi[k] - G.lo[k]) / cell[k]) + 3;
+  if (!(cells <= 200'000'000))
+    d.fail(key(g, "spacing"), "lattice spacing too small for the region (more than 2e8 sites to scan)");
+  check_memory(d, m, static_cast<int64_t>(cells), key(g, "spacing"));
   int64_t first[3] = {0, 0, 0}, n[3] = {1, 1, 1};
   for (int k = 0; k < D; ++k) {
     first[k] = static_cast<int64_t>(std::floor((G.lo[k] - origin[k]) / cell[k])) - 1;
     n[k] = static_cast<int64_t>(std::ceil((G.hi[k] - G.lo[k]) / cell[k])) + 3;
   }
-  if (n[0] * n[1] * n[2] * static_cast<int64_t>(basis.size()) > 200'000'000)
-    d.fail(key(g, "spacing"), "lattice spacing too small for the region");
   std::vector<double> sites;
   for (int64_t iz = 0; iz < n[2]; ++iz)
     for (int64_t iy = 0; iy < n[1]; ++iy)
@@ -412,6 +417,7 @@ void setup_grains(const SceneDesc& d, Model& m) {
   const int D = m.dim;
   const uint64_t seed = static_cast<uint64_t>(d.integer("scene.seed"));
   std::vector<Group> groups(n_groups);
+  int64_t counted = 0;
   // Pass 1: counts and radii (random placement needs the largest radius of all groups).
   for (int g = 0; g < n_groups; ++g) {
     Group& G = groups[g];
@@ -426,6 +432,10 @@ void setup_grains(const SceneDesc& d, Model& m) {
     G.placement = d.string(key(g, "placement"));
     G.frozen = d.boolean(key(g, "frozen"));
     G.count = group_count(d, m, g, G);
+    // Before anything is allocated for them (their radii are not known yet: the footprint of
+    // grains of one size), with the groups before.
+    counted += G.count;
+    check_memory(d, m, counted, key(g, d.has(key(g, "count")) ? "count" : "placement"));
     Rng rng(seed, 2 * g);
     G.radius = draw_radii(d, m, g, G.count, rng);
   }
@@ -443,8 +453,19 @@ void setup_grains(const SceneDesc& d, Model& m) {
   I.group.clear();
   for (int g = 0; g < n_groups; ++g) {
     const Group& G = groups[g];
+    // A radius or a density at the ends of the doubles' range makes a mass of 0 or infinity.
+    std::string size_key = key(g, "radius");
+    for (const char* leaf : {"radius", "radius_min", "radius_max", "radii", "radius_list", "frozen_from"})
+      if (d.has(key(g, leaf))) {
+        size_key = key(g, leaf);
+        break;
+      }
     for (double r : G.radius) {
-      const double mass = G.density * grain_volume(D, r);
+      const double mass = G.density * grain_volume(D, r), inertia = mass * r * r;
+      if (!(mass > 0) || !std::isfinite(mass) || !(inertia > 0) || !std::isfinite(inertia))
+        d.fail(size_key, "a grain of radius " + fmt_(r) + " and density " + fmt_(G.density) + " has a mass of " +
+                             fmt_(mass) + " kg and a moment of inertia of " + fmt_(inertia) +
+                             ": both must be finite and positive");
       I.radius.push_back(r);
       I.mass.push_back(mass);
       I.inertia.push_back(D == 3 ? 0.4 * mass * r * r : 0.5 * mass * r * r);  // sphere, disk

@@ -38,6 +38,7 @@ constexpr int64_t kGrain = 1024;
 template <int D>
 struct DriftArgs {
   double dt, h, gd;
+  EventSlot* nonfinite;
   double lo[D], g[D], lambda[D];
   PeriodicImage<D> img;
   Box box;
@@ -89,6 +90,11 @@ std::array<double, 2> drift_range(const DriftArgs<D> a, int64_t b, int64_t e) {
     }
     // Shear flow at the mid-step height (second order).
     if constexpr (Affine) xi[0] += a.dt * a.gd * (x[D * i + 1] + 0.5 * a.dt * v[D * i + 1] - a.lo[1]);
+    // A position gone to NaN or infinity (from a non-finite force, or a grain thrown away) stops
+    // the run at this step, as a non-finite velocity does in the kick.
+    double xs = 0;
+    for (int k = 0; k < D; ++k) xs += xi[k];
+    if (!std::isfinite(xs)) a.nonfinite->raise(i, 0);
     a.img.wrap(xi, a.box);
     for (int k = 0; k < D; ++k) x[D * i + k] = xi[k];
     const double ii = a.inv_i[i];
@@ -106,6 +112,7 @@ void kick_drift_dim(const Model& m, State& s) {
   DriftArgs<D> a{s.dt,
                  0.5 * s.dt,
                  s.shear_rate,
+                 &s.events[event::kNonFinite],
                  {},
                  {},
                  {},

@@ -25,6 +25,9 @@
 namespace silt::dem {
 namespace {
 
+// The cell grid holds at most this many cells per grain, plus a constant.
+constexpr double kMaxCellsPerGrain = 4, kMaxCellsExtra = 4096;
+
 struct CellGrid {
   int n[3] = {1, 1, 1};
   double lo[3] = {0, 0, 0};
@@ -46,19 +49,22 @@ CellGrid make_grid(const Model& m, const State& s, double cutoff) {
   }
   for (int64_t i = 0; i < s.n; ++i)
     for (int k = 0; k < D; ++k) {
-      xmin[k] = std::min(xmin[k], s.particle_x[D * i + k]);
-      xmax[k] = std::max(xmax[k], s.particle_x[D * i + k]);
+      const double x = s.particle_x[D * i + k];
+      if (!std::isfinite(x)) continue;  // a grain gone to infinity (the step reports it) takes no cells
+      xmin[k] = std::min(xmin[k], x);
+      xmax[k] = std::max(xmax[k], x);
     }
-  // Keep the total number of cells bounded (a grain flying away must not allocate a huge grid):
-  // at most about 4 cells per grain plus a constant, by enlarging cells in the open directions.
-  const double cap = 4.0 * static_cast<double>(s.n) + 4096.0;
+  // Keep the total number of cells bounded (a grain flying away, or grains tiny against a long
+  // periodic box, must not allocate a huge grid): at most about 4 cells per grain plus a
+  // constant, by enlarging the cells, in every direction.
+  const double cap = kMaxCellsPerGrain * static_cast<double>(s.n) + kMaxCellsExtra;
   double size[3] = {cutoff, cutoff, cutoff};
-  for (int grow = 0; grow < 64; ++grow) {
+  for (int grow = 0; grow < 2100; ++grow) {
     double total = 1;
     for (int k = 0; k < D; ++k) {
       if (s.box.periodic[k]) {
         g.wrap[k] = true;
-        g.n[k] = std::max(1, static_cast<int>(std::floor(s.box.len[k] / cutoff)));
+        g.n[k] = static_cast<int>(std::clamp(std::floor(s.box.len[k] / size[k]), 1.0, 1e9));
         g.lo[k] = s.box.lo[k];
         g.inv_size[k] = g.n[k] / s.box.len[k];
       } else {
@@ -70,8 +76,7 @@ CellGrid make_grid(const Model& m, const State& s, double cutoff) {
       total *= g.n[k];
     }
     if (total <= cap) break;
-    for (int k = 0; k < D; ++k)
-      if (!s.box.periodic[k]) size[k] *= 2;
+    for (int k = 0; k < D; ++k) size[k] *= 2;
   }
   (void)m;
   if (s.box.lees_edwards) g.le_shift = s.box.le_offset * g.inv_size[0];
@@ -85,7 +90,9 @@ template <int D>
 int32_t cell_index(const CellGrid& g, const double* x) {
   int c[3] = {0, 0, 0};
   for (int k = 0; k < D; ++k) {
-    int q = static_cast<int>(std::floor((x[k] - g.lo[k]) * g.inv_size[k]));
+    // Clamped before the conversion: a coordinate far away (or not finite) is the edge cell.
+    const double f = std::floor((x[k] - g.lo[k]) * g.inv_size[k]);
+    int q = std::isfinite(f) ? static_cast<int>(std::clamp(f, -2e9, 2e9)) : 0;
     if (g.wrap[k]) {
       q %= g.n[k];
       if (q < 0) q += g.n[k];

@@ -29,6 +29,17 @@ struct DemWorkspace final : Workspace {
   double cand_strain = 0;  // nbr_strain at the selection
   int64_t cand_selections = 0;
 
+  size_t bytes() const override {
+    auto v = [](const auto& x) { return x.capacity() * sizeof(x[0]); };
+    size_t b = v(cell_of) + v(cell_start) + v(cell_items) + v(row_count) + v(old_start) + v(old_j) + v(old_hist) +
+               v(perm) + v(permute_buf) + v(cand_p) + v(cand_i) + v(cand_j) + v(cand_end);
+    for (const auto& c : chunk_j) b += v(c);
+    for (const auto* s :
+         {&schedule.blocks, &schedule.colour_start, &schedule.n_before, &schedule.after_start, &schedule.after,
+          &schedule.roots, &schedule.clears_start, &schedule.clears, &schedule.waiting})
+      b += v(*s);
+    return b;
+  }
   void invalidate() override {
     schedule_valid = false;
     candidates_valid = false;

@@ -18,6 +18,9 @@ class RestartPoint {
   void take(State& s);
   // The State taken.
   State give() const;
+  size_t bytes() const {
+    return state_bytes(base_) + held_.capacity() * 4 + (held_f_.capacity() + held_hist_.capacity()) * 8;
+  }
 
  private:
   State base_;                  // s without pair_i, pair_f and pair_hist

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "dem/module.hpp"
 #include "graph/restart_point.hpp"
 #include "graph/step_graph.hpp"
 #include "silt/observables.hpp"
@@ -48,6 +49,12 @@ std::vector<std::string> Simulation::stage_names() const {
 std::string Simulation::describe_graph() const { return impl_->step->describe(); }
 
 Workspaces& Simulation::workspaces() { return impl_->workspaces; }
+
+size_t Simulation::memory_bytes() const {
+  return state_bytes(state_) + impl_->restart.bytes() + impl_->workspaces.bytes();
+}
+
+double estimated_memory_bytes(const Model& m) { return dem::grains_memory_bytes(m, m.n_grains); }
 
 void Simulation::set_access_check(bool on) {
   impl_->step->set_access_check(on);

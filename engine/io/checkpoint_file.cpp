@@ -32,6 +32,8 @@ std::vector<char> read_checked(const std::string& path) {
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec)) throw IoError("'" + path + "' is a directory, not a checkpoint");
   if (!std::filesystem::exists(path, ec)) throw IoError("cannot read checkpoint '" + path + "': no such file");
+  if (!std::filesystem::is_regular_file(path, ec))
+    throw IoError("'" + path + "' is not a regular file (a device, a pipe): not a checkpoint");
   std::vector<char> buf;
   bool read = false;
   try {

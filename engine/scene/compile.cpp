@@ -17,6 +17,8 @@ std::string fmt_(double x) { return format_number(x, 6); }
 void setup_time(const SceneDesc& d, Model& m) {
   const bool abs = d.has("run.dt"), rel = d.has("run.dt_over_tc");
   m.dt = abs ? d.real("run.dt") : (rel ? d.real("run.dt_over_tc") : 0.02) * m.t_contact;
+  if (!(m.dt > 0) || !std::isfinite(m.dt))
+    d.fail(abs ? "run.dt" : "run.dt_over_tc", "the time step is " + fmt_(m.dt) + " s: it must be finite and positive");
   if (m.dt > m.dt_stable) {
     const std::string key = abs ? "run.dt" : "run.dt_over_tc";
     d.fail(key, "time step " + fmt_(m.dt) + " s exceeds the velocity-Verlet stability limit " + fmt_(m.dt_stable) +

@@ -1,6 +1,8 @@
 // TOML text -> SceneDesc: every value checked against the schema and kept with its location.
 #include <toml++/toml.h>
 
+#include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -51,6 +53,8 @@ std::string convert(const toml::node& n, const KeySpec& spec, const std::string&
     if (spec.range.contains(x)) return "";
     where = loc_of(at.source(), file);
     std::ostringstream o;
+    // nan and inf are TOML numbers, and no quantity of a scene.
+    if (!std::isfinite(x)) return "'" + path + "' = " + (std::isnan(x) ? "nan" : "inf") + " is not a finite number";
     o << "'" << path << "' = " << x << " is out of range " << spec.range.str()
       << (spec.unit.empty() ? "" : " " + spec.unit);
     return o.str();
@@ -106,6 +110,7 @@ std::string convert(const toml::node& n, const KeySpec& spec, const std::string&
         for (const toml::node& e : *row.as_array()) {
           auto x = as_number(e);
           if (!x) return type_error();
+          if (auto err = check_range(*x, e); !err.empty()) return err;
           v.push_back(*x);
         }
         m.push_back(std::move(v));
@@ -258,6 +263,16 @@ SceneDesc parse_scene(const std::string& text, const std::string& name, const st
 }
 
 SceneDesc load_scene_file(const std::string& path, const std::vector<Override>& overrides) {
+  // Only a regular file of a sane size: not a directory, a device that never ends (/dev/zero), a
+  // pipe, or gigabytes read into memory.
+  constexpr std::uintmax_t kMaxBytes = 64u << 20;
+  std::error_code ec;
+  const auto st = std::filesystem::status(path, ec);
+  if (!std::filesystem::exists(st)) throw IoError("cannot read scene file '" + path + "': no such file");
+  if (std::filesystem::is_directory(st)) throw IoError("'" + path + "' is a directory, not a scene file");
+  if (!std::filesystem::is_regular_file(st)) throw IoError("'" + path + "' is not a regular file (a device, a pipe)");
+  if (std::filesystem::file_size(path, ec) > kMaxBytes)
+    throw IoError("scene file '" + path + "' is larger than 64 MiB: not a scene");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw IoError("cannot read scene file '" + path + "'");
   std::ostringstream text;

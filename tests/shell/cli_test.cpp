@@ -8,41 +8,14 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "shell/cli_fixtures.hpp"
 #include "shell/shell_fixtures.hpp"
 #include "support/scenes.hpp"
 
-namespace {
-
-struct Result {
-  int code = -1;
-  std::string out;  // stdout and stderr
-};
-
-Result silt_cli(const std::string& args) {
-  Result r;
-  const std::string cmd = silt::test::silt_binary() + " " + args + " 2>&1";
-  std::FILE* p = popen(cmd.c_str(), "r");
-  char buf[4096];
-  size_t n;
-  while ((n = std::fread(buf, 1, sizeof buf, p)) > 0) r.out.append(buf, n);
-  const int status = pclose(p);
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
-}
-
-std::string write_file(const std::string& name, const std::string& text) {
-  std::ofstream(name) << text;
-  return name;
-}
-
-std::string read_file(const std::string& name) {
-  std::ifstream in(name);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-}  // namespace
+using silt::test::read_file;
+using silt::test::Result;
+using silt::test::silt_cli;
+using silt::test::write_file;
 
 TEST_CASE("silt check: a shipped scene, a bad one, a missing one") {
   const Result ok = silt_cli("check " + silt::test::scene_path("collision_normal"));

@@ -87,6 +87,8 @@ class Simulation {
   // them (a checkpoint saved now belongs to a new system, for [[grains]] frozen_from). Refused
   // (std::invalid_argument) under a deforming box. Returns how many were frozen.
   int64_t freeze(int axis, bool below, double value);
+  // Bytes held now: the state, the restart point, the modules' workspaces.
+  size_t memory_bytes() const;
   // The modules' workspaces (core/workspace.hpp), for tests and benchmarks that look inside.
   Workspaces& workspaces();
   // The access check of the serial executor (graph/access_check.hpp), on by default in the
@@ -101,6 +103,10 @@ class Simulation {
   int threads_;
   std::unique_ptr<Impl> impl_;
 };
+
+// Bytes a simulation of this model will need, estimated from its field list at a dense packing
+// (compile() refuses a scene whose estimate does not fit in the machine).
+double estimated_memory_bytes(const Model& m);
 
 // Preparation (Model::prepare): the model of the isotropic compression (no shear, every
 // periodic length controlled, until static), and the state it ends in, made ready for `m`:

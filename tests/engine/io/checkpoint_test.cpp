@@ -8,6 +8,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 
 #include "core/rng.hpp"
 #include "silt/io.hpp"
@@ -174,5 +175,34 @@ TEST_CASE("a checkpoint write that fails halfway leaves the previous file and no
   // Not into a directory either, and a directory is not read as one.
   CHECK_THROWS_WITH_AS(write_checkpoint(".", a->model(), a->state()), doctest::Contains("is a directory"), IoError);
   CHECK_THROWS_WITH_AS(read_checkpoint(".", a->model()), doctest::Contains("'.' is a directory"), IoError);
+  std::remove(path.c_str());
+}
+
+TEST_CASE("a checkpoint edited with its checksum recomputed is refused as corrupt, naming what is wrong") {
+  auto a = test::simulation_from(kScene, 1);
+  for (int k = 0; k < 30; ++k) REQUIRE(a->step());
+  REQUIRE(a->state().n_pairs() > 0);
+  const std::string path = "checkpoint_test_edit.ckpt";
+  // write_checkpoint writes whatever the state holds, with a right checksum: an edited file.
+  auto refused = [&](const std::function<void(State&)>& edit) {
+    State s = a->state();
+    edit(s);
+    write_checkpoint(path, a->model(), s);
+    try {
+      read_checkpoint(path, a->model());
+    } catch (const IoError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  CHECK(refused([](State& s) { s.pair_j[0] = 1000000; }).find("corrupt: pair 0") != std::string::npos);
+  CHECK(refused([](State& s) { s.particle_x.clear(); }).find("corrupt: particle_x has 0 entries") != std::string::npos);
+  CHECK(refused([](State& s) { s.particle_v[4] = std::nan(""); }).find("particle_v[4] is not finite") !=
+        std::string::npos);
+  CHECK(refused([](State& s) { s.particle_id[3] = s.particle_id[4]; }).find("particle_id") != std::string::npos);
+  CHECK(refused([](State& s) { s.nbr_start[5] = -3; }).find("corrupt") != std::string::npos);
+  CHECK(refused([](State& s) { s.box.len[0] = 0; }).find("the box") != std::string::npos);
+  CHECK(refused([](State& s) { s.pair_hist.pop_back(); }).find("pair_hist has") != std::string::npos);
+  CHECK(refused([](State&) {}).empty());  // the unedited state is fine
   std::remove(path.c_str());
 }

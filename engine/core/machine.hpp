@@ -1,0 +1,12 @@
+// What the machine offers: the memory a run may take.
+#pragma once
+
+#include <cstdint>
+
+namespace silt {
+
+// Bytes of memory available to a new allocation now (MemAvailable of /proc/meminfo; the physical
+// memory where that is not known).
+double available_memory_bytes();
+
+}  // namespace silt
