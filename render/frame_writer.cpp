@@ -5,6 +5,7 @@
 #include <condition_variable>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <mutex>
 #include <optional>
 #include <thread>
@@ -76,6 +77,17 @@ FrameWriter::FrameWriter(std::string dir, int threads) : impl_(std::make_unique<
     throw IoError("cannot create the frame directory '" + dir + "': " + std::strerror(errno));
   struct stat st {};
   if (::stat(dir.c_str(), &st) != 0 || !S_ISDIR(st.st_mode)) throw IoError("'" + dir + "' is not a directory");
+  // An earlier run's frames in the directory would mix with this run's in a film: remove them
+  // (only silt's own names, frame_NNNNNN.png).
+  std::error_code ec;
+  for (const auto& e : std::filesystem::directory_iterator(dir, ec)) {
+    const std::string name = e.path().filename().string();
+    if (name.size() == 16 && name.rfind("frame_", 0) == 0 && name.compare(12, 4, ".png") == 0 &&
+        name.find_first_not_of("0123456789", 6) == 12 && e.is_regular_file(ec)) {
+      std::filesystem::remove(e.path(), ec);
+      ++removed_;
+    }
+  }
   impl_->dir = std::move(dir);
   impl_->threads = threads;
   impl_->worker = std::thread([this] { impl_->run(); });

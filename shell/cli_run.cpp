@@ -10,6 +10,7 @@
 #include "shell/commands.hpp"
 #include "shell/progress.hpp"
 #include "shell/scene_loading.hpp"
+#include "shell/stop_signals.hpp"
 #include "silt/io.hpp"
 #include "silt/observables.hpp"
 #include "silt/render.hpp"
@@ -20,7 +21,6 @@ namespace silt::cli {
 namespace {
 
 std::atomic<bool> g_interrupt{false};
-extern "C" void on_sigint(int) { g_interrupt.store(true); }
 
 std::vector<std::string> split_names(const std::string& list) {
   std::vector<std::string> out;
@@ -32,17 +32,28 @@ std::vector<std::string> split_names(const std::string& list) {
 }
 
 // Procedure O before the run (Model::prepare): the prepared packing replaces the initial state.
-// Returns an exit code, 0 when the run can go on; `warning` is set when the packing is not static.
-int prepare(Simulation& sim, const RunArgs& a, std::string& warning) {
+// Returns an exit code, 0 when the run can go on; a failure or an interruption is written up by
+// the job (summary, last good state). `warning` is set when the packing is not static.
+int prepare(Simulation& sim, const RunArgs& a, RunJob& job, std::string& warning) {
   const Model& model = sim.model();
   PreparationReport prep;
   g_interrupt = false;
-  std::signal(SIGINT, on_sigint);
-  if (!a.quiet) std::cerr << "silt: preparing: isotropic compression at P = " << model.box_control.pressure << "\n";
-  sim.restore(prepare_packing(model, a.threads, &prep, &g_interrupt));
-  std::signal(SIGINT, SIG_DFL);
-  if (prep.end == RunEnd::kFailed) return report_error("numerical failure during the preparation: " + prep.failure, 3);
-  if (prep.end == RunEnd::kInterrupted) return report_error("interrupted during the preparation", 130);
+  State packed;
+  {
+    StopSignals stop(&g_interrupt);
+    if (!a.quiet) std::cerr << "silt: preparing: isotropic compression at P = " << model.box_control.pressure << "\n";
+    packed = prepare_packing(model, a.threads, &prep, &g_interrupt);
+  }
+  if (prep.end == RunEnd::kFailed || prep.end == RunEnd::kInterrupted) {
+    if (prep.end == RunEnd::kFailed)
+      std::cerr << "silt: numerical failure during the preparation: " << prep.failure << "\n";
+    else std::cerr << "silt: interrupted during the preparation\n";
+    const int code = job.finish_preparation(prep, StopSignals::exit_code());
+    if (!job.last_good_path().empty())
+      std::cerr << "silt: the compression's last good state written to " << job.last_good_path() << "\n";
+    return code;
+  }
+  sim.restore(std::move(packed));
   if (!a.quiet)
     std::fprintf(stderr, "silt: prepared in %lld steps (%.1f s): phi = %.5f%s\n", static_cast<long long>(prep.steps),
                  prep.wall_s, measure(model, sim.state()).phi, prep.end == RunEnd::kStatic ? ", static" : "");
@@ -82,7 +93,6 @@ int run_command(const RunArgs& a) {
   } catch (const std::invalid_argument& e) {
     return report_error(std::string("--observe: ") + e.what(), 1);
   }
-  std::string prep_warning;
   std::vector<std::string> restore_warnings;  // parameters of the checkpoint's run that differ
   Simulation sim(std::move(m), a.threads);
   const Model& model = sim.model();
@@ -93,14 +103,17 @@ int run_command(const RunArgs& a) {
       return report_error(e.what(), 4);
     }
     for (const std::string& w : restore_warnings) std::cerr << "silt: warning: " << w << "\n";
-  } else if (model.prepare.compress) {
-    if (const int prep_code = prepare(sim, a, prep_warning); prep_code != 0) return prep_code;
   }
+  // Every output is opened or checked before the first step (of the preparation too).
   std::optional<RunJob> job;
   try {
     job.emplace(sim, jo);
   } catch (const IoError& e) {
     return report_error(e.what(), 4);
+  }
+  std::string prep_warning;
+  if (a.restore.empty() && model.prepare.compress) {
+    if (const int prep_code = prepare(sim, a, *job, prep_warning); prep_code != 0) return prep_code;
   }
   std::unique_ptr<render::FrameWriter> frames;
   if (!a.frames.empty()) {
@@ -126,7 +139,7 @@ int run_command(const RunArgs& a) {
   for (const std::string& w : restore_warnings) job->add_warning(w);
 
   g_interrupt = false;
-  std::signal(SIGINT, on_sigint);
+  StopSignals stop(&g_interrupt);
   Progress progress(!a.quiet && ::isatty(2), sim.state().step, sim.steps_for(opt), model.n_grains);
   opt.interrupt = &g_interrupt;
   opt.stop_when_static = model.until_static.on;
@@ -138,18 +151,16 @@ int run_command(const RunArgs& a) {
     frames->finish();
     if (frame_error.empty()) frame_error = frames->error();
     if (!frame_error.empty()) job->add_output_error("frames stopped (the run went on): " + frame_error);
+    if (frames->removed() > 0)
+      std::cerr << "silt: " << frames->removed() << " frame(s) of an earlier run removed from " << a.frames << "\n";
   }
-  std::signal(SIGINT, SIG_DFL);
   if (rep.end == RunEnd::kFailed) std::cerr << "silt: numerical failure at " << sim.state().failure.message << "\n";
-  try {
-    code = job->finish(rep);
-  } catch (const IoError& e) {
-    return report_error(e.what(), 4);
-  }
+  if (rep.end == RunEnd::kInterrupted && StopSignals::caught() == SIGTERM)
+    std::cerr << "silt: terminated (SIGTERM): stopped at step " << sim.state().step << ", outputs written\n";
+  code = job->finish(rep, StopSignals::exit_code());
   if (!job->last_good_path().empty())
     std::cerr << "silt: last good state (step " << sim.state().failure.step - 1 << ") written to "
               << job->last_good_path() << "\n";
-  if (!frame_error.empty()) report_error("frames stopped (the run went on): " + frame_error, 4);
   const double rate = rep.wall_s > 0 ? model.n_grains * static_cast<double>(rep.steps_done) / rep.wall_s : 0;
   std::printf("%s: %lld steps (t = %.6g s) in %.3f s, %.4g grain-steps/s on %d thread(s); status %s\n", a.scene.c_str(),
               static_cast<long long>(rep.steps_done), sim.state().t, rep.wall_s, rate, sim.threads(),

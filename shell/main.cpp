@@ -3,6 +3,7 @@
 #include <CLI/CLI.hpp>
 #include <iostream>
 
+#include "shell/cli_options.hpp"
 #include "shell/commands.hpp"
 #include "silt/scene.hpp"
 
@@ -16,25 +17,26 @@ int main(int argc, char** argv) {
   auto* r = app.add_subcommand("run", "Run a scene headless (the main job)");
   r->add_option("scene", run.scene, "Scene file (TOML)")->required();
   r->add_option("--set", run.sets, "Override a scene value: KEY=VALUE (dotted TOML path); repeatable");
-  auto* steps =
-      r->add_option("--steps", run.steps, "Run length in steps (overrides [run])")->check(CLI::NonNegativeNumber);
-  r->add_option("--time", run.time, "Run length in simulated seconds (overrides [run])")
+  auto* steps = r->add_option("--steps", run.steps, "Run length in steps (overrides [run]): 1000, 1e3")
+                    ->transform(whole_number(0));
+  r->add_option("--time", run.time, "Run length in simulated seconds (overrides [run]): 0.5, 0.5s")
       ->excludes(steps)
-      ->check(CLI::NonNegativeNumber);
+      ->transform(seconds());
   r->add_option("--threads", run.threads, "Worker threads (default: all cores; 1 = serial reference)")
-      ->check(CLI::PositiveNumber);
+      ->transform(whole_number(1, kMaxThreads));
   r->add_option("--stats", run.stats, "Time series of observables (CSV)");
   r->add_option("--observe", run.observe, "Comma-separated observables (default: the scene's [output] list)");
-  r->add_option("--every", run.every, "Sample every N steps (default: the scene's)")->check(CLI::PositiveNumber);
+  r->add_option("--every", run.every, "Sample every N steps (default: the scene's)")->transform(whole_number(1));
   r->add_option("--summary", run.summary, "Summary JSON written at the end");
-  r->add_option("--average-from", run.average_from, "Means and errors over samples with t >= T");
+  r->add_option("--average-from", run.average_from, "Means and errors over samples with t >= T")
+      ->transform(finite_number());
   r->add_flag("--quiet", run.quiet, "No progress line");
   r->add_option("--frames", run.frames, "Write PNG frames DIR/frame_000000.png, ... (the scene's [render] settings)");
   r->add_option("--frame-every", run.frame_every, "One frame every N steps (default: render.every, else output.every)")
-      ->check(CLI::PositiveNumber);
+      ->transform(whole_number(1));
   r->add_option("--vtk", run.vtk, "Write VTK files for ParaView/OVITO to DIR (grains .vtu, contacts .vtp, index.pvd)");
   r->add_option("--vtk-every", run.vtk_every, "VTK files every N steps (default: output.every)")
-      ->check(CLI::PositiveNumber);
+      ->transform(whole_number(1));
   r->add_option("--restore", run.restore,
                 "Start from a checkpoint of the same grains (a prepared packing, a .last_good.ckpt)");
   r->add_option("--save", run.save, "Checkpoint of the final state (written atomically)");
@@ -43,13 +45,15 @@ int main(int argc, char** argv) {
   auto* c = app.add_subcommand("check", "Validate a scene and print the compiled model");
   c->add_option("scene", check.scene, "Scene file (TOML)")->required();
   c->add_option("--set", check.sets, "Override a scene value: KEY=VALUE; repeatable");
-  c->add_option("--threads", check.threads, "Threads used to build the neighbour list")->check(CLI::PositiveNumber);
+  c->add_option("--threads", check.threads, "Threads used to build the neighbour list")
+      ->transform(whole_number(1, kMaxThreads));
 
   std::string shell_scene;
   int shell_threads = 0;
   auto* sh = app.add_subcommand("shell", "Interactive shell: load, run, steer, render, save");
   sh->add_option("scene", shell_scene, "Scene file to load first");
-  sh->add_option("--threads", shell_threads, "Worker threads (default: all cores)")->check(CLI::PositiveNumber);
+  sh->add_option("--threads", shell_threads, "Worker threads (default: all cores)")
+      ->transform(whole_number(1, kMaxThreads));
 
   std::string script;
   bool keep_going = false;
@@ -57,7 +61,8 @@ int main(int argc, char** argv) {
   auto* pl = app.add_subcommand("play", "Play a script of shell commands, non-interactively");
   pl->add_option("script", script, "Script (.silt): one command per line, # comments")->required();
   pl->add_flag("--keep-going", keep_going, "Go on after an error (exit 2 at the end)");
-  pl->add_option("--threads", play_threads, "Worker threads (default: all cores)")->check(CLI::PositiveNumber);
+  pl->add_option("--threads", play_threads, "Worker threads (default: all cores)")
+      ->transform(whole_number(1, kMaxThreads));
 
   bool markdown = false;
   auto* p = app.add_subcommand("params", "List every scene key with type, default, range and unit");
@@ -70,10 +75,16 @@ int main(int argc, char** argv) {
     return code == 0 ? 0 : 1;
   }
   try {
-    if (r->parsed()) return run_command(run);
-    if (c->parsed()) return check_command(check);
-    if (sh->parsed()) return shell_command(shell_scene, shell_threads);
-    if (pl->parsed()) return play_command(script, keep_going, play_threads);
+    if (r->parsed()) {
+      run.threads = granted_threads(run.threads);
+      return run_command(run);
+    }
+    if (c->parsed()) {
+      check.threads = granted_threads(check.threads);
+      return check_command(check);
+    }
+    if (sh->parsed()) return shell_command(shell_scene, granted_threads(shell_threads));
+    if (pl->parsed()) return play_command(script, keep_going, granted_threads(play_threads));
     if (p->parsed()) {
       if (markdown) {
         std::cout << silt::schema_markdown();

@@ -1,14 +1,18 @@
 // `silt play SCRIPT`: the shell's commands from a file, each echoed with its line number.
 // Stops at the first error with "SCRIPT:LINE: message" and exit code 2, or 3 when a run failed
 // numerically (INTERFACE.md); --keep-going goes on and exits with that code at the end.
+// SIGINT or SIGTERM pauses the run going on at a step boundary, as in `silt run`; the script then
+// stops, its outputs are written (`quit`), and the exit code is the signal's (130, 143).
 // Relative input files are looked for in the current directory, then beside the script.
 #include <algorithm>
+#include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
 
 #include "shell/commands.hpp"
 #include "shell/session.hpp"
+#include "shell/stop_signals.hpp"
 
 namespace silt::cli {
 namespace {
@@ -24,6 +28,12 @@ bool flush_background(shell::Session& session, const std::string& where) {
   return false;
 }
 
+shell::Session* g_session = nullptr;
+std::atomic<bool> g_stop{false};
+void interrupt_session() {
+  if (g_session) g_session->interrupt();
+}
+
 }  // namespace
 
 int play_command(const std::string& script, bool keep_going, int threads) {
@@ -32,6 +42,9 @@ int play_command(const std::string& script, bool keep_going, int threads) {
   if (!in) return report_error("cannot read script '" + script + "'", 4);
   shell::Session session(std::cout, std::cerr, threads);
   session.set_script_dir(std::filesystem::path(script).parent_path().string());
+  g_session = &session;
+  g_stop = false;
+  StopSignals stop(&g_stop, interrupt_session);
   std::string line;
   int n = 0;
   int code = 0;
@@ -44,11 +57,17 @@ int play_command(const std::string& script, bool keep_going, int threads) {
     const std::string where = script + ":" + std::to_string(n);
     if (!session.execute(line, where)) failed(session.last_error_code());
     if (!flush_background(session, where)) failed(static_cast<int>(ExitCode::kNumerical));
+    if (g_stop) {
+      std::cerr << where << ": " << (StopSignals::caught() == SIGTERM ? "terminated (SIGTERM)" : "interrupted")
+                << ": the script stops here\n";
+      break;
+    }
     if ((code != 0 && !keep_going) || session.quit_requested()) break;
   }
   session.execute("quit");
   if (!flush_background(session, script + ":" + std::to_string(n))) failed(static_cast<int>(ExitCode::kNumerical));
-  return code;
+  g_session = nullptr;
+  return g_stop ? StopSignals::exit_code() : code;
 }
 
 }  // namespace silt::cli

@@ -4,7 +4,8 @@
 // readline's callback interface keeps the prompt alive while a background run prints: the loop
 // waits on stdin and on a self-pipe written by the SIGINT handler, with a timeout to print the
 // background run's messages. Ctrl-C during a foreground run pauses it at the next step boundary
-// (and abandons a sourced script); at the prompt it clears the line.
+// (and abandons a sourced script); at the prompt it clears the line. SIGTERM (a scheduler, a
+// closing terminal's session manager) pauses the run and ends the session as `quit` does, exit 143.
 //
 // Without a terminal on standard input (a pipe, a file, a scheduler's job) there is no line
 // editing at all: lines are read as they are, a control character is part of the line, and
@@ -69,7 +70,11 @@ int g_pipe[2] = {-1, -1};
 std::string g_pending;
 bool g_have_line = false, g_eof = false;
 
-extern "C" void on_shell_sigint(int) {
+volatile std::sig_atomic_t g_terminated = 0;
+
+// SIGINT pauses a run (or clears the line); SIGTERM also ends the session, as `quit` does.
+extern "C" void on_shell_signal(int sig) {
+  if (sig == SIGTERM) g_terminated = 1;
   if (g_session) g_session->interrupt();
   const char c = 'i';
   if (g_pipe[1] >= 0) (void)!::write(g_pipe[1], &c, 1);
@@ -121,7 +126,7 @@ void unbind_crashing_keys() {
 int plain_lines(shell::Session& session) {
   std::string buf;
   bool eof = false;
-  while (!session.quit_requested()) {
+  while (!session.quit_requested() && !g_terminated) {
     const auto messages = session.take_messages();
     for (const auto& m : messages) std::cout << m << "\n";
     if (!messages.empty()) std::cout << std::flush;
@@ -158,7 +163,7 @@ int plain_lines(shell::Session& session) {
     }
   }
   session.execute("quit");
-  return 0;
+  return g_terminated ? 128 + SIGTERM : 0;
 }
 
 }  // namespace
@@ -170,9 +175,10 @@ int shell_command(const std::string& scene, int threads) {
   if (::pipe(g_pipe) != 0) return report_error("cannot create a pipe", 4);
   ::fcntl(g_pipe[0], F_SETFL, O_NONBLOCK);
   struct sigaction sa {};
-  sa.sa_handler = on_shell_sigint;
+  sa.sa_handler = on_shell_signal;
   sigemptyset(&sa.sa_mask);
   sigaction(SIGINT, &sa, nullptr);
+  sigaction(SIGTERM, &sa, nullptr);
   if (!::isatty(STDIN_FILENO)) {
     if (!scene.empty()) session.execute("load \"" + scene + "\"");
     const int code = plain_lines(session);
@@ -221,6 +227,7 @@ int shell_command(const std::string& scene, int threads) {
       std::cout << std::flush;
       rl_forced_update_display();
     }
+    if (g_terminated) break;
     if (r > 0 && FD_ISSET(STDIN_FILENO, &fds)) rl_callback_read_char();
     if (g_eof) break;
     if (g_have_line) {
@@ -244,12 +251,12 @@ int shell_command(const std::string& scene, int threads) {
     }
   }
   rl_callback_handler_remove();
-  if (g_eof) std::cout << "\n";
+  if (g_eof || g_terminated) std::cout << "\n";
   session.execute("quit");
   g_session = nullptr;
   ::close(g_pipe[0]);
   ::close(g_pipe[1]);
-  return 0;
+  return g_terminated ? 128 + SIGTERM : 0;
 }
 
 }  // namespace silt::cli

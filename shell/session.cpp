@@ -155,7 +155,11 @@ void Session::install(Model m, const std::optional<State>& keep) {
   } else if (next->model().prepare.compress) {
     PreparationReport rep;
     interrupt_ = false;
-    next->restore(prepare_packing(next->model(), threads_, &rep, &interrupt_));
+    State packed = prepare_packing(next->model(), threads_, &rep, &interrupt_);
+    interrupt_ = false;
+    if (rep.end == RunEnd::kFailed)
+      throw std::runtime_error("the preparation (prepare.compress) failed: " + rep.failure + "; nothing was loaded");
+    next->restore(std::move(packed));
     out_ << "prepared: isotropic compression, " << rep.steps << " steps in " << rep.wall_s << " s"
          << (rep.end == RunEnd::kStatic ? ", static" : ", not static (prepare.max_steps or interrupted)") << "\n";
     interrupt_ = false;

@@ -43,6 +43,10 @@ State prepare_packing(const Model& m, int threads, PreparationReport* report, co
     report->wall_s = rep.wall_s;
     report->end = rep.end;
     report->failure = sim.state().failure.message;
+    if (rep.end == RunEnd::kFailed) {
+      report->failure_detail = sim.state().failure;
+      report->last_good = sim.last_good_state();
+    }
   }
   State s = sim.state();
   s.t = 0;

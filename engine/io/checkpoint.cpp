@@ -185,9 +185,7 @@ std::vector<std::pair<std::string, std::string>> scene_parameters(const SceneDes
 }
 
 void write_checkpoint(const std::string& path, const Model& m, const State& s) {
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec))
-    throw IoError("cannot write checkpoint '" + path + "': it is a directory");
+  check_output_path(path, "checkpoint", true);
   Writer w;
   w.bytes(ckpt::kMagic, sizeof ckpt::kMagic);
   w.put(ckpt::kVersion);

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
+#include <iostream>
 
 namespace silt {
 namespace {
@@ -13,6 +15,31 @@ std::string stem_of(const std::string& path) {
   return path.substr(0, dot);
 }
 
+// Where the last good state goes after a failure: NAME.last_good.ckpt beside the summary, else
+// beside the stats; "" when neither is a file (a device such as /dev/stdout is not).
+std::string last_good_path_for(const RunJobOptions& o) {
+  for (const std::string* p : {&o.summary, &o.stats}) {
+    std::error_code ec;
+    if (p->empty()) continue;
+    const auto st = std::filesystem::status(*p, ec);
+    if (std::filesystem::exists(st) && !std::filesystem::is_regular_file(st)) continue;
+    return stem_of(*p) + ".last_good.ckpt";
+  }
+  return "";
+}
+
+// Writes the last good state to `path`; returns whether it could.
+bool write_last_good(const std::string& path, const Model& m, const State& s, RunJob& job) {
+  if (path.empty()) return false;
+  try {
+    write_checkpoint(path, m, s);
+    return true;
+  } catch (const IoError& e) {
+    job.add_output_error(e.what());
+    return false;
+  }
+}
+
 }  // namespace
 
 RunJob::RunJob(Simulation& sim, RunJobOptions options) : sim_(sim), o_(std::move(options)) {
@@ -21,9 +48,41 @@ RunJob::RunJob(Simulation& sim, RunJobOptions options) : sim_(sim), o_(std::move
   if (o_.observe.empty()) o_.observe = m.observe;
   if (o_.every <= 0) o_.every = m.sample_every;
   observer_.emplace(m, o_.observe);  // throws std::invalid_argument naming a bad observable
+  check_output_path(o_.summary, "summary");
+  check_output_path(o_.save, "checkpoint", true);
   if (!o_.series) stats_.emplace(o_.stats, o_.observe);
   if (!o_.vtk.empty()) vtk_ = std::make_unique<VtkWriter>(o_.vtk);
-  if (m.profile.axis >= 0) {
+}
+
+RunJob::~RunJob() = default;
+
+void RunJob::add_output_error(std::string e) {
+  std::cerr << "silt: " << e << "\n";
+  output_errors_.push_back(std::move(e));
+}
+
+const char* RunJob::status(RunEnd end) {
+  switch (end) {
+    case RunEnd::kDone: return "ok";
+    case RunEnd::kStatic: return "static";
+    case RunEnd::kInterrupted: return "interrupted";
+    case RunEnd::kFailed: return "failed";
+  }
+  return "?";
+}
+
+// One sample of the state, unless the series already holds this step (the end of the shell's
+// last run is the start of its next).
+void RunJob::sample(const State& s) {
+  StatsWriter& series = o_.series ? *o_.series : *stats_;
+  if (series.last_step() == s.step && !series.rows().empty()) return;
+  series.add(observer_->sample(sim_.model(), s), s.t, s.step);
+}
+
+RunReport RunJob::run(RunOptions opt) {
+  const Model& m = sim_.model();
+  // The velocity profile, its slabs set at the start of the run (a prepared box has its own size).
+  if (m.profile.axis >= 0 && profiles_.empty()) {
     profile_axis_ = m.profile.axis;
     profile_component_ = m.profile.component;
     profile_slabs_ = m.profile.slabs > 0
@@ -38,25 +97,7 @@ RunJob::RunJob(Simulation& sim, RunJobOptions options) : sim_(sim), o_(std::move
                          {},
                          {}});
   }
-}
-
-RunJob::~RunJob() = default;
-
-const char* RunJob::status(RunEnd end) {
-  switch (end) {
-    case RunEnd::kDone: return "ok";
-    case RunEnd::kStatic: return "static";
-    case RunEnd::kInterrupted: return "interrupted";
-    case RunEnd::kFailed: return "failed";
-  }
-  return "?";
-}
-
-RunReport RunJob::run(RunOptions opt) {
-  const Model& m = sim_.model();
-  StatsWriter* series = o_.series ? o_.series : &*stats_;
-  opt.hooks.push_back(
-      {o_.every, [this, series](const State& s) { series->add(observer_->sample(sim_.model(), s), s.t); }});
+  opt.hooks.push_back({o_.every, [this](const State& s) { sample(s); }});
   if (vtk_)
     opt.hooks.push_back({o_.vtk_every > 0 ? o_.vtk_every : m.sample_every, [this](const State& s) {
                            if (!vtk_error_.empty()) return;
@@ -76,41 +117,88 @@ RunReport RunJob::run(RunOptions opt) {
                          }});
   for (const PeriodicHook& h : extra_) opt.hooks.push_back(h);
   const RunReport rep = sim_.run(opt);
+  // The end is sampled once, whatever --every (a failed state is not a sample).
+  if (rep.end != RunEnd::kFailed) sample(sim_.state());
   wall_s_ += rep.wall_s;
   steps_ += rep.steps_done;
   return rep;
 }
 
-int RunJob::finish(const RunReport& rep) {
+int RunJob::write_outputs(SummaryInput& sum, int code) {
+  auto failed_output = [&](const std::string& what) {
+    add_output_error(what);
+    if (code == 0) code = static_cast<int>(ExitCode::kIo);
+  };
+  try {
+    if (stats_) stats_->flush();
+  } catch (const IoError& e) {
+    failed_output(e.what());
+  }
+  if (!vtk_error_.empty()) failed_output("VTK output stopped (the run went on): " + vtk_error_);
+  if (code == 0 && !output_errors_.empty()) code = static_cast<int>(ExitCode::kIo);
+  sum.exit_code = code;
+  sum.warnings.insert(sum.warnings.end(), warnings_.begin(), warnings_.end());
+  sum.warnings.insert(sum.warnings.end(), output_errors_.begin(), output_errors_.end());
+  if (!o_.summary.empty()) {
+    try {
+      write_summary(o_.summary, sum, sim_, stats());
+    } catch (const IoError& e) {
+      std::cerr << "silt: " << e.what() << "\n";
+      code = static_cast<int>(ExitCode::kIo);
+    }
+  }
+  return code;
+}
+
+int RunJob::finish(const RunReport& rep, int interrupted) {
   const Model& m = sim_.model();
   int code = 0;
   if (rep.end == RunEnd::kFailed) code = static_cast<int>(ExitCode::kNumerical);
-  if (rep.end == RunEnd::kInterrupted) code = 130;
-  if (!vtk_error_.empty()) output_errors_.push_back("VTK output stopped (the run went on): " + vtk_error_);
+  if (rep.end == RunEnd::kInterrupted) code = interrupted;
   if (code == 0 && !output_errors_.empty()) code = static_cast<int>(ExitCode::kIo);
+  // The checkpoints first: the summary records whether they could be written.
+  if (rep.end == RunEnd::kFailed) {
+    const std::string path = last_good_path_for(o_);
+    if (write_last_good(path, m, sim_.last_good_state(), *this)) last_good_ = path;
+  }
+  if (!o_.save.empty() && rep.end != RunEnd::kFailed) {
+    try {
+      write_checkpoint(o_.save, m, sim_.state());
+    } catch (const IoError& e) {
+      add_output_error(e.what());
+      if (code == 0) code = static_cast<int>(ExitCode::kIo);
+    }
+  }
   SummaryInput sum;
   sum.scene = o_.scene;
   sum.status = status(rep.end);
-  sum.exit_code = code;
   sum.wall_s = wall_s_;
   sum.steps_run = steps_;
   sum.average_from = o_.average_from;
   sum.profiles = profiles_;
   if (m.until_static.on && rep.end == RunEnd::kDone)
     sum.warnings.push_back("run.stop_when_static: no equilibrium within the run length");
-  sum.warnings.insert(sum.warnings.end(), warnings_.begin(), warnings_.end());
-  sum.warnings.insert(sum.warnings.end(), output_errors_.begin(), output_errors_.end());
-  if (stats_) stats_->flush();
-  if (rep.end == RunEnd::kFailed) {
-    const std::string base = !o_.summary.empty() ? o_.summary : o_.stats;
-    if (!base.empty()) {
-      last_good_ = stem_of(base) + ".last_good.ckpt";
-      write_checkpoint(last_good_, m, sim_.last_good_state());
-    }
+  return write_outputs(sum, code);
+}
+
+int RunJob::finish_preparation(const PreparationReport& prep, int interrupted) {
+  const bool failed = prep.end == RunEnd::kFailed;
+  if (failed && prep.last_good) {
+    const std::string path = last_good_path_for(o_);
+    if (write_last_good(path, sim_.model(), *prep.last_good, *this)) last_good_ = path;
   }
-  if (!o_.summary.empty()) write_summary(o_.summary, sum, sim_, stats());
-  if (!o_.save.empty() && rep.end != RunEnd::kFailed) write_checkpoint(o_.save, m, sim_.state());
-  return code;
+  SummaryInput sum;
+  sum.scene = o_.scene;
+  sum.status = status(prep.end);
+  sum.wall_s = prep.wall_s;
+  sum.average_from = o_.average_from;
+  if (failed) {
+    sum.failure = prep.failure_detail;
+    sum.failure.failed = true;
+  }
+  sum.warnings.push_back("the preparation (prepare.compress) " + std::string(failed ? "failed" : "was interrupted") +
+                         " after " + std::to_string(prep.steps) + " steps; the run did not start");
+  return write_outputs(sum, failed ? static_cast<int>(ExitCode::kNumerical) : interrupted);
 }
 
 }  // namespace silt

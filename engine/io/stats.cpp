@@ -18,16 +18,19 @@ StatsWriter::~StatsWriter() {
   if (file_) std::fclose(file_);
 }
 
-void StatsWriter::add(const std::vector<double>& row, double t) {
+void StatsWriter::add(const std::vector<double>& row, double t, int64_t step) {
   rows_.push_back(row);
   times_.push_back(t);
-  if (!file_) return;
+  last_step_ = step;
+  if (!file_ || !error_.empty()) return;
   for (size_t k = 0; k < row.size(); ++k) std::fprintf(file_, "%s%.17g", k ? "," : "", row[k]);
   std::fprintf(file_, "\n");
+  if (std::fflush(file_) != 0) error_ = std::strerror(errno);
 }
 
 void StatsWriter::flush() {
-  if (file_ && std::fflush(file_) != 0) throw IoError("cannot write stats file '" + path_ + "'");
+  if (file_ && error_.empty() && std::fflush(file_) != 0) error_ = std::strerror(errno);
+  if (!error_.empty()) throw IoError("cannot write stats file '" + path_ + "': " + error_);
 }
 
 }  // namespace silt

@@ -68,24 +68,19 @@ void write_summary(const std::string& path, const SummaryInput& in, const Simula
     }
     j["profiles"] = profiles;
   }
-  if (s.failure.failed) {
+  const StepFailure& failure = in.failure.failed ? in.failure : s.failure;
+  if (failure.failed) {
     json f;
-    f["step"] = s.failure.step;
-    f["stage"] = s.failure.stage;
-    f["particle"] = s.failure.particle;
-    f["parameter"] = s.failure.parameter;
-    f["message"] = s.failure.message;
+    f["step"] = failure.step;
+    f["stage"] = failure.stage;
+    f["particle"] = failure.particle;
+    f["parameter"] = failure.parameter;
+    f["message"] = failure.message;
+    if (in.failure.failed) f["during"] = "preparation";
     j["failure"] = f;
   }
   j["warnings"] = in.warnings;
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream out(tmp);
-    if (!out) throw IoError("cannot write summary '" + path + "'");
-    out << j.dump(2) << "\n";
-    if (!out) throw IoError("cannot write summary '" + path + "'");
-  }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) throw IoError("cannot write summary '" + path + "'");
+  write_text_file(path, j.dump(2) + "\n", "summary");
 }
 
 }  // namespace silt

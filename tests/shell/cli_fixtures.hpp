@@ -18,11 +18,11 @@ struct Result {
   std::string out;  // stdout and stderr
 };
 
-// `silt ARGS` through the shell (redirections allowed in ARGS); the exit code a signal gave is
+// A command line run by /bin/sh, stdout and stderr captured; the exit code a signal gave is
 // 128 + the signal.
-inline Result silt_cli(const std::string& args) {
+inline Result sh(const std::string& command) {
   Result r;
-  const std::string cmd = silt_binary() + " " + args + " 2>&1";
+  const std::string cmd = "{ " + command + "; } 2>&1";
   std::FILE* p = popen(cmd.c_str(), "r");
   char buf[4096];
   size_t n;
@@ -31,6 +31,9 @@ inline Result silt_cli(const std::string& args) {
   r.code = WIFEXITED(status) ? WEXITSTATUS(status) : (WIFSIGNALED(status) ? 128 + WTERMSIG(status) : -1);
   return r;
 }
+
+// `silt ARGS` through the shell (redirections allowed in ARGS).
+inline Result silt_cli(const std::string& args) { return sh(silt_binary() + " " + args); }
 
 inline std::string write_file(const std::string& name, const std::string& text) {
   std::ofstream(name) << text;

@@ -155,9 +155,12 @@ TEST_CASE("on a terminal, the key sequences that crash readline's callback inter
   TempDir home;
   Terminal t(silt::test::scene_path("collision_normal"), home.path());
   REQUIRE(!t.read_until("silt[t=0]> ").empty());
-  t.type("\x12\x18"
-         "a\x15");  // Ctrl-R, Ctrl-X, a: a segmentation fault in GNU readline 8.2; Ctrl-U clears the line
-  t.type("\x18(\n\n\x18)\x18" "e\x15");  // a keyboard macro holding newlines, played
+  t.type(
+      "\x12\x18"
+      "a\x15");  // Ctrl-R, Ctrl-X, a: a segmentation fault in GNU readline 8.2; Ctrl-U clears the line
+  t.type(
+      "\x18(\n\n\x18)\x18"
+      "e\x15");  // a keyboard macro holding newlines, played
   t.type("print step\n");
   CHECK(!t.read_until("step = 0").empty());
   t.type("quit\n");
@@ -175,8 +178,9 @@ TEST_CASE("without a terminal the shell reads plain lines: control characters ar
     return std::make_pair(WIFEXITED(status) ? WEXITSTATUS(status) : -1, read_text(dir / "out.txt"));
   };
   // Ctrl-R, Ctrl-X and a letter, as `printf '\x12\x18a' | silt shell` sends them.
-  auto [code, out] = shell("\x12\x18"
-                           "a");
+  auto [code, out] = shell(
+      "\x12\x18"
+      "a");
   CHECK(code == 0);
   CHECK(contains(out, "control character"));
   // Ctrl-A is not "beginning of line": the line is not "xhelp".

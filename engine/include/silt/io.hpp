@@ -18,9 +18,13 @@ class StatsWriter {
   // Opens `path` ("" = no file). Throws IoError.
   StatsWriter(const std::string& path, std::vector<std::string> names);
   ~StatsWriter();
-  // One sample taken at simulated time t (kept whether or not "t" is among the names, so that
-  // --average-from applies to any list of observables).
-  void add(const std::vector<double>& row, double t);
+  // One sample of the state at step `step`, simulated time t (kept whether or not "t" is among
+  // the names, so that --average-from applies to any list of observables). The file is flushed
+  // at every row (`tail -f` follows it; a killed run keeps its rows); a write error is kept for
+  // flush() to report.
+  void add(const std::vector<double>& row, double t, int64_t step = -1);
+  // The step of the last sample, -1 when none.
+  int64_t last_step() const { return last_step_; }
   const std::vector<std::string>& names() const { return names_; }
   const std::vector<std::vector<double>>& rows() const { return rows_; }
   const std::vector<double>& times() const { return times_; }
@@ -32,6 +36,8 @@ class StatsWriter {
   std::vector<std::string> names_;
   std::vector<std::vector<double>> rows_;
   std::vector<double> times_;
+  int64_t last_step_ = -1;
+  std::string error_;
 };
 
 // A profile sampled during a run (one value per bin and sample); the summary gives each bin's
@@ -43,15 +49,25 @@ struct ProfileSeries {
   std::vector<std::vector<double>> samples;
 };
 
+// Before a run: whether `path` can be written (its directory exists and is writable, or the file
+// is); IoError saying why not, `what` naming the file ("summary", "checkpoint"). With
+// `regular_only`, an existing path must be a regular file (a checkpoint is renamed over it: never
+// over a device).
+void check_output_path(const std::string& path, const std::string& what, bool regular_only = false);
+// A text file written whole: to PATH.tmp renamed over PATH (a device or a pipe is written in
+// place); IoError on any failed write.
+void write_text_file(const std::string& path, const std::string& text, const std::string& what);
+
 struct SummaryInput {
   std::string scene;
-  std::string status;  // ok | failed | interrupted | static
+  std::string status;  // ok | static | interrupted | failed (INTERFACE.md)
   int exit_code = 0;
   double wall_s = 0;
   int64_t steps_run = 0;
   double average_from = 0;
   std::vector<std::string> warnings;
   std::vector<ProfileSeries> profiles;
+  StepFailure failure;  // a failure that is not the simulation's state's (the preparation's)
 };
 // Summary JSON of INTERFACE.md. Throws IoError.
 void write_summary(const std::string& path, const SummaryInput& in, const Simulation& sim, const StatsWriter& stats);

@@ -32,8 +32,8 @@ struct RunJobOptions {
 
 class RunJob {
  public:
-  // Checks the observables (std::invalid_argument) and opens the stats and VTK outputs (IoError),
-  // before any step.
+  // Checks the observables (std::invalid_argument), opens the stats and VTK outputs and checks
+  // that the summary and the checkpoint can be written (IoError), before any step.
   RunJob(Simulation& sim, RunJobOptions options);
   ~RunJob();
   RunJob(const RunJob&) = delete;
@@ -42,16 +42,23 @@ class RunJob {
   // Something else to do every N steps (frames).
   void add_hook(PeriodicHook hook) { extra_.push_back(std::move(hook)); }
   void add_warning(std::string w) { warnings_.push_back(std::move(w)); }
-  // A failure of an output that the run went on without (exit code 4 at the end).
-  void add_output_error(std::string e) { output_errors_.push_back(std::move(e)); }
+  // A failure of an output that the run went on without: reported on stderr now, in the
+  // summary's warnings and by exit code 4 at the end.
+  void add_output_error(std::string e);
 
   // The run, with the job's hooks added to opt's.
   RunReport run(RunOptions opt);
   // After the run: the stats flushed, the last good state written after a failure (beside the
-  // summary, else the stats), the summary, the final checkpoint. Returns the process's exit code
-  // (0, 3 numerical failure, 4 an output failed, 130 interrupted), the one the summary records.
-  // Throws IoError when a file cannot be written.
-  int finish(const RunReport& rep);
+  // summary, else the stats), the final checkpoint, then the summary. Returns the process's exit
+  // code (0; 3 numerical failure; 4 an output failed; `interrupted` (130 for SIGINT, 143 for
+  // SIGTERM) when stopped), the one the summary records; a file that cannot be written is
+  // reported on stderr and makes it 4 (the summary too, when it is the summary).
+  int finish(const RunReport& rep, int interrupted = 130);
+  // A preparation (procedure O) that failed or was interrupted, so that the run never started:
+  // after a failure its last good state is written (a checkpoint of the same grains, for
+  // --restore); the summary says what happened. Returns 3 after a failure, `interrupted` after an
+  // interruption, or 4 when an output could not be written.
+  int finish_preparation(const PreparationReport& prep, int interrupted = 130);
 
   const StatsWriter& stats() const { return o_.series ? *o_.series : *stats_; }
   const Observer& observer() const { return *observer_; }
@@ -72,6 +79,8 @@ class RunJob {
   std::vector<PeriodicHook> extra_;
   std::vector<std::string> warnings_, output_errors_;
   std::string last_good_;
+  void sample(const State& s);
+  int write_outputs(SummaryInput& sum, int code);
   double wall_s_ = 0;
   int64_t steps_ = 0;
 };

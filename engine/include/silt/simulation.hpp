@@ -4,6 +4,7 @@
 #include <atomic>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -116,6 +117,8 @@ struct PreparationReport {
   int64_t steps = 0;
   double wall_s = 0;
   std::string failure;
+  StepFailure failure_detail;      // when end == kFailed
+  std::optional<State> last_good;  // when end == kFailed: the compression's last good state
 };
 Model compression_model(const Model& m);
 State prepare_packing(const Model& m, int threads, PreparationReport* report = nullptr,

@@ -175,19 +175,23 @@ class FrameWriter {
  public:
   // What the worker does with frame number `index`; throws to stop the frames.
   using Sink = std::function<void(const RenderScene& scene, int64_t index)>;
-  FrameWriter(std::string dir, int threads = 0);  // creates dir; throws IoError
-  explicit FrameWriter(Sink sink);                // frames to `sink`, on the worker thread
+  // Creates dir, and removes the frames an earlier run left there (frame_NNNNNN.png, so that a
+  // film is of one run); throws IoError.
+  FrameWriter(std::string dir, int threads = 0);
+  explicit FrameWriter(Sink sink);  // frames to `sink`, on the worker thread
   ~FrameWriter();
   FrameWriter(const FrameWriter&) = delete;
   FrameWriter& operator=(const FrameWriter&) = delete;
   void submit(RenderScene scene);
   void finish();  // waits for the pending frame
   int64_t written() const;
-  std::string error() const;  // "" while all is well
+  std::string error() const;                    // "" while all is well
+  int64_t removed() const { return removed_; }  // an earlier run's frames removed from dir
 
  private:
   struct Impl;
   std::unique_ptr<Impl> impl_;
+  int64_t removed_ = 0;
 };
 
 void write_png(const std::string& path, const Image& image);  // RGB (frames are opaque); throws IoError

@@ -1,0 +1,63 @@
+// Output files: a path checked before a run starts, and a text file written whole (a temporary
+// file renamed over a regular file; a device or a pipe written directly), every write checked.
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+
+#include "silt/io.hpp"
+
+namespace silt {
+
+void check_output_path(const std::string& path, const std::string& what, bool regular_only) {
+  if (path.empty()) return;
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const auto st = fs::status(path, ec);
+  if (fs::is_directory(st)) throw IoError("cannot write " + what + " '" + path + "': it is a directory");
+  if (fs::exists(st)) {
+    if (regular_only && !fs::is_regular_file(st))
+      throw IoError("cannot write " + what + " '" + path + "': not a regular file (a device, a pipe)");
+    if (::access(path.c_str(), W_OK) != 0)
+      throw IoError("cannot write " + what + " '" + path + "': " + std::strerror(errno));
+    return;
+  }
+  std::string dir = fs::path(path).parent_path().string();
+  if (dir.empty()) dir = ".";
+  if (!fs::is_directory(dir, ec)) throw IoError("cannot write " + what + " '" + path + "': no directory '" + dir + "'");
+  if (::access(dir.c_str(), W_OK) != 0)
+    throw IoError("cannot write " + what + " '" + path + "': " + std::strerror(errno) + " (its directory)");
+}
+
+void write_text_file(const std::string& path, const std::string& text, const std::string& what) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const auto st = fs::status(path, ec);
+  // A regular file (or none yet) is replaced at once by a rename; anything else (/dev/stdout, a
+  // pipe, a device) is written in place.
+  const bool in_place = fs::exists(st) && !fs::is_regular_file(st);
+  const std::string target = in_place ? path : path + ".tmp";
+  const int fd = ::open(target.c_str(), O_WRONLY | O_CREAT | (in_place ? 0 : O_TRUNC), 0644);
+  if (fd < 0) throw IoError("cannot write " + what + " '" + path + "': " + std::strerror(errno));
+  size_t done = 0;
+  int error = 0;
+  while (done < text.size()) {
+    const ssize_t k = ::write(fd, text.data() + done, text.size() - done);
+    if (k < 0) {
+      if (errno == EINTR) continue;
+      error = errno;
+      break;
+    }
+    done += static_cast<size_t>(k);
+  }
+  if (::close(fd) != 0 && error == 0) error = errno;
+  if (error == 0 && !in_place && std::rename(target.c_str(), path.c_str()) != 0) error = errno;
+  if (error != 0) {
+    if (!in_place) ::unlink(target.c_str());
+    throw IoError("cannot write " + what + " '" + path + "': " + std::strerror(error));
+  }
+}
+
+}  // namespace silt

@@ -1,0 +1,24 @@
+// The command line's numbers read as the shell reads them (`--steps 1e3`, `--time 0.5s`), checked
+// with silt's messages rather than the option parser's (whose bounds print with 300 digits), and
+// the thread count a request is granted.
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <string>
+
+namespace silt::cli {
+
+constexpr int64_t kMaxWhole = 9'000'000'000'000'000'000;
+constexpr int64_t kMaxThreads = 4096;
+// A whole number from least to most (1000, 1e3).
+CLI::Validator whole_number(int64_t least, int64_t most = kMaxWhole);
+// A time in seconds, >= 0: 0.5 or 0.5s.
+CLI::Validator seconds();
+// Any finite number (no nan, no inf).
+CLI::Validator finite_number();
+
+// The worker threads a run gets for `requested` (0: all cores): at most the cores oneTBB offers
+// this process; a request above them is granted that many, and said so on stderr.
+int granted_threads(int requested);
+
+}  // namespace silt::cli

@@ -1,0 +1,44 @@
+#include "shell/stop_signals.hpp"
+
+#include <csignal>
+
+namespace silt::cli {
+namespace {
+
+std::atomic<bool>* g_flag = nullptr;
+void (*g_also)() = nullptr;
+volatile std::sig_atomic_t g_caught = 0;
+struct sigaction g_old_int {
+}, g_old_term{};
+
+extern "C" void on_stop_signal(int sig) {
+  g_caught = sig;
+  if (g_flag) g_flag->store(true);
+  if (g_also) g_also();
+}
+
+}  // namespace
+
+StopSignals::StopSignals(std::atomic<bool>* flag, void (*also)()) {
+  g_flag = flag;
+  g_also = also;
+  g_caught = 0;
+  struct sigaction sa {};
+  sa.sa_handler = on_stop_signal;
+  sigemptyset(&sa.sa_mask);
+  sigaction(SIGINT, &sa, &g_old_int);
+  sigaction(SIGTERM, &sa, &g_old_term);
+}
+
+StopSignals::~StopSignals() {
+  sigaction(SIGINT, &g_old_int, nullptr);
+  sigaction(SIGTERM, &g_old_term, nullptr);
+  g_flag = nullptr;
+  g_also = nullptr;
+}
+
+int StopSignals::caught() { return g_caught; }
+
+int StopSignals::exit_code() { return 128 + (g_caught != 0 ? static_cast<int>(g_caught) : SIGINT); }
+
+}  // namespace silt::cli
