@@ -38,14 +38,16 @@ double grain_value(const std::string& color_by, int D, const State& s, int64_t i
 }
 
 // Under Lees-Edwards shear the grains' velocities are stored relative to the shear flow, and
-// drawn so: the fluctuations are what a picture of a homogeneous shear shows.
-std::string quantity_label(const std::string& color_by, int dim, bool sheared) {
+// drawn so: the fluctuations are what a picture of a homogeneous shear shows. A scene in reduced
+// units has no SI unit to show.
+std::string quantity_label(const std::string& color_by, int dim, bool sheared, bool reduced) {
   const std::string rel = sheared ? " rel. to shear flow" : "";
-  if (color_by == "speed") return "speed" + rel + " [m/s]";
-  if (color_by == "vx") return "vx" + rel + " [m/s]";
-  if (color_by == "vy") return "vy" + rel + " [m/s]";
-  if (color_by == "vz") return (dim == 2 ? "vy" : "vz") + rel + std::string(" [m/s]");
-  if (color_by == "height") return "height [m]";
+  const std::string speed = reduced ? "" : " [m/s]";
+  if (color_by == "speed") return "speed" + rel + speed;
+  if (color_by == "vx") return "vx" + rel + speed;
+  if (color_by == "vy") return "vy" + rel + speed;
+  if (color_by == "vz") return (dim == 2 ? "vy" : "vz") + rel + speed;
+  if (color_by == "height") return reduced ? "height" : "height [m]";
   return color_by;
 }
 
@@ -65,7 +67,7 @@ ColorScale add_grains(RenderScene& rs, const Model& m, const State& s, const Vie
                       double alpha, bool cut) {
   const int D = m.dim;
   const bool colored = color_by != "flat" && color_by != "frozen";
-  ColorScale scale{v.colormap, v.range[0], v.range[1], quantity_label(color_by, D, m.shear.on)};
+  ColorScale scale{v.colormap, v.range[0], v.range[1], quantity_label(color_by, D, m.shear.on, m.reduced_units)};
   if (colored && v.range_auto) {
     scale.lo = 1e308;
     scale.hi = -1e308;
@@ -224,7 +226,8 @@ RenderScene build_render_scene(const Model& m, const State& s, const View& v, co
       (v.background[0] + v.background[1] + v.background[2]) > 1.5 ? Rgba{20, 20, 20, 255} : Rgba{235, 235, 235, 255};
   if (v.wants("time")) {
     char buf[96];
-    std::snprintf(buf, sizeof buf, "t = %.6g s    step %lld", s.t, static_cast<long long>(s.step));
+    std::snprintf(buf, sizeof buf, "t = %.6g%s    step %lld", s.t, m.reduced_units ? "" : " s",
+                  static_cast<long long>(s.step));
     rs.texts.push_back({buf, 12, 24, 16, ink});
   }
   if (v.wants("scalebar") && rs.camera.pixels_per_unit > 0) {
@@ -236,7 +239,7 @@ RenderScene build_render_scene(const Model& m, const State& s, const View& v, co
     rs.scalebar.width_px = static_cast<int>(std::lround(len * rs.camera.pixels_per_unit));
     rs.scalebar.x = 20;
     rs.scalebar.y = v.height - 22;
-    rs.scalebar.label = number(len) + " m" + (D == 3 ? " at the target" : "");
+    rs.scalebar.label = number(len) + (m.reduced_units ? "" : " m") + (D == 3 ? " at the target" : "");
   }
   return rs;
 }

@@ -22,7 +22,30 @@ std::optional<Command> parse_line(std::string_view line) {
     if (c == '#') break;
     Token t;
     t.col = static_cast<int>(i) + 1;
-    if (c == '"') {
+    if (c == '[') {
+      // A list, as on the command line and in TOML: ["grains", "chains"], blanks and quotes
+      // inside, one word up to its closing bracket.
+      int depth = 0;
+      bool quoted = false;
+      while (i < n) {
+        const char d = line[i];
+        if (static_cast<unsigned char>(d) < 32 && d != '\t')
+          throw ParseError(static_cast<int>(i) + 1, "control character");
+        t.text += d;
+        ++i;
+        if (quoted) {
+          if (d == '\\' && i < n) t.text += line[i++];
+          else if (d == '"') quoted = false;
+          continue;
+        }
+        if (d == '"') quoted = true;
+        else if (d == '[') ++depth;
+        else if (d == ']' && --depth == 0) break;
+      }
+      if (depth != 0) throw ParseError(t.col, quoted ? "unterminated quote" : "a list without its closing ]");
+      if (i < n && line[i] != ' ' && line[i] != '\t' && line[i] != '#' && line[i] != '\r' && line[i] != '\n')
+        throw ParseError(static_cast<int>(i) + 1, "a list must be followed by a blank");
+    } else if (c == '"') {
       ++i;
       bool closed = false;
       while (i < n) {
@@ -66,13 +89,15 @@ const std::vector<CommandSpec>& command_specs() {
       {"check", "check", "describe the loaded scene",
        "Prints the compiled model: dimension, grains, laws, time step and its stability limit, stages.", 0, 0,
        ArgKind::kNone},
-      {"run", "run N | run Ts | run until EXPR", "run in the foreground",
+      {"run", "run [N | Ts | until EXPR | until static]", "run in the foreground",
        "Runs N steps, or T seconds of simulated time (\"run 0.5s\"), or until a condition on observables holds (\"run "
-       "until t >= 1 and ke < 1e-6\"). Ctrl-C pauses at the next step boundary.",
-       1, -1, ArgKind::kObservable},
-      {"start", "start [N | Ts | until EXPR]", "run in the background",
-       "Runs in the background (for ever, or as long as given) while the prompt stays responsive; stop pauses it. set, "
-       "get, print and the others act at the next step boundary.",
+       "until t >= 1 and ke < 1e-6\", blanks optional: \"run until t>=1\"), or until the packing is static (the "
+       "scene's run.static_* criterion). Alone, it runs to the scene's end (run.steps or run.time), stopping when "
+       "static if the scene says run.stop_when_static, as silt run does. Ctrl-C pauses at the next step boundary.",
+       0, -1, ArgKind::kObservable},
+      {"start", "start [N | Ts | until EXPR | until static]", "run in the background",
+       "Runs in the background while the prompt stays responsive; stop pauses it. Alone, it runs to the scene's end "
+       "as run does. set, get, print and the others act at the next step boundary.",
        0, -1, ArgKind::kObservable},
       {"stop", "stop", "pause a background run", "Stops a background run at the next step boundary.", 0, 0,
        ArgKind::kNone},
@@ -90,10 +115,12 @@ const std::vector<CommandSpec>& command_specs() {
        ArgKind::kObservable},
       {"watch", "watch OBS... every N | watch off", "print observables during runs",
        "Prints the observables every N steps while a run goes on; watch off stops it.", 1, -1, ArgKind::kObservable},
-      {"stats", "stats", "means of the observables",
+      {"stats", "stats [since T | reset | FILE.csv [every N] | off]", "means of the observables",
        "Mean, error of the mean (block averaging) and last value of the observables sampled since the scene was "
-       "loaded.",
-       0, 0, ArgKind::kNone},
+       "loaded or the samples reset; since T: over the samples with t >= T. reset discards the samples (a new regime "
+       "after steering). FILE.csv writes the samples to a file, those so far and each new one as it comes, and "
+       "samples every N steps from now on (default: output.every); off closes the file.",
+       0, 3, ArgKind::kFile},
       {"profile", "profile", "time per stage", "Wall time spent in each stage of the step graph.", 0, 0,
        ArgKind::kNone},
       {"render", "render FILE.png [ITEM...]", "draw the current state",
@@ -102,6 +129,10 @@ const std::vector<CommandSpec>& command_specs() {
        1, -1, ArgKind::kFile},
       {"frames", "frames DIR every N | frames off", "write frames during runs",
        "Writes DIR/frame_000000.png, ... every N steps while running; frames off stops.", 1, 3, ArgKind::kFile},
+      {"vtk", "vtk DIR every N | vtk off", "write VTK files during runs",
+       "Writes DIR/grains_000000.vtu, contacts, and DIR/index.pvd for ParaView or OVITO every N steps while running; "
+       "vtk off stops.",
+       1, 3, ArgKind::kFile},
       {"save", "save FILE", "write a checkpoint",
        "Writes a checkpoint of the current state (atomically: a temporary file renamed).", 1, 1, ArgKind::kFile},
       {"restore", "restore FILE", "read a checkpoint", "Continues from a checkpoint of the same system.", 1, 1,
@@ -202,18 +233,88 @@ bool Condition::holds(const std::vector<double>& values) const {
   return result;
 }
 
-RunLength parse_run_length(const std::vector<Token>& args) {
+std::vector<Token> expand_list(const Token& t) {
+  if (t.text.empty() || t.text[0] != '[') return {t};
+  std::vector<Token> out;
+  const std::string& w = t.text;
+  size_t i = 1;
+  auto skip_blanks = [&] {
+    while (i < w.size() && (w[i] == ' ' || w[i] == '\t')) ++i;
+  };
+  for (;;) {
+    skip_blanks();
+    if (i < w.size() && w[i] == ']' && out.empty()) break;  // []
+    Token item;
+    item.col = t.col + static_cast<int>(i);
+    if (i < w.size() && w[i] == '"') {
+      ++i;
+      while (i < w.size() && w[i] != '"') {
+        if (w[i] == '\\' && i + 1 < w.size()) ++i;
+        item.text += w[i++];
+      }
+      if (i == w.size()) throw ParseError(item.col, "unterminated quote");
+      ++i;
+    } else {
+      while (i < w.size() && w[i] != ',' && w[i] != ']' && w[i] != ' ' && w[i] != '\t') item.text += w[i++];
+    }
+    if (item.text.empty()) throw ParseError(item.col, "an empty item in the list");
+    out.push_back(std::move(item));
+    skip_blanks();
+    if (i < w.size() && w[i] == ',') {
+      ++i;
+      continue;
+    }
+    if (i < w.size() && w[i] == ']') break;
+    throw ParseError(t.col + static_cast<int>(i), "expected , or ] in the list");
+  }
+  return out;
+}
+
+std::vector<Token> expand_lists(const std::vector<Token>& args, size_t from) {
+  std::vector<Token> out(args.begin(), args.begin() + static_cast<std::ptrdiff_t>(std::min(from, args.size())));
+  for (size_t k = from; k < args.size(); ++k)
+    for (Token& t : expand_list(args[k])) out.push_back(std::move(t));
+  return out;
+}
+
+namespace {
+
+// The words of a condition with its comparisons apart: "t>=30" is "t", ">=", "30".
+std::vector<Token> split_comparisons(const std::vector<Token>& args, size_t from) {
+  std::vector<Token> out;
+  for (size_t k = from; k < args.size(); ++k) {
+    const std::string& w = args[k].text;
+    size_t i = 0;
+    while (i < w.size()) {
+      Token t;
+      t.col = args[k].col + static_cast<int>(i);
+      const bool op = std::string_view("<>=!").find(w[i]) != std::string_view::npos;
+      while (i < w.size() && (std::string_view("<>=!").find(w[i]) != std::string_view::npos) == op) t.text += w[i++];
+      out.push_back(std::move(t));
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+RunLength parse_run_length(const std::vector<Token>& all) {
   RunLength r;
-  if (args.empty()) throw ParseError(0, "how long? N steps, Ts of simulated time, or until EXPR");
-  const Token& first = args[0];
+  if (all.empty()) throw ParseError(0, "how long? N steps, Ts of simulated time, or until EXPR");
+  const Token& first = all[0];
+  if (first.text == "until" && all.size() == 2 && all[1].text == "static") {
+    r.kind = RunLength::kStatic;
+    return r;
+  }
   if (first.text == "until") {
+    const std::vector<Token> args = split_comparisons(all, 1);
     r.kind = RunLength::kUntil;
     // OBS OP VALUE [and|or OBS OP VALUE]...
-    size_t k = 1;
+    size_t k = 0;
     for (;;) {
       if (k + 2 >= args.size())
-        throw ParseError(k < args.size() ? args[k].col : args.back().col,
-                         "expected: OBSERVABLE OP NUMBER (e.g. t >= 0.5)");
+        throw ParseError(k < args.size() ? args[k].col : (args.empty() ? first.col : args.back().col),
+                         "expected: OBSERVABLE OP NUMBER (e.g. t >= 0.5), or static");
       Clause c;
       c.observable = args[k].text;
       c.op = args[k + 1].text;
@@ -233,7 +334,7 @@ RunLength parse_run_length(const std::vector<Token>& args) {
     }
     return r;
   }
-  if (args.size() > 1) throw ParseError(args[1].col, "one run length: N, Ts or until EXPR");
+  if (all.size() > 1) throw ParseError(all[1].col, "one run length: N, Ts or until EXPR");
   const std::string& w = first.text;
   if (!w.empty() && w.back() == 's') {
     const auto t = parse_number(std::string_view(w).substr(0, w.size() - 1));

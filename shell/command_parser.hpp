@@ -67,15 +67,24 @@ struct Condition {
 // The longest run, in steps (an int64_t holds it with room to spare).
 constexpr double kMaxSteps = 9e18;
 
-// How long `run` goes: N steps, a simulated time ("0.5s", "2e-3s"), or until a condition.
+// How long `run` goes: N steps, a simulated time ("0.5s", "2e-3s"), until a condition, or until
+// the packing is static (the scene's criterion, run.static_*); or the scene's own length (`run`
+// alone: to the scene's end step, stopping when static if the scene says so).
 struct RunLength {
-  enum Kind { kSteps, kTime, kUntil } kind = kSteps;
+  enum Kind { kSteps, kTime, kUntil, kStatic, kScene } kind = kSteps;
   int64_t steps = 0;
   double time = 0;
   Condition until;
 };
 // From the arguments of `run` (or `start`); throws ParseError with the column of the bad word.
+// A condition's comparisons need no blanks around them ("until t>=30").
 RunLength parse_run_length(const std::vector<Token>& args);
+
+// A list word (["grains", "chains"]) as its items, each with its column; any other word as itself.
+// Throws ParseError.
+std::vector<Token> expand_list(const Token& t);
+// The arguments from `from` on with every list expanded.
+std::vector<Token> expand_lists(const std::vector<Token>& args, size_t from = 0);
 
 // A number in full (no trailing garbage); nullopt otherwise.
 std::optional<double> parse_number(std::string_view s);

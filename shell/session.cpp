@@ -133,15 +133,15 @@ bool Session::execute(const std::string& line, const std::string& where) {
 
 void Session::dispatch(const Command& c) {
   static const std::vector<std::pair<std::string, Handler>> table = {
-      {"load", &Session::cmd_load},       {"reload", &Session::cmd_reload},   {"check", &Session::cmd_check},
-      {"run", &Session::cmd_run},         {"start", &Session::cmd_start},     {"stop", &Session::cmd_stop},
-      {"set", &Session::cmd_set},         {"get", &Session::cmd_get},         {"params", &Session::cmd_params},
-      {"print", &Session::cmd_print},     {"watch", &Session::cmd_watch},     {"stats", &Session::cmd_stats},
-      {"profile", &Session::cmd_profile}, {"render", &Session::cmd_render},   {"frames", &Session::cmd_frames},
-      {"save", &Session::cmd_save},       {"restore", &Session::cmd_restore}, {"reset", &Session::cmd_reset},
-      {"hash", &Session::cmd_hash},       {"freeze", &Session::cmd_freeze},   {"fields", &Session::cmd_fields},
-      {"field", &Session::cmd_field},     {"source", &Session::cmd_source},   {"help", &Session::cmd_help},
-      {"quit", &Session::cmd_quit},
+      {"load", &Session::cmd_load},       {"reload", &Session::cmd_reload}, {"check", &Session::cmd_check},
+      {"run", &Session::cmd_run},         {"start", &Session::cmd_start},   {"stop", &Session::cmd_stop},
+      {"set", &Session::cmd_set},         {"get", &Session::cmd_get},       {"params", &Session::cmd_params},
+      {"print", &Session::cmd_print},     {"watch", &Session::cmd_watch},   {"stats", &Session::cmd_stats},
+      {"profile", &Session::cmd_profile}, {"render", &Session::cmd_render}, {"frames", &Session::cmd_frames},
+      {"vtk", &Session::cmd_vtk},         {"save", &Session::cmd_save},     {"restore", &Session::cmd_restore},
+      {"reset", &Session::cmd_reset},     {"hash", &Session::cmd_hash},     {"freeze", &Session::cmd_freeze},
+      {"fields", &Session::cmd_fields},   {"field", &Session::cmd_field},   {"source", &Session::cmd_source},
+      {"help", &Session::cmd_help},       {"quit", &Session::cmd_quit},
   };
   const CommandSpec& spec = check_command(c);
   for (const auto& [name, handler] : table)
@@ -165,6 +165,12 @@ void Session::install(Model m, const std::optional<State>& keep) {
     interrupt_ = false;
   }
   sim_ = std::move(next);
+  // A new model starts a new series: a file the old one went to is closed as it is, not overwritten.
+  if (!stats_file_.empty()) {
+    out_ << "stats file " << stats_file_ << " closed with " << stats_->rows().size() << " sample(s)\n";
+    stats_file_.clear();
+    stats_every_ = 0;
+  }
   stats_.emplace("", sim_->model().observe);
   watch_.observer.reset();
   if (!watch_.names.empty()) {
@@ -235,6 +241,24 @@ RunOptions Session::run_options(const RunLength& len, bool background) {
       break;
     }
     case RunLength::kUntil: opt.steps = kForever; break;
+    case RunLength::kStatic:
+      if (!m.box_control.on)
+        throw std::runtime_error(
+            "run until static: the equilibrium criterion (run.static_*) is relative to the imposed pressure, and this "
+            "scene has no box.pressure");
+      opt.steps = kForever;
+      opt.stop_when_static = true;
+      break;
+    case RunLength::kScene: {
+      const int64_t left = m.run_steps - s.state().step;
+      if (left <= 0)
+        throw std::runtime_error("the scene's run length is reached (step " + std::to_string(m.run_steps) +
+                                 ", t = " + format_number(static_cast<double>(m.run_steps) * m.dt) +
+                                 " s): give N, Ts or until EXPR to go on");
+      opt.steps = left;
+      opt.stop_when_static = m.until_static.on;
+      break;
+    }
   }
   opt.interrupt = &interrupt_;
   opt.boundary_wanted = [this] { return has_requests_.load(); };
@@ -254,6 +278,17 @@ RunOptions Session::run_options(const RunLength& len, bool background) {
   if (frames_ && frames_every_ > 0) {
     opt.hooks.push_back({frames_every_, [this](const State& st) {
                            frames_->submit(render::build_render_scene(sim_->model(), st, sim_->model().render));
+                         }});
+  }
+  if (vtk_ && vtk_every_ > 0) {
+    opt.hooks.push_back({vtk_every_, [this, background](const State& st) {
+                           if (!vtk_error_.empty()) return;
+                           try {
+                             vtk_->write(sim_->model(), st);
+                           } catch (const IoError& e) {
+                             vtk_error_ = e.what();
+                             say("vtk stopped (the run goes on): " + vtk_error_, background);
+                           }
                          }});
   }
   if (len.kind == RunLength::kUntil) {
@@ -320,6 +355,7 @@ void Session::run_for(const RunLength& len, bool background) {
     }
     RunJobOptions jo;
     jo.series = &*stats_;
+    jo.every = stats_every_;
     RunJob job(s, jo);
     const RunReport r = job.run(opt);
     if (bar) bar->finish();
@@ -331,6 +367,7 @@ void Session::run_for(const RunLength& len, bool background) {
   background_started_ = true;
   RunJobOptions jo;
   jo.series = &*stats_;
+  jo.every = stats_every_;
   auto job = std::make_shared<RunJob>(*sim_, jo);
   background_ = std::thread([this, opt, report, job] {
     const RunReport r = job->run(opt);

@@ -81,6 +81,7 @@ class Session {
   void cmd_profile(const Command& c);
   void cmd_render(const Command& c);
   void cmd_frames(const Command& c);
+  void cmd_vtk(const Command& c);
   void cmd_save(const Command& c);
   void cmd_hash(const Command& c);
   void cmd_freeze(const Command& c);
@@ -105,6 +106,7 @@ class Session {
   void at_boundary(const std::function<void()>& fn);
   void serve_requests(bool last);
   void say(const std::string& line, bool from_background);
+  static StatsWriter reseries(const StatsWriter& old, const std::string& path);
 
   std::ostream& out_;
   std::ostream& err_;
@@ -118,7 +120,9 @@ class Session {
   std::string scene_file_;
   std::vector<Override> overrides_;
   std::unique_ptr<Simulation> sim_;
-  std::optional<StatsWriter> stats_;  // samples of the scene's observables since load
+  std::optional<StatsWriter> stats_;  // samples of the scene's observables since load (or reset)
+  std::string stats_file_;            // where they are written ("" nowhere)
+  int64_t stats_every_ = 0;           // sampling interval (0: the scene's output.every)
 
   struct Watch {
     std::vector<std::string> names;
@@ -128,6 +132,9 @@ class Session {
   Watch watch_;
   std::unique_ptr<render::FrameWriter> frames_;
   int64_t frames_every_ = 0;
+  std::unique_ptr<VtkWriter> vtk_;
+  int64_t vtk_every_ = 0;
+  std::string vtk_error_;  // the VTK output stopped on it
   std::unique_ptr<render::Rasterizer> raster_;
 
   // Background run and step-boundary requests.

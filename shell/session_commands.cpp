@@ -37,7 +37,8 @@ void Session::cmd_load(const Command& c) {
   install(std::move(m), std::nullopt);
   const Model& model = sim_->model();
   out_ << "loaded " << file << ": " << model.n_grains << " grains (" << model.dim
-       << "D), dt = " << format_number(model.dt) << " s, " << model.walls.size() << " wall(s)\n";
+       << "D), dt = " << format_number(model.dt) << (model.reduced_units ? "" : " s") << ", " << model.walls.size()
+       << " wall(s)\n";
 }
 
 void Session::cmd_reload(const Command&) {
@@ -52,22 +53,26 @@ void Session::cmd_check(const Command&) {
   out_ << describe(s.model()) << "step graph\n" << s.describe_graph();
 }
 
+namespace {
+
+RunLength length_of(const Command& c) {
+  if (!c.args.empty()) return parse_run_length(c.args);
+  RunLength scene;
+  scene.kind = RunLength::kScene;
+  return scene;
+}
+
+}  // namespace
+
 void Session::cmd_run(const Command& c) {
   require_stopped("cannot run");
-  run_for(parse_run_length(c.args), false);
+  run_for(length_of(c), false);
 }
 
 void Session::cmd_start(const Command& c) {
   if (running()) throw std::runtime_error("already running (stop pauses it)");
   if (background_.joinable()) background_.join();
-  RunLength len;
-  if (c.args.empty()) {
-    len.kind = RunLength::kSteps;
-    len.steps = static_cast<int64_t>(kMaxSteps);
-  } else {
-    len = parse_run_length(c.args);
-  }
-  run_for(len, true);
+  run_for(length_of(c), true);
 }
 
 // A finite `start` may end before its `stop`: that is said, not an error, so that what a script
@@ -116,10 +121,15 @@ void Session::cmd_set(const Command& c) {
   const bool same = m.scene_hash == s.model().scene_hash && m.walls.size() == s.model().walls.size();
   std::optional<State> keep;
   if (same) keep = s.state();
+  const State& was = s.state();
+  std::string discarded = " (the grains changed: back to t = 0";
+  if (was.step > 0 || stats_->rows().size() > 1)
+    discarded += "; discarded: the run to t = " + format_number(was.t) + " s (step " + std::to_string(was.step) +
+                 ") and its " + std::to_string(stats_->rows().size()) + " sample(s)";
+  discarded += ")";
   install(std::move(m), keep);
   overrides_ = std::move(next);
-  out_ << change.key << " = " << c.args[1].text << (same ? " (state kept)" : " (the grains changed: back to t = 0)")
-       << "\n";
+  out_ << change.key << " = " << c.args[1].text << (same ? " (state kept)" : discarded) << "\n";
 }
 
 void Session::cmd_get(const Command& c) {
@@ -134,7 +144,8 @@ void Session::cmd_get(const Command& c) {
   std::string value = "(not set)";
   if (auto it = d.entries.find(key); it != d.entries.end()) value = value_to_string(it->second.value);
   else if (spec->def) value = value_to_string(*spec->def) + " (default)";
-  out_ << key << " = " << value << (spec->unit.empty() ? "" : " " + spec->unit) << "\n";
+  const bool reduced = sim().model().reduced_units;
+  out_ << key << " = " << value << (spec->unit.empty() || reduced ? "" : " " + spec->unit) << "\n";
 }
 
 void Session::cmd_params(const Command& c) {
@@ -152,8 +163,9 @@ void Session::cmd_params(const Command& c) {
     }
     const bool numeric =
         spec->type == KeyType::kInt || spec->type == KeyType::kReal || spec->type == KeyType::kRealList;
-    t.add(
-        {key, value.empty() ? "-" : value, spec->unit, numeric ? spec->range.str() : "", spec->steerable ? "yes" : ""});
+    const bool reduced = sim_ && sim_->model().reduced_units;
+    t.add({key, value.empty() ? "-" : value, reduced ? "" : spec->unit, numeric ? spec->range.str() : "",
+           spec->steerable ? "yes" : ""});
   }
   if (t.rows() == 0) throw std::runtime_error("no key starts with '" + prefix + "'");
   t.print(out_);
@@ -161,7 +173,7 @@ void Session::cmd_params(const Command& c) {
 
 void Session::cmd_print(const Command& c) {
   std::vector<std::string> names;
-  for (const Token& t : c.args) names.push_back(t.text);
+  for (const Token& t : expand_lists(c.args)) names.push_back(t.text);
   std::optional<Observer> obs;
   try {
     obs.emplace(sim().model(), names);
@@ -188,7 +200,8 @@ void Session::cmd_watch(const Command& c) {
   const auto every = parse_count(c.args[n - 1].text, 1);
   if (!every) throw ParseError(c.args[n - 1].col, "every needs a positive number of steps");
   Watch w;
-  for (size_t k = 0; k + 2 < n; ++k) w.names.push_back(c.args[k].text);
+  for (size_t k = 0; k + 2 < n; ++k)
+    for (const Token& t : expand_list(c.args[k])) w.names.push_back(t.text);
   try {
     w.observer.emplace(sim().model(), w.names);
   } catch (const std::invalid_argument& e) {
@@ -198,28 +211,6 @@ void Session::cmd_watch(const Command& c) {
   w.every = *every;
   watch_ = std::move(w);
   out_ << "watching every " << watch_.every << " steps\n";
-}
-
-void Session::cmd_stats(const Command&) {
-  sim();
-  std::vector<std::vector<double>> rows;
-  at_boundary([&] { rows = stats_->rows(); });  // a background run adds to them
-  if (rows.empty()) throw std::runtime_error("no samples yet (run first)");
-  // The error of the mean by block averaging, to two digits; "(lower bound)" when the blocks
-  // never became independent.
-  Table t({"observable", "unit", "mean", "error", "", "last", "samples"},
-          {false, false, true, true, false, true, true});
-  const auto& names = stats_->names();
-  const Observer units(sim().model(), names);
-  for (size_t k = 0; k < names.size(); ++k) {
-    std::vector<double> series;
-    for (const auto& r : rows) series.push_back(r[k]);
-    const BlockAverage b = block_average(series);
-    const auto [mean, err] = mean_and_error(b.mean, b.err);
-    t.add({names[k], units.units()[k], mean, err, b.converged ? "" : "(lower bound)", format_value(series.back()),
-           std::to_string(b.n)});
-  }
-  t.print(out_);
 }
 
 void Session::cmd_profile(const Command&) {
@@ -246,13 +237,14 @@ void Session::cmd_profile(const Command&) {
 void Session::cmd_render(const Command& c) {
   Simulation& s = sim();
   render::View v = s.model().render;
-  if (c.args.size() > 1) {
+  const std::vector<Token> args = expand_lists(c.args, 1);  // render a.png grains chains, or ["grains","chains"]
+  if (args.size() > 1) {
     v.draw.clear();
     const KeySpec* spec = find_key_spec("render.draw");
-    for (size_t k = 1; k < c.args.size(); ++k) {
-      const std::string& item = c.args[k].text;
+    for (size_t k = 1; k < args.size(); ++k) {
+      const std::string& item = args[k].text;
       if (std::find(spec->choices.begin(), spec->choices.end(), item) == spec->choices.end())
-        throw ParseError(c.args[k].col,
+        throw ParseError(args[k].col,
                          "'" + item + "' is not something to draw (grains chains field colorbar time scalebar box)");
       v.draw.push_back(item);
     }
@@ -265,26 +257,6 @@ void Session::cmd_render(const Command& c) {
   render::write_png(c.args[0].text, img);
   out_ << "wrote " << c.args[0].text << " (" << img.width << " x " << img.height << ")\n";
   for (const std::string& w : rs.warnings) out_ << "warning: " << w << "\n";
-}
-
-void Session::cmd_frames(const Command& c) {
-  sim();
-  if (c.args.size() == 1 && c.args[0].text == "off") {
-    require_stopped("cannot change frames");
-    if (frames_) frames_->finish();
-    const int64_t n = frames_ ? frames_->written() : 0;
-    frames_.reset();
-    out_ << "frames off (" << n << " written)\n";
-    return;
-  }
-  if (c.args.size() != 3 || c.args[1].text != "every")
-    throw ParseError(c.name_col, "usage: frames DIR every N | frames off");
-  const auto every = parse_count(c.args[2].text, 1);
-  if (!every) throw ParseError(c.args[2].col, "every needs a positive number of steps");
-  require_stopped("cannot change frames");
-  frames_ = std::make_unique<render::FrameWriter>(c.args[0].text);
-  frames_every_ = *every;
-  out_ << "frames to " << c.args[0].text << " every " << frames_every_ << " steps\n";
 }
 
 void Session::cmd_save(const Command& c) {
@@ -352,8 +324,14 @@ void Session::cmd_help(const Command& c) {
     Table t({"command", "what"});
     for (const CommandSpec& s : command_specs()) t.add({s.usage, s.summary});
     t.print(out_);
-    out_ << "help COMMAND explains one; params lists the scene keys; observables: t step ke phi z stress.xy p[K].vx "
-            "...\n";
+    // The observables (print, watch, run until, stats): those of the loaded scene's modules.
+    out_ << "\nobservables" << (sim_ ? " of this scene" : "")
+         << " (A, B: an axis x, y, z; W: a rotation axis, z only in 2D; K: an index)\n";
+    Table o({"observable", "unit", "what"});
+    for (const ObservableDoc& d : observable_docs(sim_ ? &sim_->model() : nullptr))
+      o.add({d.name, d.unit.empty() ? "-" : d.unit, d.doc});
+    o.print(out_);
+    out_ << "help COMMAND explains one; params lists the scene keys with their units and ranges\n";
     return;
   }
   const CommandSpec* s = find_command(c.args[0].text);

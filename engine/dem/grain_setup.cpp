@@ -413,7 +413,7 @@ void grains_from_checkpoint(const SceneDesc& d, const Model& m, int g, Group& G)
 
 void setup_grains(const SceneDesc& d, Model& m) {
   const int n_groups = d.group_count("grains");
-  if (n_groups == 0) throw SceneError(FileLoc{d.file, 0, 0}, "the scene has no [[grains]] table");
+  if (n_groups == 0) throw SceneError(FileLoc{d.file, 1, 1}, "the scene has no [[grains]] table");
   const int D = m.dim;
   const uint64_t seed = static_cast<uint64_t>(d.integer("scene.seed"));
   std::vector<Group> groups(n_groups);

@@ -1,6 +1,8 @@
 #include <cerrno>
 #include <cstring>
 
+#include <utility>
+
 #include "silt/io.hpp"
 
 namespace silt {
@@ -16,6 +18,29 @@ StatsWriter::StatsWriter(const std::string& path, std::vector<std::string> names
 
 StatsWriter::~StatsWriter() {
   if (file_) std::fclose(file_);
+}
+
+StatsWriter::StatsWriter(StatsWriter&& other) noexcept
+    : file_(std::exchange(other.file_, nullptr)),
+      path_(std::move(other.path_)),
+      names_(std::move(other.names_)),
+      rows_(std::move(other.rows_)),
+      times_(std::move(other.times_)),
+      last_step_(other.last_step_),
+      error_(std::move(other.error_)) {}
+
+StatsWriter& StatsWriter::operator=(StatsWriter&& other) noexcept {
+  if (this != &other) {
+    if (file_) std::fclose(file_);
+    file_ = std::exchange(other.file_, nullptr);
+    path_ = std::move(other.path_);
+    names_ = std::move(other.names_);
+    rows_ = std::move(other.rows_);
+    times_ = std::move(other.times_);
+    last_step_ = other.last_step_;
+    error_ = std::move(other.error_);
+  }
+  return *this;
 }
 
 void StatsWriter::add(const std::vector<double>& row, double t, int64_t step) {

@@ -162,8 +162,24 @@ std::vector<std::pair<std::string, std::string>> observable_units(const Model& m
         ObservableArgs args;
         match(o.pattern, name, m.dim, args);
         if (o.check && !o.check(m, args).empty()) continue;
-        out.emplace_back(name, o.unit);
+        out.emplace_back(name, m.reduced_units ? std::string() : o.unit);
       }
+  }
+  return out;
+}
+
+std::vector<ObservableDoc> observable_docs(const Model* m) {
+  std::vector<ObservableDoc> out;
+  for (const Module& mod : modules()) {
+    if (m && !m->module_on(mod.spec->name)) continue;
+    for (const ObservableSpec& o : mod.spec->observables) {
+      std::string name = o.pattern;
+      for (const auto& [from, to] :
+           {std::pair<std::string, std::string>{"{a}", "A"}, {"{b}", "B"}, {"{k}", "K"}, {"{w}", "W"}})
+        for (auto at = name.find(from); at != std::string::npos; at = name.find(from))
+          name.replace(at, from.size(), to);
+      out.push_back({name, m && m->reduced_units ? std::string() : o.unit, o.doc, mod.spec->name});
+    }
   }
   return out;
 }
@@ -179,7 +195,7 @@ Observer::Observer(const Model& m, std::vector<std::string> names) : names_(std:
     Found f = find(n, m);
     if (!f.spec) throw std::invalid_argument(f.error);
     items_.push_back({f.spec, f.args});
-    units_.push_back(f.spec->unit);
+    units_.push_back(m.reduced_units ? std::string() : f.spec->unit);
   }
 }
 

@@ -21,6 +21,7 @@ std::vector<KeySpec> core_keys() {
       // ---- scene
       {"scene.name", K::kString, Value(std::string()), Range::any(), "", false, {}, "A name for the scene, shown in outputs."},
       {"scene.dimension", K::kInt, Value(int64_t{3}), Range::closed(2, 3), "", false, {}, "2: disks in the x-y plane; 3: spheres."},
+      {"scene.units", K::kString, Value(std::string("SI")), Range::any(), "", false, {"SI", "reduced"}, "SI: every value in SI units (m, kg, s), as labelled. reduced: the scene is in reduced units (the grain diameter, mass and sqrt(d/g) as units, LAMMPS's lj style); numbers are unchanged, and frames, print, stats and params label no SI units."},
       {"scene.seed", K::kInt, Value(int64_t{1}), Range::closed(0, 4.6e18), "", false, {}, "Seed of every random draw (radii, placement, velocities)."},
       // ---- domain
       {"domain.lo", K::kRealList, std::nullopt, Range::any(), "m", false, {}, "Lower corner of the domain (one entry per dimension)."},
@@ -137,6 +138,7 @@ void setup_gravity(const SceneDesc& d, Model& m) {
 void compile_core(const SceneDesc& d, Model& m) {
   m.scene_file = d.file;
   m.scene_name = d.string("scene.name");
+  m.reduced_units = d.string("scene.units") == "reduced";
   m.dim = static_cast<int>(d.integer("scene.dimension"));
   m.rot = rot_dim(m.dim);
   setup_domain(d, m);

@@ -101,7 +101,12 @@ int SceneDesc::group_count(std::string_view group) const {
 FileLoc SceneDesc::loc(std::string_view path) const {
   auto it = entries.find(std::string(path));
   if (it != entries.end()) return it->second.loc;
-  return FileLoc{file, 0, 0};
+  std::string table(path);
+  for (auto dot = table.rfind('.'); dot != std::string::npos; dot = table.rfind('.')) {
+    table.resize(dot);
+    if (auto t = tables.find(table); t != tables.end()) return t->second;
+  }
+  return FileLoc{file, 1, 1};
 }
 
 void SceneDesc::fail(std::string_view path, const std::string& message) const { throw SceneError(loc(path), message); }
@@ -116,7 +121,7 @@ const Value* SceneDesc::lookup(std::string_view path, KeyType want) const {
     return &it->second.value;
   }
   if (spec->def) return &*spec->def;
-  throw SceneError(FileLoc{file, 0, 0}, "missing required key '" + std::string(path) + "'");
+  throw SceneError(loc(path), "missing required key '" + std::string(path) + "'");
 }
 
 bool SceneDesc::boolean(std::string_view p) const { return std::get<bool>(*lookup(p, KeyType::kBool)); }

@@ -156,10 +156,15 @@ class Reader {
       if (node.is_table()) {
         if (is_group(norm)) throw SceneError(where, "'" + path + "' is a list of tables: write [[" + path + "]]");
         if (!is_table_prefix(norm)) throw SceneError(where, unknown_key_message(path));
+        desc_.tables[path] = loc_of(node.source(), file_);
         table(*node.as_table(), path);
       } else if (node.is_array_of_tables() && is_group(norm)) {
         int index = 0;
-        for (const toml::node& e : *node.as_array()) table(*e.as_table(), path + "[" + std::to_string(index++) + "]");
+        for (const toml::node& e : *node.as_array()) {
+          const std::string element = path + "[" + std::to_string(index++) + "]";
+          desc_.tables[element] = loc_of(e.source(), file_);
+          table(*e.as_table(), element);
+        }
         desc_.group_counts[path] = index;
       } else {
         leaf(path, norm, node, where);

@@ -87,3 +87,40 @@ TEST_CASE("numbers are read whole") {
   CHECK_FALSE(parse_number("nan").has_value());
   CHECK_FALSE(parse_number("1e999").has_value());
 }
+
+TEST_CASE("lists are one word, written as on the command line, and expand into their items") {
+  const auto c = parse_line(R"(render a.png ["grains", "chains"] box)");
+  REQUIRE(c);
+  REQUIRE(c->args.size() == 3);
+  CHECK(c->args[1].text == R"(["grains", "chains"])");
+  CHECK(c->args[1].col == 14);
+  const auto items = expand_lists(c->args, 1);
+  REQUIRE(items.size() == 4);
+  CHECK(items[1].text == "grains");
+  CHECK(items[1].col == 15);
+  CHECK(items[2].text == "chains");
+  CHECK(items[3].text == "box");
+  CHECK(expand_list(Token{"[t,step]", 1}).size() == 2);
+  CHECK(expand_list(Token{"[]", 1}).empty());
+  CHECK(expand_list(Token{"p[3].vx", 1})[0].text == "p[3].vx");  // not a list: it does not start with [
+  CHECK_THROWS_AS(parse_line("set render.draw [\"grains\""), ParseError);
+  CHECK_THROWS_AS(expand_list(Token{"[a,,b]", 1}), ParseError);
+  CHECK_THROWS_AS(expand_list(Token{"[a b]", 1}), ParseError);
+}
+
+TEST_CASE("a condition needs no blanks around its comparisons; until static") {
+  const auto c = parse_line("run until t>=30 and ke<1e-3");
+  REQUIRE(c);
+  const RunLength r = parse_run_length(c->args);
+  REQUIRE(r.kind == RunLength::kUntil);
+  REQUIRE(r.until.clauses.size() == 2);
+  CHECK(r.until.clauses[0].observable == "t");
+  CHECK(r.until.clauses[0].op == ">=");
+  CHECK(r.until.clauses[0].value == 30);
+  CHECK(r.until.clauses[1].op == "<");
+  CHECK(r.until.clauses[1].value == doctest::Approx(1e-3));
+  CHECK(parse_run_length(parse_line("run until x!=-2")->args).until.clauses[0].value == -2);
+  CHECK(parse_run_length(parse_line("run until static")->args).kind == RunLength::kStatic);
+  CHECK_THROWS_AS(parse_run_length(parse_line("run until t>=")->args), ParseError);
+  CHECK_THROWS_AS(parse_run_length(parse_line("run until t=>1")->args), ParseError);
+}

@@ -135,9 +135,9 @@ TEST_CASE("tab completes file names only where a command takes a file") {
   std::ofstream(home / "zz_only_file.txt") << "x\n";
   Terminal t(silt::test::scene_path("collision_normal"), home.path());
   REQUIRE(!t.read_until("silt[t=0]> ").empty());
-  // stats takes no argument: nothing to complete, and no file name either.
-  t.type("stats zz\t\n");
-  const std::string stats = t.read_until("usage: stats");
+  // hash takes no argument: nothing to complete, and no file name either.
+  t.type("hash zz\t\n");
+  const std::string stats = t.read_until("usage: hash");
   REQUIRE(!stats.empty());
   CHECK_FALSE(contains(stats, "zz_only_file"));
   t.type("set contact.friction zz\t\n");

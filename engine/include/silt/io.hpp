@@ -18,6 +18,10 @@ class StatsWriter {
   // Opens `path` ("" = no file). Throws IoError.
   StatsWriter(const std::string& path, std::vector<std::string> names);
   ~StatsWriter();
+  StatsWriter(StatsWriter&& other) noexcept;
+  StatsWriter& operator=(StatsWriter&& other) noexcept;
+  StatsWriter(const StatsWriter&) = delete;
+  StatsWriter& operator=(const StatsWriter&) = delete;
   // One sample of the state at step `step`, simulated time t (kept whether or not "t" is among
   // the names, so that --average-from applies to any list of observables). The file is flushed
   // at every row (`tail -f` follows it; a killed run keeps its rows); a write error is kept for

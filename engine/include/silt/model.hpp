@@ -181,8 +181,9 @@ struct StaticCriterion {
 struct Model {
   // Provenance.
   std::string scene_file, scene_name;
-  uint64_t scene_hash = 0;  // of the grains, walls and periodicity: checkpoints refuse other systems
-  SceneDesc desc;           // what the file said (for `check`, `params`, `get`)
+  bool reduced_units = false;  // scene.units = "reduced": labels carry no SI units
+  uint64_t scene_hash = 0;     // of the grains, walls and periodicity: checkpoints refuse other systems
+  SceneDesc desc;              // what the file said (for `check`, `params`, `get`)
 
   // The modules the scene turns on (silt/module.hpp), in the order of the module list; core and
   // dem are always on. Parameters of modules Model does not name are in `params`.

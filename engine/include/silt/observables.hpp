@@ -104,6 +104,14 @@ std::string check_observable(const std::string& name, const Model& m);
 // and its unit: for help and completion.
 std::vector<std::string> observable_names(const Model& m);
 std::vector<std::pair<std::string, std::string>> observable_units(const Model& m);
+// The observables as a person reads them in `help`: one row per family, its pattern written with
+// A, B for an axis (x, y, z), W for a rotation axis, K for an index ("stress.AB",
+// "p[K].vA"), its unit, what it is and its module; only the modules this model uses (every
+// module without a model). Reduced units: no unit.
+struct ObservableDoc {
+  std::string name, unit, doc, module;
+};
+std::vector<ObservableDoc> observable_docs(const Model* m);
 
 // A compiled list of observables.
 class Observer {

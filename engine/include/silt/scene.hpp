@@ -111,10 +111,13 @@ class SceneDesc {
   std::string text;                           // its full text, hashed into checkpoints
   std::map<std::string, SceneEntry> entries;  // concrete paths: "grains[0].radius"
   std::map<std::string, int> group_counts;    // "grains" -> number of [[grains]] tables
+  std::map<std::string, FileLoc> tables;      // "domain", "grains[0]" -> where the table starts
 
   bool has(std::string_view path) const;
   int group_count(std::string_view group) const;
-  FileLoc loc(std::string_view path) const;  // the value's location, else the file's
+  // The value's location; for a key not given, where its table starts (the innermost one the
+  // file has), else the start of the file: a missing key is reported where it belongs.
+  FileLoc loc(std::string_view path) const;
 
   // Typed access to a value or its schema default; throws SceneError when absent and without
   // default. Marks the entry used.

@@ -121,3 +121,13 @@ TEST_CASE("the schema is consistent") {
   }
   CHECK(schema_markdown().find("| `contact.friction` |") != std::string::npos);
 }
+
+TEST_CASE("a missing key, or none of its alternatives, is reported where it belongs") {
+  // Inside its table: at the table's header.
+  const std::string hi = test::scene_error(with("hi = [10, 10, 10]\n", ""));
+  CHECK(hi.rfind("bad.toml:3:1: missing required key 'domain.hi'", 0) == 0);
+  const std::string radius = test::scene_error(with("radius = 0.5\n", ""));
+  CHECK(radius.rfind("bad.toml:9:1: grains[0] needs exactly one of radius", 0) == 0);
+  // Without its table: at the start of the file.
+  CHECK(test::scene_error(with("[[grains]]\ncount = 10\nradius = 0.5\n", "")).rfind("bad.toml:1:1: ", 0) == 0);
+}

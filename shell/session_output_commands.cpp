@@ -1,0 +1,137 @@
+// The shell's outputs during runs: the samples of the observables (`stats`), frames and VTK files.
+#include <algorithm>
+
+#include "shell/session.hpp"
+#include "shell/table.hpp"
+#include "silt/observables.hpp"
+#include "silt/text.hpp"
+
+namespace silt::shell {
+
+// A new series for the same observables, to `path` ("" none), holding the samples of `old`
+// (written to the file as they are added).
+StatsWriter Session::reseries(const StatsWriter& old, const std::string& path) {
+  StatsWriter next(path, old.names());
+  for (size_t r = 0; r < old.rows().size(); ++r)
+    next.add(old.rows()[r], old.times()[r], r + 1 == old.rows().size() ? old.last_step() : -1);
+  next.flush();  // throws IoError when the file cannot take them
+  return next;
+}
+
+void Session::cmd_stats(const Command& c) {
+  sim();
+  const auto& a = c.args;
+  if (a.size() == 1 && a[0].text == "reset") {
+    size_t n = 0;
+    at_boundary([&] {
+      n = stats_->rows().size();
+      stats_.emplace(reseries(StatsWriter("", stats_->names()), stats_file_));
+    });
+    out_ << "stats reset: " << n << " sample(s) discarded\n";
+    return;
+  }
+  if (a.size() == 1 && a[0].text == "off") {
+    if (stats_file_.empty()) throw std::runtime_error("the samples go to no file (stats FILE.csv [every N])");
+    at_boundary([&] { stats_.emplace(reseries(*stats_, "")); });
+    out_ << "stats no longer written to " << stats_file_ << "\n";
+    stats_file_.clear();
+    stats_every_ = 0;
+    return;
+  }
+  double since = -std::numeric_limits<double>::infinity();
+  if (!a.empty() && a[0].text == "since") {
+    if (a.size() != 2) throw ParseError(a[0].col, "usage: stats since T");
+    std::string_view v(a[1].text);
+    if (!v.empty() && v.back() == 's') v.remove_suffix(1);
+    const auto t = parse_number(v);
+    if (!t) throw ParseError(a[1].col, "'" + a[1].text + "' is not a time (e.g. 10 or 10s)");
+    since = *t;
+  } else if (!a.empty()) {
+    // stats FILE.csv [every N]
+    if (a.size() != 1 && (a.size() != 3 || a[1].text != "every"))
+      throw ParseError(c.name_col, "usage: stats [since T | reset | FILE.csv [every N] | off]");
+    int64_t every = 0;
+    if (a.size() == 3) {
+      const auto n = parse_count(a[2].text, 1);
+      if (!n) throw ParseError(a[2].col, "every needs a positive number of steps");
+      every = *n;
+    }
+    require_stopped("cannot change where the samples go");
+    stats_.emplace(reseries(*stats_, a[0].text));
+    stats_file_ = a[0].text;
+    stats_every_ = every;
+    out_ << "stats to " << stats_file_ << " (" << stats_->rows().size() << " sample(s) so far), every "
+         << (every > 0 ? every : sim().model().sample_every) << " steps\n";
+    return;
+  }
+  std::vector<std::vector<double>> rows;
+  std::vector<double> times;
+  at_boundary([&] {  // a background run adds to them
+    rows = stats_->rows();
+    times = stats_->times();
+  });
+  std::vector<size_t> kept;
+  for (size_t r = 0; r < rows.size(); ++r)
+    if (times[r] >= since) kept.push_back(r);
+  if (kept.empty())
+    throw std::runtime_error(rows.empty() ? "no samples yet (run first)"
+                                          : "no sample with t >= " + format_number(since) + " s");
+  // The error of the mean by block averaging, to two digits; "(lower bound)" when the blocks
+  // never became independent.
+  Table t({"observable", "unit", "mean", "error", "", "last", "samples"},
+          {false, false, true, true, false, true, true});
+  const auto& names = stats_->names();
+  const Observer units(sim().model(), names);
+  for (size_t k = 0; k < names.size(); ++k) {
+    std::vector<double> series;
+    for (size_t r : kept) series.push_back(rows[r][k]);
+    const BlockAverage b = block_average(series);
+    const auto [mean, err] = mean_and_error(b.mean, b.err);
+    t.add({names[k], units.units()[k], mean, err, b.converged ? "" : "(lower bound)", format_value(series.back()),
+           std::to_string(b.n)});
+  }
+  t.print(out_);
+}
+
+void Session::cmd_frames(const Command& c) {
+  sim();
+  if (c.args.size() == 1 && c.args[0].text == "off") {
+    require_stopped("cannot change frames");
+    if (frames_) frames_->finish();
+    const int64_t n = frames_ ? frames_->written() : 0;
+    frames_.reset();
+    out_ << "frames off (" << n << " written)\n";
+    return;
+  }
+  if (c.args.size() != 3 || c.args[1].text != "every")
+    throw ParseError(c.name_col, "usage: frames DIR every N | frames off");
+  const auto every = parse_count(c.args[2].text, 1);
+  if (!every) throw ParseError(c.args[2].col, "every needs a positive number of steps");
+  require_stopped("cannot change frames");
+  frames_ = std::make_unique<render::FrameWriter>(c.args[0].text);
+  frames_every_ = *every;
+  out_ << "frames to " << c.args[0].text << " every " << frames_every_ << " steps";
+  if (frames_->removed() > 0) out_ << " (" << frames_->removed() << " frame(s) of an earlier run removed)";
+  out_ << "\n";
+}
+
+void Session::cmd_vtk(const Command& c) {
+  sim();
+  if (c.args.size() == 1 && c.args[0].text == "off") {
+    require_stopped("cannot change the VTK output");
+    const int64_t n = vtk_ ? vtk_->count() : 0;
+    vtk_.reset();
+    out_ << "vtk off (" << n << " written)\n";
+    return;
+  }
+  if (c.args.size() != 3 || c.args[1].text != "every") throw ParseError(c.name_col, "usage: vtk DIR every N | vtk off");
+  const auto every = parse_count(c.args[2].text, 1);
+  if (!every) throw ParseError(c.args[2].col, "every needs a positive number of steps");
+  require_stopped("cannot change the VTK output");
+  vtk_ = std::make_unique<VtkWriter>(c.args[0].text);
+  vtk_every_ = *every;
+  vtk_error_.clear();
+  out_ << "vtk to " << c.args[0].text << " every " << vtk_every_ << " steps\n";
+}
+
+}  // namespace silt::shell

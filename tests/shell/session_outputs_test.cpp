@@ -1,0 +1,81 @@
+// The shell as users of YADE or LAMMPS expect it: the scene's own run length, until static, the
+// samples reset or windowed and written as they come, VTK files during runs, what a change
+// discards, the observables and their units in help, reduced units.
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <filesystem>
+
+#include "shell/cli_fixtures.hpp"
+#include "shell/shell_fixtures.hpp"
+#include "support/scenes.hpp"
+
+using namespace silt;
+using test::contains;
+using test::Fixture;
+
+TEST_CASE("run alone follows the scene's run length; until static stops at equilibrium or says why not") {
+  Fixture f;
+  REQUIRE(f.run("load " + test::scene_path("collision_normal")));  // [run] time = 1e-3 s
+  REQUIRE(f.run("run"));
+  CHECK(f.value("t") == doctest::Approx(1e-3).epsilon(1e-6));
+  f.take_out();
+  CHECK_FALSE(f.run("run"));
+  CHECK(contains(f.take_err(), "the scene's run length is reached"));
+  CHECK_FALSE(f.run("run until static"));
+  CHECK(contains(f.take_err(), "no box.pressure"));
+  REQUIRE(f.run("run 2"));  // an explicit length goes on
+}
+
+TEST_CASE("stats reset, stats since T, and stats FILE every N writing as the run goes") {
+  test::TempDir dir;
+  Fixture f;
+  REQUIRE(f.run("load " + test::scene_path("collision_normal")));
+  REQUIRE(f.run("run 10"));  // collision_normal samples every step: steps 0 .. 10
+  REQUIRE(f.run("stats " + (dir / "s.csv") + " every 2"));
+  CHECK(contains(f.take_out(), "(11 sample(s) so far), every 2 steps"));
+  REQUIRE(f.run("run 10"));
+  // Header, the 11 earlier samples, then steps 12, 14, ..., 20.
+  const std::string csv = test::read_file(dir / "s.csv");
+  CHECK(std::count(csv.begin(), csv.end(), '\n') == 1 + 11 + 5);
+  f.take_out();
+  REQUIRE(f.run("stats since 1.2e-5"));
+  CHECK(contains(f.take_out(), "      5\n"));  // steps 12 .. 20
+  REQUIRE(f.run("stats reset"));
+  CHECK(contains(f.take_out(), "stats reset: 16 sample(s) discarded"));
+  CHECK_FALSE(f.run("stats"));
+  CHECK(contains(f.take_err(), "no samples yet"));
+  CHECK_FALSE(f.run("stats since 1e9"));
+  REQUIRE(f.run("stats off"));
+  CHECK_FALSE(f.run("stats a.csv every 0"));
+}
+
+TEST_CASE("vtk DIR every N writes during runs; a change that discards the run says what it discarded") {
+  test::TempDir dir;
+  Fixture f;
+  REQUIRE(f.run("load " + test::scene_path("pack_2d")));
+  REQUIRE(f.run("vtk " + (dir / "v") + " every 5"));
+  REQUIRE(f.run("run 10"));
+  REQUIRE(f.run("vtk off"));
+  CHECK(contains(f.take_out(), "vtk off (3 written)"));
+  CHECK(std::filesystem::exists(dir / "v/index.pvd"));
+  CHECK(std::filesystem::exists(dir / "v/grains_000002.vtu"));
+  REQUIRE(f.run("set grains.0.count 100"));
+  CHECK(contains(f.take_out(), "discarded: the run to t = "));
+}
+
+TEST_CASE("help lists the observables with their units; reduced units label none") {
+  Fixture f;
+  REQUIRE(f.run("help"));
+  const std::string all = f.take_out();
+  CHECK(contains(all, "stress.AB   Pa"));
+  CHECK(contains(all, "p[K].vA"));
+  REQUIRE(f.run("load " + test::scene_path("chute")));  // scene.units = "reduced"
+  f.take_out();
+  REQUIRE(f.run("print ke"));
+  const std::string ke = f.take_out();
+  CHECK(contains(ke, "ke = "));
+  CHECK_FALSE(contains(ke, "J"));
+  REQUIRE(f.run("get domain.hi"));
+  CHECK_FALSE(contains(f.take_out(), " m\n"));
+}
