@@ -79,6 +79,21 @@ TEST_CASE("silt play stops on SIGTERM as silt run does") {
   CHECK_FALSE(contains(out, "> print t"));  // the script stopped where the signal came
 }
 
+TEST_CASE("the shell fed by a pipe pauses its run and ends on SIGTERM, exit 143") {
+  silt::test::TempDir dir;
+  const std::string out = dir / "out.txt";
+  // The commands come through a pipe that stays open (a fifo held by the test's shell), as from a
+  // job's script.
+  const std::string fifo = dir / "in";
+  const Result r = sh("mkfifo " + fifo + "; " + silt::test::silt_binary() + " shell " + scene_path("chute") + " < " +
+                      fifo + " > " + out + " & p=$!; exec 3> " + fifo +
+                      "; printf 'watch step every 50\\nrun 1e9\\n' >&3; i=0; while [ \"$(cat " + out +
+                      " | wc -l)\" -lt 4 ] && [ $i -lt 600 ]; do sleep 0.05; i=$((i+1)); done; kill -TERM $p; wait $p;"
+                      " echo code=$?");
+  CHECK(contains(r.out, "code=143"));
+  CHECK(contains(read_file(out), "paused:"));
+}
+
 TEST_CASE("every output is checked before the first step, and a failed write is exit 4 in the summary too") {
   silt::test::TempDir dir;
   const std::string run = "run " + scene_path("pack_2d") + " --steps 300 --quiet";
