@@ -26,6 +26,13 @@ std::string canonical_key(const std::string& key) {
   return out;
 }
 
+// A string key's choices, as its range: "linear hertz hooke".
+std::string join_words(const std::vector<std::string>& words) {
+  std::string out;
+  for (const std::string& w : words) out += (out.empty() ? "" : " ") + w;
+  return out;
+}
+
 }  // namespace
 
 void Session::cmd_load(const Command& c) {
@@ -164,8 +171,8 @@ void Session::cmd_params(const Command& c) {
     const bool numeric =
         spec->type == KeyType::kInt || spec->type == KeyType::kReal || spec->type == KeyType::kRealList;
     const bool reduced = sim_ && sim_->model().reduced_units;
-    t.add({key, value.empty() ? "-" : value, reduced ? "" : spec->unit, numeric ? spec->range.str() : "",
-           spec->steerable ? "yes" : ""});
+    t.add({key, value.empty() ? "-" : value, reduced ? "" : spec->unit,
+           numeric ? spec->range.str() : join_words(spec->choices), spec->steerable ? "yes" : ""});
   }
   if (t.rows() == 0) throw std::runtime_error("no key starts with '" + prefix + "'");
   t.print(out_);
