@@ -1,0 +1,178 @@
+// The linear-algebra layer: symmetric positive definite systems A x = b, solved through one
+// contract, `solve(b, x) -> SolveReport`, by
+//   - conjugate gradients, on any linear operator (matrix-free) or on a sparse matrix, with no
+//     preconditioner, a Jacobi one, or a Cholesky factor of a (possibly older) matrix;
+//   - a direct sparse Cholesky solve (CHOLMOD, supernodal, fill-reducing ordering),
+// so that each can be checked against the others and their costs compared. The lubricated paste
+// solves its resistance matrix with them, the fluid its pressure Poisson equation.
+//
+// Determinism: every reduction (dot products, norms) is summed in fixed blocks, in a fixed order,
+// whatever the number of threads, and the sparse product gives each row to one thread; CHOLMOD
+// runs on a serial BLAS. A solve gives bitwise the same result on 1, 2 or 4 threads.
+//
+// Failures are reports, never NaN: a system that is not positive definite, an operator with no
+// progress (breakdown), an iteration limit, or a non-finite input or result each have a status
+// and a message naming what happened.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+
+namespace silt::linalg {
+
+using Vector = Eigen::VectorXd;
+// Compressed sparse columns, both triangles stored (a symmetric matrix as a whole).
+using SparseMatrix = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
+
+enum class SolveStatus {
+  kConverged,      // relative residual |b - A x| / |b| <= tolerance
+  kMaxIterations,  // the iteration limit came first
+  kNotPositive,    // the matrix (or the operator along a search direction) is not positive definite
+  kNotFinite,      // a NaN or an infinity in b, in the matrix, or appearing during the solve
+};
+const char* status_name(SolveStatus s);
+
+struct SolveReport {
+  int iterations = 0;   // CG iterations; 0 for a direct solve
+  double residual = 0;  // relative residual |b - A x| / |b| of the returned x (0 when b = 0)
+  SolveStatus status = SolveStatus::kConverged;
+  std::string message;  // what went wrong, "" when converged
+  bool ok() const { return status == SolveStatus::kConverged; }
+};
+
+struct SolveOptions {
+  double tolerance = 1e-10;  // on the relative residual
+  int max_iterations = 1000;
+};
+
+// y = A x for a symmetric positive definite A.
+class LinearOperator {
+ public:
+  virtual ~LinearOperator() = default;
+  virtual int64_t size() const = 0;
+  virtual void apply(const Vector& x, Vector& y) const = 0;
+};
+
+// z = M^-1 r, M symmetric positive definite and close to A.
+class Preconditioner {
+ public:
+  virtual ~Preconditioner() = default;
+  virtual void apply(const Vector& r, Vector& z) const = 0;
+};
+
+// A matrix-free operator from a function.
+class FunctionOperator final : public LinearOperator {
+ public:
+  FunctionOperator(int64_t n, std::function<void(const Vector&, Vector&)> f) : n_(n), f_(std::move(f)) {}
+  int64_t size() const override { return n_; }
+  void apply(const Vector& x, Vector& y) const override { f_(x, y); }
+
+ private:
+  int64_t n_;
+  std::function<void(const Vector&, Vector&)> f_;
+};
+
+// A sparse matrix as an operator: the product in parallel, rows in fixed blocks.
+class SparseOperator final : public LinearOperator {
+ public:
+  explicit SparseOperator(const SparseMatrix& a);  // keeps a reference: a must outlive it
+  int64_t size() const override { return a_.rows(); }
+  void apply(const Vector& x, Vector& y) const override;
+
+ private:
+  const SparseMatrix& a_;
+  Eigen::SparseMatrix<double, Eigen::RowMajor, int> rows_;  // the same matrix by rows
+};
+
+// M = diag(A).
+class JacobiPreconditioner final : public Preconditioner {
+ public:
+  explicit JacobiPreconditioner(const SparseMatrix& a);
+  void apply(const Vector& r, Vector& z) const override;
+
+ private:
+  Vector inv_diag_;
+};
+
+// Conjugate gradients from x (the initial guess; the solution on return). M may be null.
+SolveReport conjugate_gradient(const LinearOperator& a, const Vector& b, Vector& x, const SolveOptions& opt,
+                               const Preconditioner* m = nullptr);
+
+// A sparse Cholesky factor L L^T = A (CHOLMOD, supernodal). The symbolic analysis (fill-reducing
+// ordering and the factor's pattern) is kept and reused by factorize() while the pattern of A does
+// not change; analyze() starts over. A factor serves as a direct solver and as a preconditioner.
+class CholeskyFactor final : public Preconditioner {
+ public:
+  CholeskyFactor();
+  ~CholeskyFactor() override;
+  CholeskyFactor(const CholeskyFactor&) = delete;
+  CholeskyFactor& operator=(const CholeskyFactor&) = delete;
+
+  // The ordering and the pattern of the factor for the pattern of `a` (values unused).
+  void analyze(const SparseMatrix& a);
+  // Numerical factorisation of `a` (analyzed first if the pattern is new). Returns kConverged, or
+  // kNotPositive naming the column where positivity failed, or kNotFinite.
+  SolveReport factorize(const SparseMatrix& a);
+  bool ready() const;  // a successful factorisation is held
+  // x = A^-1 b with the held factor; kNotFinite when b or x is not finite.
+  SolveReport solve(const Vector& b, Vector& x) const;
+  void apply(const Vector& r, Vector& z) const override;
+  // Bytes the numerical factor takes (known after analyze()), entries of L.
+  int64_t factor_bytes() const;
+  int64_t factor_entries() const;
+  int64_t analyses() const { return analyses_; }
+  int64_t factorizations() const { return factorizations_; }
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+  int64_t analyses_ = 0, factorizations_ = 0;
+};
+
+// How a system is solved: the choices whose costs the benchmarks compare.
+enum class Method {
+  kCg,         // CG, Jacobi preconditioner
+  kFactorPcg,  // CG preconditioned by a Cholesky factor of an earlier matrix, refactorised when the
+               // iterations pass a threshold or every `refactor_every` solves
+  kDirect,     // a Cholesky factorisation and solve every time
+};
+const char* method_name(Method m);
+
+struct SolverSettings {
+  Method method = Method::kFactorPcg;
+  SolveOptions options;
+  int refactor_iterations = 20;  // kFactorPcg: refactorise after a solve that took more
+  int refactor_every = 0;        // kFactorPcg: and at least every N solves (0: never forced)
+};
+
+// A sequence of solves of slowly changing matrices (one per time step), warm-started from the
+// previous solution by the caller's x.
+class SpdSolver {
+ public:
+  explicit SpdSolver(SolverSettings s = {});
+  ~SpdSolver();
+  SpdSolver(const SpdSolver&) = delete;
+  SpdSolver& operator=(const SpdSolver&) = delete;
+
+  // Solves a x = b from x. `pattern_changed`: the sparsity of a differs from the last call's
+  // (connections made or broken), so a stored factor cannot precondition it.
+  SolveReport solve(const SparseMatrix& a, const Vector& b, Vector& x, bool pattern_changed);
+  const SolverSettings& settings() const { return s_; }
+  void set_settings(const SolverSettings& s) { s_ = s; }
+  int64_t refactorizations() const { return factor_.factorizations(); }
+  int64_t analyses() const { return factor_.analyses(); }
+  const CholeskyFactor& factor() const { return factor_; }
+  void forget_factor();  // the next kFactorPcg solve factorises first
+
+ private:
+  SolverSettings s_;
+  CholeskyFactor factor_;
+  bool factor_valid_ = false;
+  int solves_since_factor_ = 0;
+};
+
+}  // namespace silt::linalg

@@ -1,0 +1,171 @@
+// The sparse Cholesky factor, on CHOLMOD: the only file of silt that includes cholmod.h and owns
+// its handles (the common workspace, the factor, the solve's dense workspaces).
+//
+// A symmetric matrix stored whole (both triangles) is given to CHOLMOD as a view with stype -1:
+// CHOLMOD reads the lower triangle and ignores the upper. The default ordering strategy (AMD, then
+// METIS when AMD's fill is high) and a supernodal factorisation are used; both are deterministic,
+// and the BLAS under them is OpenBLAS's serial build (scripts/setup.sh), so a factor does not
+// depend on the number of threads.
+#include <cholmod.h>
+
+#include <cmath>
+
+#include "linalg/vector_ops.hpp"
+
+namespace silt::linalg {
+
+struct CholeskyFactor::Impl {
+  cholmod_common c{};
+  cholmod_factor* l = nullptr;
+  mutable cholmod_dense *x = nullptr, *y = nullptr, *e = nullptr;  // cholmod_solve2's workspaces
+  int64_t n = -1, nnz = -1;
+  std::vector<int> outer, inner;  // the analysed pattern
+  bool factored = false;
+
+  Impl() {
+    cholmod_start(&c);
+    c.supernodal = CHOLMOD_SUPERNODAL;
+    c.print = 0;  // failures are reported by silt
+    c.error_handler = nullptr;
+  }
+  ~Impl() {
+    if (l) cholmod_free_factor(&l, &c);
+    if (x) cholmod_free_dense(&x, &c);
+    if (y) cholmod_free_dense(&y, &c);
+    if (e) cholmod_free_dense(&e, &c);
+    cholmod_finish(&c);
+  }
+
+  // A view of `a` (compressed columns), no copy.
+  static cholmod_sparse view(const SparseMatrix& a) {
+    cholmod_sparse s{};
+    s.nrow = static_cast<size_t>(a.rows());
+    s.ncol = static_cast<size_t>(a.cols());
+    s.nzmax = static_cast<size_t>(a.nonZeros());
+    s.p = const_cast<int*>(a.outerIndexPtr());
+    s.i = const_cast<int*>(a.innerIndexPtr());
+    s.x = const_cast<double*>(a.valuePtr());
+    s.stype = -1;
+    s.itype = CHOLMOD_INT;
+    s.xtype = CHOLMOD_REAL;
+    s.dtype = CHOLMOD_DOUBLE;
+    s.sorted = 1;
+    s.packed = 1;
+    return s;
+  }
+
+  bool same_pattern(const SparseMatrix& a) const {
+    if (a.rows() != n || a.nonZeros() != nnz) return false;
+    return std::equal(outer.begin(), outer.end(), a.outerIndexPtr()) &&
+           std::equal(inner.begin(), inner.end(), a.innerIndexPtr());
+  }
+};
+
+CholeskyFactor::CholeskyFactor() : impl_(std::make_unique<Impl>()) {}
+CholeskyFactor::~CholeskyFactor() = default;
+
+void CholeskyFactor::analyze(const SparseMatrix& a0) {
+  SparseMatrix copy;
+  const SparseMatrix* a = &a0;
+  if (!a0.isCompressed()) {
+    copy = a0;
+    copy.makeCompressed();
+    a = &copy;
+  }
+  Impl& im = *impl_;
+  if (im.l) cholmod_free_factor(&im.l, &im.c);
+  cholmod_sparse v = Impl::view(*a);
+  im.l = cholmod_analyze(&v, &im.c);
+  im.n = a->rows();
+  im.nnz = a->nonZeros();
+  im.outer.assign(a->outerIndexPtr(), a->outerIndexPtr() + a->cols() + 1);
+  im.inner.assign(a->innerIndexPtr(), a->innerIndexPtr() + a->nonZeros());
+  im.factored = false;
+  ++analyses_;
+}
+
+SolveReport CholeskyFactor::factorize(const SparseMatrix& a0) {
+  SparseMatrix copy;
+  const SparseMatrix* a = &a0;
+  if (!a0.isCompressed()) {
+    copy = a0;
+    copy.makeCompressed();
+    a = &copy;
+  }
+  SolveReport rep;
+  Impl& im = *impl_;
+  im.factored = false;
+  for (int64_t k = 0; k < a->nonZeros(); ++k)
+    if (!std::isfinite(a->valuePtr()[k])) {
+      rep.status = SolveStatus::kNotFinite;
+      rep.message = "the matrix has a non-finite entry";
+      return rep;
+    }
+  if (!im.l || !im.same_pattern(*a)) analyze(*a);
+  cholmod_sparse v = Impl::view(*a);
+  cholmod_factorize(&v, im.l, &im.c);
+  ++factorizations_;
+  if (im.c.status == CHOLMOD_NOT_POSDEF || im.l->minor < im.l->n) {
+    rep.status = SolveStatus::kNotPositive;
+    rep.message = "the matrix is not positive definite (the factorisation failed at column " +
+                  std::to_string(im.l->minor) + " of " + std::to_string(im.l->n) + ")";
+    return rep;
+  }
+  if (im.c.status < CHOLMOD_OK) {
+    rep.status = SolveStatus::kNotFinite;
+    rep.message = "CHOLMOD failed (status " + std::to_string(im.c.status) + ", out of memory?)";
+    return rep;
+  }
+  im.factored = true;
+  return rep;
+}
+
+bool CholeskyFactor::ready() const { return impl_->factored; }
+
+SolveReport CholeskyFactor::solve(const Vector& b, Vector& x) const {
+  SolveReport rep;
+  if (!ready()) {
+    rep.status = SolveStatus::kNotPositive;
+    rep.message = "no factor is held (the last factorisation failed or none was made)";
+    return rep;
+  }
+  Impl& im = *impl_;
+  if (!all_finite(b)) {
+    rep.status = SolveStatus::kNotFinite;
+    rep.message = "the right-hand side is not finite";
+    return rep;
+  }
+  cholmod_dense bd{};
+  bd.nrow = static_cast<size_t>(b.size());
+  bd.ncol = 1;
+  bd.nzmax = bd.nrow;
+  bd.d = bd.nrow;
+  bd.x = const_cast<double*>(b.data());
+  bd.xtype = CHOLMOD_REAL;
+  bd.dtype = CHOLMOD_DOUBLE;
+  cholmod_solve2(CHOLMOD_A, im.l, &bd, nullptr, &im.x, nullptr, &im.y, &im.e, &im.c);
+  x = Eigen::Map<const Vector>(static_cast<const double*>(im.x->x), b.size());
+  if (!all_finite(x)) {
+    rep.status = SolveStatus::kNotFinite;
+    rep.message = "the solution is not finite";
+  }
+  return rep;
+}
+
+void CholeskyFactor::apply(const Vector& r, Vector& z) const { (void)solve(r, z); }
+
+int64_t CholeskyFactor::factor_entries() const {
+  const Impl& im = *impl_;
+  if (!im.l) return 0;
+  return im.l->is_super ? static_cast<int64_t>(im.l->xsize) : static_cast<int64_t>(im.c.lnz);
+}
+
+int64_t CholeskyFactor::factor_bytes() const {
+  const Impl& im = *impl_;
+  if (!im.l) return 0;
+  // Values, plus the integer pattern of a simplicial factor (a supernodal one's is small).
+  return factor_entries() * static_cast<int64_t>(sizeof(double)) +
+         (im.l->is_super ? static_cast<int64_t>(im.l->ssize) * 4 : factor_entries() * 4);
+}
+
+}  // namespace silt::linalg

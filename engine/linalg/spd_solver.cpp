@@ -1,0 +1,84 @@
+// The sequence of solves of a time stepper: CG with a Jacobi preconditioner, CG preconditioned by
+// a Cholesky factor of an earlier matrix (refactorised when it no longer helps enough), or a
+// direct solve every time.
+#include <algorithm>
+
+#include "linalg/vector_ops.hpp"
+
+namespace silt::linalg {
+
+const char* status_name(SolveStatus s) {
+  switch (s) {
+    case SolveStatus::kConverged: return "converged";
+    case SolveStatus::kMaxIterations: return "max_iterations";
+    case SolveStatus::kNotPositive: return "not_positive_definite";
+    case SolveStatus::kNotFinite: return "not_finite";
+  }
+  return "?";
+}
+
+const char* method_name(Method m) {
+  switch (m) {
+    case Method::kCg: return "cg";
+    case Method::kFactorPcg: return "factor_pcg";
+    case Method::kDirect: return "direct";
+  }
+  return "?";
+}
+
+SpdSolver::SpdSolver(SolverSettings s) : s_(s) {}
+SpdSolver::~SpdSolver() = default;
+
+void SpdSolver::forget_factor() { factor_valid_ = false; }
+
+SolveReport SpdSolver::solve(const SparseMatrix& a, const Vector& b, Vector& x, bool pattern_changed) {
+  const SparseOperator op(a);
+  if (s_.method == Method::kCg) {
+    const JacobiPreconditioner jacobi(a);
+    return conjugate_gradient(op, b, x, s_.options, &jacobi);
+  }
+  if (s_.method == Method::kDirect) {
+    SolveReport rep = factor_.factorize(a);
+    factor_valid_ = false;
+    if (!rep.ok()) return rep;
+    rep = factor_.solve(b, x);
+    if (rep.ok()) {
+      Vector ax;
+      op.apply(x, ax);
+      const double bn = b.norm();
+      rep.residual = bn > 0 ? (b - ax).norm() / bn : 0;
+    }
+    return rep;
+  }
+  // kFactorPcg.
+  if (pattern_changed) factor_valid_ = false;
+  if (s_.refactor_every > 0 && solves_since_factor_ >= s_.refactor_every) factor_valid_ = false;
+  auto refactor = [&]() {
+    SolveReport f = factor_.factorize(a);
+    factor_valid_ = f.ok();
+    solves_since_factor_ = 0;
+    return f;
+  };
+  if (!factor_valid_)
+    if (SolveReport f = refactor(); !f.ok()) return f;
+  // A stale factor gets a few times the threshold; past that, or on a failure, a fresh factor of
+  // this matrix and the solve again from where it got to. A solve that converged but took more
+  // than the threshold asks for a fresh factor next time.
+  const bool stale = solves_since_factor_ > 0;
+  SolveOptions first = s_.options;
+  if (stale) first.max_iterations = std::min(first.max_iterations, 4 * std::max(1, s_.refactor_iterations));
+  SolveReport rep = conjugate_gradient(op, b, x, first, &factor_);
+  ++solves_since_factor_;
+  if (!rep.ok() && stale && rep.status != SolveStatus::kNotFinite) {
+    const int spent = rep.iterations;
+    if (SolveReport f = refactor(); !f.ok()) return f;
+    rep = conjugate_gradient(op, b, x, s_.options, &factor_);
+    rep.iterations += spent;
+    ++solves_since_factor_;
+  } else if (rep.iterations > s_.refactor_iterations) {
+    factor_valid_ = false;
+  }
+  return rep;
+}
+
+}  // namespace silt::linalg

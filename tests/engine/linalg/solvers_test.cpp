@@ -1,0 +1,213 @@
+// The linear-algebra layer: CG (plain, Jacobi, preconditioned by a Cholesky factor) and the
+// direct Cholesky solve against closed forms and against each other; failures as reports; the
+// same bits on any number of threads.
+#include <doctest/doctest.h>
+#include <tbb/task_arena.h>
+
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include "silt/linalg.hpp"
+
+using namespace silt::linalg;
+
+namespace {
+
+SparseMatrix from_triplets(int64_t n, const std::vector<Eigen::Triplet<double>>& t) {
+  SparseMatrix a(n, n);
+  a.setFromTriplets(t.begin(), t.end());
+  a.makeCompressed();
+  return a;
+}
+
+// The 1D chain of N - 1 free points between two pinned ends: tridiag(-1, 2, -1), whose inverse
+// is T^-1_ij = min(i,j) (N - max(i,j)) / N (1-based), Peyneau (2009) sec. 2.2.3's test.
+SparseMatrix chain(int n_links) {
+  const int n = n_links - 1;
+  std::vector<Eigen::Triplet<double>> t;
+  for (int i = 0; i < n; ++i) {
+    t.emplace_back(i, i, 2.0);
+    if (i + 1 < n) {
+      t.emplace_back(i, i + 1, -1.0);
+      t.emplace_back(i + 1, i, -1.0);
+    }
+  }
+  return from_triplets(n, t);
+}
+
+// A 2D grid Laplacian with a positive diagonal shift varying over orders of magnitude: symmetric
+// positive definite and badly conditioned, like a resistance matrix with gaps of many sizes.
+SparseMatrix grid(int side, unsigned seed, double perturb = 0) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(0, 1);
+  const int n = side * side;
+  std::vector<Eigen::Triplet<double>> t;
+  auto id = [side](int i, int j) { return i * side + j; };
+  std::vector<double> diag(n, 0.0);
+  for (int i = 0; i < side; ++i)
+    for (int j = 0; j < side; ++j)
+      for (auto [di, dj] : {std::pair{1, 0}, std::pair{0, 1}}) {
+        if (i + di >= side || j + dj >= side) continue;
+        const double w = std::pow(10.0, 4 * u(rng)) * (1 + perturb * u(rng));  // 1 .. 1e4
+        const int a = id(i, j), b = id(i + di, j + dj);
+        t.emplace_back(a, b, -w);
+        t.emplace_back(b, a, -w);
+        diag[a] += w;
+        diag[b] += w;
+      }
+  for (int k = 0; k < n; ++k) t.emplace_back(k, k, diag[k] + 1e-2);
+  return from_triplets(n, t);
+}
+
+Vector random_vector(int64_t n, unsigned seed) {
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> g;
+  Vector v(n);
+  for (int64_t i = 0; i < n; ++i) v[i] = g(rng);
+  return v;
+}
+
+double rel_diff(const Vector& a, const Vector& b) { return (a - b).norm() / b.norm(); }
+
+}  // namespace
+
+TEST_CASE("every solver inverts the 1D chain to its closed form") {
+  const int big_n = 200;
+  const SparseMatrix t = chain(big_n);
+  const SparseOperator op(t);
+  CholeskyFactor f;
+  REQUIRE(f.factorize(t).ok());
+  for (int j : {1, 57, 199}) {
+    CAPTURE(j);
+    Vector e = Vector::Zero(big_n - 1);
+    e[j - 1] = 1;
+    Vector exact(big_n - 1);
+    for (int i = 1; i < big_n; ++i) exact[i - 1] = std::min(i, j) * double(big_n - std::max(i, j)) / big_n;
+    Vector x_cg = Vector::Zero(big_n - 1), x_direct;
+    const SolveReport cg = conjugate_gradient(op, e, x_cg, {1e-13, 1000});
+    CHECK(cg.ok());
+    CHECK(cg.iterations <= big_n);  // CG is exact in at most n steps
+    CHECK(rel_diff(x_cg, exact) < 1e-10);
+    REQUIRE(f.solve(e, x_direct).ok());
+    CHECK(rel_diff(x_direct, exact) < 1e-12);
+  }
+}
+
+TEST_CASE("CG, Jacobi CG, factor-preconditioned CG and the direct solve agree") {
+  const SparseMatrix a = grid(40, 1);
+  const Vector b = random_vector(a.rows(), 2);
+  SolveOptions opt{1e-10, 20000};  // a relative residual round-off allows here (entries span 1e-2 .. 4e4)
+  Vector x_cg = Vector::Zero(a.rows()), x_jac = x_cg, x_pcg = x_cg, x_direct;
+  const SparseOperator op(a);
+  const SolveReport cg = conjugate_gradient(op, b, x_cg, opt);
+  const JacobiPreconditioner jacobi(a);
+  const SolveReport jac = conjugate_gradient(op, b, x_jac, opt, &jacobi);
+  CholeskyFactor f;
+  REQUIRE(f.factorize(a).ok());
+  const SolveReport pcg = conjugate_gradient(op, b, x_pcg, opt, &f);
+  REQUIRE(f.solve(b, x_direct).ok());
+  CHECK(cg.ok());
+  CHECK(jac.ok());
+  CHECK(pcg.ok());
+  CHECK(cg.residual <= 1e-10);
+  CHECK(jac.iterations < cg.iterations);  // the diagonal spans four decades
+  CHECK(pcg.iterations <= 2);             // preconditioned by its own exact factor
+  CHECK(rel_diff(x_cg, x_direct) < 1e-8);
+  CHECK(rel_diff(x_jac, x_direct) < 1e-8);
+  CHECK(rel_diff(x_pcg, x_direct) < 1e-10);
+  CHECK(f.factor_entries() > a.nonZeros() / 2);
+  CHECK(f.factor_bytes() >= 8 * f.factor_entries());
+}
+
+TEST_CASE("an older factor preconditions a changed matrix; the solver refactorises when it no longer helps") {
+  SolverSettings s;
+  s.method = Method::kFactorPcg;
+  s.options = {1e-10, 2000};
+  s.refactor_iterations = 15;
+  SpdSolver solver(s);
+  Vector x = Vector::Zero(900);
+  int64_t iterations = 0;
+  // Matrices that drift a little each step (the same pattern), as a resistance matrix does.
+  for (int step = 0; step < 12; ++step) {
+    CAPTURE(step);
+    const SparseMatrix a = grid(30, 7, 0.02 * step);
+    const Vector b = random_vector(a.rows(), 100 + step);
+    const SolveReport r = solver.solve(a, b, x, false);
+    REQUIRE(r.ok());
+    iterations += r.iterations;
+    Vector exact;
+    CholeskyFactor f;
+    REQUIRE(f.factorize(a).ok());
+    REQUIRE(f.solve(b, exact).ok());
+    CHECK(rel_diff(x, exact) < 1e-7);
+  }
+  CHECK(solver.analyses() == 1);  // the pattern never changed: one symbolic analysis
+  CHECK(solver.refactorizations() < 12);
+  CHECK(iterations < 12 * 40);
+  // Direct and Jacobi CG through the same contract.
+  for (Method m : {Method::kDirect, Method::kCg}) {
+    s.method = m;
+    SpdSolver other(s);
+    const SparseMatrix a = grid(30, 7);
+    const Vector b = random_vector(a.rows(), 5);
+    Vector y = Vector::Zero(a.rows());
+    CHECK(other.solve(a, b, y, true).ok());
+  }
+}
+
+TEST_CASE("a system that is not positive definite, or not finite, is a report, not a NaN") {
+  SparseMatrix a = grid(10, 3);
+  a.coeffRef(37, 37) = -5;  // an indefinite matrix
+  CholeskyFactor f;
+  const SolveReport r = f.factorize(a);
+  CHECK(r.status == SolveStatus::kNotPositive);
+  CHECK(r.message.find("column") != std::string::npos);
+  CHECK_FALSE(f.ready());
+  Vector x;
+  CHECK(f.solve(random_vector(100, 1), x).status == SolveStatus::kNotPositive);
+  // CG along a direction of negative curvature.
+  const SparseMatrix neg = -grid(10, 3);
+  Vector y = Vector::Zero(100);
+  const SolveReport c = conjugate_gradient(SparseOperator(neg), random_vector(100, 2), y, {});
+  CHECK(c.status == SolveStatus::kNotPositive);
+  // Non-finite inputs.
+  Vector b = random_vector(100, 3);
+  b[5] = std::nan("");
+  const SparseMatrix good = grid(10, 3);
+  Vector z = Vector::Zero(100);
+  CHECK(conjugate_gradient(SparseOperator(good), b, z, {}).status == SolveStatus::kNotFinite);
+  SparseMatrix inf = good;
+  inf.coeffRef(3, 3) = INFINITY;
+  CHECK(f.factorize(inf).status == SolveStatus::kNotFinite);
+  // The iteration limit.
+  Vector w = Vector::Zero(100);
+  const SolveReport lim = conjugate_gradient(SparseOperator(good), random_vector(100, 4), w, {1e-14, 3});
+  CHECK(lim.status == SolveStatus::kMaxIterations);
+  CHECK(lim.message.find("3 iterations") != std::string::npos);
+  CHECK(std::isfinite(lim.residual));
+}
+
+TEST_CASE("a solve gives the same bits on 1, 2 and 4 threads") {
+  const SparseMatrix a = grid(90, 11);  // 8,100 unknowns: more than one reduction block
+  const Vector b = random_vector(a.rows(), 12);
+  auto solve_on = [&](int threads, Method m) {
+    tbb::task_arena arena(threads);
+    Vector x = Vector::Zero(a.rows());
+    arena.execute([&] {
+      SolverSettings s;
+      s.method = m;
+      SpdSolver solver(s);
+      REQUIRE(solver.solve(a, b, x, true).ok());
+    });
+    return x;
+  };
+  for (Method m : {Method::kCg, Method::kFactorPcg, Method::kDirect}) {
+    CAPTURE(method_name(m));
+    const Vector one = solve_on(1, m);
+    for (int threads : {2, 4}) {
+      const Vector other = solve_on(threads, m);
+      CHECK(std::memcmp(one.data(), other.data(), sizeof(double) * one.size()) == 0);
+    }
+  }
+}
