@@ -1,0 +1,113 @@
+#include "paste/resistance.hpp"
+
+#include <cmath>
+#include <numeric>
+
+namespace silt::paste {
+namespace {
+
+// Two unit vectors completing n to an orthonormal basis (3D), or the one of the plane (2D:
+// t = e_z x n, Peyneau's t_ij).
+void tangents(int dim, const double* n, double t[2][3]) {
+  if (dim == 2) {
+    t[0][0] = -n[1];
+    t[0][1] = n[0];
+    t[0][2] = 0;
+    return;
+  }
+  // The axis least aligned with n, crossed with it.
+  const int k = std::abs(n[0]) <= std::abs(n[1]) && std::abs(n[0]) <= std::abs(n[2]) ? 0
+                : std::abs(n[1]) <= std::abs(n[2])                                   ? 1
+                                                                                     : 2;
+  double e[3] = {0, 0, 0};
+  e[k] = 1;
+  double a[3] = {n[1] * e[2] - n[2] * e[1], n[2] * e[0] - n[0] * e[2], n[0] * e[1] - n[1] * e[0]};
+  const double la = std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
+  for (double& x : a) x /= la;
+  const double b[3] = {n[1] * a[2] - n[2] * a[1], n[2] * a[0] - n[0] * a[2], n[0] * a[1] - n[1] * a[0]};
+  for (int m = 0; m < 3; ++m) {
+    t[0][m] = a[m];
+    t[1][m] = b[m];
+  }
+}
+
+}  // namespace
+
+linalg::SparseMatrix connection_map(const ResistanceLayout& L, const std::vector<Connection>& cs,
+                                    const std::vector<double>& radius) {
+  const int d = L.dim;
+  const int rows_per = d;  // 1 normal + (d - 1) tangential
+  std::vector<Eigen::Triplet<double>> t;
+  t.reserve(cs.size() * static_cast<size_t>(rows_per) * 2 * static_cast<size_t>(L.per_grain() + 1));
+  for (size_t k = 0; k < cs.size(); ++k) {
+    const Connection& c = cs[k];
+    double tan[2][3];
+    tangents(d, c.n, tan);
+    const double ri = radius[c.i], rj = radius[c.j];
+    for (int q = 0; q < rows_per; ++q) {
+      const double* e = q == 0 ? c.n : tan[q - 1];  // the direction this row projects on
+      const auto row = static_cast<int>(k * rows_per + q);
+      for (int a = 0; a < d; ++a) {
+        if (e[a] == 0) continue;
+        t.emplace_back(row, static_cast<int>(L.velocity(c.i) + a), e[a]);
+        t.emplace_back(row, static_cast<int>(L.velocity(c.j) + a), -e[a]);
+        if (L.box) t.emplace_back(row, static_cast<int>(L.strain_rate(a)), -e[a] * c.r[a]);
+      }
+      // e . ((R_i w_i + R_j w_j) x n) = (R_i w_i + R_j w_j) . (n x e).
+      if (d == 2) {
+        const double nxe = c.n[0] * e[1] - c.n[1] * e[0];  // z component
+        if (nxe != 0) {
+          t.emplace_back(row, static_cast<int>(L.spin(c.i)), ri * nxe);
+          t.emplace_back(row, static_cast<int>(L.spin(c.j)), rj * nxe);
+        }
+      } else {
+        const double nxe[3] = {c.n[1] * e[2] - c.n[2] * e[1], c.n[2] * e[0] - c.n[0] * e[2],
+                               c.n[0] * e[1] - c.n[1] * e[0]};
+        for (int a = 0; a < 3; ++a) {
+          if (nxe[a] == 0) continue;
+          t.emplace_back(row, static_cast<int>(L.spin(c.i) + a), ri * nxe[a]);
+          t.emplace_back(row, static_cast<int>(L.spin(c.j) + a), rj * nxe[a]);
+        }
+      }
+    }
+  }
+  linalg::SparseMatrix g(static_cast<int64_t>(cs.size()) * rows_per, L.size());
+  g.setFromTriplets(t.begin(), t.end());
+  g.makeCompressed();
+  return g;
+}
+
+linalg::SparseMatrix resistance_matrix(const ResistanceLayout& L, const std::vector<Connection>& cs,
+                                       const std::vector<double>& radius) {
+  const linalg::SparseMatrix g = connection_map(L, cs, radius);
+  Eigen::VectorXd xi(g.rows());
+  for (size_t k = 0; k < cs.size(); ++k)
+    for (int q = 0; q < L.dim; ++q) xi[static_cast<int64_t>(k) * L.dim + q] = q == 0 ? cs[k].xi_n : cs[k].xi_t;
+  linalg::SparseMatrix xi_g = xi.asDiagonal() * g;
+  linalg::SparseMatrix a = (g.transpose() * xi_g).pruned();
+  a.makeCompressed();
+  return a;
+}
+
+std::vector<int32_t> connected_components(int64_t grains, const std::vector<Connection>& cs, int32_t& count) {
+  std::vector<int32_t> parent(static_cast<size_t>(grains));
+  std::iota(parent.begin(), parent.end(), 0);
+  auto find = [&](int32_t x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  };
+  for (const Connection& c : cs) {
+    const int32_t a = find(c.i), b = find(c.j);
+    if (a != b) parent[std::max(a, b)] = std::min(a, b);
+  }
+  std::vector<int32_t> comp(static_cast<size_t>(grains), -1), id(static_cast<size_t>(grains), -1);
+  count = 0;
+  for (int64_t g = 0; g < grains; ++g) {
+    const int32_t root = find(static_cast<int32_t>(g));
+    if (id[root] < 0) id[root] = count++;
+    comp[g] = id[root];
+  }
+  return comp;
+}
+
+}  // namespace silt::paste
