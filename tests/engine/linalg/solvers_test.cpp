@@ -5,7 +5,9 @@
 #include <tbb/task_arena.h>
 
 #include <cmath>
+#include <cstring>
 #include <random>
+#include <string>
 #include <vector>
 
 #include "silt/linalg.hpp"
@@ -197,13 +199,17 @@ TEST_CASE("a solve gives the same bits on 1, 2 and 4 threads") {
     arena.execute([&] {
       SolverSettings s;
       s.method = m;
+      s.options = {1e-8, 20000};
       SpdSolver solver(s);
-      REQUIRE(solver.solve(a, b, x, true).ok());
+      const SolveReport r = solver.solve(a, b, x, true);
+      CAPTURE(r.message);
+      REQUIRE(r.ok());
     });
     return x;
   };
   for (Method m : {Method::kCg, Method::kFactorPcg, Method::kDirect}) {
-    CAPTURE(method_name(m));
+    const std::string method = method_name(m);
+    CAPTURE(method);
     const Vector one = solve_on(1, m);
     for (int threads : {2, 4}) {
       const Vector other = solve_on(threads, m);
