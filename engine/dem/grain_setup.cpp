@@ -128,6 +128,13 @@ void region_of(const SceneDesc& d, const Model& m, int g, Group& G) {
     d.fail(key(g, "region_hi"), "needs " + std::to_string(m.dim) + " entries");
   for (int k = 0; k < m.dim; ++k)
     if (!(G.hi[k] > G.lo[k])) d.fail(key(g, "region_hi"), "region_hi must exceed region_lo in every direction");
+  // Grains live in the domain: the region is its intersection with it.
+  for (int k = 0; k < m.dim; ++k) {
+    G.lo[k] = std::max(G.lo[k], m.box.lo[k]);
+    G.hi[k] = std::min(G.hi[k], m.box.lo[k] + m.box.len[k]);
+    if (!(G.hi[k] > G.lo[k]))
+      d.fail(key(g, "region_hi"), "the region does not meet the domain along " + std::string(1, "xyz"[k]));
+  }
 }
 
 // Lattice sites in the half-open region [lo, hi). As with LAMMPS's `lattice`, sites sit at

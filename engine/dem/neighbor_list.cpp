@@ -64,7 +64,9 @@ CellGrid make_grid(const Model& m, const State& s, double cutoff) {
     for (int k = 0; k < D; ++k) {
       if (s.box.periodic[k]) {
         g.wrap[k] = true;
-        g.n[k] = static_cast<int>(std::clamp(std::floor(s.box.len[k] / size[k]), 1.0, 1e9));
+        // (A box length gone non-finite, which the box's stage reports, gets one cell.)
+        const double cells = std::floor(s.box.len[k] / size[k]);
+        g.n[k] = std::isfinite(cells) ? static_cast<int>(std::clamp(cells, 1.0, 1e9)) : 1;
         g.lo[k] = s.box.lo[k];
         g.inv_size[k] = g.n[k] / s.box.len[k];
       } else {

@@ -4,6 +4,8 @@
 //   choose_dt -> box_drift -> kick_drift ... kick -> box_kick
 //
 // and for the forces of the first state, box_stress after the pair forces.
+#include <cmath>
+
 #include "graph/adders.hpp"
 #include "shear/stages.hpp"
 #include "silt/text.hpp"
@@ -37,7 +39,15 @@ void add_shear_stages(GraphBuilder& b) {
   b.diagnose(event::kBoxCollapse, [](const Model& mm, const State& s, const EventSlot& e, StepFailure& f) {
     f.stage = "box_drift";
     f.parameter = "box.pressure";
-    f.message = "the box length along " + std::string(1, "xyz"[e.first()]) + " fell to " + format_number(e.value(), 4) +
+    const std::string axis(1, "xyz"[e.first()]);
+    if (!std::isfinite(e.value()) || e.value() > 2 * mm.interaction_range()) {
+      // Not a collapse: the box's rate (or the Lees-Edwards shift) overflowed.
+      f.parameter = "box.mass_factor";
+      f.message = "the box along " + axis + " is no longer finite (" + format_number(e.value(), 4) +
+                  "): the stresses on it overflowed; reduce the loads or raise box.mass_factor";
+      return;
+    }
+    f.message = "the box length along " + axis + " fell to " + format_number(e.value(), 4) +
                 ", below twice the interaction range " + format_number(2 * mm.interaction_range(), 4) +
                 ": use more grains or a lower box.pressure";
     (void)s;

@@ -110,6 +110,33 @@ void sync_directory(const std::string& path) {
   ::close(fd);
 }
 
+// Whether the bools of a scalar field read from a file are 0 or 1: loading any other byte as a bool
+// is undefined behaviour, so they are looked at as bytes before anything reads the value.
+bool bool_bytes(const bool* b, size_t n) {
+  for (size_t k = 0; k < n; ++k) {
+    unsigned char c = 0;
+    std::memcpy(&c, b + k, 1);
+    if (c > 1) return false;
+  }
+  return true;
+}
+template <class T>
+bool bools_valid(const T& v) {
+  if constexpr (std::is_same_v<T, bool>) return bool_bytes(&v, 1);
+  else if constexpr (std::is_same_v<T, Box>)
+    return bool_bytes(v.periodic.data(), v.periodic.size()) && bool_bytes(&v.lees_edwards, 1);
+  else return true;
+}
+
+// Whether every floating-point number of a scalar field is finite (integers and flags are).
+bool finite_value(double x) { return std::isfinite(x); }
+bool finite_value(const Vec3a& v) { return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]); }
+bool finite_value(const Box& b) { return finite_value(b.lo) && finite_value(b.len) && std::isfinite(b.le_offset); }
+template <class T>
+bool finite_value(const T&) {
+  return true;
+}
+
 // "" when the state is one a simulation of m can hold: every array as long as its extent says,
 // every index in range, every floating-point value finite; else what is wrong.
 std::string check_state(const State& s, const Model& m) {
@@ -134,12 +161,17 @@ std::string check_state(const State& s, const Model& m) {
             bad = f.name + "[" + std::to_string(k) + "] is not finite";
             return;
           }
+    } else if (!finite_value(v)) {
+      bad = f.name + " is not finite";
     }
   });
   if (!bad.empty()) return bad;
   if (s.nbr_start[0] != 0 || s.nbr_start[n] != np) return "nbr_start does not span the pair list";
-  for (int64_t i = 0; i < n; ++i) {
+  // Every row bound first: from 0 to np without decreasing, each is within the list before any
+  // row's pairs are read (a row may otherwise end past the list, a later one coming back).
+  for (int64_t i = 0; i < n; ++i)
     if (s.nbr_start[i + 1] < s.nbr_start[i]) return "nbr_start decreases at row " + std::to_string(i);
+  for (int64_t i = 0; i < n; ++i) {
     for (int32_t p = s.nbr_start[i]; p < s.nbr_start[i + 1]; ++p)
       if (s.pair_i[p] != i || s.pair_j[p] <= i || s.pair_j[p] >= n)
         return "pair " + std::to_string(p) + " is not a pair of row " + std::to_string(i);
@@ -280,6 +312,7 @@ State read_checkpoint(const std::string& path, const Model& m, std::vector<std::
       if (elem != size || count != 1) throw IoError("checkpoint '" + path + "' is corrupt: bad field " + stored_name);
       // The runs of field_bytes point into v: fill them in order.
       field_bytes(v, [&](const void* p, size_t n) { r.bytes(const_cast<void*>(p), n); });
+      if (!bools_valid(v)) throw IoError("checkpoint '" + path + "' is corrupt: bad field " + stored_name);
     }
   });
   if (const std::string bad = check_state(s, m); !bad.empty())

@@ -214,7 +214,11 @@ void apply_override_at(SceneDesc& desc, const Override& o, int ordinal) {
   // Group index must exist.
   if (auto lb = path.find('['); lb != std::string::npos) {
     const std::string group = path.substr(0, lb);
-    const int index = std::stoi(path.substr(lb + 1));
+    const auto rb = path.find(']', lb);
+    const std::string digits = path.substr(lb + 1, rb == std::string::npos ? std::string::npos : rb - lb - 1);
+    if (digits.empty() || digits.size() > 9 || digits.find_first_not_of("0123456789") != std::string::npos)
+      throw SceneError(where, "'" + o.key + "': the index of " + group + "[...] must be a whole number");
+    const int index = std::stoi(digits);
     if (index >= desc.group_count(group))
       throw SceneError(where, "no " + group + "[" + std::to_string(index) + "] in the scene (it has " +
                                   std::to_string(desc.group_count(group)) + ")");

@@ -61,7 +61,8 @@ void box_drift(const Model& m, State& s) {
       lambda[k] = next / s.box.len[k];
       s.box.len[k] = next;
       // Below twice the interaction range, a grain would meet its own image.
-      if (next < 2 * m.interaction_range()) s.events[event::kBoxCollapse].raise(k, next);
+      // (Written so that a NaN or an infinite length, a box rate that overflowed, raises it too.)
+      if (!(next >= 2 * m.interaction_range() && std::isfinite(next))) s.events[event::kBoxCollapse].raise(k, next);
     }
   if (m.shear.on) {
     if (!m.shear.stress_controlled) s.shear_rate = m.shear.rate;  // imposed (and steerable)
@@ -70,6 +71,9 @@ void box_drift(const Model& m, State& s) {
     s.le_displacement = lambda[0] * s.le_displacement + dt * s.shear_rate * s.box.len[1];
     s.shear_strain += dt * s.shear_rate;
     s.box.le_offset = s.le_displacement - s.box.len[0] * std::floor(s.le_displacement / s.box.len[0]);
+    // A shift beyond about 1e16 box lengths (or an overflow) leaves no usable offset.
+    if (!(s.box.le_offset >= 0 && s.box.le_offset <= s.box.len[0]))
+      s.events[event::kBoxCollapse].raise(0, s.box.le_offset);
   }
   double strain = std::abs(s.shear_rate) * dt;
   for (int k = 0; k < D; ++k) strain = std::max(strain, std::abs(lambda[k] - 1.0));

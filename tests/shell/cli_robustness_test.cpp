@@ -93,3 +93,31 @@ TEST_CASE("an edited checkpoint with a recomputed checksum is refused as corrupt
   CHECK(r.code == 4);
   CHECK(contains(r.out, "corrupt: particle_x has 0 entries"));
 }
+
+TEST_CASE("inputs the fuzzers found end in a clear message and the contract's exit code") {
+  const std::string dir = std::string(SILT_SOURCE_DIR) + "/tests/fuzz/crashes/";
+  const std::string pack =
+      "run " + scene_path("pack_2d") + " --quiet --set grains.0.count=40 --set 'domain.hi=[8.0,8.0]'";
+  const std::string shear =
+      "run " + scene_path("shear3d_frictionless") + " --quiet --set grains.0.count=40 --set prepare.compress=false";
+  struct Case {
+    std::string args;
+    int code;
+  };
+  const Case cases[] = {
+      {pack + " --steps 3 --restore " + dir + "box_length_nan.ckpt", 3},
+      {shear + " --steps 3 --restore " + dir + "lees_edwards_offset_far.ckpt", 3},
+      {shear + " --steps 3 --restore " + dir + "lees_edwards_overflow.ckpt", 3},
+      {pack + " --steps 3 --restore " + dir + "nbr_start_past_pairs.ckpt", 4},
+      {pack + " --steps 3 --restore " + dir + "scalar_nan.ckpt", 4},
+      {"check " + dir + "region_far_outside.toml", 0},
+      {"check " + scene_path("pack_2d") + " --set 'grains[].radius=0.1'", 2},
+      {"check " + scene_path("pack_2d") + " --set 'grains[99999999999].radius=0.1'", 2},
+  };
+  for (const Case& c : cases) {
+    CAPTURE(c.args);
+    const Result r = silt_cli(c.args);
+    CHECK(r.code == c.code);
+    CHECK_FALSE(contains(r.out, "internal error"));
+  }
+}
