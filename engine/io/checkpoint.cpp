@@ -189,6 +189,7 @@ std::string check_state(const State& s, const Model& m) {
   for (int k = 0; k < 3; ++k)
     if (!std::isfinite(s.box.lo[k]) || !(s.box.len[k] > 0) || !std::isfinite(s.box.len[k]))
       return "the box is not finite";
+  if (!(s.box.le_offset >= 0 && s.box.le_offset <= s.box.len[0])) return "the Lees-Edwards offset is outside [0, L_x]";
   if (!std::isfinite(s.t) || !std::isfinite(s.dt) || s.step < 0) return "the time is not finite";
   return "";
 }
