@@ -1,20 +1,23 @@
 #!/usr/bin/env bash
-# Build the shell's command parser with libFuzzer (clang, AddressSanitizer, UBSan) and fuzz it for
-# N seconds (default 20), starting from the shipped scripts. Usage: scripts/fuzz.sh [SECONDS]
+# Build the libFuzzer targets of tests/fuzz (clang, AddressSanitizer, UBSan, in build-fuzz/) and
+# fuzz each for N seconds (default 20), one after the other on one core, from the shipped files
+# and what earlier runs found (build-fuzz/corpus/): the shell's command parser, scene files,
+# checkpoints, and shell sessions without and with a terminal. Prints one line per target, and
+# what went wrong; exits non-zero on any crash, leak, timeout, out-of-memory or sanitizer report
+# (the input in build-fuzz/artifacts/, the log in build-fuzz/logs/). Usage: scripts/fuzz.sh [SECONDS]
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds=${1:-20}
 out=build-fuzz
-mkdir -p "$out/corpus"
-clang++ -std=c++20 -O1 -g -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined \
-  -I. -Iengine -Iengine/include tests/fuzz/command_parser_fuzz.cpp shell/command_parser.cpp engine/core/text.cpp \
-  -o "$out/command_parser_fuzz"
-# Seeds: every line of the shipped scripts.
-n=0
-for f in scenes/*.silt; do
-  while IFS= read -r line; do
-    printf '%s' "$line" > "$out/corpus/seed_$n"
-    n=$((n + 1))
-  done < "$f"
+tests/fuzz/build.sh "$out"
+failed=0
+for t in command_parser scene checkpoint session repl; do
+  if tests/fuzz/run.sh "$t" "$out" -max_total_time="$seconds"; then
+    echo "fuzz $t: ok, $(grep -oE '^Done [0-9]+ runs in [0-9]+ second' "$out/logs/$t.log" | sed 's/^Done //;s/ second$/ s/')"
+  else
+    echo "fuzz $t: FAILED, log $out/logs/$t.log"
+    grep -E 'ERROR:|runtime error:|silt fuzz:|^ +#[0-3] |SUMMARY:|Test unit written' "$out/logs/$t.log" | cut -c1-200 | head -n 12
+    failed=1
+  fi
 done
-"$out/command_parser_fuzz" -max_total_time="$seconds" -max_len=256 -timeout=5 "$out/corpus" 2>&1 | tail -n 3
+exit $failed

@@ -1,0 +1,44 @@
+#!/usr/bin/env bash
+# Fuzz every target of tests/fuzz for RUNS inputs each (default 1,000,000), one after the other on
+# one core, under AddressSanitizer and UBSan (build-fuzz/, built as scripts/fuzz.sh builds it, on
+# the corpora earlier runs left there). Prints a table and appends it to bench/results/fuzz.csv:
+# target, inputs run, seconds, exec/s, corpus size, new units, peak RSS, result (ok, or crash,
+# leak, timeout, oom with the input saved in build-fuzz/artifacts/).
+# Usage: bench/fuzz_all.sh [RUNS [TARGET...]]
+set -uo pipefail
+cd "$(dirname "$0")/.."
+runs=${1:-1000000}
+shift $(($# > 0 ? 1 : 0))
+targets=("$@")
+[ ${#targets[@]} -gt 0 ] || targets=(command_parser scene checkpoint session repl)
+out=build-fuzz
+csv=bench/results/fuzz.csv
+tests/fuzz/build.sh "$out" || exit 1
+[ -f "$csv" ] || echo "date,target,inputs,seconds,exec_per_s,corpus_files,corpus_kb,new_units,peak_rss_mb,result" > "$csv"
+stat() { grep -oE "stat::$1: *[0-9]+" "$log" | grep -oE '[0-9]+$' || echo 0; }
+printf '%-15s %10s %8s %8s %14s  %s\n' target inputs seconds exec/s corpus result
+failed=0
+for t in "${targets[@]}"; do
+  start=$(date +%s.%N)
+  tests/fuzz/run.sh "$t" "$out" -runs="$runs"
+  status=$?
+  seconds=$(awk -v a="$start" -v b="$(date +%s.%N)" 'BEGIN { printf "%.1f", b - a }')
+  log=$out/logs/$t.log
+  inputs=$(stat number_of_executed_units)
+  result=ok
+  if [ $status -ne 0 ]; then
+    failed=1
+    if grep -q 'ERROR: libFuzzer: timeout' "$log"; then result=timeout
+    elif grep -q 'out-of-memory' "$log"; then result=oom
+    elif grep -q 'LeakSanitizer' "$log"; then result=leak
+    else result=crash; fi
+    artifact=$(grep -oE 'Test unit written to [^ ]+' "$log" | tail -n 1 | sed 's/.* //')
+    [ -z "$artifact" ] || result="$result $artifact"
+  fi
+  files=$(find "$out/corpus/$t" -type f | wc -l)
+  kb=$(du -sk "$out/corpus/$t" | cut -f1)
+  rate=$(awk -v n="$inputs" -v s="$seconds" 'BEGIN { printf "%.0f", (s > 0 ? n / s : 0) }')
+  printf '%-15s %10s %8s %8s %8s files  %s\n' "$t" "$inputs" "$seconds" "$rate" "$files" "$result"
+  echo "$(date -u +%Y-%m-%dT%H:%M:%SZ),$t,$inputs,$seconds,$rate,$files,$kb,$(stat new_units_added),$(stat peak_rss_mb),$result" >> "$csv"
+done
+exit $failed

@@ -1,0 +1,128 @@
+// libFuzzer target for whole shell sessions on a terminal, as `silt shell` reads one
+// (shell/repl.cpp): the first byte picks the scene loaded first, the rest are key presses fed to
+// GNU readline's callback interface through rl_instream (a pipe), with the same key sequences
+// unbound, the same line handler and the same completion; each line it returns is made bounded
+// and executed by a Session (session_driver.hpp), at most kMaxSessionLines of them. Seeds: those
+// of session_fuzz, and tests/fuzz/seeds/*.keys.
+#include <readline/history.h>
+#include <readline/readline.h>
+#include <unistd.h>
+
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "fuzz_support.hpp"
+#include "session_driver.hpp"
+
+namespace {
+
+silt::fuzz::SessionDriver* g_driver = nullptr;
+std::string g_pending;
+bool g_have_line = false, g_eof = false;
+std::vector<std::string> g_matches;
+
+extern "C" void on_line(char* line) {
+  rl_callback_handler_remove();  // as repl.cpp: installed again after the command
+  if (!line) {
+    g_eof = true;
+    return;
+  }
+  g_pending = line;
+  g_have_line = true;
+  if (*line) add_history(line);  // not to a file: the history of this input only
+  std::free(line);
+}
+
+char* completion_generator(const char*, int state) {
+  static size_t next = 0;
+  if (state == 0) next = 0;
+  if (next < g_matches.size()) return strdup(g_matches[next++].c_str());
+  return nullptr;
+}
+
+char** completion(const char* text, int, int) {
+  const std::string before(rl_line_buffer, rl_line_buffer + (rl_point - std::strlen(text)));
+  const auto words = g_driver->session().complete(before, text);
+  if (!words) return nullptr;
+  rl_attempted_completion_over = 1;
+  g_matches = *words;
+  return rl_completion_matches(text, completion_generator);
+}
+
+// The key sequences that shell/repl.cpp unbinds (its unbind_crashing_keys, internal to the
+// executable): the same calls, to be kept in step with it.
+void unbind_crashing_keys() {
+  for (Keymap map : {emacs_standard_keymap, vi_insertion_keymap, vi_movement_keymap})
+    for (const char* seq : {"\\C-r", "\\C-s"}) rl_bind_keyseq_in_map(seq, nullptr, map);
+  for (const char* seq : {"\\C-x(", "\\C-x)", "\\C-xe"}) rl_bind_keyseq_in_map(seq, nullptr, emacs_standard_keymap);
+  rl_bind_keyseq("\\e[5~", rl_history_search_backward);
+  rl_bind_keyseq("\\e[6~", rl_history_search_forward);
+}
+
+// What one input may have left in readline: a half-typed key sequence or line, vi mode, history.
+void reset_readline() {
+  rl_callback_sigcleanup();
+  rl_free_line_state();
+  rl_replace_line("", 1);
+  rl_callback_handler_remove();
+  rl_set_keymap(emacs_standard_keymap);
+  rl_editing_mode = 1;
+  rl_clear_history();  // with the undo lists of edited history lines
+}
+
+}  // namespace
+
+extern "C" int LLVMFuzzerInitialize(int* argc, char*** argv) {
+  silt::fuzz::enter_scratch_dir(argc, argv);
+  silt::fuzz::prepare_sessions();
+  // A terminal as interactive users have one, and no one's ~/.inputrc.
+  setenv("TERM", "xterm", 1);
+  setenv("COLUMNS", "80", 1);
+  setenv("LINES", "24", 1);
+  setenv("INPUTRC", "/dev/null", 1);
+  rl_catch_signals = 0;
+  rl_catch_sigwinch = 0;
+  rl_attempted_completion_function = completion;
+  rl_readline_name = "silt";
+  rl_outstream = std::fopen("/dev/null", "w");
+  rl_initialize();
+  unbind_crashing_keys();
+  rl_variable_bind("bell-style", "none");
+  using_history();
+  if (!rl_library_version || std::strncmp(rl_library_version, "EditLine", 8) == 0)
+    silt::fuzz::bug("the rl_* functions are not GNU readline's: link readline first");
+  return 0;
+}
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  if (size == 0 || size > 60000) return 0;  // the keys must fit in the pipe
+  silt::fuzz::SessionDriver driver(data[0]);
+  g_driver = &driver;
+  int fds[2];
+  if (::pipe(fds) != 0) silt::fuzz::bug("cannot create a pipe");
+  if (::write(fds[1], data + 1, size - 1) != static_cast<ssize_t>(size - 1)) silt::fuzz::bug("cannot fill the pipe");
+  ::close(fds[1]);
+  rl_instream = ::fdopen(fds[0], "r");
+  g_have_line = g_eof = false;
+  std::string prompt = driver.session().prompt();
+  rl_callback_handler_install(prompt.c_str(), on_line);
+  // One key per call, as the REPL calls it when its input is readable; the end of the pipe is
+  // the end of input (Ctrl-D). A key sequence may take several bytes: the calls are bounded.
+  for (size_t calls = 0; !g_eof && calls < size + 16; ++calls) {
+    rl_callback_read_char();
+    if (!g_have_line) continue;
+    g_have_line = false;
+    if (!driver.line(g_pending)) break;
+    prompt = driver.session().prompt();
+    rl_callback_handler_install(prompt.c_str(), on_line);
+  }
+  reset_readline();
+  std::fclose(rl_instream);
+  rl_instream = nullptr;
+  g_driver = nullptr;
+  return 0;
+}

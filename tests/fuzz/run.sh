@@ -1,0 +1,35 @@
+#!/usr/bin/env bash
+# Runs one fuzz target of BUILD_DIR on its corpus (BUILD_DIR/corpus/TARGET, seeded by seeds.sh)
+# with its options, the rest of the arguments passed to libFuzzer (-max_total_time=20,
+# -runs=1000000). The log goes to BUILD_DIR/logs/TARGET.log, a failing input to
+# BUILD_DIR/artifacts/. Exit status: libFuzzer's, or 1 when the log holds a sanitizer report.
+# Usage: tests/fuzz/run.sh TARGET BUILD_DIR [LIBFUZZER_FLAG...]
+set -uo pipefail
+cd "$(dirname "$0")/../.."
+target=$1
+build=$(realpath "$2")
+shift 2
+corpus=$build/corpus
+# Limits: a hang, or memory beyond these (2 GB in all, 1 GB in one allocation), is a bug.
+options=(-rss_limit_mb=2048 -malloc_limit_mb=1024 -print_final_stats=1)
+case $target in
+  command_parser) options+=(-max_len=256 -timeout=5) ;;
+  scene) options+=(-dict="$corpus/scene.dict" -max_len=4096 -timeout=20) ;;
+  checkpoint) options+=(-timeout=10) ;;  # -max_len: the largest seed
+  session | repl) options+=(-dict="$corpus/session.dict" -max_len=2048 -timeout=30) ;;
+  *)
+    echo "run.sh: no target $target" >&2
+    exit 2
+    ;;
+esac
+mkdir -p "$build/logs" "$build/artifacts"
+log=$build/logs/$target.log
+ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
+  LSAN_OPTIONS=suppressions=$PWD/tests/fuzz/lsan.supp \
+  "$build/tests/fuzz/${target}_fuzz" "${options[@]}" -artifact_prefix="$build/artifacts/$target-" "$@" \
+  "$corpus/$target" > "$log" 2>&1
+status=$?
+if [ $status -eq 0 ] && grep -qE 'ERROR: (AddressSanitizer|LeakSanitizer|libFuzzer)|runtime error:|silt fuzz:' "$log"; then
+  status=1
+fi
+exit $status
