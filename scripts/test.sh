@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # Build silt (Release, warnings as errors), check the format and lint of the files the last change
-# touched, run the unit tests, fuzz the shell's command parser for 20 s, then run the tests again
-# under AddressSanitizer and UndefinedBehaviorSanitizer in a Debug build, where the serial
-# executor also checks every stage's access set.
+# touched, run the unit tests, fuzz every input surface for 20 s each (scripts/fuzz.sh), then run
+# the tests again under AddressSanitizer and UndefinedBehaviorSanitizer in a Debug build, where the
+# serial executor also checks every stage's access set.
 # Usage: scripts/test.sh [--no-sanitize]
 set -euo pipefail
 cd "$(dirname "$0")/.."
