@@ -91,7 +91,10 @@ class PlacementGrid {
     for (int k = 0; k < 3; ++k) {
       c[k] = 0;
       if (k >= m_.dim) continue;
-      c[k] = static_cast<int64_t>(std::floor((x[k] - m_.box.lo[k]) / size_[k]));
+      // Clamped: a coordinate far outside the domain (refused later) must not overflow; cells
+      // are hashed modulo 2^21 anyway.
+      const double f = std::floor((x[k] - m_.box.lo[k]) / size_[k]);
+      c[k] = std::isfinite(f) ? static_cast<int64_t>(std::clamp(f, -1e15, 1e15)) : 0;
       if (wrap_[k]) c[k] = ((c[k] % wrap_[k]) + wrap_[k]) % wrap_[k];
     }
   }

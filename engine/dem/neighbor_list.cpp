@@ -82,7 +82,8 @@ CellGrid make_grid(const Model& m, const State& s, double cutoff) {
   }
   (void)m;
   if (s.box.lees_edwards) g.le_shift = s.box.le_offset * g.inv_size[0];
-  if (!std::isfinite(g.le_shift)) g.le_shift = 0;  // a broken box (the box's stage reports it)
+  // An offset outside [0, L_x] is a broken box (the box's stage reports it): no shift.
+  if (!(g.le_shift >= 0 && g.le_shift <= g.n[0])) g.le_shift = 0;
   g.may_repeat = false;
   for (int k = 0; k < D; ++k)
     if (g.wrap[k] && g.n[k] < (k == 0 && s.box.lees_edwards ? 4 : 3)) g.may_repeat = true;
