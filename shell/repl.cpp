@@ -36,6 +36,7 @@
 #include <utility>
 
 #include "shell/commands.hpp"
+#include "shell/readline_setup.hpp"
 #include "shell/session.hpp"
 
 namespace silt::cli {
@@ -92,33 +93,6 @@ extern "C" void on_line(char* line) {
     if (*line) remember(line);
     std::free(line);
   }
-}
-
-std::vector<std::string> g_matches;
-
-char* completion_generator(const char*, int state) {
-  static size_t next = 0;
-  if (state == 0) next = 0;
-  if (next < g_matches.size()) return strdup(g_matches[next++].c_str());
-  return nullptr;
-}
-
-char** completion(const char* text, int, int) {
-  const std::string before(rl_line_buffer, rl_line_buffer + (rl_point - std::strlen(text)));
-  const auto words = g_session->complete(before, text);
-  if (!words) return nullptr;        // a file name: readline's own completion
-  rl_attempted_completion_over = 1;  // no file names where the command takes none
-  g_matches = *words;
-  return rl_completion_matches(text, completion_generator);
-}
-
-// Unbinds the key sequences that crash readline's callback interface (see above).
-void unbind_crashing_keys() {
-  for (Keymap map : {emacs_standard_keymap, vi_insertion_keymap, vi_movement_keymap})
-    for (const char* seq : {"\\C-r", "\\C-s"}) rl_bind_keyseq_in_map(seq, nullptr, map);
-  for (const char* seq : {"\\C-x(", "\\C-x)", "\\C-xe"}) rl_bind_keyseq_in_map(seq, nullptr, emacs_standard_keymap);
-  rl_bind_keyseq("\\e[5~", rl_history_search_backward);  // Page Up: history with this prefix
-  rl_bind_keyseq("\\e[6~", rl_history_search_forward);
 }
 
 // The shell without a terminal: plain lines (a pipe, a file), a background run's messages
@@ -188,7 +162,7 @@ int shell_command(const std::string& scene, int threads) {
     return code;
   }
   rl_catch_signals = 0;
-  rl_attempted_completion_function = completion;
+  install_completion(&session);
   rl_readline_name = "silt";
   rl_initialize();
   unbind_crashing_keys();

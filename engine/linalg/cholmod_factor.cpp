@@ -61,17 +61,24 @@ struct CholeskyFactor::Impl {
   }
 };
 
+namespace {
+
+// `a` itself when its columns are compressed (CHOLMOD's packed form), else a compressed copy.
+const SparseMatrix* compressed(const SparseMatrix& a, SparseMatrix& copy) {
+  if (a.isCompressed()) return &a;
+  copy = a;
+  copy.makeCompressed();
+  return &copy;
+}
+
+}  // namespace
+
 CholeskyFactor::CholeskyFactor() : impl_(std::make_unique<Impl>()) {}
 CholeskyFactor::~CholeskyFactor() = default;
 
 void CholeskyFactor::analyze(const SparseMatrix& a0) {
   SparseMatrix copy;
-  const SparseMatrix* a = &a0;
-  if (!a0.isCompressed()) {
-    copy = a0;
-    copy.makeCompressed();
-    a = &copy;
-  }
+  const SparseMatrix* a = compressed(a0, copy);
   Impl& im = *impl_;
   if (im.l) cholmod_free_factor(&im.l, &im.c);
   cholmod_sparse v = Impl::view(*a);
@@ -86,12 +93,7 @@ void CholeskyFactor::analyze(const SparseMatrix& a0) {
 
 SolveReport CholeskyFactor::factorize(const SparseMatrix& a0) {
   SparseMatrix copy;
-  const SparseMatrix* a = &a0;
-  if (!a0.isCompressed()) {
-    copy = a0;
-    copy.makeCompressed();
-    a = &copy;
-  }
+  const SparseMatrix* a = compressed(a0, copy);
   SolveReport rep;
   Impl& im = *impl_;
   im.factored = false;

@@ -17,13 +17,13 @@
 
 #include "fuzz_support.hpp"
 #include "session_driver.hpp"
+#include "shell/readline_setup.hpp"
 
 namespace {
 
 silt::fuzz::SessionDriver* g_driver = nullptr;
 std::string g_pending;
 bool g_have_line = false, g_eof = false;
-std::vector<std::string> g_matches;
 
 extern "C" void on_line(char* line) {
   rl_callback_handler_remove();  // as repl.cpp: installed again after the command
@@ -35,32 +35,6 @@ extern "C" void on_line(char* line) {
   g_have_line = true;
   if (*line) add_history(line);  // not to a file: the history of this input only
   std::free(line);
-}
-
-char* completion_generator(const char*, int state) {
-  static size_t next = 0;
-  if (state == 0) next = 0;
-  if (next < g_matches.size()) return strdup(g_matches[next++].c_str());
-  return nullptr;
-}
-
-char** completion(const char* text, int, int) {
-  const std::string before(rl_line_buffer, rl_line_buffer + (rl_point - std::strlen(text)));
-  const auto words = g_driver->session().complete(before, text);
-  if (!words) return nullptr;
-  rl_attempted_completion_over = 1;
-  g_matches = *words;
-  return rl_completion_matches(text, completion_generator);
-}
-
-// The key sequences that shell/repl.cpp unbinds (its unbind_crashing_keys, internal to the
-// executable): the same calls, to be kept in step with it.
-void unbind_crashing_keys() {
-  for (Keymap map : {emacs_standard_keymap, vi_insertion_keymap, vi_movement_keymap})
-    for (const char* seq : {"\\C-r", "\\C-s"}) rl_bind_keyseq_in_map(seq, nullptr, map);
-  for (const char* seq : {"\\C-x(", "\\C-x)", "\\C-xe"}) rl_bind_keyseq_in_map(seq, nullptr, emacs_standard_keymap);
-  rl_bind_keyseq("\\e[5~", rl_history_search_backward);
-  rl_bind_keyseq("\\e[6~", rl_history_search_forward);
 }
 
 // What one input may have left in readline: a half-typed key sequence or line, vi mode, history.
@@ -86,11 +60,10 @@ extern "C" int LLVMFuzzerInitialize(int* argc, char*** argv) {
   setenv("INPUTRC", "/dev/null", 1);
   rl_catch_signals = 0;
   rl_catch_sigwinch = 0;
-  rl_attempted_completion_function = completion;
   rl_readline_name = "silt";
   rl_outstream = std::fopen("/dev/null", "w");
   rl_initialize();
-  unbind_crashing_keys();
+  silt::cli::unbind_crashing_keys();
   rl_variable_bind("bell-style", "none");
   using_history();
   if (!rl_library_version || std::strncmp(rl_library_version, "EditLine", 8) == 0)
@@ -102,6 +75,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (size == 0 || size > 60000) return 0;  // the keys must fit in the pipe
   silt::fuzz::SessionDriver driver(data[0]);
   g_driver = &driver;
+  silt::cli::install_completion(&driver.session());
   int fds[2];
   if (::pipe(fds) != 0) silt::fuzz::bug("cannot create a pipe");
   if (::write(fds[1], data + 1, size - 1) != static_cast<ssize_t>(size - 1)) silt::fuzz::bug("cannot fill the pipe");

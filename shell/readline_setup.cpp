@@ -1,0 +1,48 @@
+#include "shell/readline_setup.hpp"
+
+#include <readline/readline.h>
+
+#include <cstdlib>
+#include <cstring>
+#include <string>
+#include <vector>
+
+namespace silt::cli {
+namespace {
+
+const shell::Session* g_completing = nullptr;
+std::vector<std::string> g_matches;
+
+char* completion_generator(const char*, int state) {
+  static size_t next = 0;
+  if (state == 0) next = 0;
+  if (next < g_matches.size()) return strdup(g_matches[next++].c_str());
+  return nullptr;
+}
+
+char** completion(const char* text, int, int) {
+  if (!g_completing) return nullptr;
+  const std::string before(rl_line_buffer, rl_line_buffer + (rl_point - std::strlen(text)));
+  const auto words = g_completing->complete(before, text);
+  if (!words) return nullptr;        // a file name: readline's own completion
+  rl_attempted_completion_over = 1;  // no file names where the command takes none
+  g_matches = *words;
+  return rl_completion_matches(text, completion_generator);
+}
+
+}  // namespace
+
+void unbind_crashing_keys() {
+  for (Keymap map : {emacs_standard_keymap, vi_insertion_keymap, vi_movement_keymap})
+    for (const char* seq : {"\\C-r", "\\C-s"}) rl_bind_keyseq_in_map(seq, nullptr, map);
+  for (const char* seq : {"\\C-x(", "\\C-x)", "\\C-xe"}) rl_bind_keyseq_in_map(seq, nullptr, emacs_standard_keymap);
+  rl_bind_keyseq("\\e[5~", rl_history_search_backward);  // Page Up: history with this prefix
+  rl_bind_keyseq("\\e[6~", rl_history_search_forward);
+}
+
+void install_completion(const shell::Session* session) {
+  g_completing = session;
+  rl_attempted_completion_function = session ? completion : nullptr;
+}
+
+}  // namespace silt::cli
