@@ -75,7 +75,8 @@ std::string convert(const toml::node& n, const KeySpec& spec, const std::string&
       return "";
     case KeyType::kInt: {
       auto x = as_number(n);
-      if (!x || *x != static_cast<double>(static_cast<int64_t>(*x))) return type_error();
+      // Whole and within int64 before it is converted (nan, inf and 1e300 are not integers).
+      if (!x || !(std::abs(*x) < 9.2e18) || *x != std::floor(*x)) return type_error();
       out = static_cast<int64_t>(*x);
       return check_range(*x, n);
     }
