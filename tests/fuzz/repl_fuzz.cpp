@@ -3,7 +3,7 @@
 // GNU readline's callback interface through rl_instream (a pipe), with the same key sequences
 // unbound, the same line handler and the same completion; each line it returns is made bounded
 // and executed by a Session (session_driver.hpp), at most kMaxSessionLines of them. Seeds: those
-// of session_fuzz, and tests/fuzz/seeds/*.keys.
+// of session_fuzz, and key sequences (seeds.sh: completion, history, editing, vi mode).
 #include <readline/history.h>
 #include <readline/readline.h>
 #include <unistd.h>

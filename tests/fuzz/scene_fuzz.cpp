@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <string>
 #include <typeinfo>
+#include <vector>
 
 #include "fuzz_support.hpp"
 #include "silt/io.hpp"
