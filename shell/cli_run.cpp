@@ -70,7 +70,12 @@ int run_command(const RunArgs& a) {
   Model& m = *loaded;
   RunOptions opt;
   opt.steps = m.run_steps;
-  if (a.steps >= 0) opt.steps = a.steps;
+  // An adaptive time step runs the scene's time, not a step count made from the first step.
+  if (m.adaptive_dt && m.run_time >= 0) opt.time = m.run_time;
+  if (a.steps >= 0) {
+    opt.steps = a.steps;
+    opt.time = -1;
+  }
   if (a.time >= 0) {
     if (steps_in(a.time, m.dt) < 0) return report_error("--time: too long, more than 9e18 time steps", 1);
     opt.time = a.time;

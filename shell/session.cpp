@@ -250,6 +250,15 @@ RunOptions Session::run_options(const RunLength& len, bool background) {
       opt.stop_when_static = true;
       break;
     case RunLength::kScene: {
+      if (m.adaptive_dt && m.run_time >= 0) {
+        const double left = m.run_time - s.state().t;
+        if (!(left > 0))
+          throw std::runtime_error("the scene's run time is reached (t = " + format_number(m.run_time) +
+                                   " s): give N, Ts or until EXPR to go on");
+        opt.time = left;
+        opt.stop_when_static = m.until_static.on;
+        break;
+      }
       const int64_t left = m.run_steps - s.state().step;
       if (left <= 0)
         throw std::runtime_error("the scene's run length is reached (step " + std::to_string(m.run_steps) +

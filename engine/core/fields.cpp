@@ -36,6 +36,7 @@ const char* extent_name(Extent e) {
     case Extent::kFaceX: return "x faces";
     case Extent::kFaceY: return "y faces";
     case Extent::kFaceZ: return "z faces";
+    case Extent::kFree: return "any";
   }
   return "?";
 }

@@ -24,6 +24,7 @@ int64_t extent_size(const State& s, Extent e) {
     case Extent::kFaceX: return (c[0] + 1) * c[1] * (D == 3 ? c[2] : 1);
     case Extent::kFaceY: return c[0] * (c[1] + 1) * (D == 3 ? c[2] : 1);
     case Extent::kFaceZ: return D == 3 ? c[0] * c[1] * (c[2] + 1) : 0;
+    case Extent::kFree: return 0;
   }
   return 0;
 }

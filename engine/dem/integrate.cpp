@@ -106,11 +106,11 @@ std::array<double, 2> drift_range(const DriftArgs<D> a, int64_t b, int64_t e) {
 }
 
 template <int D, bool Affine>
-void kick_drift_dim(const Model& m, State& s) {
+void kick_drift_dim(const Model& m, State& s, double kick) {
   // The box lengths moved first (shear::box_drift): L(t + dt) / L(t) of each.
   const Vec3a lambda = Affine ? s.box_stretch : Vec3a{1, 1, 1};
   DriftArgs<D> a{s.dt,
-                 0.5 * s.dt,
+                 kick * 0.5 * s.dt,
                  s.shear_rate,
                  &s.events[event::kNonFinite],
                  {},
@@ -238,13 +238,18 @@ void kick_dim(const Model& m, State& s, const ForceSources& sources) {
   else any ? sweep(std::false_type{}, std::true_type{}) : sweep(std::false_type{}, std::false_type{});
 }
 
+// The drift after a half kick of `kick` dt/2 (1: velocity Verlet; 0: the drift alone).
+void kick_then_drift(const Model& m, State& s, double kick) {
+  const bool affine = m.deforming_box();
+  if (m.dim == 2) affine ? kick_drift_dim<2, true>(m, s, kick) : kick_drift_dim<2, false>(m, s, kick);
+  else affine ? kick_drift_dim<3, true>(m, s, kick) : kick_drift_dim<3, false>(m, s, kick);
+}
+
 }  // namespace
 
-void kick_drift(const Model& m, State& s) {
-  const bool affine = m.deforming_box();
-  if (m.dim == 2) affine ? kick_drift_dim<2, true>(m, s) : kick_drift_dim<2, false>(m, s);
-  else affine ? kick_drift_dim<3, true>(m, s) : kick_drift_dim<3, false>(m, s);
-}
+void kick_drift(const Model& m, State& s) { kick_then_drift(m, s, 1.0); }
+
+void drift(const Model& m, State& s) { kick_then_drift(m, s, 0.0); }
 
 void kick(const Model& m, State& s, const ForceSources& sources) {
   if (m.dim == 2) kick_dim<2, true>(m, s, sources);

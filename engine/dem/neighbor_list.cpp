@@ -329,7 +329,7 @@ template <int D>
 void update(const Model& m, State& s, DemWorkspace& w) {
   // Two grains approached by at most twice the largest displacement relative to the flow, plus
   // the affine strain times their separation (at most the list range).
-  const bool stale = !s.nbr_valid || 2 * s.nbr_max_disp + s.nbr_strain * m.interaction_range() > m.skin;
+  const bool stale = !s.nbr_valid || 2 * s.nbr_max_disp + s.nbr_strain * m.interaction_range() > m.skin - m.pair_gap;
   if (stale) rebuild<D>(m, s, w);
   update_candidates(m, s, w, stale);
 }

@@ -17,6 +17,8 @@ namespace silt::dem {
 // box, whose lengths shear::box_drift has moved), wrap into the periodic box (Lees-Edwards
 // shifted), and the largest displacement since the last neighbour build.
 void kick_drift(const Model& m, State& s);
+// The same drift without the kick (velocities given by a solve: the paste).
+void drift(const Model& m, State& s);
 
 // (particle_x, particle_r, particle_frozen, nbr_*, box, pair_*, every per-grain field when it
 //  renumbers) => (nbr_start, pair_i, pair_j, pair_hist, pair_f, pair_touch, particle_disp,

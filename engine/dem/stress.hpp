@@ -17,5 +17,8 @@ namespace silt::dem {
 // needs), the others left zero.
 template <bool Full>
 std::array<double, 9> virial_sums(const State& s);
+// Every component of sum over listed pairs f_ij (x) d_ij for another per-pair force array of the
+// layout of pair_f (P*D, force on i from j): a lubrication force; no kinetic term.
+std::array<double, 9> pair_virial_sums(const State& s, const double* pair_force);
 
 }  // namespace silt::dem

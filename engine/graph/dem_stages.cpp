@@ -142,9 +142,17 @@ void add_dem_stages(GraphBuilder& b) {
     if (walls) b.after(clear, b.find("wall_forces"), "resets the springs the first evaluation stretched");
     return;
   }
-  const int drift = b.add(
-      "kick_drift", &dem::kick_drift, kick_drift_reads(m),
-      {fid::particle_v, fid::particle_w, fid::particle_x, fid::particle_disp, fid::nbr_max_disp, fid::nbr_step_disp});
+  const Access drift_writes = {fid::particle_v,    fid::particle_w,   fid::particle_x,
+                               fid::particle_disp, fid::nbr_max_disp, fid::nbr_step_disp};
+  if (m.velocities_solved) {
+    // Velocities from a solve (the paste): the grains drift with them; no kick, no energy check.
+    const int drift = b.add("drift", &dem::drift, kick_drift_reads(m), drift_writes);
+    b.after(drift, b.find("choose_dt"), "moves the grains by this step's dt");
+    b.after(nbr, drift, "rebuild decision needs the drifted positions");
+    diagnose_dem(b);
+    return;
+  }
+  const int drift = b.add("kick_drift", &dem::kick_drift, kick_drift_reads(m), drift_writes);
   b.after(drift, b.find("choose_dt"), "moves the grains by this step's dt");
   // depends on: the displacement since the last build, known after the drift.
   b.after(nbr, drift, "rebuild decision needs the drifted positions");

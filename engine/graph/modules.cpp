@@ -12,6 +12,7 @@
   X(dem,   module,        add_dem_stages)               \
   X(shear, module,        add_shear_stages)             \
   X(drag,  module,        add_drag_stages)              \
+  X(paste, module,        add_paste_stages)             \
   X(scene, render_module, add_no_stages)
 // clang-format on
 

@@ -1,12 +1,15 @@
 // Procedure O of Peyneau (2009) sec. 3.1.2: the initial grains are compressed isotropically at
 // the imposed pressure (every periodic length controlled by eq. 3.11, no shear) until they form
 // a static packing; the scene's run then starts from it.
+#include "silt/module.hpp"
 #include "silt/simulation.hpp"
 
 namespace silt {
 
 Model compression_model(const Model& m) {
   Model c = m;
+  for (const Module& mod : modules())
+    if (mod.spec->prepare_dry && m.module_on(mod.spec->name)) mod.spec->prepare_dry(c);
   c.shear = ShearControl{};
   c.box.lees_edwards = false;
   c.box.le_offset = 0;
@@ -28,6 +31,17 @@ State adopt_state(const Model& m, State s) {
   else if (!m.shear.stress_controlled) s.shear_rate = m.shear.rate;
   for (int k = 0; k < 3; ++k)
     if (!m.box_control.on || !m.box_control.controlled[k]) s.box_rate[k] = 0;
+  // The fields of modules the state was made without (a dry compression before a paste).
+  const auto& info = field_infos();
+  s.module_fields.resize(info.size() - fid::kBuiltinCount);
+  for (size_t k = 0; k < s.module_fields.size(); ++k) {
+    const FieldInfo& f = info[fid::kBuiltinCount + k];
+    auto& v = s.module_fields[k];
+    const bool on = m.module_on(f.module);
+    if (!on) v.clear();
+    else if (f.extent != Extent::kFree && static_cast<int64_t>(v.size()) != extent_size(s, f.extent))
+      v.assign(static_cast<size_t>(extent_size(s, f.extent)), 0.0);
+  }
   return s;
 }
 
@@ -54,6 +68,17 @@ State prepare_packing(const Model& m, int threads, PreparationReport* report, co
   for (auto& v : s.particle_v) v = 0;
   for (auto& w : s.particle_w) w = 0;
   s.shear_strain = 0;
+  if (m.prepare.dilation != 1) {
+    const double f = m.prepare.dilation;
+    for (int64_t i = 0; i < s.n; ++i)
+      for (int k = 0; k < s.dim; ++k)
+        if (s.box.periodic[k])
+          s.particle_x[s.dim * i + k] = s.box.lo[k] + f * (s.particle_x[s.dim * i + k] - s.box.lo[k]);
+    for (int k = 0; k < s.dim; ++k)
+      if (s.box.periodic[k]) s.box.len[k] *= f;
+    for (auto& h : s.pair_hist) h = 0;
+    s.nbr_valid = false;
+  }
   return adopt_state(m, std::move(s));
 }
 

@@ -21,7 +21,8 @@ const Access kStressReads = {fid::box,        fid::pair_f,         fid::particle
 
 void add_shear_stages(GraphBuilder& b) {
   const Model& m = b.model();
-  const bool box_stage = shear::box_stage_on(m);
+  // With solved velocities (a paste), the box's strain rates are solved too: no box kick.
+  const bool box_stage = shear::box_stage_on(m) && !m.velocities_solved;
   if (b.phase() == Phase::kSetup) {
     if (!box_stage) return;
     const int st = b.add("box_stress", &shear::box_stress, kStressReads, {fid::box_stress, fid::shear_stress});
@@ -35,7 +36,8 @@ void add_shear_stages(GraphBuilder& b) {
                            fid::shear_strain, fid::nbr_strain});
   b.after(drift, b.find("choose_dt"), "moves the box by this step's dt");
   // depends on: the new lengths (box_stretch) and shear rate, which the grains follow.
-  b.after(b.find("kick_drift"), drift, "the grains follow the affine flow of the box's drift");
+  const int grains = b.find(m.velocities_solved ? "drift" : "kick_drift");
+  b.after(grains, drift, "the grains follow the affine flow of the box's drift");
   b.diagnose(event::kBoxCollapse, [](const Model& mm, const State& s, const EventSlot& e, StepFailure& f) {
     f.stage = "box_drift";
     f.parameter = "box.pressure";

@@ -128,21 +128,29 @@ bool Simulation::is_static() const {
     if (m.box_control.controlled[k] && std::abs(meas.stress[k][k] / P - 1) > m.until_static.stress_tol) return false;
   // Translational energy only: a rattler spinning in its cage keeps its rotation for ever without
   // touching anything, and it changes no force.
+  // Solved velocities (a paste) carry no kinetic energy of their own: the thesis' criteria are
+  // the forces and the stresses (Peyneau 2009 sec. 2.3.2).
+  if (m.velocities_solved) return true;
   const int64_t n_free = m.n_grains - m.n_frozen;
   return (meas.ke - meas.ke_rot) / std::max<int64_t>(1, n_free) <= m.until_static.ke_tol * std::pow(a, m.dim) * P;
 }
 
 int64_t Simulation::steps_for(const RunOptions& opt) const {
-  // The one conversion of a time to steps (the time step is fixed: choose_dt's).
+  // The one conversion of a time to steps (the time step is fixed: choose_dt's). An adaptive step
+  // runs until the time is reached instead.
+  if (opt.time >= 0 && model_.adaptive_dt) return kAdaptiveSteps;
   return opt.time >= 0 ? steps_in(opt.time, model_.dt) : opt.steps;
 }
 
 RunReport Simulation::run(const RunOptions& options) {
   RunReport rep;
   RunOptions opt = options;
+  // With an adaptive step, a run of a given time stops at the first boundary at or past its end.
+  double t_end = -1;
   if (opt.time >= 0) {
     opt.steps = steps_for(opt);
     if (opt.steps < 0) throw std::invalid_argument("run of " + format_number(opt.time) + " s: more than 9e18 steps");
+    if (model_.adaptive_dt) t_end = state_.t + opt.time;
   }
   const auto t0 = std::chrono::steady_clock::now();
   auto last_progress = t0;
@@ -181,6 +189,11 @@ RunReport Simulation::run(const RunOptions& options) {
     }
     ++rep.steps_done;
     periodic(false);
+    if (t_end >= 0 && state_.t >= t_end) {
+      for (const PeriodicHook& h : opt.hooks)
+        if (h.every > 0 && h.fn && state_.step % h.every != 0) h.fn(state_);
+      break;
+    }
     if (stop) {
       rep.end = RunEnd::kInterrupted;
       break;

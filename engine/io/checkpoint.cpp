@@ -10,7 +10,8 @@
 //   fields: every field of State in the order of its field list (silt/fields.hpp), module fields
 //           last: str name | u32 element size | u64 count | bytes. A scalar is one element whose
 //           size is that of its bytes (a Box member by member). A field added to the list is
-//           saved without touching this file.
+//           saved without touching this file. Module fields are read back by name, so a file
+//           written before a module existed (its fields absent) still reads.
 // On reading, every array's length is checked against the state's dimensions, every index
 // against its range and every floating-point value for finiteness: a file that passes the
 // checksum but not these is corrupt. The file is written to PATH.tmp,
@@ -31,6 +32,7 @@
 #include "core/rng.hpp"
 #include "io/checkpoint_file.hpp"
 #include "silt/io.hpp"
+#include "silt/module.hpp"
 #include "silt/text.hpp"
 
 namespace silt {
@@ -150,7 +152,8 @@ std::string check_state(const State& s, const Model& m) {
     if constexpr (kIsArray<std::remove_cvref_t<decltype(v)>>) {
       const bool on = f.id < fid::kBuiltinCount || m.module_on(f.module);
       const int64_t want = on ? extent_size(s, f.extent) : 0;
-      if (static_cast<int64_t>(v.size()) != want) {
+      // A free-length array is checked by its module (below).
+      if (static_cast<int64_t>(v.size()) != want && !(on && f.extent == Extent::kFree)) {
         bad = f.name + " has " + std::to_string(v.size()) + " entries where " + std::to_string(want) +
               " are expected (" + extent_name(f.extent) + ")";
         return;
@@ -191,6 +194,10 @@ std::string check_state(const State& s, const Model& m) {
       return "the box is not finite";
   if (!(s.box.le_offset >= 0 && s.box.le_offset <= s.box.len[0])) return "the Lees-Edwards offset is outside [0, L_x]";
   if (!std::isfinite(s.t) || !std::isfinite(s.dt) || s.step < 0) return "the time is not finite";
+  // What the modules keep of their own (a free-length array).
+  for (const Module& mod : modules())
+    if (mod.spec->check_state && m.module_on(mod.spec->name))
+      if (std::string why = mod.spec->check_state(m, s); !why.empty()) return why;
   return "";
 }
 
@@ -292,10 +299,14 @@ State read_checkpoint(const std::string& path, const Model& m, std::vector<std::
   if (differences) *differences = parameter_differences(params, scene_parameters(m.desc));
   State s = make_state(m);
   const auto n_fields = r.get<uint32_t>();
-  if (n_fields != field_infos().size())
+  if (n_fields < fid::kBuiltinCount || n_fields > 65535)
     throw IoError("checkpoint '" + path + "' holds " + std::to_string(n_fields) + " fields where this silt has " +
-                  std::to_string(field_infos().size()) + " (another silt version, or modules this one does not have)");
+                  std::to_string(fid::kBuiltinCount) + " built-in ones (another silt version)");
+  // The built-in fields in their order; then the modules' by name: one this silt does not have
+  // must be empty (its module was off), and one the file does not have stays as a new state has
+  // it (the checks below then require it where its module is on).
   for_each_field(s, [&](const FieldInfo& f, auto& v) {
+    if (f.id >= fid::kBuiltinCount) return;
     const std::string stored_name = r.str();
     if (stored_name != f.name)
       throw IoError("checkpoint '" + path + "' was written by another silt version (field " + stored_name + " where " +
@@ -316,6 +327,25 @@ State read_checkpoint(const std::string& path, const Model& m, std::vector<std::
       if (!bools_valid(v)) throw IoError("checkpoint '" + path + "' is corrupt: bad field " + stored_name);
     }
   });
+  std::vector<uint8_t> loaded(s.module_fields.size(), 0);
+  for (uint32_t k = fid::kBuiltinCount; k < n_fields; ++k) {
+    const std::string name = r.str();
+    const auto elem = r.get<uint32_t>();
+    const auto count = r.get<uint64_t>();
+    if (elem != sizeof(double) || count > buf.size() / sizeof(double))
+      throw IoError("checkpoint '" + path + "' is corrupt: bad field " + name);
+    const FieldInfo* f = find_field(name);
+    if (!f || f->id < fid::kBuiltinCount) {
+      if (count == 0) continue;
+      throw IoError("checkpoint '" + path + "' holds field " + name + " of a module this silt does not have");
+    }
+    const size_t slot = f->id - fid::kBuiltinCount;
+    if (loaded[slot]) throw IoError("checkpoint '" + path + "' is corrupt: field " + name + " twice");
+    loaded[slot] = 1;
+    std::vector<double>& v = s.module_fields[slot];
+    v.resize(count);
+    if (count) r.bytes(v.data(), count * sizeof(double));
+  }
   if (const std::string bad = check_state(s, m); !bad.empty())
     throw IoError("checkpoint '" + path + "' is corrupt: " + bad);
   return s;

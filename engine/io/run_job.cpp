@@ -87,7 +87,10 @@ RunReport RunJob::run(RunOptions opt) {
     profile_component_ = m.profile.component;
     // Clamped as a double: the box may be far larger than an int counts (a NaN gives 4).
     const double fit = sim_.state().box.len[profile_axis_] / m.a_max;
-    profile_slabs_ = m.profile.slabs > 0 ? m.profile.slabs : (fit >= 40.0 ? 40 : fit >= 4.0 ? static_cast<int>(fit) : 4);
+    profile_slabs_ = m.profile.slabs > 0 ? m.profile.slabs
+                                         : (fit >= 40.0  ? 40
+                                            : fit >= 4.0 ? static_cast<int>(fit)
+                                                         : 4);
     const char* ax = "xyz";
     const bool sheared = m.shear.on && profile_component_ == 0;
     profiles_.push_back({std::string("v") + ax[profile_component_] + "(" + ax[profile_axis_] + ")",

@@ -31,6 +31,13 @@ SpdSolver::~SpdSolver() = default;
 
 void SpdSolver::forget_factor() { factor_valid_ = false; }
 
+SolveReport SpdSolver::restore_factor(const SparseMatrix& source, int solves_since_factor) {
+  SolveReport f = factor_.factorize(source);
+  factor_valid_ = f.ok();
+  solves_since_factor_ = solves_since_factor;
+  return f;
+}
+
 SolveReport SpdSolver::solve(const SparseMatrix& a, const Vector& b, Vector& x, bool pattern_changed) {
   const SparseOperator op(a);
   if (s_.method == Method::kCg) {
@@ -57,6 +64,7 @@ SolveReport SpdSolver::solve(const SparseMatrix& a, const Vector& b, Vector& x, 
     SolveReport f = factor_.factorize(a);
     factor_valid_ = f.ok();
     solves_since_factor_ = 0;
+    if (factor_valid_ && on_factor) on_factor(a);
     return f;
   };
   if (!factor_valid_)

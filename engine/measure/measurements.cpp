@@ -113,6 +113,17 @@ Measurements measure_dim(const Model& m, const State& s) {
   const std::array<double, 9> sigma = dem::virial_sums<true>(s);
   for (int a = 0; a < D; ++a)
     for (int b = 0; b < D; ++b) out.stress[a][b] = sigma[3 * a + b] / vol;
+  // The modules' pair forces (lubrication), where there are.
+  for (const FieldId f : m.pair_stress_fields) {
+    const auto pf = double_field(s, f);
+    if (pf.size() != static_cast<size_t>(D * s.n_pairs())) continue;  // not computed yet
+    const std::array<double, 9> extra = dem::pair_virial_sums(s, pf.data());
+    for (int a = 0; a < D; ++a)
+      for (int b = 0; b < D; ++b) {
+        out.stress_pairs[a][b] += extra[3 * a + b] / vol;
+        out.stress[a][b] += extra[3 * a + b] / vol;
+      }
+  }
   // Grain-grain contacts.
   std::vector<std::pair<int32_t, int32_t>> touching;
   for_each_contact(s, [&](const Contact& c) {

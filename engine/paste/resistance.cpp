@@ -4,10 +4,7 @@
 #include <numeric>
 
 namespace silt::paste {
-namespace {
 
-// Two unit vectors completing n to an orthonormal basis (3D), or the one of the plane (2D:
-// t = e_z x n, Peyneau's t_ij).
 void tangents(int dim, const double* n, double t[2][3]) {
   if (dim == 2) {
     t[0][0] = -n[1];
@@ -30,8 +27,6 @@ void tangents(int dim, const double* n, double t[2][3]) {
     t[1][m] = b[m];
   }
 }
-
-}  // namespace
 
 linalg::SparseMatrix connection_map(const ResistanceLayout& L, const std::vector<Connection>& cs,
                                     const std::vector<double>& radius) {

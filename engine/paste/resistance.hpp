@@ -43,6 +43,10 @@ struct ResistanceLayout {
   int64_t strain_rate(int a) const { return grains * per_grain() + a; }
 };
 
+// Two unit vectors completing n to an orthonormal basis (3D), or the one of the plane (2D:
+// t = e_z x n, Peyneau's t_ij): the directions of a connection's tangential rows.
+void tangents(int dim, const double* n, double t[2][3]);
+
 // G, one row per normal and tangential direction of every connection (rows 2 k .. in 2D, 3 k ..
 // in 3D), radii by grain.
 linalg::SparseMatrix connection_map(const ResistanceLayout& layout, const std::vector<Connection>& c,

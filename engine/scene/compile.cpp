@@ -27,6 +27,7 @@ void setup_time(const SceneDesc& d, Model& m) {
   }
   if (d.has("run.steps")) m.run_steps = d.integer("run.steps");
   if (d.has("run.time")) {
+    m.run_time = d.real("run.time");
     m.run_steps = steps_in(d.real("run.time"), m.dt);
     if (m.run_steps < 0) d.fail("run.time", "run.time is more than 9e18 time steps of " + fmt_(m.dt) + " s");
   }

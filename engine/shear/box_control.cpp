@@ -33,6 +33,7 @@ void set_box_stresses(const Model& m, State& s) {
 // (eq. 3.12) from the stresses in State: the first half of a step (box_drift) and the second
 // (box_kick) share it.
 void half_kick(const Model& m, State& s) {
+  if (m.velocities_solved) return;  // the rates are solved (a paste)
   double vol = 1;
   for (int k = 0; k < m.dim; ++k) vol *= s.box.len[k];
   const double h = 0.5 * s.dt;

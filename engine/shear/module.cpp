@@ -23,9 +23,11 @@ std::vector<KeySpec> shear_keys() {
       // ---- shear
       {"shear.rate", K::kReal, std::nullopt, Range::any(), "1/s", true, {}, "Imposed shear rate gammadot of the flow v_x = gammadot y (liquid regime)."},
       {"shear.inertial_number", K::kReal, std::nullopt, Range::positive(), "", true, {}, "Imposed inertial number I = gammadot sqrt(m / (a^(d-2) P)) (Peyneau eq. 1.30), with P = box.pressure."},
+      {"shear.viscous_number", K::kReal, std::nullopt, Range::positive(), "", true, {}, "Imposed viscous number Vi = eta gammadot / P of a lubricated paste (Peyneau eq. 1.34), with eta = lubrication.viscosity and P = box.pressure."},
       {"shear.stress", K::kReal, std::nullopt, Range::any(), "Pa", true, {}, "Imposed shear stress tau = -sigma_xy (solid regime, Peyneau eq. 3.12): gammadot follows it."},
       // ---- prepare
       {"prepare.compress", K::kBool, Value(false), Range::any(), "", false, {}, "Before the run, compress the grains isotropically at box.pressure (every periodic length controlled, no shear) until static: Peyneau's procedure O."},
+      {"prepare.dilation", K::kReal, Value(1.0), Range::closed(1, 2), "", false, {}, "After the compression, multiply the grains' centres and the box lengths by this: the initial state of a paste, its grains apart (Peyneau 2009 sec. 2.3.1: 1.1)."},
       {"prepare.max_steps", K::kInt, Value(int64_t{2000000}), Range::closed(1, 4.6e18), "", false, {}, "Longest preparation; the run then starts from where it got, with a warning."},
   };
   // clang-format on
@@ -34,11 +36,14 @@ std::vector<KeySpec> shear_keys() {
 
 std::vector<KeyRule> shear_rules() {
   return {
-      KeyRule::one_of({{"shear.rate"}, {"shear.inertial_number"}, {"shear.stress"}}),
+      KeyRule::one_of({{"shear.rate"}, {"shear.inertial_number"}, {"shear.viscous_number"}, {"shear.stress"}}),
       KeyRule::requires_any("box.controlled", {"box.pressure"}, "only a pressure moves the box lengths"),
       KeyRule::requires_any("box.mass_factor", {"box.pressure", "shear.stress"},
                             "it is the inertia of the controlled lengths and of a stress-controlled shear"),
       KeyRule::requires_any("shear.inertial_number", {"box.pressure"}, "I is relative to the imposed pressure"),
+      KeyRule::requires_any("shear.viscous_number", {"box.pressure"}, "Vi is relative to the imposed pressure"),
+      KeyRule::requires_any("shear.viscous_number", {"lubrication.viscosity"},
+                            "Vi is relative to the liquid's viscosity"),
       KeyRule::requires_any("prepare.compress", {"box.pressure"},
                             "the isotropic compression is at the imposed pressure"),
   };
@@ -98,10 +103,10 @@ void setup_box_control(const SceneDesc& d, Model& m) {
 // Lees-Edwards simple shear: flow along x, gradient along y, both periodic.
 void setup_shear(const SceneDesc& d, Model& m) {
   ShearControl& sh = m.shear;
-  const int given = d.has("shear.rate") + d.has("shear.inertial_number") + d.has("shear.stress");
-  if (given == 0) return;
-  const std::string key =
-      d.has("shear.rate") ? "shear.rate" : (d.has("shear.inertial_number") ? "shear.inertial_number" : "shear.stress");
+  std::string key;
+  for (const char* k : {"shear.rate", "shear.inertial_number", "shear.viscous_number", "shear.stress"})
+    if (d.has(k)) key = k;
+  if (key.empty()) return;
   if (!m.box.periodic[0] || !m.box.periodic[1])
     d.fail(key, "simple shear (Lees-Edwards) needs a domain periodic along x (flow) and y (gradient)");
   if (!m.walls.empty()) d.fail(key, "simple shear by Lees-Edwards conditions has no walls");
@@ -113,6 +118,8 @@ void setup_shear(const SceneDesc& d, Model& m) {
   } else if (d.has("shear.inertial_number")) {
     // I is linear in gammadot (Peyneau eq. 1.30): the rate of I = 1, scaled.
     sh.rate = d.real("shear.inertial_number") / inertial_number(m, 1.0, m.box_control.pressure);
+  } else if (d.has("shear.viscous_number")) {
+    sh.rate = d.real("shear.viscous_number") * m.box_control.pressure / d.real("lubrication.viscosity");
   } else {
     sh.stress_controlled = true;
     sh.stress = d.real("shear.stress");
@@ -124,6 +131,9 @@ void compile_shear(const SceneDesc& d, Model& m) {
   setup_shear(d, m);
   m.prepare.compress = d.boolean("prepare.compress");
   m.prepare.max_steps = d.integer("prepare.max_steps");
+  m.prepare.dilation = d.real("prepare.dilation");
+  if (m.prepare.dilation != 1 && !m.prepare.compress)
+    d.fail("prepare.dilation", "the dilation follows the compression: set prepare.compress = true");
   m.pair_forces_every_step = box_stage_on(m);
 }
 

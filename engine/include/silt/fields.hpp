@@ -30,8 +30,10 @@ enum class Extent : uint8_t {
   kFaceX,          // grid faces normal to x
   kFaceY,          // ... to y
   kFaceZ,          // ... to z
+  kFree,           // any length, kept by its module (a stored matrix); empty in a new state
 };
-const char* extent_name(Extent e);  // "1", "N", "N*D", "N*R", "N*W*D", "N+1", "P", "P*D", "cells", "x faces", ...
+const char* extent_name(
+    Extent e);  // "1", "N", "N*D", "N*R", "N*W*D", "N+1", "P", "P*D", "cells", "x faces", ..., "any"
 // Whether a field moves with the grains when they are renumbered (grid and pair fields do not:
 // the pair list is rebuilt, and grid fields are indexed by space, not by grain).
 bool follows_grains(Extent e);

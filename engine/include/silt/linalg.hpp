@@ -167,6 +167,13 @@ class SpdSolver {
   int64_t analyses() const { return factor_.analyses(); }
   const CholeskyFactor& factor() const { return factor_; }
   void forget_factor();  // the next kFactorPcg solve factorises first
+  // kFactorPcg: whether a factor is held for the next solve, how many solves it has served, and
+  // (through on_factor) each matrix it is made from: what a caller saves so that a restored
+  // sequence preconditions, and so iterates, to the same bits (restore_factor).
+  bool factor_valid() const { return factor_valid_; }
+  int solves_since_factor() const { return solves_since_factor_; }
+  std::function<void(const SparseMatrix&)> on_factor;
+  SolveReport restore_factor(const SparseMatrix& source, int solves_since_factor);
 
  private:
   SolverSettings s_;

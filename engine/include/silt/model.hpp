@@ -111,6 +111,7 @@ struct ShearControl {
 struct Preparation {
   bool compress = false;
   int64_t max_steps = 0;
+  double dilation = 1;  // then the centres and the box lengths times this (Peyneau 2009 sec. 2.3.1)
 };
 
 // Initial grains, as placed by compile(); State is made from them.
@@ -229,9 +230,23 @@ struct Model {
   double m_eff_min = 0;   // lightest reduced mass of a possible contact [kg]
   double k_max = 0;       // stiffest normal contact (Hertz: at the largest allowed overlap)
   int64_t run_steps = 0;  // from [run] (steps or time / dt), overridable on the command line
+  double run_time = -1;   // [run] time when given [s]: the run length of an adaptive step
   StaticCriterion until_static;
 
-  double skin = 0;          // Verlet skin [m]
+  double skin = 0;  // Verlet skin [m]
+  // Gap within which every pair must stay listed: 0 for contacts alone, the lubrication range
+  // h_max with a paste. A list is rebuilt before the skin left beyond it is used up.
+  double pair_gap = 0;
+  // A module solves the grains' velocities every step (the paste's resistance-matrix solve): the
+  // DEM only drifts the grains and computes contact forces, without kicks or an energy check, and
+  // the box lengths follow the solved strain rates without a box kick.
+  bool velocities_solved = false;
+  // The time step is chosen every step by a module (the paste's adaptive step): runs of a given
+  // time end at the first step boundary at or past it, not after a step count.
+  bool adaptive_dt = false;
+  // Per-pair force arrays of modules (P*D, the layout of pair_f: force on i from j) that count
+  // in the grains' stress besides the contact forces: the lubrication forces of a paste.
+  std::vector<uint16_t> pair_stress_fields;
   double contact_skin = 0;  // gap below which listed pairs are tested every step [m]; >= skin: all
   bool sort_grains = true;  // reorder grains by cell at list builds (N > kSortMin)
   static constexpr int64_t kSortMin = 1024;

@@ -44,6 +44,12 @@ struct ModuleSpec {
   // Take over the steerable parts of a freshly compiled model (live steering): "" when done,
   // else why the change cannot be made while running (then the model is left as it was).
   std::function<std::string(Model& m, const Model& fresh)> steer;
+  // "" when the module's own fields in a state read from a checkpoint are consistent (their
+  // lengths and indices: those of Extent::kFree are not checked otherwise), else what is wrong.
+  std::function<std::string(const Model& m, const State& s)> check_state;
+  // Turn the module off in a copy of the model that compresses the grains dry before the run
+  // (procedure O, prepare.compress), restoring what it changed in the DEM's parts.
+  std::function<void(Model& dry)> prepare_dry;
 };
 
 // The stages of a module, added to a step graph (or to the graph that computes the forces of the

@@ -27,9 +27,10 @@ struct Measurements {
   double z_mech = 0;           // contacts per grain of the mechanical skeleton: grains with fewer than 2
                                // contacts with friction, D+1 without, removed repeatedly
   int64_t n_off_skeleton = 0;  // free grains outside that skeleton
-  std::array<std::array<double, 3>, 3> stress{};  // contact + kinetic, compression positive [Pa]
-  double pressure = 0;                            // trace / D
-  double max_net_force = 0;                       // largest |contact + wall + gravity force| on a free grain [N]
+  std::array<std::array<double, 3>, 3> stress{};        // contact + kinetic + stress_pairs, compression positive [Pa]
+  std::array<std::array<double, 3>, 3> stress_pairs{};  // of the modules' pair forces (lubrication) [Pa]
+  double pressure = 0;                                  // trace / D
+  double max_net_force = 0;                             // largest |contact + wall + gravity force| on a free grain [N]
   double ke_fluct = 0;  // (1/2N) sum m |v - v_affine|^2: fluctuating translational energy per grain [J]
   std::array<std::array<double, 3>, 3> fabric{};  // <n (x) n> over grain-grain contacts (Peyneau 3.4.2)
   Vec3a momentum{0, 0, 0};                        // sum m v over free grains, the affine flow included [kg m/s]

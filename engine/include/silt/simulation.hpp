@@ -50,6 +50,9 @@ struct RunReport {
 
 class Simulation {
  public:
+  // The step count a run of a given time stands for when the time step is adaptive (it stops on
+  // the time instead).
+  static constexpr int64_t kAdaptiveSteps = int64_t{1} << 62;
   // threads <= 0: all cores. One thread runs the serial reference executor.
   Simulation(Model model, int threads);
   ~Simulation();

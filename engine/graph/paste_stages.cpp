@@ -1,0 +1,108 @@
+// The paste's stages (paste/solve.hpp). In a step:
+//
+//   choose_dt -> paste_dt -> (box_drift ->) drift -> update_neighbors -> contact_forces
+//                                                                      -> lubrication_solve
+//
+// and for the first state, lubrication_solve after the DEM's sum_forces: the velocities the first
+// drift moves the grains with.
+#include "graph/adders.hpp"
+#include "paste/solve.hpp"
+#include "silt/text.hpp"
+
+namespace silt::graph {
+namespace {
+
+Access solve_reads() {
+  const paste::PasteFields f = paste::paste_fields();
+  return {fid::dt,
+          fid::particle_x,
+          fid::particle_r,
+          fid::particle_v,
+          fid::particle_w,
+          fid::particle_f,
+          fid::particle_t,
+          fid::particle_inv_m,
+          fid::particle_inv_i,
+          fid::nbr_start,
+          fid::pair_j,
+          fid::pair_f,
+          fid::box,
+          fid::box_rate,
+          fid::shear_rate,
+          f.pair_f_lub,
+          f.dt,
+          f.solver,
+          f.change,
+          f.factor};
+}
+
+Access solve_writes() {
+  const paste::PasteFields f = paste::paste_fields();
+  return {fid::particle_v, fid::particle_w, fid::box_rate, f.pair_f_lub, f.dt, f.solver, f.change, f.factor};
+}
+
+std::string fmt(double x) { return format_number(x, 4); }
+
+void diagnose_paste(GraphBuilder& b) {
+  b.diagnose(paste::solve_event(), [](const Model& m, const State& s, const EventSlot& e, StepFailure& f) {
+    const auto& p = m.params.get<paste::PasteParams>();
+    const auto& stats = s.module_field(paste::paste_fields().solver);
+    const auto status = static_cast<linalg::SolveStatus>(e.first());
+    const double iters = stats.size() == paste::kSolverStats ? stats[paste::kLastIterations] : 0;
+    f.stage = "lubrication_solve";
+    switch (status) {
+      case linalg::SolveStatus::kMaxIterations:
+        f.parameter = "lubrication.max_iterations";
+        f.message = "the lubrication solve did not converge: relative residual " + fmt(e.value()) + " after " +
+                    fmt(iters) + " iterations, above lubrication.tolerance = " + fmt(p.solver.options.tolerance) +
+                    "; raise lubrication.max_iterations, or use lubrication.solver = \"direct\"";
+        break;
+      case linalg::SolveStatus::kNotPositive:
+        f.parameter = "lubrication.stokes_drag";
+        f.message =
+            "the resistance matrix is not positive definite: a cluster of grains can move without any lubricated "
+            "gap changing (grains turning as gears around a cycle of even length, or a cluster held by nothing); "
+            "set lubrication.stokes_drag = true, or use a denser packing";
+        break;
+      default:
+        f.parameter = "lubrication.h_min_over_a";
+        f.message = "the lubrication solve met a non-finite value (residual " + fmt(e.value()) +
+                    "): the forces or the resistances overflowed; raise lubrication.h_min_over_a or lower the loads";
+    }
+  });
+  b.diagnose(paste::step_event(), [](const Model& m, const State& s, const EventSlot& e, StepFailure& f) {
+    const auto& p = m.params.get<paste::PasteParams>();
+    f.stage = "lubrication_solve";
+    f.parameter = "lubrication.dt_min";
+    f.message = "the adaptive time step wants " + fmt(e.value()) + " s, below lubrication.dt_min = " + fmt(p.dt_min) +
+                " s (step " + std::to_string(s.step) +
+                "): the configuration changes too fast for the explicit positions; lower lubrication.dt_min, or "
+                "raise lubrication.h_min_over_a (stiffer lubrication at contact)";
+  });
+}
+
+}  // namespace
+
+void add_paste_stages(GraphBuilder& b) {
+  auto& w = b.workspaces().get<paste::PasteWorkspace>();
+  if (b.phase() == Phase::kSetup) {
+    const int solve = b.add(
+        "lubrication_solve", [&w](const Model& m, State& s) { paste::lubrication_solve(m, s, w, true); }, solve_reads(),
+        solve_writes());
+    b.after(solve, b.find("sum_forces"), "solves with the contact forces of the first state");
+    return;
+  }
+  const paste::PasteFields f = paste::paste_fields();
+  const int dt = b.add("paste_dt", &paste::paste_dt, {fid::dt, f.dt}, {fid::dt});
+  b.light(dt);
+  b.after(dt, b.find("choose_dt"), "replaces the fixed step by the adaptive one");
+  b.after(b.find("drift"), dt, "moves the grains by this step's dt");
+  if (const int box = b.find("box_drift"); box >= 0) b.after(box, dt, "moves the box by this step's dt");
+  const int solve = b.add(
+      "lubrication_solve", [&w](const Model& m, State& s) { paste::lubrication_solve(m, s, w, false); }, solve_reads(),
+      solve_writes());
+  b.after(solve, b.find("contact_forces"), "solves with this step's contact forces");
+  diagnose_paste(b);
+}
+
+}  // namespace silt::graph

@@ -1,0 +1,233 @@
+// The paste module: a scene with [lubrication] is a lubricated granular paste (Peyneau 2009
+// sec. 1.5, 2.2, ch. 4-5): grains in a very viscous liquid, interacting by lubrication over
+// every gap below h_max and by the DEM's elastic frictional contacts, their velocities solved
+// at once every step from one sparse symmetric positive definite system (paste/solve.hpp).
+#include <cmath>
+#include <numbers>
+#include <sstream>
+
+#include "paste/observables.hpp"
+#include "paste/params.hpp"
+#include "paste/solve.hpp"
+#include "silt/contacts.hpp"
+#include "silt/module.hpp"
+#include "silt/text.hpp"
+
+namespace silt::paste {
+namespace {
+
+using K = KeyType;
+using S = std::vector<std::string>;
+
+std::vector<KeySpec> paste_keys() {
+  // clang-format off
+  return {
+      {"lubrication.viscosity", K::kReal, std::nullopt, Range::positive(), "Pa s", true, {}, "Viscosity eta of the liquid: lubrication xi_N = (3/2) pi eta R^2 / h, xi_T = pi eta R ln(2 R / h) between grains closer than h_max (Peyneau 2009 eq. 1.26-1.29)."},
+      {"lubrication.h_min_over_a", K::kReal, Value(1e-2), Range::closed(1e-12, 0.5), "", true, {}, "Roughness cutoff h_min / a, a the largest diameter: below h_min the resistances follow their tangents (or stay constant), in contact they stay at their value at h = 0."},
+      {"lubrication.h_max_over_a", K::kReal, Value(0.5), Range::open_closed(0, 2), "", false, {}, "Range h_max / a of the lubrication: grains farther apart are not connected."},
+      {"lubrication.cutoff", K::kString, Value(std::string("linear")), Range::any(), "", true, S{"linear", "constant"}, "Below h_min: the tangents at h_min (linear, eq. 1.28-1.29) or the values at h_min (constant, Table 2.3)."},
+      {"lubrication.stepper", K::kString, Value(std::string("quasi_static")), Range::any(), "", false, S{"quasi_static", "inertial"}, "quasi_static: Xi V = F (eq. 2.19, no inertia); inertial: (M/dt + Xi) V(t+dt) = M V(t)/dt + F, any Stokes number."},
+      {"lubrication.solver", K::kString, Value(std::string("factor_pcg")), Range::any(), "", true, S{"factor_pcg", "cg", "direct"}, "factor_pcg: CG preconditioned by a Cholesky factor of an earlier Xi (CHOLMOD), refactorised when a solve takes more than refactor_iterations; direct: a factorisation every step; cg: Jacobi preconditioner."},
+      {"lubrication.tolerance", K::kReal, Value(1e-8), Range::open_closed(0, 1e-2), "", true, {}, "Relative residual |F - Xi V| / |F| at which CG stops."},
+      {"lubrication.max_iterations", K::kInt, Value(int64_t{2000}), Range::closed(1, 1e7), "", true, {}, "CG iterations of one solve at most: past them the run stops with a numerical failure."},
+      {"lubrication.refactor_iterations", K::kInt, Value(int64_t{15}), Range::closed(1, 1e6), "", true, {}, "factor_pcg: a solve that took more iterations has Xi refactorised for the next."},
+      {"lubrication.refactor_every", K::kInt, Value(int64_t{0}), Range::closed(0, 1e9), "", true, {}, "factor_pcg: also refactorise every N solves (0: only on the iteration threshold)."},
+      {"lubrication.stokes_drag", K::kBool, Value(false), Range::any(), "", false, {}, "Add a Stokes drag 6 pi eta r on every grain's translation and 8 pi eta r^3 on its rotation (LF_DEM's choice): Xi definite without pinning a grain per cluster. Off: the thesis' model."},
+      {"lubrication.dt_initial", K::kReal, std::nullopt, Range::positive(), "s", false, {}, "First time step (default 1e-3 eta/P, or 1e-3 / gammadot without a pressure)."},
+      {"lubrication.dt_max", K::kReal, std::nullopt, Range::positive(), "s", true, {}, "Largest time step (default 10 eta/P, or 0.01 / gammadot under shear)."},
+      {"lubrication.dt_min", K::kReal, std::nullopt, Range::positive(), "s", true, {}, "Smallest time step: an adaptive step that wants less stops the run (default 1e-12 eta/P)."},
+      {"lubrication.dt_growth", K::kReal, Value(1.2), Range::closed(1, 1.5), "", true, {}, "Factor of the time step each step while nothing changes by more than dt_change (sec. 2.2.4: 1.1 to 1.5; 1 keeps it fixed)."},
+      {"lubrication.dt_change", K::kReal, Value(0.01), Range::open_closed(0, 1), "", true, {}, "Largest change of a diagonal entry of Xi or of a right-hand side entry in one step, relative to the largest entry, before the step shrinks."},
+  };
+  // clang-format on
+}
+
+Cutoff cutoff_of(const std::string& s) { return s == "constant" ? Cutoff::kConstant : Cutoff::kLinear; }
+
+linalg::Method method_of(const std::string& s) {
+  if (s == "cg") return linalg::Method::kCg;
+  if (s == "direct") return linalg::Method::kDirect;
+  return linalg::Method::kFactorPcg;
+}
+
+// The values a user may change while a run goes on.
+void compile_steerable(const SceneDesc& d, PasteParams& p) {
+  p.eta = d.real("lubrication.viscosity");
+  p.h_min_over_a = d.real("lubrication.h_min_over_a");
+  p.cutoff = cutoff_of(d.string("lubrication.cutoff"));
+  p.solver.method = method_of(d.string("lubrication.solver"));
+  p.solver.options.tolerance = d.real("lubrication.tolerance");
+  p.solver.options.max_iterations = static_cast<int>(d.integer("lubrication.max_iterations"));
+  p.solver.refactor_iterations = static_cast<int>(d.integer("lubrication.refactor_iterations"));
+  p.solver.refactor_every = static_cast<int>(d.integer("lubrication.refactor_every"));
+  p.dt_growth = d.real("lubrication.dt_growth");
+  p.dt_change = d.real("lubrication.dt_change");
+}
+
+void no_dashpots(ContactParams& c) {
+  c.c1 = 0;
+  c.zeta = 0;
+  c.zeta_t = 0;
+}
+
+void compile_paste(const SceneDesc& d, Model& m) {
+  PasteParams& p = m.params.get<PasteParams>();
+  const std::string key = "lubrication.viscosity";
+  if (!m.walls.empty()) d.fail(key, "a paste is periodic: walls are not supported with [lubrication]");
+  if (m.n_frozen > 0) d.fail(key, "a paste cannot hold frozen grains (every grain's velocity is solved)");
+  if (m.gravity.norm() > 0) d.fail(key, "a paste has no gravity (its grains are neutrally buoyant); remove [gravity]");
+  if (m.module_on("drag")) d.fail(key, "[drag] and [lubrication] both act on the grains; use lubrication.stokes_drag");
+  compile_steerable(d, p);
+  p.h_max_over_a = d.real("lubrication.h_max_over_a");
+  if (p.h_max_over_a <= p.h_min_over_a)
+    d.fail("lubrication.h_max_over_a", "h_max / a must exceed h_min / a = " + format_number(p.h_min_over_a));
+  p.a = m.a_max;
+  p.stepper = d.string("lubrication.stepper") == "inertial" ? Stepper::kInertial : Stepper::kQuasiStatic;
+  p.stokes_drag = d.boolean("lubrication.stokes_drag");
+  // The time unit: eta / P, else the shear time.
+  if (m.box_control.on) p.time_unit = p.eta / m.box_control.pressure;
+  else if (m.shear.on && m.shear.rate != 0) p.time_unit = 1 / std::abs(m.shear.rate);
+  else if (!d.has("lubrication.dt_initial") || !d.has("lubrication.dt_max"))
+    d.fail(key, "without box.pressure or shear.rate there is no time unit: give lubrication.dt_initial and dt_max");
+  const double unit = p.time_unit;
+  p.dt_initial = d.has("lubrication.dt_initial") ? d.real("lubrication.dt_initial") : 1e-3 * unit;
+  p.dt_max = d.has("lubrication.dt_max") ? d.real("lubrication.dt_max") : (m.box_control.on ? 10 : 0.01) * unit;
+  p.dt_min = d.has("lubrication.dt_min") ? d.real("lubrication.dt_min") : 1e-12 * (unit > 0 ? unit : p.dt_initial);
+  if (p.dt_min > p.dt_initial || p.dt_initial > p.dt_max)
+    d.fail("lubrication.dt_initial", "the time steps must satisfy dt_min <= dt_initial <= dt_max");
+  // The DEM's part: contacts without dashpots (the liquid dissipates; the dry ones are kept for
+  // the preparation), pairs listed out to h_max, grains never renumbered (the stored factor
+  // follows the unknowns' numbering).
+  p.dry_contact = m.contact;
+  p.dry_pair_contact = m.pair_contact;
+  no_dashpots(m.contact);
+  for (ContactParams& c : m.pair_contact) no_dashpots(c);
+  const double h_max = p.h_max_over_a * p.a;
+  m.pair_gap = h_max;
+  if (!d.has("neighbor.skin")) m.skin = h_max + 0.1 * m.a_max;
+  if (m.skin <= h_max)
+    d.fail("neighbor.skin", "the skin must exceed the lubrication range h_max = " + format_number(h_max) + " m");
+  if (!d.has("neighbor.contact_skin")) m.contact_skin = 0.2 * m.skin;
+  for (int k = 0; k < m.dim; ++k)
+    if (m.box.periodic[k] && m.box.len[k] < 2 * m.interaction_range())
+      d.fail(key, "the periodic box is shorter than twice the lubrication reach 2 r_max + skin = " +
+                      format_number(m.interaction_range()));
+  m.sort_grains = false;
+  m.velocities_solved = true;
+  m.adaptive_dt = true;
+  m.pair_forces_every_step = true;
+  m.pair_stress_fields.push_back(paste_fields().pair_f_lub);
+}
+
+std::string describe_paste(const Model& m) {
+  const PasteParams& p = m.params.get<PasteParams>();
+  std::ostringstream o;
+  o.precision(5);
+  o << "paste        lubrication eta = " << p.eta << " Pa s, h_min/a = " << p.h_min_over_a
+    << ", h_max/a = " << p.h_max_over_a << ", " << (p.cutoff == Cutoff::kLinear ? "linear" : "constant")
+    << " cutoff (Peyneau 2009 eq. 1.28-1.29); " << stepper_name(p.stepper) << " stepper, "
+    << linalg::method_name(p.solver.method) << " solver to " << p.solver.options.tolerance
+    << (p.stokes_drag ? ", Stokes drag on every grain" : ", one grain pinned per cluster") << "\n";
+  o << "             time step adaptive (sec. 2.2.4) from " << p.dt_initial << " s, in [" << p.dt_min << ", "
+    << p.dt_max << "] s; time unit eta/P = " << p.time_unit << " s\n";
+  if (m.box_control.on) {
+    const double P = m.box_control.pressure;
+    o << "             kappa = " << stiffness_number(m, P) << "; ";
+    if (m.shear.on) {
+      const double vi = p.eta * std::abs(m.shear.rate) / P;
+      // Stokes number m gammadot / (eta a) (a grain of diameter a).
+      o << "Vi = eta gammadot / P = " << vi
+        << "; St = m gammadot / (eta a) = " << m.m_a * std::abs(m.shear.rate) / (p.eta * p.a);
+    } else {
+      o << "St at the time unit = m P / (eta^2 a) = " << m.m_a * P / (p.eta * p.eta * p.a);
+    }
+    o << "\n";
+  }
+  return o.str();
+}
+
+std::string steer_paste(Model& m, const Model& fresh) {
+  PasteParams& p = m.params.get<PasteParams>();
+  const PasteParams& f = fresh.params.get<PasteParams>();
+  if (f.stepper != p.stepper || f.stokes_drag != p.stokes_drag || f.h_max_over_a != p.h_max_over_a)
+    return "the stepper, the drag and h_max change the system solved: set them when stopped";
+  const double unit = p.time_unit;
+  p = PasteParams(f);
+  p.time_unit = unit;
+  return "";
+}
+
+std::string check_paste_state(const Model& m, const State& s) {
+  const PasteFields f = paste_fields();
+  const auto& stats = s.module_field(f.solver);
+  if (!stats.empty() && stats.size() != kSolverStats) return "paste_solver has the wrong length";
+  const auto& dt = s.module_field(f.dt);
+  if (dt.size() != 1 || !(dt[0] >= 0)) return "paste_dt is not a time step";
+  const int pg = m.dim == 2 ? 3 : 6;
+  int n_box = 0;
+  if (m.box_control.on)
+    for (int a = 0; a < m.dim; ++a) n_box += m.box_control.controlled[a];
+  const int64_t size = s.n * pg + n_box;
+  const auto& change = s.module_field(f.change);
+  if (!change.empty() && static_cast<int64_t>(change.size()) != 2 * size) return "paste_change has the wrong length";
+  const auto& a = s.module_field(f.factor);
+  if (a.empty()) return "";
+  if (a.size() < 2 || a[0] != static_cast<double>(size) || !(a[1] >= 0) || a[1] > 1e12 ||
+      a.size() != static_cast<size_t>(2 + (size + 1) + 2 * a[1]))
+    return "paste_factor is not a matrix of the paste's unknowns";
+  const auto nnz = static_cast<int64_t>(a[1]);
+  const double* col = a.data() + 2;
+  const double* row = col + size + 1;
+  if (col[0] != 0 || col[size] != static_cast<double>(nnz)) return "paste_factor's columns do not span its entries";
+  for (int64_t k = 0; k < size; ++k) {
+    if (!(col[k + 1] >= col[k])) return "paste_factor's column starts decrease";
+    for (auto p = static_cast<int64_t>(col[k]); p < static_cast<int64_t>(col[k + 1]); ++p)
+      if (!(row[p] >= 0 && row[p] < static_cast<double>(size)) || (p > col[k] && !(row[p] > row[p - 1])))
+        return "paste_factor's rows are out of range or out of order";
+  }
+  return "";
+}
+
+void paste_to_dry(Model& c) {
+  const PasteParams& p = c.params.get<PasteParams>();
+  c.contact = p.dry_contact;
+  c.pair_contact = p.dry_pair_contact;
+  std::erase(c.modules, std::string("paste"));
+  c.velocities_solved = false;
+  c.adaptive_dt = false;
+  c.pair_gap = 0;
+  c.pair_stress_fields.clear();
+}
+
+}  // namespace
+
+const ModuleSpec& module() {
+  static const ModuleSpec spec = [] {
+    ModuleSpec s;
+    s.name = "paste";
+    s.doc = "lubricated granular paste: lubrication and contacts, every velocity from one implicit solve";
+    s.keys = paste_keys();
+    s.fields = {
+        {"pair_f_lub", Extent::kPairVec, "N",
+         "lubrication force on i from j (eq. 2.24), 0 beyond h_max; lubrication_solve"},
+        {"paste_dt", Extent::kScalar, "s", "adaptive time step of the next step (sec. 2.2.4); lubrication_solve"},
+        {"paste_solver", Extent::kFree, "", "solver counts (paste/solve.hpp SolverStat); lubrication_solve"},
+        {"paste_change", Extent::kFree, "",
+         "Xi's diagonal and the right-hand side of the last solve, for the adaptive step; lubrication_solve"},
+        {"paste_factor", Extent::kFree, "",
+         "the matrix the held Cholesky factor was made from (n, nnz, columns, rows, values): a restart refactorises "
+         "it; lubrication_solve"}};
+    s.events = {"paste_solve", "paste_step"};
+    s.observables = paste_observables();
+    s.enabled = [](const SceneDesc& d) { return d.has("lubrication.viscosity"); };
+    s.compile = compile_paste;
+    s.describe = describe_paste;
+    s.steer = steer_paste;
+    s.check_state = check_paste_state;
+    s.prepare_dry = paste_to_dry;
+    return s;
+  }();
+  return spec;
+}
+
+}  // namespace silt::paste

@@ -1,0 +1,93 @@
+#include "paste/observables.hpp"
+
+#include <cmath>
+
+#include "paste/params.hpp"
+#include "paste/solve.hpp"
+#include "silt/contacts.hpp"
+
+namespace silt::paste {
+namespace {
+
+const PasteParams& params(const Model& m) { return m.params.get<PasteParams>(); }
+
+// The imposed pressure: the stresses are relative to it.
+double imposed_pressure(const Model& m) { return m.box_control.on ? m.box_control.pressure : 0; }
+
+std::string needs_pressure(const Model& m, const ObservableArgs&) {
+  return m.box_control.on ? "" : "it is relative to the imposed pressure, and this paste has no box.pressure";
+}
+
+std::string needs_shear(const Model& m, const ObservableArgs&) {
+  if (!m.shear.on) return "it applies where the paste is sheared (shear.viscous_number or shear.rate)";
+  return needs_pressure(m, {});
+}
+
+double solver_stat(const ObservableContext& c, SolverStat k) {
+  const auto& v = c.s.module_field(paste_fields().solver);
+  return v.size() == kSolverStats ? v[k] : 0.0;
+}
+
+double trace(const std::array<std::array<double, 3>, 3>& t, int d) {
+  double x = 0;
+  for (int a = 0; a < d; ++a) x += t[a][a];
+  return x / d;
+}
+
+}  // namespace
+
+double friction_mobilisation(const State& s) {
+  double sum = 0;
+  int64_t count = 0;
+  for_each_contact(s, [&](const Contact& c) {
+    if (!(c.fn > 0)) return;
+    double ft2 = 0;
+    for (int a = 0; a < s.dim; ++a) {
+      const double t = c.f[a] - c.fn * c.d[a] / c.dist;
+      ft2 += t * t;
+    }
+    sum += std::sqrt(ft2) / c.fn;
+    ++count;
+  });
+  return count ? sum / static_cast<double>(count) : 0.0;
+}
+
+std::vector<ObservableSpec> paste_observables() {
+  using C = const ObservableContext&;
+  using A = const ObservableArgs&;
+  std::vector<ObservableSpec> o = {
+      {"Vi", "", "viscous number eta gammadot / P (Peyneau 2009 eq. 1.34)",
+       [](C c, A) { return params(c.m).eta * std::abs(c.s.shear_rate) / imposed_pressure(c.m); }},
+      {"mobilisation", "", "friction mobilisation <|F_T| / F_N> over the contacts",
+       [](C c, A) { return friction_mobilisation(c.s); }},
+      {"p_cont_ratio", "", "pressure carried by the contacts / P",
+       [](C c, A) {
+         const Measurements& x = c.meas();
+         return (x.pressure - trace(x.stress_pairs, c.m.dim)) / imposed_pressure(c.m);
+       }},
+      {"p_lub_ratio", "", "pressure carried by the lubrication / P",
+       [](C c, A) { return trace(c.meas().stress_pairs, c.m.dim) / imposed_pressure(c.m); }},
+      {"eta_eff", "", "effective viscosity |stress.xy| / (eta gammadot), in units of eta: mu / Vi",
+       [](C c, A) { return std::abs(c.meas().stress[0][1]) / (params(c.m).eta * std::abs(c.s.shear_rate)); }},
+      {"solver.iters", "", "iterations of the last lubrication solve (0 for a direct solve)",
+       [](C c, A) { return solver_stat(c, kLastIterations); }},
+      {"solver.residual", "", "relative residual |F - Xi V| / |F| of the last lubrication solve",
+       [](C c, A) { return solver_stat(c, kLastResidual); }},
+      {"solver.refactorisations", "", "Cholesky factorisations of Xi so far",
+       [](C c, A) { return solver_stat(c, kRefactorizations); }},
+      {"solver.iters_mean", "", "mean iterations per lubrication solve so far",
+       [](C c, A) {
+         const double n = solver_stat(c, kSolves);
+         return n > 0 ? solver_stat(c, kIterationsTotal) / n : 0.0;
+       }},
+      {"connections", "", "lubricated connections (gaps below h_max) of the last solve",
+       [](C c, A) { return solver_stat(c, kConnections); }},
+  };
+  o[0].check = needs_shear;
+  o[2].check = needs_pressure;
+  o[3].check = needs_pressure;
+  o[4].check = needs_shear;
+  return o;
+}
+
+}  // namespace silt::paste

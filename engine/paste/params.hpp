@@ -1,0 +1,44 @@
+// The parameters of a lubricated paste (Peyneau 2009 sec. 1.5 and 2.2), compiled from the
+// [lubrication] table of a scene by the paste module (paste/module.cpp).
+#pragma once
+
+#include <vector>
+
+#include "paste/lubrication_laws.hpp"
+#include "silt/linalg.hpp"
+#include "silt/model.hpp"
+
+namespace silt::paste {
+
+// How the grains' velocities follow from the forces each step.
+enum class Stepper {
+  kQuasiStatic,  // Xi V = F_cont + F_ext (eq. 2.19): no inertia
+  kInertial,     // (M/dt + Xi) V(t + dt) = M V(t) / dt + F: the grains' inertia kept
+};
+
+struct PasteParams {
+  double eta = 0;           // liquid viscosity [Pa s] (steerable)
+  double h_min_over_a = 0;  // roughness cutoff / largest diameter (steerable)
+  double h_max_over_a = 0;  // connection range / largest diameter
+  double a = 0;             // largest diameter [m]
+  Cutoff cutoff = Cutoff::kLinear;
+  Stepper stepper = Stepper::kQuasiStatic;
+  linalg::SolverSettings solver;
+  // A Stokes drag 6 pi eta r on every grain's translation and 8 pi eta r^3 on its rotation
+  // (LF_DEM's choice): makes Xi definite without pinning; off by default (the thesis has none).
+  bool stokes_drag = false;
+  // The adaptive step of sec. 2.2.4 [s]: from dt_initial, multiplied by dt_growth each step
+  // while no diagonal entry of Xi and no entry of the right-hand side changed by more than
+  // dt_change (relative to its largest entry), else shrunk by dt_change / change (at least
+  // 1/10); always within [dt_min, dt_max].
+  double time_unit = 0;  // eta / P, or 1 / |gammadot| without a pressure [s]
+  double dt_initial = 0, dt_min = 0, dt_max = 0, dt_growth = 1.2, dt_change = 0.01;
+  // The dry contact laws, restored for the dry compression of procedure O (the paste's own have
+  // no dashpots: the liquid dissipates).
+  ContactParams dry_contact;
+  std::vector<ContactParams> dry_pair_contact;
+
+  LubricationLaw law() const { return {eta, h_min_over_a * a, h_max_over_a * a, cutoff}; }
+};
+
+}  // namespace silt::paste

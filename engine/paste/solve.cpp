@@ -1,0 +1,260 @@
+#include "paste/solve.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "core/parallel.hpp"
+#include "dem/stress.hpp"
+
+namespace silt::paste {
+namespace {
+
+// The matrix a factor was made from, kept in the state (paste_factor): n, nnz, the column
+// starts, the rows and the values, as doubles.
+void store_matrix(const linalg::SparseMatrix& a, std::vector<double>& out) {
+  const int64_t n = a.cols(), nnz = a.nonZeros();
+  out.resize(static_cast<size_t>(2 + (n + 1) + 2 * nnz));
+  out[0] = static_cast<double>(n);
+  out[1] = static_cast<double>(nnz);
+  double* o = out.data() + 2;
+  for (int64_t k = 0; k <= n; ++k) *o++ = a.outerIndexPtr()[k];
+  for (int64_t k = 0; k < nnz; ++k) *o++ = a.innerIndexPtr()[k];
+  for (int64_t k = 0; k < nnz; ++k) *o++ = a.valuePtr()[k];
+}
+
+linalg::SparseMatrix load_matrix(const std::vector<double>& in) {
+  const auto n = static_cast<int64_t>(in[0]), nnz = static_cast<int64_t>(in[1]);
+  linalg::SparseMatrix a(n, n);
+  a.resizeNonZeros(nnz);
+  const double* o = in.data() + 2;
+  for (int64_t k = 0; k <= n; ++k) a.outerIndexPtr()[k] = static_cast<int>(*o++);
+  for (int64_t k = 0; k < nnz; ++k) a.innerIndexPtr()[k] = static_cast<int>(*o++);
+  for (int64_t k = 0; k < nnz; ++k) a.valuePtr()[k] = *o++;
+  return a;
+}
+
+// Largest change of an entry between two vectors, relative to the largest entry of the newer.
+double relative_change(const double* now, const double* before, int64_t n) {
+  double top = 0, diff = 0;
+  for (int64_t k = 0; k < n; ++k) {
+    top = std::max(top, std::abs(now[k]));
+    diff = std::max(diff, std::abs(now[k] - before[k]));
+  }
+  return top > 0 ? diff / top : 0;
+}
+
+// The next step (sec. 2.2.4): grow while Xi's diagonal and the right-hand side change by at most
+// dt_change a step, else shrink in proportion.
+double next_step(const PasteParams& p, double dt, double change) {
+  const double factor = change <= p.dt_change ? p.dt_growth : std::max(0.1, p.dt_change / change);
+  return std::clamp(dt * factor, p.dt_min, p.dt_max);
+}
+
+}  // namespace
+
+PasteFields paste_fields() {
+  static const PasteFields f{find_field("pair_f_lub")->id, find_field("paste_dt")->id, find_field("paste_solver")->id,
+                             find_field("paste_change")->id, find_field("paste_factor")->id};
+  return f;
+}
+
+EventId solve_event() {
+  static const EventId e = register_module_event("paste_solve");
+  return e;
+}
+
+EventId step_event() {
+  static const EventId e = register_module_event("paste_step");
+  return e;
+}
+
+const char* stepper_name(Stepper s) { return s == Stepper::kInertial ? "inertial" : "quasi_static"; }
+
+void paste_dt(const Model& m, State& s) {
+  const PasteParams& p = m.params.get<PasteParams>();
+  const double dt = s.module_field(paste_fields().dt)[0];
+  s.dt = dt > 0 ? dt : p.dt_initial;
+}
+
+void lubrication_solve(const Model& m, State& s, PasteWorkspace& w, bool setup) {
+  const PasteParams& p = m.params.get<PasteParams>();
+  const PasteFields f = paste_fields();
+  const int D = s.dim, R = s.rot;
+  const int64_t n = s.n;
+  find_connections(s, p.law(), w.links);
+  const std::vector<Connection>& cs = w.links.c;
+  bool controlled[3] = {false, false, false};
+  if (m.box_control.on)
+    for (int a = 0; a < D; ++a) controlled[a] = m.box_control.controlled[a];
+  const SystemLayout L = make_layout(D, n, controlled, m.shear.on);
+  const int pg = L.per_grain;
+  const int64_t size = L.size();
+  w.system.assemble(L, cs, s.particle_r, s.shear_rate);
+  linalg::SparseMatrix& A = w.system.matrix();
+  double* val = A.valuePtr();
+
+  // Right-hand side: contact forces and torques (contact_forces left their sums), the drive of
+  // the imposed shear, and on the box rows A (sigma_cont - P) (compression positive).
+  linalg::Vector b = w.system.shear_rhs();
+  for (int64_t i = 0; i < n; ++i) {
+    for (int a = 0; a < D; ++a) b[i * pg + a] += s.particle_f[D * i + a];
+    for (int a = 0; a < R; ++a) b[i * pg + D + a] += s.particle_t[R * i + a];
+  }
+  if (L.n_box > 0) {
+    double vol = 1;
+    for (int a = 0; a < D; ++a) vol *= s.box.len[a];
+    const std::array<double, 9> vir = dem::pair_virial_sums(s, s.pair_f.data());
+    for (int k = 0; k < L.n_box; ++k) {
+      const int a = L.box_axis[k];
+      b[L.box_unknown(k)] += vir[4 * a] - vol * m.box_control.pressure;
+    }
+  }
+
+  // What the adaptive step watches: Xi's diagonal and the right-hand side of the configuration.
+  std::vector<double>& change = s.module_field(f.change);
+  double step_change = 0;
+  {
+    std::vector<double> now(static_cast<size_t>(2 * size));
+    for (int64_t k = 0; k < size; ++k) {
+      now[k] = val[w.system.diagonal_position(k)];
+      now[size + k] = b[k];
+    }
+    if (change.size() == now.size())
+      step_change = std::max(relative_change(now.data(), change.data(), size),
+                             relative_change(now.data() + size, change.data() + size, size));
+    change.swap(now);
+  }
+
+  // Inertia, the optional Stokes drag: on the grains' diagonal.
+  const bool inertial = p.stepper == Stepper::kInertial;
+  const double dt_field = s.module_field(f.dt)[0];
+  const double dt = setup ? (dt_field > 0 ? dt_field : p.dt_initial) : s.dt;
+  for (int64_t i = 0; i < n; ++i) {
+    const double r = s.particle_r[i];
+    double ct = p.stokes_drag ? 6 * std::numbers::pi * p.eta * r : 0;
+    double cr = p.stokes_drag ? 8 * std::numbers::pi * p.eta * r * r * r : 0;
+    if (inertial) {
+      const double mass = 1 / s.particle_inv_m[i], inertia = 1 / s.particle_inv_i[i];
+      ct += mass / dt;
+      cr += inertia / dt;
+      for (int a = 0; a < D; ++a) b[i * pg + a] += mass / dt * s.particle_v[D * i + a];
+      for (int a = 0; a < R; ++a) b[i * pg + D + a] += inertia / dt * s.particle_w[R * i + a];
+    }
+    for (int a = 0; a < D; ++a) val[w.system.diagonal_position(i * pg + a)] += ct;
+    for (int a = 0; a < R; ++a) val[w.system.diagonal_position(i * pg + D + a)] += cr;
+  }
+
+  // Without inertia or drag, Xi is singular by the translation of every connected cluster and by
+  // every degree of freedom of a grain with no connection: each cluster's first grain has its
+  // translation pinned (its mean velocity set to zero after the solve), a grain alone is held
+  // still relative to the affine flow, which is how the liquid carries it.
+  int32_t n_comp = 0;
+  std::vector<int64_t> comp_size, comp_first;
+  const bool pinning = !inertial && !p.stokes_drag;
+  if (pinning) {
+    w.component = connected_components(n, cs, n_comp);
+    comp_size.assign(static_cast<size_t>(n_comp), 0);
+    comp_first.assign(static_cast<size_t>(n_comp), -1);
+    for (int64_t i = 0; i < n; ++i) {
+      const int32_t c = w.component[i];
+      ++comp_size[c];
+      if (comp_first[c] < 0) comp_first[c] = i;
+    }
+    double scale = 0;
+    int64_t counted = 0;
+    for (int64_t i = 0; i < n; ++i)
+      if (comp_size[w.component[i]] > 1) {
+        scale += val[w.system.diagonal_position(i * pg)];
+        ++counted;
+      }
+    scale = counted ? scale / static_cast<double>(counted) : 1.0;
+    for (int64_t i = 0; i < n; ++i) {
+      const int32_t c = w.component[i];
+      const int dofs = comp_size[c] == 1 ? pg : (comp_first[c] == i ? D : 0);
+      for (int a = 0; a < dofs; ++a) w.system.pin(i * pg + a, scale, b);
+    }
+  }
+
+  // Warm start from the last velocities.
+  linalg::Vector x(size);
+  for (int64_t i = 0; i < n; ++i) {
+    for (int a = 0; a < D; ++a) x[i * pg + a] = s.particle_v[D * i + a];
+    for (int a = 0; a < R; ++a) x[i * pg + D + a] = s.particle_w[R * i + a];
+  }
+  for (int k = 0; k < L.n_box; ++k) x[L.box_unknown(k)] = s.box_rate[L.box_axis[k]] / s.box.len[L.box_axis[k]];
+
+  // The solver, its factor rebuilt from the state's copy after a restore.
+  std::vector<double>& stats = s.module_field(f.solver);
+  if (stats.size() != kSolverStats) stats.assign(kSolverStats, 0.0);
+  std::vector<double>& factor = s.module_field(f.factor);
+  w.solver.set_settings(p.solver);
+  if (w.fresh) {
+    w.fresh = false;
+    w.solver.forget_factor();
+    if (p.solver.method == linalg::Method::kFactorPcg && stats[kFactorAge] >= 0 && !factor.empty() &&
+        static_cast<int64_t>(factor[0]) == size)
+      w.solver.restore_factor(load_matrix(factor), static_cast<int>(stats[kFactorAge]));
+  }
+  const int64_t factorizations_before = w.solver.refactorizations();
+  w.solver.on_factor = [&factor](const linalg::SparseMatrix& a) { store_matrix(a, factor); };
+  const bool size_changed = w.solver.factor_valid() && !factor.empty() && static_cast<int64_t>(factor[0]) != size;
+  const linalg::SolveReport rep = w.solver.solve(A, b, x, size_changed);
+  w.solver.on_factor = nullptr;
+
+  stats[kLastIterations] = rep.iterations;
+  stats[kLastResidual] = rep.residual;
+  stats[kSolves] += 1;
+  stats[kIterationsTotal] += rep.iterations;
+  stats[kIterationsMax] = std::max<double>(stats[kIterationsMax], rep.iterations);
+  stats[kRefactorizations] += static_cast<double>(w.solver.refactorizations() - factorizations_before);
+  stats[kFactorAge] = w.solver.factor_valid() ? w.solver.solves_since_factor() : -1;
+  stats[kLastStatus] = static_cast<double>(rep.status);
+  stats[kConnections] = static_cast<double>(cs.size());
+  if (!w.solver.factor_valid()) factor.clear();
+  if (!rep.ok()) {
+    s.events[solve_event()].raise(static_cast<int64_t>(rep.status), rep.residual);
+    return;
+  }
+
+  // Each cluster's mean velocity relative to the affine flow is zero (the pinned grain's choice
+  // of the translation undone).
+  if (pinning) {
+    std::vector<double> mean(static_cast<size_t>(n_comp) * D, 0.0);
+    for (int64_t i = 0; i < n; ++i)
+      for (int a = 0; a < D; ++a) mean[w.component[i] * D + a] += x[i * pg + a];
+    for (int64_t i = 0; i < n; ++i) {
+      const int32_t c = w.component[i];
+      for (int a = 0; a < D; ++a) x[i * pg + a] -= mean[c * D + a] / static_cast<double>(comp_size[c]);
+    }
+  }
+  for (int64_t i = 0; i < n; ++i) {
+    for (int a = 0; a < D; ++a) s.particle_v[D * i + a] = x[i * pg + a];
+    for (int a = 0; a < R; ++a) s.particle_w[R * i + a] = x[i * pg + D + a];
+  }
+  for (int k = 0; k < L.n_box; ++k) s.box_rate[L.box_axis[k]] = x[L.box_unknown(k)] * s.box.len[L.box_axis[k]];
+
+  // The lubrication force of every connection, on i from j, stored at its pair.
+  std::vector<double>& f_lub = s.module_field(f.pair_f_lub);
+  f_lub.assign(static_cast<size_t>(D * s.n_pairs()), 0.0);
+  const int nl = local_size(L);
+  parallel_for(static_cast<int64_t>(cs.size()), 1024, [&](int64_t lo, int64_t hi) {
+    double u[16];
+    for (int64_t k = lo; k < hi; ++k) {
+      const Connection& c = cs[k];
+      for (int q = 0; q < nl; ++q) {
+        const int64_t g = local_to_global(L, c, q);
+        u[q] = g >= 0 ? x[g] : s.shear_rate;
+      }
+      connection_force(L, c, s.particle_r[c.i], s.particle_r[c.j], u, &f_lub[D * w.links.pair[k]]);
+    }
+  });
+
+  if (setup) return;
+  double& next = s.module_field(f.dt)[0];
+  const double wanted = next_step(p, dt, step_change);
+  if (step_change > p.dt_change && dt <= p.dt_min) s.events[step_event()].raise(0, dt * p.dt_change / step_change);
+  next = wanted;
+}
+
+}  // namespace silt::paste

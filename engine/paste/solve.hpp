@@ -1,0 +1,78 @@
+// The paste's stages (engine/graph/paste_stages.cpp puts them in the step):
+//
+//   choose_dt -> paste_dt -> drift -> update_neighbors -> contact_forces -> lubrication_solve
+//
+// paste_dt sets the step's dt from the adaptive step (sec. 2.2.4); the DEM's drift moves the
+// grains by dt V with the velocities of the last solve (explicit Euler, eq. 2.19 of Peyneau
+// 2009: contact forces and Xi at the start of the step); lubrication_solve finds the
+// connections, assembles Xi, solves for every grain's velocity and angular velocity (and the
+// strain rates of the controlled box lengths) at once, stores the lubrication force of every
+// connection and chooses the next step's dt.
+#pragma once
+
+#include "core/workspace.hpp"
+#include "paste/params.hpp"
+#include "paste/system.hpp"
+#include "silt/events.hpp"
+#include "silt/linalg.hpp"
+#include "silt/model.hpp"
+#include "silt/state.hpp"
+
+namespace silt::paste {
+
+// The paste's own fields (registered by its module spec).
+struct PasteFields {
+  FieldId pair_f_lub, dt, solver, change, factor;
+};
+PasteFields paste_fields();
+
+// paste_solver, a free-length field of kSolverStats entries:
+enum SolverStat {
+  kLastIterations,    // CG iterations of the last solve (0 for a direct solve)
+  kLastResidual,      // its relative residual |b - Xi V| / |b|
+  kSolves,            // solves so far
+  kIterationsTotal,   // their iterations
+  kIterationsMax,     // the most one took
+  kRefactorizations,  // Cholesky factorisations so far (a direct solve: one each)
+  kFactorAge,         // solves the held factor has served, -1 when none is held
+  kLastStatus,        // linalg::SolveStatus of the last solve
+  kConnections,       // connections of the last solve
+  kSolverStats
+};
+
+struct PasteWorkspace final : Workspace {
+  linalg::SpdSolver solver;
+  ResistanceSystem system;
+  Links links;
+  std::vector<int32_t> component;
+  bool fresh = true;  // made, or invalidated: the factor is rebuilt from the state's copy
+  void invalidate() override {
+    fresh = true;
+    system.forget();
+    solver.forget_factor();
+  }
+  size_t bytes() const override {
+    return system.bytes() + static_cast<size_t>(solver.factor().factor_bytes()) +
+           links.c.size() * (sizeof(Connection) + sizeof(int32_t));
+  }
+};
+
+// The event a failed solve raises: index the linalg::SolveStatus, value the residual.
+EventId solve_event();
+// The event of an adaptive step below lubrication.dt_min: value the step wanted.
+EventId step_event();
+
+// (dt, paste_dt) => (dt)
+void paste_dt(const Model& m, State& s);
+
+// (particle_x, particle_r, particle_v, particle_w, particle_f, particle_t, particle_inv_m,
+//  particle_inv_i, nbr_start, pair_j, pair_f, box, box_rate, shear_rate, dt, paste_*) =>
+// (particle_v, particle_w, box_rate, pair_f_lub, paste_dt, paste_solver, paste_change,
+//  paste_factor)
+// `setup`: the velocities of the first state, the adaptive step left as it is.
+void lubrication_solve(const Model& m, State& s, PasteWorkspace& w, bool setup);
+
+// The Model's time unit eta / P (or 1 / |gammadot|) and the stepper's name, for reports.
+const char* stepper_name(Stepper s);
+
+}  // namespace silt::paste

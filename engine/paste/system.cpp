@@ -1,0 +1,220 @@
+#include "paste/system.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/parallel.hpp"
+#include "core/periodic_image.hpp"
+
+namespace silt::paste {
+
+SystemLayout make_layout(int dim, int64_t grains, const bool* controlled_axes, bool shear) {
+  SystemLayout l;
+  l.dim = dim;
+  l.rot = dim == 2 ? 1 : 3;
+  l.per_grain = dim + l.rot;
+  l.grains = grains;
+  for (int a = 0; a < dim; ++a)
+    if (controlled_axes && controlled_axes[a]) l.box_axis[l.n_box++] = a;
+  l.shear = shear;
+  return l;
+}
+
+int local_size(const SystemLayout& l) { return 2 * l.per_grain + l.n_box + (l.shear ? 1 : 0); }
+
+int64_t local_to_global(const SystemLayout& l, const Connection& c, int q) {
+  const int p = l.per_grain;
+  if (q < p) return c.i * int64_t{p} + q;
+  if (q < 2 * p) return c.j * int64_t{p} + (q - p);
+  if (q < 2 * p + l.n_box) return l.box_unknown(q - 2 * p);
+  return -1;
+}
+
+void local_map(const SystemLayout& l, const Connection& c, double ri, double rj, double* g) {
+  const int d = l.dim, p = l.per_grain, n = local_size(l);
+  double tan[2][3];
+  tangents(d, c.n, tan);
+  for (int row = 0; row < d; ++row) {
+    double* gr = g + row * n;
+    std::fill(gr, gr + n, 0.0);
+    const double* e = row == 0 ? c.n : tan[row - 1];
+    // (V_i - V_j) . e
+    for (int a = 0; a < d; ++a) {
+      gr[a] = e[a];
+      gr[p + a] = -e[a];
+    }
+    // ((R_i w_i + R_j w_j) x n) . e = (R_i w_i + R_j w_j) . (n x e)
+    if (d == 2) {
+      const double nxe = c.n[0] * e[1] - c.n[1] * e[0];
+      gr[2] = ri * nxe;
+      gr[p + 2] = rj * nxe;
+    } else {
+      const double nxe[3] = {c.n[1] * e[2] - c.n[2] * e[1], c.n[2] * e[0] - c.n[0] * e[2],
+                             c.n[0] * e[1] - c.n[1] * e[0]};
+      for (int a = 0; a < 3; ++a) {
+        gr[3 + a] = ri * nxe[a];
+        gr[p + 3 + a] = rj * nxe[a];
+      }
+    }
+    // The affine flow: -epsdot . r_ij on the controlled axes, -gammadot r_ij,y e_x.
+    for (int k = 0; k < l.n_box; ++k) gr[2 * p + k] = -e[l.box_axis[k]] * c.r[l.box_axis[k]];
+    if (l.shear) gr[n - 1] = -e[0] * c.r[1];
+  }
+}
+
+void connection_force(const SystemLayout& l, const Connection& c, double ri, double rj, const double* u,
+                      double* force) {
+  const int d = l.dim, n = local_size(l);
+  double g[3 * 16];
+  local_map(l, c, ri, rj, g);
+  double tan[2][3];
+  tangents(d, c.n, tan);
+  for (int a = 0; a < d; ++a) force[a] = 0;
+  for (int row = 0; row < d; ++row) {
+    double v = 0;
+    for (int q = 0; q < n; ++q) v += g[row * n + q] * u[q];
+    const double f = -(row == 0 ? c.xi_n : c.xi_t) * v;
+    const double* e = row == 0 ? c.n : tan[row - 1];
+    for (int a = 0; a < d; ++a) force[a] += f * e[a];
+  }
+}
+
+void find_connections(const State& s, const LubricationLaw& law, Links& out) {
+  out.c.clear();
+  out.pair.clear();
+  const int D = s.dim;
+  auto scan = [&]<int Dim>() {
+    const PeriodicImage<Dim> img(s.box);
+    for (int64_t i = 0; i < s.n; ++i)
+      for (int32_t p = s.nbr_start[i]; p < s.nbr_start[i + 1]; ++p) {
+        const int32_t j = s.pair_j[p];
+        Vec<Dim> r = at<Dim>(s.particle_x.data(), j) - at<Dim>(s.particle_x.data(), i);
+        img.apply(r);
+        const double dist = r.norm();
+        const double ri = s.particle_r[i], rj = s.particle_r[j];
+        const double h = dist - ri - rj;
+        if (h > law.h_max || !(dist > 0)) continue;
+        Connection c;
+        c.i = static_cast<int32_t>(i);
+        c.j = j;
+        for (int a = 0; a < Dim; ++a) {
+          c.r[a] = r[a];
+          c.n[a] = r[a] / dist;
+        }
+        const double r_eq = ri * rj / (ri + rj);
+        c.xi_n = xi_normal(h, r_eq, law);
+        c.xi_t = xi_tangential(h, r_eq, law);
+        out.c.push_back(c);
+        out.pair.push_back(p);
+      }
+  };
+  if (D == 2) scan.template operator()<2>();
+  else scan.template operator()<3>();
+}
+
+void ResistanceSystem::build_pattern(const std::vector<Connection>& cs) {
+  const SystemLayout& l = layout_;
+  const int n = local_size(l);
+  std::vector<Eigen::Triplet<double>> t;
+  t.reserve(static_cast<size_t>(l.size()) + cs.size() * static_cast<size_t>(n * n));
+  for (int64_t k = 0; k < l.size(); ++k) t.emplace_back(static_cast<int>(k), static_cast<int>(k), 0.0);
+  for (const Connection& c : cs)
+    for (int q = 0; q < n; ++q) {
+      const int64_t gq = local_to_global(l, c, q);
+      if (gq < 0) continue;
+      for (int r = 0; r < n; ++r) {
+        const int64_t gr = local_to_global(l, c, r);
+        if (gr >= 0) t.emplace_back(static_cast<int>(gr), static_cast<int>(gq), 0.0);
+      }
+    }
+  a_ = linalg::SparseMatrix(l.size(), l.size());
+  a_.setFromTriplets(t.begin(), t.end());
+  a_.makeCompressed();
+  auto position = [&](int64_t row, int64_t col) {
+    const int* rows = a_.innerIndexPtr();
+    const int* b = rows + a_.outerIndexPtr()[col];
+    const int* e = rows + a_.outerIndexPtr()[col + 1];
+    return static_cast<int64_t>(std::lower_bound(b, e, static_cast<int>(row)) - rows);
+  };
+  diag_pos_.resize(static_cast<size_t>(l.size()));
+  for (int64_t k = 0; k < l.size(); ++k) diag_pos_[k] = position(k, k);
+  pos_.assign(cs.size() * static_cast<size_t>(n * n), -1);
+  for (size_t k = 0; k < cs.size(); ++k)
+    for (int q = 0; q < n; ++q) {
+      const int64_t gq = local_to_global(l, cs[k], q);
+      if (gq < 0) continue;
+      for (int r = 0; r < n; ++r) {
+        const int64_t gr = local_to_global(l, cs[k], r);
+        if (gr >= 0) pos_[k * n * n + r * n + q] = position(gr, gq);
+      }
+    }
+  pairs_.resize(cs.size());
+  for (size_t k = 0; k < cs.size(); ++k) pairs_[k] = {cs[k].i, cs[k].j};
+}
+
+bool ResistanceSystem::assemble(const SystemLayout& l, const std::vector<Connection>& cs,
+                                const std::vector<double>& radius, double shear_rate) {
+  bool same = pairs_.size() == cs.size() && layout_.size() == l.size() && layout_.n_box == l.n_box &&
+              layout_.shear == l.shear && a_.rows() == l.size();
+  for (size_t k = 0; same && k < cs.size(); ++k) same = pairs_[k].first == cs[k].i && pairs_[k].second == cs[k].j;
+  layout_ = l;
+  if (!same) build_pattern(cs);
+  const int n = local_size(l), d = l.dim;
+  // Each connection's G^T xi G, in parallel; then added in connection order (deterministic).
+  local_.resize(cs.size() * static_cast<size_t>(n * n));
+  parallel_for(static_cast<int64_t>(cs.size()), 256, [&](int64_t b, int64_t e) {
+    double g[3 * 16];
+    for (int64_t k = b; k < e; ++k) {
+      const Connection& c = cs[k];
+      local_map(l, c, radius[c.i], radius[c.j], g);
+      double* out = &local_[k * n * n];
+      for (int r = 0; r < n; ++r)
+        for (int q = 0; q < n; ++q) {
+          double v = 0;
+          for (int row = 0; row < d; ++row) v += g[row * n + r] * (row == 0 ? c.xi_n : c.xi_t) * g[row * n + q];
+          out[r * n + q] = v;
+        }
+    }
+  });
+  double* val = a_.valuePtr();
+  std::fill(val, val + a_.nonZeros(), 0.0);
+  shear_rhs_.setZero(l.size());
+  for (size_t k = 0; k < cs.size(); ++k) {
+    const double* loc = &local_[k * n * n];
+    const int64_t* pos = &pos_[k * n * n];
+    for (int r = 0; r < n; ++r) {
+      const int64_t gr = local_to_global(l, cs[k], r);
+      if (gr < 0) continue;
+      for (int q = 0; q < n; ++q)
+        if (pos[r * n + q] >= 0) val[pos[r * n + q]] += loc[r * n + q];
+      if (l.shear) shear_rhs_[gr] -= loc[r * n + (n - 1)] * shear_rate;
+    }
+  }
+  return !same;
+}
+
+void ResistanceSystem::pin(int64_t k, double scale, linalg::Vector& rhs) {
+  double* val = a_.valuePtr();
+  const int* rows = a_.innerIndexPtr();
+  const int* outer = a_.outerIndexPtr();
+  for (int p = outer[k]; p < outer[k + 1]; ++p) {
+    const int r = rows[p];
+    if (r == k) continue;
+    val[p] = 0;
+    // The symmetric entry (k, r) in column r.
+    const int* b = rows + outer[r];
+    const int* e = rows + outer[r + 1];
+    const int* hit = std::lower_bound(b, e, static_cast<int>(k));
+    if (hit != e && *hit == k) val[hit - rows] = 0;
+  }
+  val[diag_pos_[k]] = scale;
+  rhs[k] = 0;
+}
+
+size_t ResistanceSystem::bytes() const {
+  return static_cast<size_t>(a_.nonZeros()) * (sizeof(double) + sizeof(int)) + pos_.size() * sizeof(int64_t) +
+         local_.size() * sizeof(double) + diag_pos_.size() * sizeof(int64_t) +
+         pairs_.size() * sizeof(std::pair<int32_t, int32_t>);
+}
+
+}  // namespace silt::paste

@@ -1,0 +1,82 @@
+// The linear system of a lubricated paste, assembled from the connections of one configuration:
+// Xi = G^T xi G (Peyneau 2009 eq. 2.42-2.47, the per-connection algebra of paste/resistance.hpp)
+// over the unknowns of SystemLayout, stored as one sparse matrix whose pattern, and the
+// positions each connection adds into, are kept while the connected pairs stay the same.
+//
+// How the shear enters (the thesis does not say): the grains' velocities V are relative to the
+// affine flow of the box, u = epsdot . (x - lo) + gammadot (y - lo_y) e_x. The strain rates of
+// the controlled box lengths are unknowns (the imposed stresses are their equations); the shear
+// rate is imposed, so its column of G^T xi G is moved to the right-hand side: the lubrication
+// force of the affine shear on each grain, -Xi_(., gammadot) gammadot, drives the solve. The
+// force on i from j then resists the relative velocity at contact of eq. 2.21 with the shear's
+// term -gammadot r_ij,y e_x added to -epsdot . r_ij.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "paste/lubrication_laws.hpp"
+#include "paste/resistance.hpp"
+#include "silt/state.hpp"
+
+namespace silt::paste {
+
+struct SystemLayout {
+  int dim = 2, rot = 1, per_grain = 3;
+  int64_t grains = 0;
+  int n_box = 0;                // box strain rates among the unknowns
+  int box_axis[3] = {0, 0, 0};  // their axes
+  bool shear = false;           // an imposed shear rate (its column goes to the right-hand side)
+  int64_t size() const { return grains * per_grain + n_box; }
+  int64_t box_unknown(int k) const { return grains * per_grain + k; }
+};
+SystemLayout make_layout(int dim, int64_t grains, const bool* controlled_axes, bool shear);
+
+// Every listed pair whose gap is at most law.h_max, in the order of the pair list, and the index
+// of its pair (for the per-pair force arrays).
+struct Links {
+  std::vector<Connection> c;
+  std::vector<int32_t> pair;
+};
+void find_connections(const State& s, const LubricationLaw& law, Links& out);
+
+class ResistanceSystem {
+ public:
+  // Xi of these connections, and shear_rhs() = -Xi_(., gammadot) gammadot. Every grain's
+  // diagonal entries are in the pattern, connected or not. Returns whether the pattern changed.
+  bool assemble(const SystemLayout& layout, const std::vector<Connection>& c, const std::vector<double>& radius,
+                double shear_rate);
+  linalg::SparseMatrix& matrix() { return a_; }
+  const linalg::SparseMatrix& matrix() const { return a_; }
+  const linalg::Vector& shear_rhs() const { return shear_rhs_; }
+  // Position in matrix().valuePtr() of diagonal entry k.
+  int64_t diagonal_position(int64_t k) const { return diag_pos_[k]; }
+  // Replace unknown k's row and column by the identity times `scale`, and its right-hand side
+  // entry by 0: the unknown is held at zero (a pinned translation, a grain with no connection).
+  void pin(int64_t k, double scale, linalg::Vector& rhs);
+  void forget() { pairs_.clear(); }
+  size_t bytes() const;
+
+ private:
+  SystemLayout layout_;
+  linalg::SparseMatrix a_;
+  linalg::Vector shear_rhs_;
+  std::vector<std::pair<int32_t, int32_t>> pairs_;  // the connected pairs of the pattern
+  std::vector<int64_t> pos_;                        // per connection, per local (row, col) unknown pair
+  std::vector<int64_t> diag_pos_;
+  std::vector<double> local_;  // per connection, its local G^T xi G
+  void build_pattern(const std::vector<Connection>& c);
+};
+
+// The local unknowns of a connection: grain i's, grain j's, the box strain rates, then the shear
+// rate: 2 p + n_box (+ 1) of them.
+int local_size(const SystemLayout& layout);
+// Global index of local unknown q of connection c (-1 for the imposed shear rate).
+int64_t local_to_global(const SystemLayout& layout, const Connection& c, int q);
+// The connection's rows of G over its local unknowns (dim rows of local_size entries).
+void local_map(const SystemLayout& layout, const Connection& c, double ri, double rj, double* g);
+// The force on i from j of a connection (dim components) for local unknowns u (eq. 2.24).
+void connection_force(const SystemLayout& layout, const Connection& c, double ri, double rj, const double* u,
+                      double* force);
+
+}  // namespace silt::paste
