@@ -57,13 +57,26 @@ void diagnose_paste(GraphBuilder& b) {
                     fmt(iters) + " iterations, above lubrication.tolerance = " + fmt(p.solver.options.tolerance) +
                     "; raise lubrication.max_iterations, or use lubrication.solver = \"direct\"";
         break;
-      case linalg::SolveStatus::kNotPositive:
+      case linalg::SolveStatus::kNotPositive: {
+        // Which unknown: a grain's (by its id) or a box length's.
+        const int pg = m.dim == 2 ? 3 : 6;
+        const auto col = static_cast<int64_t>(e.value());
+        const bool factor = p.solver.method != linalg::Method::kCg && col >= 0 && col < s.n * pg + m.dim;
+        if (factor && col >= s.n * pg) {
+          f.parameter = "box.pressure";
+          f.message =
+              "no lubricated gap resists the box's pressure (Xi is singular at a box strain rate): the "
+              "grains are too far apart for h_max; compress them first (prepare.compress) or raise "
+              "lubrication.h_max_over_a";
+          break;
+        }
+        if (factor) f.particle = s.particle_id[col / pg];
         f.parameter = "lubrication.stokes_drag";
-        f.message =
-            "the resistance matrix is not positive definite: a cluster of grains can move without any lubricated "
-            "gap changing (grains turning as gears around a cycle of even length, or a cluster held by nothing); "
-            "set lubrication.stokes_drag = true, or use a denser packing";
+        f.message = std::string("the resistance matrix is not positive definite") +
+                    (factor ? " at grain " + std::to_string(f.particle) : std::string()) +
+                    ": something moves without any lubricated gap changing; set lubrication.stokes_drag = true";
         break;
+      }
       default:
         f.parameter = "lubrication.h_min_over_a";
         f.message = "the lubrication solve met a non-finite value (residual " + fmt(e.value()) +

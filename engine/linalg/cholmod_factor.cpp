@@ -109,8 +109,12 @@ SolveReport CholeskyFactor::factorize(const SparseMatrix& a0) {
   ++factorizations_;
   if (im.c.status == CHOLMOD_NOT_POSDEF || im.l->minor < im.l->n) {
     rep.status = SolveStatus::kNotPositive;
+    // minor counts in the fill-reducing order: Perm gives the matrix's own column.
+    const auto* perm = static_cast<const int*>(im.l->Perm);
+    const auto minor = static_cast<int64_t>(im.l->minor);
+    rep.column = minor < static_cast<int64_t>(im.l->n) ? (perm ? perm[minor] : minor) : -1;
     rep.message = "the matrix is not positive definite (the factorisation failed at column " +
-                  std::to_string(im.l->minor) + " of " + std::to_string(im.l->n) + ")";
+                  std::to_string(rep.column) + " of " + std::to_string(im.l->n) + ")";
     return rep;
   }
   if (im.c.status < CHOLMOD_OK) {

@@ -110,7 +110,8 @@ Measurements measure_dim(const Model& m, const State& s) {
   }
   out.phi = solid / vol;
   // Stress: the virial sums the controlled box uses (dem/stress.hpp).
-  const std::array<double, 9> sigma = dem::virial_sums<true>(s);
+  const std::array<double, 9> sigma =
+      m.kinetic_stress ? dem::virial_sums<true>(s) : dem::pair_virial_sums(s, s.pair_f.data());
   for (int a = 0; a < D; ++a)
     for (int b = 0; b < D; ++b) out.stress[a][b] = sigma[3 * a + b] / vol;
   // The modules' pair forces (lubrication), where there are.

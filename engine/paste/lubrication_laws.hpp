@@ -9,9 +9,14 @@
 // no sparsity pattern; above h_max there is no connection. The "constant" cutoff of Table 2.3
 // holds the value at h_min from h_min down (the thesis does not write it; the value at h_min is
 // the natural reading). The thesis applies these sphere formulas to 2D disks unchanged, and so
-// does silt.
+// does silt. The tangential law is the leading term for h << R_eq: it falls to 0 at h = 2 R_eq
+// and changes sign beyond, which h_max = a/2 exceeds for every pair smaller than two grains of
+// diameter a (the thesis does not say what it did there). silt holds it at its value at h = R_eq,
+// pi eta R_eq ln 2, for larger gaps: positive (a gap with no tangential resistance would let a
+// grain slide along it for free, making Xi singular), continuous, and unchanged below R_eq.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -40,8 +45,8 @@ inline double xi_normal(double h, double r_eq, const LubricationLaw& law) {
 inline double xi_tangential(double h, double r_eq, const LubricationLaw& law) {
   if (h > law.h_max) return 0;
   const double c = std::numbers::pi * law.eta * r_eq;
-  if (h >= law.h_min) return c * std::log(2 * r_eq / h);
-  if (law.cutoff == Cutoff::kConstant) return c * std::log(2 * r_eq / law.h_min);
+  if (h >= law.h_min) return c * std::log(2 * r_eq / std::min(h, r_eq));
+  if (law.cutoff == Cutoff::kConstant) return c * std::log(2 * r_eq / std::min(law.h_min, r_eq));
   const double hc = std::max(h, 0.0);
   return c * (1 + std::log(2 * r_eq / law.h_min) - hc / law.h_min);
 }

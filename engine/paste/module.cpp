@@ -33,6 +33,7 @@ std::vector<KeySpec> paste_keys() {
       {"lubrication.refactor_iterations", K::kInt, Value(int64_t{15}), Range::closed(1, 1e6), "", true, {}, "factor_pcg: a solve that took more iterations has Xi refactorised for the next."},
       {"lubrication.refactor_every", K::kInt, Value(int64_t{0}), Range::closed(0, 1e9), "", true, {}, "factor_pcg: also refactorise every N solves (0: only on the iteration threshold)."},
       {"lubrication.stokes_drag", K::kBool, Value(false), Range::any(), "", false, {}, "Add a Stokes drag 6 pi eta r on every grain's translation and 8 pi eta r^3 on its rotation (LF_DEM's choice): Xi definite without pinning a grain per cluster. Off: the thesis' model."},
+      {"lubrication.dt", K::kReal, std::nullopt, Range::positive(), "s", true, {}, "A fixed time step instead of the adaptive one (the inertial stepper, a convergence study)."},
       {"lubrication.dt_initial", K::kReal, std::nullopt, Range::positive(), "s", false, {}, "First time step (default 1e-3 eta/P, or 1e-3 / gammadot without a pressure)."},
       {"lubrication.dt_max", K::kReal, std::nullopt, Range::positive(), "s", true, {}, "Largest time step (default 10 eta/P, or 0.01 / gammadot under shear)."},
       {"lubrication.dt_min", K::kReal, std::nullopt, Range::positive(), "s", true, {}, "Smallest time step: an adaptive step that wants less stops the run (default 1e-12 eta/P)."},
@@ -70,6 +71,30 @@ void no_dashpots(ContactParams& c) {
   c.zeta_t = 0;
 }
 
+// The time step: fixed (lubrication.dt), or adaptive from dt_initial within [dt_min, dt_max], in
+// units of eta / P (or of the shear time) by default.
+void compile_time_step(const SceneDesc& d, const Model& m, PasteParams& p) {
+  if (m.box_control.on) p.time_unit = p.eta / m.box_control.pressure;
+  else if (m.shear.on && m.shear.rate != 0) p.time_unit = 1 / std::abs(m.shear.rate);
+  else if (!d.has("lubrication.dt") && (!d.has("lubrication.dt_initial") || !d.has("lubrication.dt_max")))
+    d.fail("lubrication.viscosity",
+           "without box.pressure or shear.rate there is no time unit: give lubrication.dt, or dt_initial and dt_max");
+  if (d.has("lubrication.dt")) {
+    for (const char* k : {"lubrication.dt_initial", "lubrication.dt_max", "lubrication.dt_min"})
+      if (d.has(k)) d.fail(k, "lubrication.dt fixes the time step: give it or the adaptive step's bounds, not both");
+    p.fixed_dt = true;
+    p.dt_initial = p.dt_min = p.dt_max = d.real("lubrication.dt");
+    if (p.time_unit == 0) p.time_unit = p.dt_initial;
+    return;
+  }
+  const double unit = p.time_unit;
+  p.dt_initial = d.has("lubrication.dt_initial") ? d.real("lubrication.dt_initial") : 1e-3 * unit;
+  p.dt_max = d.has("lubrication.dt_max") ? d.real("lubrication.dt_max") : (m.box_control.on ? 10 : 0.01) * unit;
+  p.dt_min = d.has("lubrication.dt_min") ? d.real("lubrication.dt_min") : 1e-12 * (unit > 0 ? unit : p.dt_initial);
+  if (p.dt_min > p.dt_initial || p.dt_initial > p.dt_max)
+    d.fail("lubrication.dt_initial", "the time steps must satisfy dt_min <= dt_initial <= dt_max");
+}
+
 void compile_paste(const SceneDesc& d, Model& m) {
   PasteParams& p = m.params.get<PasteParams>();
   const std::string key = "lubrication.viscosity";
@@ -84,17 +109,7 @@ void compile_paste(const SceneDesc& d, Model& m) {
   p.a = m.a_max;
   p.stepper = d.string("lubrication.stepper") == "inertial" ? Stepper::kInertial : Stepper::kQuasiStatic;
   p.stokes_drag = d.boolean("lubrication.stokes_drag");
-  // The time unit: eta / P, else the shear time.
-  if (m.box_control.on) p.time_unit = p.eta / m.box_control.pressure;
-  else if (m.shear.on && m.shear.rate != 0) p.time_unit = 1 / std::abs(m.shear.rate);
-  else if (!d.has("lubrication.dt_initial") || !d.has("lubrication.dt_max"))
-    d.fail(key, "without box.pressure or shear.rate there is no time unit: give lubrication.dt_initial and dt_max");
-  const double unit = p.time_unit;
-  p.dt_initial = d.has("lubrication.dt_initial") ? d.real("lubrication.dt_initial") : 1e-3 * unit;
-  p.dt_max = d.has("lubrication.dt_max") ? d.real("lubrication.dt_max") : (m.box_control.on ? 10 : 0.01) * unit;
-  p.dt_min = d.has("lubrication.dt_min") ? d.real("lubrication.dt_min") : 1e-12 * (unit > 0 ? unit : p.dt_initial);
-  if (p.dt_min > p.dt_initial || p.dt_initial > p.dt_max)
-    d.fail("lubrication.dt_initial", "the time steps must satisfy dt_min <= dt_initial <= dt_max");
+  compile_time_step(d, m, p);
   // The DEM's part: contacts without dashpots (the liquid dissipates; the dry ones are kept for
   // the preparation), pairs listed out to h_max, grains never renumbered (the stored factor
   // follows the unknowns' numbering).
@@ -117,6 +132,7 @@ void compile_paste(const SceneDesc& d, Model& m) {
   m.adaptive_dt = true;
   m.pair_forces_every_step = true;
   m.pair_stress_fields.push_back(paste_fields().pair_f_lub);
+  m.kinetic_stress = p.stepper == Stepper::kInertial;
 }
 
 std::string describe_paste(const Model& m) {
@@ -128,8 +144,10 @@ std::string describe_paste(const Model& m) {
     << " cutoff (Peyneau 2009 eq. 1.28-1.29); " << stepper_name(p.stepper) << " stepper, "
     << linalg::method_name(p.solver.method) << " solver to " << p.solver.options.tolerance
     << (p.stokes_drag ? ", Stokes drag on every grain" : ", one grain pinned per cluster") << "\n";
-  o << "             time step adaptive (sec. 2.2.4) from " << p.dt_initial << " s, in [" << p.dt_min << ", "
-    << p.dt_max << "] s; time unit eta/P = " << p.time_unit << " s\n";
+  if (p.fixed_dt) o << "             time step fixed at " << p.dt_initial << " s\n";
+  else
+    o << "             time step adaptive (sec. 2.2.4) from " << p.dt_initial << " s, in [" << p.dt_min << ", "
+      << p.dt_max << "] s; time unit eta/P = " << p.time_unit << " s\n";
   if (m.box_control.on) {
     const double P = m.box_control.pressure;
     o << "             kappa = " << stiffness_number(m, P) << "; ";
@@ -197,6 +215,7 @@ void paste_to_dry(Model& c) {
   c.adaptive_dt = false;
   c.pair_gap = 0;
   c.pair_stress_fields.clear();
+  c.kinetic_stress = true;
 }
 
 }  // namespace

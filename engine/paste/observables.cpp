@@ -28,6 +28,31 @@ double solver_stat(const ObservableContext& c, SolverStat k) {
   return v.size() == kSolverStats ? v[k] : 0.0;
 }
 
+// The lubrication's pressure, split between the pairs in contact and those apart: the thesis
+// counts the lubrication of touching grains in the contact pressure (Peyneau 2009 sec. 4.2.3).
+std::array<double, 2> lubrication_pressures(const State& s) {
+  const auto& f = s.module_field(paste_fields().pair_f_lub);
+  const int D = s.dim;
+  std::array<double, 2> p{0, 0};
+  if (f.size() != static_cast<size_t>(D * s.n_pairs())) return p;
+  double vol = 1;
+  for (int a = 0; a < D; ++a) vol *= s.box.len[a];
+  for (int64_t i = 0; i < s.n; ++i)
+    for (int32_t k = s.nbr_start[i]; k < s.nbr_start[i + 1]; ++k) {
+      const int32_t j = s.pair_j[k];
+      double d[3] = {0, 0, 0}, fd = 0, d2 = 0;
+      for (int a = 0; a < D; ++a) d[a] = s.particle_x[D * i + a] - s.particle_x[D * j + a];
+      s.box.nearest(d, D);
+      for (int a = 0; a < D; ++a) {
+        fd += f[D * k + a] * d[a];
+        d2 += d[a] * d[a];
+      }
+      const bool touching = std::sqrt(d2) < s.particle_r[i] + s.particle_r[j];
+      p[touching ? 0 : 1] += fd / (D * vol);
+    }
+  return p;
+}
+
 double trace(const std::array<std::array<double, 3>, 3>& t, int d) {
   double x = 0;
   for (int a = 0; a < d; ++a) x += t[a][a];
@@ -60,13 +85,17 @@ std::vector<ObservableSpec> paste_observables() {
        [](C c, A) { return params(c.m).eta * std::abs(c.s.shear_rate) / imposed_pressure(c.m); }},
       {"mobilisation", "", "friction mobilisation <|F_T| / F_N> over the contacts",
        [](C c, A) { return friction_mobilisation(c.s); }},
-      {"p_cont_ratio", "", "pressure carried by the contacts / P",
+      {"p_cont_ratio", "",
+       "pressure carried by the contacts / P: their elastic and frictional forces and the lubrication between "
+       "touching grains (Peyneau 2009 sec. 4.2.3)",
        [](C c, A) {
          const Measurements& x = c.meas();
-         return (x.pressure - trace(x.stress_pairs, c.m.dim)) / imposed_pressure(c.m);
+         const double elastic = x.pressure - trace(x.stress_pairs, c.m.dim);
+         return (elastic + lubrication_pressures(c.s)[0]) / imposed_pressure(c.m);
        }},
-      {"p_lub_ratio", "", "pressure carried by the lubrication / P",
-       [](C c, A) { return trace(c.meas().stress_pairs, c.m.dim) / imposed_pressure(c.m); }},
+      {"p_lub_ratio", "",
+       "pressure carried by the lubrication between grains apart / P (p_cont_ratio + p_lub_ratio = 1)",
+       [](C c, A) { return lubrication_pressures(c.s)[1] / imposed_pressure(c.m); }},
       {"eta_eff", "", "effective viscosity |stress.xy| / (eta gammadot), in units of eta: mu / Vi",
        [](C c, A) { return std::abs(c.meas().stress[0][1]) / (params(c.m).eta * std::abs(c.s.shear_rate)); }},
       {"solver.iters", "", "iterations of the last lubrication solve (0 for a direct solve)",

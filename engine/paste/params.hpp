@@ -33,6 +33,7 @@ struct PasteParams {
   // 1/10); always within [dt_min, dt_max].
   double time_unit = 0;  // eta / P, or 1 / |gammadot| without a pressure [s]
   double dt_initial = 0, dt_min = 0, dt_max = 0, dt_growth = 1.2, dt_change = 0.01;
+  bool fixed_dt = false;  // lubrication.dt: dt_initial always
   // The dry contact laws, restored for the dry compression of procedure O (the paste's own have
   // no dashpots: the liquid dissipates).
   ContactParams dry_contact;

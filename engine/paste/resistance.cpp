@@ -1,5 +1,7 @@
 #include "paste/resistance.hpp"
 
+#include "paste/system.hpp"
+
 #include <cmath>
 #include <numeric>
 
@@ -30,46 +32,26 @@ void tangents(int dim, const double* n, double t[2][3]) {
 
 linalg::SparseMatrix connection_map(const ResistanceLayout& L, const std::vector<Connection>& cs,
                                     const std::vector<double>& radius) {
-  const int d = L.dim;
-  const int rows_per = d;  // 1 normal + (d - 1) tangential
+  // The rows of each connection (paste/system.hpp), in the layout's numbering: every box axis
+  // an unknown.
+  const bool all[3] = {true, true, true};
+  const SystemLayout sl = make_layout(L.dim, L.grains, L.box ? all : nullptr, false);
+  const int n = local_size(sl), d = L.dim;
   std::vector<Eigen::Triplet<double>> t;
-  t.reserve(cs.size() * static_cast<size_t>(rows_per) * 2 * static_cast<size_t>(L.per_grain() + 1));
+  t.reserve(cs.size() * static_cast<size_t>(d * n));
+  std::vector<double> g(static_cast<size_t>(d * n));
   for (size_t k = 0; k < cs.size(); ++k) {
-    const Connection& c = cs[k];
-    double tan[2][3];
-    tangents(d, c.n, tan);
-    const double ri = radius[c.i], rj = radius[c.j];
-    for (int q = 0; q < rows_per; ++q) {
-      const double* e = q == 0 ? c.n : tan[q - 1];  // the direction this row projects on
-      const auto row = static_cast<int>(k * rows_per + q);
-      for (int a = 0; a < d; ++a) {
-        if (e[a] == 0) continue;
-        t.emplace_back(row, static_cast<int>(L.velocity(c.i) + a), e[a]);
-        t.emplace_back(row, static_cast<int>(L.velocity(c.j) + a), -e[a]);
-        if (L.box) t.emplace_back(row, static_cast<int>(L.strain_rate(a)), -e[a] * c.r[a]);
-      }
-      // e . ((R_i w_i + R_j w_j) x n) = (R_i w_i + R_j w_j) . (n x e).
-      if (d == 2) {
-        const double nxe = c.n[0] * e[1] - c.n[1] * e[0];  // z component
-        if (nxe != 0) {
-          t.emplace_back(row, static_cast<int>(L.spin(c.i)), ri * nxe);
-          t.emplace_back(row, static_cast<int>(L.spin(c.j)), rj * nxe);
-        }
-      } else {
-        const double nxe[3] = {c.n[1] * e[2] - c.n[2] * e[1], c.n[2] * e[0] - c.n[0] * e[2],
-                               c.n[0] * e[1] - c.n[1] * e[0]};
-        for (int a = 0; a < 3; ++a) {
-          if (nxe[a] == 0) continue;
-          t.emplace_back(row, static_cast<int>(L.spin(c.i) + a), ri * nxe[a]);
-          t.emplace_back(row, static_cast<int>(L.spin(c.j) + a), rj * nxe[a]);
-        }
-      }
-    }
+    local_map(sl, cs[k], radius[cs[k].i], radius[cs[k].j], g.data());
+    for (int row = 0; row < d; ++row)
+      for (int q = 0; q < n; ++q)
+        if (g[row * n + q] != 0)
+          t.emplace_back(static_cast<int>(k * d + row), static_cast<int>(local_to_global(sl, cs[k], q)),
+                         g[row * n + q]);
   }
-  linalg::SparseMatrix g(static_cast<int64_t>(cs.size()) * rows_per, L.size());
-  g.setFromTriplets(t.begin(), t.end());
-  g.makeCompressed();
-  return g;
+  linalg::SparseMatrix gm(static_cast<int64_t>(cs.size()) * d, L.size());
+  gm.setFromTriplets(t.begin(), t.end());
+  gm.makeCompressed();
+  return gm;
 }
 
 linalg::SparseMatrix resistance_matrix(const ResistanceLayout& L, const std::vector<Connection>& cs,

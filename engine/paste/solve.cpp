@@ -10,6 +10,8 @@
 namespace silt::paste {
 namespace {
 
+constexpr double kRollRegularisation = 1e-12;
+
 // The matrix a factor was made from, kept in the state (paste_factor): n, nnz, the column
 // starts, the rows and the values, as doubles.
 void store_matrix(const linalg::SparseMatrix& a, std::vector<double>& out) {
@@ -173,6 +175,14 @@ void lubrication_solve(const Model& m, State& s, PasteWorkspace& w, bool setup) 
       const int32_t c = w.component[i];
       const int dofs = comp_size[c] == 1 ? pg : (comp_first[c] == i ? D : 0);
       for (int a = 0; a < dofs; ++a) w.system.pin(i * pg + a, scale, b);
+      // Where the connections form no rigid network (a chain, a tree, a cycle of even length),
+      // grains may roll on each other, or turn as gears, with no gap sliding: Xi is singular
+      // along such motions, though never inconsistent (the contact forces act through the same
+      // connections). A resistance of kRollRegularisation times the grain's own rotational
+      // resistance on every rotation holds them at rest and changes the other velocities by
+      // about as little.
+      if (comp_size[c] > 1)
+        for (int a = 0; a < R; ++a) val[w.system.diagonal_position(i * pg + D + a)] *= 1 + kRollRegularisation;
     }
   }
 
@@ -213,7 +223,10 @@ void lubrication_solve(const Model& m, State& s, PasteWorkspace& w, bool setup) 
   stats[kConnections] = static_cast<double>(cs.size());
   if (!w.solver.factor_valid()) factor.clear();
   if (!rep.ok()) {
-    s.events[solve_event()].raise(static_cast<int64_t>(rep.status), rep.residual);
+    // The value: the residual, or for a failed factorisation the unknown where it failed.
+    const bool at_column = rep.status == linalg::SolveStatus::kNotPositive && rep.column >= 0;
+    s.events[solve_event()].raise(static_cast<int64_t>(rep.status),
+                                  at_column ? static_cast<double>(rep.column) : rep.residual);
     return;
   }
 
@@ -250,7 +263,7 @@ void lubrication_solve(const Model& m, State& s, PasteWorkspace& w, bool setup) 
     }
   });
 
-  if (setup) return;
+  if (setup || p.fixed_dt) return;
   double& next = s.module_field(f.dt)[0];
   const double wanted = next_step(p, dt, step_change);
   if (step_change > p.dt_change && dt <= p.dt_min) s.events[step_event()].raise(0, dt * p.dt_change / step_change);

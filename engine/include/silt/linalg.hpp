@@ -41,6 +41,7 @@ struct SolveReport {
   double residual = 0;  // relative residual |b - A x| / |b| of the returned x (0 when b = 0)
   SolveStatus status = SolveStatus::kConverged;
   std::string message;  // what went wrong, "" when converged
+  int64_t column = -1;  // kNotPositive from a factorisation: the column (unknown) where it failed
   bool ok() const { return status == SolveStatus::kConverged; }
 };
 

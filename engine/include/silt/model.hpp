@@ -247,6 +247,9 @@ struct Model {
   // Per-pair force arrays of modules (P*D, the layout of pair_f: force on i from j) that count
   // in the grains' stress besides the contact forces: the lubrication forces of a paste.
   std::vector<uint16_t> pair_stress_fields;
+  // Whether the grains' stress has its kinetic term sum m v (x) v: not where velocities are
+  // solved without inertia (a quasi-static paste), where they carry no momentum.
+  bool kinetic_stress = true;
   double contact_skin = 0;  // gap below which listed pairs are tested every step [m]; >= skin: all
   bool sort_grains = true;  // reorder grains by cell at list builds (N > kSortMin)
   static constexpr int64_t kSortMin = 1024;

@@ -343,7 +343,8 @@ dt = 1e-4
   CHECK(e2.find("has no walls") != std::string::npos);
   // Rate and stress together (and rate with inertial number).
   const std::string e3 = test::scene_error(with("rate = 0.5", "rate = 0.5\nstress = 0.1"));
-  CHECK(e3.find("give one of shear.rate, shear.inertial_number and shear.stress") != std::string::npos);
+  CHECK(e3.find("give one of shear.rate, shear.inertial_number, shear.viscous_number and shear.stress") !=
+        std::string::npos);
   CHECK(!test::scene_error(with("rate = 0.5", "rate = 0.5\ninertial_number = 0.1")).empty());
   // An inertial number needs the pressure it is relative to.
   CHECK(test::scene_error(with("rate = 0.5", "inertial_number = 0.1")).find("needs box.pressure") != std::string::npos);

@@ -1,0 +1,273 @@
+// The paste's steppers through the Simulation: the box under an imposed pressure, the two limits
+// of the inertial stepper, the solvers against each other, determinism, restart, and a singular
+// system reported as such.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <cstdio>
+
+#include "silt/io.hpp"
+#include "silt/observables.hpp"
+#include "support/scenes.hpp"
+
+using namespace silt;
+
+namespace {
+
+// Disks in a periodic box with lubrication: {n} grains in {L} x {L}, at an imposed pressure P = 1.
+const char* kPaste = R"(
+[scene]
+dimension = 2
+seed = 7
+[domain]
+lo = [0, 0]
+hi = [{L}, {L}]
+periodic = [true, true]
+[box]
+pressure = 1.0
+[contact]
+model = "linear"
+k_n = 1e4
+friction = 0.3
+kt_over_kn = 0.5
+damping = 0.9
+tangential_damping = 0.5
+[run]
+dt_over_tc = 0.05
+[lubrication]
+viscosity = 1.0
+h_min_over_a = {hmin}
+[[grains]]
+count = {n}
+radius_min = 0.35
+radius_max = 0.5
+density = {rho}
+placement = "random"
+)";
+
+std::string paste(double n, double L, double hmin = 1e-2, double rho = 1) {
+  return test::fill(kPaste, {{"n", n}, {"L", L}, {"hmin", hmin}, {"rho", rho}});
+}
+
+// The same grains compressed dry to a static packing first, then dilated by 1.05 (a paste's
+// initial state, Peyneau 2009 sec. 2.3.1): a network of lubricated gaps that spans the box.
+std::string packed(double n, double L, double rho = 1) {
+  std::string s = paste(n, L, 1e-2, rho);
+  s.replace(s.find("[run]\n"), 6, "[prepare]\ncompress = true\ndilation = 1.05\n[run]\n");
+  return s;
+}
+
+// Its state as a run would start from it.
+std::unique_ptr<Simulation> packed_simulation(const std::string& scene) {
+  const Model m = test::model_from(scene);
+  State s = prepare_packing(m, 1, nullptr, nullptr);
+  auto sim = std::make_unique<Simulation>(m, 1);
+  sim->restore(std::move(s));
+  return sim;
+}
+
+// A step, its failure shown when there is one.
+bool step(Simulation& sim) {
+  const bool ok = sim.step();
+  if (!ok) MESSAGE(sim.state().failure.message);
+  return ok;
+}
+
+double norm(const std::vector<double>& v) {
+  double s = 0;
+  for (double x : v) s += x * x;
+  return std::sqrt(s);
+}
+
+}  // namespace
+
+TEST_CASE("paste: a contact pressure below P shrinks the box, and the stresses balance P") {
+  auto sim = test::simulation_from(paste(60, 9), 1);
+  const double L0 = sim->state().box.len[0];
+  sim->prepare();
+  // No contact yet: the box rows ask for sigma_lub = P, so both strain rates are negative.
+  CHECK(sim->state().box_rate[0] < 0);
+  CHECK(sim->state().box_rate[1] < 0);
+  for (int k = 0; k < 50; ++k) REQUIRE(step(*sim));
+  CHECK(sim->state().box.len[0] < L0);
+  // The box equation holds at every solve: contact + lubrication stress = P on each axis.
+  const Observer o(sim->model(), {"stress.xx", "stress.yy", "p_cont_ratio", "p_lub_ratio"});
+  const auto v = o.sample(sim->model(), sim->state());
+  CHECK(v[0] == doctest::Approx(1.0).epsilon(1e-6));
+  CHECK(v[1] == doctest::Approx(1.0).epsilon(1e-6));
+  CHECK(v[2] + v[3] == doctest::Approx(1.0).epsilon(1e-6));
+}
+
+TEST_CASE("paste: CG, PCG with a Cholesky factor and the direct solve give the same forces") {
+  // One step of each on a packed paste: the lubrication forces (what the velocities do to the
+  // grains; the velocities themselves are free along rolling motions no gap resists).
+  std::vector<std::vector<double>> f;
+  for (const std::string solver : {"direct", "factor_pcg", "cg"}) {
+    CAPTURE(solver);
+    std::string s = packed(80, 10);
+    s.replace(s.find("[lubrication]\n"), 14,
+              "[lubrication]\ntolerance = 1e-11\nmax_iterations = 100000\nsolver = \"" + solver + "\"\n");
+    auto sim = packed_simulation(s);
+    for (int k = 0; k < 3; ++k) REQUIRE(step(*sim));
+    const auto lub = double_field(sim->state(), find_field("pair_f_lub")->id);
+    f.emplace_back(lub.begin(), lub.end());
+  }
+  REQUIRE(norm(f[0]) > 0);
+  for (size_t k = 1; k < f.size(); ++k) {
+    REQUIRE(f[k].size() == f[0].size());
+    std::vector<double> d(f[0].size());
+    for (size_t i = 0; i < d.size(); ++i) d[i] = f[k][i] - f[0][i];
+    CHECK(norm(d) <= 1e-8 * norm(f[0]));
+  }
+}
+
+TEST_CASE("paste: the inertial stepper tends to the quasi-static solve as the Stokes number vanishes") {
+  // One solve of the same configuration, from rest: (M/dt + Xi) V = F against Xi V = F. The
+  // lubrication forces are compared: the velocities differ along Xi's kernel (translations,
+  // rolling), which the two steppers fix differently (the masses, or pinning) and no force sees.
+  auto lubrication = [](Simulation& sim) {
+    REQUIRE(step(sim));
+    return double_field(sim.state(), find_field("pair_f_lub")->id);
+  };
+  const Model m_qs = test::model_from(packed(70, 9.5));
+  const State packing = prepare_packing(m_qs, 1, nullptr, nullptr);
+  Simulation qs(m_qs, 1);
+  qs.restore(packing);
+  const auto f_qs = lubrication(qs);
+  const std::vector<double> ref(f_qs.begin(), f_qs.end());
+  REQUIRE(norm(ref) > 0);
+  double last = 1e300;
+  for (double rho : {1e-2, 1e-4, 1e-6}) {
+    CAPTURE(rho);
+    // The same packing, its grains rho times as dense.
+    std::string scene = packed(70, 9.5, rho);
+    scene.replace(scene.find("[lubrication]\n"), 14, "[lubrication]\nstepper = \"inertial\"\n");
+    State light = packing;
+    for (double& x : light.particle_inv_m) x /= rho;
+    for (double& x : light.particle_inv_i) x /= rho;
+    Simulation in(test::model_from(scene), 1);
+    in.restore(std::move(light));
+    const auto f_in = lubrication(in);
+    REQUIRE(f_in.size() == ref.size());
+    std::vector<double> d(ref.size());
+    for (size_t i = 0; i < d.size(); ++i) d[i] = f_in[i] - ref[i];
+    const double err = norm(d) / norm(ref);
+    // The difference is of the order of the Stokes number m / (xi dt).
+    // Measured: 8.3e-2, 2.6e-3, 2.7e-5: linear in the mass once St << 1.
+    CHECK(err < last / 20);
+    last = err;
+  }
+  CHECK(last < 1e-4);
+}
+
+TEST_CASE("paste: without viscosity the inertial stepper is the explicit DEM (a head-on collision)") {
+  // Two equal disks meeting at relative speed 1: elastic (no dashpot in a paste), duration
+  // pi sqrt(m* / k) of the linear spring.
+  const char* kPair = R"(
+[scene]
+dimension = 2
+[domain]
+lo = [0, 0]
+hi = [20, 20]
+periodic = [true, true]
+[contact]
+model = "linear"
+k_n = 1e4
+[[grains]]
+radius = 0.5
+density = 1.0
+placement = "explicit"
+positions = [[9.0, 10.0], [11.0, 10.0]]
+velocity = "explicit"
+velocities = [[0.5, 0.0], [-0.5, 0.0]]
+{paste}
+)";
+  const double m = std::numbers::pi * 0.25, duration = std::numbers::pi * std::sqrt(0.5 * m / 1e4);
+  const double dt = duration / 200;
+  std::string dry = kPair, wet = kPair;
+  char step[64];
+  std::snprintf(step, sizeof step, "%.17g", dt);
+  dry.replace(dry.find("{paste}"), 7, std::string("[run]\ndt = ") + step + "\n");
+  wet.replace(wet.find("{paste}"), 7,
+              std::string("[lubrication]\nviscosity = 1e-12\nstepper = \"inertial\"\ndt = ") + step + "\n");
+  auto a = test::simulation_from(dry, 1);
+  auto b = test::simulation_from(wet, 1);
+  const test::Collision ca = test::head_on_collision(*a, 1.0);
+  const test::Collision cb = test::head_on_collision(*b, 1.0);
+  CHECK(ca.duration == doctest::Approx(duration).epsilon(0.01));
+  CHECK(cb.duration == doctest::Approx(duration).epsilon(0.01));
+  CHECK(ca.restitution == doctest::Approx(1.0).epsilon(1e-3));
+  CHECK(cb.restitution == doctest::Approx(1.0).epsilon(0.01));  // symplectic Euler, first order
+}
+
+TEST_CASE("paste: the same bits on 1, 2 and 4 threads, and a restart continues them") {
+  // Above Model::kSortMin grains the flow executor and the parallel loops are used. Sheared at
+  // an imposed rate in a fixed box.
+  std::string scene = paste(1100, 38);
+  scene.replace(scene.find("[box]\npressure = 1.0\n"), 20, "[shear]\nrate = 0.1\n");
+  auto a = test::simulation_from(scene, 1);
+  for (int k = 0; k < 12; ++k) REQUIRE(step(*a));
+  const std::string path = "paste_restart_test.ckpt";
+  write_checkpoint(path, a->model(), a->state());
+  for (int k = 0; k < 12; ++k) REQUIRE(step(*a));
+  for (int threads : {2, 4}) {
+    CAPTURE(threads);
+    auto b = test::simulation_from(scene, threads);
+    for (int k = 0; k < 24; ++k) REQUIRE(step(*b));
+    CHECK(state_hash(b->state()) == state_hash(a->state()));
+  }
+  auto c = test::simulation_from(scene, 2);
+  c->restore(read_checkpoint(path, c->model()));
+  for (int k = 0; k < 12; ++k) REQUIRE(step(*c));
+  CHECK(state_hash(c->state()) == state_hash(a->state()));
+  std::remove(path.c_str());
+}
+
+TEST_CASE("paste: a box that no lubricated gap holds is a clear failure, not a NaN") {
+  // Grains farther apart than h_max under a pressure: nothing resists the box's strain rates.
+  auto sim = test::simulation_from(paste(20, 16), 1);
+  CHECK_FALSE(sim->step());
+  const StepFailure& f = sim->state().failure;
+  CHECK(f.stage == "lubrication_solve");
+  CHECK(f.parameter == "box.pressure");
+  CHECK(f.message.find("no lubricated gap resists the box") != std::string::npos);
+  for (double v : sim->last_good_state().particle_v) CHECK(std::isfinite(v));
+}
+
+TEST_CASE("paste: grains that could turn as gears are held at rest, the rest of the solve unchanged") {
+  // A square lattice (spacing 1.1, radius 0.5): every connection joins the two sublattices, so
+  // the grains can counter-rotate as gears with nothing sliding; Xi is singular along it.
+  std::string positions;
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j)
+      positions += (positions.empty() ? "" : ", ") + std::string("[") + std::to_string(0.55 + 1.1 * i) + ", " +
+                   std::to_string(0.55 + 1.1 * j) + "]";
+  const std::string scene = R"(
+[scene]
+dimension = 2
+[domain]
+lo = [0, 0]
+hi = [4.4, 4.4]
+periodic = [true, true]
+[box]
+pressure = 1.0
+[contact]
+model = "linear"
+k_n = 1e4
+[lubrication]
+viscosity = 1.0
+solver = "direct"
+[[grains]]
+radius = 0.5
+density = 1.0
+placement = "explicit"
+positions = [)" + positions +
+                            "]\n";
+  auto sim = test::simulation_from(scene, 1);
+  for (int k = 0; k < 5; ++k) REQUIRE(step(*sim));
+  for (double w : sim->state().particle_w) CHECK(std::abs(w) < 1e-9);
+  // The lattice shrinks uniformly under the pressure: the grains' velocities relative to the
+  // affine flow vanish.
+  for (double v : sim->state().particle_v) CHECK(std::abs(v) < 1e-9);
+  CHECK(sim->state().box_rate[0] < 0);
+}
