@@ -1,5 +1,6 @@
 // A sparse matrix product row by row (each row by one thread, in a fixed order within the row),
-// and the Jacobi preconditioner.
+// and the Jacobi preconditioner. The matrices are symmetric: row i is column i of the compressed
+// columns, read in place.
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
@@ -7,18 +8,20 @@
 
 namespace silt::linalg {
 
-SparseOperator::SparseOperator(const SparseMatrix& a) : a_(a), rows_(a) {}
+SparseOperator::SparseOperator(const SparseMatrix& a) : a_(a) {}
 
 void SparseOperator::apply(const Vector& x, Vector& y) const {
-  const int64_t n = rows_.rows();
+  const int64_t n = a_.cols();
   y.resize(n);
-  const int* outer = rows_.outerIndexPtr();
-  const int* inner = rows_.innerIndexPtr();
-  const double* val = rows_.valuePtr();
+  const int* outer = a_.outerIndexPtr();
+  const int* inner = a_.innerIndexPtr();
+  const double* val = a_.valuePtr();
+  const int* counts = a_.innerNonZeroPtr();  // null when compressed
   tbb::parallel_for(tbb::blocked_range<int64_t>(0, n, 1024), [&](const tbb::blocked_range<int64_t>& r) {
     for (int64_t i = r.begin(); i < r.end(); ++i) {
       double s = 0;
-      for (int k = outer[i]; k < outer[i + 1]; ++k) s += val[k] * x[inner[k]];
+      const int end = counts ? outer[i] + counts[i] : outer[i + 1];
+      for (int k = outer[i]; k < end; ++k) s += val[k] * x[inner[k]];
       y[i] = s;
     }
   });

@@ -168,11 +168,13 @@ bool ResistanceSystem::assemble(const SystemLayout& l, const std::vector<Connect
       const Connection& c = cs[k];
       local_map(l, c, radius[c.i], radius[c.j], g);
       double* out = &local_[k * n * n];
+      // Each entry once and mirrored: the matrix is symmetric to the bit.
       for (int r = 0; r < n; ++r)
-        for (int q = 0; q < n; ++q) {
+        for (int q = r; q < n; ++q) {
           double v = 0;
           for (int row = 0; row < d; ++row) v += g[row * n + r] * (row == 0 ? c.xi_n : c.xi_t) * g[row * n + q];
           out[r * n + q] = v;
+          out[q * n + r] = v;
         }
     }
   });

@@ -77,7 +77,8 @@ class FunctionOperator final : public LinearOperator {
   std::function<void(const Vector&, Vector&)> f_;
 };
 
-// A sparse matrix as an operator: the product in parallel, rows in fixed blocks.
+// A symmetric sparse matrix (compressed) as an operator: the product in parallel, rows in fixed
+// blocks, each row read as its column.
 class SparseOperator final : public LinearOperator {
  public:
   explicit SparseOperator(const SparseMatrix& a);  // keeps a reference: a must outlive it
@@ -86,7 +87,6 @@ class SparseOperator final : public LinearOperator {
 
  private:
   const SparseMatrix& a_;
-  Eigen::SparseMatrix<double, Eigen::RowMajor, int> rows_;  // the same matrix by rows
 };
 
 // M = diag(A).

@@ -1,0 +1,428 @@
+// Lubricated granular pastes (Peyneau 2009 ch. 2 and 4; scenes/paste_iso.toml and
+// paste_shear.toml): validation against the thesis and the cost of the implicit solve.
+//
+//   build/bench/paste [--threads N] [--only SECTION] [--quick] [--seeds N] [--set KEY=VALUE ...]
+//
+// Sections:
+//   iso          Table 2.3: isotropic equilibrium at h_min/a = 1e-3 and 1e-5, linear and constant
+//                cutoff, --seeds samples (default 5): Phi, z*, M, T P/eta, next to the thesis
+//                and the dry bounds 0.802 / 0.836.
+//   equilibrium  Table 2.2: time to equilibrium T P/eta against h_min/a from 1e-2 to 1e-8 (one
+//                packing), with the wall time, steps and solver iterations.
+//   knobs        dt_change (the adaptive step's threshold) and the solver (direct, factor_pcg
+//                at three refactorisation thresholds, cg) at h_min/a = 1e-3: cost against the
+//                equilibrium reached.
+//   shear        Chapter 4: mu* and Phi against Vi at N = 896, h_min/a = 1e-2, next to the fits
+//                of Tables 4.2 and 4.4, with P_cont/P.
+//   cost         Time per step and per unit strain against N (224 to 57,344) at Vi = 1e-2,
+//                h_min/a = 1e-2: fitted exponent, memory per grain.
+// Every row is appended to bench/results/paste.csv. --quick shortens every run (a smoke test).
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "bench_util.hpp"
+#include "paste/observables.hpp"
+#include "paste/solve.hpp"
+#include "silt/io.hpp"
+#include "silt/observables.hpp"
+#include "silt/scene.hpp"
+#include "silt/simulation.hpp"
+#include "silt/statistics.hpp"
+
+using namespace silt;
+
+namespace {
+
+struct Args {
+  int threads = 2;
+  std::string only;
+  bool quick = false;
+  int seeds = 5;
+  std::vector<std::string> sets;
+};
+
+const std::string kCsv = std::string(SILT_SOURCE_DIR) + "/bench/results/paste.csv";
+const std::string kHeader =
+    "date,section,case,N,h_min_over_a,cutoff,seed,Vi,solver,phi,phi_err,z_star,mobilisation,mu,mu_err,p_cont,"
+    "T_P_over_eta,strain,steps,wall_s,s_per_step,solves,iters_mean,refactorisations,status,thesis";
+
+std::string scene(const std::string& name) { return std::string(SILT_SOURCE_DIR) + "/scenes/" + name + ".toml"; }
+
+Model model_of(const std::string& file, const Args& a, const std::vector<std::string>& sets) {
+  std::vector<Override> o;
+  for (const std::string& s : a.sets) o.push_back(parse_override(s));
+  for (const std::string& s : sets) o.push_back(parse_override(s));
+  return compile(load_scene_file(file, o));
+}
+
+std::string num(double x) {
+  char b[40];
+  std::snprintf(b, sizeof b, "%.6g", x);
+  return b;
+}
+
+struct Row {
+  std::string section, name, cutoff = "linear", solver = "factor_pcg", status, thesis;
+  int64_t n = 0, seed = 0, steps = 0, solves = 0, refactor = 0;
+  double h_min = 0, vi = 0, phi = 0, phi_err = 0, z_star = 0, mob = 0, mu = 0, mu_err = 0, p_cont = 0, time = 0,
+         strain = 0, wall = 0, iters = 0;
+};
+
+void write(const Row& r) {
+  std::ostringstream o;
+  o << bench::today() << ',' << r.section << ',' << r.name << ',' << r.n << ',' << num(r.h_min) << ',' << r.cutoff
+    << ',' << r.seed << ',' << num(r.vi) << ',' << r.solver << ',' << num(r.phi) << ',' << num(r.phi_err) << ','
+    << num(r.z_star) << ',' << num(r.mob) << ',' << num(r.mu) << ',' << num(r.mu_err) << ',' << num(r.p_cont) << ','
+    << num(r.time) << ',' << num(r.strain) << ',' << r.steps << ',' << num(r.wall) << ','
+    << num(r.steps ? r.wall / r.steps : 0) << ',' << r.solves << ',' << num(r.iters) << ',' << r.refactor << ','
+    << r.status << ',' << r.thesis;
+  bench::append_csv(kCsv, kHeader, o.str());
+}
+
+// The solver's counters of a state.
+void solver_counts(const State& s, Row& r) {
+  const auto& v = s.module_field(paste::paste_fields().solver);
+  if (v.size() != paste::kSolverStats) return;
+  r.solves = static_cast<int64_t>(v[paste::kSolves]);
+  r.iters = r.solves ? v[paste::kIterationsTotal] / static_cast<double>(r.solves) : 0;
+  r.refactor = static_cast<int64_t>(v[paste::kRefactorizations]);
+}
+
+const char* end_name(RunEnd e) {
+  switch (e) {
+    case RunEnd::kStatic: return "static";
+    case RunEnd::kFailed: return "failed";
+    case RunEnd::kInterrupted: return "interrupted";
+    default: return "not_static";
+  }
+}
+
+// An isotropic compression of the paste to equilibrium (Peyneau sec. 2.3.2) from a prepared
+// packing; fills phi, z*, M, p_cont, T, steps, wall.
+void equilibrate(const Model& m, const State& packing, int threads, double max_time, Row& r) {
+  Simulation sim(m, threads);
+  sim.restore(packing);
+  RunOptions opt;
+  opt.time = max_time;
+  opt.stop_when_static = true;
+  const RunReport rep = sim.run(opt);
+  const State& s = sim.state();
+  const Measurements x = measure(m, s);
+  const Observer o(m, {"p_cont_ratio"});
+  r.n = m.n_grains;
+  r.phi = x.phi;
+  r.z_star = x.z_star;
+  r.mob = paste::friction_mobilisation(s);
+  r.p_cont = o.sample(m, s)[0];
+  r.time = s.t / m.params.get<paste::PasteParams>().time_unit;
+  r.steps = rep.steps_done;
+  r.wall = rep.wall_s;
+  r.status = rep.end == RunEnd::kFailed ? "failed: " + s.failure.message : end_name(rep.end);
+  solver_counts(s, r);
+}
+
+struct Stat {
+  double mean = 0, err = 0;
+};
+Stat stat(const std::vector<double>& x) {
+  Stat s;
+  if (x.empty()) return s;
+  for (double v : x) s.mean += v / static_cast<double>(x.size());
+  double var = 0;
+  for (double v : x) var += (v - s.mean) * (v - s.mean);
+  s.err = x.size() > 1 ? std::sqrt(var / static_cast<double>(x.size() - 1)) : 0;  // spread of the samples
+  return s;
+}
+
+// Table 2.3.
+void iso(const Args& a) {
+  std::printf("\nTable 2.3: isotropic equilibrium, N = 224, %d samples (thesis: mean +- spread of 5)\n", a.seeds);
+  std::printf("%-8s %-9s %16s %14s %14s %10s %8s %8s\n", "h_min/a", "cutoff", "Phi", "z*", "M", "T P/eta",
+              "wall s", "thesis");
+  struct T {
+    double h;
+    const char* cutoff;
+    const char* thesis;
+  };
+  const std::vector<T> cases = {{1e-3, "linear", "Phi 0.806(10) z* 3.30(3) M 0.144(7)"},
+                                {1e-3, "constant", "Phi 0.806(10) z* 3.28(2) M 0.145(6)"},
+                                {1e-5, "linear", "Phi 0.809(9) z* 3.41(3) M 0.123(4)"},
+                                {1e-5, "constant", "Phi 0.809(10) z* 3.34(4) M 0.106(7)"}};
+  std::map<int, State> packings;  // per seed: the dry packing, dilated (shared by the cases)
+  for (const T& c : cases) {
+    std::vector<double> phi, z, mob, time, wall;
+    for (int seed = 1; seed <= a.seeds; ++seed) {
+      const Model m = model_of(scene("paste_iso"), a,
+                               {"scene.seed=" + std::to_string(seed), "lubrication.h_min_over_a=" + num(c.h),
+                                std::string("lubrication.cutoff=\"") + c.cutoff + "\""});
+      if (!packings.count(seed)) packings.emplace(seed, prepare_packing(m, a.threads));
+      Row r;
+      r.section = "iso";
+      r.name = "table_2.3";
+      r.h_min = c.h;
+      r.cutoff = c.cutoff;
+      r.seed = seed;
+      r.thesis = c.thesis;
+      equilibrate(m, packings.at(seed), a.threads, a.quick ? 20 : 1e5, r);
+      write(r);
+      std::printf("  seed %d: Phi %.4f z* %.3f M %.4f T %.4g (%s, %.1f s)\n", seed, r.phi, r.z_star, r.mob, r.time,
+                  r.status.c_str(), r.wall);
+      std::fflush(stdout);
+      phi.push_back(r.phi);
+      z.push_back(r.z_star);
+      mob.push_back(r.mob);
+      time.push_back(r.time);
+      wall.push_back(r.wall);
+    }
+    const Stat p = stat(phi), zz = stat(z), mm = stat(mob), t = stat(time), w = stat(wall);
+    std::printf("%-8.0e %-9s %8.4f+-%.4f %7.3f+-%.3f %7.4f+-%.4f %10.4g %8.1f  %s\n", c.h, c.cutoff, p.mean, p.err,
+                zz.mean, zz.err, mm.mean, mm.err, t.mean, w.mean, c.thesis);
+  }
+  std::printf("dry bounds (thesis, N = 224): Phi 0.802 +- 0.010 (mu = 0.3), 0.836 +- 0.002 (mu = 0)\n");
+}
+
+// Table 2.2.
+void equilibrium(const Args& a) {
+  std::printf("\nTable 2.2: time to equilibrium, N = 224, one packing\n");
+  std::printf("%-8s %10s %10s %9s %9s %8s %8s %8s  %s\n", "h_min/a", "T P/eta", "thesis", "steps", "wall s",
+              "iters", "refact", "Phi", "status");
+  const std::map<double, double> thesis = {{1e-2, 4.69e2}, {1e-3, 2.91e2}, {1e-4, 1.71e2}, {1e-5, 2.08e3},
+                                           {1e-6, 2.45e3}, {1e-7, 2.46e4}, {1e-8, 2.41e5}};
+  State packing;
+  bool have = false;
+  for (const auto& [h, t_thesis] : thesis) {
+    const Model m = model_of(scene("paste_iso"), a, {"lubrication.h_min_over_a=" + num(h)});
+    if (!have) {
+      packing = prepare_packing(m, a.threads);
+      have = true;
+    }
+    Row r;
+    r.section = "equilibrium";
+    r.name = "table_2.2";
+    r.h_min = h;
+    r.thesis = "T P/eta " + num(t_thesis);
+    equilibrate(m, packing, a.threads, a.quick ? 20 : 1e7, r);
+    write(r);
+    std::printf("%-8.0e %10.4g %10.4g %9lld %9.1f %8.2f %8lld %8.4f  %s\n", h, r.time, t_thesis,
+                static_cast<long long>(r.steps), r.wall, r.iters, static_cast<long long>(r.refactor), r.phi,
+                r.status.c_str());
+    std::fflush(stdout);
+  }
+}
+
+// The adaptive step's threshold and the solver, at h_min/a = 1e-3.
+void knobs(const Args& a) {
+  std::printf("\nKnobs at h_min/a = 1e-3, N = 224, one packing: cost against the equilibrium reached\n");
+  std::printf("%-34s %9s %9s %9s %8s %8s %8s %8s\n", "case", "T P/eta", "steps", "wall s", "iters", "refact",
+              "Phi", "z*");
+  struct K {
+    std::string name;
+    std::vector<std::string> sets;
+  };
+  const std::vector<K> cases = {
+      {"dt_change=0.003", {"lubrication.dt_change=0.003"}},
+      {"dt_change=0.01 (default)", {}},
+      {"dt_change=0.03", {"lubrication.dt_change=0.03"}},
+      {"dt_change=0.1", {"lubrication.dt_change=0.1"}},
+      {"dt_growth=1.5", {"lubrication.dt_growth=1.5"}},
+      {"solver=direct", {"lubrication.solver=\"direct\""}},
+      {"solver=factor_pcg refactor 5", {"lubrication.refactor_iterations=5"}},
+      {"solver=factor_pcg refactor 40", {"lubrication.refactor_iterations=40"}},
+      {"solver=cg (Jacobi)", {"lubrication.solver=\"cg\"", "lubrication.max_iterations=100000"}},
+  };
+  State packing;
+  bool have = false;
+  for (const K& k : cases) {
+    std::vector<std::string> sets = k.sets;
+    sets.push_back("lubrication.h_min_over_a=1e-3");
+    const Model m = model_of(scene("paste_iso"), a, sets);
+    if (!have) {
+      packing = prepare_packing(m, a.threads);
+      have = true;
+    }
+    Row r;
+    r.section = "knobs";
+    r.name = k.name;
+    r.h_min = 1e-3;
+    r.solver = linalg::method_name(m.params.get<paste::PasteParams>().solver.method);
+    equilibrate(m, packing, a.threads, a.quick ? 20 : 1e5, r);
+    write(r);
+    std::printf("%-34s %9.4g %9lld %9.1f %8.2f %8lld %8.4f %8.3f  %s\n", k.name.c_str(), r.time,
+                static_cast<long long>(r.steps), r.wall, r.iters, static_cast<long long>(r.refactor), r.phi, r.z_star,
+                r.status.c_str());
+    std::fflush(stdout);
+  }
+}
+
+// A sheared paste from its prepared packing: through `transient` of strain, then averaged over
+// `measured` of strain (samples every 0.002 of strain).
+Row shear_run(const Model& m, const State& packing, int threads, double transient, double measured) {
+  Simulation sim(m, threads);
+  sim.restore(packing);
+  Row r;
+  r.n = m.n_grains;
+  r.vi = m.params.get<paste::PasteParams>().eta * m.shear.rate / m.box_control.pressure;
+  const double t0 = bench::now_s();
+  RunOptions opt;
+  opt.time = transient / m.shear.rate;
+  RunReport rep = sim.run(opt);
+  std::vector<double> mu, phi, pc;
+  const Observer o(m, {"mu", "phi", "p_cont_ratio"});
+  opt.time = 0.002 / m.shear.rate;
+  int64_t steps = rep.steps_done;
+  const double t_measure = sim.state().t;
+  while (rep.end == RunEnd::kDone && sim.state().shear_strain < transient + measured) {
+    rep = sim.run(opt);
+    steps += rep.steps_done;
+    const auto v = o.sample(m, sim.state());
+    mu.push_back(v[0]);
+    phi.push_back(v[1]);
+    pc.push_back(v[2]);
+  }
+  r.wall = bench::now_s() - t0;
+  r.steps = steps;
+  r.strain = sim.state().shear_strain;
+  r.time = (sim.state().t - t_measure) / m.params.get<paste::PasteParams>().time_unit;
+  r.status = rep.end == RunEnd::kFailed ? "failed: " + sim.state().failure.message : "ok";
+  const BlockAverage bm = block_average(mu), bp = block_average(phi), bc = block_average(pc);
+  r.mu = bm.mean;
+  r.mu_err = bm.err;
+  r.phi = bp.mean;
+  r.phi_err = bp.err;
+  r.p_cont = bc.mean;
+  r.z_star = measure(m, sim.state()).z_star;
+  r.mob = paste::friction_mobilisation(sim.state());
+  solver_counts(sim.state(), r);
+  return r;
+}
+
+// Chapter 4.
+void shear(const Args& a) {
+  std::printf("\nChapter 4: mu*(Vi) and Phi(Vi), N = 896, h_min/a = 1e-2 (fits of Tables 4.2 and 4.4)\n");
+  std::printf("%-8s %16s %8s %16s %8s %8s %8s %9s %9s  %s\n", "Vi", "mu*", "fit", "Phi", "fit", "P_cont/P",
+              "strain", "steps", "wall s", "status");
+  const std::vector<double> vis = a.quick ? std::vector<double>{1e-1} : std::vector<double>{1e-1, 1e-2, 1e-3};
+  State packing;
+  bool have = false;
+  for (double vi : vis) {
+    const Model m = model_of(scene("paste_shear"), a, {"shear.viscous_number=" + num(vi)});
+    if (!have) {
+      packing = prepare_packing(m, a.threads);
+      have = true;
+    }
+    const double transient = a.quick ? 0.01 : 1.0, measured = a.quick ? 0.01 : 1.5;
+    Row r = shear_run(m, packing, a.threads, transient, measured);
+    r.section = "shear";
+    r.name = "ch4";
+    r.h_min = 1e-2;
+    const double mu_fit = 0.213 + 0.285 * std::pow(vi, 0.22);
+    const double phi_fit = 1 / (1 / 0.817 + 0.530 * std::pow(vi, 0.49));
+    r.thesis = "mu* " + num(mu_fit) + " Phi " + num(phi_fit);
+    write(r);
+    std::printf("%-8.0e %8.4f+-%.4f %8.4f %8.4f+-%.4f %8.4f %8.3f %8.2f %9lld %9.1f  %s\n", vi, r.mu, r.mu_err,
+                mu_fit, r.phi, r.phi_err, phi_fit, r.p_cont, r.strain, static_cast<long long>(r.steps), r.wall,
+                r.status.c_str());
+    std::fflush(stdout);
+  }
+}
+
+// k x k copies of a prepared periodic packing, as a state of `m` (a model of k^2 times the grains
+// in a box k times as long): large packings without the dry compression of each.
+State tile(const Model& m, const State& p, int k) {
+  State s = make_state(m);
+  const int D = p.dim, R = p.rot;
+  int64_t i = 0;
+  for (int a = 0; a < k; ++a)
+    for (int b = 0; b < k; ++b)
+      for (int64_t g = 0; g < p.n; ++g, ++i) {
+        s.particle_x[D * i] = p.particle_x[D * g] + a * p.box.len[0];
+        s.particle_x[D * i + 1] = p.particle_x[D * g + 1] + b * p.box.len[1];
+        s.particle_r[i] = p.particle_r[g];
+        s.particle_inv_m[i] = p.particle_inv_m[g];
+        s.particle_inv_i[i] = p.particle_inv_i[g];
+        for (int c = 0; c < D; ++c) s.particle_v[D * i + c] = 0;
+        for (int c = 0; c < R; ++c) s.particle_w[R * i + c] = 0;
+      }
+  for (int a = 0; a < D; ++a) s.box.len[a] = k * p.box.len[a];
+  s.nbr_valid = false;
+  return s;
+}
+
+// Cost against N.
+void cost(const Args& a) {
+  std::printf("\nCost against N: Vi = 1e-2, h_min/a = 1e-2, packings of 896 tiled k x k, %s\n",
+              a.quick ? "0.002 of strain" : "0.02 of strain");
+  std::printf("%8s %12s %14s %12s %10s %8s %8s %12s\n", "N", "s/step", "s/unit strain", "steps/strain",
+              "iters", "refact", "wall s", "MB/grain");
+  const Model base = model_of(scene("paste_shear"), a, {});
+  const State packing = prepare_packing(base, a.threads);
+  std::vector<int> ks = {1, 2, 4};
+  if (!a.quick) ks.push_back(8);
+  std::vector<double> lx, ly;
+  for (int k : ks) {
+    const int64_t n = base.n_grains * k * k;
+    const double side = 34.0 * k;  // room for the random placement the model is compiled with
+    const Model m = model_of(scene("paste_shear"), a,
+                             {"grains.0.count=" + std::to_string(n), "domain.hi=[" + num(side) + "," + num(side) + "]",
+                              "prepare.compress=false", "prepare.dilation=1.0"});
+    const State tiled = tile(m, packing, k);
+    const double rss0 = bench::peak_rss_bytes();
+    const double strain = a.quick ? 0.002 : 0.02;
+    Row r = shear_run(m, tiled, a.threads, strain, 0);
+    r.section = "cost";
+    r.name = "N";
+    r.h_min = 1e-2;
+    write(r);
+    const double per_step = r.wall / static_cast<double>(std::max<int64_t>(1, r.steps));
+    const double per_strain = r.wall / r.strain;
+    lx.push_back(std::log(static_cast<double>(n)));
+    ly.push_back(std::log(per_strain));
+    std::printf("%8lld %12.4g %14.4g %12.4g %10.2f %8lld %8.1f %12.3g\n", static_cast<long long>(n), per_step,
+                per_strain, static_cast<double>(r.steps) / r.strain, r.iters, static_cast<long long>(r.refactor),
+                r.wall, std::max(rss0, bench::peak_rss_bytes()) / 1e6 / static_cast<double>(n));
+    std::fflush(stdout);
+  }
+  // Least-squares exponent of the cost per unit strain.
+  const size_t points = lx.size();
+  double mx = 0, my = 0;
+  for (size_t i = 0; i < points; ++i) {
+    mx += lx[i] / static_cast<double>(points);
+    my += ly[i] / static_cast<double>(points);
+  }
+  double sxy = 0, sxx = 0;
+  for (size_t i = 0; i < points; ++i) {
+    sxy += (lx[i] - mx) * (ly[i] - my);
+    sxx += (lx[i] - mx) * (lx[i] - mx);
+  }
+  std::printf("cost per unit strain ~ N^%.2f (target <= 1.2 in 2D; the thesis: 2.5)\n", sxy / sxx);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  return bench::guarded_main([&] {
+    Args a;
+    for (int i = 1; i < argc; ++i) {
+      const std::string s = argv[i];
+      if (s == "--threads" && i + 1 < argc) a.threads = std::atoi(argv[++i]);
+      else if (s == "--only" && i + 1 < argc) a.only = argv[++i];
+      else if (s == "--seeds" && i + 1 < argc) a.seeds = std::atoi(argv[++i]);
+      else if (s == "--quick") a.quick = true;
+      else if (s == "--set" && i + 1 < argc) a.sets.push_back(argv[++i]);
+      else throw std::invalid_argument("unknown option " + s);
+    }
+    std::printf("paste bench on %s (%s), %d thread(s)%s\n", bench::host().c_str(), bench::cpu_model().c_str(),
+                a.threads, a.quick ? ", quick" : "");
+    const std::vector<std::pair<std::string, void (*)(const Args&)>> sections = {
+        {"iso", iso}, {"equilibrium", equilibrium}, {"knobs", knobs}, {"shear", shear}, {"cost", cost}};
+    for (const auto& [name, fn] : sections)
+      if (a.only.empty() || a.only == name) fn(a);
+    return 0;
+  });
+}
