@@ -143,8 +143,8 @@ Stat stat(const std::vector<double>& x) {
 // Table 2.3.
 void iso(const Args& a) {
   std::printf("\nTable 2.3: isotropic equilibrium, N = 224, %d samples (thesis: mean +- spread of 5)\n", a.seeds);
-  std::printf("%-8s %-9s %16s %14s %14s %10s %8s %8s\n", "h_min/a", "cutoff", "Phi", "z*", "M", "T P/eta",
-              "wall s", "thesis");
+  std::printf("%-8s %-9s %16s %14s %14s %10s %8s %8s\n", "h_min/a", "cutoff", "Phi", "z*", "M", "T P/eta", "wall s",
+              "thesis");
   struct T {
     double h;
     const char* cutoff;
@@ -190,8 +190,8 @@ void iso(const Args& a) {
 // Table 2.2.
 void equilibrium(const Args& a) {
   std::printf("\nTable 2.2: time to equilibrium, N = 224, one packing\n");
-  std::printf("%-8s %10s %10s %9s %9s %8s %8s %8s  %s\n", "h_min/a", "T P/eta", "thesis", "steps", "wall s",
-              "iters", "refact", "Phi", "status");
+  std::printf("%-8s %10s %10s %9s %9s %8s %8s %8s  %s\n", "h_min/a", "T P/eta", "thesis", "steps", "wall s", "iters",
+              "refact", "Phi", "status");
   const std::map<double, double> thesis = {{1e-2, 4.69e2}, {1e-3, 2.91e2}, {1e-4, 1.71e2}, {1e-5, 2.08e3},
                                            {1e-6, 2.45e3}, {1e-7, 2.46e4}, {1e-8, 2.41e5}};
   State packing;
@@ -219,8 +219,8 @@ void equilibrium(const Args& a) {
 // The adaptive step's threshold and the solver, at h_min/a = 1e-3.
 void knobs(const Args& a) {
   std::printf("\nKnobs at h_min/a = 1e-3, N = 224, one packing: cost against the equilibrium reached\n");
-  std::printf("%-34s %9s %9s %9s %8s %8s %8s %8s\n", "case", "T P/eta", "steps", "wall s", "iters", "refact",
-              "Phi", "z*");
+  std::printf("%-34s %9s %9s %9s %8s %8s %8s %8s\n", "case", "T P/eta", "steps", "wall s", "iters", "refact", "Phi",
+              "z*");
   struct K {
     std::string name;
     std::vector<std::string> sets;
@@ -305,8 +305,8 @@ Row shear_run(const Model& m, const State& packing, int threads, double transien
 // Chapter 4.
 void shear(const Args& a) {
   std::printf("\nChapter 4: mu*(Vi) and Phi(Vi), N = 896, h_min/a = 1e-2 (fits of Tables 4.2 and 4.4)\n");
-  std::printf("%-8s %16s %8s %16s %8s %8s %8s %9s %9s  %s\n", "Vi", "mu*", "fit", "Phi", "fit", "P_cont/P",
-              "strain", "steps", "wall s", "status");
+  std::printf("%-8s %16s %8s %16s %8s %8s %8s %9s %9s  %s\n", "Vi", "mu*", "fit", "Phi", "fit", "P_cont/P", "strain",
+              "steps", "wall s", "status");
   const std::vector<double> vis = a.quick ? std::vector<double>{1e-1} : std::vector<double>{1e-1, 1e-2, 1e-3};
   State packing;
   bool have = false;
@@ -325,8 +325,8 @@ void shear(const Args& a) {
     const double phi_fit = 1 / (1 / 0.817 + 0.530 * std::pow(vi, 0.49));
     r.thesis = "mu* " + num(mu_fit) + " Phi " + num(phi_fit);
     write(r);
-    std::printf("%-8.0e %8.4f+-%.4f %8.4f %8.4f+-%.4f %8.4f %8.3f %8.2f %9lld %9.1f  %s\n", vi, r.mu, r.mu_err,
-                mu_fit, r.phi, r.phi_err, phi_fit, r.p_cont, r.strain, static_cast<long long>(r.steps), r.wall,
+    std::printf("%-8.0e %8.4f+-%.4f %8.4f %8.4f+-%.4f %8.4f %8.3f %8.2f %9lld %9.1f  %s\n", vi, r.mu, r.mu_err, mu_fit,
+                r.phi, r.phi_err, phi_fit, r.p_cont, r.strain, static_cast<long long>(r.steps), r.wall,
                 r.status.c_str());
     std::fflush(stdout);
   }
@@ -358,8 +358,8 @@ State tile(const Model& m, const State& p, int k) {
 void cost(const Args& a) {
   std::printf("\nCost against N: Vi = 1e-2, h_min/a = 1e-2, packings of 896 tiled k x k, %s\n",
               a.quick ? "0.002 of strain" : "0.02 of strain");
-  std::printf("%8s %12s %14s %12s %10s %8s %8s %12s\n", "N", "s/step", "s/unit strain", "steps/strain",
-              "iters", "refact", "wall s", "MB/grain");
+  std::printf("%8s %12s %14s %12s %10s %8s %8s %12s\n", "N", "s/step", "s/unit strain", "steps/strain", "iters",
+              "refact", "wall s", "MB/grain");
   const Model base = model_of(scene("paste_shear"), a, {});
   const State packing = prepare_packing(base, a.threads);
   std::vector<int> ks = {1, 2, 4};
