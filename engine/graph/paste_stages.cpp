@@ -14,7 +14,8 @@ namespace {
 
 Access solve_reads() {
   const paste::PasteFields f = paste::paste_fields();
-  return {fid::dt,
+  return {fid::t,
+          fid::dt,
           fid::particle_x,
           fid::particle_r,
           fid::particle_v,

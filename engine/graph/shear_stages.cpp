@@ -30,8 +30,8 @@ void add_shear_stages(GraphBuilder& b) {
     return;
   }
   const int drift = b.add("box_drift", &shear::box_drift,
-                          {fid::dt, fid::box, fid::box_rate, fid::box_stress, fid::shear_stress, fid::shear_rate,
-                           fid::le_displacement, fid::shear_strain, fid::nbr_strain},
+                          {fid::t, fid::dt, fid::box, fid::box_rate, fid::box_stress, fid::shear_stress,
+                           fid::shear_rate, fid::le_displacement, fid::shear_strain, fid::nbr_strain},
                           {fid::box, fid::box_rate, fid::shear_rate, fid::box_stretch, fid::le_displacement,
                            fid::shear_strain, fid::nbr_strain});
   b.after(drift, b.find("choose_dt"), "moves the box by this step's dt");
@@ -59,7 +59,7 @@ void add_shear_stages(GraphBuilder& b) {
       b.add("box_kick", &shear::box_kick,
             [&] {
               Access r = kStressReads;
-              for (FieldId f : {fid::dt, fid::box_rate, fid::shear_rate, fid::box_stress, fid::shear_stress})
+              for (FieldId f : {fid::t, fid::dt, fid::box_rate, fid::shear_rate, fid::box_stress, fid::shear_stress})
                 r.push_back(f);
               return r;
             }(),

@@ -12,6 +12,7 @@
 #include "dem/module.hpp"
 #include "graph/restart_point.hpp"
 #include "graph/step_graph.hpp"
+#include "silt/module.hpp"
 #include "silt/observables.hpp"
 #include "silt/text.hpp"
 
@@ -54,7 +55,12 @@ size_t Simulation::memory_bytes() const {
   return state_bytes(state_) + impl_->restart.bytes() + impl_->workspaces.bytes();
 }
 
-double estimated_memory_bytes(const Model& m) { return dem::grains_memory_bytes(m, m.n_grains); }
+double estimated_memory_bytes(const Model& m) {
+  double bytes = dem::grains_memory_bytes(m, m.n_grains);
+  for (const Module& mod : modules())
+    if (mod.spec->memory_bytes && m.module_on(mod.spec->name)) bytes += mod.spec->memory_bytes(m);
+  return bytes;
+}
 
 void Simulation::set_access_check(bool on) {
   impl_->step->set_access_check(on);

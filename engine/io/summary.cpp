@@ -3,6 +3,7 @@
 #include <nlohmann/json.hpp>
 
 #include "silt/io.hpp"
+#include "silt/module.hpp"
 
 namespace silt {
 
@@ -29,6 +30,12 @@ void write_summary(const std::string& path, const SummaryInput& in, const Simula
   json stages = json::object();
   for (const auto& [name, st] : s.profile) stages[name] = st.seconds();
   j["stages"] = stages;
+  for (const Module& mod : modules())
+    if (mod.spec->summary && m.module_on(mod.spec->name)) {
+      json g = json::object();
+      for (const auto& [key, value] : mod.spec->summary(m, s)) g[key] = value;
+      j[mod.spec->summary_group] = g;
+    }
   json obs = json::object();
   const auto& names = stats.names();
   const auto& rows = stats.rows();

@@ -109,7 +109,8 @@ void lubrication_solve(const Model& m, State& s, PasteWorkspace& w, bool setup) 
     const std::array<double, 9> vir = dem::pair_virial_sums(s, s.pair_f.data());
     for (int k = 0; k < L.n_box; ++k) {
       const int a = L.box_axis[k];
-      b[L.box_unknown(k)] += vir[4 * a] - vol * m.box_control.pressure;
+      // The imposed stress at the time of this configuration (the clock advances after the solve).
+      b[L.box_unknown(k)] += vir[4 * a] - vol * m.box_control.stress(a, setup ? s.t : s.t + s.dt);
     }
   }
 

@@ -40,7 +40,8 @@ void half_kick(const Model& m, State& s) {
   if (m.box_control.on)
     for (int a = 0; a < m.dim; ++a)
       if (m.box_control.controlled[a])
-        s.box_rate[a] += h * (vol / s.box.len[a]) * (s.box_stress[a] - m.box_control.pressure) / m.box_control.mass;
+        s.box_rate[a] +=
+            h * (vol / s.box.len[a]) * (s.box_stress[a] - m.box_control.stress(a, s.t)) / m.box_control.mass;
   if (m.shear.stress_controlled)
     s.shear_rate += h * vol * (m.shear.stress - s.shear_stress) / (m.box_control.mass * s.box.len[0] * s.box.len[1]);
 }

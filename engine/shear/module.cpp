@@ -2,6 +2,7 @@
 // shear by Lees-Edwards conditions at imposed rate, inertial number or shear stress (eq. 3.12),
 // and the isotropic compression that prepares a packing (procedure O).
 #include <cmath>
+#include <numbers>
 #include <sstream>
 
 #include "shear/module.hpp"
@@ -19,6 +20,10 @@ std::vector<KeySpec> shear_keys() {
       // ---- box
       {"box.pressure", K::kReal, std::nullopt, Range::positive(), "Pa", true, {}, "Imposed pressure on the controlled box lengths (Peyneau 2009 eq. 3.11); absent: fixed box."},
       {"box.controlled", K::kBoolList, std::nullopt, Range::any(), "", false, {}, "Which box lengths follow the pressure (default: every periodic one)."},
+      {"box.cycle", K::kString, Value(std::string("none")), Range::any(), "", false, S{"none", "alternating", "biaxial"}, "Cyclic imposed stresses (Peyneau 2009 ch. 5): alternating, Sigma_xx = P (1 + d sin wt), Sigma_yy = P (1 - d sin wt); biaxial, Sigma_xx = P, Sigma_yy = P (1 + d (1 - cos wt))."},
+      {"box.cycle_amplitude", K::kReal, Value(0.1), Range::open_closed(0, 1), "", true, {}, "d = delta P / P of the cyclic stresses."},
+      {"box.cycle_period", K::kReal, std::nullopt, Range::positive(), "s", true, {}, "Period 2 pi / w of the cyclic stresses."},
+      {"box.cycle_viscous_number", K::kReal, std::nullopt, Range::positive(), "", true, {}, "Or the viscous number Vi = eta w / P of the cycles (Peyneau eq. 5.7), with eta = lubrication.viscosity."},
       {"box.mass_factor", K::kReal, Value(1.0), Range::positive(), "", true, {}, "Box mass M in units of the total grain mass N m (Peyneau: M = N m), for the box lengths and a stress-controlled shear."},
       // ---- shear
       {"shear.rate", K::kReal, std::nullopt, Range::any(), "1/s", true, {}, "Imposed shear rate gammadot of the flow v_x = gammadot y (liquid regime)."},
@@ -41,6 +46,9 @@ std::vector<KeyRule> shear_rules() {
       KeyRule::requires_any("box.mass_factor", {"box.pressure", "shear.stress"},
                             "it is the inertia of the controlled lengths and of a stress-controlled shear"),
       KeyRule::requires_any("shear.inertial_number", {"box.pressure"}, "I is relative to the imposed pressure"),
+      KeyRule::requires_any("box.cycle", {"box.pressure"}, "the cycles are about the imposed pressure"),
+      KeyRule::requires_any("box.cycle_viscous_number", {"lubrication.viscosity"},
+                            "Vi is relative to the liquid's viscosity"),
       KeyRule::requires_any("shear.viscous_number", {"box.pressure"}, "Vi is relative to the imposed pressure"),
       KeyRule::requires_any("shear.viscous_number", {"lubrication.viscosity"},
                             "Vi is relative to the liquid's viscosity"),
@@ -68,10 +76,36 @@ std::vector<ObservableSpec> shear_observables() {
                                 c.m.box_control.on ? c.m.box_control.pressure : c.meas().stress[1][1]);
        }},
   };
+  o.push_back({"cycle", "", "cycles of the imposed stresses done, w t / (2 pi)",
+               [](const ObservableContext& c, const ObservableArgs&) {
+                 return c.m.box_control.cycle_omega * c.s.t / (2 * std::numbers::pi);
+               }});
+  o.back().check = [](const Model& m, const ObservableArgs&) {
+    return m.box_control.cycle != StressCycle::kNone ? "" : "observable 'cycle' applies where box.cycle is set";
+  };
   o[0].check = sheared("gamma");
   o[1].check = sheared("gammadot");
   o[2].check = sheared("I");
   return o;
+}
+
+void setup_cycle(const SceneDesc& d, Model& m) {
+  BoxControl& b = m.box_control;
+  const std::string kind = d.string("box.cycle");
+  const bool period = d.has("box.cycle_period"), vi = d.has("box.cycle_viscous_number");
+  if (kind == "none") {
+    for (const char* k : {"box.cycle_period", "box.cycle_viscous_number", "box.cycle_amplitude"})
+      if (d.has(k)) d.fail(k, "applies to cyclic stresses: set box.cycle");
+    return;
+  }
+  if (period == vi) d.fail("box.cycle", "give one of box.cycle_period and box.cycle_viscous_number");
+  if (m.dim != 2 && kind == "alternating") d.fail("box.cycle", "the alternating cycle is defined in 2D (x and y)");
+  b.cycle = kind == "alternating" ? StressCycle::kAlternating : StressCycle::kBiaxial;
+  b.cycle_amplitude = d.real("box.cycle_amplitude");
+  b.cycle_omega = period ? 2 * std::numbers::pi / d.real("box.cycle_period")
+                         : d.real("box.cycle_viscous_number") * b.pressure / d.real("lubrication.viscosity");
+  for (int k = 0; k < 2; ++k)
+    if (!m.box.periodic[k]) d.fail("box.cycle", "cyclic stresses act on the x and y lengths: both must be periodic");
 }
 
 void setup_box_control(const SceneDesc& d, Model& m) {
@@ -88,6 +122,7 @@ void setup_box_control(const SceneDesc& d, Model& m) {
     d.fail("box.pressure", "a stress-controlled box cannot hold frozen grains (they would not follow its deformation)");
   b.on = true;
   b.pressure = d.real("box.pressure");
+  setup_cycle(d, m);
   std::vector<bool> c(m.box.periodic.begin(), m.box.periodic.begin() + m.dim);
   if (d.has("box.controlled")) c = d.booleans("box.controlled");
   if (static_cast<int>(c.size()) != m.dim) d.fail("box.controlled", "needs " + std::to_string(m.dim) + " entries");
@@ -165,7 +200,7 @@ std::string describe_shear(const Model& m) {
     o << "             zeta = " << (m.zeta_max == 0 ? 0.0 : m.zeta_max) << " (damping ratio of the lightest pair)\n";
     o << "             inertial time sqrt(m / (a^(d-2) P)) = " << std::sqrt(m.m_a / (std::pow(a, m.dim - 2) * P))
       << " s (m = " << m.m_a << " kg, a grain of diameter a = " << a << " m)\n";
-    if (m.shear.on && !m.shear.stress_controlled) {
+    if (m.shear.on && !m.shear.stress_controlled && !m.velocities_solved) {
       const double I = inertial_number(m, m.shear.rate, P);
       o << "             I = gammadot sqrt(m / (a^(d-2) P)) = " << I << " (Peyneau eq. 1.30); "
         << 1.0 / (m.shear.rate * m.dt) << " steps per unit strain\n";
@@ -180,6 +215,8 @@ std::string steer_shear(Model& m, const Model& fresh) {
   m.box_control.pressure = fresh.box_control.pressure;
   m.box_control.mass_factor = fresh.box_control.mass_factor;
   m.box_control.mass = fresh.box_control.mass;
+  m.box_control.cycle_amplitude = fresh.box_control.cycle_amplitude;
+  m.box_control.cycle_omega = fresh.box_control.cycle_omega;
   m.shear.rate = fresh.shear.rate;
   m.shear.stress = fresh.shear.stress;
   return "";

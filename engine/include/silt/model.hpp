@@ -87,12 +87,31 @@ struct Box {
 };
 
 // Stress-controlled box lengths (Peyneau 2009 eq. 3.11): M d2L/dt2 = (Omega/L)(sigma - P).
+// The imposed stress may cycle (Peyneau ch. 5): alternating, Sigma_11 = P (1 + d sin wt) and
+// Sigma_22 = P (1 - d sin wt) (eq. 5.3-5.4: the mean pressure constant, the principal directions
+// swapping); biaxial, Sigma_11 = P and Sigma_22 = P (1 + d (1 - cos wt)) (eq. 5.15-5.16). Other
+// axes stay at P.
+enum class StressCycle : uint8_t { kNone, kAlternating, kBiaxial };
 struct BoxControl {
   bool on = false;
   std::array<bool, 3> controlled{false, false, false};
   double pressure = 0;     // imposed sigma_aa [Pa], compression positive (steerable)
   double mass_factor = 1;  // M = mass_factor * total free grain mass (steerable)
   double mass = 0;         // M [kg]
+  StressCycle cycle = StressCycle::kNone;
+  double cycle_amplitude = 0;  // d = delta P / P
+  double cycle_omega = 0;      // w [1/s]
+  // The imposed sigma_aa at time t.
+  double stress(int axis, double t) const {
+    const double w = cycle_omega * t;
+    switch (cycle) {
+      case StressCycle::kAlternating:
+        return axis == 0 ? pressure * (1 + cycle_amplitude * std::sin(w))
+                         : (axis == 1 ? pressure * (1 - cycle_amplitude * std::sin(w)) : pressure);
+      case StressCycle::kBiaxial: return axis == 1 ? pressure * (1 + cycle_amplitude * (1 - std::cos(w))) : pressure;
+      default: return pressure;
+    }
+  }
 };
 
 // Simple shear by Lees-Edwards conditions: flow along x, gradient along y (Peyneau 2009 sec. 3.1.4).

@@ -47,6 +47,13 @@ struct ModuleSpec {
   // "" when the module's own fields in a state read from a checkpoint are consistent (their
   // lengths and indices: those of Extent::kFree are not checked otherwise), else what is wrong.
   std::function<std::string(const Model& m, const State& s)> check_state;
+  // Bytes the module's workspaces will take beyond its fields (a Cholesky factor), for the memory
+  // estimate of `silt check` and the refusal of a scene that does not fit.
+  std::function<double(const Model& m)> memory_bytes;
+  // What the module adds to a run's summary (--summary): one JSON object of numbers under
+  // summary_group ("solver" for the paste's linear solves).
+  std::string summary_group;
+  std::function<std::vector<std::pair<std::string, double>>(const Model& m, const State& s)> summary;
   // Turn the module off in a copy of the model that compresses the grains dry before the run
   // (procedure O, prepare.compress), restoring what it changed in the DEM's parts.
   std::function<void(Model& dry)> prepare_dry;
