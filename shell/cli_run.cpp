@@ -57,7 +57,8 @@ int prepare(Simulation& sim, const RunArgs& a, RunJob& job, std::string& warning
   if (!a.quiet)
     std::fprintf(stderr, "silt: prepared in %lld steps (%.1f s): phi = %.5f%s\n", static_cast<long long>(prep.steps),
                  prep.wall_s, measure(model, sim.state()).phi, prep.end == RunEnd::kStatic ? ", static" : "");
-  if (prep.end != RunEnd::kStatic) warning = "prepare.max_steps: the compression did not reach equilibrium";
+  if (prep.end != RunEnd::kStatic && !prep.reached_phi)
+    warning = "prepare.max_steps: the compression did not reach equilibrium";
   return 0;
 }
 

@@ -161,7 +161,10 @@ void Session::install(Model m, const std::optional<State>& keep) {
       throw std::runtime_error("the preparation (prepare.compress) failed: " + rep.failure + "; nothing was loaded");
     next->restore(std::move(packed));
     out_ << "prepared: isotropic compression, " << rep.steps << " steps in " << rep.wall_s << " s"
-         << (rep.end == RunEnd::kStatic ? ", static" : ", not static (prepare.max_steps or interrupted)") << "\n";
+         << (rep.end == RunEnd::kStatic ? ", static"
+             : rep.reached_phi          ? ", at prepare.phi"
+                                        : ", not static (prepare.max_steps or interrupted)")
+         << "\n";
     interrupt_ = false;
   }
   sim_ = std::move(next);

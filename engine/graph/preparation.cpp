@@ -2,6 +2,7 @@
 // the imposed pressure (every periodic length controlled by eq. 3.11, no shear) until they form
 // a static packing; the scene's run then starts from it.
 #include "silt/module.hpp"
+#include "silt/observables.hpp"
 #include "silt/simulation.hpp"
 
 namespace silt {
@@ -14,6 +15,8 @@ Model compression_model(const Model& m) {
   c.box.lees_edwards = false;
   c.box.le_offset = 0;
   c.box_control.on = true;
+  if (m.prepare.pressure > 0) c.box_control.pressure = m.prepare.pressure;
+  c.box_control.cycle = StressCycle::kNone;
   for (int k = 0; k < c.dim; ++k) c.box_control.controlled[k] = c.box.periodic[k];
   c.until_static.on = true;
   c.prepare = Preparation{};
@@ -46,16 +49,36 @@ State adopt_state(const Model& m, State s) {
 }
 
 State prepare_packing(const Model& m, int threads, PreparationReport* report, const std::atomic<bool>* interrupt) {
-  Simulation sim(compression_model(m), threads);
+  const Model c = compression_model(m);
+  Simulation sim(c, threads);
   RunOptions opt;
   opt.steps = m.prepare.max_steps;
   opt.stop_when_static = true;
   opt.interrupt = interrupt;
-  const RunReport rep = sim.run(opt);
+  RunReport rep;
+  bool reached = false;
+  if (m.prepare.phi > 0) {
+    // In chunks, until the solid fraction is reached (or equilibrium first).
+    opt.steps = c.limits.check_every;
+    while (rep.steps_done < m.prepare.max_steps) {
+      const RunReport chunk = sim.run(opt);
+      rep.steps_done += chunk.steps_done;
+      rep.wall_s += chunk.wall_s;
+      rep.end = chunk.end;
+      if (chunk.end != RunEnd::kDone) break;
+      if (measure(c, sim.state()).phi >= m.prepare.phi) {
+        reached = true;
+        break;
+      }
+    }
+  } else {
+    rep = sim.run(opt);
+  }
   if (report) {
     report->steps = rep.steps_done;
     report->wall_s = rep.wall_s;
     report->end = rep.end;
+    report->reached_phi = reached;
     report->failure = sim.state().failure.message;
     if (rep.end == RunEnd::kFailed) {
       report->failure_detail = sim.state().failure;

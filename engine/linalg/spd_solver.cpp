@@ -61,10 +61,13 @@ SolveReport SpdSolver::solve(const SparseMatrix& a, const Vector& b, Vector& x, 
   if (pattern_changed) factor_valid_ = false;
   if (s_.refactor_every > 0 && solves_since_factor_ >= s_.refactor_every) factor_valid_ = false;
   auto refactor = [&]() {
-    SolveReport f = factor_.factorize(a);
+    SparseMatrix source;
+    if (factor_source) source = factor_source();
+    const SparseMatrix& m = factor_source ? source : a;
+    SolveReport f = factor_.factorize(m);
     factor_valid_ = f.ok();
     solves_since_factor_ = 0;
-    if (factor_valid_ && on_factor) on_factor(a);
+    if (factor_valid_ && on_factor) on_factor(m);
     return f;
   };
   if (!factor_valid_)

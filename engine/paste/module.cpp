@@ -33,6 +33,7 @@ std::vector<KeySpec> paste_keys() {
       {"lubrication.tolerance", K::kReal, Value(1e-8), Range::open_closed(0, 1e-2), "", true, {}, "Relative residual |F - Xi V| / |F| at which CG stops."},
       {"lubrication.max_iterations", K::kInt, Value(int64_t{2000}), Range::closed(1, 1e7), "", true, {}, "CG iterations of one solve at most: past them the run stops with a numerical failure."},
       {"lubrication.refactor_iterations", K::kInt, Value(int64_t{15}), Range::closed(1, 1e6), "", true, {}, "factor_pcg: a solve that took more iterations has Xi refactorised for the next."},
+      {"lubrication.factor_gap_over_a", K::kReal, Value(0.5), Range::non_negative(), "", true, {}, "factor_pcg: connections with a gap below this (in units of a) enter the Cholesky factor whole, the others by their diagonal blocks only: a sparser factor, cheaper to make and to apply, for a few more iterations. h_max / a or more: the whole Xi."},
       {"lubrication.refactor_every", K::kInt, Value(int64_t{0}), Range::closed(0, 1e9), "", true, {}, "factor_pcg: also refactorise every N solves (0: only on the iteration threshold)."},
       {"lubrication.stokes_drag", K::kBool, Value(false), Range::any(), "", false, {}, "Add a Stokes drag 6 pi eta r on every grain's translation and 8 pi eta r^3 on its rotation (LF_DEM's choice): Xi definite without pinning a grain per cluster. Off: the thesis' model."},
       {"lubrication.dt", K::kReal, std::nullopt, Range::positive(), "s", true, {}, "A fixed time step instead of the adaptive one (the inertial stepper, a convergence study)."},
@@ -63,6 +64,7 @@ void compile_steerable(const SceneDesc& d, PasteParams& p) {
   p.solver.options.max_iterations = static_cast<int>(d.integer("lubrication.max_iterations"));
   p.solver.refactor_iterations = static_cast<int>(d.integer("lubrication.refactor_iterations"));
   p.solver.refactor_every = static_cast<int>(d.integer("lubrication.refactor_every"));
+  p.factor_gap_over_a = d.real("lubrication.factor_gap_over_a");
   p.dt_growth = d.real("lubrication.dt_growth");
   p.dt_change = d.real("lubrication.dt_change");
 }

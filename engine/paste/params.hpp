@@ -24,6 +24,10 @@ struct PasteParams {
   Cutoff cutoff = Cutoff::kLinear;
   Stepper stepper = Stepper::kQuasiStatic;
   linalg::SolverSettings solver;
+  // factor_pcg: connections with a gap below this (in units of a) enter the preconditioner's
+  // factor whole, the others by their diagonal blocks only (ResistanceSystem::sparsified);
+  // h_max / a or more: the whole matrix.
+  double factor_gap_over_a = 0.5;
   // A Stokes drag 6 pi eta r on every grain's translation and 8 pi eta r^3 on its rotation
   // (LF_DEM's choice): makes Xi definite without pinning; off by default (the thesis has none).
   bool stokes_drag = false;

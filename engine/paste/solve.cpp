@@ -209,9 +209,22 @@ void lubrication_solve(const Model& m, State& s, PasteWorkspace& w, bool setup) 
   }
   const int64_t factorizations_before = w.solver.refactorizations();
   w.solver.on_factor = [&factor](const linalg::SparseMatrix& a) { store_matrix(a, factor); };
+  // A factor of the stiff connections alone (gaps below factor_gap) when the others are many.
+  w.solver.factor_source = nullptr;
+  if (p.factor_gap_over_a < p.h_max_over_a)
+    w.solver.factor_source = [&w, &cs, &s, &p]() {
+      std::vector<uint8_t> keep(cs.size());
+      for (size_t k = 0; k < cs.size(); ++k) {
+        const Connection& c = cs[k];
+        const double dist = std::sqrt(c.r[0] * c.r[0] + c.r[1] * c.r[1] + c.r[2] * c.r[2]);
+        keep[k] = dist - s.particle_r[c.i] - s.particle_r[c.j] < p.factor_gap_over_a * p.a;
+      }
+      return w.system.sparsified(keep);
+    };
   const bool size_changed = w.solver.factor_valid() && !factor.empty() && static_cast<int64_t>(factor[0]) != size;
   const linalg::SolveReport rep = w.solver.solve(A, b, x, size_changed);
   w.solver.on_factor = nullptr;
+  w.solver.factor_source = nullptr;
 
   stats[kLastIterations] = rep.iterations;
   stats[kLastResidual] = rep.residual;

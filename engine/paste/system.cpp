@@ -195,6 +195,25 @@ bool ResistanceSystem::assemble(const SystemLayout& l, const std::vector<Connect
   return !same;
 }
 
+linalg::SparseMatrix ResistanceSystem::sparsified(const std::vector<uint8_t>& keep) const {
+  linalg::SparseMatrix m = a_;
+  double* val = m.valuePtr();
+  const int n = local_size(layout_), p = layout_.per_grain;
+  for (size_t k = 0; k < pairs_.size() && k < keep.size(); ++k) {
+    if (keep[k]) continue;
+    const int64_t* pos = &pos_[k * n * n];
+    // The (i, j) and (j, i) blocks: local rows of one grain, columns of the other.
+    for (int r = 0; r < p; ++r)
+      for (int q = 0; q < p; ++q) {
+        val[pos[r * n + p + q]] = 0;
+        val[pos[(p + q) * n + r]] = 0;
+      }
+  }
+  m.prune(0.0, 0.0);
+  m.makeCompressed();
+  return m;
+}
+
 void ResistanceSystem::pin(int64_t k, double scale, linalg::Vector& rhs) {
   double* val = a_.valuePtr();
   const int* rows = a_.innerIndexPtr();

@@ -55,6 +55,12 @@ class ResistanceSystem {
   // entry by 0: the unknown is held at zero (a pinned translation, a grain with no connection).
   void pin(int64_t k, double scale, linalg::Vector& rhs);
   void forget() { pairs_.clear(); }
+  // The matrix as it is now (pins and diagonal terms included) without the blocks that couple
+  // the two grains of every connection whose `keep` is 0: each such connection keeps only its
+  // diagonal blocks, half its resistance or more along any motion (for a positive semi-definite
+  // [[A, B], [B^T, C]], diag(A, C) >= it / 2). A cheap matrix to factorise as a preconditioner:
+  // only the stiff connections fill the factor in.
+  linalg::SparseMatrix sparsified(const std::vector<uint8_t>& keep) const;
   size_t bytes() const;
 
  private:

@@ -32,6 +32,8 @@ std::vector<KeySpec> shear_keys() {
       {"shear.stress", K::kReal, std::nullopt, Range::any(), "Pa", true, {}, "Imposed shear stress tau = -sigma_xy (solid regime, Peyneau eq. 3.12): gammadot follows it."},
       // ---- prepare
       {"prepare.compress", K::kBool, Value(false), Range::any(), "", false, {}, "Before the run, compress the grains isotropically at box.pressure (every periodic length controlled, no shear) until static: Peyneau's procedure O."},
+      {"prepare.pressure", K::kReal, std::nullopt, Range::positive(), "Pa", false, {}, "Pressure of the compression when the run itself has no box.pressure (a box of fixed size sheared at a given rate)."},
+      {"prepare.phi", K::kReal, std::nullopt, Range::open_closed(0, 1), "", false, {}, "Stop the compression when the solid fraction reaches this, static or not (a random packing below jamming, its velocities then zeroed)."},
       {"prepare.dilation", K::kReal, Value(1.0), Range::closed(1, 2), "", false, {}, "After the compression, multiply the grains' centres and the box lengths by this: the initial state of a paste, its grains apart (Peyneau 2009 sec. 2.3.1: 1.1)."},
       {"prepare.max_steps", K::kInt, Value(int64_t{2000000}), Range::closed(1, 4.6e18), "", false, {}, "Longest preparation; the run then starts from where it got, with a warning."},
   };
@@ -52,7 +54,7 @@ std::vector<KeyRule> shear_rules() {
       KeyRule::requires_any("shear.viscous_number", {"box.pressure"}, "Vi is relative to the imposed pressure"),
       KeyRule::requires_any("shear.viscous_number", {"lubrication.viscosity"},
                             "Vi is relative to the liquid's viscosity"),
-      KeyRule::requires_any("prepare.compress", {"box.pressure"},
+      KeyRule::requires_any("prepare.compress", {"box.pressure", "prepare.pressure"},
                             "the isotropic compression is at the imposed pressure"),
   };
 }
@@ -113,7 +115,7 @@ void setup_box_control(const SceneDesc& d, Model& m) {
   double grain_mass = 0;
   for (int64_t i = 0; i < m.n_grains; ++i)
     if (!m.init.frozen[i]) grain_mass += m.init.mass[i];
-  if (d.has("box.pressure") || d.has("shear.stress")) {
+  if (d.has("box.pressure") || d.has("shear.stress") || d.has("prepare.pressure")) {
     b.mass_factor = d.real("box.mass_factor");
     b.mass = b.mass_factor * grain_mass;
   }
@@ -167,6 +169,13 @@ void compile_shear(const SceneDesc& d, Model& m) {
   m.prepare.compress = d.boolean("prepare.compress");
   m.prepare.max_steps = d.integer("prepare.max_steps");
   m.prepare.dilation = d.real("prepare.dilation");
+  if (d.has("prepare.pressure")) {
+    if (d.has("box.pressure")) d.fail("prepare.pressure", "the compression is at box.pressure: give one of them");
+    m.prepare.pressure = d.real("prepare.pressure");
+  }
+  if (d.has("prepare.phi")) m.prepare.phi = d.real("prepare.phi");
+  for (const char* k : {"prepare.pressure", "prepare.phi"})
+    if (d.has(k) && !m.prepare.compress) d.fail(k, "applies to the compression: set prepare.compress = true");
   if (m.prepare.dilation != 1 && !m.prepare.compress)
     d.fail("prepare.dilation", "the dilation follows the compression: set prepare.compress = true");
   m.pair_forces_every_step = box_stage_on(m);
@@ -189,7 +198,9 @@ std::string describe_shear(const Model& m) {
     else o << "imposed rate gammadot = " << m.shear.rate << " 1/s\n";
   }
   if (m.prepare.compress)
-    o << "prepare      isotropic compression at " << m.box_control.pressure << " Pa until static (at most "
+    o << "prepare      isotropic compression at "
+      << (m.prepare.pressure > 0 ? m.prepare.pressure : m.box_control.pressure) << " Pa until "
+      << (m.prepare.phi > 0 ? "Phi = " + std::to_string(m.prepare.phi) + " or " : std::string()) << "static (at most "
       << m.prepare.max_steps << " steps)\n";
   if (m.box_control.on) {
     const double P = m.box_control.pressure;

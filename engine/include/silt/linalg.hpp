@@ -174,6 +174,9 @@ class SpdSolver {
   bool factor_valid() const { return factor_valid_; }
   int solves_since_factor() const { return solves_since_factor_; }
   std::function<void(const SparseMatrix&)> on_factor;
+  // kFactorPcg: the matrix to factorise when a factor is due, instead of the system's own (a
+  // sparser approximation of it, cheaper to factorise and to apply); null: the system's.
+  std::function<SparseMatrix()> factor_source;
   SolveReport restore_factor(const SparseMatrix& source, int solves_since_factor);
 
  private:

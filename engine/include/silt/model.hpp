@@ -131,6 +131,8 @@ struct Preparation {
   bool compress = false;
   int64_t max_steps = 0;
   double dilation = 1;  // then the centres and the box lengths times this (Peyneau 2009 sec. 2.3.1)
+  double pressure = 0;  // of the compression when the run has no box pressure (0: box_control's)
+  double phi = 0;       // stop at this solid fraction (0: at equilibrium)
 };
 
 // Initial grains, as placed by compile(); State is made from them.

@@ -117,6 +117,7 @@ double estimated_memory_bytes(const Model& m);
 // time and strain zero, grains at rest, boundary conditions of `m`.
 struct PreparationReport {
   RunEnd end = RunEnd::kDone;  // kStatic when the packing reached equilibrium
+  bool reached_phi = false;    // prepare.phi: the solid fraction was reached
   int64_t steps = 0;
   double wall_s = 0;
   std::string failure;

@@ -1,0 +1,163 @@
+// silt's lubricated paste against LAMMPS's pair lubricateU (Debian package `lammps`, COLLOID
+// package) on one system: scenes/paste_3d_shear.toml, 4,096 monodisperse spheres of radius 1 at
+// Phi = 0.45 (silt's prepared packing, written as a LAMMPS data file), viscosity 1, sheared at
+// gammadot = 0.01 (lubricateU's gdot equals the fix deform rate: otherwise it solves for nothing).
+// Both solve every velocity from the lubrication resistance each step: silt with CG preconditioned
+// by a Cholesky factor of an earlier matrix (its lubrication.h_min_over_a as the roughness
+// cutoff), LAMMPS with plain CG on Ball-Melrose lubrication (cutinner the same gap). Grain-steps
+// per second of each, one process / thread, then silt on 2 threads; and how each one's cost grows
+// as the gaps close (silt: h_min/a; LAMMPS: cutinner).
+//
+//   build/bench/paste_vs_lammps [--steps N] [--lammps-steps N] [--no-lammps]
+//
+// Appends to bench/results/paste_vs_lammps.csv. Reproduce LAMMPS alone: the input and data it
+// runs are left in /tmp/silt_paste_lammps/.
+#include <sys/stat.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <regex>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "bench_util.hpp"
+#include "paste/solve.hpp"
+#include "silt/io.hpp"
+#include "silt/observables.hpp"
+#include "silt/scene.hpp"
+#include "silt/simulation.hpp"
+
+using namespace silt;
+
+namespace {
+
+const std::string kDir = "/tmp/silt_paste_lammps";
+const std::string kCsv = std::string(SILT_SOURCE_DIR) + "/bench/results/paste_vs_lammps.csv";
+const std::string kHeader =
+    "date,code,case,h_min_over_a,threads,grains,steps,wall_s,grain_steps_per_s,iters_mean,"
+    "refactorisations,note";
+
+std::string num(double x) {
+  char b[40];
+  std::snprintf(b, sizeof b, "%.6g", x);
+  return b;
+}
+
+// The packing as a LAMMPS data file (atom_style sphere: id type diameter density x y z), in a
+// triclinic box of zero tilt that fix deform shears.
+void write_data(const State& s, const std::string& path) {
+  std::ofstream o(path);
+  o.precision(17);
+  o << "silt paste_3d_shear packing\n\n" << s.n << " atoms\n1 atom types\n\n";
+  const char* ax[3] = {"x", "y", "z"};
+  for (int a = 0; a < 3; ++a)
+    o << s.box.lo[a] << ' ' << s.box.lo[a] + s.box.len[a] << ' ' << ax[a] << "lo " << ax[a] << "hi\n";
+  o << "0 0 0 xy xz yz\n\nAtoms # sphere\n\n";
+  for (int64_t i = 0; i < s.n; ++i)
+    o << i + 1 << " 1 " << 2 * s.particle_r[i] << " 1 " << s.particle_x[3 * i] << ' ' << s.particle_x[3 * i + 1] << ' '
+      << s.particle_x[3 * i + 2] << '\n';
+}
+
+void write_input(const std::string& path, double cutinner, double cutoff, double gdot, int steps, double dt) {
+  std::ofstream o(path);
+  o << "units lj\ndimension 3\nboundary p p p\natom_style sphere\nnewton off\ncomm_modify vel yes\n"
+    << "read_data " << kDir << "/data.paste\n"
+    << "pair_style lubricateU 1.0 1 " << num(cutinner) << ' ' << num(cutoff) << ' ' << num(gdot) << " 1 0\n"
+    << "pair_coeff * *\nneighbor 0.3 bin\nneigh_modify every 1 delay 0\n"
+    << "fix 1 all nve/noforce\nfix 2 all deform 1 xy erate " << num(gdot) << " remap v\n"
+    << "timestep " << num(dt) << "\nthermo " << steps << "\nrun " << steps << "\n";
+}
+
+struct Lammps {
+  double rate = 0;
+  std::string error;
+};
+
+Lammps run_lammps(double cutinner, int steps, double dt) {
+  write_input(kDir + "/in.paste", cutinner, 3.0, 0.01, steps, dt);
+  const std::string out = bench::capture("cd " + kDir + " && OMP_NUM_THREADS=1 lmp -in in.paste -log none 2>&1");
+  Lammps l;
+  const std::regex loop(R"(Loop time of ([0-9.eE+-]+) on 1 procs for (\d+) steps with (\d+) atoms)");
+  std::smatch m;
+  if (std::regex_search(out, m, loop)) {
+    const double t = std::stod(m[1]);
+    l.rate = std::stod(m[3]) * std::stod(m[2]) / t;
+  } else {
+    l.error = out.size() > 600 ? out.substr(out.size() - 600) : out;
+  }
+  return l;
+}
+
+struct Silt {
+  double rate = 0, iters = 0, refactor = 0;
+};
+
+Silt run_silt(const Model& m, const State& packing, int threads, int steps) {
+  Simulation sim(m, threads);
+  sim.restore(packing);
+  RunOptions opt;
+  opt.steps = 1;  // the first solve (and factorisation) from the packing, not timed
+  sim.run(opt);
+  const auto& v0 = sim.state().module_field(paste::paste_fields().solver);
+  const double solves0 = v0[paste::kSolves], iters0 = v0[paste::kIterationsTotal], ref0 = v0[paste::kRefactorizations];
+  opt.steps = steps;
+  const RunReport rep = sim.run(opt);
+  const auto& v = sim.state().module_field(paste::paste_fields().solver);
+  Silt s;
+  s.rate = static_cast<double>(m.n_grains) * static_cast<double>(rep.steps_done) / rep.wall_s;
+  s.iters = (v[paste::kIterationsTotal] - iters0) / std::max(1.0, v[paste::kSolves] - solves0);
+  s.refactor = v[paste::kRefactorizations] - ref0;
+  return s;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  return bench::guarded_main([&] {
+    int steps = 30, lmp_steps = 30;
+    bool lammps = true;
+    for (int i = 1; i < argc; ++i) {
+      if (!std::strcmp(argv[i], "--steps") && i + 1 < argc) steps = std::atoi(argv[++i]);
+      else if (!std::strcmp(argv[i], "--lammps-steps") && i + 1 < argc) lmp_steps = std::atoi(argv[++i]);
+      else if (!std::strcmp(argv[i], "--no-lammps")) lammps = false;
+      else throw std::invalid_argument(std::string("unknown option ") + argv[i]);
+    }
+    ::mkdir(kDir.c_str(), 0755);
+    const std::string scene = std::string(SILT_SOURCE_DIR) + "/scenes/paste_3d_shear.toml";
+    const Model base = compile(load_scene_file(scene));
+    const State packing = prepare_packing(base, 2);
+    write_data(packing, kDir + "/data.paste");
+    std::printf("paste_3d_shear: %lld spheres, Phi %.4f, on %s\n", static_cast<long long>(base.n_grains),
+                measure(base, packing).phi, bench::cpu_model().c_str());
+    std::printf("%-8s %-28s %8s %14s %8s %8s\n", "code", "case", "threads", "grain-steps/s", "iters", "refact");
+    auto row = [&](const std::string& code, const std::string& name, double h, int threads, int n_steps, double rate,
+                   double iters, double refactor, const std::string& note) {
+      std::printf("%-8s %-28s %8d %14.4g %8.1f %8.0f  %s\n", code.c_str(), name.c_str(), threads, rate, iters, refactor,
+                  note.c_str());
+      std::fflush(stdout);
+      std::ostringstream o;
+      o << bench::today() << ',' << code << ',' << name << ',' << num(h) << ',' << threads << ',' << base.n_grains
+        << ',' << n_steps << ',' << num(rate > 0 ? base.n_grains * n_steps / rate : 0) << ',' << num(rate) << ','
+        << num(iters) << ',' << num(refactor) << ',' << note;
+      bench::append_csv(kCsv, kHeader, o.str());
+    };
+    // The roughness cutoff of each: silt's h_min = x a (a = 2), LAMMPS's cutinner = 2 + x a.
+    for (double x : {1e-2, 1e-3, 1e-4, 1e-6}) {
+      const Model m = compile(load_scene_file(scene, {parse_override("lubrication.h_min_over_a=" + num(x))}));
+      for (int threads : {1, 2}) {
+        if (threads == 2 && x != 1e-3) continue;
+        const Silt s = run_silt(m, packing, threads, steps);
+        row("silt", "h_min/a=" + num(x), x, threads, steps, s.rate, s.iters, s.refactor, "factor_pcg");
+      }
+      if (lammps && x >= 1e-4) {
+        const Lammps l = run_lammps(2 + 2 * x, lmp_steps, 1e-3);
+        if (l.rate > 0) row("lammps", "cutinner=" + num(2 + 2 * x), x, 1, lmp_steps, l.rate, 0, 0, "lubricateU");
+        else std::printf("LAMMPS did not run (cutinner %g):\n%s\n", 2 + 2 * x, l.error.c_str());
+      }
+    }
+    return 0;
+  });
+}
