@@ -13,8 +13,9 @@
 //   knobs        dt_change (the adaptive step's threshold) and the solver (direct, factor_pcg
 //                at three refactorisation thresholds, cg) at h_min/a = 1e-3: cost against the
 //                equilibrium reached.
-//   shear        Chapter 4: mu* and Phi against Vi at N = 896, h_min/a = 1e-2, next to the fits
-//                of Tables 4.2 and 4.4, with P_cont/P.
+//   shear        Chapter 4: mu* and Phi against Vi (--vi 0.1,0.01) at N = 896, h_min/a = 1e-2,
+//                through --strain 0.5 1.0 (transient, averaged), next to the fits of Tables 4.2
+//                and 4.4, with P_cont/P.
 //   cyclic       Chapter 5: alternating against biaxial compaction cycle by cycle (--cycles,
 //                default 20; the thesis ran 100 in weeks), N = 224: Phi, z*, M, eps_dev.
 //   cost         Time per step and per unit strain against N (224 to 57,344) at Vi = 1e-2,
@@ -49,8 +50,10 @@ struct Args {
   std::string only;
   bool quick = false;
   int seeds = 5;
-  int cycles = 20;      // of each compaction test (cyclic)
-  double budget = 600;  // wall seconds per equilibration of the equilibrium section
+  int cycles = 20;                         // of each compaction test (cyclic)
+  std::vector<double> vis = {1e-1, 1e-2};  // shear: the viscous numbers (--vi)
+  double transient = 0.5, measured = 1.0;  // shear: strains (--strain TRANSIENT MEASURED)
+  double budget = 600;                     // wall seconds per equilibration of the equilibrium section
   std::vector<std::string> sets;
 };
 
@@ -321,7 +324,7 @@ void shear(const Args& a) {
   std::printf("\nChapter 4: mu*(Vi) and Phi(Vi), N = 896, h_min/a = 1e-2 (fits of Tables 4.2 and 4.4)\n");
   std::printf("%-8s %16s %8s %16s %8s %8s %8s %9s %9s  %s\n", "Vi", "mu*", "fit", "Phi", "fit", "P_cont/P", "strain",
               "steps", "wall s", "status");
-  const std::vector<double> vis = a.quick ? std::vector<double>{1e-1} : std::vector<double>{1e-1, 1e-2, 1e-3};
+  const std::vector<double> vis = a.quick ? std::vector<double>{1e-1} : a.vis;
   State packing;
   bool have = false;
   for (double vi : vis) {
@@ -330,7 +333,7 @@ void shear(const Args& a) {
       packing = prepare_packing(m, a.threads);
       have = true;
     }
-    const double transient = a.quick ? 0.01 : 1.0, measured = a.quick ? 0.01 : 1.5;
+    const double transient = a.quick ? 0.01 : a.transient, measured = a.quick ? 0.01 : a.measured;
     Row r = shear_run(m, packing, a.threads, transient, measured);
     r.section = "shear";
     r.name = "ch4";
@@ -489,7 +492,14 @@ int main(int argc, char** argv) {
       else if (s == "--seeds" && i + 1 < argc) a.seeds = std::atoi(argv[++i]);
       else if (s == "--quick") a.quick = true;
       else if (s == "--cycles" && i + 1 < argc) a.cycles = std::atoi(argv[++i]);
-      else if (s == "--budget" && i + 1 < argc) a.budget = std::atof(argv[++i]);
+      else if (s == "--vi" && i + 1 < argc) {
+        a.vis.clear();
+        std::stringstream list(argv[++i]);
+        for (std::string x; std::getline(list, x, ',');) a.vis.push_back(std::stod(x));
+      } else if (s == "--strain" && i + 2 < argc) {
+        a.transient = std::atof(argv[++i]);
+        a.measured = std::atof(argv[++i]);
+      } else if (s == "--budget" && i + 1 < argc) a.budget = std::atof(argv[++i]);
       else if (s == "--set" && i + 1 < argc) a.sets.push_back(argv[++i]);
       else throw std::invalid_argument("unknown option " + s);
     }

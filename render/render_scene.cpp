@@ -168,17 +168,20 @@ RenderScene build_render_scene(const Model& m, const State& s, const View& v, co
   // What is drawn, and which colour scale the bar shows: the field's, else the grains' quantity,
   // else the chains' force.
   const bool chains = v.wants("chains");
+  const bool lubrication = v.wants("lubrication");
   const bool draw_field = v.wants("field") && field != nullptr;
-  const std::string color_by = !v.color_by.empty() ? v.color_by : (chains || draw_field ? "flat" : "speed");
+  const std::string color_by =
+      !v.color_by.empty() ? v.color_by : (chains || lubrication || draw_field ? "flat" : "speed");
   const double alpha = v.grain_opacity > 0 ? v.grain_opacity : (D == 3 && chains ? 0.25 : 1.0);
   if (v.wants("field") && field == nullptr) rs.warnings.push_back("no field to draw in this scene");
   const bool grains = v.wants("grains") || (draw_field && D == 3);
   const bool colored = grains && color_by != "flat" && color_by != "frozen";
-  enum class Bar { kNone, kField, kGrains, kChains };
+  enum class Bar { kNone, kField, kGrains, kChains, kLubrication };
   const Bar bar = !v.wants("colorbar") ? Bar::kNone
                   : draw_field         ? Bar::kField
                   : colored            ? Bar::kGrains
                   : chains             ? Bar::kChains
+                  : lubrication        ? Bar::kLubrication
                                        : Bar::kNone;
   Margins mg;
   if (bar != Bar::kNone) mg.right = 110;
@@ -209,6 +212,12 @@ RenderScene build_render_scene(const Model& m, const State& s, const View& v, co
   if (chains) {
     const ColorScale c = add_force_chains(rs, s, v, r_mean, D == 2 ? static_cast<float>(2 * r_max) : 0.0f);
     if (bar == Bar::kChains) scale = c;
+  }
+  if (lubrication) {
+    // Below the contacts' chains in 2D.
+    const ColorScale c = add_lubrication_chains(rs, s, v, r_mean, D == 2 ? static_cast<float>(1.5 * r_max) : 0.0f);
+    if (c.label.empty()) rs.warnings.push_back("no lubrication forces to draw in this scene");
+    else if (bar == Bar::kLubrication) scale = c;
   }
   if (draw_field) {
     const ColorScale f = add_field(rs, *field, v, D, static_cast<float>(-2 * r_max));

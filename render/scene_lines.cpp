@@ -57,6 +57,53 @@ ColorScale add_force_chains(RenderScene& rs, const State& s, const View& v, doub
   return {"sequential", 0.0, kChainColorMax, "normal force / mean"};
 }
 
+ColorScale add_lubrication_chains(RenderScene& rs, const State& s, const View& v, double r_mean, float lift) {
+  const FieldInfo* field = find_field("pair_f_lub");
+  const int D = s.dim;
+  if (!field) return {};
+  const auto f = double_field(s, field->id);
+  if (f.size() != static_cast<size_t>(D * s.n_pairs())) return {};
+  struct Link {
+    std::array<float, 3> a, b;
+    double fn;
+  };
+  std::vector<Link> links;
+  double sum = 0;
+  for (int64_t i = 0; i < s.n; ++i)
+    for (int32_t p = s.nbr_start[i]; p < s.nbr_start[i + 1]; ++p) {
+      double d[3] = {0, 0, 0}, dist2 = 0, fd = 0;
+      for (int a = 0; a < D; ++a) d[a] = s.particle_x[D * i + a] - s.particle_x[D * s.pair_j[p] + a];
+      s.box.nearest(d, D);
+      for (int a = 0; a < D; ++a) {
+        dist2 += d[a] * d[a];
+        fd += f[D * p + a] * d[a];
+      }
+      if (fd == 0 || dist2 == 0) continue;
+      Link l{{0, 0, 0}, {0, 0, 0}, fd / std::sqrt(dist2)};
+      for (int a = 0; a < D; ++a) {
+        l.a[a] = static_cast<float>(s.particle_x[D * i + a]);
+        l.b[a] = static_cast<float>(s.particle_x[D * i + a] - d[a]);
+      }
+      if (D == 3 && v.slab_half_width > 0 &&
+          !in_slab(v, {0.5f * (l.a[0] + l.b[0]), 0.5f * (l.a[1] + l.b[1]), 0.5f * (l.a[2] + l.b[2])}))
+        continue;
+      links.push_back(l);
+      sum += std::abs(l.fn);
+    }
+  const double mean = links.empty() ? 1.0 : sum / static_cast<double>(links.size());
+  const Colormap& cm = Colormap::get("diverging");
+  for (const Link& l : links) {
+    const double rel = l.fn / mean;
+    // Half the contacts' width: the two networks stay apart in one picture.
+    const float width = static_cast<float>(0.5 * std::min(v.chain_width * std::abs(rel), kChainMaxWidthRadii) * r_mean);
+    RenderScene::Segment seg{l.a, l.b, width, cm.at(0.5 + 0.5 * std::clamp(rel / kChainColorMax, -1.0, 1.0))};
+    seg.a[2] += lift;
+    seg.b[2] += lift;
+    rs.segments.push_back(seg);
+  }
+  return {"diverging", -kChainColorMax, kChainColorMax, "lubrication force / mean"};
+}
+
 void add_box_outline(RenderScene& rs, const State& s, float z) {
   const int D = s.dim;
   const bool dark = rs.background.r + rs.background.g + rs.background.b < 384;

@@ -26,6 +26,12 @@ bool in_slab(const View& v, const std::array<float, 3>& x);
 // One segment per contact carrying a normal force, between the centres; `lift` raises them along
 // z (2D: in front of the disks). Returns the chains' colour scale.
 ColorScale add_force_chains(RenderScene& rs, const State& s, const View& v, double r_mean, float lift);
+// The lubrication forces of a paste (the field pair_f_lub), drawn apart from the contacts' chains:
+// a thin segment between the centres of every connected pair, its width the normal lubrication
+// force relative to the mean of its magnitudes, coloured by its sign on a diverging map
+// (red: grains approaching, pushed apart; blue: separating, pulled together). Returns the scale;
+// none (an empty label) when the scene has no lubrication.
+ColorScale add_lubrication_chains(RenderScene& rs, const State& s, const View& v, double r_mean, float lift);
 
 // The outline of the simulation box (as the state has it: controlled lengths follow): a rectangle
 // at height z in 2D, its twelve edges in 3D. Under Lees-Edwards shear the box stays rectangular

@@ -122,6 +122,21 @@ void VtkWriter::write(const Model& m, const State& s, const std::vector<GridFiel
     }
     vec3("angular_velocity", s.particle_w, R, R == 1 ? 2 : 0);
     vec3("force", s.particle_f, D, 0);
+    // The modules' pair forces on each grain (a paste's lubrication: pair_f_lub -> force_lub).
+    for (const FieldId id : m.pair_stress_fields) {
+      const auto pf = double_field(s, id);
+      if (pf.size() != static_cast<size_t>(D * s.n_pairs())) continue;
+      std::vector<double> sum(static_cast<size_t>(D * s.n), 0.0);
+      for (int64_t i = 0; i < s.n; ++i)
+        for (int32_t p = s.nbr_start[i]; p < s.nbr_start[i + 1]; ++p)
+          for (int k = 0; k < D; ++k) {
+            sum[D * i + k] += pf[D * p + k];
+            sum[D * s.pair_j[p] + k] -= pf[D * p + k];
+          }
+      std::string label = field_info(id).name;
+      if (label.rfind("pair_f_", 0) == 0) label = "force_" + label.substr(7);
+      vec3(label.c_str(), sum, D, 0);
+    }
     array_header(o, "Int32", "id", 1);
     for (int64_t i = 0; i < s.n; ++i) o << s.particle_id[i] << ' ';
     o << kArrayEnd;

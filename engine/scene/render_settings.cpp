@@ -114,7 +114,7 @@ std::vector<KeySpec> render_keys() {
       {"render.width", K::kInt, Value(int64_t{1280}), Range::closed(16, 16384), "px", false, {}, "Frame width (width x height at most 64 Mpx, e.g. 8192 x 8192)."},
       {"render.height", K::kInt, Value(int64_t{720}), Range::closed(16, 16384), "px", false, {}, "Frame height."},
       {"render.draw", K::kStringList, Value(std::vector<std::string>{"grains", "colorbar", "time", "scalebar"}), Range::any(), "", true,
-       S{"grains", "chains", "field", "colorbar", "time", "scalebar", "box"}, "What frames show."},
+       S{"grains", "chains", "lubrication", "field", "colorbar", "time", "scalebar", "box"}, "What frames show (lubrication: the lubrication forces of a paste, apart from the contacts' chains)."},
       {"render.color_by", K::kString, std::nullopt, Range::any(), "", true,
        S{"flat", "speed", "vx", "vy", "vz", "height", "id", "group", "frozen"}, "Quantity that colours the grains (default: speed, or flat when chains or a field are drawn)."},
       {"render.colormap", K::kString, Value(std::string("sequential")), Range::any(), "", true, S{"sequential", "diverging"}, "Colormap of the grains (assets/*.csv)."},

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "paste/params.hpp"
 #include "silt/io.hpp"
 #include "silt/observables.hpp"
 #include "support/scenes.hpp"
@@ -45,14 +46,14 @@ density = {rho}
 placement = "random"
 )";
 
-std::string paste(double n, double L, double hmin = 1e-2, double rho = 1) {
+std::string paste_scene(double n, double L, double hmin = 1e-2, double rho = 1) {
   return test::fill(kPaste, {{"n", n}, {"L", L}, {"hmin", hmin}, {"rho", rho}});
 }
 
 // The same grains compressed dry to a static packing first, then dilated by 1.05 (a paste's
 // initial state, Peyneau 2009 sec. 2.3.1): a network of lubricated gaps that spans the box.
 std::string packed(double n, double L, double rho = 1) {
-  std::string s = paste(n, L, 1e-2, rho);
+  std::string s = paste_scene(n, L, 1e-2, rho);
   s.replace(s.find("[run]\n"), 6, "[prepare]\ncompress = true\ndilation = 1.05\n[run]\n");
   return s;
 }
@@ -82,7 +83,7 @@ double norm(const std::vector<double>& v) {
 }  // namespace
 
 TEST_CASE("paste: a contact pressure below P shrinks the box, and the stresses balance P") {
-  auto sim = test::simulation_from(paste(60, 9), 1);
+  auto sim = test::simulation_from(paste_scene(60, 9), 1);
   const double L0 = sim->state().box.len[0];
   sim->prepare();
   // No contact yet: the box rows ask for sigma_lub = P, so both strain rates are negative.
@@ -203,7 +204,7 @@ velocities = [[0.5, 0.0], [-0.5, 0.0]]
 TEST_CASE("paste: the same bits on 1, 2 and 4 threads, and a restart continues them") {
   // Above Model::kSortMin grains the flow executor and the parallel loops are used. Sheared at
   // an imposed rate in a fixed box.
-  std::string scene = paste(1100, 38);
+  std::string scene = paste_scene(1100, 38);
   scene.replace(scene.find("[box]\npressure = 1.0\n"), 20, "[shear]\nrate = 0.1\n");
   auto a = test::simulation_from(scene, 1);
   for (int k = 0; k < 12; ++k) REQUIRE(step(*a));
@@ -225,7 +226,7 @@ TEST_CASE("paste: the same bits on 1, 2 and 4 threads, and a restart continues t
 
 TEST_CASE("paste: a box that no lubricated gap holds is a clear failure, not a NaN") {
   // Grains farther apart than h_max under a pressure: nothing resists the box's strain rates.
-  auto sim = test::simulation_from(paste(20, 16), 1);
+  auto sim = test::simulation_from(paste_scene(20, 16), 1);
   CHECK_FALSE(sim->step());
   const StepFailure& f = sim->state().failure;
   CHECK(f.stage == "lubrication_solve");
@@ -270,4 +271,24 @@ positions = [)" + positions +
   // affine flow vanish.
   for (double v : sim->state().particle_v) CHECK(std::abs(v) < 1e-9);
   CHECK(sim->state().box_rate[0] < 0);
+}
+
+TEST_CASE("paste: the roughness, the solver and the viscous number are steered between steps") {
+  std::string scene = paste_scene(60, 9);
+  scene.replace(scene.find("[box]\npressure = 1.0\n"), 20,
+                "[box]\npressure = 1.0\ncontrolled = [false, true]\n[shear]\nviscous_number = 0.1\n");
+  auto sim = test::simulation_from(scene, 1);
+  for (int k = 0; k < 3; ++k) REQUIRE(step(*sim));
+  Model& m = sim->model_for_steering();
+  CHECK(steer(m, parse_override("lubrication.h_min_over_a=1e-4")) == "");
+  CHECK(steer(m, parse_override("lubrication.solver=\"direct\"")) == "");
+  CHECK(steer(m, parse_override("shear.viscous_number=0.01")) == "");
+  const auto& p = m.params.get<paste::PasteParams>();
+  CHECK(p.h_min_over_a == 1e-4);
+  CHECK(p.solver.method == linalg::Method::kDirect);
+  CHECK(m.shear.rate == doctest::Approx(0.01));  // Vi P / eta
+  for (int k = 0; k < 3; ++k) REQUIRE(step(*sim));
+  CHECK(sim->state().shear_rate == doctest::Approx(0.01));
+  // What changes the system solved is refused while running.
+  CHECK(steer(m, parse_override("lubrication.stepper=\"inertial\"")) != "");
 }
