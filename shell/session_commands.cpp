@@ -44,7 +44,8 @@ void Session::cmd_load(const Command& c) {
   install(std::move(m), std::nullopt);
   const Model& model = sim_->model();
   out_ << "loaded " << file << ": " << model.n_grains << " grains (" << model.dim
-       << "D), dt = " << format_number(model.dt) << (model.reduced_units ? "" : " s") << ", " << model.walls.size()
+       << "D), " << (model.adaptive_dt ? "adaptive time step" : "dt = " + format_number(model.dt) + (model.reduced_units ? "" : " s"))
+       << ", " << model.walls.size()
        << " wall(s)\n";
 }
 

@@ -200,13 +200,21 @@ void lubrication_solve(const Model& m, State& s, PasteWorkspace& w, bool setup) 
   if (stats.size() != kSolverStats) stats.assign(kSolverStats, 0.0);
   std::vector<double>& factor = s.module_field(f.factor);
   w.solver.set_settings(p.solver);
-  if (w.fresh) {
-    w.fresh = false;
+  // The held factor is the one the state says (its matrix, how many solves it has served):
+  // rebuilt from the state's copy after a restore, or when the state is another than the one the
+  // workspace last solved (a replay, the access check's second run), so that a solve depends on
+  // the state alone.
+  const uint64_t held = factor.empty() ? 0 : field_hash(s, f.factor);
+  const bool has_factor = p.solver.method == linalg::Method::kFactorPcg && stats[kFactorAge] >= 0 &&
+                          !factor.empty() && static_cast<int64_t>(factor[0]) == size;
+  if (!has_factor) {
     w.solver.forget_factor();
-    if (p.solver.method == linalg::Method::kFactorPcg && stats[kFactorAge] >= 0 && !factor.empty() &&
-        static_cast<int64_t>(factor[0]) == size)
-      w.solver.restore_factor(load_matrix(factor), static_cast<int>(stats[kFactorAge]));
+  } else if (w.fresh || held != w.factor_hash || !w.solver.factor_valid()) {
+    w.solver.restore_factor(load_matrix(factor), static_cast<int>(stats[kFactorAge]));
+  } else {
+    w.solver.set_solves_since_factor(static_cast<int>(stats[kFactorAge]));
   }
+  w.fresh = false;
   const int64_t factorizations_before = w.solver.refactorizations();
   w.solver.on_factor = [&factor](const linalg::SparseMatrix& a) { store_matrix(a, factor); };
   // A factor of the stiff connections alone (gaps below factor_gap) when the others are many.
@@ -221,10 +229,10 @@ void lubrication_solve(const Model& m, State& s, PasteWorkspace& w, bool setup) 
       }
       return w.system.sparsified(keep);
     };
-  const bool size_changed = w.solver.factor_valid() && !factor.empty() && static_cast<int64_t>(factor[0]) != size;
-  const linalg::SolveReport rep = w.solver.solve(A, b, x, size_changed);
+  const linalg::SolveReport rep = w.solver.solve(A, b, x, false);
   w.solver.on_factor = nullptr;
   w.solver.factor_source = nullptr;
+  w.factor_hash = factor.empty() ? 0 : field_hash(s, f.factor);
 
   stats[kLastIterations] = rep.iterations;
   stats[kLastResidual] = rep.residual;

@@ -173,6 +173,7 @@ class SpdSolver {
   // sequence preconditions, and so iterates, to the same bits (restore_factor).
   bool factor_valid() const { return factor_valid_; }
   int solves_since_factor() const { return solves_since_factor_; }
+  void set_solves_since_factor(int n) { solves_since_factor_ = n; }
   std::function<void(const SparseMatrix&)> on_factor;
   // kFactorPcg: the matrix to factorise when a factor is due, instead of the system's own (a
   // sparser approximation of it, cheaper to factorise and to apply); null: the system's.
