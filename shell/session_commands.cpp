@@ -43,10 +43,10 @@ void Session::cmd_load(const Command& c) {
   overrides_.clear();
   install(std::move(m), std::nullopt);
   const Model& model = sim_->model();
-  out_ << "loaded " << file << ": " << model.n_grains << " grains (" << model.dim
-       << "D), " << (model.adaptive_dt ? "adaptive time step" : "dt = " + format_number(model.dt) + (model.reduced_units ? "" : " s"))
-       << ", " << model.walls.size()
-       << " wall(s)\n";
+  out_ << "loaded " << file << ": " << model.n_grains << " grains (" << model.dim << "D), "
+       << (model.adaptive_dt ? "adaptive time step"
+                             : "dt = " + format_number(model.dt) + (model.reduced_units ? "" : " s"))
+       << ", " << model.walls.size() << " wall(s)\n";
 }
 
 void Session::cmd_reload(const Command&) {

@@ -205,8 +205,8 @@ void lubrication_solve(const Model& m, State& s, PasteWorkspace& w, bool setup) 
   // workspace last solved (a replay, the access check's second run), so that a solve depends on
   // the state alone.
   const uint64_t held = factor.empty() ? 0 : field_hash(s, f.factor);
-  const bool has_factor = p.solver.method == linalg::Method::kFactorPcg && stats[kFactorAge] >= 0 &&
-                          !factor.empty() && static_cast<int64_t>(factor[0]) == size;
+  const bool has_factor = p.solver.method == linalg::Method::kFactorPcg && stats[kFactorAge] >= 0 && !factor.empty() &&
+                          static_cast<int64_t>(factor[0]) == size;
   if (!has_factor) {
     w.solver.forget_factor();
   } else if (w.fresh || held != w.factor_hash || !w.solver.factor_valid()) {

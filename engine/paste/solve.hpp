@@ -45,7 +45,7 @@ struct PasteWorkspace final : Workspace {
   ResistanceSystem system;
   Links links;
   std::vector<int32_t> component;
-  bool fresh = true;        // made, or invalidated: the factor is rebuilt from the state's copy
+  bool fresh = true;         // made, or invalidated: the factor is rebuilt from the state's copy
   uint64_t factor_hash = 0;  // of the state's copy of the matrix the held factor was made from
   void invalidate() override {
     fresh = true;
