@@ -118,7 +118,8 @@ void lubrication_solve(const Model& m, State& s, PasteWorkspace& w, bool setup) 
   std::vector<double>& change = s.module_field(f.change);
   double step_change = 0;
   {
-    std::vector<double> now(static_cast<size_t>(2 * size));
+    std::vector<double>& now = w.scratch;  // kept between steps: no allocation per step
+    now.resize(static_cast<size_t>(2 * size));
     for (int64_t k = 0; k < size; ++k) {
       now[k] = val[w.system.diagonal_position(k)];
       now[size + k] = b[k];
@@ -232,7 +233,10 @@ void lubrication_solve(const Model& m, State& s, PasteWorkspace& w, bool setup) 
   const linalg::SolveReport rep = w.solver.solve(A, b, x, false);
   w.solver.on_factor = nullptr;
   w.solver.factor_source = nullptr;
-  w.factor_hash = factor.empty() ? 0 : field_hash(s, f.factor);
+  // The stored matrix changes only when the solver factorised (or dropped its factor).
+  if (w.solver.refactorizations() != factorizations_before || factor.empty())
+    w.factor_hash = factor.empty() ? 0 : field_hash(s, f.factor);
+  else w.factor_hash = held;
 
   stats[kLastIterations] = rep.iterations;
   stats[kLastResidual] = rep.residual;

@@ -45,8 +45,9 @@ struct PasteWorkspace final : Workspace {
   ResistanceSystem system;
   Links links;
   std::vector<int32_t> component;
-  bool fresh = true;         // made, or invalidated: the factor is rebuilt from the state's copy
-  uint64_t factor_hash = 0;  // of the state's copy of the matrix the held factor was made from
+  std::vector<double> scratch;  // the adaptive step's new Xi diagonal and right-hand side
+  bool fresh = true;            // made, or invalidated: the factor is rebuilt from the state's copy
+  uint64_t factor_hash = 0;     // of the state's copy of the matrix the held factor was made from
   void invalidate() override {
     fresh = true;
     factor_hash = 0;
@@ -55,7 +56,7 @@ struct PasteWorkspace final : Workspace {
   }
   size_t bytes() const override {
     return system.bytes() + static_cast<size_t>(solver.factor().factor_bytes()) +
-           links.c.size() * (sizeof(Connection) + sizeof(int32_t));
+           links.c.size() * (sizeof(Connection) + sizeof(int32_t)) + scratch.capacity() * sizeof(double);
   }
 };
 
@@ -75,7 +76,7 @@ void paste_dt(const Model& m, State& s);
 // `setup`: the velocities of the first state, the adaptive step left as it is.
 void lubrication_solve(const Model& m, State& s, PasteWorkspace& w, bool setup);
 
-// The Model's time unit eta / P (or 1 / |gammadot|) and the stepper's name, for reports.
+// The stepper's name, for reports.
 const char* stepper_name(Stepper s);
 
 }  // namespace silt::paste
