@@ -36,6 +36,7 @@ State make_state(const Model& m) {
   s.rot = m.rot;
   s.n = n;
   s.n_walls = static_cast<int>(m.walls.size());
+  s.cells = m.cells;
   // Every array at its extent, zero (the pair list is empty until the first neighbour build);
   // the fields of the modules the scene enables, the others empty.
   s.module_fields.resize(field_infos().size() - fid::kBuiltinCount);

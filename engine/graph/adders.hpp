@@ -11,5 +11,6 @@ void add_core_stages(GraphBuilder& b);
 void add_dem_stages(GraphBuilder& b);
 void add_shear_stages(GraphBuilder& b);
 void add_paste_stages(GraphBuilder& b);
+void add_fluid_stages(GraphBuilder& b);
 
 }  // namespace silt::graph

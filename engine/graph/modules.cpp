@@ -13,6 +13,7 @@
   X(shear, module,        add_shear_stages)             \
   X(drag,  module,        add_drag_stages)              \
   X(paste, module,        add_paste_stages)             \
+  X(fluid, module,        add_fluid_stages)             \
   X(scene, render_module, add_no_stages)
 // clang-format on
 
@@ -61,6 +62,22 @@ const Module* find_module(std::string_view name) {
   for (const Module& m : list())
     if (m.spec->name == name) return &m;
   return nullptr;
+}
+
+std::vector<GridField> module_grid_fields(const Model& m, const State& s) {
+  std::vector<GridField> out;
+  for (const Module& mod : list())
+    if (mod.spec->grid_fields && m.module_on(mod.spec->name))
+      for (GridField& f : mod.spec->grid_fields(m, s)) out.push_back(std::move(f));
+  return out;
+}
+
+std::vector<LineSample> module_lines(const Model& m, const State& s) {
+  std::vector<LineSample> out;
+  for (const Module& mod : list())
+    if (mod.spec->lines && m.module_on(mod.spec->name))
+      for (LineSample& l : mod.spec->lines(m, s)) out.push_back(std::move(l));
+  return out;
 }
 
 void register_module(const ModuleSpec* spec, StageAdder add_stages) {

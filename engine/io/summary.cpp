@@ -25,6 +25,11 @@ void write_summary(const std::string& path, const SummaryInput& in, const Simula
   j["dimension"] = m.dim;
   j["dt"] = s.dt;
   j["particle_steps_per_s"] = in.wall_s > 0 ? static_cast<double>(m.n_grains) * in.steps_run / in.wall_s : 0.0;
+  if (m.cells[0] > 0) {
+    const double cells = static_cast<double>(m.cells[0] * m.cells[1] * (m.dim == 3 ? m.cells[2] : 1));
+    j["cells"] = cells;
+    j["fluid_cell_steps_per_s"] = in.wall_s > 0 ? cells * static_cast<double>(in.steps_run) / in.wall_s : 0.0;
+  }
   j["neighbor_builds"] = s.nbr_builds;
   j["memory_bytes"] = state_bytes(s);
   json stages = json::object();
@@ -74,6 +79,19 @@ void write_summary(const std::string& path, const SummaryInput& in, const Simula
       profiles[p.name] = o;
     }
     j["profiles"] = profiles;
+  }
+  if (const std::vector<LineSample> lines = module_lines(m, s); !lines.empty()) {
+    json out = json::object();
+    for (const LineSample& l : lines) {
+      json o, x = json::array();
+      for (const auto& p : l.x) x.push_back(std::vector<double>(p.begin(), p.begin() + m.dim));
+      o["field"] = l.field;
+      o["s"] = l.s;
+      o["x"] = x;
+      o["value"] = l.value;
+      out[l.name] = o;
+    }
+    j["lines"] = out;
   }
   const StepFailure& failure = in.failure.failed ? in.failure : s.failure;
   if (failure.failed) {

@@ -81,9 +81,7 @@ std::vector<std::string> expand(const ObservableSpec& o, const Model& m) {
 
 // Names in the contract whose module this version does not have (INTERFACE.md).
 bool needs_other_module(const std::string& name) {
-  static const char* later[] = {"Vi",           "fluid.ke",     "fluid.enstrophy", "fluid.div_max",
-                                "fluid.cfl",    "fluid.dt",     "solver.iters",    "solver.residual",
-                                "mobilisation", "p_cont_ratio", "p_lub_ratio",     "eta_eff"};
+  static const char* later[] = {"Vi", "mobilisation", "p_cont_ratio", "p_lub_ratio", "eta_eff"};
   return std::any_of(std::begin(later), std::end(later), [&](const char* s) { return name == s; });
 }
 
@@ -95,17 +93,20 @@ struct Found {
 
 Found find(const std::string& name, const Model& m) {
   Found f;
+  std::string off_error;  // the first match in a module the scene does not enable
   for (const Module& mod : modules())
     for (const ObservableSpec& o : mod.spec->observables) {
       ObservableArgs args;
       if (!match(o.pattern, name, m.dim, args)) continue;
       if (!m.module_on(mod.spec->name)) {
-        // The observable's own words when it has them ("applies where the scene shears").
-        f.error = o.check ? o.check(m, args) : std::string();
-        if (f.error.empty())
-          f.error = "observable '" + name + "' does not apply to this scene (it needs the " + mod.spec->name +
-                    " module, which the scene does not enable)";
-        return f;
+        // Another module may provide the same name (solver.iters: the paste's or the fluid's);
+        // else the observable's own words when it has them ("applies where the scene shears").
+        if (!off_error.empty()) continue;
+        off_error = o.check ? o.check(m, args) : std::string();
+        if (off_error.empty())
+          off_error = "observable '" + name + "' does not apply to this scene (it needs the " + mod.spec->name +
+                      " module, which the scene does not enable)";
+        continue;
       }
       if (o.k_count && args.k >= o.k_count(m)) {
         f.error = "'" + name + "': there is no " + o.k_what + " " + std::to_string(args.k) + " (the scene has " +
@@ -121,6 +122,10 @@ Found find(const std::string& name, const Model& m) {
       f.args = args;
       return f;
     }
+  if (!off_error.empty()) {
+    f.error = off_error;
+    return f;
+  }
   if (needs_other_module(name)) {
     f.error = "observable '" + name + "' does not apply to this scene (it needs a module the scene does not enable)";
     return f;

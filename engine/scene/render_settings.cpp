@@ -96,8 +96,8 @@ void read_render_settings(const SceneDesc& d, Model& m) {
   }
   r.periodic_images = d.boolean("render.periodic_images");
   r.every = d.has("render.every") ? d.integer("render.every") : 0;
-  // A fluid field needs the fluid module; this engine version has none.
-  if (r.wants("field"))
+  // A fluid field needs the fluid module.
+  if (r.wants("field") && !m.module_on("fluid"))
     d.fail("render.draw", "'field' draws a fluid field (" + r.field + "), but this scene has no fluid module");
 }
 

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "silt/grid_field.hpp"
 #include "silt/simulation.hpp"
 #include "silt/statistics.hpp"
 
@@ -76,19 +77,6 @@ struct SummaryInput {
 // Summary JSON of INTERFACE.md. Throws IoError.
 void write_summary(const std::string& path, const SummaryInput& in, const Simulation& sim, const StatsWriter& stats);
 
-// A field on a regular grid of cells (a fluid's vorticity, velocity, pressure; analytic fields
-// in tests): `components` values per cell (1: a scalar, 3: a vector, x y z interleaved) at the
-// cell centres lo + (i + 1/2) h, x fastest. A 2D field has nz = 1 (its cells one h[2] thick).
-struct GridField {
-  std::string name;  // "vorticity", ...
-  int components = 1;
-  int nx = 0, ny = 0, nz = 1;
-  std::array<double, 3> lo{0, 0, 0}, h{1, 1, 1};
-  std::vector<double> value;  // nx * ny * nz * components
-  size_t cell(int i, int j, int k = 0) const { return (static_cast<size_t>(k) * ny + j) * nx + i; }
-  double at(int i, int j, int k = 0, int c = 0) const { return value[cell(i, j, k) * components + c]; }
-  bool same_grid(const GridField& o) const { return nx == o.nx && ny == o.ny && nz == o.nz && lo == o.lo && h == o.h; }
-};
 
 // Fields on one grid as VTK ImageData (.vti): Origin at the grid's lower corner, Spacing h, the
 // values as CellData (they are cell averages at the cell centres). Throws IoError, and

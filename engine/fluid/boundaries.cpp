@@ -1,0 +1,118 @@
+#include "fluid/boundaries.hpp"
+
+#include "core/parallel.hpp"
+
+namespace silt::fluid {
+namespace {
+
+// Calls f(q) for the padded index q of position 0 along axis b, for every position of the other
+// axes over their whole padded range (-1 .. n + 1).
+template <class F>
+void for_each_line(const Layout& L, int b, F&& f) {
+  const int o1 = b == 0 ? 1 : 0, o2 = b == 2 ? 1 : 2;
+  const int64_t n1 = L.n[o1] + 3, n2 = L.dim == 3 ? L.n[o2] + 3 : 1;
+  const int64_t off2 = L.dim == 3 ? 1 : 0;
+  parallel_for(n2, 1, [&](int64_t k0, int64_t k1) {
+    for (int64_t k = k0; k < k1; ++k)
+      for (int64_t j = 0; j < n1; ++j) {
+        std::array<int64_t, 3> idx{0, 0, 0};
+        idx[o1] = j - 1;
+        if (L.dim == 3) idx[o2] = k - off2;
+        f(L.at(idx[0], idx[1], idx[2]), idx);
+      }
+  });
+}
+
+}  // namespace
+
+double inflow_velocity(const Grid& g, int b, int side, int a, const std::array<double, 3>& x) {
+  const Bc& bc = g.bc[b][side];
+  double v = bc.velocity[a];
+  if (!bc.parabolic) return v;
+  for (int o = 0; o < g.dim; ++o) {
+    if (o == b || g.periodic(o)) continue;
+    const double xi = (x[o] - g.lo[o]) / (g.n[o] * g.h[o]);
+    v *= 4 * xi * (1 - xi);
+  }
+  return v;
+}
+
+void fill_velocity_ghosts(const Grid& g, const Layout& L, const std::array<double*, 3>& c) {
+  for (int b = 0; b < g.dim; ++b) {
+    const int64_t n = g.n[b], sb = L.s[b];
+    for (int a = 0; a < g.dim; ++a) {
+      double* u = c[a];
+      const bool normal = a == b;
+      for_each_line(L, b, [&](int64_t q, const std::array<int64_t, 3>& idx) {
+        double* line = u + q;  // line[i * sb]: position i along b
+        auto at = [&](int64_t i) -> double& { return line[i * sb]; };
+        if (g.periodic(b)) {
+          at(-1) = at(n - 1);
+          at(n) = at(0);
+          at(n + 1) = at(1);
+          return;
+        }
+        for (int side = 0; side < 2; ++side) {
+          const Bc& bc = g.bc[b][side];
+          const int64_t edge = side == 0 ? 0 : (normal ? n : n - 1);  // last value inside
+          const int64_t out = side == 0 ? -1 : edge + 1;              // the ghost
+          const int64_t in = side == 0 ? 1 : edge - 1;                // the value inside the face
+          if (normal) {
+            switch (bc.type) {
+              case BcType::kNoSlip:
+              case BcType::kFreeSlip:
+                at(edge) = 0;
+                at(out) = -at(in);
+                break;
+              case BcType::kInflow: {
+                std::array<double, 3> x{};
+                for (int o = 0; o < g.dim; ++o) x[o] = g.lo[o] + (static_cast<double>(idx[o]) + 0.5) * g.h[o];
+                at(edge) = inflow_velocity(g, b, side, a, x);
+                at(out) = at(edge);
+                break;
+              }
+              default: at(out) = at(edge);  // outflow
+            }
+          } else {
+            switch (bc.type) {
+              case BcType::kNoSlip: at(out) = 2 * bc.velocity[a] - at(edge); break;
+              case BcType::kInflow: {
+                std::array<double, 3> x{};
+                for (int o = 0; o < g.dim; ++o)
+                  x[o] = g.lo[o] + (static_cast<double>(idx[o]) + (o == a ? 0.0 : 0.5)) * g.h[o];
+                x[b] = g.lo[b] + side * n * g.h[b];
+                at(out) = 2 * inflow_velocity(g, b, side, a, x) - at(edge);
+                break;
+              }
+              default: at(out) = at(edge);  // free slip, outflow
+            }
+            if (side == 1) at(n + 1) = at(n);  // the unused slot
+          }
+        }
+      });
+    }
+  }
+}
+
+void fill_pressure_ghosts(const Grid& g, const Layout& L, double* p) {
+  for (int b = 0; b < g.dim; ++b) {
+    const int64_t n = g.n[b], sb = L.s[b];
+    for_each_line(L, b, [&](int64_t q, const std::array<int64_t, 3>&) {
+      double* line = p + q;
+      auto at = [&](int64_t i) -> double& { return line[i * sb]; };
+      if (g.periodic(b)) {
+        at(-1) = at(n - 1);
+        at(n) = at(0);
+        at(n + 1) = at(1);
+        return;
+      }
+      const double lo = g.pbc(b, 0) == PressureBc::kDirichlet ? -1.0 : 1.0;
+      const double hi = g.pbc(b, 1) == PressureBc::kDirichlet ? -1.0 : 1.0;
+      at(-1) = lo * at(0);
+      at(n) = hi * at(n - 1);
+      at(n + 1) = at(n);
+    });
+  }
+}
+
+}  // namespace silt::fluid

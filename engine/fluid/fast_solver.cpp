@@ -1,0 +1,267 @@
+#include "fluid/fast_solver.hpp"
+
+#include <fftw3.h>
+#include <tbb/enumerable_thread_specific.h>
+
+#include <cmath>
+#include <cstring>
+#include <mutex>
+#include <numbers>
+#include <stdexcept>
+
+#include "core/parallel.hpp"
+
+namespace silt::fluid {
+namespace {
+
+// FFTW's planner is not thread-safe (its execution is): plans are made under one lock.
+std::mutex& planner_lock() {
+  static std::mutex m;
+  return m;
+}
+
+struct FftwFree {
+  void operator()(double* p) const { fftw_free(p); }
+};
+using Buffer = std::unique_ptr<double, FftwFree>;
+Buffer make_buffer(int64_t n) {
+  auto* p = static_cast<double*>(fftw_malloc(sizeof(double) * static_cast<size_t>(std::max<int64_t>(n, 1))));
+  if (!p) throw std::bad_alloc();
+  return Buffer(p);
+}
+
+// The transform pair of an axis kind (forward: into the eigenbasis), and its scale factor.
+void kinds_of(AxisKind k, fftw_r2r_kind& fwd, fftw_r2r_kind& bwd) {
+  switch (k) {
+    case AxisKind::kPeriodic: fwd = FFTW_R2HC, bwd = FFTW_HC2R; return;
+    case AxisKind::kCellNN: fwd = FFTW_REDFT10, bwd = FFTW_REDFT01; return;
+    case AxisKind::kCellDD: fwd = FFTW_RODFT10, bwd = FFTW_RODFT01; return;
+    case AxisKind::kCellND: fwd = bwd = FFTW_REDFT11; return;
+    case AxisKind::kCellDN: fwd = bwd = FFTW_RODFT11; return;
+    case AxisKind::kFaceDD: fwd = bwd = FFTW_RODFT00; return;
+    case AxisKind::kFaceDN: fwd = FFTW_RODFT01, bwd = FFTW_RODFT10; return;
+  }
+}
+double scale_of(AxisKind k, int64_t m) {
+  if (k == AxisKind::kPeriodic) return static_cast<double>(m);
+  if (k == AxisKind::kFaceDD) return 2.0 * static_cast<double>(m + 1);
+  return 2.0 * static_cast<double>(m);
+}
+
+// Tridiagonal end rows of -h^2 d2/dx2 along the last axis: the diagonal entry of the first and
+// the last unknown (interior rows have 2): a Neumann end 1, a Dirichlet face half a cell away 3,
+// a Dirichlet point one cell away 2.
+std::array<double, 2> end_diagonals(AxisKind k) {
+  switch (k) {
+    case AxisKind::kCellNN: return {1, 1};
+    case AxisKind::kCellDD: return {3, 3};
+    case AxisKind::kCellND: return {1, 3};
+    case AxisKind::kCellDN: return {3, 1};
+    case AxisKind::kFaceDD: return {2, 2};
+    case AxisKind::kFaceDN: return {2, 1};
+    default: return {2, 2};
+  }
+}
+
+}  // namespace
+
+// Per axis, the forward and backward plans of one block of kBlock lines, in place on an aligned
+// buffer: along x the lines one after the other, along y and z interleaved (line b's point j at
+// j * kBlock + b), which the gather reads contiguously in x.
+struct FastSolver::Plans {
+  std::array<fftw_plan, 3> fwd{}, bwd{};
+  int64_t buffer_size = 0;
+  tbb::enumerable_thread_specific<Buffer> buffers;
+  ~Plans() {
+    std::lock_guard<std::mutex> lock(planner_lock());
+    for (int a = 0; a < 3; ++a) {
+      if (fwd[a]) fftw_destroy_plan(fwd[a]);
+      if (bwd[a]) fftw_destroy_plan(bwd[a]);
+    }
+  }
+  double* buffer() {
+    Buffer& b = buffers.local();
+    if (!b) b = make_buffer(buffer_size);
+    return b.get();
+  }
+};
+
+double FastSolver::eigenvalue(AxisKind kind, int64_t p, int64_t m) {
+  const double pi = std::numbers::pi, q = static_cast<double>(p), n = static_cast<double>(m);
+  switch (kind) {
+    case AxisKind::kPeriodic: {
+      // Halfcomplex order: entry p holds the real part of frequency p (p <= m/2) or the imaginary
+      // part of frequency m - p; both have the eigenvalue of frequency p.
+      return 2 - 2 * std::cos(2 * pi * q / n);
+    }
+    case AxisKind::kCellNN: return 2 - 2 * std::cos(pi * q / n);
+    case AxisKind::kCellDD: return 2 - 2 * std::cos(pi * (q + 1) / n);
+    case AxisKind::kFaceDD: return 2 - 2 * std::cos(pi * (q + 1) / (n + 1));
+    default: return 2 - 2 * std::cos(pi * (q + 0.5) / n);
+  }
+}
+
+FastSolver::FastSolver(int dim, const std::array<SolverAxis, 3>& axes)
+    : dim_(dim), axes_(axes), plans_(std::make_unique<Plans>()) {
+  for (int a = 0; a < 3; ++a) m_[a] = a < dim ? axes[a].m : 1;
+  tri_axis_ = axes[dim - 1].kind == AxisKind::kPeriodic ? -1 : dim - 1;
+  int64_t longest = 1;
+  for (int a = 0; a < dim; ++a) {
+    lambda_[a].resize(m_[a]);
+    const double ih2 = 1 / (axes[a].h * axes[a].h);
+    for (int64_t p = 0; p < m_[a]; ++p) lambda_[a][p] = eigenvalue(axes[a].kind, p, m_[a]) * ih2;
+    longest = std::max(longest, m_[a]);
+  }
+  plans_->buffer_size = longest * kBlock;
+  Buffer probe = make_buffer(plans_->buffer_size);
+  std::lock_guard<std::mutex> lock(planner_lock());
+  for (int a = 0; a < dim; ++a) {
+    if (a == tri_axis_) continue;
+    fftw_r2r_kind f, b;
+    kinds_of(axes[a].kind, f, b);
+    const int n = static_cast<int>(m_[a]);
+    const int stride = a == 0 ? 1 : kBlock, dist = a == 0 ? n : 1;
+    // FFTW_ESTIMATE: the plan from heuristics, never from timings, so every run makes the same one.
+    plans_->fwd[a] = fftw_plan_many_r2r(1, &n, kBlock, probe.get(), nullptr, stride, dist, probe.get(), nullptr, stride,
+                                        dist, &f, FFTW_ESTIMATE);
+    plans_->bwd[a] = fftw_plan_many_r2r(1, &n, kBlock, probe.get(), nullptr, stride, dist, probe.get(), nullptr, stride,
+                                        dist, &b, FFTW_ESTIMATE);
+    if (!plans_->fwd[a] || !plans_->bwd[a]) throw std::runtime_error("FFTW could not plan a transform");
+    norm_ *= scale_of(axes[a].kind, m_[a]);
+  }
+}
+
+FastSolver::~FastSolver() = default;
+
+// Lines along `axis`, kBlock at a time: gathered into a buffer, transformed, scattered back.
+void FastSolver::transform(double* data, int axis, bool forward) {
+  const int64_t m0 = m_[0], m1 = m_[1], n = m_[axis];
+  const fftw_plan plan = forward ? plans_->fwd[axis] : plans_->bwd[axis];
+  constexpr int B = kBlock;
+  if (axis == 0) {
+    const int64_t lines = m1 * m_[2], blocks = (lines + B - 1) / B;
+    parallel_for(blocks, 4, [&](int64_t b0, int64_t b1) {
+      double* buf = plans_->buffer();
+      for (int64_t blk = b0; blk < b1; ++blk) {
+        const int64_t first = blk * B, count = std::min<int64_t>(B, lines - first);
+        std::memcpy(buf, data + first * n, sizeof(double) * count * n);
+        if (count < B) std::memset(buf + count * n, 0, sizeof(double) * (B - count) * n);
+        fftw_execute_r2r(plan, buf, buf);
+        std::memcpy(data + first * n, buf, sizeof(double) * count * n);
+      }
+    });
+    return;
+  }
+  // Along y or z: blocks of kBlock neighbouring x at one (other) index.
+  const int64_t stride = axis == 1 ? m0 : m0 * m1;        // between points of a line
+  const int64_t others = axis == 1 ? m_[2] : m1;          // the third index
+  const int64_t other_stride = axis == 1 ? m0 * m1 : m0;  // its stride
+  const int64_t xb = (m0 + B - 1) / B, blocks = xb * others;
+  parallel_for(blocks, 2, [&](int64_t b0, int64_t b1) {
+    double* buf = plans_->buffer();
+    for (int64_t blk = b0; blk < b1; ++blk) {
+      const int64_t i0 = (blk % xb) * B, o = blk / xb, count = std::min<int64_t>(B, m0 - i0);
+      double* base = data + i0 + o * other_stride;
+      for (int64_t j = 0; j < n; ++j) {
+        const double* src = base + j * stride;
+        double* dst = buf + j * B;
+        for (int64_t b = 0; b < count; ++b) dst[b] = src[b];
+        for (int64_t b = count; b < B; ++b) dst[b] = 0;
+      }
+      fftw_execute_r2r(plan, buf, buf);
+      for (int64_t j = 0; j < n; ++j) {
+        double* dst = base + j * stride;
+        const double* src = buf + j * B;
+        for (int64_t b = 0; b < count; ++b) dst[b] = src[b];
+      }
+    }
+  });
+}
+
+// Every axis transformed: divide each mode by its eigenvalue (and the transforms' scale).
+void FastSolver::scale_modes(double* data, double sigma) {
+  const int64_t m0 = m_[0], m1 = m_[1], m2 = m_[2];
+  const double inv_norm = 1 / norm_;
+  parallel_for(m1 * m2, 16, [&](int64_t r0, int64_t r1) {
+    for (int64_t r = r0; r < r1; ++r) {
+      const int64_t j = r % m1, k = r / m1;
+      const double base = sigma + lambda_[1][j] + (dim_ == 3 ? lambda_[2][k] : 0.0);
+      double* row = data + r * m0;
+      for (int64_t i = 0; i < m0; ++i) {
+        const double l = base + lambda_[0][i];
+        row[i] = l > 0 ? row[i] * inv_norm / l : 0.0;  // the singular mode: zero mean
+      }
+    }
+  });
+}
+
+// The Thomas algorithm's factors for every horizontal mode q at this sigma: row k of mode q is
+// -x_{k-1} + d_k x_k - x_{k+1} = h^2 r_k with d_k = 2 + h^2 (sigma + lambda_q) (ends as
+// end_diagonals). A singular mode (every other axis at its zero mode, Neumann ends, sigma = 0)
+// has x_0 = 0 imposed: the solution of the compatible system with that gauge.
+void FastSolver::prepare_tridiagonal(double sigma) {
+  const int t = tri_axis_;
+  const int64_t nq = size() / m_[t], nk = m_[t];
+  const double h2 = axes_[t].h * axes_[t].h;
+  const auto ends = end_diagonals(axes_[t].kind);
+  tri_c_.resize(static_cast<size_t>(nq * nk));
+  tri_inv_.resize(static_cast<size_t>(nq * nk));
+  parallel_for(nq, 256, [&](int64_t q0, int64_t q1) {
+    for (int64_t q = q0; q < q1; ++q) {
+      const int64_t i = q % m_[0], j = q / m_[0];
+      const double lq = sigma + lambda_[0][i] + (t == 2 ? lambda_[1][j] : 0.0);
+      double c_prev = 0;
+      for (int64_t k = 0; k < nk; ++k) {
+        double d = (k == 0 ? ends[0] : (k == nk - 1 ? ends[1] : 2.0)) + h2 * lq;
+        if (nk == 1) d = ends[0] + ends[1] - 2 + h2 * lq;
+        const double lower = k > 0 ? -1.0 : 0.0, upper = k < nk - 1 ? -1.0 : 0.0;
+        double pivot = d - lower * c_prev;
+        double up = upper;
+        if (k == 0 && !(lq > 0) && ends[0] == 1 && ends[1] == 1) pivot = 1, up = 0;  // gauge x_0 = 0
+        tri_inv_[q + nq * k] = 1 / pivot;
+        tri_c_[q + nq * k] = up / pivot;
+        c_prev = tri_c_[q + nq * k];
+      }
+    }
+  });
+  tri_sigma_ = sigma;
+}
+
+void FastSolver::tridiagonal(double* data, double sigma) {
+  if (sigma != tri_sigma_) prepare_tridiagonal(sigma);
+  const int t = tri_axis_;
+  const int64_t nq = size() / m_[t], nk = m_[t];
+  const double h2 = axes_[t].h * axes_[t].h, scale = h2 / norm_;
+  const auto ends = end_diagonals(axes_[t].kind);
+  const bool neumann_both = ends[0] == 1 && ends[1] == 1;
+  // Chunks of neighbouring modes: the sweeps over k read and write rows of contiguous q.
+  parallel_for(nq, 64, [&](int64_t q0, int64_t q1) {
+    for (int64_t k = 0; k < nk; ++k) {
+      double* x = data + nq * k;
+      const double* xp = data + nq * (k - 1);
+      const double* inv = tri_inv_.data() + nq * k;
+      for (int64_t q = q0; q < q1; ++q) {
+        double r = x[q] * scale;
+        if (k == 0 && neumann_both && tri_c_[q] == 0 && nk > 1) r = 0;  // the gauge row
+        x[q] = k == 0 ? r * inv[q] : (r + xp[q]) * inv[q];
+      }
+    }
+    for (int64_t k = nk - 2; k >= 0; --k) {
+      double* x = data + nq * k;
+      const double* xn = data + nq * (k + 1);
+      const double* c = tri_c_.data() + nq * k;
+      for (int64_t q = q0; q < q1; ++q) x[q] -= c[q] * xn[q];
+    }
+  });
+}
+
+void FastSolver::solve(double* data, double sigma) {
+  for (int a = 0; a < dim_; ++a)
+    if (a != tri_axis_) transform(data, a, true);
+  if (tri_axis_ >= 0) tridiagonal(data, sigma);
+  else scale_modes(data, sigma);
+  for (int a = dim_ - 1; a >= 0; --a)
+    if (a != tri_axis_) transform(data, a, false);
+}
+
+}  // namespace silt::fluid

@@ -1,0 +1,75 @@
+// Fast direct solver of (sigma - Lap_h) x = r on a uniform grid: the pressure Poisson equation of
+// the projection (sigma = 0) and the implicit viscous Helmholtz equations (sigma = 1 / beta).
+//
+// Lap_h is the second-order 3- (5-, 7-) point Laplacian. Along each axis its eigenvectors are
+// known for every boundary condition a face of the box can have, and FFTW's real-to-real
+// transforms apply them in O(m log m) (Schumann & Sweet 1988; CaNS, Costa 2018):
+//
+//   axis kind   unknowns             symmetry of the data          transform    lambda_p h^2
+//   periodic    m                    periodic                      R2HC/HC2R    2 - 2 cos(2 pi p / m)
+//   cell NN     cell centres         even about -1/2 and m - 1/2  DCT-II/III   2 - 2 cos(pi p / m)
+//   cell DD     (p = 0 on the faces)  odd about -1/2 and m - 1/2  DST-II/III   2 - 2 cos(pi (p + 1) / m)
+//   cell ND / DN                     even / odd, odd / even        DCT-IV, DST-IV  2 - 2 cos(pi (p + 1/2) / m)
+//   face DD     interior faces       odd about -1 and m            DST-I        2 - 2 cos(pi (p + 1) / (m + 1))
+//   face DN     faces 1 .. n         odd about -1, even about m - 1/2   DST-III/II  2 - 2 cos(pi (p + 1/2) / m)
+//
+// Along the last axis, when it is not periodic, the equation of each horizontal mode is
+// tridiagonal and solved directly (Thomas), which saves two transforms per solve.
+//
+// Transforms run on blocks of kBlock lines gathered into aligned per-thread buffers, each block
+// with the same FFTW plan (chosen by FFTW_ESTIMATE, not by timing): every line is transformed by
+// the same code whatever thread runs it, so results are bitwise the same for any thread count.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+namespace silt::fluid {
+
+enum class AxisKind : uint8_t { kPeriodic, kCellNN, kCellDD, kCellND, kCellDN, kFaceDD, kFaceDN };
+
+struct SolverAxis {
+  int64_t m = 1;  // unknowns along the axis
+  AxisKind kind = AxisKind::kPeriodic;
+  double h = 1;
+};
+
+class FastSolver {
+ public:
+  static constexpr int kBlock = 8;
+  FastSolver(int dim, const std::array<SolverAxis, 3>& axes);
+  ~FastSolver();
+  FastSolver(const FastSolver&) = delete;
+  FastSolver& operator=(const FastSolver&) = delete;
+
+  // x = (sigma - Lap_h)^-1 r, in place on m0 * m1 * m2 values (x fastest); sigma >= 0. When the
+  // operator is singular (sigma = 0, no Dirichlet condition), r must have zero sum and x is one
+  // solution (another differs by a constant).
+  void solve(double* data, double sigma);
+  int64_t size() const { return m_[0] * m_[1] * m_[2]; }
+  // Eigenvalue of mode p along axis a, times h^2 (the table above).
+  static double eigenvalue(AxisKind kind, int64_t p, int64_t m);
+
+ private:
+  struct Plans;
+  void transform(double* data, int axis, bool forward);
+  void scale_modes(double* data, double sigma);
+  void tridiagonal(double* data, double sigma);
+  void prepare_tridiagonal(double sigma);
+
+  int dim_;
+  std::array<int64_t, 3> m_{1, 1, 1};
+  std::array<SolverAxis, 3> axes_;
+  int tri_axis_ = -1;                          // the axis solved by the Thomas algorithm, -1: transforms on every axis
+  std::array<std::vector<double>, 3> lambda_;  // eigenvalues / h^2 per axis
+  double norm_ = 1;                            // product of the transforms' scale factors
+  std::unique_ptr<Plans> plans_;
+  // Thomas: for the current sigma, per horizontal mode q and level k, the modified upper
+  // diagonal and the inverse pivot.
+  double tri_sigma_ = -1;
+  std::vector<double> tri_c_, tri_inv_;
+};
+
+}  // namespace silt::fluid

@@ -1,0 +1,250 @@
+// Measurements of a fluid state: energy, enstrophy, divergence, the fields at the cell centres
+// (frames, VTK) and values at points (line probes). They read the State's arrays through a
+// padded copy whose ghosts hold the boundary conditions, so that wall values are exact.
+#include <algorithm>
+#include <cmath>
+
+#include "core/parallel.hpp"
+#include "fluid/boundaries.hpp"
+#include "fluid/module.hpp"
+#include "fluid/operators.hpp"
+#include "fluid/stencil_kernels.hpp"
+#include "fluid/step.hpp"
+
+namespace silt::fluid {
+namespace {
+
+struct PaddedState {
+  Layout L;
+  std::array<std::vector<double>, 3> u;
+  std::vector<double> p;
+  Padded ptr() { return {u[0].data(), u[1].data(), u[2].data()}; }
+  PaddedConst cptr() const { return {u[0].data(), u[1].data(), u[2].data()}; }
+};
+
+PaddedState padded(const FluidParams& fp, const State& s) {
+  const Grid& g = fp.grid;
+  PaddedState ps;
+  ps.L = Layout(g);
+  const FluidFields f = fluid_fields();
+  for (int a = 0; a < 3; ++a) {
+    if (a >= g.dim) continue;
+    ps.u[a].assign(static_cast<size_t>(ps.L.size), 0.0);
+    const auto d = g.face_dims(a);
+    const auto& src = s.module_field(f.u[a]);
+    for (int64_t k = 0; k < d[2]; ++k)
+      for (int64_t j = 0; j < d[1]; ++j)
+        std::copy_n(src.data() + d[0] * (j + d[1] * k), d[0], ps.u[a].data() + ps.L.at(0, j, k));
+  }
+  fill_velocity_ghosts(g, ps.L, ps.ptr());
+  ps.p.assign(static_cast<size_t>(ps.L.size), 0.0);
+  const auto& src = s.module_field(f.p);
+  for (int64_t k = 0; k < g.n[2]; ++k)
+    for (int64_t j = 0; j < g.n[1]; ++j)
+      std::copy_n(src.data() + g.n[0] * (j + g.n[1] * k), g.n[0], ps.p.data() + ps.L.at(0, j, k));
+  fill_pressure_ghosts(g, ps.L, ps.p.data());
+  return ps;
+}
+
+// Weight of face index i along its own axis: 1 inside, 1/2 on a wall (non-periodic), 0 for
+// the periodic copy n.
+double face_weight(const Grid& g, int a, int64_t i) {
+  if (g.periodic(a)) return i < g.n[a] ? 1.0 : 0.0;
+  return (i == 0 || i == g.n[a]) ? 0.5 : 1.0;
+}
+
+// Vorticity components at the cell centres: each the mean of the four edge values around the
+// cell (in 2D, the z component: the four corners).
+template <int D>
+void cell_vorticity(const Grid& g, const PaddedState& ps, std::vector<double>& out) {
+  const int nc = D == 3 ? 3 : 1;
+  const double inv_h[3] = {1 / g.h[0], 1 / g.h[1], 1 / g.h[2]};
+  const int64_t* s = ps.L.s.data();
+  const PaddedConst c = ps.cptr();
+  out.assign(static_cast<size_t>(g.cells() * nc), 0.0);
+  for (int64_t k = 0; k < g.n[2]; ++k)
+    for (int64_t j = 0; j < g.n[1]; ++j)
+      for (int64_t i = 0; i < g.n[0]; ++i) {
+        const int64_t q = ps.L.at(i, j, k), cell = g.cell(i, j, k);
+        // omega_z at edges (i, j), (i+1, j), (i, j+1), (i+1, j+1), at the cell's z centre.
+        const double wz = 0.25 * (vorticity_kernel<0, 1>(c.data(), q, s, inv_h) +
+                                  vorticity_kernel<0, 1>(c.data(), q + s[0], s, inv_h) +
+                                  vorticity_kernel<0, 1>(c.data(), q + s[1], s, inv_h) +
+                                  vorticity_kernel<0, 1>(c.data(), q + s[0] + s[1], s, inv_h));
+        if constexpr (D == 2) {
+          out[cell] = wz;
+        } else {
+          const double wx = 0.25 * (vorticity_kernel<1, 2>(c.data(), q, s, inv_h) +
+                                    vorticity_kernel<1, 2>(c.data(), q + s[1], s, inv_h) +
+                                    vorticity_kernel<1, 2>(c.data(), q + s[2], s, inv_h) +
+                                    vorticity_kernel<1, 2>(c.data(), q + s[1] + s[2], s, inv_h));
+          // omega_y = d u/dz - d w/dx: the (z, x) pair taken in that order.
+          const double wy = 0.25 * (vorticity_kernel<2, 0>(c.data(), q, s, inv_h) +
+                                    vorticity_kernel<2, 0>(c.data(), q + s[0], s, inv_h) +
+                                    vorticity_kernel<2, 0>(c.data(), q + s[2], s, inv_h) +
+                                    vorticity_kernel<2, 0>(c.data(), q + s[0] + s[2], s, inv_h));
+          out[3 * cell] = wx;
+          out[3 * cell + 1] = wy;
+          out[3 * cell + 2] = wz;
+        }
+      }
+}
+
+GridField grid_field(const Grid& g, const std::string& name, int components) {
+  GridField f;
+  f.name = name;
+  f.components = components;
+  f.nx = static_cast<int>(g.n[0]);
+  f.ny = static_cast<int>(g.n[1]);
+  f.nz = g.dim == 3 ? static_cast<int>(g.n[2]) : 1;
+  f.lo = g.lo;
+  f.h = g.h;
+  if (g.dim == 2) f.h[2] = g.h[0];
+  return f;
+}
+
+GridField vorticity_field(const Grid& g, const PaddedState& ps) {
+  GridField vort = grid_field(g, "vorticity", g.dim == 3 ? 3 : 1);
+  if (g.dim == 2) cell_vorticity<2>(g, ps, vort.value);
+  else cell_vorticity<3>(g, ps, vort.value);
+  return vort;
+}
+
+// Linear interpolation of a padded array whose values along axis b sit at lo + (i + off_b) h.
+double interpolate(const Grid& g, const Layout& L, const double* v, const std::array<double, 3>& off,
+                   const std::array<double, 3>& x) {
+  std::array<int64_t, 3> i0{0, 0, 0};
+  std::array<double, 3> t{0, 0, 0};
+  for (int b = 0; b < g.dim; ++b) {
+    const double r = (x[b] - g.lo[b]) / g.h[b] - off[b];
+    const double lo = -1, hi = static_cast<double>(g.n[b]) + (off[b] == 0 ? 1 : 0);  // ghosts included
+    const double rc = std::clamp(r, lo, hi - 1e-12);
+    i0[b] = static_cast<int64_t>(std::floor(rc));
+    t[b] = rc - static_cast<double>(i0[b]);
+  }
+  double sum = 0;
+  const int corners = 1 << g.dim;
+  for (int c = 0; c < corners; ++c) {
+    double w = 1;
+    std::array<int64_t, 3> idx = i0;
+    for (int b = 0; b < g.dim; ++b) {
+      const int up = (c >> b) & 1;
+      idx[b] += up;
+      w *= up ? t[b] : 1 - t[b];
+    }
+    if (w != 0) sum += w * v[L.at(idx[0], idx[1], idx[2])];
+  }
+  return sum;
+}
+
+}  // namespace
+
+double kinetic_energy(const FluidParams& p, const State& s) {
+  const Grid& g = p.grid;
+  const FluidFields f = fluid_fields();
+  double e = 0;
+  for (int a = 0; a < g.dim; ++a) {
+    const auto d = g.face_dims(a);
+    const auto& u = s.module_field(f.u[a]);
+    const auto sums = deterministic_sums<1>(d[1] * d[2], 64, [&](int64_t b, int64_t end) {
+      double acc = 0;
+      for (int64_t row = b; row < end; ++row)
+        for (int64_t i = 0; i < d[0]; ++i) {
+          const double v = u[row * d[0] + i];
+          acc += face_weight(g, a, i) * v * v;
+        }
+      return std::array<double, 1>{acc};
+    });
+    e += sums[0];
+  }
+  return 0.5 * p.density * e * g.cell_volume();
+}
+
+double enstrophy(const FluidParams& p, const State& s) {
+  const Grid& g = p.grid;
+  const PaddedState ps = padded(p, s);
+  std::vector<double> w;
+  if (g.dim == 2) cell_vorticity<2>(g, ps, w);
+  else cell_vorticity<3>(g, ps, w);
+  double sum = 0;
+  for (double v : w) sum += v * v;
+  return 0.5 * sum * g.cell_volume();
+}
+
+double max_divergence(const FluidParams& p, const State& s) {
+  const Grid& g = p.grid;
+  const PaddedState ps = padded(p, s);
+  std::vector<double> cells(static_cast<size_t>(g.cells()));
+  return divergence(g, ps.L, ps.cptr(), cells.data(), 1.0);
+}
+
+std::vector<GridField> cell_fields(const FluidParams& p, const State& s) {
+  const Grid& g = p.grid;
+  const PaddedState ps = padded(p, s);
+  GridField vel = grid_field(g, "velocity", 3), pres = grid_field(g, "pressure", 1);
+  vel.value.assign(static_cast<size_t>(g.cells() * 3), 0.0);
+  pres.value.assign(static_cast<size_t>(g.cells()), 0.0);
+  for (int64_t k = 0; k < g.n[2]; ++k)
+    for (int64_t j = 0; j < g.n[1]; ++j)
+      for (int64_t i = 0; i < g.n[0]; ++i) {
+        const int64_t q = ps.L.at(i, j, k), cell = g.cell(i, j, k);
+        for (int a = 0; a < g.dim; ++a) vel.value[3 * cell + a] = 0.5 * (ps.u[a][q] + ps.u[a][q + ps.L.s[a]]);
+        pres.value[cell] = ps.p[q];
+      }
+  return {vel, pres, vorticity_field(g, ps)};
+}
+
+namespace {
+
+// A field at x from a padded state (and the cell-centred vorticity, for "vorticity").
+double sample_in(const Grid& g, const PaddedState& ps, const GridField* vort, const std::string& field,
+                 const std::array<double, 3>& x) {
+  std::array<double, 3> off{0.5, 0.5, 0.5};
+  if (field == "u" || field == "v" || field == "w") {
+    const int a = field[0] == 'u' ? 0 : (field[0] == 'v' ? 1 : 2);
+    off[a] = 0;
+    return interpolate(g, ps.L, ps.u[a].data(), off, x);
+  }
+  if (field == "p") return interpolate(g, ps.L, ps.p.data(), off, x);
+  // Vorticity: the cell-centred value of the cell holding x.
+  std::array<int64_t, 3> c{0, 0, 0};
+  for (int b = 0; b < g.dim; ++b)
+    c[b] = std::clamp<int64_t>(static_cast<int64_t>(std::floor((x[b] - g.lo[b]) / g.h[b])), 0, g.n[b] - 1);
+  const size_t cell = static_cast<size_t>(g.cell(c[0], c[1], c[2]));
+  if (vort->components == 1) return vort->value[cell];
+  const double* v = &vort->value[3 * cell];
+  return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+}
+
+}  // namespace
+
+double sample(const FluidParams& p, const State& s, const std::string& field, const std::array<double, 3>& x) {
+  const PaddedState ps = padded(p, s);
+  const GridField vort = field == "vorticity" ? vorticity_field(p.grid, ps) : GridField{};
+  return sample_in(p.grid, ps, &vort, field, x);
+}
+
+std::vector<LineSample> line_samples(const Model& m, const State& s) {
+  const FluidParams& p = m.params.get<FluidParams>();
+  std::vector<LineSample> out;
+  if (p.lines.empty()) return out;
+  const PaddedState ps = padded(p, s);
+  const GridField vort = vorticity_field(p.grid, ps);
+  for (const LineProbe& l : p.lines) {
+    LineSample ls;
+    ls.name = l.name;
+    ls.field = l.field;
+    for (int k = 0; k < l.points; ++k) {
+      const double t = static_cast<double>(k) / (l.points - 1);
+      std::array<double, 3> x{0, 0, 0};
+      for (int a = 0; a < m.dim; ++a) x[a] = l.from[a] + t * (l.to[a] - l.from[a]);
+      ls.s.push_back(t);
+      ls.x.push_back(x);
+      ls.value.push_back(sample_in(p.grid, ps, &vort, l.field, x));
+    }
+    out.push_back(std::move(ls));
+  }
+  return out;
+}
+
+}  // namespace silt::fluid

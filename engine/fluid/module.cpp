@@ -1,0 +1,201 @@
+// The fluid module: a scene with [fluid] has an incompressible Newtonian fluid on a staggered
+// grid over its domain (Izard 2014 sec. 2.2; fluid/step.hpp). It adds its keys, its fields (the
+// velocity on the faces, the pressure at the cell centres, its numbers), its observables, its
+// grid fields for frames and VTK files, its line probes for the summary, and its events.
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "core/machine.hpp"
+#include "fluid/module.hpp"
+#include "fluid/step.hpp"
+#include "silt/simulation.hpp"
+#include "silt/text.hpp"
+
+namespace silt::fluid {
+namespace {
+
+std::string fmt(double x) { return format_number(x, 4); }
+
+BcType bc_type(const std::string& s) {
+  if (s == "periodic") return BcType::kPeriodic;
+  if (s == "free_slip") return BcType::kFreeSlip;
+  if (s == "inflow") return BcType::kInflow;
+  if (s == "outflow") return BcType::kOutflow;
+  return BcType::kNoSlip;
+}
+
+// Grid: cells, uniform spacing, and the condition of each face.
+void compile_grid(const SceneDesc& d, const Model& m, Grid& g) {
+  g.dim = m.dim;
+  const auto cells = d.reals("fluid.cells");
+  if (static_cast<int>(cells.size()) != m.dim)
+    d.fail("fluid.cells", "needs " + std::to_string(m.dim) + " entries (cells per axis)");
+  for (int a = 0; a < m.dim; ++a) {
+    if (cells[a] != std::floor(cells[a])) d.fail("fluid.cells", "cells per axis are whole numbers");
+    g.n[a] = static_cast<int64_t>(cells[a]);
+    g.lo[a] = m.box.lo[a];
+    g.h[a] = m.box.len[a] / static_cast<double>(g.n[a]);
+  }
+  for (int a = 1; a < m.dim; ++a)
+    if (std::abs(g.h[a] - g.h[0]) > 1e-9 * g.h[0])
+      d.fail("fluid.cells", "the grid spacing must be the same along every axis: " + fmt(g.h[0]) + " m along x, " +
+                                fmt(g.h[a]) + " m along " + std::string(1, "xyz"[a]) + " (domain length / cells)");
+  for (int a = 0; a < m.dim; ++a) {
+    for (int side = 0; side < 2; ++side) {
+      const std::string key = std::string("fluid.boundary.") + face_names()[2 * a + side];
+      Bc& bc = g.bc[a][side];
+      bc.type = d.has(key) ? bc_type(d.string(key)) : (m.box.periodic[a] ? BcType::kPeriodic : BcType::kNoSlip);
+      if ((bc.type == BcType::kPeriodic) != m.box.periodic[a])
+        d.fail(d.has(key) ? key : "domain.periodic",
+               std::string("a face of a ") + (m.box.periodic[a] ? "periodic" : "non-periodic") + " axis (" +
+                   std::string(1, "xyz"[a]) + ") cannot be " + (m.box.periodic[a] ? "anything but" : "") + " periodic");
+      if (bc.type == BcType::kOutflow && side == 0)
+        d.fail(key, "an outflow is on a high face (x_hi, y_hi, z_hi): put the inflow on the low face");
+      if (d.has(key + "_velocity")) {
+        const auto v = d.reals(key + "_velocity");
+        if (static_cast<int>(v.size()) != m.dim)
+          d.fail(key + "_velocity", "needs " + std::to_string(m.dim) + " entries");
+        if (bc.type != BcType::kNoSlip && bc.type != BcType::kInflow)
+          d.fail(key + "_velocity", "a velocity is given to a no_slip wall (a lid) or an inflow");
+        for (int c = 0; c < m.dim; ++c) bc.velocity[c] = v[c];
+        if (bc.type == BcType::kNoSlip && v[a] != 0)
+          d.fail(key + "_velocity", "a wall moves along itself only: its normal component must be 0");
+      } else if (bc.type == BcType::kInflow) {
+        d.fail(key, "an inflow needs " + key + "_velocity");
+      }
+      bc.parabolic = d.string(key + "_profile") == "parabolic";
+    }
+  }
+  bool inflow = false, outflow = false;
+  for (int a = 0; a < m.dim; ++a)
+    for (int side = 0; side < 2; ++side) {
+      inflow |= g.bc[a][side].type == BcType::kInflow;
+      outflow |= g.bc[a][side].type == BcType::kOutflow;
+    }
+  if (inflow && !outflow)
+    d.fail("fluid.boundary.x_lo", "an inflow needs an outflow somewhere: the fluid is incompressible");
+}
+
+// The velocity scale U of the dimensionless form: the fastest wall or inflow, else U0.
+double default_velocity_scale(const FluidParams& p) {
+  double u = 0;
+  for (int a = 0; a < p.grid.dim; ++a)
+    for (int side = 0; side < 2; ++side)
+      for (int c = 0; c < p.grid.dim; ++c) u = std::max(u, std::abs(p.grid.bc[a][side].velocity[c]));
+  if (u == 0 && p.initial == Initial::kTaylorGreen) u = p.initial_velocity;
+  if (u == 0) u = std::abs(p.bulk_velocity);
+  return u > 0 ? u : 1.0;
+}
+
+// What may change while running: viscosity (or Re), walls' and inflows' velocities, the drive,
+// the time step and the target CFL, the solver's tolerance.
+void compile_steerable(const SceneDesc& d, const Model& m, FluidParams& p) {
+  for (int a = 0; a < m.dim; ++a)
+    for (int side = 0; side < 2; ++side) {
+      const std::string key = std::string("fluid.boundary.") + face_names()[2 * a + side] + "_velocity";
+      if (d.has(key)) {
+        const auto v = d.reals(key);
+        for (int c = 0; c < m.dim && c < static_cast<int>(v.size()); ++c) p.grid.bc[a][side].velocity[c] = v[c];
+      }
+    }
+  p.density = d.real("fluid.density");
+  if (d.has("fluid.pressure_gradient")) p.pressure_gradient = d.real("fluid.pressure_gradient");
+  if (d.has("fluid.bulk_velocity")) p.bulk_velocity = d.real("fluid.bulk_velocity");
+  p.velocity_scale = d.has("fluid.velocity_scale") ? d.real("fluid.velocity_scale") : default_velocity_scale(p);
+  p.length_scale = d.has("fluid.length_scale") ? d.real("fluid.length_scale") : m.box.len[0];
+  p.dimensionless = d.has("fluid.reynolds");
+  p.viscosity = p.dimensionless ? p.density * p.velocity_scale * p.length_scale / d.real("fluid.reynolds")
+                                : d.real("fluid.viscosity");
+  const double time_unit = p.dimensionless ? p.length_scale / p.velocity_scale : 1.0;
+  p.dt_fixed = d.has("fluid.dt");
+  p.cfl_target = d.real("fluid.cfl");
+  double h_min = p.grid.h[0];
+  for (int a = 1; a < m.dim; ++a) h_min = std::min(h_min, p.grid.h[a]);
+  if (d.has("fluid.dt_max")) p.dt_max = d.real("fluid.dt_max") * time_unit;
+  else
+    p.dt_max = p.nu() > 0 ? std::max(h_min * h_min / p.nu(), 0.1 * p.length_scale / p.velocity_scale)
+                          : 0.1 * p.length_scale / p.velocity_scale;
+  // The first step of an adaptive run: from the target CFL at the velocity scale.
+  p.dt = p.dt_fixed ? d.real("fluid.dt") * time_unit
+                    : std::min(p.dt_max, p.cfl_target * h_min / (m.dim * p.velocity_scale));
+  p.viscous = d.string("fluid.viscous") == "explicit" ? Viscous::kExplicit : Viscous::kCrankNicolson;
+  if (!p.dt_fixed && p.viscous == Viscous::kExplicit && p.nu() > 0) {
+    double inv = 0;
+    for (int a = 0; a < m.dim; ++a) inv += 1 / (p.grid.h[a] * p.grid.h[a]);
+    p.dt = std::min(p.dt, 0.9 * FluidParams::kViscousLimit / (p.nu() * inv));
+  }
+  p.tolerance = d.real("fluid.tolerance");
+  p.max_iterations = static_cast<int>(d.integer("fluid.max_iterations"));
+}
+
+void compile_lines(const SceneDesc& d, const Model& m, FluidParams& p) {
+  const int n = d.group_count("output.lines");
+  for (int l = 0; l < n; ++l) {
+    const std::string k = "output.lines[" + std::to_string(l) + "].";
+    LineProbe probe;
+    probe.name = d.string(k + "name");
+    probe.field = d.string(k + "field");
+    if (probe.field == "w" && m.dim == 2) d.fail(k + "field", "w is the z velocity: a 2D fluid has none");
+    const auto from = d.reals(k + "from"), to = d.reals(k + "to");
+    if (static_cast<int>(from.size()) != m.dim) d.fail(k + "from", "needs " + std::to_string(m.dim) + " entries");
+    if (static_cast<int>(to.size()) != m.dim) d.fail(k + "to", "needs " + std::to_string(m.dim) + " entries");
+    for (int a = 0; a < m.dim; ++a) {
+      probe.from[a] = from[a];
+      probe.to[a] = to[a];
+      for (double x : {from[a], to[a]})
+        if (x < m.box.lo[a] - 1e-12 * m.box.len[a] || x > m.box.lo[a] + m.box.len[a] * (1 + 1e-12))
+          d.fail(k + (x == from[a] ? "from" : "to"), "the probe's ends must be inside the domain");
+    }
+    probe.points = static_cast<int>(d.integer(k + "points"));
+    for (const LineProbe& other : p.lines)
+      if (other.name == probe.name) d.fail(k + "name", "two line probes are named '" + probe.name + "'");
+    p.lines.push_back(probe);
+  }
+}
+
+}  // namespace
+
+void compile_fluid(const SceneDesc& d, Model& m) {
+  FluidParams& p = m.params.get<FluidParams>();
+  compile_grid(d, m, p.grid);
+  p.initial = d.string("fluid.initial") == "taylor_green" ? Initial::kTaylorGreen : Initial::kRest;
+  p.initial_velocity = d.real("fluid.initial_velocity");
+  if (p.initial == Initial::kTaylorGreen)
+    for (int a = 0; a < m.dim; ++a)
+      if (!m.box.periodic[a]) d.fail("fluid.initial", "the Taylor-Green vortex needs a periodic box");
+  const std::string axis = d.string("fluid.drive_axis");
+  p.drive_axis = axis[0] - 'x';
+  if (d.has("fluid.pressure_gradient") || d.has("fluid.bulk_velocity")) {
+    const std::string key = d.has("fluid.pressure_gradient") ? "fluid.pressure_gradient" : "fluid.bulk_velocity";
+    p.drive = d.has("fluid.pressure_gradient") ? Drive::kPressure : Drive::kFlowRate;
+    if (p.drive_axis >= m.dim || !m.box.periodic[p.drive_axis])
+      d.fail(key, "the flow is driven along a periodic axis (fluid.drive_axis = " + axis + ")");
+  }
+  p.projection = d.string("fluid.projection") == "multigrid_cg" ? Projection::kMultigridCg : Projection::kFft;
+  compile_steerable(d, m, p);
+  compile_lines(d, m, p);
+  m.cells = p.grid.n;
+  if (m.dim == 2) m.cells[2] = 1;
+  // The fluid's step is the step's (the grains, if any, sub-cycle in a later version).
+  if (!d.has("run.dt") && !d.has("run.dt_over_tc")) m.dt = p.dt;
+  m.adaptive_dt = m.adaptive_dt || !p.dt_fixed;
+}
+
+void finish_fluid(const SceneDesc& d, Model& m) {
+  const FluidParams& p = m.params.get<FluidParams>();
+  double inv = 0;
+  for (int a = 0; a < m.dim; ++a) inv += 1 / (p.grid.h[a] * p.grid.h[a]);
+  if (p.dt_fixed && p.viscous == Viscous::kExplicit && p.nu() * p.dt * inv > FluidParams::kViscousLimit)
+    d.fail("fluid.dt", "the explicit viscous term is unstable: nu dt sum 1/h^2 = " + fmt(p.nu() * p.dt * inv) +
+                           " exceeds " + fmt(FluidParams::kViscousLimit) + "; reduce fluid.dt below " +
+                           fmt(FluidParams::kViscousLimit / (p.nu() * inv)) +
+                           " s or use fluid.viscous = \"crank_nicolson\"");
+  const double need = estimated_memory_bytes(m), have = available_memory_bytes();
+  if (need > 0.9 * have)
+    d.fail("fluid.cells", "the fluid needs about " + format_number(need / (1 << 30), 3) + " GiB (" +
+                              format_number(static_cast<double>(p.grid.cells()), 4) + " cells); the machine has " +
+                              format_number(have / (1 << 30), 3) + " GiB available: use fewer cells");
+}
+
+}  // namespace silt::fluid

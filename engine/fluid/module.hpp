@@ -1,0 +1,35 @@
+// The fluid module's parts (fluid/module.cpp assembles them into its ModuleSpec).
+#pragma once
+
+#include <array>
+#include <vector>
+
+#include "fluid/params.hpp"
+#include "silt/grid_field.hpp"
+#include "silt/model.hpp"
+#include "silt/module.hpp"
+#include "silt/state.hpp"
+
+namespace silt::fluid {
+
+const std::array<const char*, 6>& face_names();  // x_lo, x_hi, ...
+std::vector<KeySpec> fluid_keys();
+std::vector<ObservableSpec> fluid_observables();
+void compile_fluid(const SceneDesc& d, Model& m);
+void finish_fluid(const SceneDesc& d, Model& m);
+std::string describe_fluid(const Model& m);
+std::string steer_fluid(Model& m, const Model& fresh);
+
+// Measurements of the velocity field of a state (fluid/measure.cpp).
+double kinetic_energy(const FluidParams& p, const State& s);  // (rho / 2) integral |u|^2 [J, J/m in 2D]
+double enstrophy(const FluidParams& p, const State& s);       // (1/2) integral |omega|^2 [m^3/s^2, m^2/s^2 in 2D]
+double max_divergence(const FluidParams& p, const State& s);  // max |div u| [1/s]
+// The velocity (3 components), pressure and vorticity (1 component in 2D, 3 in 3D) at the cell
+// centres.
+std::vector<GridField> cell_fields(const FluidParams& p, const State& s);
+// Field `field` (u, v, w, p, vorticity) at point x, interpolated (linearly) from its own
+// locations, boundary values included.
+double sample(const FluidParams& p, const State& s, const std::string& field, const std::array<double, 3>& x);
+std::vector<LineSample> line_samples(const Model& m, const State& s);
+
+}  // namespace silt::fluid

@@ -1,0 +1,54 @@
+// The fluid's observables (names of INTERFACE.md).
+#include "fluid/module.hpp"
+#include "fluid/step.hpp"
+
+namespace silt::fluid {
+namespace {
+
+double stat(const ObservableContext& c, FluidStat k) {
+  const auto& v = c.s.module_field(fluid_fields().stat);
+  return v.size() == kStatCount ? v[k] : 0.0;
+}
+
+const FluidParams& params(const ObservableContext& c) { return c.m.params.get<FluidParams>(); }
+
+}  // namespace
+
+std::vector<ObservableSpec> fluid_observables() {
+  return {
+      {"fluid.ke", "J", "fluid kinetic energy (rho/2) integral |u|^2 (per unit depth in 2D)",
+       [](const ObservableContext& c, const ObservableArgs&) { return kinetic_energy(params(c), c.s); }},
+      {"fluid.enstrophy", "m^3/s^2", "(1/2) integral |omega|^2 (per unit depth in 2D)",
+       [](const ObservableContext& c, const ObservableArgs&) { return enstrophy(params(c), c.s); }},
+      {"fluid.div_max", "1/s", "largest |div u| after the last projection",
+       [](const ObservableContext& c, const ObservableArgs&) { return stat(c, kDivMax); }},
+      {"fluid.cfl", "", "CFL number dt sum_a max|u_a| / h_a of the last step",
+       [](const ObservableContext& c, const ObservableArgs&) { return stat(c, kCfl); }},
+      {"fluid.dt", "s", "the fluid's time step (the next one when adaptive)",
+       [](const ObservableContext& c, const ObservableArgs&) {
+         const double next = stat(c, kDtNext);
+         return next > 0 ? next : c.s.dt;
+       }},
+      {"fluid.pressure_gradient", "Pa/m", "mean -dp/dx along the drive axis (imposed, or holding the flow rate)",
+       [](const ObservableContext& c, const ObservableArgs&) { return stat(c, kDriveGradient); }},
+      {"fluid.bulk_velocity", "m/s", "mean velocity along the drive axis over the domain",
+       [](const ObservableContext& c, const ObservableArgs&) {
+         const FluidParams& p = params(c);
+         const int a = p.drive_axis < p.grid.dim ? p.drive_axis : 0;
+         const auto& u = c.s.module_field(fluid_fields().u[a]);
+         const auto d = p.grid.face_dims(a);
+         double sum = 0;
+         for (int64_t row = 0; row < d[1] * d[2]; ++row)
+           for (int64_t i = 0; i < d[0]; ++i)
+             sum += (p.grid.periodic(a) ? (i < p.grid.n[a] ? 1.0 : 0.0) : (i == 0 || i == d[0] - 1 ? 0.5 : 1.0)) *
+                    u[row * d[0] + i];
+         return sum / static_cast<double>(p.grid.cells());
+       }},
+      {"solver.iters", "", "iterations of the last pressure solve (0 for the fast transforms)",
+       [](const ObservableContext& c, const ObservableArgs&) { return stat(c, kIters); }},
+      {"solver.residual", "", "relative residual of the last pressure solve (0 for the fast transforms)",
+       [](const ObservableContext& c, const ObservableArgs&) { return stat(c, kResidual); }},
+  };
+}
+
+}  // namespace silt::fluid

@@ -1,0 +1,34 @@
+// The drivers that sweep the kernels of fluid/stencil_kernels.hpp over the grid, in parallel over
+// rows of x (each value written by one thread: the results do not depend on the thread count).
+// Velocities are padded arrays (fluid/layout.hpp) whose ghosts are filled.
+#pragma once
+
+#include <array>
+#include <vector>
+
+#include "fluid/grid.hpp"
+#include "fluid/layout.hpp"
+
+namespace silt::fluid {
+
+using Padded = std::array<double*, 3>;
+using PaddedConst = std::array<const double*, 3>;
+
+// out_a = advection of u_a + nu Lap u_a (nu = 0: none) + force[a], on the faces each component
+// updates (update_range).
+void momentum_rhs(const Grid& g, const Layout& L, const PaddedConst& u, const Padded& out, double nu,
+                  const std::array<double, 3>& force);
+// out_a = Lap u_a on the updated faces.
+void component_laplacian(const Grid& g, const Layout& L, int a, const double* u, double* out);
+// cells[c] = scale * div u in every cell (unpadded, x fastest); returns max |div u|.
+double divergence(const Grid& g, const Layout& L, const PaddedConst& u, double* cells, double scale);
+// u_a -= coeff * grad_a phi on the updated faces.
+void subtract_gradient(const Grid& g, const Layout& L, const Padded& u, const double* phi, double coeff);
+// Copies between a padded array and the unknowns of component a (its updated faces, x fastest),
+// or the cells (a = -1).
+void gather_unknowns(const Grid& g, const Layout& L, int a, const double* padded, double* out);
+void scatter_unknowns(const Grid& g, const Layout& L, int a, const double* in, double* padded);
+// Number of the unknowns of component a (a = -1: cells), per axis.
+std::array<int64_t, 3> unknown_dims(const Grid& g, int a);
+
+}  // namespace silt::fluid

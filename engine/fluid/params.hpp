@@ -1,0 +1,57 @@
+// The parameters of a resolved fluid (Izard 2014 sec. 2.2), compiled from the [fluid] table of a
+// scene by the fluid module (fluid/module.cpp).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "fluid/grid.hpp"
+
+namespace silt::fluid {
+
+// How the viscous term is advanced: explicitly with the advection (RK3), or Crank-Nicolson.
+enum class Viscous : uint8_t { kExplicit, kCrankNicolson };
+// How the pressure Poisson equation is solved: fast transforms (FFTW), or CG preconditioned by a
+// multigrid V-cycle (the reference).
+enum class Projection : uint8_t { kFft, kMultigridCg };
+// How the flow through a periodic direction is driven.
+enum class Drive : uint8_t { kNone, kPressure, kFlowRate };
+enum class Initial : uint8_t { kRest, kTaylorGreen };
+
+// A line probe ([[output.lines]]): a field sampled at `points` points along a segment at the end
+// of the run.
+struct LineProbe {
+  std::string name, field;  // field: u, v, w, p, vorticity
+  std::array<double, 3> from{0, 0, 0}, to{0, 0, 0};
+  int points = 0;
+};
+
+struct FluidParams {
+  Grid grid;
+  double density = 1;    // rho [kg/m^3]
+  double viscosity = 0;  // mu [Pa s] (steerable); nu = mu / rho
+  double nu() const { return viscosity / density; }
+  Viscous viscous = Viscous::kCrankNicolson;
+  Projection projection = Projection::kFft;
+  double tolerance = 1e-10;  // multigrid_cg: relative residual
+  int max_iterations = 200;
+  // Time step: fixed (dt > 0), or adaptive from the target CFL number (dt_fixed = false).
+  bool dt_fixed = false;
+  double dt = 0;                                // [s] the fixed step, or the first adaptive one
+  double cfl_target = 0.5;                      // adaptive step: dt sum_a max|u_a| / h_a at most this (steerable)
+  double dt_max = 0;                            // adaptive step at most this [s]
+  static constexpr double kCflLimit = 1.6;      // RK3 on the imaginary axis: sqrt(3) = 1.73
+  static constexpr double kViscousLimit = 0.6;  // RK3 on the real axis: nu dt sum 1/h^2 <= 2.51 / 4
+  // Dimensionless form: velocity and length scales (Re = U L / nu, times in L / U).
+  double velocity_scale = 1, length_scale = 1;
+  bool dimensionless = false;
+  Drive drive = Drive::kNone;
+  int drive_axis = 0;
+  double pressure_gradient = 0;  // kPressure: -dp/dx along drive_axis [Pa/m] (steerable)
+  double bulk_velocity = 0;      // kFlowRate: the imposed mean velocity along drive_axis [m/s] (steerable)
+  Initial initial = Initial::kRest;
+  double initial_velocity = 0;  // Taylor-Green amplitude U0 [m/s]
+  std::vector<LineProbe> lines;
+};
+
+}  // namespace silt::fluid

@@ -1,0 +1,165 @@
+// The fluid module as the rest of silt sees it (silt/module.hpp): `silt check`'s description, live
+// steering, the memory estimate, the checks of a restored state, the summary.
+#include <cmath>
+#include <sstream>
+
+#include "fluid/module.hpp"
+#include "fluid/step.hpp"
+#include "silt/text.hpp"
+
+namespace silt::fluid {
+namespace {
+
+// Bytes per cell: the state's velocity and pressure; the step's padded velocity, two right-hand
+// sides, the boundary Laplacian and the pressure; the solvers' cell vectors and the Thomas
+// factors of the pressure and of each implicit component.
+double bytes_per_cell(const FluidParams& p) {
+  const int D = p.grid.dim;
+  double doubles = (D + 1) + 4 * D + 1 + 2;
+  doubles += 2 * (1 + (p.viscous == Viscous::kCrankNicolson ? D : 0));
+  if (p.projection == Projection::kMultigridCg) doubles += 8;  // CG vectors and the hierarchy
+  return 8 * doubles;
+}
+
+double padded_cells(const FluidParams& p) {
+  double c = 1;
+  for (int a = 0; a < p.grid.dim; ++a) c *= static_cast<double>(p.grid.n[a] + 3);
+  return c;
+}
+
+double fluid_memory_bytes(const Model& m) {
+  const FluidParams& p = m.params.get<FluidParams>();
+  return bytes_per_cell(p) * padded_cells(p);
+}
+
+const char* face_bc_name(const Bc& bc) {
+  switch (bc.type) {
+    case BcType::kPeriodic: return "periodic";
+    case BcType::kNoSlip: return "no_slip";
+    case BcType::kFreeSlip: return "free_slip";
+    case BcType::kInflow: return "inflow";
+    case BcType::kOutflow: return "outflow";
+  }
+  return "?";
+}
+
+}  // namespace
+
+std::string describe_fluid(const Model& m) {
+  const FluidParams& p = m.params.get<FluidParams>();
+  const Grid& g = p.grid;
+  std::ostringstream o;
+  o.precision(5);
+  o << "fluid        " << g.n[0];
+  for (int a = 1; a < m.dim; ++a) o << " x " << g.n[a];
+  o << " cells of h = " << g.h[0] << " m (" << static_cast<double>(g.cells()) << " cells, "
+    << bytes_per_cell(p) * padded_cells(p) / static_cast<double>(g.cells()) << " bytes per cell, "
+    << fluid_memory_bytes(m) / (1 << 20) << " MiB)\n";
+  o << "             rho = " << p.density << " kg/m^3, mu = " << p.viscosity << " Pa s (nu = " << p.nu()
+    << " m^2/s); Re = U L / nu = " << p.velocity_scale * p.length_scale / std::max(p.nu(), 1e-300)
+    << " (U = " << p.velocity_scale << " m/s, L = " << p.length_scale << " m)\n";
+  o << "             faces:";
+  for (int a = 0; a < m.dim; ++a)
+    for (int side = 0; side < 2; ++side) {
+      const Bc& bc = g.bc[a][side];
+      o << " " << face_names()[2 * a + side] << " " << face_bc_name(bc);
+      if ((bc.type == BcType::kNoSlip || bc.type == BcType::kInflow) &&
+          (bc.velocity[0] != 0 || bc.velocity[1] != 0 || bc.velocity[2] != 0)) {
+        o << " [";
+        for (int c = 0; c < m.dim; ++c) o << (c ? ", " : "") << bc.velocity[c];
+        o << "]" << (bc.parabolic ? " parabolic" : "");
+      }
+    }
+  o << "\n";
+  double inv = 0;
+  for (int a = 0; a < m.dim; ++a) inv += 1 / (g.h[a] * g.h[a]);
+  const double dt = p.dt;
+  o << "             RK3 (Wray), viscous " << (p.viscous == Viscous::kExplicit ? "explicit" : "Crank-Nicolson")
+    << ", projection " << (p.projection == Projection::kFft ? "by fast transforms (FFTW)" : "by multigrid CG to ")
+    << (p.projection == Projection::kFft ? std::string() : format_number(p.tolerance, 3)) << "\n";
+  o << "             time step " << (p.dt_fixed ? "fixed " : "adaptive from ") << dt << " s"
+    << (p.dt_fixed
+            ? std::string()
+            : " (target CFL " + format_number(p.cfl_target, 3) + ", at most " + format_number(p.dt_max, 4) + " s)")
+    << "; CFL at U: " << dt * m.dim * p.velocity_scale / g.h[0] << " (limit " << FluidParams::kCflLimit
+    << "); viscous number nu dt sum 1/h^2 = " << p.nu() * dt * inv
+    << (p.viscous == Viscous::kExplicit ? " (limit " + format_number(FluidParams::kViscousLimit, 2) + ")"
+                                        : std::string(" (implicit: no limit)"))
+    << "\n";
+  if (p.drive == Drive::kPressure)
+    o << "             driven by -dp/d"
+      << "xyz"[p.drive_axis] << " = " << p.pressure_gradient << " Pa/m\n";
+  if (p.drive == Drive::kFlowRate)
+    o << "             driven at a bulk velocity " << p.bulk_velocity << " m/s along "
+      << "xyz"[p.drive_axis] << "\n";
+  return o.str();
+}
+
+std::string steer_fluid(Model& m, const Model& fresh) {
+  FluidParams& p = m.params.get<FluidParams>();
+  const FluidParams& f = fresh.params.get<FluidParams>();
+  for (int a = 0; a < m.dim; ++a)
+    for (int side = 0; side < 2; ++side) p.grid.bc[a][side].velocity = f.grid.bc[a][side].velocity;
+  p.viscosity = f.viscosity;
+  p.pressure_gradient = f.pressure_gradient;
+  p.bulk_velocity = f.bulk_velocity;
+  p.velocity_scale = f.velocity_scale;
+  p.dt_fixed = f.dt_fixed;
+  p.dt = f.dt;
+  p.cfl_target = f.cfl_target;
+  p.dt_max = f.dt_max;
+  p.tolerance = f.tolerance;
+  p.max_iterations = f.max_iterations;
+  m.adaptive_dt = fresh.adaptive_dt;
+  if (!m.desc.has("run.dt") && !m.desc.has("run.dt_over_tc")) m.dt = fresh.dt;
+  return "";
+}
+
+const ModuleSpec& module() {
+  static const ModuleSpec spec = [] {
+    ModuleSpec s;
+    s.name = "fluid";
+    s.doc = "incompressible Navier-Stokes on a staggered grid (RK3, projection by fast transforms)";
+    s.keys = fluid_keys();
+    s.fields = {
+        {"fluid_u", Extent::kFaceX, "m/s", "x velocity on the x faces; fluid_advance"},
+        {"fluid_v", Extent::kFaceY, "m/s", "y velocity on the y faces; fluid_advance"},
+        {"fluid_w", Extent::kFaceZ, "m/s", "z velocity on the z faces (3D); fluid_advance"},
+        {"fluid_p", Extent::kCell, "Pa", "pressure at the cell centres (of the last projection); fluid_advance"},
+        {"fluid_stat", Extent::kFree, "", "next dt, div max, CFL, solver numbers (fluid/step.hpp); fluid_advance"}};
+    s.events = {"fluid_cfl", "fluid_nonfinite", "fluid_solve"};
+    s.observables = fluid_observables();
+    s.enabled = [](const SceneDesc& d) { return d.has("fluid.cells"); };
+    s.compile = compile_fluid;
+    s.finish = finish_fluid;
+    s.describe = describe_fluid;
+    s.steer = steer_fluid;
+    s.memory_bytes = fluid_memory_bytes;
+    s.check_state = [](const Model&, const State& st) -> std::string {
+      if (st.module_field(fluid_fields().stat).size() != kStatCount) return "fluid_stat has the wrong length";
+      for (int a = 0; a < 3; ++a)
+        for (double v : st.module_field(fluid_fields().u[a]))
+          if (!std::isfinite(v)) return "a fluid velocity is not finite";
+      return "";
+    };
+    s.summary_group = "fluid";
+    s.summary = [](const Model&, const State& st) {
+      const auto& v = st.module_field(fluid_fields().stat);
+      std::vector<std::pair<std::string, double>> out;
+      if (v.size() != kStatCount) return out;
+      out = {{"solves", v[kSolves]},
+             {"iters_mean", v[kSolves] > 0 ? v[kItersSum] / v[kSolves] : 0.0},
+             {"iters_max", v[kItersMax]},
+             {"div_max", v[kDivMax]},
+             {"cfl", v[kCfl]},
+             {"cell_steps", v[kCellSteps]}};
+      return out;
+    };
+    s.grid_fields = [](const Model& m, const State& st) { return cell_fields(m.params.get<FluidParams>(), st); };
+    s.lines = line_samples;
+    return s;
+  }();
+  return spec;
+}
+
+}  // namespace silt::fluid

@@ -1,0 +1,292 @@
+#include "fluid/step.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "core/parallel.hpp"
+#include "fluid/boundaries.hpp"
+#include "fluid/operators.hpp"
+#include "fluid/pressure_solve.hpp"
+
+namespace silt::fluid {
+namespace {
+
+// Wray's low-storage RK3.
+constexpr double kGamma[3] = {8.0 / 15.0, 5.0 / 12.0, 3.0 / 4.0};
+constexpr double kZeta[3] = {0.0, -17.0 / 60.0, -5.0 / 12.0};
+
+// Copies between the State's arrays (no ghosts) and the padded ones.
+template <bool kLoad>
+void copy_state(const Grid& g, const Layout& L, int a, std::vector<double>& state, double* padded) {
+  const auto d = a < 0 ? g.n : g.face_dims(a);
+  parallel_for(d[1] * d[2], 8, [&](int64_t b, int64_t e) {
+    for (int64_t row = b; row < e; ++row) {
+      const int64_t j = row % d[1], k = row / d[1];
+      double* p = padded + L.at(0, j, k);
+      double* s = state.data() + row * d[0];
+      if constexpr (kLoad) std::copy(s, s + d[0], p);
+      else std::copy(p, p + d[0], s);
+    }
+  });
+}
+
+void prepare(const FluidParams& p, FluidWorkspace& w) {
+  const Grid& g = p.grid;
+  w.L = Layout(g);
+  for (int a = 0; a < 3; ++a) {
+    const size_t n = a < g.dim ? static_cast<size_t>(w.L.size) : 0;
+    w.u[a].assign(n, 0);
+    w.n_cur[a].assign(n, 0);
+    w.n_prev[a].assign(n, 0);
+    w.bc_lap[a].assign(n, 0);
+  }
+  w.phi.assign(static_cast<size_t>(w.L.size), 0);
+  w.cells.assign(static_cast<size_t>(g.cells()), 0);
+  int64_t most = g.cells();
+  for (int a = 0; a < g.dim; ++a) {
+    const auto d = unknown_dims(g, a);
+    most = std::max(most, d[0] * d[1] * d[2]);
+  }
+  w.unknowns.assign(static_cast<size_t>(most), 0);
+  make_pressure_solver(p, w);
+  if (p.viscous == Viscous::kCrankNicolson)
+    for (int a = 0; a < g.dim; ++a) w.helmholtz[a] = make_helmholtz_solver(g, a);
+  w.ready = true;
+}
+
+// The part of Lap u_a that the boundary values give (a moving lid, an inflow): the Laplacian of
+// a field zero inside with the ghosts and boundary faces of the conditions. The implicit solve
+// uses homogeneous conditions; this goes into its right-hand side.
+void boundary_laplacian(const Grid& g, FluidWorkspace& w) {
+  std::array<std::vector<double>, 3> zero;
+  Padded z{};
+  for (int a = 0; a < g.dim; ++a) {
+    zero[a].assign(static_cast<size_t>(w.L.size), 0);
+    z[a] = zero[a].data();
+  }
+  fill_velocity_ghosts(g, w.L, z);
+  for (int a = 0; a < g.dim; ++a) component_laplacian(g, w.L, a, zero[a].data(), w.bc_lap[a].data());
+}
+
+// The flow-rate drive: the mean of the driven component over its faces held at the imposed bulk
+// velocity by a uniform shift (which keeps the velocity divergence-free); returns the shift.
+double hold_flow_rate(const FluidParams& p, FluidWorkspace& w) {
+  const Grid& g = p.grid;
+  const int a = p.drive_axis;
+  const auto d = unknown_dims(g, a);
+  gather_unknowns(g, w.L, a, w.u[a].data(), w.unknowns.data());
+  const int64_t n = d[0] * d[1] * d[2];
+  const auto sum = deterministic_sums<1>(n, 4096, [&](int64_t b, int64_t e) {
+    double s = 0;
+    for (int64_t i = b; i < e; ++i) s += w.unknowns[i];
+    return std::array<double, 1>{s};
+  });
+  const double shift = p.bulk_velocity - sum[0] / static_cast<double>(n);
+  for (int64_t i = 0; i < n; ++i) w.unknowns[i] += shift;
+  scatter_unknowns(g, w.L, a, w.unknowns.data(), w.u[a].data());
+  return shift;
+}
+
+}  // namespace
+
+FluidFields fluid_fields() {
+  static const FluidFields f{{find_field("fluid_u")->id, find_field("fluid_v")->id, find_field("fluid_w")->id},
+                             find_field("fluid_p")->id,
+                             find_field("fluid_stat")->id};
+  return f;
+}
+
+EventId cfl_event() {
+  static const EventId e = register_module_event("fluid_cfl");
+  return e;
+}
+EventId nonfinite_event() {
+  static const EventId e = register_module_event("fluid_nonfinite");
+  return e;
+}
+EventId solve_event() {
+  static const EventId e = register_module_event("fluid_solve");
+  return e;
+}
+
+size_t FluidWorkspace::bytes() const {
+  size_t b = phi.capacity() + cells.capacity() + unknowns.capacity();
+  for (int a = 0; a < 3; ++a) b += u[a].capacity() + n_cur[a].capacity() + n_prev[a].capacity() + bc_lap[a].capacity();
+  return b * sizeof(double) + pressure_solver_bytes(*this);
+}
+
+double cfl_number(const FluidParams& p, const State& s, double dt) {
+  const Grid& g = p.grid;
+  const FluidFields f = fluid_fields();
+  double rate = 0;
+  for (int a = 0; a < g.dim; ++a) {
+    const auto& u = s.module_field(f.u[a]);
+    const auto mx = parallel_max<1>(static_cast<int64_t>(u.size()), 4096, [&](int64_t b, int64_t e) {
+      double m = 0;
+      for (int64_t i = b; i < e; ++i) m = std::max(m, std::abs(u[i]));
+      return std::array<double, 1>{m};
+    });
+    rate += mx[0] / g.h[a];
+  }
+  return dt * rate;
+}
+
+double adaptive_dt(const FluidParams& p, const State& s) {
+  const double rate = cfl_number(p, s, 1.0);
+  double dt = rate > 0 ? p.cfl_target / rate : p.dt_max;
+  if (p.viscous == Viscous::kExplicit) {
+    double inv = 0;
+    for (int a = 0; a < p.grid.dim; ++a) inv += 1 / (p.grid.h[a] * p.grid.h[a]);
+    if (p.nu() > 0) dt = std::min(dt, 0.9 * FluidParams::kViscousLimit / (p.nu() * inv));
+  }
+  return std::min(dt, p.dt_max);
+}
+
+void fluid_dt(const Model& m, State& s) {
+  const FluidParams& p = m.params.get<FluidParams>();
+  if (p.dt_fixed) {
+    s.dt = p.dt;
+    return;
+  }
+  const double next = s.module_field(fluid_fields().stat)[kDtNext];
+  s.dt = next > 0 ? next : p.dt;
+  if (m.n_grains > 0) s.dt = std::min(s.dt, m.dt);  // grains in the same step keep theirs
+}
+
+void initial_velocity(const Model& m, State& s) {
+  const FluidParams& p = m.params.get<FluidParams>();
+  const FluidFields f = fluid_fields();
+  const Grid& g = p.grid;
+  s.module_field(f.stat).assign(kStatCount, 0.0);
+  if (p.initial != Initial::kTaylorGreen) return;
+  // u = U0 sin(kx x) cos(ky y) cos(kz z), v = -U0 cos sin cos, w = 0, with k = 2 pi / L per axis:
+  // divergence-free on the grid too (the discrete divergence of the sampled field is zero).
+  std::array<double, 3> k{};
+  for (int a = 0; a < g.dim; ++a) k[a] = 2 * std::numbers::pi / (g.n[a] * g.h[a]);
+  for (int a = 0; a < 2; ++a) {
+    auto& u = s.module_field(f.u[a]);
+    const auto d = g.face_dims(a);
+    for (int64_t kk = 0; kk < d[2]; ++kk)
+      for (int64_t j = 0; j < d[1]; ++j)
+        for (int64_t i = 0; i < d[0]; ++i) {
+          const std::array<int64_t, 3> idx{i, j, kk};
+          std::array<double, 3> x{};
+          for (int b = 0; b < g.dim; ++b) x[b] = (static_cast<double>(idx[b]) + (b == a ? 0.0 : 0.5)) * g.h[b];
+          const double cz = g.dim == 3 ? std::cos(k[2] * x[2]) : 1.0;
+          const double v =
+              a == 0 ? std::sin(k[0] * x[0]) * std::cos(k[1] * x[1]) : -std::cos(k[0] * x[0]) * std::sin(k[1] * x[1]);
+          u[i + d[0] * (j + d[1] * kk)] = p.initial_velocity * v * cz;
+        }
+  }
+}
+
+void fluid_advance(const Model& m, State& s, FluidWorkspace& w) {
+  const FluidParams& p = m.params.get<FluidParams>();
+  const Grid& g = p.grid;
+  const FluidFields f = fluid_fields();
+  if (!w.ready || w.L.n != g.n) prepare(p, w);
+  auto& stat = s.module_field(f.stat);
+  const double dt = s.dt, nu = p.nu();
+  const bool cn = p.viscous == Viscous::kCrankNicolson;
+
+  // Stability of the scheme with this step (an adaptive step is within it by construction).
+  const double cfl = cfl_number(p, s, dt);
+  stat[kCfl] = cfl;
+  if (!(cfl <= FluidParams::kCflLimit)) {
+    s.events.slot[cfl_event()].raise(0, cfl);
+    return;
+  }
+  if (!cn) {
+    double inv = 0;
+    for (int a = 0; a < g.dim; ++a) inv += 1 / (g.h[a] * g.h[a]);
+    if (nu * dt * inv > FluidParams::kViscousLimit) {
+      s.events.slot[cfl_event()].raise(1, nu * dt * inv);
+      return;
+    }
+  }
+
+  Padded u{}, nc{}, np{};
+  PaddedConst uc{};
+  for (int a = 0; a < g.dim; ++a) {
+    u[a] = w.u[a].data();
+    uc[a] = u[a];
+    nc[a] = w.n_cur[a].data();
+    np[a] = w.n_prev[a].data();
+    copy_state<true>(g, w.L, a, s.module_field(f.u[a]), u[a]);
+  }
+  if (cn) boundary_laplacian(g, w);
+  std::array<double, 3> force{0, 0, 0};
+  if (p.drive == Drive::kPressure) force[p.drive_axis] = p.pressure_gradient / p.density;
+  double div_max = 0, drive = 0;
+  for (int k = 0; k < 3; ++k) {
+    const double alpha = kGamma[k] + kZeta[k];
+    fill_velocity_ghosts(g, w.L, u);
+    momentum_rhs(g, w.L, uc, nc, cn ? 0.0 : nu, force);
+    for (int a = 0; a < g.dim; ++a) {
+      double* ua = u[a];
+      const double *na = nc[a], *pa = np[a];
+      const double gk = kGamma[k] * dt, zk = kZeta[k] * dt;
+      if (cn) {
+        // Crank-Nicolson: (1 - beta Lap) u* = u + dt (gamma N + zeta N') + beta Lap u + beta Lap_bc,
+        // beta = alpha dt nu / 2: solved as (1/beta - Lap) u* = rhs / beta.
+        const double beta = 0.5 * alpha * dt * nu;
+        double* lap = w.phi.data();  // scratch
+        component_laplacian(g, w.L, a, ua, lap);
+        const double* lb = w.bc_lap[a].data();
+        gather_unknowns(g, w.L, a, ua, w.unknowns.data());
+        std::vector<double>& x = w.unknowns;
+        // rhs on the unknowns: gathered term by term through the padded scratch.
+        for (int64_t q = 0; q < w.L.size; ++q) lap[q] = ua[q] + gk * na[q] + zk * pa[q] + beta * (lap[q] + lb[q]);
+        gather_unknowns(g, w.L, a, lap, x.data());
+        if (beta > 0) {
+          const double inv_beta = 1 / beta;
+          const auto d = unknown_dims(g, a);
+          const int64_t n = d[0] * d[1] * d[2];
+          for (int64_t i = 0; i < n; ++i) x[i] *= inv_beta;
+          w.helmholtz[a]->solve(x.data(), inv_beta);
+        }
+        scatter_unknowns(g, w.L, a, x.data(), ua);
+      } else {
+        const auto d = unknown_dims(g, a);
+        (void)d;
+        for (int64_t q = 0; q < w.L.size; ++q) ua[q] += gk * na[q] + zk * pa[q];
+      }
+    }
+    std::swap(nc, np);
+    // Projection: Lap phi = div u* / (alpha dt); u = u* - alpha dt grad phi.
+    fill_velocity_ghosts(g, w.L, u);
+    divergence(g, w.L, uc, w.cells.data(), -1 / (alpha * dt));
+    const linalg::SolveReport r = solve_pressure(p, w);
+    if (!r.ok()) {
+      s.events.slot[solve_event()].raise(static_cast<int64_t>(r.status), r.residual);
+      return;
+    }
+    stat[kIters] = r.iterations;
+    stat[kResidual] = r.residual;
+    stat[kSolves] += 1;
+    stat[kItersSum] += r.iterations;
+    stat[kItersMax] = std::max<double>(stat[kItersMax], r.iterations);
+    fill_pressure_ghosts(g, w.L, w.phi.data());
+    subtract_gradient(g, w.L, u, w.phi.data(), alpha * dt);
+    if (p.drive == Drive::kFlowRate) drive += hold_flow_rate(p, w) / dt;
+  }
+  // The last n_prev is not needed by the next step (zeta_0 = 0).
+  fill_velocity_ghosts(g, w.L, u);
+  div_max = divergence(g, w.L, uc, w.cells.data(), 1.0);
+  if (!std::isfinite(div_max)) {
+    s.events.slot[nonfinite_event()].raise(0, div_max);
+    return;
+  }
+  for (int a = 0; a < g.dim; ++a) copy_state<false>(g, w.L, a, s.module_field(f.u[a]), u[a]);
+  // p = rho phi (phi of the last substep).
+  auto& ps = s.module_field(f.p);
+  copy_state<false>(g, w.L, -1, ps, w.phi.data());
+  for (double& v : ps) v *= p.density;
+  stat[kDivMax] = div_max;
+  stat[kDriveGradient] = p.drive == Drive::kFlowRate ? drive * p.density : p.pressure_gradient;
+  stat[kCellSteps] += static_cast<double>(g.cells());
+  stat[kDtNext] = p.dt_fixed ? p.dt : adaptive_dt(p, s);
+}
+
+}  // namespace silt::fluid

@@ -1,0 +1,88 @@
+// The fluid's step (Izard 2014 sec. 2.2): incompressible Navier-Stokes on the staggered grid,
+//   du/dt + div(u u) = -grad p / rho + nu Lap u + f,   div u = 0,
+// advanced by the low-storage third-order Runge-Kutta scheme of Wray (1990) (as in Spalart,
+// Moser & Rogers 1991 and CaNS) with a projection at each of its three substeps:
+//   u* = u^k + dt (gamma_k N(u^k) + zeta_k N(u^(k-1))) + alpha_k dt nu Lap (u^k + u*) / 2   (CN)
+//      (or + alpha_k dt nu Lap u^k, explicit),
+//   Lap phi = div u* / (alpha_k dt),   u^(k+1) = u* - alpha_k dt grad phi,   p = rho phi,
+// gamma = (8/15, 5/12, 3/4), zeta = (0, -17/60, -5/12), alpha = gamma + zeta = (8/15, 2/15, 1/3).
+// N is the advection in divergence form (energy-conserving) plus the body force, and the
+// viscous term with the explicit scheme.
+#pragma once
+
+#include <array>
+#include <memory>
+#include <vector>
+
+#include "core/workspace.hpp"
+#include "fluid/fast_solver.hpp"
+#include "fluid/layout.hpp"
+#include "fluid/params.hpp"
+#include "silt/events.hpp"
+#include "silt/linalg.hpp"
+#include "silt/model.hpp"
+#include "silt/state.hpp"
+
+namespace silt::fluid {
+
+class MultigridSolverHandle;
+
+// Ids of the fluid's State fields.
+struct FluidFields {
+  std::array<FieldId, 3> u;  // fluid_u, fluid_v, fluid_w: velocity components on the faces [m/s]
+  FieldId p;                 // fluid_p: pressure at the cell centres [Pa]
+  FieldId stat;              // fluid_stat: the step's numbers (FluidStat)
+};
+FluidFields fluid_fields();
+
+// Entries of the fluid_stat field.
+enum FluidStat : int {
+  kDtNext,    // the next adaptive step [s]
+  kDivMax,    // largest |div u| after the last projection [1/s]
+  kCfl,       // dt sum_a max |u_a| / h_a of the last step
+  kIters,     // iterations of the last pressure solve (0 for the transforms)
+  kResidual,  // its relative residual
+  kSolves,    // pressure solves so far
+  kItersSum,  // their iterations
+  kItersMax,
+  kDriveGradient,  // the mean pressure gradient that holds the imposed flow rate [Pa/m]
+  kCellSteps,      // cell-steps advanced so far
+  kStatCount
+};
+
+// Events: a CFL or viscous number beyond the scheme's stability, a non-finite velocity, a
+// pressure solve that did not converge.
+EventId cfl_event();
+EventId nonfinite_event();
+EventId solve_event();
+
+struct FluidWorkspace final : Workspace {
+  bool ready = false;
+  Layout L;
+  std::array<std::vector<double>, 3> u, n_cur, n_prev, bc_lap;  // padded
+  std::vector<double> phi;                                      // padded
+  std::vector<double> cells;                                    // one value per cell (solver)
+  std::vector<double> unknowns;                                 // one component's unknowns (Helmholtz)
+  std::unique_ptr<FastSolver> poisson;
+  std::array<std::unique_ptr<FastSolver>, 3> helmholtz;
+  std::shared_ptr<void> multigrid;  // fluid/pressure_solve.cpp
+  linalg::Vector mg_rhs, mg_x;      // its right-hand side, and its last solution (the next guess)
+  void invalidate() override {}     // nothing held depends on the grains
+  size_t bytes() const override;
+};
+
+// (fluid_u, fluid_v, fluid_w, fluid_p, dt) => (fluid_u, fluid_v, fluid_w, fluid_p, fluid_stat):
+// one step of dt. Raises cfl_event / nonfinite_event / solve_event.
+void fluid_advance(const Model& m, State& s, FluidWorkspace& w);
+// (fluid_stat, dt) => (dt): the fluid's time step, fixed or from the target CFL number.
+void fluid_dt(const Model& m, State& s);
+// The initial velocity (at rest, or a Taylor-Green vortex) into a fresh state.
+void initial_velocity(const Model& m, State& s);
+
+// The adaptive step for velocity fields u: cfl_target / sum_a max|u_a| / h_a, within the
+// viscous limit of the explicit scheme and dt_max.
+double adaptive_dt(const FluidParams& p, const State& s);
+// dt sum_a max|u_a| / h_a.
+double cfl_number(const FluidParams& p, const State& s, double dt);
+
+}  // namespace silt::fluid

@@ -1,0 +1,78 @@
+// The fluid's stages (fluid/step.hpp). In a step:
+//
+//   choose_dt -> fluid_dt -> fluid_advance
+//
+// and in the setup graph, fluid_initial: the initial velocity of a fresh state.
+#include "fluid/step.hpp"
+#include "graph/adders.hpp"
+#include "silt/text.hpp"
+
+namespace silt::graph {
+namespace {
+
+std::string fmt(double x) { return format_number(x, 4); }
+
+Access fluid_access() {
+  const fluid::FluidFields f = fluid::fluid_fields();
+  return {f.u[0], f.u[1], f.u[2], f.p, f.stat};
+}
+
+void diagnose_fluid(GraphBuilder& b) {
+  b.diagnose(fluid::cfl_event(), [](const Model& m, const State& s, const EventSlot& e, StepFailure& f) {
+    const auto& p = m.params.get<fluid::FluidParams>();
+    f.stage = "fluid_advance";
+    if (e.first() == 0) {
+      f.parameter = p.dt_fixed ? "fluid.dt" : "fluid.cfl";
+      f.message = "the fluid's CFL number dt sum |u|/h = " + fmt(e.value()) + " at step " + std::to_string(s.step) +
+                  " exceeds " + fmt(fluid::FluidParams::kCflLimit) + ", the stability limit of RK3 advection; " +
+                  (p.dt_fixed ? "reduce fluid.dt, or remove it for the adaptive step" : "reduce fluid.cfl");
+    } else {
+      f.parameter = "fluid.viscous";
+      f.message = "the explicit viscous term is unstable at this step: nu dt sum 1/h^2 = " + fmt(e.value()) +
+                  " exceeds " + fmt(fluid::FluidParams::kViscousLimit) +
+                  "; reduce fluid.dt or the viscosity, or use fluid.viscous = \"crank_nicolson\"";
+    }
+  });
+  b.diagnose(fluid::nonfinite_event(), [](const Model&, const State& s, const EventSlot&, StepFailure& f) {
+    f.stage = "fluid_advance";
+    f.parameter = "fluid.cfl";
+    f.message = "the fluid velocity is no longer finite at step " + std::to_string(s.step) +
+                ": the flow is under-resolved or the step too large; reduce fluid.cfl (or fluid.dt), or use more "
+                "fluid.cells";
+  });
+  b.diagnose(fluid::solve_event(), [](const Model& m, const State&, const EventSlot& e, StepFailure& f) {
+    const auto& p = m.params.get<fluid::FluidParams>();
+    f.stage = "fluid_advance";
+    f.parameter = "fluid.max_iterations";
+    f.message = "the pressure solve (multigrid CG) did not converge: relative residual " + fmt(e.value()) +
+                " above fluid.tolerance = " + fmt(p.tolerance) +
+                "; raise fluid.max_iterations or fluid.tolerance, or use fluid.projection = \"fft\"";
+  });
+}
+
+}  // namespace
+
+void add_fluid_stages(GraphBuilder& b) {
+  const fluid::FluidFields f = fluid::fluid_fields();
+  if (b.phase() == Phase::kSetup) {
+    b.add(
+        "fluid_initial",
+        [](const Model& m, State& s) {
+          if (s.module_field(fluid::fluid_fields().stat).empty()) fluid::initial_velocity(m, s);
+        },
+        {}, fluid_access());
+    return;
+  }
+  auto& w = b.workspaces().get<fluid::FluidWorkspace>();
+  const int dt = b.add("fluid_dt", &fluid::fluid_dt, {fid::dt, f.stat}, {fid::dt});
+  b.light(dt);
+  b.after(dt, b.find("choose_dt"), "replaces the scene's step by the fluid's");
+  Access reads = fluid_access();
+  reads.push_back(fid::dt);
+  const int adv = b.add(
+      "fluid_advance", [&w](const Model& m, State& s) { fluid::fluid_advance(m, s, w); }, reads, fluid_access());
+  b.after(adv, dt, "advances by this step's dt");
+  diagnose_fluid(b);
+}
+
+}  // namespace silt::graph
