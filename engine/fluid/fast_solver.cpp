@@ -39,7 +39,7 @@ void kinds_of(AxisKind k, fftw_r2r_kind& fwd, fftw_r2r_kind& bwd) {
     case AxisKind::kCellND: fwd = bwd = FFTW_REDFT11; return;
     case AxisKind::kCellDN: fwd = bwd = FFTW_RODFT11; return;
     case AxisKind::kFaceDD: fwd = bwd = FFTW_RODFT00; return;
-    case AxisKind::kFaceDN: fwd = FFTW_RODFT01, bwd = FFTW_RODFT10; return;
+    case AxisKind::kFaceDN: fwd = bwd = FFTW_R2HC; return;  // not a transform: solved by Thomas
   }
 }
 double scale_of(AxisKind k, int64_t m) {
@@ -104,7 +104,11 @@ double FastSolver::eigenvalue(AxisKind kind, int64_t p, int64_t m) {
 FastSolver::FastSolver(int dim, const std::array<SolverAxis, 3>& axes)
     : dim_(dim), axes_(axes), plans_(std::make_unique<Plans>()) {
   for (int a = 0; a < 3; ++a) m_[a] = a < dim ? axes[a].m : 1;
+  // The Thomas algorithm along the last axis when it is not periodic, or along an axis whose kind
+  // no FFTW transform has (face DN: odd about -1, even about m - 1/2).
   tri_axis_ = axes[dim - 1].kind == AxisKind::kPeriodic ? -1 : dim - 1;
+  for (int a = 0; a < dim; ++a)
+    if (axes[a].kind == AxisKind::kFaceDN) tri_axis_ = a;
   int64_t longest = 1;
   for (int a = 0; a < dim; ++a) {
     lambda_[a].resize(m_[a]);
@@ -195,32 +199,47 @@ void FastSolver::scale_modes(double* data, double sigma) {
   });
 }
 
-// The Thomas algorithm's factors for every horizontal mode q at this sigma: row k of mode q is
+// The Thomas algorithm along axis t, for every mode q of the other axes: row k of mode q is
 // -x_{k-1} + d_k x_k - x_{k+1} = h^2 r_k with d_k = 2 + h^2 (sigma + lambda_q) (ends as
 // end_diagonals). A singular mode (every other axis at its zero mode, Neumann ends, sigma = 0)
-// has x_0 = 0 imposed: the solution of the compatible system with that gauge.
+// has x_0 = 0 imposed: the solution of the compatible system with that gauge. Values are stored
+// as the data: (i_in, k, o) at i_in + inner (k + m_t o), i_in over the axes below t, o above it.
 void FastSolver::prepare_tridiagonal(double sigma) {
   const int t = tri_axis_;
-  const int64_t nq = size() / m_[t], nk = m_[t];
+  const int64_t nk = m_[t], inner = t == 0 ? 1 : (t == 1 ? m_[0] : m_[0] * m_[1]), outer = size() / (inner * nk);
   const double h2 = axes_[t].h * axes_[t].h;
   const auto ends = end_diagonals(axes_[t].kind);
-  tri_c_.resize(static_cast<size_t>(nq * nk));
-  tri_inv_.resize(static_cast<size_t>(nq * nk));
-  parallel_for(nq, 256, [&](int64_t q0, int64_t q1) {
+  tri_c_.resize(static_cast<size_t>(size()));
+  tri_inv_.resize(static_cast<size_t>(size()));
+  parallel_for(outer * inner, 256, [&](int64_t q0, int64_t q1) {
     for (int64_t q = q0; q < q1; ++q) {
-      const int64_t i = q % m_[0], j = q / m_[0];
-      const double lq = sigma + lambda_[0][i] + (t == 2 ? lambda_[1][j] : 0.0);
+      const int64_t i_in = q % inner, o = q / inner;
+      // The eigenvalues of the other axes at this mode.
+      double lq = sigma;
+      std::array<int64_t, 3> idx{0, 0, 0};
+      int64_t rest = i_in;
+      for (int a = 0; a < t; ++a) {
+        idx[a] = rest % m_[a];
+        rest /= m_[a];
+      }
+      rest = o;
+      for (int a = t + 1; a < dim_; ++a) {
+        idx[a] = rest % m_[a];
+        rest /= m_[a];
+      }
+      for (int a = 0; a < dim_; ++a)
+        if (a != t) lq += lambda_[a][idx[a]];
       double c_prev = 0;
       for (int64_t k = 0; k < nk; ++k) {
         double d = (k == 0 ? ends[0] : (k == nk - 1 ? ends[1] : 2.0)) + h2 * lq;
         if (nk == 1) d = ends[0] + ends[1] - 2 + h2 * lq;
-        const double lower = k > 0 ? -1.0 : 0.0, upper = k < nk - 1 ? -1.0 : 0.0;
-        double pivot = d - lower * c_prev;
-        double up = upper;
+        double pivot = d + (k > 0 ? c_prev : 0.0);
+        double up = k < nk - 1 ? -1.0 : 0.0;
         if (k == 0 && !(lq > 0) && ends[0] == 1 && ends[1] == 1) pivot = 1, up = 0;  // gauge x_0 = 0
-        tri_inv_[q + nq * k] = 1 / pivot;
-        tri_c_[q + nq * k] = up / pivot;
-        c_prev = tri_c_[q + nq * k];
+        const int64_t at = i_in + inner * (k + nk * o);
+        tri_inv_[at] = 1 / pivot;
+        tri_c_[at] = up / pivot;
+        c_prev = tri_c_[at];
       }
     }
   });
@@ -230,27 +249,34 @@ void FastSolver::prepare_tridiagonal(double sigma) {
 void FastSolver::tridiagonal(double* data, double sigma) {
   if (sigma != tri_sigma_) prepare_tridiagonal(sigma);
   const int t = tri_axis_;
-  const int64_t nq = size() / m_[t], nk = m_[t];
+  const int64_t nk = m_[t], inner = t == 0 ? 1 : (t == 1 ? m_[0] : m_[0] * m_[1]), outer = size() / (inner * nk);
   const double h2 = axes_[t].h * axes_[t].h, scale = h2 / norm_;
   const auto ends = end_diagonals(axes_[t].kind);
   const bool neumann_both = ends[0] == 1 && ends[1] == 1;
-  // Chunks of neighbouring modes: the sweeps over k read and write rows of contiguous q.
-  parallel_for(nq, 64, [&](int64_t q0, int64_t q1) {
-    for (int64_t k = 0; k < nk; ++k) {
-      double* x = data + nq * k;
-      const double* xp = data + nq * (k - 1);
-      const double* inv = tri_inv_.data() + nq * k;
-      for (int64_t q = q0; q < q1; ++q) {
-        double r = x[q] * scale;
-        if (k == 0 && neumann_both && tri_c_[q] == 0 && nk > 1) r = 0;  // the gauge row
-        x[q] = k == 0 ? r * inv[q] : (r + xp[q]) * inv[q];
+  // Chunks of neighbouring modes of one o: the sweeps over k read and write contiguous runs of i_in.
+  constexpr int64_t kChunk = 64;
+  const int64_t chunks = (inner + kChunk - 1) / kChunk;
+  parallel_for(outer * chunks, 1, [&](int64_t c0, int64_t c1) {
+    for (int64_t c = c0; c < c1; ++c) {
+      const int64_t o = c / chunks, i0 = (c % chunks) * kChunk, i1 = std::min(inner, i0 + kChunk);
+      const int64_t base = inner * nk * o;
+      for (int64_t k = 0; k < nk; ++k) {
+        double* x = data + base + inner * k;
+        const double* xp = x - inner;
+        const double* inv = tri_inv_.data() + base + inner * k;
+        const double* c0p = tri_c_.data() + base;
+        for (int64_t i = i0; i < i1; ++i) {
+          double r = x[i] * scale;
+          if (k == 0 && neumann_both && c0p[i] == 0 && nk > 1) r = 0;  // the gauge row
+          x[i] = k == 0 ? r * inv[i] : (r + xp[i]) * inv[i];
+        }
       }
-    }
-    for (int64_t k = nk - 2; k >= 0; --k) {
-      double* x = data + nq * k;
-      const double* xn = data + nq * (k + 1);
-      const double* c = tri_c_.data() + nq * k;
-      for (int64_t q = q0; q < q1; ++q) x[q] -= c[q] * xn[q];
+      for (int64_t k = nk - 2; k >= 0; --k) {
+        double* x = data + base + inner * k;
+        const double* xn = x + inner;
+        const double* cc = tri_c_.data() + base + inner * k;
+        for (int64_t i = i0; i < i1; ++i) x[i] -= cc[i] * xn[i];
+      }
     }
   });
 }

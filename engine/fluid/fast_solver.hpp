@@ -11,10 +11,12 @@
 //   cell DD     (p = 0 on the faces)  odd about -1/2 and m - 1/2  DST-II/III   2 - 2 cos(pi (p + 1) / m)
 //   cell ND / DN                     even / odd, odd / even        DCT-IV, DST-IV  2 - 2 cos(pi (p + 1/2) / m)
 //   face DD     interior faces       odd about -1 and m            DST-I        2 - 2 cos(pi (p + 1) / (m + 1))
-//   face DN     faces 1 .. n         odd about -1, even about m - 1/2   DST-III/II  2 - 2 cos(pi (p + 1/2) / m)
+//   face DN     faces 1 .. n         odd about -1, even about m - 1/2   (none: Thomas along it)
 //
 // Along the last axis, when it is not periodic, the equation of each horizontal mode is
-// tridiagonal and solved directly (Thomas), which saves two transforms per solve.
+// tridiagonal and solved directly (Thomas), which saves two transforms per solve; so along an
+// axis of kind face DN (an outflow's normal velocity), which no FFTW transform diagonalises.
+// Only one axis may be solved so.
 //
 // Transforms run on blocks of kBlock lines gathered into aligned per-thread buffers, each block
 // with the same FFTW plan (chosen by FFTW_ESTIMATE, not by timing): every line is transformed by

@@ -22,8 +22,9 @@
 // from the correction it returns; the coarsest solve pins its first cell.
 //
 // Not re-entrant: one cycle at a time per object (the workspaces are members). No allocation
-// once built; results do not depend on the number of threads (every entry of every level is
-// written by one task, reductions are the fixed-block ones of the linalg layer, CHOLMOD serial).
+// after the first cycle (where CHOLMOD sizes its solve workspaces); results do not depend on the number of threads
+// (every entry of every level is written by one task, reductions are the fixed-block ones of the linalg layer, CHOLMOD
+// serial).
 #pragma once
 
 #include <cstdint>
@@ -47,7 +48,7 @@ enum class Prolongation {
 // 4^dim-point restriction. The linear prolongation needs 7 (two sweeps) or 9-10 (one sweep).
 struct MultigridOptions {
   Prolongation prolongation = Prolongation::kConstant;
-  int sweeps = 2;                    // smoothing sweeps before, and as many after, the correction
+  int sweeps = 2;                    // smoothing sweeps before, and as many after (at least 1)
   int64_t coarsest_cells = 64;       // coarsening stops at a level of at most this many cells
   int64_t max_direct_cells = 16384;  // the coarsest level is solved by Cholesky up to this size,
   int coarse_sweeps = 30;            // and beyond it by this many symmetric sweeps
@@ -91,7 +92,9 @@ struct PoissonSolverOptions {
 
 // A p = b by conjugate gradients preconditioned by one V-cycle per iteration. In the singular
 // case the mean is removed from b (the part of b outside A's range, which no p can match), from
-// the initial guess and from the solution: p is the zero-mean solution.
+// the initial guess and from the solution: p is the zero-mean solution. The operator, the
+// hierarchy and the right-hand side's copy are built once; conjugate_gradient (linalg) makes its
+// own iteration vectors on each call.
 class PoissonSolver {
  public:
   explicit PoissonSolver(const Grid& g, double sigma = 0, const PoissonSolverOptions& opt = {});

@@ -216,6 +216,12 @@ void fluid_advance(const Model& m, State& s, FluidWorkspace& w) {
     copy_state<true>(g, w.L, a, s.module_field(f.u[a]), u[a]);
   }
   if (cn) boundary_laplacian(g, w);
+  if (w.multigrid) {
+    // The first guess of the pressure solve: the state's pressure (a restart continues bitwise).
+    const auto& ps = s.module_field(f.p);
+    w.mg_x.resize(static_cast<Eigen::Index>(ps.size()));
+    for (size_t c = 0; c < ps.size(); ++c) w.mg_x[static_cast<Eigen::Index>(c)] = ps[c] / p.density;
+  }
   std::array<double, 3> force{0, 0, 0};
   if (p.drive == Drive::kPressure) force[p.drive_axis] = p.pressure_gradient / p.density;
   double div_max = 0, drive = 0;

@@ -41,7 +41,7 @@ std::vector<KeySpec> core_keys() {
       {"run.static_stress_tol", K::kReal, Value(1e-4), Range::positive(), "", false, {}, "Equilibrium: |sigma_aa / P - 1| on controlled axes."},
       {"run.static_ke_tol", K::kReal, Value(1e-8), Range::positive(), "", false, {}, "Equilibrium: translational kinetic energy per grain / (a^d P)."},
       // ---- output
-      {"output.observe", K::kStringList, Value(std::vector<std::string>{"t", "step", "ke"}), Range::any(), "", false, {}, "Observables written to the stats file."},
+      {"output.observe", K::kStringList, Value(std::vector<std::string>{"t", "step", "ke"}), Range::any(), "", false, {}, "Observables written to the stats file (a fluid without grains: t, step, fluid.ke)."},
       {"output.every", K::kInt, Value(int64_t{100}), Range::closed(1, 1e12), "", false, {}, "Sample every N steps."},
       {"output.profile_axis", K::kString, std::nullopt, Range::any(), "", false, S{"x", "y", "z"}, "Axis across which the summary's velocity profile is taken, in slabs (default: y under shear, else none); the chute's is z."},
       {"output.profile_component", K::kString, Value(std::string("x")), Range::any(), "", false, S{"x", "y", "z"}, "Velocity component of the profile (with the shear flow)."},
@@ -151,6 +151,8 @@ void compile_core(const SceneDesc& d, Model& m) {
 // The stats columns, once every module is in (their observables).
 void finish_core(const SceneDesc& d, Model& m) {
   m.observe = d.strings("output.observe");
+  // The default's grain energy means nothing without grains: a fluid's instead.
+  if (!d.has("output.observe") && !m.module_on("dem")) m.observe = {"t", "step", "fluid.ke"};
   for (const std::string& name : m.observe)
     if (auto err = check_observable(name, m); !err.empty()) d.fail("output.observe", err);
   m.sample_every = d.integer("output.every");

@@ -1,0 +1,131 @@
+// The fluid in a run: divergence after projection, determinism across threads, bitwise restart,
+// live steering of the viscosity and of a lid, and the failures it reports.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <numbers>
+
+#include "fluid/module.hpp"
+#include "fluid/step.hpp"
+#include "silt/io.hpp"
+#include "support/scenes.hpp"
+
+using namespace silt;
+using namespace silt::fluid;
+
+namespace {
+
+// The lid-driven cavity at Re = 100 (side 1, lid speed 1).
+std::string cavity(int dim, int n, const std::string& extra = "") {
+  const bool d3 = dim == 3;
+  const std::string c = std::to_string(n);
+  return std::string("[scene]\ndimension = ") + (d3 ? "3" : "2") +
+         "\n[domain]\nlo = " + (d3 ? "[0.0, 0.0, 0.0]" : "[0.0, 0.0]") +
+         "\nhi = " + (d3 ? "[1.0, 1.0, 1.0]" : "[1.0, 1.0]") + "\n[fluid]\ncells = [" + c + ", " + c +
+         (d3 ? ", " + c : "") + "]\nreynolds = 100.0\n" + extra +
+         "\n[fluid.boundary]\ny_hi_velocity = " + (d3 ? "[1.0, 0.0, 0.0]" : "[1.0, 0.0]") + "\n";
+}
+
+double div_max(const Simulation& sim) { return sim.state().module_field(fluid_fields().stat)[kDivMax]; }
+
+}  // namespace
+
+TEST_CASE("fluid: the divergence after projection is at round-off with transforms, at the tolerance with CG") {
+  auto fft = test::simulation_from(cavity(2, 32));
+  for (int k = 0; k < 5; ++k) REQUIRE(fft->step());
+  // |div u| h / U: round-off of the velocities (1) divided by h.
+  CHECK(div_max(*fft) * (1.0 / 32) < 1e-13);
+  CHECK(max_divergence(fft->model().params.get<FluidParams>(), fft->state()) == doctest::Approx(div_max(*fft)));
+  double d[2];
+  for (int k = 0; k < 2; ++k) {
+    auto cg = test::simulation_from(
+        cavity(2, 32, std::string("projection = \"multigrid_cg\"\ntolerance = ") + (k == 0 ? "1e-6" : "1e-11")));
+    for (int s = 0; s < 5; ++s) REQUIRE(cg->step());
+    d[k] = div_max(*cg);
+    CHECK(cg->state().module_field(fluid_fields().stat)[kIters] > 0);
+  }
+  INFO("CG divergence at 1e-6 and 1e-11: " << d[0] << " " << d[1]);
+  CHECK(d[0] < 1e-3);
+  CHECK(d[1] < 1e-3 * d[0]);
+}
+
+TEST_CASE("fluid: the same bits on 1, 2 and 4 threads") {
+  for (const std::string& scene : {cavity(2, 48), cavity(3, 12), cavity(2, 32, "projection = \"multigrid_cg\"")}) {
+    uint64_t h[3];
+    int k = 0;
+    for (int threads : {1, 2, 4}) {
+      auto sim = test::simulation_from(scene, threads);
+      for (int s = 0; s < 8; ++s) REQUIRE(sim->step());
+      h[k++] = state_hash(sim->state());
+    }
+    CHECK(h[0] == h[1]);
+    CHECK(h[0] == h[2]);
+  }
+}
+
+TEST_CASE("fluid: a restart from a checkpoint continues bitwise") {
+  for (const std::string& scene : {cavity(2, 24), cavity(2, 24, "projection = \"multigrid_cg\"")}) {
+    const std::string path =
+        (std::filesystem::temp_directory_path() / ("silt_fluid_restart_" + std::to_string(scene.size()) + ".ckpt"))
+            .string();
+    auto a = test::simulation_from(scene);
+    for (int s = 0; s < 6; ++s) REQUIRE(a->step());
+    write_checkpoint(path, a->model(), a->state());
+    for (int s = 0; s < 6; ++s) REQUIRE(a->step());
+    auto b = test::simulation_from(scene);
+    b->restore(read_checkpoint(path, b->model()));
+    for (int s = 0; s < 6; ++s) REQUIRE(b->step());
+    CHECK(state_hash(b->state()) == state_hash(a->state()));
+    std::filesystem::remove(path);
+  }
+}
+
+TEST_CASE("fluid: steering the viscosity mid-run changes the decay rate from then on") {
+  // Taylor-Green: the energy decays as exp(-4 nu k^2 t); nu 0.01 for t in [0, 0.3], then 0.03.
+  const std::string scene =
+      "[scene]\ndimension = 2\n[domain]\nlo = [0.0, 0.0]\nhi = [1.0, 1.0]\nperiodic = [true, true]\n"
+      "[fluid]\ncells = [32, 32]\nviscosity = 0.01\ninitial = \"taylor_green\"\ndt = 0.002\n";
+  auto sim = test::simulation_from(scene);
+  sim->prepare();  // the initial velocity
+  const double e0 = kinetic_energy(sim->model().params.get<FluidParams>(), sim->state());
+  while (sim->state().t < 0.3 - 1e-12) REQUIRE(sim->step());
+  REQUIRE(steer(sim->model_for_steering(), parse_override("fluid.viscosity=0.03")) == "");
+  const FluidParams& p = sim->model().params.get<FluidParams>();  // the steered model's
+  CHECK(p.viscosity == 0.03);
+  while (sim->state().t < 0.6 - 1e-12) REQUIRE(sim->step());
+  const double k2 = 4 * std::numbers::pi * std::numbers::pi;
+  const double expected = std::exp(-4 * k2 * (0.01 * 0.3 + 0.03 * 0.3));
+  CHECK(kinetic_energy(p, sim->state()) / e0 == doctest::Approx(expected).epsilon(0.01));
+  // A lid's speed too; the grid is not steerable.
+  auto cav = test::simulation_from(cavity(2, 16));
+  CHECK(steer(cav->model_for_steering(), parse_override("fluid.boundary.y_hi_velocity=[2.0, 0.0]")) == "");
+  CHECK(cav->model().params.get<FluidParams>().grid.bc[1][1].velocity[0] == 2.0);
+  CHECK(steer(cav->model_for_steering(), parse_override("fluid.cells=[8, 8]")) != "");
+}
+
+TEST_CASE("fluid: a step beyond the CFL limit stops the run naming fluid.dt") {
+  // The fluid starts at rest: the step passes until the flow under the lid is fast enough.
+  auto sim = test::simulation_from(cavity(2, 32, "dt = 0.2"));
+  bool failed = false;
+  for (int k = 0; k < 10 && !failed; ++k) failed = !sim->step();
+  CHECK(failed);
+  CHECK(sim->state().failure.parameter == "fluid.dt");
+  CHECK(sim->state().failure.message.find("CFL") != std::string::npos);
+}
+
+TEST_CASE("fluid: scene errors are located at their key") {
+  std::string uneven = cavity(2, 16);
+  uneven.replace(uneven.find("[16, 16]"), 8, "[16, 8]");
+  const std::string err = test::scene_error(uneven);
+  INFO(err);
+  CHECK(err.find("bad.toml:7:9") != std::string::npos);  // the fluid.cells value
+  CHECK(err.find("spacing") != std::string::npos);
+  const std::string inflow_only =
+      "[scene]\ndimension = 2\n[domain]\nlo = [0.0, 0.0]\nhi = [1.0, 1.0]\n[fluid]\ncells = [8, 8]\n"
+      "viscosity = 0.1\n[fluid.boundary]\nx_lo = \"inflow\"\nx_lo_velocity = [1.0, 0.0]\n";
+  CHECK(test::scene_error(inflow_only).find("outflow") != std::string::npos);
+  const std::string big = test::scene_error(cavity(3, 4000));
+  INFO(big);
+  CHECK(big.find("GiB") != std::string::npos);
+}
