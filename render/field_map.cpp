@@ -97,7 +97,8 @@ bool plane_extent(const GridField& g, const Vec3& n, double p, const Vec3& u, co
 ColorScale add_field(RenderScene& rs, const GridField& f, const View& v, int dim, float z) {
   const bool magnitude = f.components == 3 && v.slice_component == "magnitude";
   const GridField g = field_component(f, v.slice_component);
-  ColorScale scale{magnitude ? "sequential" : "diverging", v.field_range[0], v.field_range[1], g.name};
+  ColorScale scale{magnitude ? "sequential" : "diverging", v.field_range[0], v.field_range[1],
+                   g.unit.empty() ? g.name : g.name + " [" + g.unit + "]"};
   int64_t nans = 0;
   double mx = 0;
   for (double x : g.value) {

@@ -5,6 +5,7 @@
 
 #include "render/camera.hpp"
 #include "render/scene_parts.hpp"
+#include "silt/module.hpp"
 
 namespace silt::render {
 namespace {
@@ -153,6 +154,13 @@ std::vector<Vec3> frame_corners(const Model& m, const State& s, bool whole_domai
 }  // namespace
 
 RenderScene build_render_scene(const Model& m, const State& s, const View& v, const GridField* field) {
+  // The field to draw, when none is given: the module's field of that name (a fluid's).
+  std::vector<GridField> fields;
+  if (field == nullptr && v.wants("field")) {
+    fields = module_grid_fields(m, s);
+    for (const GridField& f : fields)
+      if (f.name == v.field) field = &f;
+  }
   if (v.width < 16 || v.height < 16 || v.width > 16384 || v.height > 16384)
     throw RenderError("image size " + std::to_string(v.width) + " x " + std::to_string(v.height) +
                       " is outside 16 .. 16384 pixels");

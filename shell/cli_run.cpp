@@ -167,9 +167,21 @@ int run_command(const RunArgs& a) {
   if (!job->last_good_path().empty())
     std::cerr << "silt: last good state (step " << sim.state().failure.step - 1 << ") written to "
               << job->last_good_path() << "\n";
-  const double rate = rep.wall_s > 0 ? model.n_grains * static_cast<double>(rep.steps_done) / rep.wall_s : 0;
-  std::printf("%s: %lld steps (t = %.6g s) in %.3f s, %.4g grain-steps/s on %d thread(s); status %s\n", a.scene.c_str(),
-              static_cast<long long>(rep.steps_done), sim.state().t, rep.wall_s, rate, sim.threads(),
+  // Throughput: grain-steps, and cell-steps of a grid (a fluid's).
+  const double cells = static_cast<double>(model.cells[0] * model.cells[1] * (model.dim == 3 ? model.cells[2] : 1));
+  const double per_s = rep.wall_s > 0 ? static_cast<double>(rep.steps_done) / rep.wall_s : 0;
+  std::string rate;
+  char buf[64];
+  if (model.n_grains > 0 || cells == 0) {
+    std::snprintf(buf, sizeof buf, "%.4g grain-steps/s", static_cast<double>(model.n_grains) * per_s);
+    rate = buf;
+  }
+  if (cells > 0) {
+    std::snprintf(buf, sizeof buf, "%s%.4g cell-steps/s", rate.empty() ? "" : ", ", cells * per_s);
+    rate += buf;
+  }
+  std::printf("%s: %lld steps (t = %.6g s) in %.3f s, %s on %d thread(s); status %s\n", a.scene.c_str(),
+              static_cast<long long>(rep.steps_done), sim.state().t, rep.wall_s, rate.c_str(), sim.threads(),
               RunJob::status(rep.end));
   return code;
 }

@@ -11,6 +11,7 @@
 
 #include "shell/progress.hpp"
 #include "shell/table.hpp"
+#include "silt/module.hpp"
 #include "silt/observables.hpp"
 #include "silt/text.hpp"
 
@@ -296,7 +297,7 @@ RunOptions Session::run_options(const RunLength& len, bool background) {
     opt.hooks.push_back({vtk_every_, [this, background](const State& st) {
                            if (!vtk_error_.empty()) return;
                            try {
-                             vtk_->write(sim_->model(), st);
+                             vtk_->write(sim_->model(), st, module_grid_fields(sim_->model(), st));
                            } catch (const IoError& e) {
                              vtk_error_ = e.what();
                              say("vtk stopped (the run goes on): " + vtk_error_, background);

@@ -90,9 +90,10 @@ void cell_vorticity(const Grid& g, const PaddedState& ps, std::vector<double>& o
       }
 }
 
-GridField grid_field(const Grid& g, const std::string& name, int components) {
+GridField grid_field(const Grid& g, const std::string& name, const std::string& unit, int components) {
   GridField f;
   f.name = name;
+  f.unit = unit;
   f.components = components;
   f.nx = static_cast<int>(g.n[0]);
   f.ny = static_cast<int>(g.n[1]);
@@ -104,7 +105,7 @@ GridField grid_field(const Grid& g, const std::string& name, int components) {
 }
 
 GridField vorticity_field(const Grid& g, const PaddedState& ps) {
-  GridField vort = grid_field(g, "vorticity", g.dim == 3 ? 3 : 1);
+  GridField vort = grid_field(g, "vorticity", "1/s", g.dim == 3 ? 3 : 1);
   if (g.dim == 2) cell_vorticity<2>(g, ps, vort.value);
   else cell_vorticity<3>(g, ps, vort.value);
   return vort;
@@ -181,7 +182,7 @@ double max_divergence(const FluidParams& p, const State& s) {
 std::vector<GridField> cell_fields(const FluidParams& p, const State& s) {
   const Grid& g = p.grid;
   const PaddedState ps = padded(p, s);
-  GridField vel = grid_field(g, "velocity", 3), pres = grid_field(g, "pressure", 1);
+  GridField vel = grid_field(g, "velocity", "m/s", 3), pres = grid_field(g, "pressure", "Pa", 1);
   vel.value.assign(static_cast<size_t>(g.cells() * 3), 0.0);
   pres.value.assign(static_cast<size_t>(g.cells()), 0.0);
   for (int64_t k = 0; k < g.n[2]; ++k)

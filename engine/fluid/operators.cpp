@@ -31,22 +31,32 @@ void sweep_rows(const Layout& L, const Range3& r, F&& f) {
 }
 
 template <int D>
-void momentum_rhs_d(const Grid& g, const Layout& L, const PaddedConst& u, const Padded& out, double nu,
-                    const std::array<double, 3>& force) {
+void momentum_substep_d(const Grid& g, const Layout& L, const PaddedConst& u, const Padded& u_star,
+                        const Padded& n_prev, const PaddedConst& bc_lap, const SubstepCoefficients& k) {
   const double inv_h[3] = {1 / g.h[0], 1 / g.h[1], 1 / g.h[2]};
   const double inv_h2[3] = {inv_h[0] * inv_h[0], inv_h[1] * inv_h[1], inv_h[2] * inv_h[2]};
   const int64_t* s = L.s.data();
   const double* const* c = u.data();
   auto one = [&]<int A>() {
-    double* o = out[A];
+    double* us = u_star[A];
+    double* np = n_prev[A];
     const double* ua = u[A];
-    const double f = force[A];
+    const double* lb = bc_lap[A];
+    const double f = k.force[A], nu = k.nu, gdt = k.gdt, zdt = k.zdt, beta = k.beta;
     sweep_rows(L, range_of(g, A), [&](int64_t q0, int64_t n, int64_t) {
-      if (nu > 0)
-        for (int64_t q = q0; q < q0 + n; ++q)
-          o[q] = advection_kernel<D, A>(c, q, s, inv_h) + nu * laplacian_kernel<D>(ua, q, s, inv_h2) + f;
+      if (beta > 0)
+        for (int64_t q = q0; q < q0 + n; ++q) {
+          const double adv = advection_kernel<D, A>(c, q, s, inv_h) + f;
+          const double lap = laplacian_kernel<D>(ua, q, s, inv_h2);
+          us[q] = ua[q] + gdt * adv + zdt * np[q] + beta * (lap + lb[q]);
+          np[q] = adv;
+        }
       else
-        for (int64_t q = q0; q < q0 + n; ++q) o[q] = advection_kernel<D, A>(c, q, s, inv_h) + f;
+        for (int64_t q = q0; q < q0 + n; ++q) {
+          const double rhs = advection_kernel<D, A>(c, q, s, inv_h) + nu * laplacian_kernel<D>(ua, q, s, inv_h2) + f;
+          us[q] = ua[q] + gdt * rhs + zdt * np[q];
+          np[q] = rhs;
+        }
     });
   };
   one.template operator()<0>();
@@ -84,10 +94,10 @@ std::array<int64_t, 3> unknown_dims(const Grid& g, int a) {
   return {r[0][1] - r[0][0], r[1][1] - r[1][0], r[2][1] - r[2][0]};
 }
 
-void momentum_rhs(const Grid& g, const Layout& L, const PaddedConst& u, const Padded& out, double nu,
-                  const std::array<double, 3>& force) {
-  if (g.dim == 2) momentum_rhs_d<2>(g, L, u, out, nu, force);
-  else momentum_rhs_d<3>(g, L, u, out, nu, force);
+void momentum_substep(const Grid& g, const Layout& L, const PaddedConst& u, const Padded& u_star, const Padded& n_prev,
+                      const PaddedConst& bc_lap, const SubstepCoefficients& c) {
+  if (g.dim == 2) momentum_substep_d<2>(g, L, u, u_star, n_prev, bc_lap, c);
+  else momentum_substep_d<3>(g, L, u, u_star, n_prev, bc_lap, c);
 }
 
 void component_laplacian(const Grid& g, const Layout& L, int a, const double* u, double* out) {

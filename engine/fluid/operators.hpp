@@ -14,10 +14,19 @@ namespace silt::fluid {
 using Padded = std::array<double*, 3>;
 using PaddedConst = std::array<const double*, 3>;
 
-// out_a = advection of u_a + nu Lap u_a (nu = 0: none) + force[a], on the faces each component
-// updates (update_range).
-void momentum_rhs(const Grid& g, const Layout& L, const PaddedConst& u, const Padded& out, double nu,
-                  const std::array<double, 3>& force);
+// One Runge-Kutta substep of the momentum equation, on the faces each component updates
+// (update_range), in one sweep:
+//   N = advection of u_a + nu Lap u_a + force[a]                 (nu = 0: no explicit viscosity)
+//   u*_a = u_a + gdt N + zdt n_prev_a + beta (Lap u_a + bc_lap_a)  (beta > 0: Crank-Nicolson's
+//                                                                  explicit half, bc_lap its
+//                                                                  boundary values)
+//   n_prev_a = N                                                  (for the next substep)
+struct SubstepCoefficients {
+  double nu = 0, gdt = 0, zdt = 0, beta = 0;
+  std::array<double, 3> force{0, 0, 0};
+};
+void momentum_substep(const Grid& g, const Layout& L, const PaddedConst& u, const Padded& u_star, const Padded& n_prev,
+                      const PaddedConst& bc_lap, const SubstepCoefficients& c);
 // out_a = Lap u_a on the updated faces.
 void component_laplacian(const Grid& g, const Layout& L, int a, const double* u, double* out);
 // cells[c] = scale * div u in every cell (unpadded, x fastest); returns max |div u|.

@@ -16,19 +16,31 @@ namespace {
 constexpr double kGamma[3] = {8.0 / 15.0, 5.0 / 12.0, 3.0 / 4.0};
 constexpr double kZeta[3] = {0.0, -17.0 / 60.0, -5.0 / 12.0};
 
-// Copies between the State's arrays (no ghosts) and the padded ones.
+// Copies between the State's arrays (no ghosts) and the padded ones; a store returns the largest
+// |value| stored (NaN if any is).
 template <bool kLoad>
-void copy_state(const Grid& g, const Layout& L, int a, std::vector<double>& state, double* padded) {
+double copy_state(const Grid& g, const Layout& L, int a, std::vector<double>& state, double* padded) {
   const auto d = a < 0 ? g.n : g.face_dims(a);
-  parallel_for(d[1] * d[2], 8, [&](int64_t b, int64_t e) {
+  const auto mx = parallel_max<1>(d[1] * d[2], 8, [&](int64_t b, int64_t e) {
+    double m = 0;
     for (int64_t row = b; row < e; ++row) {
       const int64_t j = row % d[1], k = row / d[1];
       double* p = padded + L.at(0, j, k);
       double* s = state.data() + row * d[0];
-      if constexpr (kLoad) std::copy(s, s + d[0], p);
-      else std::copy(p, p + d[0], s);
+      if constexpr (kLoad) {
+        std::copy(s, s + d[0], p);
+      } else {
+        for (int64_t i = 0; i < d[0]; ++i) {
+          const double v = p[i];
+          s[i] = v;
+          const double av = std::abs(v);
+          m = (av > m || av != av) ? av : m;  // a NaN stays
+        }
+      }
     }
+    return std::array<double, 1>{m};
   });
+  return mx[0];
 }
 
 void prepare(const FluidParams& p, FluidWorkspace& w) {
@@ -37,7 +49,7 @@ void prepare(const FluidParams& p, FluidWorkspace& w) {
   for (int a = 0; a < 3; ++a) {
     const size_t n = a < g.dim ? static_cast<size_t>(w.L.size) : 0;
     w.u[a].assign(n, 0);
-    w.n_cur[a].assign(n, 0);
+    w.u_star[a].assign(n, 0);
     w.n_prev[a].assign(n, 0);
     w.bc_lap[a].assign(n, 0);
   }
@@ -112,7 +124,7 @@ EventId solve_event() {
 
 size_t FluidWorkspace::bytes() const {
   size_t b = phi.capacity() + cells.capacity() + unknowns.capacity();
-  for (int a = 0; a < 3; ++a) b += u[a].capacity() + n_cur[a].capacity() + n_prev[a].capacity() + bc_lap[a].capacity();
+  for (int a = 0; a < 3; ++a) b += u[a].capacity() + u_star[a].capacity() + n_prev[a].capacity() + bc_lap[a].capacity();
   return b * sizeof(double) + pressure_solver_bytes(*this);
 }
 
@@ -124,7 +136,10 @@ double cfl_number(const FluidParams& p, const State& s, double dt) {
     const auto& u = s.module_field(f.u[a]);
     const auto mx = parallel_max<1>(static_cast<int64_t>(u.size()), 4096, [&](int64_t b, int64_t e) {
       double m = 0;
-      for (int64_t i = b; i < e; ++i) m = std::max(m, std::abs(u[i]));
+      for (int64_t i = b; i < e; ++i) {
+        const double v = std::abs(u[i]);
+        m = (v > m || v != v) ? v : m;  // a NaN stays
+      }
       return std::array<double, 1>{m};
     });
     rate += mx[0] / g.h[a];
@@ -132,8 +147,7 @@ double cfl_number(const FluidParams& p, const State& s, double dt) {
   return dt * rate;
 }
 
-double adaptive_dt(const FluidParams& p, const State& s) {
-  const double rate = cfl_number(p, s, 1.0);
+double adaptive_dt(const FluidParams& p, double rate) {
   double dt = rate > 0 ? p.cfl_target / rate : p.dt_max;
   if (p.viscous == Viscous::kExplicit) {
     double inv = 0;
@@ -158,7 +172,8 @@ void initial_velocity(const Model& m, State& s) {
   const FluidParams& p = m.params.get<FluidParams>();
   const FluidFields f = fluid_fields();
   const Grid& g = p.grid;
-  s.module_field(f.stat).assign(kStatCount, 0.0);
+  auto& stat = s.module_field(f.stat);
+  stat.assign(kStatCount, 0.0);
   if (p.initial != Initial::kTaylorGreen) return;
   // u = U0 sin(kx x) cos(ky y) cos(kz z), v = -U0 cos sin cos, w = 0, with k = 2 pi / L per axis:
   // divergence-free on the grid too (the discrete divergence of the sampled field is zero).
@@ -179,6 +194,7 @@ void initial_velocity(const Model& m, State& s) {
           u[i + d[0] * (j + d[1] * kk)] = p.initial_velocity * v * cz;
         }
   }
+  stat[kRate] = cfl_number(p, s, 1.0);
 }
 
 void fluid_advance(const Model& m, State& s, FluidWorkspace& w) {
@@ -191,7 +207,7 @@ void fluid_advance(const Model& m, State& s, FluidWorkspace& w) {
   const bool cn = p.viscous == Viscous::kCrankNicolson;
 
   // Stability of the scheme with this step (an adaptive step is within it by construction).
-  const double cfl = cfl_number(p, s, dt);
+  const double cfl = dt * stat[kRate];
   stat[kCfl] = cfl;
   if (!(cfl <= FluidParams::kCflLimit)) {
     s.events.slot[cfl_event()].raise(0, cfl);
@@ -206,15 +222,7 @@ void fluid_advance(const Model& m, State& s, FluidWorkspace& w) {
     }
   }
 
-  Padded u{}, nc{}, np{};
-  PaddedConst uc{};
-  for (int a = 0; a < g.dim; ++a) {
-    u[a] = w.u[a].data();
-    uc[a] = u[a];
-    nc[a] = w.n_cur[a].data();
-    np[a] = w.n_prev[a].data();
-    copy_state<true>(g, w.L, a, s.module_field(f.u[a]), u[a]);
-  }
+  for (int a = 0; a < g.dim; ++a) copy_state<true>(g, w.L, a, s.module_field(f.u[a]), w.u[a].data());
   if (cn) boundary_laplacian(g, w);
   if (w.multigrid) {
     // The first guess of the pressure solve: the state's pressure (a restart continues bitwise).
@@ -222,47 +230,43 @@ void fluid_advance(const Model& m, State& s, FluidWorkspace& w) {
     w.mg_x.resize(static_cast<Eigen::Index>(ps.size()));
     for (size_t c = 0; c < ps.size(); ++c) w.mg_x[static_cast<Eigen::Index>(c)] = ps[c] / p.density;
   }
-  std::array<double, 3> force{0, 0, 0};
-  if (p.drive == Drive::kPressure) force[p.drive_axis] = p.pressure_gradient / p.density;
+  SubstepCoefficients sc;
+  if (p.drive == Drive::kPressure) sc.force[p.drive_axis] = p.pressure_gradient / p.density;
+  sc.nu = cn ? 0.0 : nu;
   double div_max = 0, drive = 0;
+  auto pointers = [&](std::array<std::vector<double>, 3>& v) {
+    Padded out{};
+    for (int a = 0; a < g.dim; ++a) out[a] = v[a].data();
+    return out;
+  };
   for (int k = 0; k < 3; ++k) {
     const double alpha = kGamma[k] + kZeta[k];
+    sc.gdt = kGamma[k] * dt;
+    sc.zdt = kZeta[k] * dt;
+    // Crank-Nicolson: (1 - beta Lap) u* = u + dt (gamma N + zeta N') + beta Lap u + beta Lap_bc,
+    // beta = alpha dt nu / 2, solved as (1/beta - Lap) u* = rhs / beta.
+    sc.beta = cn ? 0.5 * alpha * dt * nu : 0.0;
+    const Padded u = pointers(w.u), us = pointers(w.u_star);
     fill_velocity_ghosts(g, w.L, u);
-    momentum_rhs(g, w.L, uc, nc, cn ? 0.0 : nu, force);
-    for (int a = 0; a < g.dim; ++a) {
-      double* ua = u[a];
-      const double *na = nc[a], *pa = np[a];
-      const double gk = kGamma[k] * dt, zk = kZeta[k] * dt;
-      if (cn) {
-        // Crank-Nicolson: (1 - beta Lap) u* = u + dt (gamma N + zeta N') + beta Lap u + beta Lap_bc,
-        // beta = alpha dt nu / 2: solved as (1/beta - Lap) u* = rhs / beta.
-        const double beta = 0.5 * alpha * dt * nu;
-        double* lap = w.phi.data();  // scratch
-        component_laplacian(g, w.L, a, ua, lap);
-        const double* lb = w.bc_lap[a].data();
-        gather_unknowns(g, w.L, a, ua, w.unknowns.data());
-        std::vector<double>& x = w.unknowns;
-        // rhs on the unknowns: gathered term by term through the padded scratch.
-        for (int64_t q = 0; q < w.L.size; ++q) lap[q] = ua[q] + gk * na[q] + zk * pa[q] + beta * (lap[q] + lb[q]);
-        gather_unknowns(g, w.L, a, lap, x.data());
-        if (beta > 0) {
-          const double inv_beta = 1 / beta;
-          const auto d = unknown_dims(g, a);
-          const int64_t n = d[0] * d[1] * d[2];
-          for (int64_t i = 0; i < n; ++i) x[i] *= inv_beta;
-          w.helmholtz[a]->solve(x.data(), inv_beta);
-        }
-        scatter_unknowns(g, w.L, a, x.data(), ua);
-      } else {
+    momentum_substep(g, w.L, {u[0], u[1], u[2]}, us, pointers(w.n_prev),
+                     {w.bc_lap[0].data(), w.bc_lap[1].data(), w.bc_lap[2].data()}, sc);
+    if (sc.beta > 0) {
+      const double inv_beta = 1 / sc.beta;
+      for (int a = 0; a < g.dim; ++a) {
         const auto d = unknown_dims(g, a);
-        (void)d;
-        for (int64_t q = 0; q < w.L.size; ++q) ua[q] += gk * na[q] + zk * pa[q];
+        const int64_t n = d[0] * d[1] * d[2];
+        double* x = w.unknowns.data();
+        gather_unknowns(g, w.L, a, us[a], x);
+        for (int64_t i = 0; i < n; ++i) x[i] *= inv_beta;
+        w.helmholtz[a]->solve(x, inv_beta);
+        scatter_unknowns(g, w.L, a, x, us[a]);
       }
     }
-    std::swap(nc, np);
+    for (int a = 0; a < g.dim; ++a) std::swap(w.u[a], w.u_star[a]);
     // Projection: Lap phi = div u* / (alpha dt); u = u* - alpha dt grad phi.
-    fill_velocity_ghosts(g, w.L, u);
-    divergence(g, w.L, uc, w.cells.data(), -1 / (alpha * dt));
+    const Padded un = pointers(w.u);
+    fill_velocity_ghosts(g, w.L, un);
+    divergence(g, w.L, {un[0], un[1], un[2]}, w.cells.data(), -1 / (alpha * dt));
     const linalg::SolveReport r = solve_pressure(p, w);
     if (!r.ok()) {
       s.events.slot[solve_event()].raise(static_cast<int64_t>(r.status), r.residual);
@@ -274,25 +278,30 @@ void fluid_advance(const Model& m, State& s, FluidWorkspace& w) {
     stat[kItersSum] += r.iterations;
     stat[kItersMax] = std::max<double>(stat[kItersMax], r.iterations);
     fill_pressure_ghosts(g, w.L, w.phi.data());
-    subtract_gradient(g, w.L, u, w.phi.data(), alpha * dt);
+    subtract_gradient(g, w.L, un, w.phi.data(), alpha * dt);
     if (p.drive == Drive::kFlowRate) drive += hold_flow_rate(p, w) / dt;
   }
-  // The last n_prev is not needed by the next step (zeta_0 = 0).
+  const Padded u = pointers(w.u);
+  PaddedConst uc{u[0], u[1], u[2]};
+  // The periodic copies of the faces, and the largest divergence when something looks at the
+  // end of this step (a sample, a frame): a pass over the grid the dynamics do not need.
   fill_velocity_ghosts(g, w.L, u);
-  div_max = divergence(g, w.L, uc, w.cells.data(), 1.0);
-  if (!std::isfinite(div_max)) {
-    s.events.slot[nonfinite_event()].raise(0, div_max);
-    return;
-  }
-  for (int a = 0; a < g.dim; ++a) copy_state<false>(g, w.L, a, s.module_field(f.u[a]), u[a]);
+  if (s.boundary_seen) div_max = divergence(g, w.L, uc, w.cells.data(), 1.0);
+  double rate = 0;  // sum_a max |u_a| / h_a, from the values stored
+  for (int a = 0; a < g.dim; ++a) rate += copy_state<false>(g, w.L, a, s.module_field(f.u[a]), u[a]) / g.h[a];
   // p = rho phi (phi of the last substep).
   auto& ps = s.module_field(f.p);
   copy_state<false>(g, w.L, -1, ps, w.phi.data());
   for (double& v : ps) v *= p.density;
-  stat[kDivMax] = div_max;
+  if (s.boundary_seen) stat[kDivMax] = div_max;
   stat[kDriveGradient] = p.drive == Drive::kFlowRate ? drive * p.density : p.pressure_gradient;
   stat[kCellSteps] += static_cast<double>(g.cells());
-  stat[kDtNext] = p.dt_fixed ? p.dt : adaptive_dt(p, s);
+  stat[kRate] = rate;
+  if (!std::isfinite(stat[kRate]) || !std::isfinite(div_max)) {
+    s.events.slot[nonfinite_event()].raise(0, stat[kRate]);
+    return;
+  }
+  stat[kDtNext] = p.dt_fixed ? p.dt : adaptive_dt(p, stat[kRate]);
 }
 
 }  // namespace silt::fluid

@@ -47,6 +47,7 @@ enum FluidStat : int {
   kItersMax,
   kDriveGradient,  // the mean pressure gradient that holds the imposed flow rate [Pa/m]
   kCellSteps,      // cell-steps advanced so far
+  kRate,           // sum_a max |u_a| / h_a of the state [1/s] (the CFL number is dt times it)
   kStatCount
 };
 
@@ -59,10 +60,10 @@ EventId solve_event();
 struct FluidWorkspace final : Workspace {
   bool ready = false;
   Layout L;
-  std::array<std::vector<double>, 3> u, n_cur, n_prev, bc_lap;  // padded
-  std::vector<double> phi;                                      // padded
-  std::vector<double> cells;                                    // one value per cell (solver)
-  std::vector<double> unknowns;                                 // one component's unknowns (Helmholtz)
+  std::array<std::vector<double>, 3> u, u_star, n_prev, bc_lap;  // padded
+  std::vector<double> phi;                                       // padded
+  std::vector<double> cells;                                     // one value per cell (solver)
+  std::vector<double> unknowns;                                  // one component's unknowns (Helmholtz)
   std::unique_ptr<FastSolver> poisson;
   std::array<std::unique_ptr<FastSolver>, 3> helmholtz;
   std::shared_ptr<void> multigrid;  // fluid/pressure_solve.cpp
@@ -79,9 +80,9 @@ void fluid_dt(const Model& m, State& s);
 // The initial velocity (at rest, or a Taylor-Green vortex) into a fresh state.
 void initial_velocity(const Model& m, State& s);
 
-// The adaptive step for velocity fields u: cfl_target / sum_a max|u_a| / h_a, within the
-// viscous limit of the explicit scheme and dt_max.
-double adaptive_dt(const FluidParams& p, const State& s);
+// The adaptive step for a velocity field of rate = sum_a max|u_a| / h_a: cfl_target / rate,
+// within the viscous limit of the explicit scheme and dt_max.
+double adaptive_dt(const FluidParams& p, double rate);
 // dt sum_a max|u_a| / h_a.
 double cfl_number(const FluidParams& p, const State& s, double dt);
 

@@ -1,4 +1,5 @@
 #include "silt/run_job.hpp"
+#include "silt/module.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -105,7 +106,7 @@ RunReport RunJob::run(RunOptions opt) {
     opt.hooks.push_back({o_.vtk_every > 0 ? o_.vtk_every : m.sample_every, [this](const State& s) {
                            if (!vtk_error_.empty()) return;
                            try {
-                             vtk_->write(sim_.model(), s);
+                             vtk_->write(sim_.model(), s, module_grid_fields(sim_.model(), s));
                            } catch (const IoError& e) {
                              vtk_error_ = e.what();
                            }

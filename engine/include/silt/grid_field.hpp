@@ -14,6 +14,7 @@ namespace silt {
 // cell centres lo + (i + 1/2) h, x fastest. A 2D field has nz = 1 (its cells one h[2] thick).
 struct GridField {
   std::string name;  // "vorticity", ...
+  std::string unit;  // "1/s", ... ("" for none)
   int components = 1;
   int nx = 0, ny = 0, nz = 1;
   std::array<double, 3> lo{0, 0, 0}, h{1, 1, 1};
