@@ -163,7 +163,8 @@ void fluid_dt(const Model& m, State& s) {
     s.dt = p.dt;
     return;
   }
-  const double next = s.module_field(fluid_fields().stat)[kDtNext];
+  const auto& stat = s.module_field(fluid_fields().stat);
+  const double next = stat.size() == kStatCount ? stat[kDtNext] : 0.0;
   s.dt = next > 0 ? next : p.dt;
   if (m.n_grains > 0) s.dt = std::min(s.dt, m.dt);  // grains in the same step keep theirs
 }
@@ -203,6 +204,10 @@ void fluid_advance(const Model& m, State& s, FluidWorkspace& w) {
   const FluidFields f = fluid_fields();
   if (!w.ready || w.L.n != g.n) prepare(p, w);
   auto& stat = s.module_field(f.stat);
+  if (stat.size() != kStatCount) {  // a state made without the fluid's numbers
+    stat.assign(kStatCount, 0.0);
+    stat[kRate] = cfl_number(p, s, 1.0);
+  }
   const double dt = s.dt, nu = p.nu();
   const bool cn = p.viscous == Viscous::kCrankNicolson;
 

@@ -24,6 +24,7 @@ Model compression_model(const Model& m) {
 }
 
 State adopt_state(const Model& m, State s) {
+  s.cells = m.cells;  // a grid's fields of another size are made anew below
   if (s.box.lees_edwards != m.box.lees_edwards) {
     s.box.lees_edwards = m.box.lees_edwards;
     s.box.le_offset = 0;
