@@ -142,7 +142,8 @@ const ModuleSpec& module() {
           if (!std::isfinite(v)) return "a fluid velocity is not finite";
       return "";
     };
-    s.summary_group = "fluid";
+    // The pressure solves, as INTERFACE.md's "solver" group (transforms: no iterations).
+    s.summary_group = "solver";
     s.summary = [](const Model&, const State& st) {
       const auto& v = st.module_field(fluid_fields().stat);
       std::vector<std::pair<std::string, double>> out;
@@ -150,9 +151,7 @@ const ModuleSpec& module() {
       out = {{"solves", v[kSolves]},
              {"iters_mean", v[kSolves] > 0 ? v[kItersSum] / v[kSolves] : 0.0},
              {"iters_max", v[kItersMax]},
-             {"div_max", v[kDivMax]},
-             {"cfl", v[kCfl]},
-             {"cell_steps", v[kCellSteps]}};
+             {"refactorisations", 0.0}};
       return out;
     };
     s.grid_fields = [](const Model& m, const State& st) { return cell_fields(m.params.get<FluidParams>(), st); };
