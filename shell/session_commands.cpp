@@ -124,13 +124,14 @@ void Session::cmd_set(const Command& c) {
   if (running())
     throw std::runtime_error("'" + change.key +
                              "' cannot change while a run goes on (it is not steerable): stop first");
-  // Recompile with the new value; keep the state when the grains are the same.
+  // Recompile with the new value; keep the state when the grains and the grid are the same.
   Model m = compile(scene_with(next));
-  const bool same = m.scene_hash == s.model().scene_hash && m.walls.size() == s.model().walls.size();
+  const bool same_grains = m.scene_hash == s.model().scene_hash && m.walls.size() == s.model().walls.size();
+  const bool same = same_grains && m.cells == s.model().cells;
   std::optional<State> keep;
   if (same) keep = s.state();
   const State& was = s.state();
-  std::string discarded = " (the grains changed: back to t = 0";
+  std::string discarded = std::string(" (the ") + (same_grains ? "fluid's grid" : "grains") + " changed: back to t = 0";
   if (was.step > 0 || stats_->rows().size() > 1)
     discarded += "; discarded: the run to t = " + format_number(was.t) + " s (step " + std::to_string(was.step) +
                  ") and its " + std::to_string(stats_->rows().size()) + " sample(s)";
@@ -151,6 +152,8 @@ void Session::cmd_get(const Command& c) {
   }
   std::string value = "(not set)";
   if (auto it = d.entries.find(key); it != d.entries.end()) value = value_to_string(it->second.value);
+  else if (const std::string chosen = spec->computed ? spec->computed(sim().model()) : std::string(); !chosen.empty())
+    value = "(not set), computed " + chosen;
   else if (spec->def) value = value_to_string(*spec->def) + " (default)";
   const bool reduced = sim().model().reduced_units;
   out_ << key << " = " << value << (spec->unit.empty() || reduced ? "" : " " + spec->unit) << "\n";

@@ -1,5 +1,6 @@
 // The fluid's scene keys ([fluid], [fluid.boundary], [[output.lines]]).
 #include "fluid/module.hpp"
+#include "silt/text.hpp"
 
 namespace silt::fluid {
 
@@ -38,6 +39,19 @@ std::vector<KeySpec> fluid_keys() {
       {"output.lines[].points", K::kInt, Value(int64_t{101}), Range::closed(2, 1e6), "", false, {}, "Line probe: points along the segment, both ends included."},
   };
   // clang-format on
+  // What compile() chose where the scene is silent (`params`, `get`).
+  auto chosen = [](double (*of)(const FluidParams&)) {
+    return [of](const Model& m) {
+      return m.module_on("fluid") ? format_number(of(m.params.get<FluidParams>())) : std::string();
+    };
+  };
+  for (KeySpec& k : s) {
+    if (k.path == "fluid.viscosity") k.computed = chosen([](const FluidParams& p) { return p.viscosity; });
+    if (k.path == "fluid.dt") k.computed = chosen([](const FluidParams& p) { return p.dt; });
+    if (k.path == "fluid.dt_max") k.computed = chosen([](const FluidParams& p) { return p.dt_max; });
+    if (k.path == "fluid.velocity_scale") k.computed = chosen([](const FluidParams& p) { return p.velocity_scale; });
+    if (k.path == "fluid.length_scale") k.computed = chosen([](const FluidParams& p) { return p.length_scale; });
+  }
   for (const char* f : face_names()) {
     const std::string b = std::string("fluid.boundary.") + f;
     s.push_back(
