@@ -198,19 +198,33 @@ void initial_velocity(const Model& m, State& s) {
   stat[kRate] = cfl_number(p, s, 1.0);
 }
 
-void fluid_advance(const Model& m, State& s, FluidWorkspace& w) {
+namespace {
+
+Padded pointers(const Grid& g, std::array<std::vector<double>, 3>& v) {
+  Padded out{};
+  for (int a = 0; a < g.dim; ++a) out[a] = v[a].data();
+  return out;
+}
+
+double alpha_of(int k) { return kGamma[k] + kZeta[k]; }
+
+}  // namespace
+
+void fluid_load(const Model& m, State& s, FluidWorkspace& w) {
   const FluidParams& p = m.params.get<FluidParams>();
   const Grid& g = p.grid;
   const FluidFields f = fluid_fields();
   if (!w.ready || w.L.n != g.n) prepare(p, w);
+  w.substep = 0;
+  w.failed = true;  // until the checks below pass
+  w.drive = 0;
+  w.dt = s.dt;
   auto& stat = s.module_field(f.stat);
   if (stat.size() != kStatCount) {  // a state made without the fluid's numbers
     stat.assign(kStatCount, 0.0);
     stat[kRate] = cfl_number(p, s, 1.0);
   }
   const double dt = s.dt, nu = p.nu();
-  const bool cn = p.viscous == Viscous::kCrankNicolson;
-
   // Stability of the scheme with this step (an adaptive step is within it by construction).
   const double cfl = dt * stat[kRate];
   stat[kCfl] = cfl;
@@ -218,7 +232,7 @@ void fluid_advance(const Model& m, State& s, FluidWorkspace& w) {
     s.events.slot[cfl_event()].raise(0, cfl);
     return;
   }
-  if (!cn) {
+  if (p.viscous == Viscous::kExplicit) {
     double inv = 0;
     for (int a = 0; a < g.dim; ++a) inv += 1 / (g.h[a] * g.h[a]);
     if (nu * dt * inv > FluidParams::kViscousLimit) {
@@ -226,72 +240,105 @@ void fluid_advance(const Model& m, State& s, FluidWorkspace& w) {
       return;
     }
   }
-
   for (int a = 0; a < g.dim; ++a) copy_state<true>(g, w.L, a, s.module_field(f.u[a]), w.u[a].data());
-  if (cn) boundary_laplacian(g, w);
+  if (p.viscous == Viscous::kCrankNicolson) boundary_laplacian(g, w);
   if (w.multigrid) {
     // The first guess of the pressure solve: the state's pressure (a restart continues bitwise).
     const auto& ps = s.module_field(f.p);
     w.mg_x.resize(static_cast<Eigen::Index>(ps.size()));
     for (size_t c = 0; c < ps.size(); ++c) w.mg_x[static_cast<Eigen::Index>(c)] = ps[c] / p.density;
   }
+  w.failed = false;
+}
+
+void fluid_momentum(const Model& m, State&, FluidWorkspace& w) {
+  if (w.failed) return;
+  const FluidParams& p = m.params.get<FluidParams>();
+  const Grid& g = p.grid;
+  const int k = w.substep;
+  const bool cn = p.viscous == Viscous::kCrankNicolson;
   SubstepCoefficients sc;
   if (p.drive == Drive::kPressure) sc.force[p.drive_axis] = p.pressure_gradient / p.density;
-  sc.nu = cn ? 0.0 : nu;
-  double div_max = 0, drive = 0;
-  auto pointers = [&](std::array<std::vector<double>, 3>& v) {
-    Padded out{};
-    for (int a = 0; a < g.dim; ++a) out[a] = v[a].data();
-    return out;
-  };
-  for (int k = 0; k < 3; ++k) {
-    const double alpha = kGamma[k] + kZeta[k];
-    sc.gdt = kGamma[k] * dt;
-    sc.zdt = kZeta[k] * dt;
-    // Crank-Nicolson: (1 - beta Lap) u* = u + dt (gamma N + zeta N') + beta Lap u + beta Lap_bc,
-    // beta = alpha dt nu / 2, solved as (1/beta - Lap) u* = rhs / beta.
-    sc.beta = cn ? 0.5 * alpha * dt * nu : 0.0;
-    const Padded u = pointers(w.u), us = pointers(w.u_star);
-    fill_velocity_ghosts(g, w.L, u);
-    momentum_substep(g, w.L, {u[0], u[1], u[2]}, us, pointers(w.n_prev),
-                     {w.bc_lap[0].data(), w.bc_lap[1].data(), w.bc_lap[2].data()}, sc);
-    if (sc.beta > 0) {
-      const double inv_beta = 1 / sc.beta;
-      for (int a = 0; a < g.dim; ++a) {
-        const auto d = unknown_dims(g, a);
-        const int64_t n = d[0] * d[1] * d[2];
-        double* x = w.unknowns.data();
-        gather_unknowns(g, w.L, a, us[a], x);
-        for (int64_t i = 0; i < n; ++i) x[i] *= inv_beta;
-        w.helmholtz[a]->solve(x, inv_beta);
-        scatter_unknowns(g, w.L, a, x, us[a]);
-      }
-    }
+  sc.nu = cn ? 0.0 : p.nu();
+  sc.gdt = kGamma[k] * w.dt;
+  sc.zdt = kZeta[k] * w.dt;
+  // Crank-Nicolson: (1 - beta Lap) u* = u + dt (gamma N + zeta N') + beta Lap u + beta Lap_bc,
+  // beta = alpha dt nu / 2; fluid_viscous solves it.
+  sc.beta = cn ? 0.5 * alpha_of(k) * w.dt * p.nu() : 0.0;
+  const Padded u = pointers(g, w.u);
+  fill_velocity_ghosts(g, w.L, u);
+  momentum_substep(g, w.L, {u[0], u[1], u[2]}, pointers(g, w.u_star), pointers(g, w.n_prev),
+                   {w.bc_lap[0].data(), w.bc_lap[1].data(), w.bc_lap[2].data()}, sc);
+  if (!cn)
     for (int a = 0; a < g.dim; ++a) std::swap(w.u[a], w.u_star[a]);
-    // Projection: Lap phi = div u* / (alpha dt); u = u* - alpha dt grad phi.
-    const Padded un = pointers(w.u);
-    fill_velocity_ghosts(g, w.L, un);
-    divergence(g, w.L, {un[0], un[1], un[2]}, w.cells.data(), -1 / (alpha * dt));
-    const linalg::SolveReport r = solve_pressure(p, w);
-    if (!r.ok()) {
-      s.events.slot[solve_event()].raise(static_cast<int64_t>(r.status), r.residual);
-      return;
+}
+
+void fluid_viscous(const Model& m, State&, FluidWorkspace& w) {
+  if (w.failed) return;
+  const FluidParams& p = m.params.get<FluidParams>();
+  const Grid& g = p.grid;
+  const double beta = 0.5 * alpha_of(w.substep) * w.dt * p.nu();
+  // (1/beta - Lap) u* = rhs / beta, per component on its own faces.
+  if (beta > 0) {
+    const double inv_beta = 1 / beta;
+    for (int a = 0; a < g.dim; ++a) {
+      const auto d = unknown_dims(g, a);
+      const int64_t n = d[0] * d[1] * d[2];
+      double* x = w.unknowns.data();
+      gather_unknowns(g, w.L, a, w.u_star[a].data(), x);
+      for (int64_t i = 0; i < n; ++i) x[i] *= inv_beta;
+      w.helmholtz[a]->solve(x, inv_beta);
+      scatter_unknowns(g, w.L, a, x, w.u_star[a].data());
     }
-    stat[kIters] = r.iterations;
-    stat[kResidual] = r.residual;
-    stat[kSolves] += 1;
-    stat[kItersSum] += r.iterations;
-    stat[kItersMax] = std::max<double>(stat[kItersMax], r.iterations);
-    fill_pressure_ghosts(g, w.L, w.phi.data());
-    subtract_gradient(g, w.L, un, w.phi.data(), alpha * dt);
-    if (p.drive == Drive::kFlowRate) drive += hold_flow_rate(p, w) / dt;
   }
-  const Padded u = pointers(w.u);
-  PaddedConst uc{u[0], u[1], u[2]};
+  for (int a = 0; a < g.dim; ++a) std::swap(w.u[a], w.u_star[a]);
+}
+
+void fluid_pressure(const Model& m, State& s, FluidWorkspace& w) {
+  if (w.failed) return;
+  const FluidParams& p = m.params.get<FluidParams>();
+  const Grid& g = p.grid;
+  // Lap phi = div u* / (alpha dt).
+  const Padded u = pointers(g, w.u);
+  fill_velocity_ghosts(g, w.L, u);
+  divergence(g, w.L, {u[0], u[1], u[2]}, w.cells.data(), -1 / (alpha_of(w.substep) * w.dt));
+  const linalg::SolveReport r = solve_pressure(p, w);
+  auto& stat = s.module_field(fluid_fields().stat);
+  if (!r.ok()) {
+    s.events.slot[solve_event()].raise(static_cast<int64_t>(r.status), r.residual);
+    w.failed = true;
+    return;
+  }
+  stat[kIters] = r.iterations;
+  stat[kResidual] = r.residual;
+  stat[kSolves] += 1;
+  stat[kItersSum] += r.iterations;
+  stat[kItersMax] = std::max<double>(stat[kItersMax], r.iterations);
+}
+
+void fluid_project(const Model& m, State&, FluidWorkspace& w) {
+  if (w.failed) return;
+  const FluidParams& p = m.params.get<FluidParams>();
+  const Grid& g = p.grid;
+  // u = u* - alpha dt grad phi.
+  fill_pressure_ghosts(g, w.L, w.phi.data());
+  subtract_gradient(g, w.L, pointers(g, w.u), w.phi.data(), alpha_of(w.substep) * w.dt);
+  if (p.drive == Drive::kFlowRate) w.drive += hold_flow_rate(p, w) / w.dt;
+  ++w.substep;
+}
+
+void fluid_store(const Model& m, State& s, FluidWorkspace& w) {
+  if (w.failed) return;
+  const FluidParams& p = m.params.get<FluidParams>();
+  const Grid& g = p.grid;
+  const FluidFields f = fluid_fields();
+  auto& stat = s.module_field(f.stat);
+  const Padded u = pointers(g, w.u);
   // The periodic copies of the faces, and the largest divergence when something looks at the
   // end of this step (a sample, a frame): a pass over the grid the dynamics do not need.
   fill_velocity_ghosts(g, w.L, u);
-  if (s.boundary_seen) div_max = divergence(g, w.L, uc, w.cells.data(), 1.0);
+  double div_max = 0;
+  if (s.boundary_seen) div_max = divergence(g, w.L, {u[0], u[1], u[2]}, w.cells.data(), 1.0);
   double rate = 0;  // sum_a max |u_a| / h_a, from the values stored
   for (int a = 0; a < g.dim; ++a) rate += copy_state<false>(g, w.L, a, s.module_field(f.u[a]), u[a]) / g.h[a];
   // p = rho phi (phi of the last substep).
@@ -299,14 +346,14 @@ void fluid_advance(const Model& m, State& s, FluidWorkspace& w) {
   copy_state<false>(g, w.L, -1, ps, w.phi.data());
   for (double& v : ps) v *= p.density;
   if (s.boundary_seen) stat[kDivMax] = div_max;
-  stat[kDriveGradient] = p.drive == Drive::kFlowRate ? drive * p.density : p.pressure_gradient;
+  stat[kDriveGradient] = p.drive == Drive::kFlowRate ? w.drive * p.density : p.pressure_gradient;
   stat[kCellSteps] += static_cast<double>(g.cells());
   stat[kRate] = rate;
-  if (!std::isfinite(stat[kRate]) || !std::isfinite(div_max)) {
-    s.events.slot[nonfinite_event()].raise(0, stat[kRate]);
+  if (!std::isfinite(rate) || !std::isfinite(div_max)) {
+    s.events.slot[nonfinite_event()].raise(0, rate);
     return;
   }
-  stat[kDtNext] = p.dt_fixed ? p.dt : adaptive_dt(p, stat[kRate]);
+  stat[kDtNext] = p.dt_fixed ? p.dt : adaptive_dt(p, rate);
 }
 
 }  // namespace silt::fluid

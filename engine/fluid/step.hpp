@@ -66,15 +66,34 @@ struct FluidWorkspace final : Workspace {
   std::vector<double> unknowns;                                  // one component's unknowns (Helmholtz)
   std::unique_ptr<FastSolver> poisson;
   std::array<std::unique_ptr<FastSolver>, 3> helmholtz;
+  // The step under way: its dt, the substep (0 .. 2), the flow-rate drive's sum, and whether an
+  // event stopped it.
+  double dt = 0, drive = 0;
+  int substep = 0;
+  bool failed = false;
   std::shared_ptr<void> multigrid;  // fluid/pressure_solve.cpp
   linalg::Vector mg_rhs, mg_x;      // its right-hand side, and its last solution (the next guess)
   void invalidate() override {}     // nothing held depends on the grains
   size_t bytes() const override;
 };
 
-// (fluid_u, fluid_v, fluid_w, fluid_p, dt) => (fluid_u, fluid_v, fluid_w, fluid_p, fluid_stat):
-// one step of dt. Raises cfl_event / nonfinite_event / solve_event.
-void fluid_advance(const Model& m, State& s, FluidWorkspace& w);
+// The stages of a step of dt (graph/fluid_stages.cpp): fluid_load, then three times fluid_momentum,
+// fluid_viscous (Crank-Nicolson only), fluid_pressure and fluid_project, then fluid_store. They
+// share the workspace's padded arrays; the State is read by fluid_load and written by
+// fluid_store. After an event (a CFL number beyond the limit, a solve that failed) the others
+// return at once.
+//   fluid_load      (fluid_u, fluid_v, fluid_w, fluid_p, fluid_stat, dt) => (fluid_stat, workspace)
+//   fluid_momentum  u* = u + dt (gamma N + zeta N') [+ beta (Lap u + Lap_bc)]
+//   fluid_viscous   (1/beta - Lap) u* = rhs / beta
+//   fluid_pressure  Lap phi = div u* / (alpha dt)           => (fluid_stat: the solve's numbers)
+//   fluid_project   u = u* - alpha dt grad phi (and the flow-rate drive)
+//   fluid_store     workspace => (fluid_u, fluid_v, fluid_w, fluid_p, fluid_stat); raises nonfinite_event
+void fluid_load(const Model& m, State& s, FluidWorkspace& w);
+void fluid_momentum(const Model& m, State& s, FluidWorkspace& w);
+void fluid_viscous(const Model& m, State& s, FluidWorkspace& w);
+void fluid_pressure(const Model& m, State& s, FluidWorkspace& w);
+void fluid_project(const Model& m, State& s, FluidWorkspace& w);
+void fluid_store(const Model& m, State& s, FluidWorkspace& w);
 // (fluid_stat, dt) => (dt): the fluid's time step, fixed or from the target CFL number.
 void fluid_dt(const Model& m, State& s);
 // The initial velocity (at rest, or a Taylor-Green vortex) into a fresh state.

@@ -51,8 +51,17 @@ bool run_on(const Stage& st, const Model& m, State& c) {
 }  // namespace
 
 void run_checked(const Stage& st, const Model& m, State& s) {
-  const State pristine = s;
   const std::vector<uint64_t> before = field_hashes(s);
+  if (st.carries_workspace) {  // one run: its writes checked, not its reads
+    st.fn(m, s);
+    const std::vector<uint64_t> after = field_hashes(s);
+    for (size_t f = 0; f < before.size(); ++f)
+      if (before[f] != after[f] && !declared(st.writes, static_cast<FieldId>(f)))
+        throw std::logic_error("access check: stage " + st.name + " writes field " +
+                               field_info(static_cast<FieldId>(f)).name + ", which its access set does not declare");
+    return;
+  }
+  const State pristine = s;
   const size_t n = before.size();
   std::vector<FieldId> poisoned;
   State copy = pristine;

@@ -1,6 +1,8 @@
 // The fluid's stages (fluid/step.hpp). In a step:
 //
-//   choose_dt -> fluid_dt -> fluid_advance
+//   choose_dt -> fluid_dt -> fluid_load -> fluid_substep x 3 -> fluid_store
+//                                            fluid_momentum -> (fluid_viscous ->) fluid_pressure
+//                                            -> fluid_project
 //
 // and in the setup graph, fluid_initial: the initial velocity of a fresh state.
 #include "fluid/step.hpp"
@@ -20,7 +22,7 @@ Access fluid_access() {
 void diagnose_fluid(GraphBuilder& b) {
   b.diagnose(fluid::cfl_event(), [](const Model& m, const State& s, const EventSlot& e, StepFailure& f) {
     const auto& p = m.params.get<fluid::FluidParams>();
-    f.stage = "fluid_advance";
+    f.stage = "fluid_load";
     if (e.first() == 0) {
       f.parameter = p.dt_fixed ? "fluid.dt" : "fluid.cfl";
       f.message = "the fluid's CFL number dt sum |u|/h = " + fmt(e.value()) + " at step " + std::to_string(s.step) +
@@ -34,7 +36,7 @@ void diagnose_fluid(GraphBuilder& b) {
     }
   });
   b.diagnose(fluid::nonfinite_event(), [](const Model&, const State& s, const EventSlot&, StepFailure& f) {
-    f.stage = "fluid_advance";
+    f.stage = "fluid_store";
     f.parameter = "fluid.cfl";
     f.message = "the fluid velocity is no longer finite at step " + std::to_string(s.step) +
                 ": the flow is under-resolved or the step too large; reduce fluid.cfl (or fluid.dt), or use more "
@@ -42,7 +44,7 @@ void diagnose_fluid(GraphBuilder& b) {
   });
   b.diagnose(fluid::solve_event(), [](const Model& m, const State&, const EventSlot& e, StepFailure& f) {
     const auto& p = m.params.get<fluid::FluidParams>();
-    f.stage = "fluid_advance";
+    f.stage = "fluid_pressure";
     f.parameter = "fluid.max_iterations";
     f.message = "the pressure solve (multigrid CG) did not converge: relative residual " + fmt(e.value()) +
                 " above fluid.tolerance = " + fmt(p.tolerance) +
@@ -64,14 +66,39 @@ void add_fluid_stages(GraphBuilder& b) {
     return;
   }
   auto& w = b.workspaces().get<fluid::FluidWorkspace>();
+  const bool cn = b.model().params.get<fluid::FluidParams>().viscous == fluid::Viscous::kCrankNicolson;
   const int dt = b.add("fluid_dt", &fluid::fluid_dt, {fid::dt, f.stat}, {fid::dt});
   b.light(dt);
   b.after(dt, b.find("choose_dt"), "replaces the scene's step by the fluid's");
   Access reads = fluid_access();
   reads.push_back(fid::dt);
-  const int adv = b.add(
-      "fluid_advance", [&w](const Model& m, State& s) { fluid::fluid_advance(m, s, w); }, reads, fluid_access());
-  b.after(adv, dt, "advances by this step's dt");
+  const int load = b.add("fluid_load", [&w](const Model& m, State& s) { fluid::fluid_load(m, s, w); }, reads, {f.stat});
+  b.after(load, dt, "advances by this step's dt");
+  // The three Runge-Kutta substeps: the stages share the workspace's padded velocity, so each
+  // waits for the one before it.
+  const int loop = b.loop("fluid_substep", 3, [&w, cn, f](GraphBuilder& lb) {
+    auto stage = [&](const char* name, void (*fn)(const Model&, State&, fluid::FluidWorkspace&), Access writes) {
+      const int i = lb.add(
+          name, [&w, fn](const Model& m, State& s) { fn(m, s, w); }, {}, std::move(writes));
+      lb.carries_workspace(i);
+      return i;
+    };
+    const int momentum = stage("fluid_momentum", &fluid::fluid_momentum, {});
+    int before = momentum;
+    if (cn) {
+      const int viscous = stage("fluid_viscous", &fluid::fluid_viscous, {});
+      lb.after(viscous, momentum, "solves for the u* the momentum stage predicted");
+      before = viscous;
+    }
+    const int pressure = stage("fluid_pressure", &fluid::fluid_pressure, {f.stat});
+    lb.after(pressure, before, "takes the divergence of u*");
+    const int project = stage("fluid_project", &fluid::fluid_project, {});
+    lb.after(project, pressure, "subtracts the gradient of the pressure just solved");
+  });
+  b.after(loop, load, "starts from the loaded velocity");
+  const int store = b.add(
+      "fluid_store", [&w](const Model& m, State& s) { fluid::fluid_store(m, s, w); }, {f.stat}, fluid_access());
+  b.after(store, loop, "stores the velocity of the last substep");
   diagnose_fluid(b);
 }
 

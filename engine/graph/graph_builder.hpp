@@ -37,6 +37,10 @@ struct Stage {
   // executor runs such stages at the start or the end of a step on its own thread instead of as
   // nodes of the graph, where a hand-over costs more than the stage.
   bool light = false;
+  // The stage carries values in its module's workspace to the next stage of the step (the
+  // fluid's substeps): it cannot run twice, so the access check checks its writes but not its
+  // reads (which it would do by a second run).
+  bool carries_workspace = false;
   bool is_loop() const { return body != nullptr; }
 };
 
@@ -66,6 +70,8 @@ class GraphBuilder {
   int add(std::string name, StageFn fn, Access reads, Access writes);
   // Mark a stage light (Stage::light).
   void light(int stage) { stages_.at(stage).light = true; }
+  // Mark a stage as carrying workspace values to the next (Stage::carries_workspace).
+  void carries_workspace(int stage) { stages_.at(stage).carries_workspace = true; }
   // A stage after every stage added so far (the end of a step).
   int add_last(std::string name, StageFn fn, Access reads, Access writes);
   // `stage` runs after `on`; why says what it needs from it ("depends on: ..."). Stages may wait
