@@ -97,7 +97,8 @@ void add_fluid_stages(GraphBuilder& b) {
   });
   b.after(loop, load, "starts from the loaded velocity");
   const int store = b.add(
-      "fluid_store", [&w](const Model& m, State& s) { fluid::fluid_store(m, s, w); }, {f.stat}, fluid_access());
+      // Reads what it writes: a step stopped by an event leaves the fields as they were.
+      "fluid_store", [&w](const Model& m, State& s) { fluid::fluid_store(m, s, w); }, fluid_access(), fluid_access());
   b.after(store, loop, "stores the velocity of the last substep");
   diagnose_fluid(b);
 }
