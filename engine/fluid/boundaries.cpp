@@ -23,6 +23,14 @@ void for_each_line(const Layout& L, int b, F&& f) {
   });
 }
 
+// The ghosts of a line along a periodic axis of n cells (or faces, the face n being face 0).
+template <class At>
+void wrap_periodic(At&& at, int64_t n) {
+  at(-1) = at(n - 1);
+  at(n) = at(0);
+  at(n + 1) = at(1);
+}
+
 }  // namespace
 
 double inflow_velocity(const Grid& g, int b, int side, int a, const std::array<double, 3>& x) {
@@ -46,12 +54,7 @@ void fill_velocity_ghosts(const Grid& g, const Layout& L, const std::array<doubl
       for_each_line(L, b, [&](int64_t q, const std::array<int64_t, 3>& idx) {
         double* line = u + q;  // line[i * sb]: position i along b
         auto at = [&](int64_t i) -> double& { return line[i * sb]; };
-        if (g.periodic(b)) {
-          at(-1) = at(n - 1);
-          at(n) = at(0);
-          at(n + 1) = at(1);
-          return;
-        }
+        if (g.periodic(b)) return wrap_periodic(at, n);
         for (int side = 0; side < 2; ++side) {
           const Bc& bc = g.bc[b][side];
           const int64_t edge = side == 0 ? 0 : (normal ? n : n - 1);  // last value inside
@@ -100,12 +103,7 @@ void fill_pressure_ghosts(const Grid& g, const Layout& L, double* p) {
     for_each_line(L, b, [&](int64_t q, const std::array<int64_t, 3>&) {
       double* line = p + q;
       auto at = [&](int64_t i) -> double& { return line[i * sb]; };
-      if (g.periodic(b)) {
-        at(-1) = at(n - 1);
-        at(n) = at(0);
-        at(n + 1) = at(1);
-        return;
-      }
+      if (g.periodic(b)) return wrap_periodic(at, n);
       const double lo = g.pbc(b, 0) == PressureBc::kDirichlet ? -1.0 : 1.0;
       const double hi = g.pbc(b, 1) == PressureBc::kDirichlet ? -1.0 : 1.0;
       at(-1) = lo * at(0);

@@ -43,18 +43,21 @@ void momentum_substep_d(const Grid& g, const Layout& L, const PaddedConst& u, co
     const double* ua = u[A];
     const double* lb = bc_lap[A];
     const double f = k.force[A], nu = k.nu, gdt = k.gdt, zdt = k.zdt, beta = k.beta;
+    const double* pr = k.p;
+    const double gp = k.adt * inv_h[A];
+    const int64_t sa = s[A];
     sweep_rows(L, range_of(g, A), [&](int64_t q0, int64_t n, int64_t) {
       if (beta > 0)
         for (int64_t q = q0; q < q0 + n; ++q) {
           const double adv = advection_kernel<D, A>(c, q, s, inv_h) + f;
           const double lap = laplacian_kernel<D>(ua, q, s, inv_h2);
-          us[q] = ua[q] + gdt * adv + zdt * np[q] + beta * (lap + lb[q]);
+          us[q] = ua[q] + gdt * adv + zdt * np[q] - gp * (pr[q] - pr[q - sa]) + beta * (lap + lb[q]);
           np[q] = adv;
         }
       else
         for (int64_t q = q0; q < q0 + n; ++q) {
           const double rhs = advection_kernel<D, A>(c, q, s, inv_h) + nu * laplacian_kernel<D>(ua, q, s, inv_h2) + f;
-          us[q] = ua[q] + gdt * rhs + zdt * np[q];
+          us[q] = ua[q] + gdt * rhs + zdt * np[q] - gp * (pr[q] - pr[q - sa]);
           np[q] = rhs;
         }
     });

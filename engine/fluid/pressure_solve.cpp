@@ -68,12 +68,13 @@ linalg::SolveReport solve_pressure(const FluidParams& p, FluidWorkspace& w) {
     auto& mg = *static_cast<PoissonSolver*>(w.multigrid.get());
     const auto n = static_cast<Eigen::Index>(g.cells());
     Eigen::Map<linalg::Vector> b(w.cells.data(), n);
-    // (-Lap) phi = -div u* / (alpha dt), from the previous substep's phi (in w.mg_x).
+    // (-Lap) phi = -div u* / (alpha dt), from phi = 0 (the increment).
     linalg::SolveOptions opt;
     opt.tolerance = p.tolerance;
     opt.max_iterations = p.max_iterations;
     mg.set_cg_options(opt);
     w.mg_rhs = b;
+    w.mg_x.setZero(n);
     r = mg.solve(w.mg_rhs, w.mg_x);
     b = w.mg_x;
   }

@@ -95,21 +95,9 @@ std::string describe_fluid(const Model& m) {
   return o.str();
 }
 
+// The steered values are in the fresh model's parameters, which steer() takes over whole; what
+// lies outside them: the step of a fluid alone (fluid.dt) and whether it adapts.
 std::string steer_fluid(Model& m, const Model& fresh) {
-  FluidParams& p = m.params.get<FluidParams>();
-  const FluidParams& f = fresh.params.get<FluidParams>();
-  for (int a = 0; a < m.dim; ++a)
-    for (int side = 0; side < 2; ++side) p.grid.bc[a][side].velocity = f.grid.bc[a][side].velocity;
-  p.viscosity = f.viscosity;
-  p.pressure_gradient = f.pressure_gradient;
-  p.bulk_velocity = f.bulk_velocity;
-  p.velocity_scale = f.velocity_scale;
-  p.dt_fixed = f.dt_fixed;
-  p.dt = f.dt;
-  p.cfl_target = f.cfl_target;
-  p.dt_max = f.dt_max;
-  p.tolerance = f.tolerance;
-  p.max_iterations = f.max_iterations;
   m.adaptive_dt = fresh.adaptive_dt;
   if (!m.desc.has("run.dt") && !m.desc.has("run.dt_over_tc")) m.dt = fresh.dt;
   return "";

@@ -54,6 +54,7 @@ void prepare(const FluidParams& p, FluidWorkspace& w) {
     w.bc_lap[a].assign(n, 0);
   }
   w.phi.assign(static_cast<size_t>(w.L.size), 0);
+  w.p_kin.assign(static_cast<size_t>(w.L.size), 0);
   w.cells.assign(static_cast<size_t>(g.cells()), 0);
   int64_t most = g.cells();
   for (int a = 0; a < g.dim; ++a) {
@@ -123,7 +124,7 @@ EventId solve_event() {
 }
 
 size_t FluidWorkspace::bytes() const {
-  size_t b = phi.capacity() + cells.capacity() + unknowns.capacity();
+  size_t b = phi.capacity() + p_kin.capacity() + cells.capacity() + unknowns.capacity();
   for (int a = 0; a < 3; ++a) b += u[a].capacity() + u_star[a].capacity() + n_prev[a].capacity() + bc_lap[a].capacity();
   return b * sizeof(double) + pressure_solver_bytes(*this);
 }
@@ -242,12 +243,14 @@ void fluid_load(const Model& m, State& s, FluidWorkspace& w) {
   }
   for (int a = 0; a < g.dim; ++a) copy_state<true>(g, w.L, a, s.module_field(f.u[a]), w.u[a].data());
   if (p.viscous == Viscous::kCrankNicolson) boundary_laplacian(g, w);
-  if (w.multigrid) {
-    // The first guess of the pressure solve: the state's pressure (a restart continues bitwise).
-    const auto& ps = s.module_field(f.p);
-    w.mg_x.resize(static_cast<Eigen::Index>(ps.size()));
-    for (size_t c = 0; c < ps.size(); ++c) w.mg_x[static_cast<Eigen::Index>(c)] = ps[c] / p.density;
-  }
+  // The pressure so far (kinematic, p / rho), whose gradient the predictor takes.
+  auto& ps = s.module_field(f.p);
+  copy_state<true>(g, w.L, -1, ps, w.p_kin.data());
+  const double inv_rho = 1 / p.density;
+  double* pk = w.p_kin.data();
+  parallel_for(w.L.size, 1 << 14, [&](int64_t b, int64_t e) {
+    for (int64_t q = b; q < e; ++q) pk[q] *= inv_rho;
+  });
   w.failed = false;
 }
 
@@ -262,6 +265,9 @@ void fluid_momentum(const Model& m, State&, FluidWorkspace& w) {
   sc.nu = cn ? 0.0 : p.nu();
   sc.gdt = kGamma[k] * w.dt;
   sc.zdt = kZeta[k] * w.dt;
+  sc.adt = alpha_of(k) * w.dt;
+  sc.p = w.p_kin.data();
+  fill_pressure_ghosts(g, w.L, w.p_kin.data());
   // Crank-Nicolson: (1 - beta Lap) u* = u + dt (gamma N + zeta N') + beta Lap u + beta Lap_bc,
   // beta = alpha dt nu / 2; fluid_viscous solves it.
   sc.beta = cn ? 0.5 * alpha_of(k) * w.dt * p.nu() : 0.0;
@@ -320,9 +326,15 @@ void fluid_project(const Model& m, State&, FluidWorkspace& w) {
   if (w.failed) return;
   const FluidParams& p = m.params.get<FluidParams>();
   const Grid& g = p.grid;
-  // u = u* - alpha dt grad phi.
+  // u = u* - alpha dt grad phi; p += phi.
   fill_pressure_ghosts(g, w.L, w.phi.data());
   subtract_gradient(g, w.L, pointers(g, w.u), w.phi.data(), alpha_of(w.substep) * w.dt);
+  const int64_t n = w.L.size;
+  double* pk = w.p_kin.data();
+  const double* phi = w.phi.data();
+  parallel_for(n, 1 << 14, [&](int64_t b, int64_t e) {
+    for (int64_t q = b; q < e; ++q) pk[q] += phi[q];
+  });
   if (p.drive == Drive::kFlowRate) w.drive += hold_flow_rate(p, w) / w.dt;
   ++w.substep;
 }
@@ -341,9 +353,9 @@ void fluid_store(const Model& m, State& s, FluidWorkspace& w) {
   if (s.boundary_seen) div_max = divergence(g, w.L, {u[0], u[1], u[2]}, w.cells.data(), 1.0);
   double rate = 0;  // sum_a max |u_a| / h_a, from the values stored
   for (int a = 0; a < g.dim; ++a) rate += copy_state<false>(g, w.L, a, s.module_field(f.u[a]), u[a]) / g.h[a];
-  // p = rho phi (phi of the last substep).
+  // p = rho p_kin.
   auto& ps = s.module_field(f.p);
-  copy_state<false>(g, w.L, -1, ps, w.phi.data());
+  copy_state<false>(g, w.L, -1, ps, w.p_kin.data());
   for (double& v : ps) v *= p.density;
   if (s.boundary_seen) stat[kDivMax] = div_max;
   stat[kDriveGradient] = p.drive == Drive::kFlowRate ? w.drive * p.density : p.pressure_gradient;

@@ -1,11 +1,15 @@
 // The fluid's step (Izard 2014 sec. 2.2): incompressible Navier-Stokes on the staggered grid,
 //   du/dt + div(u u) = -grad p / rho + nu Lap u + f,   div u = 0,
 // advanced by the low-storage third-order Runge-Kutta scheme of Wray (1990) (as in Spalart,
-// Moser & Rogers 1991 and CaNS) with a projection at each of its three substeps:
-//   u* = u^k + dt (gamma_k N(u^k) + zeta_k N(u^(k-1))) + alpha_k dt nu Lap (u^k + u*) / 2   (CN)
+// Moser & Rogers 1991 and CaNS) with an incremental pressure correction at each of its three
+// substeps (van Kan 1986; Brown, Cortez & Minion 2001), p the pressure / rho so far:
+//   u* = u^k + dt (gamma_k N(u^k) + zeta_k N(u^(k-1))) - alpha_k dt grad p
+//        + alpha_k dt nu Lap (u^k + u*) / 2                                   (Crank-Nicolson)
 //      (or + alpha_k dt nu Lap u^k, explicit),
-//   Lap phi = div u* / (alpha_k dt),   u^(k+1) = u* - alpha_k dt grad phi,   p = rho phi,
+//   Lap phi = div u* / (alpha_k dt),   u^(k+1) = u* - alpha_k dt grad phi,   p += phi,
 // gamma = (8/15, 5/12, 3/4), zeta = (0, -17/60, -5/12), alpha = gamma + zeta = (8/15, 2/15, 1/3).
+// The increment phi is O(dt): the splitting error of the projection is O(dt^2), where a
+// projection of the whole pressure (phi = p) leaves O(dt) at the walls.
 // N is the advection in divergence form (energy-conserving) plus the body force, and the
 // viscous term with the explicit scheme.
 #pragma once
@@ -61,9 +65,10 @@ struct FluidWorkspace final : Workspace {
   bool ready = false;
   Layout L;
   std::array<std::vector<double>, 3> u, u_star, n_prev, bc_lap;  // padded
-  std::vector<double> phi;                                       // padded
-  std::vector<double> cells;                                     // one value per cell (solver)
-  std::vector<double> unknowns;                                  // one component's unknowns (Helmholtz)
+  std::vector<double> phi;                                       // padded: the pressure increment of the substep
+  std::vector<double> p_kin;     // padded: the pressure / rho so far (incremental projection)
+  std::vector<double> cells;     // one value per cell (solver)
+  std::vector<double> unknowns;  // one component's unknowns (Helmholtz)
   std::unique_ptr<FastSolver> poisson;
   std::array<std::unique_ptr<FastSolver>, 3> helmholtz;
   // The step under way: its dt, the substep (0 .. 2), the flow-rate drive's sum, and whether an
@@ -72,7 +77,7 @@ struct FluidWorkspace final : Workspace {
   int substep = 0;
   bool failed = false;
   std::shared_ptr<void> multigrid;  // fluid/pressure_solve.cpp
-  linalg::Vector mg_rhs, mg_x;      // its right-hand side, and its last solution (the next guess)
+  linalg::Vector mg_rhs, mg_x;      // its right-hand side and solution
   void invalidate() override {}     // nothing held depends on the grains
   size_t bytes() const override;
 };
