@@ -34,7 +34,8 @@ int main(int argc, char** argv) {
   r->add_option("--frames", run.frames, "Write PNG frames DIR/frame_000000.png, ... (the scene's [render] settings)");
   r->add_option("--frame-every", run.frame_every, "One frame every N steps (default: render.every, else output.every)")
       ->transform(whole_number(1));
-  r->add_option("--vtk", run.vtk, "Write VTK files for ParaView/OVITO to DIR (grains .vtu, contacts .vtp, index.pvd)");
+  r->add_option("--vtk", run.vtk,
+                "Write VTK files for ParaView/OVITO to DIR (grains .vtu, contacts .vtp, fluid fields .vti, index.pvd)");
   r->add_option("--vtk-every", run.vtk_every, "VTK files every N steps (default: output.every)")
       ->transform(whole_number(1));
   r->add_option("--restore", run.restore,

@@ -77,7 +77,6 @@ struct SummaryInput {
 // Summary JSON of INTERFACE.md. Throws IoError.
 void write_summary(const std::string& path, const SummaryInput& in, const Simulation& sim, const StatsWriter& stats);
 
-
 // Fields on one grid as VTK ImageData (.vti): Origin at the grid's lower corner, Spacing h, the
 // values as CellData (they are cell averages at the cell centres). Throws IoError, and
 // std::invalid_argument for fields on different grids or of the wrong size.
