@@ -151,9 +151,7 @@ void Session::dispatch(const Command& c) {
 
 void Session::install(Model m, const std::optional<State>& keep) {
   auto next = std::make_unique<Simulation>(std::move(m), threads_);
-  // A state is kept across a change made while stopped, but not onto another grid (a fluid's
-  // cells): that starts from the scene's initial state.
-  if (keep && keep->cells == next->model().cells) {
+  if (keep) {
     next->restore(*keep);
   } else if (next->model().prepare.compress) {
     PreparationReport rep;

@@ -25,7 +25,16 @@ enum class BcType : uint8_t {
   kInflow,    // the velocity Bc::velocity on the face (a plug, or a parabola: Bc::parabolic)
   kOutflow,   // zero normal gradient of the velocity, p = 0 on the face
 };
-const char* bc_name(BcType t);
+inline const char* bc_name(BcType t) {
+  switch (t) {
+    case BcType::kPeriodic: return "periodic";
+    case BcType::kNoSlip: return "no_slip";
+    case BcType::kFreeSlip: return "free_slip";
+    case BcType::kInflow: return "inflow";
+    case BcType::kOutflow: return "outflow";
+  }
+  return "?";
+}
 
 struct Bc {
   BcType type = BcType::kPeriodic;

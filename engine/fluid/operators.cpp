@@ -70,7 +70,6 @@ void momentum_substep_d(const Grid& g, const Layout& L, const PaddedConst& u, co
 template <int D>
 double divergence_d(const Grid& g, const Layout& L, const PaddedConst& u, double* cells, double scale) {
   const double inv_h[3] = {1 / g.h[0], 1 / g.h[1], 1 / g.h[2]};
-  const Range3 r = range_of(g, -1);
   const int64_t nj = g.n[1], nk = D == 3 ? g.n[2] : 1, ni = g.n[0];
   const auto mx = parallel_max<1>(nj * nk, 8, [&](int64_t b, int64_t e) {
     double m = 0;
@@ -86,7 +85,6 @@ double divergence_d(const Grid& g, const Layout& L, const PaddedConst& u, double
     }
     return std::array<double, 1>{m};
   });
-  (void)r;
   return mx[0];
 }
 

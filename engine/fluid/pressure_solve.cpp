@@ -65,7 +65,7 @@ linalg::SolveReport solve_pressure(const FluidParams& p, FluidWorkspace& w) {
   if (w.poisson) {
     w.poisson->solve(w.cells.data(), 0.0);
   } else {
-    auto& mg = *static_cast<PoissonSolver*>(w.multigrid.get());
+    PoissonSolver& mg = *w.multigrid;
     const auto n = static_cast<Eigen::Index>(g.cells());
     Eigen::Map<linalg::Vector> b(w.cells.data(), n);
     // (-Lap) phi = -div u* / (alpha dt), from phi = 0 (the increment).

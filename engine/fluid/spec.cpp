@@ -32,17 +32,6 @@ double fluid_memory_bytes(const Model& m) {
   return bytes_per_cell(p) * padded_cells(p);
 }
 
-const char* face_bc_name(const Bc& bc) {
-  switch (bc.type) {
-    case BcType::kPeriodic: return "periodic";
-    case BcType::kNoSlip: return "no_slip";
-    case BcType::kFreeSlip: return "free_slip";
-    case BcType::kInflow: return "inflow";
-    case BcType::kOutflow: return "outflow";
-  }
-  return "?";
-}
-
 }  // namespace
 
 std::string describe_fluid(const Model& m) {
@@ -62,7 +51,7 @@ std::string describe_fluid(const Model& m) {
   for (int a = 0; a < m.dim; ++a)
     for (int side = 0; side < 2; ++side) {
       const Bc& bc = g.bc[a][side];
-      o << " " << face_names()[2 * a + side] << " " << face_bc_name(bc);
+      o << " " << face_names()[2 * a + side] << " " << bc_name(bc.type);
       if ((bc.type == BcType::kNoSlip || bc.type == BcType::kInflow) &&
           (bc.velocity[0] != 0 || bc.velocity[1] != 0 || bc.velocity[2] != 0)) {
         o << " [";
@@ -95,11 +84,10 @@ std::string describe_fluid(const Model& m) {
   return o.str();
 }
 
-// The steered values are in the fresh model's parameters, which steer() takes over whole; what
-// lies outside them: the step of a fluid alone (fluid.dt) and whether it adapts.
+// The steered values are in the fresh model's parameters, which steer() takes over whole, and
+// the step in its dt (the core's steer); what lies outside them: whether the step adapts.
 std::string steer_fluid(Model& m, const Model& fresh) {
   m.adaptive_dt = fresh.adaptive_dt;
-  if (!m.desc.has("run.dt") && !m.desc.has("run.dt_over_tc")) m.dt = fresh.dt;
   return "";
 }
 

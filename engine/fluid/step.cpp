@@ -53,6 +53,7 @@ void prepare(const FluidParams& p, FluidWorkspace& w) {
     w.n_prev[a].assign(n, 0);
     w.bc_lap[a].assign(n, 0);
   }
+  w.bc_lap_ready = false;
   w.phi.assign(static_cast<size_t>(w.L.size), 0);
   w.p_kin.assign(static_cast<size_t>(w.L.size), 0);
   w.cells.assign(static_cast<size_t>(g.cells()), 0);
@@ -72,14 +73,24 @@ void prepare(const FluidParams& p, FluidWorkspace& w) {
 // a field zero inside with the ghosts and boundary faces of the conditions. The implicit solve
 // uses homogeneous conditions; this goes into its right-hand side.
 void boundary_laplacian(const Grid& g, FluidWorkspace& w) {
-  std::array<std::vector<double>, 3> zero;
+  // u_star as the zero field: the momentum stage writes every entry of it that is read after.
   Padded z{};
   for (int a = 0; a < g.dim; ++a) {
-    zero[a].assign(static_cast<size_t>(w.L.size), 0);
-    z[a] = zero[a].data();
+    std::fill(w.u_star[a].begin(), w.u_star[a].end(), 0.0);
+    z[a] = w.u_star[a].data();
   }
   fill_velocity_ghosts(g, w.L, z);
-  for (int a = 0; a < g.dim; ++a) component_laplacian(g, w.L, a, zero[a].data(), w.bc_lap[a].data());
+  for (int a = 0; a < g.dim; ++a) component_laplacian(g, w.L, a, z[a], w.bc_lap[a].data());
+}
+
+// The velocities of the faces (walls, lids, inflows): the boundary Laplacian is made again
+// only when they change (a steered lid).
+std::array<double, 18> boundary_velocities(const Grid& g) {
+  std::array<double, 18> v{};
+  for (int a = 0; a < 3; ++a)
+    for (int side = 0; side < 2; ++side)
+      for (int c = 0; c < 3; ++c) v[9 * side + 3 * a + c] = g.bc[a][side].velocity[c];
+  return v;
 }
 
 // The flow-rate drive: the mean of the driven component over its faces held at the imposed bulk
@@ -242,7 +253,11 @@ void fluid_load(const Model& m, State& s, FluidWorkspace& w) {
     }
   }
   for (int a = 0; a < g.dim; ++a) copy_state<true>(g, w.L, a, s.module_field(f.u[a]), w.u[a].data());
-  if (p.viscous == Viscous::kCrankNicolson) boundary_laplacian(g, w);
+  if (p.viscous == Viscous::kCrankNicolson && (!w.bc_lap_ready || w.bc_velocities != boundary_velocities(g))) {
+    boundary_laplacian(g, w);
+    w.bc_velocities = boundary_velocities(g);
+    w.bc_lap_ready = true;
+  }
   // The pressure so far (kinematic, p / rho), whose gradient the predictor takes.
   auto& ps = s.module_field(f.p);
   copy_state<true>(g, w.L, -1, ps, w.p_kin.data());

@@ -29,7 +29,7 @@
 
 namespace silt::fluid {
 
-class MultigridSolverHandle;
+class PoissonSolver;
 
 // Ids of the fluid's State fields.
 struct FluidFields {
@@ -65,7 +65,9 @@ struct FluidWorkspace final : Workspace {
   bool ready = false;
   Layout L;
   std::array<std::vector<double>, 3> u, u_star, n_prev, bc_lap;  // padded
-  std::vector<double> phi;                                       // padded: the pressure increment of the substep
+  std::array<double, 18> bc_velocities{};                        // the face velocities bc_lap was made for
+  bool bc_lap_ready = false;
+  std::vector<double> phi;       // padded: the pressure increment of the substep
   std::vector<double> p_kin;     // padded: the pressure / rho so far (incremental projection)
   std::vector<double> cells;     // one value per cell (solver)
   std::vector<double> unknowns;  // one component's unknowns (Helmholtz)
@@ -76,9 +78,9 @@ struct FluidWorkspace final : Workspace {
   double dt = 0, drive = 0;
   int substep = 0;
   bool failed = false;
-  std::shared_ptr<void> multigrid;  // fluid/pressure_solve.cpp
-  linalg::Vector mg_rhs, mg_x;      // its right-hand side and solution
-  void invalidate() override {}     // nothing held depends on the grains
+  std::shared_ptr<PoissonSolver> multigrid;  // fluid/multigrid.hpp, for projection = multigrid_cg
+  linalg::Vector mg_rhs, mg_x;               // its right-hand side and solution
+  void invalidate() override {}              // nothing held depends on the grains
   size_t bytes() const override;
 };
 
