@@ -61,10 +61,15 @@ bool tile_rect(const Eye& eye, const std::array<double, 3>& lo, const std::array
     y0 = std::min(y0, p[1]);
     y1 = std::max(y1, p[1]);
   }
-  r[0] = std::clamp(static_cast<int>(std::floor(x0 / kTile)), 0, nx);
-  r[1] = std::clamp(static_cast<int>(std::floor(x1 / kTile)), -1, nx - 1);
-  r[2] = std::clamp(static_cast<int>(std::floor(y0 / kTile)), 0, ny);
-  r[3] = std::clamp(static_cast<int>(std::floor(y1 / kTile)), -1, ny - 1);
+  if (!(std::isfinite(x0) && std::isfinite(x1) && std::isfinite(y0) && std::isfinite(y1))) return false;
+  // Clamped before the conversion: a box far outside the view projects beyond any int.
+  auto tile = [](double v, int first, int last) {
+    return static_cast<int>(std::clamp(std::floor(v / kTile), static_cast<double>(first), static_cast<double>(last)));
+  };
+  r[0] = tile(x0, 0, nx);
+  r[1] = tile(x1, -1, nx - 1);
+  r[2] = tile(y0, 0, ny);
+  r[3] = tile(y1, -1, ny - 1);
   return true;
 }
 

@@ -177,7 +177,7 @@ std::string suggest_command(std::string_view name) {
   std::string best;
   size_t best_d = std::max<size_t>(2, name.size() / 3) + 1;
   for (const CommandSpec& s : command_specs()) {
-    const size_t d = edit_distance(name, s.name);
+    const size_t d = edit_distance(name, s.name, best_d);
     if (d < best_d) {
       best_d = d;
       best = s.name;

@@ -2,6 +2,7 @@
 
 #include <readline/readline.h>
 
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <string>
@@ -30,6 +31,21 @@ char** completion(const char* text, int, int) {
   return rl_completion_matches(text, completion_generator);
 }
 
+// In vi mode, an unfinished escape sequence with a number ("\e[5", "\e[1;5") ended by a byte that
+// no terminal sends inside one (a control character, DEL, a byte above 127) makes readline 8.2's
+// callback interface read a null pointer. Such a byte ends the sequence as an Escape does (the
+// sequence and the byte are dropped, and the Escape enters command mode).
+int guarded_getc(FILE* stream) {
+  static bool in_escape = false;  // the key sequence being read began with Escape
+  const int c = rl_getc(stream);
+  if (!RL_ISSTATE(RL_STATE_MULTIKEY)) {
+    in_escape = c == '\033';
+    return c;
+  }
+  if (rl_editing_mode == 0 && in_escape && c != EOF && (c < 0x20 || c > 0x7e)) return '\033';
+  return c;
+}
+
 }  // namespace
 
 void unbind_crashing_keys() {
@@ -38,6 +54,7 @@ void unbind_crashing_keys() {
   for (const char* seq : {"\\C-x(", "\\C-x)", "\\C-xe"}) rl_bind_keyseq_in_map(seq, nullptr, emacs_standard_keymap);
   rl_bind_keyseq("\\e[5~", rl_history_search_backward);  // Page Up: history with this prefix
   rl_bind_keyseq("\\e[6~", rl_history_search_forward);
+  rl_getc_function = guarded_getc;
 }
 
 void install_completion(const shell::Session* session) {

@@ -7,7 +7,8 @@
 namespace silt::cli {
 
 // Unbinds the incremental history searches (Ctrl-R, Ctrl-S) and keyboard macros (Ctrl-X ( ) e);
-// Page Up/Down walk the history with the line's prefix instead.
+// Page Up/Down walk the history with the line's prefix instead. Reads keys through a filter that
+// ends an unfinished escape sequence of vi mode where readline would crash on the next byte.
 void unbind_crashing_keys();
 // Completion of the word being typed by what the session's command expects (readline's own file
 // name completion where it takes a file): install with install_completion(session).

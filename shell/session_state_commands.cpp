@@ -55,7 +55,7 @@ void Session::cmd_field(const Command& c) {
     std::string best;
     size_t best_d = 4;
     for (const FieldInfo& f : field_infos())
-      if (const size_t d = edit_distance(c.args[0].text, f.name); d < best_d) {
+      if (const size_t d = edit_distance(c.args[0].text, f.name, best_d); d < best_d) {
         best_d = d;
         best = f.name;
       }

@@ -134,7 +134,7 @@ Found find(const std::string& name, const Model& m) {
   std::string best;
   size_t best_d = 3;
   for (const std::string& c : observable_names(m)) {
-    const size_t dist = edit_distance(name, c);
+    const size_t dist = edit_distance(name, c, best_d);
     if (dist < best_d) {
       best_d = dist;
       best = c;

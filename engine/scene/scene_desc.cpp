@@ -39,14 +39,15 @@ std::string suggest_key(std::string_view bad_path) {
     // Compare whole paths, and leaves alone so that a key in the wrong table is found too.
     const auto kdot = k.path.rfind('.');
     const std::string kleaf = kdot == std::string::npos ? k.path : k.path.substr(kdot + 1);
-    const size_t d = std::min(edit_distance(norm, k.path), edit_distance(leaf, kleaf) + (norm == leaf ? 0 : 1));
+    const size_t d =
+        std::min(edit_distance(norm, k.path, best_d), edit_distance(leaf, kleaf, best_d) + (norm == leaf ? 0 : 1));
     if (d < best_d) {
       best_d = d;
       best = k.path;
     }
     // The tables that hold the key, for a misspelt table name: "[contakt]" -> "contact".
     for (auto p = k.path.find('.'); p != std::string::npos; p = k.path.find('.', p + 1))
-      if (const size_t dt = edit_distance(norm, k.path.substr(0, p)); dt < best_d) {
+      if (const size_t dt = edit_distance(norm, k.path.substr(0, p), best_d); dt < best_d) {
         best_d = dt;
         best = k.path.substr(0, p);
       }

@@ -32,6 +32,7 @@ sed 's/^count = 896/count = 60/' scenes/shear2d_dry.toml > "$out/scene/small_she
 cp "$1"/fuzz_seeds/checkpoint/*.ckpt tests/fuzz/crashes/*.ckpt "$out/checkpoint/"
 cp "$1"/fuzz_seeds/*.dict "$out/"
 cp tests/fuzz/crashes/*.session "$out/session/"
+cp tests/fuzz/crashes/*.keys "$out/repl/"
 
 # Sessions: the first byte picks the scene loaded first (pack_2d, bounce_dry, collision_normal,
 # none), the rest are the lines of a script; on a terminal the same lines typed, and some keys.

@@ -107,3 +107,19 @@ dt = 1e-3
   all.cull_hidden = false;
   CHECK(raster.draw(rs).rgba == raster.draw(all).rgba);
 }
+
+TEST_CASE("occlusion culling: a grain projected far beyond the frame is handled without overflow") {
+  auto sim = test::simulation_from(kBlock);
+  View v = test::plain_view(64, 48, {"grains"});
+  RenderScene rs = build_render_scene(sim->model(), sim->state(), v);
+  // Its screen rectangle spans some 1e37 pixels: tile indices beyond any int (UBSan found the
+  // conversion, from a shell session).
+  rs.spheres[0].centre = {3e38f, 3e38f, 4.0f};
+  rs.spheres[1].centre = {-3e38f, 4.0f, 3e38f};
+  const Hidden h = find_hidden(rs);
+  REQUIRE(h.spheres.size() == rs.spheres.size());
+  Rasterizer raster(1);
+  const Image culled = raster.draw(rs);
+  rs.cull_hidden = false;
+  CHECK(culled.rgba == raster.draw(rs).rgba);
+}

@@ -163,6 +163,10 @@ TEST_CASE("on a terminal, the key sequences that crash readline's callback inter
       "e\x15");  // a keyboard macro holding newlines, played
   t.type("print step\n");
   CHECK(!t.read_until("step = 0").empty());
+  // Vi mode (Meta-Ctrl-J), an escape sequence with a number cut by a byte above 127 or a control
+  // character: a null pointer read in readline 8.2's callback interface. Then 'i' to insert.
+  t.type("\x1b\n\x1b[5\xae\x1b[1;5\x01iprint t\n");
+  CHECK(!t.read_until("t = 0").empty());
   t.type("quit\n");
   CHECK(t.wait_exit() == 0);
 }

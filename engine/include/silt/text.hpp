@@ -2,6 +2,7 @@
 // the shell's).
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <string_view>
 
@@ -10,7 +11,8 @@ namespace silt {
 // A number with `digits` significant digits ("0.0001", "2.5e+05").
 std::string format_number(double x, int digits = 6);
 
-// Levenshtein distance (insertions, deletions, substitutions).
-size_t edit_distance(std::string_view a, std::string_view b);
+// Levenshtein distance (insertions, deletions, substitutions), or `limit` when it is at least
+// that: a search for the closest name stops early on names that cannot beat the best so far.
+size_t edit_distance(std::string_view a, std::string_view b, size_t limit = SIZE_MAX);
 
 }  // namespace silt
