@@ -4,7 +4,8 @@
 # the corpora earlier runs left there). Prints a table and appends it to bench/results/fuzz.csv:
 # target, inputs run, seconds, exec/s, corpus size, new units, peak RSS, result (ok, or crash,
 # leak, timeout, oom with the input saved in build-fuzz/artifacts/).
-# Usage: bench/fuzz_all.sh [RUNS [TARGET...]]
+# Usage: bench/fuzz_all.sh [RUNS [TARGET...]]; FUZZ_MAX_SECONDS=S stops each target after S seconds
+# if it has not run its RUNS inputs by then (the row then says how many it ran).
 set -uo pipefail
 cd "$(dirname "$0")/.."
 runs=${1:-1000000}
@@ -20,7 +21,9 @@ printf '%-15s %10s %8s %8s %14s  %s\n' target inputs seconds exec/s corpus resul
 failed=0
 for t in "${targets[@]}"; do
   start=$(date +%s.%N)
-  tests/fuzz/run.sh "$t" "$out" -runs="$runs"
+  limit=()
+  [ -z "${FUZZ_MAX_SECONDS:-}" ] || limit=(-max_total_time="$FUZZ_MAX_SECONDS")
+  tests/fuzz/run.sh "$t" "$out" -runs="$runs" "${limit[@]}"
   status=$?
   seconds=$(awk -v a="$start" -v b="$(date +%s.%N)" 'BEGIN { printf "%.1f", b - a }')
   log=$out/logs/$t.log

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <cwchar>
 #include <string>
 #include <vector>
 
@@ -35,14 +36,48 @@ char** completion(const char* text, int, int) {
 // no terminal sends inside one (a control character, DEL, a byte above 127) makes readline 8.2's
 // callback interface read a null pointer. Such a byte ends the sequence as an Escape does (the
 // sequence and the byte are dropped, and the Escape enters command mode).
+//
+// A count (Meta-digits, or digits in vi command mode) is held at kMaxCount: readline 8.2 repeats
+// some motions character by character, each a scan of the line (vi's `w` after `999999` took 38 s).
+constexpr int kMaxCount = 1000;
+
+//
+// In a multibyte (UTF-8) locale, readline 8.2's vi motions do not move over a byte that is no
+// character (`w` on "\xff\xbf" loops forever). A character's bytes are read together (a terminal
+// sends them together), the ones after the first handed back to readline as pending input, and
+// bytes that make no character become '?'.
+int utf8_checked(FILE* stream, int lead) {
+  const int more = lead >= 0xc2 && lead <= 0xdf   ? 1
+                   : lead >= 0xe0 && lead <= 0xef ? 2
+                   : lead >= 0xf0 && lead <= 0xf4 ? 3
+                                                  : -1;
+  if (more < 0) return '?';  // a continuation byte alone, or a byte no UTF-8 character begins with
+  char bytes[4] = {static_cast<char>(lead), 0, 0, 0};
+  for (int k = 1; k <= more; ++k) {
+    const int b = rl_getc(stream);
+    if (b < 0x80 || b > 0xbf) {  // cut short: the byte that cut it is read next
+      if (b != EOF) rl_stuff_char(b);
+      return '?';
+    }
+    bytes[k] = static_cast<char>(b);
+  }
+  std::mbstate_t state{};
+  wchar_t w = 0;
+  if (std::mbrtowc(&w, bytes, static_cast<size_t>(more + 1), &state) != static_cast<size_t>(more + 1)) return '?';
+  for (int k = 1; k <= more; ++k) rl_stuff_char(static_cast<unsigned char>(bytes[k]));
+  return lead;
+}
+
 int guarded_getc(FILE* stream) {
   static bool in_escape = false;  // the key sequence being read began with Escape
   const int c = rl_getc(stream);
-  if (!RL_ISSTATE(RL_STATE_MULTIKEY)) {
+  if (RL_ISSTATE(RL_STATE_NUMERICARG) && rl_numeric_arg > kMaxCount) rl_numeric_arg = kMaxCount;
+  if (RL_ISSTATE(RL_STATE_MULTIKEY)) {
+    if (rl_editing_mode == 0 && in_escape && c != EOF && (c < 0x20 || c > 0x7e)) return '\033';
+  } else {
     in_escape = c == '\033';
-    return c;
   }
-  if (rl_editing_mode == 0 && in_escape && c != EOF && (c < 0x20 || c > 0x7e)) return '\033';
+  if (c >= 0x80 && MB_CUR_MAX > 1) return utf8_checked(stream, c);
   return c;
 }
 

@@ -116,6 +116,7 @@ void compile_dem(const SceneDesc& d, Model& m) {
   m.scene_hash = system_fingerprint(m);
   setup_neighbors(d, m);
   derive_contact_scales(d, m);
+  m.propose_dt(0.02 * m.t_contact);
 }
 
 void refresh_frozen(Model& m) {

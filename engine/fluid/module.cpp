@@ -178,7 +178,7 @@ void compile_fluid(const SceneDesc& d, Model& m) {
   m.cells = p.grid.n;
   if (m.dim == 2) m.cells[2] = 1;
   // The fluid's step is the step's (the grains, if any, sub-cycle in a later version).
-  if (!d.has("run.dt") && !d.has("run.dt_over_tc")) m.dt = p.dt;
+  m.propose_dt(p.dt);
   m.adaptive_dt = m.adaptive_dt || !p.dt_fixed;
 }
 

@@ -16,10 +16,7 @@ std::string fmt_(double x) { return format_number(x, 6); }
 // from the DEM's part of compile().
 void setup_time(const SceneDesc& d, Model& m) {
   const bool abs = d.has("run.dt"), rel = d.has("run.dt_over_tc");
-  // A module may have chosen the step (a fluid's); else 0.02 t_c by default.
-  const double module_dt = m.module_on("dem") ? 0.0 : m.dt;
-  m.dt = abs ? d.real("run.dt") : (rel ? d.real("run.dt_over_tc") : 0.02) * m.t_contact;
-  if (!abs && !rel && module_dt > 0) m.dt = module_dt;
+  m.dt = abs ? d.real("run.dt") : (rel ? d.real("run.dt_over_tc") * m.t_contact : m.default_dt);
   if (!(m.dt > 0) || !std::isfinite(m.dt))
     d.fail(abs ? "run.dt" : "run.dt_over_tc", "the time step is " + fmt_(m.dt) + " s: it must be finite and positive");
   if (m.module_on("dem") && m.dt > m.dt_stable) {

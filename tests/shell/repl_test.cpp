@@ -31,6 +31,7 @@ class Terminal {
     if (pid_ == 0) {
       setenv("HOME", home.c_str(), 1);
       setenv("TERM", "xterm", 1);
+      setenv("LC_ALL", "C.UTF-8", 1);  // readline reads multibyte characters
       if (chdir(home.c_str()) != 0) _exit(126);
       execl(silt::test::silt_binary().c_str(), "silt", "shell", scene.c_str(), "--threads", "2", nullptr);
       _exit(127);
@@ -167,6 +168,11 @@ TEST_CASE("on a terminal, the key sequences that crash readline's callback inter
   // character: a null pointer read in readline 8.2's callback interface. Then 'i' to insert.
   t.type("\x1b\n\x1b[5\xae\x1b[1;5\x01iprint t\n");
   CHECK(!t.read_until("t = 0").empty());
+  // Still in vi mode: bytes that are no UTF-8 character, then `w` on them (readline looped
+  // forever), the line then changed whole (cc); a character of two bytes reaches the command whole.
+  t.type("save a.ckp\xff\xbf\x1bwcc");
+  t.type("print t\xc3\xa9\n");
+  CHECK(!t.read_until("unknown observable 't\xc3\xa9'").empty());
   t.type("quit\n");
   CHECK(t.wait_exit() == 0);
 }

@@ -4,6 +4,8 @@
 // pressure) are changed between steps by replacing values here; every stage reads them afresh.
 #pragma once
 
+#include <algorithm>
+
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -243,7 +245,11 @@ struct Model {
   Vec3 gravity = Vec3::Zero();  // steerable
 
   // Time stepping.
-  double dt = 0;          // steerable
+  double dt = 0;  // steerable
+  // The step when the scene gives neither run.dt nor run.dt_over_tc: the smallest that the
+  // enabled modules propose (propose_dt: the DEM 0.02 t_c, a fluid its own step).
+  double default_dt = 0;
+  void propose_dt(double step) { default_dt = default_dt > 0 ? std::min(default_dt, step) : step; }
   double t_contact = 0;   // contact time of the lightest, stiffest pair [s]: the given t_c
                           // (spring_dashpot), else the elastic time pi sqrt(m*/k) (Hertz: at
                           // contact.hertz_ref_overlap)
