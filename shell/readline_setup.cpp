@@ -32,16 +32,6 @@ char** completion(const char* text, int, int) {
   return rl_completion_matches(text, completion_generator);
 }
 
-// In vi mode, an unfinished escape sequence with a number ("\e[5", "\e[1;5") ended by a byte that
-// no terminal sends inside one (a control character, DEL, a byte above 127) makes readline 8.2's
-// callback interface read a null pointer. Such a byte ends the sequence as an Escape does (the
-// sequence and the byte are dropped, and the Escape enters command mode).
-//
-// A count (Meta-digits, or digits in vi command mode) is held at kMaxCount: readline 8.2 repeats
-// some motions character by character, each a scan of the line (vi's `w` after `999999` took 38 s).
-constexpr int kMaxCount = 1000;
-
-//
 // In a multibyte (UTF-8) locale, readline 8.2's vi motions do not move over a byte that is no
 // character (`w` on "\xff\xbf" loops forever). A character's bytes are read together (a terminal
 // sends them together), the ones after the first handed back to readline as pending input, and
@@ -68,10 +58,14 @@ int utf8_checked(FILE* stream, int lead) {
   return lead;
 }
 
+// The keys as readline reads them, with two of its crashes kept away. In vi mode, an unfinished
+// escape sequence with a number ("\e[5", "\e[1;5") ended by a byte that no terminal sends inside
+// one (a control character, DEL, a byte above 127) makes readline 8.2's callback interface read a
+// null pointer: such a byte ends the sequence as an Escape does (the sequence and the byte are
+// dropped, and the Escape enters command mode). Bytes above 127: utf8_checked.
 int guarded_getc(FILE* stream) {
   static bool in_escape = false;  // the key sequence being read began with Escape
   const int c = rl_getc(stream);
-  if (RL_ISSTATE(RL_STATE_NUMERICARG) && rl_numeric_arg > kMaxCount) rl_numeric_arg = kMaxCount;
   if (RL_ISSTATE(RL_STATE_MULTIKEY)) {
     if (rl_editing_mode == 0 && in_escape && c != EOF && (c < 0x20 || c > 0x7e)) return '\033';
   } else {
