@@ -83,7 +83,7 @@ int guarded_getc(FILE* stream) {
 
 }  // namespace
 
-void unbind_crashing_keys() {
+void guard_readline_keys() {
   for (Keymap map : {emacs_standard_keymap, vi_insertion_keymap, vi_movement_keymap})
     for (const char* seq : {"\\C-r", "\\C-s"}) rl_bind_keyseq_in_map(seq, nullptr, map);
   for (const char* seq : {"\\C-x(", "\\C-x)", "\\C-xe"}) rl_bind_keyseq_in_map(seq, nullptr, emacs_standard_keymap);

@@ -165,7 +165,7 @@ int shell_command(const std::string& scene, int threads) {
   install_completion(&session);
   rl_readline_name = "silt";
   rl_initialize();
-  unbind_crashing_keys();
+  guard_readline_keys();
   using_history();
   read_history(history_path().c_str());
   stifle_history(kHistoryLines);

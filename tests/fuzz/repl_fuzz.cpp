@@ -63,7 +63,7 @@ extern "C" int LLVMFuzzerInitialize(int* argc, char*** argv) {
   rl_readline_name = "silt";
   rl_outstream = std::fopen("/dev/null", "w");
   rl_initialize();
-  silt::cli::unbind_crashing_keys();
+  silt::cli::guard_readline_keys();
   rl_variable_bind("bell-style", "none");
   using_history();
   if (!rl_library_version || std::strncmp(rl_library_version, "EditLine", 8) == 0)
