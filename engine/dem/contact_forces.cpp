@@ -23,11 +23,11 @@
 
 #include "core/assert.hpp"
 #include "core/periodic_image.hpp"
+#include "core/simd_level.hpp"
 #include "core/small_vec.hpp"
 #include "dem/contact_candidates.hpp"
 #include "dem/contact_laws.hpp"
 #include "dem/pair_schedule.hpp"
-#include "dem/simd_level.hpp"
 #include "dem/stages.hpp"
 #include "dem/touch_pass.hpp"
 
@@ -90,7 +90,7 @@ template <int D, bool Dashpot, bool PairMu>
   // Whole groups of kLanes: the last one may run on values past c, which are ignored.
   for (int64_t b = 0; b < c; b += kLanes) {
     double* __restrict ob = out + kOut<D> * b;
-#pragma GCC ivdep
+    SILT_IVDEP
     for (int64_t l = 0; l < kLanes; ++l) {
       const int64_t q = b + l;
       const double kt = kt_ratio * kn[q];

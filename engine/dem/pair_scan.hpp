@@ -18,8 +18,8 @@
 #endif
 
 #include "core/periodic_image.hpp"
+#include "core/simd_level.hpp"
 #include "core/small_vec.hpp"
-#include "dem/simd_level.hpp"
 
 namespace silt::dem {
 

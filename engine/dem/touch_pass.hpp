@@ -10,8 +10,8 @@
 #include <immintrin.h>
 #endif
 
+#include "core/simd_level.hpp"
 #include "dem/pair_scan.hpp"
-#include "dem/simd_level.hpp"
 
 namespace silt::dem {
 

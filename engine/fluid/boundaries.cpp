@@ -31,6 +31,13 @@ void wrap_periodic(At&& at, int64_t n) {
   at(n + 1) = at(1);
 }
 
+// Along x the lines are the rows, visited one after the other, each touched only at its ends:
+// without a hint every row costs two cache misses. Fetch the ends of the row 8 further on.
+inline void prefetch_row_ends(const Layout& L, const double* line, int64_t n) {
+  __builtin_prefetch(line + 8 * L.s[1] - 1, 1);
+  __builtin_prefetch(line + 8 * L.s[1] + n, 1);
+}
+
 }  // namespace
 
 double inflow_velocity(const Grid& g, int b, int side, int a, const std::array<double, 3>& x) {
@@ -54,6 +61,7 @@ void fill_velocity_ghosts(const Grid& g, const Layout& L, const std::array<doubl
       for_each_line(L, b, [&](int64_t q, const std::array<int64_t, 3>& idx) {
         double* line = u + q;  // line[i * sb]: position i along b
         auto at = [&](int64_t i) -> double& { return line[i * sb]; };
+        if (b == 0) prefetch_row_ends(L, line, n);
         if (g.periodic(b)) return wrap_periodic(at, n);
         for (int side = 0; side < 2; ++side) {
           const Bc& bc = g.bc[b][side];
@@ -103,6 +111,7 @@ void fill_pressure_ghosts(const Grid& g, const Layout& L, double* p) {
     for_each_line(L, b, [&](int64_t q, const std::array<int64_t, 3>&) {
       double* line = p + q;
       auto at = [&](int64_t i) -> double& { return line[i * sb]; };
+      if (b == 0) prefetch_row_ends(L, line, n);
       if (g.periodic(b)) return wrap_periodic(at, n);
       const double lo = g.pbc(b, 0) == PressureBc::kDirichlet ? -1.0 : 1.0;
       const double hi = g.pbc(b, 1) == PressureBc::kDirichlet ? -1.0 : 1.0;

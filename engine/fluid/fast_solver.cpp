@@ -144,14 +144,21 @@ void FastSolver::transform(double* data, int axis, bool forward) {
   constexpr int B = kBlock;
   if (axis == 0) {
     const int64_t lines = m1 * m_[2], blocks = (lines + B - 1) / B;
+    // A whole block aligned as the planner's buffer is transformed where it lies.
+    const int align = fftw_alignment_of(plans_->buffer());
     parallel_for(blocks, 4, [&](int64_t b0, int64_t b1) {
       double* buf = plans_->buffer();
       for (int64_t blk = b0; blk < b1; ++blk) {
         const int64_t first = blk * B, count = std::min<int64_t>(B, lines - first);
-        std::memcpy(buf, data + first * n, sizeof(double) * count * n);
+        double* block = data + first * n;
+        if (count == B && fftw_alignment_of(block) == align) {
+          fftw_execute_r2r(plan, block, block);
+          continue;
+        }
+        std::memcpy(buf, block, sizeof(double) * count * n);
         if (count < B) std::memset(buf + count * n, 0, sizeof(double) * (B - count) * n);
         fftw_execute_r2r(plan, buf, buf);
-        std::memcpy(data + first * n, buf, sizeof(double) * count * n);
+        std::memcpy(block, buf, sizeof(double) * count * n);
       }
     });
     return;

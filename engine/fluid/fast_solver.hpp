@@ -18,9 +18,11 @@
 // axis of kind face DN (an outflow's normal velocity), which no FFTW transform diagonalises.
 // Only one axis may be solved so.
 //
-// Transforms run on blocks of kBlock lines gathered into aligned per-thread buffers, each block
-// with the same FFTW plan (chosen by FFTW_ESTIMATE, not by timing): every line is transformed by
-// the same code whatever thread runs it, so results are bitwise the same for any thread count.
+// Transforms run on blocks of kBlock lines, each block with the same FFTW plan (chosen by
+// FFTW_ESTIMATE, not by timing): along x a block aligned as the planner's buffer where it lies,
+// other blocks gathered into aligned per-thread buffers (along y and z, kBlock neighbouring x
+// fill whole cache lines). Every line is transformed by the same code whatever thread runs it,
+// so results are bitwise the same for any thread count.
 #pragma once
 
 #include <array>
@@ -40,7 +42,7 @@ struct SolverAxis {
 
 class FastSolver {
  public:
-  static constexpr int kBlock = 8;
+  static constexpr int kBlock = 16;
   FastSolver(int dim, const std::array<SolverAxis, 3>& axes);
   ~FastSolver();
   FastSolver(const FastSolver&) = delete;

@@ -2,8 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 
 #include "core/parallel.hpp"
+#include "core/simd_level.hpp"
 #include "fluid/stencil_kernels.hpp"
 
 namespace silt::fluid {
@@ -30,41 +32,115 @@ void sweep_rows(const Layout& L, const Range3& r, F&& f) {
   });
 }
 
+// Calls f.template operator()<M>(q, n) with the mask M of a row's items known at compile time.
+template <int K, int M = 1, class F>
+void with_mask(int mask, F& f, int64_t q, int64_t n) {
+  if constexpr (M < (1 << K)) {
+    if (mask == M) f.template operator()<M>(q, n);
+    else with_mask<K, M + 1>(mask, f, q, n);
+  }
+}
+
+// Sweeps K items (the velocity components, the cells), each over its own range, in one pass:
+// f.template operator()<M>(q, n) updates the items of mask M at the n points of a row from padded
+// index q. In each row of the union of the ranges, the points all of its items share go in one
+// call and the rest of each item's points alone, so every point of every range is visited once
+// and the grid is read once rather than once per item. Which thread takes a row, and how a row
+// is cut, do not depend on the number of threads.
+template <int K, class F>
+void sweep_fused(const Layout& L, const std::array<Range3, K>& r, F&& f) {
+  std::array<int64_t, 2> rj = r[0][1], rk = r[0][2];
+  for (int a = 1; a < K; ++a) {
+    rj = {std::min(rj[0], r[a][1][0]), std::max(rj[1], r[a][1][1])};
+    rk = {std::min(rk[0], r[a][2][0]), std::max(rk[1], r[a][2][1])};
+  }
+  const int64_t nj = rj[1] - rj[0], nk = rk[1] - rk[0];
+  parallel_for(nj * nk, 8, [&](int64_t b, int64_t e) {
+    for (int64_t row = b; row < e; ++row) {
+      const int64_t j = rj[0] + row % nj, k = rk[0] + row / nj;
+      int mask = 0;
+      int64_t lo = INT64_MIN, hi = INT64_MAX;  // the points the row's items share
+      for (int a = 0; a < K; ++a)
+        if (j >= r[a][1][0] && j < r[a][1][1] && k >= r[a][2][0] && k < r[a][2][1]) {
+          mask |= 1 << a;
+          lo = std::max(lo, r[a][0][0]);
+          hi = std::min(hi, r[a][0][1]);
+        }
+      if (mask == 0) continue;
+      const bool shared = hi > lo;
+      if (shared) with_mask<K>(mask, f, L.at(lo, j, k), hi - lo);
+      for (int a = 0; a < K; ++a) {
+        if (!(mask & (1 << a))) continue;
+        const int64_t a0 = r[a][0][0], a1 = r[a][0][1];
+        if (!shared) {
+          if (a1 > a0) with_mask<K>(1 << a, f, L.at(a0, j, k), a1 - a0);
+          continue;
+        }
+        if (a0 < lo) with_mask<K>(1 << a, f, L.at(a0, j, k), lo - a0);
+        if (hi < a1) with_mask<K>(1 << a, f, L.at(hi, j, k), a1 - hi);
+      }
+    }
+  });
+}
+
 template <int D>
+std::array<Range3, D> component_ranges(const Grid& g) {
+  std::array<Range3, D> r;
+  for (int a = 0; a < D; ++a) r[a] = range_of(g, a);
+  return r;
+}
+
+// The momentum update of component A at face q (operators.hpp), with Crank-Nicolson's explicit
+// half (CN) or the explicit viscous term.
+template <int D, int A, bool CN>
+struct MomentumPoint {
+  const double* const* c;
+  const int64_t* s;
+  const double *inv_h, *inv_h2;
+  const SubstepCoefficients& k;
+  double* us;
+  double* np;
+  const double* lb;
+  double gp;
+  void operator()(int64_t q) const {
+    const double* ua = c[A];
+    const double* pr = k.p;
+    if constexpr (CN) {
+      const double adv = advection_kernel<D, A>(c, q, s, inv_h) + k.force[A];
+      const double lap = laplacian_kernel<D>(ua, q, s, inv_h2);
+      us[q] = ua[q] + k.gdt * adv + k.zdt * np[q] - gp * (pr[q] - pr[q - s[A]]) + k.beta * (lap + lb[q]);
+      np[q] = adv;
+    } else {
+      const double rhs =
+          advection_kernel<D, A>(c, q, s, inv_h) + k.nu * laplacian_kernel<D>(ua, q, s, inv_h2) + k.force[A];
+      us[q] = ua[q] + k.gdt * rhs + k.zdt * np[q] - gp * (pr[q] - pr[q - s[A]]);
+      np[q] = rhs;
+    }
+  }
+};
+
+template <int D, bool CN>
 void momentum_substep_d(const Grid& g, const Layout& L, const PaddedConst& u, const Padded& u_star,
                         const Padded& n_prev, const PaddedConst& bc_lap, const SubstepCoefficients& k) {
   const double inv_h[3] = {1 / g.h[0], 1 / g.h[1], 1 / g.h[2]};
   const double inv_h2[3] = {inv_h[0] * inv_h[0], inv_h[1] * inv_h[1], inv_h[2] * inv_h[2]};
   const int64_t* s = L.s.data();
-  const double* const* c = u.data();
-  auto one = [&]<int A>() {
-    double* us = u_star[A];
-    double* np = n_prev[A];
-    const double* ua = u[A];
-    const double* lb = bc_lap[A];
-    const double f = k.force[A], nu = k.nu, gdt = k.gdt, zdt = k.zdt, beta = k.beta;
-    const double* pr = k.p;
-    const double gp = k.adt * inv_h[A];
-    const int64_t sa = s[A];
-    sweep_rows(L, range_of(g, A), [&](int64_t q0, int64_t n, int64_t) {
-      if (beta > 0)
-        for (int64_t q = q0; q < q0 + n; ++q) {
-          const double adv = advection_kernel<D, A>(c, q, s, inv_h) + f;
-          const double lap = laplacian_kernel<D>(ua, q, s, inv_h2);
-          us[q] = ua[q] + gdt * adv + zdt * np[q] - gp * (pr[q] - pr[q - sa]) + beta * (lap + lb[q]);
-          np[q] = adv;
-        }
-      else
-        for (int64_t q = q0; q < q0 + n; ++q) {
-          const double rhs = advection_kernel<D, A>(c, q, s, inv_h) + nu * laplacian_kernel<D>(ua, q, s, inv_h2) + f;
-          us[q] = ua[q] + gdt * rhs + zdt * np[q] - gp * (pr[q] - pr[q - sa]);
-          np[q] = rhs;
-        }
-    });
+  auto point = [&]<int A>() {
+    return MomentumPoint<D, A, CN>{u.data(), s, inv_h, inv_h2, k, u_star[A], n_prev[A], bc_lap[A], k.adt * inv_h[A]};
   };
-  one.template operator()<0>();
-  one.template operator()<1>();
-  if constexpr (D == 3) one.template operator()<2>();
+  const auto p0 = point.template operator()<0>();
+  const auto p1 = point.template operator()<1>();
+  const auto p2 = point.template operator()<D - 1>();
+  sweep_fused<D>(L, component_ranges<D>(g), [&]<int M>(int64_t q0, int64_t n) {
+    run_simd([&] {
+      SILT_IVDEP
+      for (int64_t q = q0; q < q0 + n; ++q) {
+        if constexpr ((M & 1) != 0) p0(q);
+        if constexpr ((M & 2) != 0) p1(q);
+        if constexpr ((M & 4) != 0) p2(q);
+      }
+    });
+  });
 }
 
 template <int D>
@@ -76,16 +152,51 @@ double divergence_d(const Grid& g, const Layout& L, const PaddedConst& u, double
     for (int64_t row = b; row < e; ++row) {
       const int64_t j = row % nj, k = row / nj, q0 = L.at(0, j, k);
       double* o = cells + row * ni;
+      run_simd([&] {
+        SILT_IVDEP
+        for (int64_t i = 0; i < ni; ++i) o[i] = divergence_kernel<D>(u.data(), q0 + i, L.s.data(), inv_h);
+      });
       for (int64_t i = 0; i < ni; ++i) {
-        const double d = divergence_kernel<D>(u.data(), q0 + i, L.s.data(), inv_h);
-        o[i] = scale * d;
-        m = std::max(m, std::abs(d));
-        if (!(std::abs(d) < 1e300)) m = HUGE_VAL;  // NaN: reported as infinite
+        const double a = std::abs(o[i]);
+        m = std::max(m, a);
+        if (!(a < 1e300)) m = HUGE_VAL;  // NaN: reported as infinite
       }
+      if (scale != 1.0)
+        run_simd([&] {
+          for (int64_t i = 0; i < ni; ++i) o[i] *= scale;
+        });
     }
     return std::array<double, 1>{m};
   });
   return mx[0];
+}
+
+// u_a -= coeff grad_a phi on each component's faces and p += phi in the cells, in one sweep.
+template <int D>
+void project_velocity_d(const Grid& g, const Layout& L, const Padded& u, const double* phi, double coeff, double* p) {
+  std::array<Range3, D + 1> r;
+  std::array<double, 3> c{};
+  for (int a = 0; a < D; ++a) {
+    r[a] = range_of(g, a);
+    c[a] = coeff * (1 / g.h[a]);  // as the momentum update takes 1 / h
+  }
+  r[D] = range_of(g, -1);
+  constexpr int kCells = 1 << D;  // the item of the cells
+  const int64_t* s = L.s.data();
+  double* u0 = u[0];
+  double* u1 = u[1];
+  double* u2 = u[D - 1];
+  sweep_fused<D + 1>(L, r, [&]<int M>(int64_t q0, int64_t n) {
+    run_simd([&] {
+      SILT_IVDEP
+      for (int64_t q = q0; q < q0 + n; ++q) {
+        if constexpr ((M & 1) != 0) u0[q] -= c[0] * (phi[q] - phi[q - s[0]]);
+        if constexpr ((M & 2) != 0) u1[q] -= c[1] * (phi[q] - phi[q - s[1]]);
+        if constexpr (D == 3 && (M & 4) != 0) u2[q] -= c[2] * (phi[q] - phi[q - s[2]]);
+        if constexpr ((M & kCells) != 0) p[q] += phi[q];
+      }
+    });
+  });
 }
 
 }  // namespace
@@ -97,8 +208,9 @@ std::array<int64_t, 3> unknown_dims(const Grid& g, int a) {
 
 void momentum_substep(const Grid& g, const Layout& L, const PaddedConst& u, const Padded& u_star, const Padded& n_prev,
                       const PaddedConst& bc_lap, const SubstepCoefficients& c) {
-  if (g.dim == 2) momentum_substep_d<2>(g, L, u, u_star, n_prev, bc_lap, c);
-  else momentum_substep_d<3>(g, L, u, u_star, n_prev, bc_lap, c);
+  const bool cn = c.beta > 0;
+  if (g.dim == 2) (cn ? momentum_substep_d<2, true> : momentum_substep_d<2, false>)(g, L, u, u_star, n_prev, bc_lap, c);
+  else (cn ? momentum_substep_d<3, true> : momentum_substep_d<3, false>)(g, L, u, u_star, n_prev, bc_lap, c);
 }
 
 void component_laplacian(const Grid& g, const Layout& L, int a, const double* u, double* out) {
@@ -116,17 +228,9 @@ double divergence(const Grid& g, const Layout& L, const PaddedConst& u, double* 
   return g.dim == 2 ? divergence_d<2>(g, L, u, cells, scale) : divergence_d<3>(g, L, u, cells, scale);
 }
 
-void subtract_gradient(const Grid& g, const Layout& L, const Padded& u, const double* phi, double coeff) {
-  const double inv_h[3] = {1 / g.h[0], 1 / g.h[1], 1 / g.h[2]};
-  const int64_t* s = L.s.data();
-  for (int a = 0; a < g.dim; ++a) {
-    double* ua = u[a];
-    const int64_t sa = s[a];
-    const double c = coeff * inv_h[a];
-    sweep_rows(L, range_of(g, a), [&](int64_t q0, int64_t n, int64_t) {
-      for (int64_t q = q0; q < q0 + n; ++q) ua[q] -= c * (phi[q] - phi[q - sa]);
-    });
-  }
+void project_velocity(const Grid& g, const Layout& L, const Padded& u, const double* phi, double coeff, double* p) {
+  if (g.dim == 2) project_velocity_d<2>(g, L, u, phi, coeff, p);
+  else project_velocity_d<3>(g, L, u, phi, coeff, p);
 }
 
 void gather_unknowns(const Grid& g, const Layout& L, int a, const double* padded, double* out) {

@@ -1,6 +1,9 @@
 // The drivers that sweep the kernels of fluid/stencil_kernels.hpp over the grid, in parallel over
 // rows of x (each value written by one thread: the results do not depend on the thread count).
-// Velocities are padded arrays (fluid/layout.hpp) whose ghosts are filled.
+// A sweep that updates several arrays (the components, the pressure) does all of them in one
+// pass over the grid, and its loops run in AVX2 where the processor has it, with the same bits
+// as the baseline (core/simd_level.hpp). Velocities are padded arrays (fluid/layout.hpp) whose
+// ghosts are filled.
 #pragma once
 
 #include <array>
@@ -34,8 +37,9 @@ void momentum_substep(const Grid& g, const Layout& L, const PaddedConst& u, cons
 void component_laplacian(const Grid& g, const Layout& L, int a, const double* u, double* out);
 // cells[c] = scale * div u in every cell (unpadded, x fastest); returns max |div u|.
 double divergence(const Grid& g, const Layout& L, const PaddedConst& u, double* cells, double scale);
-// u_a -= coeff * grad_a phi on the updated faces.
-void subtract_gradient(const Grid& g, const Layout& L, const Padded& u, const double* phi, double coeff);
+// The projection's update, in one sweep: u_a -= coeff * grad_a phi on the updated faces, and
+// p += phi in the cells (padded; its ghosts left as they were).
+void project_velocity(const Grid& g, const Layout& L, const Padded& u, const double* phi, double coeff, double* p);
 // Copies between a padded array and the unknowns of component a (its updated faces, x fastest),
 // or the cells (a = -1).
 void gather_unknowns(const Grid& g, const Layout& L, int a, const double* padded, double* out);

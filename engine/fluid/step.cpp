@@ -16,10 +16,12 @@ namespace {
 constexpr double kGamma[3] = {8.0 / 15.0, 5.0 / 12.0, 3.0 / 4.0};
 constexpr double kZeta[3] = {0.0, -17.0 / 60.0, -5.0 / 12.0};
 
-// Copies between the State's arrays (no ghosts) and the padded ones; a store returns the largest
-// |value| stored (NaN if any is).
+// Copies between the State's arrays (no ghosts) and the padded ones, multiplying by `scale` (a
+// load leaves the ghosts as they were); a store returns the largest |value| of the padded array
+// (NaN if any is).
 template <bool kLoad>
-double copy_state(const Grid& g, const Layout& L, int a, std::vector<double>& state, double* padded) {
+double copy_state(const Grid& g, const Layout& L, int a, std::vector<double>& state, double* padded,
+                  double scale = 1.0) {
   const auto d = a < 0 ? g.n : g.face_dims(a);
   const auto mx = parallel_max<1>(d[1] * d[2], 8, [&](int64_t b, int64_t e) {
     double m = 0;
@@ -28,11 +30,11 @@ double copy_state(const Grid& g, const Layout& L, int a, std::vector<double>& st
       double* p = padded + L.at(0, j, k);
       double* s = state.data() + row * d[0];
       if constexpr (kLoad) {
-        std::copy(s, s + d[0], p);
+        for (int64_t i = 0; i < d[0]; ++i) p[i] = s[i] * scale;
       } else {
         for (int64_t i = 0; i < d[0]; ++i) {
           const double v = p[i];
-          s[i] = v;
+          s[i] = v * scale;
           const double av = std::abs(v);
           m = (av > m || av != av) ? av : m;  // a NaN stays
         }
@@ -260,12 +262,7 @@ void fluid_load(const Model& m, State& s, FluidWorkspace& w) {
   }
   // The pressure so far (kinematic, p / rho), whose gradient the predictor takes.
   auto& ps = s.module_field(f.p);
-  copy_state<true>(g, w.L, -1, ps, w.p_kin.data());
-  const double inv_rho = 1 / p.density;
-  double* pk = w.p_kin.data();
-  parallel_for(w.L.size, 1 << 14, [&](int64_t b, int64_t e) {
-    for (int64_t q = b; q < e; ++q) pk[q] *= inv_rho;
-  });
+  copy_state<true>(g, w.L, -1, ps, w.p_kin.data(), 1 / p.density);
   w.failed = false;
 }
 
@@ -343,13 +340,7 @@ void fluid_project(const Model& m, State&, FluidWorkspace& w) {
   const Grid& g = p.grid;
   // u = u* - alpha dt grad phi; p += phi.
   fill_pressure_ghosts(g, w.L, w.phi.data());
-  subtract_gradient(g, w.L, pointers(g, w.u), w.phi.data(), alpha_of(w.substep) * w.dt);
-  const int64_t n = w.L.size;
-  double* pk = w.p_kin.data();
-  const double* phi = w.phi.data();
-  parallel_for(n, 1 << 14, [&](int64_t b, int64_t e) {
-    for (int64_t q = b; q < e; ++q) pk[q] += phi[q];
-  });
+  project_velocity(g, w.L, pointers(g, w.u), w.phi.data(), alpha_of(w.substep) * w.dt, w.p_kin.data());
   if (p.drive == Drive::kFlowRate) w.drive += hold_flow_rate(p, w) / w.dt;
   ++w.substep;
 }
@@ -370,8 +361,7 @@ void fluid_store(const Model& m, State& s, FluidWorkspace& w) {
   for (int a = 0; a < g.dim; ++a) rate += copy_state<false>(g, w.L, a, s.module_field(f.u[a]), u[a]) / g.h[a];
   // p = rho p_kin.
   auto& ps = s.module_field(f.p);
-  copy_state<false>(g, w.L, -1, ps, w.p_kin.data());
-  for (double& v : ps) v *= p.density;
+  copy_state<false>(g, w.L, -1, ps, w.p_kin.data(), p.density);
   if (s.boundary_seen) stat[kDivMax] = div_max;
   stat[kDriveGradient] = p.drive == Drive::kFlowRate ? w.drive * p.density : p.pressure_gradient;
   stat[kCellSteps] += static_cast<double>(g.cells());

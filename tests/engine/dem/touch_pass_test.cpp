@@ -8,7 +8,7 @@
 #include <random>
 #include <vector>
 
-#include "dem/simd_level.hpp"
+#include "core/simd_level.hpp"
 #include "dem/touch_pass.hpp"
 #include "silt/scene.hpp"
 #include "silt/simulation.hpp"
@@ -89,7 +89,7 @@ void check_touch_pass(bool lees_edwards, int64_t n_pairs) {
 
 TEST_CASE("touch pass matches the nearest-image test bit for bit (periodic and Lees-Edwards, 2D and 3D)") {
   for (bool baseline : {false, true}) {
-    dem::limit_to_baseline(baseline);  // AVX2 where present, then the baseline
+    limit_to_baseline(baseline);  // AVX2 where present, then the baseline
     for (int64_t n_pairs : {1, 2, 5, 7, 200, 201, 203}) {
       check_touch_pass<2>(false, n_pairs);
       check_touch_pass<3>(false, n_pairs);
@@ -97,7 +97,7 @@ TEST_CASE("touch pass matches the nearest-image test bit for bit (periodic and L
       check_touch_pass<3>(true, n_pairs);
     }
   }
-  dem::limit_to_baseline(false);
+  limit_to_baseline(false);
 }
 
 TEST_CASE("after every step pair_touch says which listed pairs touch, and pairs apart hold no force or spring") {

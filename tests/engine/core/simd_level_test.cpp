@@ -3,7 +3,7 @@
 // (Lees-Edwards) boxes.
 #include <doctest/doctest.h>
 
-#include "dem/simd_level.hpp"
+#include "core/simd_level.hpp"
 #include "support/scenes.hpp"
 
 using namespace silt;
@@ -11,17 +11,17 @@ using namespace silt;
 namespace {
 
 uint64_t hash_after(int dim, double zeta_t, bool sheared, bool baseline) {
-  dem::limit_to_baseline(baseline);
+  limit_to_baseline(baseline);
   auto sim = test::simulation_from(test::frictional_gas(dim, sheared ? 3.0 : 0.0, zeta_t, 0.06));
   for (int k = 0; k < 300; ++k) REQUIRE(sim->step());
-  dem::limit_to_baseline(false);
+  limit_to_baseline(false);
   return state_hash(sim->state());
 }
 
 }  // namespace
 
 TEST_CASE("AVX2 and baseline kernels give the same bits") {
-  if (!dem::avx2_in_use()) MESSAGE("no AVX2 on this processor: both runs use the baseline");
+  if (!avx2_in_use()) MESSAGE("no AVX2 on this processor: both runs use the baseline");
   for (int dim : {2, 3})
     for (double zeta_t : {0.0, 0.4})
       for (bool sheared : {false, true}) {

@@ -1,8 +1,8 @@
-#include "dem/simd_level.hpp"
+#include "core/simd_level.hpp"
 
 #include <atomic>
 
-namespace silt::dem {
+namespace silt {
 namespace {
 
 // Also at static initialisation, which may come before the run-time library has read the
@@ -20,4 +20,4 @@ bool avx2_in_use() { return kHasAvx2 && !g_baseline.load(std::memory_order_relax
 
 void limit_to_baseline(bool on) { g_baseline = on; }
 
-}  // namespace silt::dem
+}  // namespace silt
