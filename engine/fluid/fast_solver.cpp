@@ -10,6 +10,7 @@
 #include <stdexcept>
 
 #include "core/parallel.hpp"
+#include "core/simd_level.hpp"
 
 namespace silt::fluid {
 namespace {
@@ -72,6 +73,7 @@ struct FastSolver::Plans {
   std::array<fftw_plan, 3> fwd{}, bwd{};
   int64_t buffer_size = 0;
   tbb::enumerable_thread_specific<Buffer> buffers;
+  tbb::enumerable_thread_specific<std::vector<double>> scratch;
   ~Plans() {
     std::lock_guard<std::mutex> lock(planner_lock());
     for (int a = 0; a < 3; ++a) {
@@ -83,6 +85,11 @@ struct FastSolver::Plans {
     Buffer& b = buffers.local();
     if (!b) b = make_buffer(buffer_size);
     return b.get();
+  }
+  double* tri_scratch(int64_t n) {
+    std::vector<double>& v = scratch.local();
+    if (static_cast<int64_t>(v.size()) < n) v.resize(static_cast<size_t>(n));
+    return v.data();
   }
 };
 
@@ -116,7 +123,7 @@ FastSolver::FastSolver(int dim, const std::array<SolverAxis, 3>& axes)
     for (int64_t p = 0; p < m_[a]; ++p) lambda_[a][p] = eigenvalue(axes[a].kind, p, m_[a]) * ih2;
     longest = std::max(longest, m_[a]);
   }
-  plans_->buffer_size = longest * kBlock;
+  plans_->buffer_size = std::max(longest * kBlock, m_[0] * kLinesX);
   Buffer probe = make_buffer(plans_->buffer_size);
   std::lock_guard<std::mutex> lock(planner_lock());
   for (int a = 0; a < dim; ++a) {
@@ -124,11 +131,11 @@ FastSolver::FastSolver(int dim, const std::array<SolverAxis, 3>& axes)
     fftw_r2r_kind f, b;
     kinds_of(axes[a].kind, f, b);
     const int n = static_cast<int>(m_[a]);
-    const int stride = a == 0 ? 1 : kBlock, dist = a == 0 ? n : 1;
+    const int stride = a == 0 ? 1 : kBlock, dist = a == 0 ? n : 1, lines = a == 0 ? kLinesX : kBlock;
     // FFTW_ESTIMATE: the plan from heuristics, never from timings, so every run makes the same one.
-    plans_->fwd[a] = fftw_plan_many_r2r(1, &n, kBlock, probe.get(), nullptr, stride, dist, probe.get(), nullptr, stride,
+    plans_->fwd[a] = fftw_plan_many_r2r(1, &n, lines, probe.get(), nullptr, stride, dist, probe.get(), nullptr, stride,
                                         dist, &f, FFTW_ESTIMATE);
-    plans_->bwd[a] = fftw_plan_many_r2r(1, &n, kBlock, probe.get(), nullptr, stride, dist, probe.get(), nullptr, stride,
+    plans_->bwd[a] = fftw_plan_many_r2r(1, &n, lines, probe.get(), nullptr, stride, dist, probe.get(), nullptr, stride,
                                         dist, &b, FFTW_ESTIMATE);
     if (!plans_->fwd[a] || !plans_->bwd[a]) throw std::runtime_error("FFTW could not plan a transform");
     norm_ *= scale_of(axes[a].kind, m_[a]);
@@ -137,16 +144,24 @@ FastSolver::FastSolver(int dim, const std::array<SolverAxis, 3>& axes)
 
 FastSolver::~FastSolver() = default;
 
+size_t FastSolver::bytes() const {
+  size_t b = 0;
+  for (const Buffer& buf : plans_->buffers)
+    if (buf) b += static_cast<size_t>(plans_->buffer_size) * sizeof(double);
+  for (const std::vector<double>& v : plans_->scratch) b += v.capacity() * sizeof(double);
+  return b;
+}
+
 // Lines along `axis`, kBlock at a time: gathered into a buffer, transformed, scattered back.
 void FastSolver::transform(double* data, int axis, bool forward) {
   const int64_t m0 = m_[0], m1 = m_[1], n = m_[axis];
   const fftw_plan plan = forward ? plans_->fwd[axis] : plans_->bwd[axis];
-  constexpr int B = kBlock;
   if (axis == 0) {
+    constexpr int B = kLinesX;
     const int64_t lines = m1 * m_[2], blocks = (lines + B - 1) / B;
     // A whole block aligned as the planner's buffer is transformed where it lies.
     const int align = fftw_alignment_of(plans_->buffer());
-    parallel_for(blocks, 4, [&](int64_t b0, int64_t b1) {
+    parallel_for(blocks, 1, [&](int64_t b0, int64_t b1) {
       double* buf = plans_->buffer();
       for (int64_t blk = b0; blk < b1; ++blk) {
         const int64_t first = blk * B, count = std::min<int64_t>(B, lines - first);
@@ -164,6 +179,7 @@ void FastSolver::transform(double* data, int axis, bool forward) {
     return;
   }
   // Along y or z: blocks of kBlock neighbouring x at one (other) index.
+  constexpr int B = kBlock;
   const int64_t stride = axis == 1 ? m0 : m0 * m1;        // between points of a line
   const int64_t others = axis == 1 ? m_[2] : m1;          // the third index
   const int64_t other_stride = axis == 1 ? m0 * m1 : m0;  // its stride
@@ -211,78 +227,69 @@ void FastSolver::scale_modes(double* data, double sigma) {
 // end_diagonals). A singular mode (every other axis at its zero mode, Neumann ends, sigma = 0)
 // has x_0 = 0 imposed: the solution of the compatible system with that gauge. Values are stored
 // as the data: (i_in, k, o) at i_in + inner (k + m_t o), i_in over the axes below t, o above it.
-void FastSolver::prepare_tridiagonal(double sigma) {
-  const int t = tri_axis_;
-  const int64_t nk = m_[t], inner = t == 0 ? 1 : (t == 1 ? m_[0] : m_[0] * m_[1]), outer = size() / (inner * nk);
-  const double h2 = axes_[t].h * axes_[t].h;
-  const auto ends = end_diagonals(axes_[t].kind);
-  tri_c_.resize(static_cast<size_t>(size()));
-  tri_inv_.resize(static_cast<size_t>(size()));
-  parallel_for(outer * inner, 256, [&](int64_t q0, int64_t q1) {
-    for (int64_t q = q0; q < q1; ++q) {
-      const int64_t i_in = q % inner, o = q / inner;
-      // The eigenvalues of the other axes at this mode.
-      double lq = sigma;
-      std::array<int64_t, 3> idx{0, 0, 0};
-      int64_t rest = i_in;
-      for (int a = 0; a < t; ++a) {
-        idx[a] = rest % m_[a];
-        rest /= m_[a];
-      }
-      rest = o;
-      for (int a = t + 1; a < dim_; ++a) {
-        idx[a] = rest % m_[a];
-        rest /= m_[a];
-      }
-      for (int a = 0; a < dim_; ++a)
-        if (a != t) lq += lambda_[a][idx[a]];
-      double c_prev = 0;
-      for (int64_t k = 0; k < nk; ++k) {
-        double d = (k == 0 ? ends[0] : (k == nk - 1 ? ends[1] : 2.0)) + h2 * lq;
-        if (nk == 1) d = ends[0] + ends[1] - 2 + h2 * lq;
-        double pivot = d + (k > 0 ? c_prev : 0.0);
-        double up = k < nk - 1 ? -1.0 : 0.0;
-        if (k == 0 && !(lq > 0) && ends[0] == 1 && ends[1] == 1) pivot = 1, up = 0;  // gauge x_0 = 0
-        const int64_t at = i_in + inner * (k + nk * o);
-        tri_inv_[at] = 1 / pivot;
-        tri_c_[at] = up / pivot;
-        c_prev = tri_c_[at];
-      }
-    }
-  });
-  tri_sigma_ = sigma;
-}
-
+// The pivots are computed as the forward sweep goes (sigma changes from one Runge-Kutta substep
+// to the next): chunks of kChunk neighbouring modes of one o, so that the sweeps over k read and
+// write contiguous runs of i_in, with the modified upper diagonals of the chunk in a per-thread
+// scratch array for the backward sweep.
 void FastSolver::tridiagonal(double* data, double sigma) {
-  if (sigma != tri_sigma_) prepare_tridiagonal(sigma);
   const int t = tri_axis_;
   const int64_t nk = m_[t], inner = t == 0 ? 1 : (t == 1 ? m_[0] : m_[0] * m_[1]), outer = size() / (inner * nk);
   const double h2 = axes_[t].h * axes_[t].h, scale = h2 / norm_;
   const auto ends = end_diagonals(axes_[t].kind);
   const bool neumann_both = ends[0] == 1 && ends[1] == 1;
-  // Chunks of neighbouring modes of one o: the sweeps over k read and write contiguous runs of i_in.
-  constexpr int64_t kChunk = 64;
   const int64_t chunks = (inner + kChunk - 1) / kChunk;
   parallel_for(outer * chunks, 1, [&](int64_t c0, int64_t c1) {
+    double* up_diag = plans_->tri_scratch(kChunk * nk);
     for (int64_t c = c0; c < c1; ++c) {
-      const int64_t o = c / chunks, i0 = (c % chunks) * kChunk, i1 = std::min(inner, i0 + kChunk);
-      const int64_t base = inner * nk * o;
+      const int64_t o = c / chunks, i0 = (c % chunks) * kChunk, n = std::min(inner, i0 + kChunk) - i0;
+      const int64_t base = inner * nk * o + i0;
+      // sigma plus the eigenvalues of the other axes, per mode of the chunk.
+      std::array<double, kChunk> lq;
+      for (int64_t l = 0; l < n; ++l) {
+        std::array<int64_t, 3> idx{0, 0, 0};
+        int64_t rest = i0 + l;
+        for (int a = 0; a < t; ++a) {
+          idx[a] = rest % m_[a];
+          rest /= m_[a];
+        }
+        rest = o;
+        for (int a = t + 1; a < dim_; ++a) {
+          idx[a] = rest % m_[a];
+          rest /= m_[a];
+        }
+        lq[l] = sigma;
+        for (int a = 0; a < dim_; ++a)
+          if (a != t) lq[l] += lambda_[a][idx[a]];
+      }
       for (int64_t k = 0; k < nk; ++k) {
         double* x = data + base + inner * k;
         const double* xp = x - inner;
-        const double* inv = tri_inv_.data() + base + inner * k;
-        const double* c0p = tri_c_.data() + base;
-        for (int64_t i = i0; i < i1; ++i) {
-          double r = x[i] * scale;
-          if (k == 0 && neumann_both && c0p[i] == 0 && nk > 1) r = 0;  // the gauge row
-          x[i] = k == 0 ? r * inv[i] : (r + xp[i]) * inv[i];
-        }
+        double* cu = up_diag + kChunk * k;
+        const double* cp = cu - kChunk;
+        const double end = k == 0 ? ends[0] : (k == nk - 1 ? ends[1] : 2.0);
+        const double up0 = k < nk - 1 ? -1.0 : 0.0;
+        run_simd([&] {
+          for (int64_t l = 0; l < n; ++l) {
+            const double d = nk == 1 ? ends[0] + ends[1] - 2 + h2 * lq[l] : end + h2 * lq[l];
+            double pivot = d + (k > 0 ? cp[l] : 0.0), up = up0;
+            const bool gauge = k == 0 && !(lq[l] > 0) && neumann_both;  // x_0 = 0
+            if (gauge) pivot = 1, up = 0;
+            // up is -1 or 0: up / pivot is up times 1 / pivot, to the bit.
+            const double inv = 1 / pivot;
+            cu[l] = up * inv;
+            double r = x[l] * scale;
+            if (k == 0 && neumann_both && cu[l] == 0 && nk > 1) r = 0;  // the gauge row
+            x[l] = k == 0 ? r * inv : (r + xp[l]) * inv;
+          }
+        });
       }
       for (int64_t k = nk - 2; k >= 0; --k) {
         double* x = data + base + inner * k;
         const double* xn = x + inner;
-        const double* cc = tri_c_.data() + base + inner * k;
-        for (int64_t i = i0; i < i1; ++i) x[i] -= cc[i] * xn[i];
+        const double* cu = up_diag + kChunk * k;
+        run_simd([&] {
+          for (int64_t l = 0; l < n; ++l) x[l] -= cu[l] * xn[l];
+        });
       }
     }
   });

@@ -42,7 +42,8 @@ struct SolverAxis {
 
 class FastSolver {
  public:
-  static constexpr int kBlock = 16;
+  static constexpr int kBlock = 16;   // lines per transform along y and z
+  static constexpr int kLinesX = 64;  // along x (one allocation inside FFTW per call for some kinds)
   FastSolver(int dim, const std::array<SolverAxis, 3>& axes);
   ~FastSolver();
   FastSolver(const FastSolver&) = delete;
@@ -53,6 +54,8 @@ class FastSolver {
   // solution (another differs by a constant).
   void solve(double* data, double sigma);
   int64_t size() const { return m_[0] * m_[1] * m_[2]; }
+  // Bytes of the per-thread buffers allocated so far.
+  size_t bytes() const;
   // Eigenvalue of mode p along axis a, times h^2 (the table above).
   static double eigenvalue(AxisKind kind, int64_t p, int64_t m);
 
@@ -61,7 +64,7 @@ class FastSolver {
   void transform(double* data, int axis, bool forward);
   void scale_modes(double* data, double sigma);
   void tridiagonal(double* data, double sigma);
-  void prepare_tridiagonal(double sigma);
+  static constexpr int64_t kChunk = 64;  // modes per Thomas sweep
 
   int dim_;
   std::array<int64_t, 3> m_{1, 1, 1};
@@ -70,10 +73,6 @@ class FastSolver {
   std::array<std::vector<double>, 3> lambda_;  // eigenvalues / h^2 per axis
   double norm_ = 1;                            // product of the transforms' scale factors
   std::unique_ptr<Plans> plans_;
-  // Thomas: for the current sigma, per horizontal mode q and level k, the modified upper
-  // diagonal and the inverse pivot.
-  double tri_sigma_ = -1;
-  std::vector<double> tri_c_, tri_inv_;
 };
 
 }  // namespace silt::fluid

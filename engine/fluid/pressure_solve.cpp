@@ -84,9 +84,9 @@ linalg::SolveReport solve_pressure(const FluidParams& p, FluidWorkspace& w) {
 
 size_t pressure_solver_bytes(const FluidWorkspace& w) {
   size_t b = 0;
-  if (w.poisson) b += static_cast<size_t>(w.poisson->size()) * 2 * sizeof(double);
+  if (w.poisson) b += w.poisson->bytes();
   for (const auto& h : w.helmholtz)
-    if (h) b += static_cast<size_t>(h->size()) * 2 * sizeof(double);
+    if (h) b += h->bytes();
   return b;
 }
 

@@ -11,12 +11,10 @@ namespace silt::fluid {
 namespace {
 
 // Bytes per cell: the state's velocity and pressure; the step's padded velocity, two right-hand
-// sides, the boundary Laplacian and the pressure; the solvers' cell vectors and the Thomas
-// factors of the pressure and of each implicit component.
+// sides, the boundary Laplacian and the pressure; the solvers' cell vectors.
 double bytes_per_cell(const FluidParams& p) {
   const int D = p.grid.dim;
   double doubles = (D + 1) + 4 * D + 1 + 2;
-  doubles += 2 * (1 + (p.viscous == Viscous::kCrankNicolson ? D : 0));
   if (p.projection == Projection::kMultigridCg) doubles += 8;  // CG vectors and the hierarchy
   return 8 * doubles;
 }
