@@ -280,12 +280,12 @@ void MultigridPreconditioner::apply(const Vector& r, Vector& z) const {
 PoissonSolver::PoissonSolver(const Grid& g, double sigma, const PoissonSolverOptions& opt)
     : opt_(opt), op_(g, sigma), mg_(g, sigma, opt.multigrid), rhs_(Vector::Zero(g.cells())) {}
 
-linalg::SolveReport PoissonSolver::solve(const Vector& b, Vector& x) {
+linalg::SolveReport PoissonSolver::solve(const Eigen::Ref<const Vector>& b, Vector& x) {
   if (x.size() != op_.size()) x = Vector::Zero(op_.size());
   rhs_ = b;
   mg_.remove_mean(rhs_);
   mg_.remove_mean(x);
-  linalg::SolveReport rep = linalg::conjugate_gradient(op_, rhs_, x, opt_.cg, &mg_);
+  linalg::SolveReport rep = linalg::conjugate_gradient(op_, rhs_, x, opt_.cg, &mg_, &cg_);
   mg_.remove_mean(x);
   return rep;
 }

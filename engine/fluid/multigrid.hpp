@@ -99,7 +99,7 @@ class PoissonSolver {
  public:
   explicit PoissonSolver(const Grid& g, double sigma = 0, const PoissonSolverOptions& opt = {});
   // x: the initial guess (zero if it has not the size of the grid), the solution on return.
-  linalg::SolveReport solve(const linalg::Vector& b, linalg::Vector& x);
+  linalg::SolveReport solve(const Eigen::Ref<const linalg::Vector>& b, linalg::Vector& x);
 
   const PoissonOperator& op() const { return op_; }
   const MultigridPreconditioner& preconditioner() const { return mg_; }
@@ -111,6 +111,7 @@ class PoissonSolver {
   PoissonOperator op_;
   MultigridPreconditioner mg_;
   linalg::Vector rhs_;  // b without its mean (singular case)
+  linalg::CgWorkspace cg_;
 };
 
 }  // namespace silt::fluid

@@ -73,9 +73,8 @@ linalg::SolveReport solve_pressure(const FluidParams& p, FluidWorkspace& w) {
     opt.tolerance = p.tolerance;
     opt.max_iterations = p.max_iterations;
     mg.set_cg_options(opt);
-    w.mg_rhs = b;
     w.mg_x.setZero(n);
-    r = mg.solve(w.mg_rhs, w.mg_x);
+    r = mg.solve(b, w.mg_x);
     b = w.mg_x;
   }
   scatter_unknowns(g, w.L, -1, w.cells.data(), w.phi.data());

@@ -79,7 +79,7 @@ struct FluidWorkspace final : Workspace {
   int substep = 0;
   bool failed = false;
   std::shared_ptr<PoissonSolver> multigrid;  // fluid/multigrid.hpp, for projection = multigrid_cg
-  linalg::Vector mg_rhs, mg_x;               // its right-hand side and solution
+  linalg::Vector mg_x;                       // its solution
   void invalidate() override {}              // nothing held depends on the grains
   size_t bytes() const override;
 };

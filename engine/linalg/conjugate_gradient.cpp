@@ -7,9 +7,8 @@
 namespace silt::linalg {
 namespace {
 
-// The true relative residual |b - A x| / |b|.
-double relative_residual(const LinearOperator& a, const Vector& b, const Vector& x, double b_norm) {
-  Vector ax(b.size());
+// The true relative residual |b - A x| / |b|, with ax as scratch.
+double relative_residual(const LinearOperator& a, const Vector& b, const Vector& x, double b_norm, Vector& ax) {
   a.apply(x, ax);
   ax = b - ax;
   const double r = std::sqrt(dot(ax, ax));
@@ -19,7 +18,7 @@ double relative_residual(const LinearOperator& a, const Vector& b, const Vector&
 }  // namespace
 
 SolveReport conjugate_gradient(const LinearOperator& a, const Vector& b, Vector& x, const SolveOptions& opt,
-                               const Preconditioner* m) {
+                               const Preconditioner* m, CgWorkspace* ws) {
   SolveReport rep;
   const int64_t n = a.size();
   if (x.size() != n) x = Vector::Zero(n);
@@ -33,7 +32,11 @@ SolveReport conjugate_gradient(const LinearOperator& a, const Vector& b, Vector&
     x.setZero();
     return rep;
   }
-  Vector r(n), z(n), p(n), ap(n);
+  CgWorkspace local;
+  CgWorkspace& w = ws ? *ws : local;
+  for (Vector* v : {&w.r, &w.z, &w.p, &w.ap})
+    if (v->size() != n) v->resize(n);
+  Vector &r = w.r, &z = w.z, &p = w.p, &ap = w.ap;
   auto precondition = [&] {
     if (m) m->apply(r, z);
     else z = r;
@@ -80,7 +83,7 @@ SolveReport conjugate_gradient(const LinearOperator& a, const Vector& b, Vector&
       ++rep.iterations;
     }
   }
-  rep.residual = relative_residual(a, b, x, b_norm);
+  rep.residual = relative_residual(a, b, x, b_norm, ap);
   if (!std::isfinite(rep.residual)) {
     rep.status = SolveStatus::kNotFinite;
     rep.message = "the solution is not finite";

@@ -42,7 +42,7 @@ SolveReport SpdSolver::solve(const SparseMatrix& a, const Vector& b, Vector& x, 
   const SparseOperator op(a);
   if (s_.method == Method::kCg) {
     const JacobiPreconditioner jacobi(a);
-    return conjugate_gradient(op, b, x, s_.options, &jacobi);
+    return conjugate_gradient(op, b, x, s_.options, &jacobi, &cg_);
   }
   if (s_.method == Method::kDirect) {
     SolveReport rep = factor_.factorize(a);
@@ -78,12 +78,12 @@ SolveReport SpdSolver::solve(const SparseMatrix& a, const Vector& b, Vector& x, 
   const bool stale = solves_since_factor_ > 0;
   SolveOptions first = s_.options;
   if (stale) first.max_iterations = std::min(first.max_iterations, 4 * std::max(1, s_.refactor_iterations));
-  SolveReport rep = conjugate_gradient(op, b, x, first, &factor_);
+  SolveReport rep = conjugate_gradient(op, b, x, first, &factor_, &cg_);
   ++solves_since_factor_;
   if (!rep.ok() && stale && rep.status != SolveStatus::kNotFinite) {
     const int spent = rep.iterations;
     if (SolveReport f = refactor(); !f.ok()) return f;
-    rep = conjugate_gradient(op, b, x, s_.options, &factor_);
+    rep = conjugate_gradient(op, b, x, s_.options, &factor_, &cg_);
     rep.iterations += spent;
     ++solves_since_factor_;
   } else if (rep.iterations > s_.refactor_iterations) {

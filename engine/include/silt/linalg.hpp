@@ -99,9 +99,15 @@ class JacobiPreconditioner final : public Preconditioner {
   Vector inv_diag_;
 };
 
-// Conjugate gradients from x (the initial guess; the solution on return). M may be null.
+// The vectors conjugate_gradient works in, kept by a caller that solves again and again (a time
+// step's solves) so that no call allocates; sized on first use.
+struct CgWorkspace {
+  Vector r, z, p, ap;
+};
+
+// Conjugate gradients from x (the initial guess; the solution on return). M and ws may be null.
 SolveReport conjugate_gradient(const LinearOperator& a, const Vector& b, Vector& x, const SolveOptions& opt,
-                               const Preconditioner* m = nullptr);
+                               const Preconditioner* m = nullptr, CgWorkspace* ws = nullptr);
 
 // A sparse Cholesky factor L L^T = A (CHOLMOD, supernodal). The symbolic analysis (fill-reducing
 // ordering and the factor's pattern) is kept and reused by factorize() while the pattern of A does
@@ -185,6 +191,7 @@ class SpdSolver {
   CholeskyFactor factor_;
   bool factor_valid_ = false;
   int solves_since_factor_ = 0;
+  CgWorkspace cg_;
 };
 
 }  // namespace silt::linalg
