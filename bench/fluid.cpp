@@ -342,7 +342,7 @@ void frames() {
   render::Rasterizer r(2);
   auto one = [&](const std::string& what, const Model& m, const State& s, const RenderSettings& v, double cells) {
     const double t0 = now_s();
-    const std::vector<GridField> f = module_grid_fields(m, s);
+    const std::vector<GridField> f = module_grid_fields(m, s, v.field);
     const double t1 = now_s();
     const GridField* field = nullptr;
     for (const GridField& g : f)

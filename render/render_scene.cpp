@@ -157,7 +157,7 @@ RenderScene build_render_scene(const Model& m, const State& s, const View& v, co
   // The field to draw, when none is given: the module's field of that name (a fluid's).
   std::vector<GridField> fields;
   if (field == nullptr && v.wants("field")) {
-    fields = module_grid_fields(m, s);
+    fields = module_grid_fields(m, s, v.field);
     for (const GridField& f : fields)
       if (f.name == v.field) field = &f;
   }

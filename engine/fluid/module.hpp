@@ -2,6 +2,7 @@
 #pragma once
 
 #include <array>
+#include <string_view>
 #include <vector>
 
 #include "fluid/params.hpp"
@@ -26,7 +27,7 @@ double enstrophy(const FluidParams& p, const State& s);       // (1/2) integral 
 double max_divergence(const FluidParams& p, const State& s);  // max |div u| [1/s]
 // The velocity (3 components), pressure and vorticity (1 component in 2D, 3 in 3D) at the cell
 // centres.
-std::vector<GridField> cell_fields(const FluidParams& p, const State& s);
+std::vector<GridField> cell_fields(const FluidParams& p, const State& s, std::string_view only = {});
 // Field `field` (u, v, w, p, vorticity) at point x, interpolated (linearly) from its own
 // locations, boundary values included.
 double sample(const FluidParams& p, const State& s, const std::string& field, const std::array<double, 3>& x);

@@ -128,7 +128,9 @@ const ModuleSpec& module() {
              {"refactorisations", 0.0}};
       return out;
     };
-    s.grid_fields = [](const Model& m, const State& st) { return cell_fields(m.params.get<FluidParams>(), st); };
+    s.grid_fields = [](const Model& m, const State& st, std::string_view only) {
+      return cell_fields(m.params.get<FluidParams>(), st, only);
+    };
     s.lines = line_samples;
     return s;
   }();

@@ -64,11 +64,11 @@ const Module* find_module(std::string_view name) {
   return nullptr;
 }
 
-std::vector<GridField> module_grid_fields(const Model& m, const State& s) {
+std::vector<GridField> module_grid_fields(const Model& m, const State& s, std::string_view only) {
   std::vector<GridField> out;
   for (const Module& mod : list())
     if (mod.spec->grid_fields && m.module_on(mod.spec->name))
-      for (GridField& f : mod.spec->grid_fields(m, s)) out.push_back(std::move(f));
+      for (GridField& f : mod.spec->grid_fields(m, s, only)) out.push_back(std::move(f));
   return out;
 }
 

@@ -8,6 +8,7 @@
 
 #include <functional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "silt/fields.hpp"
@@ -56,8 +57,9 @@ struct ModuleSpec {
   std::string summary_group;
   std::function<std::vector<std::pair<std::string, double>>(const Model& m, const State& s)> summary;
   // Its fields on grids (a fluid's velocity, pressure, vorticity at the cell centres), for frames
-  // and VTK files; and its line probes, sampled for the summary at the end of a run.
-  std::function<std::vector<GridField>(const Model& m, const State& s)> grid_fields;
+  // and VTK files: all of them, or (`only` not empty) just the one of that name, which a frame
+  // needs; and its line probes, sampled for the summary at the end of a run.
+  std::function<std::vector<GridField>(const Model& m, const State& s, std::string_view only)> grid_fields;
   std::function<std::vector<LineSample>(const Model& m, const State& s)> lines;
   // Turn the module off in a copy of the model that compresses the grains dry before the run
   // (procedure O, prepare.compress), restoring what it changed in the DEM's parts.
@@ -77,8 +79,9 @@ struct Module {
 // is the order of its keys, compile step, stages and observables.
 const std::vector<Module>& modules();
 const Module* find_module(std::string_view name);
-// The grid fields and the line probes of every module the model enables.
-std::vector<GridField> module_grid_fields(const Model& m, const State& s);
+// The grid fields (all, or only the one named `only`) and the line probes of every module the
+// model enables.
+std::vector<GridField> module_grid_fields(const Model& m, const State& s, std::string_view only = {});
 std::vector<LineSample> module_lines(const Model& m, const State& s);
 // Adds a module after the built-in ones (a module of a test, or of a user's build). Its fields and
 // events are registered, and its keys and observables join the schema and the observable table.
