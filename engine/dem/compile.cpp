@@ -126,6 +126,16 @@ void refresh_frozen(Model& m) {
   setup_energy_scale(m);
 }
 
+// The time step against the velocity-Verlet stability limit of the stiffest contact, at the key
+// that set it.
+void check_time_step(const SceneDesc& d, const Model& m) {
+  if (!(m.dt > m.dt_stable)) return;
+  const std::string key = d.has("run.dt") ? "run.dt" : "run.dt_over_tc";
+  d.fail(key, "time step " + fmt_(m.dt) + " s exceeds the velocity-Verlet stability limit " + fmt_(m.dt_stable) +
+                  " s of the stiffest contact (reduced mass " + fmt_(m.m_eff_min) + ", stiffness " + fmt_(m.k_max) +
+                  "); reduce " + key + " (run.dt_over_tc <= " + fmt_(m.dt_stable / m.t_contact) + ")");
+}
+
 // Initial velocities no scene can have: a grain that crosses the whole domain in one time step
 // (a speed of 1e308, say) is not simulated, it is thrown away, and every neighbour build after
 // it would span the distance.
@@ -147,6 +157,7 @@ void check_initial_speeds(const SceneDesc& d, const Model& m) {
 }
 
 void finish_dem(const SceneDesc& d, Model& m) {
+  check_time_step(d, m);
   check_initial_speeds(d, m);
   setup_energy_scale(m);
   if (!std::isfinite(m.limits.energy_scale))
