@@ -265,7 +265,7 @@ void FastSolver::tridiagonal(double* data, double sigma) {
         double* x = data + base + inner * k;
         const double* xp = x - inner;
         double* cu = up_diag + kChunk * k;
-        const double* cp = cu - kChunk;
+        const double* cp = k > 0 ? cu - kChunk : cu;  // the level above (read from k = 1)
         const double end = k == 0 ? ends[0] : (k == nk - 1 ? ends[1] : 2.0);
         const double up0 = k < nk - 1 ? -1.0 : 0.0;
         run_simd([&] {
