@@ -7,6 +7,7 @@
 #include <cstring>
 #include <mutex>
 #include <numbers>
+#include <optional>
 #include <stdexcept>
 
 #include "core/parallel.hpp"
@@ -153,7 +154,9 @@ size_t FastSolver::bytes() const {
 }
 
 // Lines along `axis`, kBlock at a time: gathered into a buffer, transformed, scattered back.
-void FastSolver::transform(double* data, int axis, bool forward) {
+// With divide_at (along y or z), each block is transformed forward, its modes divided and
+// transformed back while it is in the buffer.
+void FastSolver::transform(double* data, int axis, bool forward, std::optional<double> divide_at) {
   const int64_t m0 = m_[0], m1 = m_[1], n = m_[axis];
   const fftw_plan plan = forward ? plans_->fwd[axis] : plans_->bwd[axis];
   if (axis == 0) {
@@ -195,7 +198,13 @@ void FastSolver::transform(double* data, int axis, bool forward) {
         for (int64_t b = 0; b < count; ++b) dst[b] = src[b];
         for (int64_t b = count; b < B; ++b) dst[b] = 0;
       }
-      fftw_execute_r2r(plan, buf, buf);
+      if (divide_at) {
+        fftw_execute_r2r(plans_->fwd[axis], buf, buf);
+        divide_block(buf, axis, i0, count, o, *divide_at);
+        fftw_execute_r2r(plans_->bwd[axis], buf, buf);
+      } else {
+        fftw_execute_r2r(plan, buf, buf);
+      }
       for (int64_t j = 0; j < n; ++j) {
         double* dst = base + j * stride;
         const double* src = buf + j * B;
@@ -205,21 +214,19 @@ void FastSolver::transform(double* data, int axis, bool forward) {
   });
 }
 
-// Every axis transformed: divide each mode by its eigenvalue (and the transforms' scale).
-void FastSolver::scale_modes(double* data, double sigma) {
-  const int64_t m0 = m_[0], m1 = m_[1], m2 = m_[2];
+// Every axis transformed: divide each mode of a gathered block (lines along `axis`, the last one;
+// x = i0 + b for b < count, the other index o) by its eigenvalue and the transforms' scale.
+void FastSolver::divide_block(double* buf, int axis, int64_t i0, int64_t count, int64_t o, double sigma) const {
   const double inv_norm = 1 / norm_;
-  parallel_for(m1 * m2, 16, [&](int64_t r0, int64_t r1) {
-    for (int64_t r = r0; r < r1; ++r) {
-      const int64_t j = r % m1, k = r / m1;
-      const double base = sigma + lambda_[1][j] + (dim_ == 3 ? lambda_[2][k] : 0.0);
-      double* row = data + r * m0;
-      for (int64_t i = 0; i < m0; ++i) {
-        const double l = base + lambda_[0][i];
-        row[i] = l > 0 ? row[i] * inv_norm / l : 0.0;  // the singular mode: zero mean
-      }
+  for (int64_t j = 0; j < m_[axis]; ++j) {
+    const int64_t y = axis == 2 ? o : j, z = axis == 2 ? j : o;
+    const double base = sigma + lambda_[1][y] + (dim_ == 3 ? lambda_[2][z] : 0.0);
+    double* row = buf + j * kBlock;
+    for (int64_t b = 0; b < count; ++b) {
+      const double l = base + lambda_[0][i0 + b];
+      row[b] = l > 0 ? row[b] * inv_norm / l : 0.0;  // the singular mode: zero mean
     }
-  });
+  }
 }
 
 // The Thomas algorithm along axis t, for every mode q of the other axes: row k of mode q is
@@ -296,12 +303,19 @@ void FastSolver::tridiagonal(double* data, double sigma) {
 }
 
 void FastSolver::solve(double* data, double sigma) {
-  for (int a = 0; a < dim_; ++a)
-    if (a != tri_axis_) transform(data, a, true);
-  if (tri_axis_ >= 0) tridiagonal(data, sigma);
-  else scale_modes(data, sigma);
-  for (int a = dim_ - 1; a >= 0; --a)
-    if (a != tri_axis_) transform(data, a, false);
+  if (tri_axis_ >= 0) {
+    for (int a = 0; a < dim_; ++a)
+      if (a != tri_axis_) transform(data, a, true);
+    tridiagonal(data, sigma);
+    for (int a = dim_ - 1; a >= 0; --a)
+      if (a != tri_axis_) transform(data, a, false);
+    return;
+  }
+  // Every axis transformed: along the last one forward, divided and back in one pass.
+  const int last = dim_ - 1;
+  for (int a = 0; a < last; ++a) transform(data, a, true);
+  transform(data, last, true, sigma);
+  for (int a = last - 1; a >= 0; --a) transform(data, a, false);
 }
 
 }  // namespace silt::fluid

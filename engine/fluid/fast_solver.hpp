@@ -16,7 +16,9 @@
 // Along the last axis, when it is not periodic, the equation of each horizontal mode is
 // tridiagonal and solved directly (Thomas), which saves two transforms per solve; so along an
 // axis of kind face DN (an outflow's normal velocity), which no FFTW transform diagonalises.
-// Only one axis may be solved so.
+// Only one axis may be solved so. When every axis is transformed, the last one is transformed
+// forward, its modes divided by their eigenvalues and transformed back block by block, in one
+// pass over the data.
 //
 // Transforms run on blocks of kBlock lines, each block with the same FFTW plan (chosen by
 // FFTW_ESTIMATE, not by timing): along x a block aligned as the planner's buffer where it lies,
@@ -28,6 +30,7 @@
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <vector>
 
 namespace silt::fluid {
@@ -61,8 +64,8 @@ class FastSolver {
 
  private:
   struct Plans;
-  void transform(double* data, int axis, bool forward);
-  void scale_modes(double* data, double sigma);
+  void transform(double* data, int axis, bool forward, std::optional<double> divide_at = std::nullopt);
+  void divide_block(double* buf, int axis, int64_t i0, int64_t count, int64_t o, double sigma) const;
   void tridiagonal(double* data, double sigma);
   static constexpr int64_t kChunk = 64;  // modes per Thomas sweep
 
