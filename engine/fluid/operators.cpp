@@ -233,9 +233,13 @@ void project_velocity(const Grid& g, const Layout& L, const Padded& u, const dou
   else project_velocity_d<3>(g, L, u, phi, coeff, p);
 }
 
-void gather_unknowns(const Grid& g, const Layout& L, int a, const double* padded, double* out) {
-  sweep_rows(L, range_of(g, a),
-             [&](int64_t q0, int64_t n, int64_t row) { std::copy(padded + q0, padded + q0 + n, out + row * n); });
+void gather_unknowns(const Grid& g, const Layout& L, int a, const double* padded, double* out, double scale) {
+  sweep_rows(L, range_of(g, a), [&](int64_t q0, int64_t n, int64_t row) {
+    double* o = out + row * n;
+    if (scale == 1.0) std::copy(padded + q0, padded + q0 + n, o);
+    else
+      for (int64_t i = 0; i < n; ++i) o[i] = padded[q0 + i] * scale;
+  });
 }
 
 void scatter_unknowns(const Grid& g, const Layout& L, int a, const double* in, double* padded) {

@@ -41,8 +41,8 @@ double divergence(const Grid& g, const Layout& L, const PaddedConst& u, double* 
 // p += phi in the cells (padded; its ghosts left as they were).
 void project_velocity(const Grid& g, const Layout& L, const Padded& u, const double* phi, double coeff, double* p);
 // Copies between a padded array and the unknowns of component a (its updated faces, x fastest),
-// or the cells (a = -1).
-void gather_unknowns(const Grid& g, const Layout& L, int a, const double* padded, double* out);
+// or the cells (a = -1); a gather multiplies by `scale`.
+void gather_unknowns(const Grid& g, const Layout& L, int a, const double* padded, double* out, double scale = 1.0);
 void scatter_unknowns(const Grid& g, const Layout& L, int a, const double* in, double* padded);
 // Number of the unknowns of component a (a = -1: cells), per axis.
 std::array<int64_t, 3> unknown_dims(const Grid& g, int a);

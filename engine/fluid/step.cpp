@@ -300,11 +300,8 @@ void fluid_viscous(const Model& m, State&, FluidWorkspace& w) {
   if (beta > 0) {
     const double inv_beta = 1 / beta;
     for (int a = 0; a < g.dim; ++a) {
-      const auto d = unknown_dims(g, a);
-      const int64_t n = d[0] * d[1] * d[2];
       double* x = w.unknowns.data();
-      gather_unknowns(g, w.L, a, w.u_star[a].data(), x);
-      for (int64_t i = 0; i < n; ++i) x[i] *= inv_beta;
+      gather_unknowns(g, w.L, a, w.u_star[a].data(), x, inv_beta);
       w.helmholtz[a]->solve(x, inv_beta);
       scatter_unknowns(g, w.L, a, x, w.u_star[a].data());
     }
