@@ -67,9 +67,9 @@ std::array<double, 2> end_diagonals(AxisKind k) {
 
 }  // namespace
 
-// Per axis, the forward and backward plans of one block of kBlock lines, in place on an aligned
-// buffer: along x the lines one after the other, along y and z interleaved (line b's point j at
-// j * kBlock + b), which the gather reads contiguously in x.
+// Per axis, the forward and backward plans of one block of lines (kLinesX along x, kBlock along y
+// and z), in place on an aligned buffer, the lines one after the other: along y and z the gather
+// transposes kBlock neighbouring x (read contiguously) into lines.
 struct FastSolver::Plans {
   std::array<fftw_plan, 3> fwd{}, bwd{};
   int64_t buffer_size = 0;
@@ -132,7 +132,7 @@ FastSolver::FastSolver(int dim, const std::array<SolverAxis, 3>& axes)
     fftw_r2r_kind f, b;
     kinds_of(axes[a].kind, f, b);
     const int n = static_cast<int>(m_[a]);
-    const int stride = a == 0 ? 1 : kBlock, dist = a == 0 ? n : 1, lines = a == 0 ? kLinesX : kBlock;
+    const int stride = 1, dist = n, lines = a == 0 ? kLinesX : kBlock;
     // FFTW_ESTIMATE: the plan from heuristics, never from timings, so every run makes the same one.
     plans_->fwd[a] = fftw_plan_many_r2r(1, &n, lines, probe.get(), nullptr, stride, dist, probe.get(), nullptr, stride,
                                         dist, &f, FFTW_ESTIMATE);
@@ -192,12 +192,12 @@ void FastSolver::transform(double* data, int axis, bool forward, std::optional<d
     for (int64_t blk = b0; blk < b1; ++blk) {
       const int64_t i0 = (blk % xb) * B, o = blk / xb, count = std::min<int64_t>(B, m0 - i0);
       double* base = data + i0 + o * other_stride;
+      // Transposed into the buffer: line b's point j at b * n + j.
       for (int64_t j = 0; j < n; ++j) {
         const double* src = base + j * stride;
-        double* dst = buf + j * B;
-        for (int64_t b = 0; b < count; ++b) dst[b] = src[b];
-        for (int64_t b = count; b < B; ++b) dst[b] = 0;
+        for (int64_t b = 0; b < count; ++b) buf[b * n + j] = src[b];
       }
+      if (count < B) std::memset(buf + count * n, 0, sizeof(double) * (B - count) * n);
       if (divide_at) {
         fftw_execute_r2r(plans_->fwd[axis], buf, buf);
         divide_block(buf, axis, i0, count, o, *divide_at);
@@ -207,8 +207,7 @@ void FastSolver::transform(double* data, int axis, bool forward, std::optional<d
       }
       for (int64_t j = 0; j < n; ++j) {
         double* dst = base + j * stride;
-        const double* src = buf + j * B;
-        for (int64_t b = 0; b < count; ++b) dst[b] = src[b];
+        for (int64_t b = 0; b < count; ++b) dst[b] = buf[b * n + j];
       }
     }
   });
@@ -218,13 +217,15 @@ void FastSolver::transform(double* data, int axis, bool forward, std::optional<d
 // x = i0 + b for b < count, the other index o) by its eigenvalue and the transforms' scale.
 void FastSolver::divide_block(double* buf, int axis, int64_t i0, int64_t count, int64_t o, double sigma) const {
   const double inv_norm = 1 / norm_;
-  for (int64_t j = 0; j < m_[axis]; ++j) {
-    const int64_t y = axis == 2 ? o : j, z = axis == 2 ? j : o;
-    const double base = sigma + lambda_[1][y] + (dim_ == 3 ? lambda_[2][z] : 0.0);
-    double* row = buf + j * kBlock;
-    for (int64_t b = 0; b < count; ++b) {
-      const double l = base + lambda_[0][i0 + b];
-      row[b] = l > 0 ? row[b] * inv_norm / l : 0.0;  // the singular mode: zero mean
+  const int64_t n = m_[axis];
+  for (int64_t b = 0; b < count; ++b) {
+    double* line = buf + b * n;
+    const double lx = lambda_[0][i0 + b];
+    for (int64_t j = 0; j < n; ++j) {
+      const int64_t y = axis == 2 ? o : j, z = axis == 2 ? j : o;
+      const double base = sigma + lambda_[1][y] + (dim_ == 3 ? lambda_[2][z] : 0.0);
+      const double l = base + lx;
+      line[j] = l > 0 ? line[j] * inv_norm / l : 0.0;  // the singular mode: zero mean
     }
   }
 }

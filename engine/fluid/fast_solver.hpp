@@ -20,11 +20,11 @@
 // forward, its modes divided by their eigenvalues and transformed back block by block, in one
 // pass over the data.
 //
-// Transforms run on blocks of kBlock lines, each block with the same FFTW plan (chosen by
+// Transforms run on blocks of lines, each block of an axis with the same FFTW plan (chosen by
 // FFTW_ESTIMATE, not by timing): along x a block aligned as the planner's buffer where it lies,
-// other blocks gathered into aligned per-thread buffers (along y and z, kBlock neighbouring x
-// fill whole cache lines). Every line is transformed by the same code whatever thread runs it,
-// so results are bitwise the same for any thread count.
+// other blocks copied into aligned per-thread buffers (along y and z, the lines of kBlock
+// neighbouring x, read as whole cache lines and transposed). Every line is transformed by the
+// same code whatever thread runs it, so results are bitwise the same for any thread count.
 #pragma once
 
 #include <array>
@@ -45,7 +45,7 @@ struct SolverAxis {
 
 class FastSolver {
  public:
-  static constexpr int kBlock = 16;   // lines per transform along y and z
+  static constexpr int kBlock = 32;   // lines per transform along y and z
   static constexpr int kLinesX = 64;  // along x (one allocation inside FFTW per call for some kinds)
   FastSolver(int dim, const std::array<SolverAxis, 3>& axes);
   ~FastSolver();
