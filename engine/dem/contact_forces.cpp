@@ -116,23 +116,15 @@ template <int D, bool Dashpot, bool PairMu>
   }
 }
 
-// The same loop on processors with AVX2, four pairs per instruction instead of two: the same
-// IEEE operations on each pair (no fused multiply-add), so the same bits (simd_level.hpp).
-template <int D, bool Dashpot, bool PairMu>
-[[gnu::target("avx2")]] void tangential_columns_avx2(int64_t c, double dt, double kt_ratio, double friction,
-                                                     const double* mu, double zeta_t, double* const* n,
-                                                     double* const* vt, const double* fn, const double* kn,
-                                                     const double* m, double* const* xi, double* __restrict out) {
-  tangential_columns<D, Dashpot, PairMu>(c, dt, kt_ratio, friction, mu, zeta_t, n, vt, fn, kn, m, xi, out);
-}
-
+// On processors with AVX2 the loop runs four pairs per instruction instead of two: the same
+// IEEE operations on each pair, so the same bits (core/simd_level.hpp).
 template <int D, bool Dashpot, bool PairMu>
 void tangential_pass(int64_t c, double dt, double kt_ratio, double friction, const double* mu, double zeta_t,
                      double* const* n, double* const* vt, const double* fn, const double* kn, const double* m,
                      double* const* xi, double* __restrict out) {
-  if (avx2_in_use())
-    tangential_columns_avx2<D, Dashpot, PairMu>(c, dt, kt_ratio, friction, mu, zeta_t, n, vt, fn, kn, m, xi, out);
-  else tangential_columns<D, Dashpot, PairMu>(c, dt, kt_ratio, friction, mu, zeta_t, n, vt, fn, kn, m, xi, out);
+  run_simd([&] {
+    tangential_columns<D, Dashpot, PairMu>(c, dt, kt_ratio, friction, mu, zeta_t, n, vt, fn, kn, m, xi, out);
+  });
 }
 
 template <int D>

@@ -87,7 +87,8 @@ struct FastSolver::Plans {
     if (!b) b = make_buffer(buffer_size);
     return b.get();
   }
-  double* tri_scratch(int64_t n) {
+  // Per-thread scratch of n values (the Thomas sweep's upper diagonals, a block's eigenvalues).
+  double* scratch_of(int64_t n) {
     std::vector<double>& v = scratch.local();
     if (static_cast<int64_t>(v.size()) < n) v.resize(static_cast<size_t>(n));
     return v.data();
@@ -218,13 +219,17 @@ void FastSolver::transform(double* data, int axis, bool forward, std::optional<d
 void FastSolver::divide_block(double* buf, int axis, int64_t i0, int64_t count, int64_t o, double sigma) const {
   const double inv_norm = 1 / norm_;
   const int64_t n = m_[axis];
+  // sigma plus the eigenvalues along y and z, per point j of the lines.
+  double* base = plans_->scratch_of(n);
+  for (int64_t j = 0; j < n; ++j) {
+    const int64_t y = axis == 2 ? o : j, z = axis == 2 ? j : o;
+    base[j] = sigma + lambda_[1][y] + (dim_ == 3 ? lambda_[2][z] : 0.0);
+  }
   for (int64_t b = 0; b < count; ++b) {
     double* line = buf + b * n;
     const double lx = lambda_[0][i0 + b];
     for (int64_t j = 0; j < n; ++j) {
-      const int64_t y = axis == 2 ? o : j, z = axis == 2 ? j : o;
-      const double base = sigma + lambda_[1][y] + (dim_ == 3 ? lambda_[2][z] : 0.0);
-      const double l = base + lx;
+      const double l = base[j] + lx;
       line[j] = l > 0 ? line[j] * inv_norm / l : 0.0;  // the singular mode: zero mean
     }
   }
@@ -247,7 +252,7 @@ void FastSolver::tridiagonal(double* data, double sigma) {
   const bool neumann_both = ends[0] == 1 && ends[1] == 1;
   const int64_t chunks = (inner + kChunk - 1) / kChunk;
   parallel_for(outer * chunks, 1, [&](int64_t c0, int64_t c1) {
-    double* up_diag = plans_->tri_scratch(kChunk * nk);
+    double* up_diag = plans_->scratch_of(kChunk * nk);
     for (int64_t c = c0; c < c1; ++c) {
       const int64_t o = c / chunks, i0 = (c % chunks) * kChunk, n = std::min(inner, i0 + kChunk) - i0;
       const int64_t base = inner * nk * o + i0;

@@ -176,7 +176,7 @@ double max_divergence(const FluidParams& p, const State& s) {
   const Grid& g = p.grid;
   const PaddedState ps = padded(p, s);
   std::vector<double> cells(static_cast<size_t>(g.cells()));
-  return divergence(g, ps.L, ps.cptr(), cells.data(), 1.0);
+  return divergence_max(g, ps.L, ps.cptr(), cells.data());
 }
 
 std::vector<GridField> cell_fields(const FluidParams& p, const State& s, std::string_view only) {
@@ -184,20 +184,19 @@ std::vector<GridField> cell_fields(const FluidParams& p, const State& s, std::st
   const PaddedState ps = padded(p, s);
   std::vector<GridField> out;
   const auto wanted = [&](std::string_view name) { return only.empty() || only == name; };
-  if (wanted("velocity") || wanted("pressure")) {
-    GridField vel = grid_field(g, "velocity", "m/s", 3), pres = grid_field(g, "pressure", "Pa", 1);
-    vel.value.assign(static_cast<size_t>(g.cells() * 3), 0.0);
-    pres.value.assign(static_cast<size_t>(g.cells()), 0.0);
+  // A field filled cell by cell: at(its values at the cell, the cell's padded index).
+  const auto cells = [&](GridField f, auto&& at) {
+    f.value.assign(static_cast<size_t>(g.cells() * f.components), 0.0);
     for (int64_t k = 0; k < g.n[2]; ++k)
       for (int64_t j = 0; j < g.n[1]; ++j)
-        for (int64_t i = 0; i < g.n[0]; ++i) {
-          const int64_t q = ps.L.at(i, j, k), cell = g.cell(i, j, k);
-          for (int a = 0; a < g.dim; ++a) vel.value[3 * cell + a] = 0.5 * (ps.u[a][q] + ps.u[a][q + ps.L.s[a]]);
-          pres.value[cell] = ps.p[q];
-        }
-    if (wanted("velocity")) out.push_back(std::move(vel));
-    if (wanted("pressure")) out.push_back(std::move(pres));
-  }
+        for (int64_t i = 0; i < g.n[0]; ++i) at(&f.value[f.components * g.cell(i, j, k)], ps.L.at(i, j, k));
+    out.push_back(std::move(f));
+  };
+  if (wanted("velocity"))
+    cells(grid_field(g, "velocity", "m/s", 3), [&](double* v, int64_t q) {
+      for (int a = 0; a < g.dim; ++a) v[a] = 0.5 * (ps.u[a][q] + ps.u[a][q + ps.L.s[a]]);
+    });
+  if (wanted("pressure")) cells(grid_field(g, "pressure", "Pa", 1), [&](double* v, int64_t q) { *v = ps.p[q]; });
   if (wanted("vorticity")) out.push_back(vorticity_field(g, ps));
   return out;
 }

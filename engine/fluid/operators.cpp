@@ -143,7 +143,8 @@ void momentum_substep_d(const Grid& g, const Layout& L, const PaddedConst& u, co
   });
 }
 
-template <int D>
+// cells = scale * div u row by row; with Max, the largest |div u| of the rows too.
+template <int D, bool Max>
 double divergence_d(const Grid& g, const Layout& L, const PaddedConst& u, double* cells, double scale) {
   const double inv_h[3] = {1 / g.h[0], 1 / g.h[1], 1 / g.h[2]};
   const int64_t nj = g.n[1], nk = D == 3 ? g.n[2] : 1, ni = g.n[0];
@@ -154,17 +155,14 @@ double divergence_d(const Grid& g, const Layout& L, const PaddedConst& u, double
       double* o = cells + row * ni;
       run_simd([&] {
         SILT_IVDEP
-        for (int64_t i = 0; i < ni; ++i) o[i] = divergence_kernel<D>(u.data(), q0 + i, L.s.data(), inv_h);
+        for (int64_t i = 0; i < ni; ++i) o[i] = scale * divergence_kernel<D>(u.data(), q0 + i, L.s.data(), inv_h);
       });
-      for (int64_t i = 0; i < ni; ++i) {
-        const double a = std::abs(o[i]);
-        m = std::max(m, a);
-        if (!(a < 1e300)) m = HUGE_VAL;  // NaN: reported as infinite
-      }
-      if (scale != 1.0)
-        run_simd([&] {
-          for (int64_t i = 0; i < ni; ++i) o[i] *= scale;
-        });
+      if constexpr (Max)
+        for (int64_t i = 0; i < ni; ++i) {
+          const double a = std::abs(o[i]);
+          m = std::max(m, a);
+          if (!(a < 1e300)) m = HUGE_VAL;  // NaN: reported as infinite
+        }
     }
     return std::array<double, 1>{m};
   });
@@ -224,8 +222,13 @@ void component_laplacian(const Grid& g, const Layout& L, int a, const double* u,
   });
 }
 
-double divergence(const Grid& g, const Layout& L, const PaddedConst& u, double* cells, double scale) {
-  return g.dim == 2 ? divergence_d<2>(g, L, u, cells, scale) : divergence_d<3>(g, L, u, cells, scale);
+void divergence(const Grid& g, const Layout& L, const PaddedConst& u, double* cells, double scale) {
+  if (g.dim == 2) divergence_d<2, false>(g, L, u, cells, scale);
+  else divergence_d<3, false>(g, L, u, cells, scale);
+}
+
+double divergence_max(const Grid& g, const Layout& L, const PaddedConst& u, double* cells) {
+  return g.dim == 2 ? divergence_d<2, true>(g, L, u, cells, 1.0) : divergence_d<3, true>(g, L, u, cells, 1.0);
 }
 
 void project_velocity(const Grid& g, const Layout& L, const Padded& u, const double* phi, double coeff, double* p) {
@@ -236,9 +239,7 @@ void project_velocity(const Grid& g, const Layout& L, const Padded& u, const dou
 void gather_unknowns(const Grid& g, const Layout& L, int a, const double* padded, double* out, double scale) {
   sweep_rows(L, range_of(g, a), [&](int64_t q0, int64_t n, int64_t row) {
     double* o = out + row * n;
-    if (scale == 1.0) std::copy(padded + q0, padded + q0 + n, o);
-    else
-      for (int64_t i = 0; i < n; ++i) o[i] = padded[q0 + i] * scale;
+    for (int64_t i = 0; i < n; ++i) o[i] = padded[q0 + i] * scale;
   });
 }
 

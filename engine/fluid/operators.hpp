@@ -35,8 +35,10 @@ void momentum_substep(const Grid& g, const Layout& L, const PaddedConst& u, cons
                       const PaddedConst& bc_lap, const SubstepCoefficients& c);
 // out_a = Lap u_a on the updated faces.
 void component_laplacian(const Grid& g, const Layout& L, int a, const double* u, double* out);
-// cells[c] = scale * div u in every cell (unpadded, x fastest); returns max |div u|.
-double divergence(const Grid& g, const Layout& L, const PaddedConst& u, double* cells, double scale);
+// cells[c] = scale * div u in every cell (unpadded, x fastest).
+void divergence(const Grid& g, const Layout& L, const PaddedConst& u, double* cells, double scale);
+// cells[c] = div u, and the largest |div u| (infinite if one is NaN).
+double divergence_max(const Grid& g, const Layout& L, const PaddedConst& u, double* cells);
 // The projection's update, in one sweep: u_a -= coeff * grad_a phi on the updated faces, and
 // p += phi in the cells (padded; its ghosts left as they were).
 void project_velocity(const Grid& g, const Layout& L, const Padded& u, const double* phi, double coeff, double* p);

@@ -64,20 +64,19 @@ linalg::SolveReport solve_pressure(const FluidParams& p, FluidWorkspace& w) {
   linalg::SolveReport r;
   if (w.poisson) {
     w.poisson->solve(w.cells.data(), 0.0);
-  } else {
-    PoissonSolver& mg = *w.multigrid;
-    const auto n = static_cast<Eigen::Index>(g.cells());
-    Eigen::Map<linalg::Vector> b(w.cells.data(), n);
-    // (-Lap) phi = -div u* / (alpha dt), from phi = 0 (the increment).
-    linalg::SolveOptions opt;
-    opt.tolerance = p.tolerance;
-    opt.max_iterations = p.max_iterations;
-    mg.set_cg_options(opt);
-    w.mg_x.setZero(n);
-    r = mg.solve(b, w.mg_x);
-    b = w.mg_x;
+    scatter_unknowns(g, w.L, -1, w.cells.data(), w.phi.data());
+    return r;
   }
-  scatter_unknowns(g, w.L, -1, w.cells.data(), w.phi.data());
+  PoissonSolver& mg = *w.multigrid;
+  const auto n = static_cast<Eigen::Index>(g.cells());
+  // (-Lap) phi = -div u* / (alpha dt), from phi = 0 (the increment).
+  linalg::SolveOptions opt;
+  opt.tolerance = p.tolerance;
+  opt.max_iterations = p.max_iterations;
+  mg.set_cg_options(opt);
+  w.mg_x.setZero(n);
+  r = mg.solve(Eigen::Map<const linalg::Vector>(w.cells.data(), n), w.mg_x);
+  scatter_unknowns(g, w.L, -1, w.mg_x.data(), w.phi.data());
   return r;
 }
 

@@ -353,7 +353,7 @@ void fluid_store(const Model& m, State& s, FluidWorkspace& w) {
   // end of this step (a sample, a frame): a pass over the grid the dynamics do not need.
   fill_velocity_ghosts(g, w.L, u);
   double div_max = 0;
-  if (s.boundary_seen) div_max = divergence(g, w.L, {u[0], u[1], u[2]}, w.cells.data(), 1.0);
+  if (s.boundary_seen) div_max = divergence_max(g, w.L, {u[0], u[1], u[2]}, w.cells.data());
   double rate = 0;  // sum_a max |u_a| / h_a, from the values stored
   for (int a = 0; a < g.dim; ++a) rate += copy_state<false>(g, w.L, a, s.module_field(f.u[a]), u[a]) / g.h[a];
   // p = rho p_kin.
