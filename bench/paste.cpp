@@ -64,11 +64,16 @@ const std::string kHeader =
 
 std::string scene(const std::string& name) { return std::string(SILT_SOURCE_DIR) + "/scenes/" + name + ".toml"; }
 
+// Rows are named with "_implicit_contacts" when the scene linearises its contacts into the solve.
+bool g_implicit_contacts = false;
+
 Model model_of(const std::string& file, const Args& a, const std::vector<std::string>& sets) {
   std::vector<Override> o;
   for (const std::string& s : a.sets) o.push_back(parse_override(s));
   for (const std::string& s : sets) o.push_back(parse_override(s));
-  return compile(load_scene_file(file, o));
+  Model m = compile(load_scene_file(file, o));
+  g_implicit_contacts = m.params.get<paste::PasteParams>().implicit_contacts;
+  return m;
 }
 
 std::string num(double x) {
@@ -86,12 +91,12 @@ struct Row {
 
 void write(const Row& r) {
   std::ostringstream o;
-  o << bench::today() << ',' << r.section << ',' << r.name << ',' << r.n << ',' << num(r.h_min) << ',' << r.cutoff
-    << ',' << r.seed << ',' << num(r.vi) << ',' << r.solver << ',' << num(r.phi) << ',' << num(r.phi_err) << ','
-    << num(r.z_star) << ',' << num(r.mob) << ',' << num(r.mu) << ',' << num(r.mu_err) << ',' << num(r.p_cont) << ','
-    << num(r.time) << ',' << num(r.strain) << ',' << r.steps << ',' << num(r.wall) << ','
-    << num(r.steps ? r.wall / r.steps : 0) << ',' << r.solves << ',' << num(r.iters) << ',' << r.refactor << ','
-    << r.status << ',' << r.thesis;
+  o << bench::today() << ',' << r.section << ',' << r.name << (g_implicit_contacts ? "_implicit_contacts" : "") << ','
+    << r.n << ',' << num(r.h_min) << ',' << r.cutoff << ',' << r.seed << ',' << num(r.vi) << ',' << r.solver << ','
+    << num(r.phi) << ',' << num(r.phi_err) << ',' << num(r.z_star) << ',' << num(r.mob) << ',' << num(r.mu) << ','
+    << num(r.mu_err) << ',' << num(r.p_cont) << ',' << num(r.time) << ',' << num(r.strain) << ',' << r.steps << ','
+    << num(r.wall) << ',' << num(r.steps ? r.wall / r.steps : 0) << ',' << r.solves << ',' << num(r.iters) << ','
+    << r.refactor << ',' << r.status << ',' << r.thesis;
   bench::append_csv(kCsv, kHeader, o.str());
 }
 

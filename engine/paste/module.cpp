@@ -35,6 +35,7 @@ std::vector<KeySpec> paste_keys() {
       {"lubrication.refactor_iterations", K::kInt, Value(int64_t{15}), Range::closed(1, 1e6), "", true, {}, "factor_pcg: a solve that took more iterations has Xi refactorised for the next."},
       {"lubrication.factor_gap_over_a", K::kReal, Value(0.5), Range::non_negative(), "", true, {}, "factor_pcg: connections with a gap below this (in units of a) enter the Cholesky factor whole, the others by their diagonal blocks only: a sparser factor, cheaper to make and to apply, for a few more iterations. h_max / a or more: the whole Xi."},
       {"lubrication.refactor_every", K::kInt, Value(int64_t{0}), Range::closed(0, 1e9), "", true, {}, "factor_pcg: also refactorise every N solves (0: only on the iteration threshold)."},
+      {"lubrication.contacts", K::kString, Value(std::string("explicit")), Range::any(), "", true, S{"explicit", "implicit"}, "explicit: the contact forces of the configuration on the right-hand side (eq. 2.19, the thesis), stable while dt < 2 xi / k for every contact; implicit: also dt times the contacts' stiffnesses in the matrix (normal, and tangential while sticking), a linearised backward Euler with no such limit: the same equilibria, reached in far fewer steps at small h_min."},
       {"lubrication.stokes_drag", K::kBool, Value(false), Range::any(), "", false, {}, "Add a Stokes drag 6 pi eta r on every grain's translation and 8 pi eta r^3 on its rotation (LF_DEM's choice): Xi definite without pinning a grain per cluster. Off: the thesis' model."},
       {"lubrication.dt", K::kReal, std::nullopt, Range::positive(), "s", true, {}, "A fixed time step instead of the adaptive one (the inertial stepper, a convergence study)."},
       {"lubrication.dt_initial", K::kReal, std::nullopt, Range::positive(), "s", false, {}, "First time step (default 1e-3 eta/P, or 1e-3 / gammadot without a pressure)."},
@@ -65,6 +66,7 @@ void compile_steerable(const SceneDesc& d, PasteParams& p) {
   p.solver.refactor_iterations = static_cast<int>(d.integer("lubrication.refactor_iterations"));
   p.solver.refactor_every = static_cast<int>(d.integer("lubrication.refactor_every"));
   p.factor_gap_over_a = d.real("lubrication.factor_gap_over_a");
+  p.implicit_contacts = d.string("lubrication.contacts") == "implicit";
   p.dt_growth = d.real("lubrication.dt_growth");
   p.dt_change = d.real("lubrication.dt_change");
 }
@@ -166,7 +168,8 @@ std::string describe_paste(const Model& m) {
     << ", h_max/a = " << p.h_max_over_a << ", " << (p.cutoff == Cutoff::kLinear ? "linear" : "constant")
     << " cutoff (Peyneau 2009 eq. 1.28-1.29); " << stepper_name(p.stepper) << " stepper, "
     << linalg::method_name(p.solver.method) << " solver to " << p.solver.options.tolerance
-    << (p.stokes_drag ? ", Stokes drag on every grain" : ", one grain pinned per cluster") << "\n";
+    << (p.stokes_drag ? ", Stokes drag on every grain" : ", one grain pinned per cluster") << "; "
+    << (p.implicit_contacts ? "implicit contacts ((Xi + dt K) V = F)" : "explicit contacts (eq. 2.19)") << "\n";
   if (p.fixed_dt) o << "             time step fixed at " << p.dt_initial << " s\n";
   else
     o << "             time step adaptive (sec. 2.2.4) from " << p.dt_initial << " s, in [" << p.dt_min << ", "

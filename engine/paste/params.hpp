@@ -31,6 +31,9 @@ struct PasteParams {
   // A Stokes drag 6 pi eta r on every grain's translation and 8 pi eta r^3 on its rotation
   // (LF_DEM's choice): makes Xi definite without pinning; off by default (the thesis has none).
   bool stokes_drag = false;
+  // Contact forces linearised into the solve, (Xi + dt K) V = F (paste/contact_stiffness.hpp);
+  // off: explicit, from the configuration (eq. 2.19).
+  bool implicit_contacts = false;
   // The adaptive step of sec. 2.2.4 [s]: from dt_initial, multiplied by dt_growth each step
   // while no diagonal entry of Xi and no entry of the right-hand side changed by more than
   // dt_change (relative to its largest entry), else shrunk by dt_change / change (at least

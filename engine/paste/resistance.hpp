@@ -26,9 +26,12 @@ namespace silt::paste {
 
 struct Connection {
   int32_t i = 0, j = 0;
-  double n[3] = {0, 0, 0};  // unit vector from i to j
-  double r[3] = {0, 0, 0};  // r_j - r_i (nearest periodic image)
-  double xi_n = 0, xi_t = 0;
+  double n[3] = {0, 0, 0};    // unit vector from i to j
+  double r[3] = {0, 0, 0};    // r_j - r_i (nearest periodic image)
+  double xi_n = 0, xi_t = 0;  // lubrication resistances [N s/m]
+  // In contact with implicit contacts (paste/contact_stiffness.hpp): dt times the contact's normal
+  // stiffness, and its tangential one while it sticks [N s/m]; 0 otherwise.
+  double k_n = 0, k_t = 0;
 };
 
 struct ResistanceLayout {

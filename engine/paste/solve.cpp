@@ -6,6 +6,7 @@
 
 #include "core/parallel.hpp"
 #include "dem/stress.hpp"
+#include "paste/contact_stiffness.hpp"
 
 namespace silt::paste {
 namespace {
@@ -130,10 +131,18 @@ void lubrication_solve(const Model& m, State& s, PasteWorkspace& w, bool setup) 
     change.swap(now);
   }
 
-  // Inertia, the optional Stokes drag: on the grains' diagonal.
+  // The step these velocities will move the grains by: the next one.
   const bool inertial = p.stepper == Stepper::kInertial;
   const double dt_field = s.module_field(f.dt)[0];
   const double dt = setup ? (dt_field > 0 ? dt_field : p.dt_initial) : s.dt;
+  const bool adapt = !setup && !p.fixed_dt;
+  const double dt_next = adapt ? next_step(p, dt, step_change) : dt;
+  if (p.implicit_contacts) {
+    set_contact_stiffness(m, s, dt_next, w.links);
+    w.system.add_contact_stiffness(cs, s.particle_r, s.shear_rate, b);
+  }
+
+  // Inertia, the optional Stokes drag: on the grains' diagonal.
   for (int64_t i = 0; i < n; ++i) {
     const double r = s.particle_r[i];
     double ct = p.stokes_drag ? 6 * std::numbers::pi * p.eta * r : 0;
@@ -289,11 +298,9 @@ void lubrication_solve(const Model& m, State& s, PasteWorkspace& w, bool setup) 
     }
   });
 
-  if (setup || p.fixed_dt) return;
-  double& next = s.module_field(f.dt)[0];
-  const double wanted = next_step(p, dt, step_change);
+  if (!adapt) return;
   if (step_change > p.dt_change && dt <= p.dt_min) s.events[step_event()].raise(0, dt * p.dt_change / step_change);
-  next = wanted;
+  s.module_field(f.dt)[0] = dt_next;
 }
 
 }  // namespace silt::paste

@@ -62,6 +62,21 @@ void local_map(const SystemLayout& l, const Connection& c, double ri, double rj,
   }
 }
 
+void local_block(const SystemLayout& l, const Connection& c, double ri, double rj, double normal, double tangential,
+                 double* out) {
+  const int d = l.dim, n = local_size(l);
+  double g[3 * 16];
+  local_map(l, c, ri, rj, g);
+  // Each entry once and mirrored: the matrix is symmetric to the bit.
+  for (int r = 0; r < n; ++r)
+    for (int q = r; q < n; ++q) {
+      double v = 0;
+      for (int row = 0; row < d; ++row) v += g[row * n + r] * (row == 0 ? normal : tangential) * g[row * n + q];
+      out[r * n + q] = v;
+      out[q * n + r] = v;
+    }
+}
+
 void connection_force(const SystemLayout& l, const Connection& c, double ri, double rj, const double* u,
                       double* force) {
   const int d = l.dim, n = local_size(l);
@@ -159,40 +174,45 @@ bool ResistanceSystem::assemble(const SystemLayout& l, const std::vector<Connect
   for (size_t k = 0; same && k < cs.size(); ++k) same = pairs_[k].first == cs[k].i && pairs_[k].second == cs[k].j;
   layout_ = l;
   if (!same) build_pattern(cs);
-  const int n = local_size(l), d = l.dim;
+  const int n = local_size(l);
   // Each connection's G^T xi G, in parallel; then added in connection order (deterministic).
   local_.resize(cs.size() * static_cast<size_t>(n * n));
   parallel_for(static_cast<int64_t>(cs.size()), 256, [&](int64_t b, int64_t e) {
-    double g[3 * 16];
     for (int64_t k = b; k < e; ++k) {
       const Connection& c = cs[k];
-      local_map(l, c, radius[c.i], radius[c.j], g);
-      double* out = &local_[k * n * n];
-      // Each entry once and mirrored: the matrix is symmetric to the bit.
-      for (int r = 0; r < n; ++r)
-        for (int q = r; q < n; ++q) {
-          double v = 0;
-          for (int row = 0; row < d; ++row) v += g[row * n + r] * (row == 0 ? c.xi_n : c.xi_t) * g[row * n + q];
-          out[r * n + q] = v;
-          out[q * n + r] = v;
-        }
+      local_block(l, c, radius[c.i], radius[c.j], c.xi_n, c.xi_t, &local_[k * n * n]);
     }
   });
   double* val = a_.valuePtr();
   std::fill(val, val + a_.nonZeros(), 0.0);
   shear_rhs_.setZero(l.size());
-  for (size_t k = 0; k < cs.size(); ++k) {
-    const double* loc = &local_[k * n * n];
-    const int64_t* pos = &pos_[k * n * n];
-    for (int r = 0; r < n; ++r) {
-      const int64_t gr = local_to_global(l, cs[k], r);
-      if (gr < 0) continue;
-      for (int q = 0; q < n; ++q)
-        if (pos[r * n + q] >= 0) val[pos[r * n + q]] += loc[r * n + q];
-      if (l.shear) shear_rhs_[gr] -= loc[r * n + (n - 1)] * shear_rate;
-    }
-  }
+  for (size_t k = 0; k < cs.size(); ++k) add_block(cs[k], &local_[k * n * n], &pos_[k * n * n], shear_rate, shear_rhs_);
   return !same;
+}
+
+void ResistanceSystem::add_contact_stiffness(const std::vector<Connection>& cs, const std::vector<double>& radius,
+                                             double shear_rate, linalg::Vector& rhs) {
+  const int n = local_size(layout_);
+  std::vector<double> loc(static_cast<size_t>(n * n));
+  for (size_t k = 0; k < cs.size(); ++k) {
+    const Connection& c = cs[k];
+    if (c.k_n == 0 && c.k_t == 0) continue;
+    local_block(layout_, c, radius[c.i], radius[c.j], c.k_n, c.k_t, loc.data());
+    add_block(c, loc.data(), &pos_[k * n * n], shear_rate, rhs);
+  }
+}
+
+void ResistanceSystem::add_block(const Connection& c, const double* loc, const int64_t* pos, double shear_rate,
+                                 linalg::Vector& rhs) {
+  const int n = local_size(layout_);
+  double* val = a_.valuePtr();
+  for (int r = 0; r < n; ++r) {
+    const int64_t gr = local_to_global(layout_, c, r);
+    if (gr < 0) continue;
+    for (int q = 0; q < n; ++q)
+      if (pos[r * n + q] >= 0) val[pos[r * n + q]] += loc[r * n + q];
+    if (layout_.shear) rhs[gr] -= loc[r * n + (n - 1)] * shear_rate;
+  }
 }
 
 linalg::SparseMatrix ResistanceSystem::sparsified(const std::vector<uint8_t>& keep) const {

@@ -46,6 +46,10 @@ class ResistanceSystem {
   // diagonal entries are in the pattern, connected or not. Returns whether the pattern changed.
   bool assemble(const SystemLayout& layout, const std::vector<Connection>& c, const std::vector<double>& radius,
                 double shear_rate);
+  // Add, after assemble, G^T diag(k_n, k_t) G of every connection with a contact stiffness
+  // (Connection::k_n, k_t), and its shear column's drive to `rhs`.
+  void add_contact_stiffness(const std::vector<Connection>& c, const std::vector<double>& radius, double shear_rate,
+                             linalg::Vector& rhs);
   linalg::SparseMatrix& matrix() { return a_; }
   const linalg::SparseMatrix& matrix() const { return a_; }
   const linalg::Vector& shear_rhs() const { return shear_rhs_; }
@@ -72,6 +76,8 @@ class ResistanceSystem {
   std::vector<int64_t> diag_pos_;
   std::vector<double> local_;  // per connection, its local G^T xi G
   void build_pattern(const std::vector<Connection>& c);
+  // Add a connection's local block at its positions, its shear column times -shear_rate to rhs.
+  void add_block(const Connection& c, const double* local, const int64_t* pos, double shear_rate, linalg::Vector& rhs);
 };
 
 // The local unknowns of a connection: grain i's, grain j's, the box strain rates, then the shear
@@ -81,6 +87,9 @@ int local_size(const SystemLayout& layout);
 int64_t local_to_global(const SystemLayout& layout, const Connection& c, int q);
 // The connection's rows of G over its local unknowns (dim rows of local_size entries).
 void local_map(const SystemLayout& layout, const Connection& c, double ri, double rj, double* g);
+// G^T diag(normal, tangential...) G of a connection over its local unknowns (n x n, symmetric).
+void local_block(const SystemLayout& layout, const Connection& c, double ri, double rj, double normal,
+                 double tangential, double* out);
 // The force on i from j of a connection (dim components) for local unknowns u (eq. 2.24).
 void connection_force(const SystemLayout& layout, const Connection& c, double ri, double rj, const double* u,
                       double* force);

@@ -1,0 +1,75 @@
+// Implicit contacts (lubrication.contacts = "implicit", paste/contact_stiffness.hpp): the contact
+// springs linearised into the solve, (Xi + dt K) V = F, against the explicit scheme of eq. 2.19.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <numbers>
+#include <string>
+
+#include "paste/lubrication_laws.hpp"
+#include "silt/observables.hpp"
+#include "support/scenes.hpp"
+
+using namespace silt;
+
+namespace {
+
+// Two disks of radius 1/2 overlapping by 0.01 in a liquid, nothing else acting: the contact
+// spring pushes them apart against the lubrication in contact (the linear cutoff's constant
+// 2 c / h_min), quasi-statically with a fixed step.
+const char* kPair = R"(
+[scene]
+dimension = 2
+[domain]
+lo = [0, 0]
+hi = [20, 20]
+periodic = [true, true]
+[contact]
+model = "linear"
+k_n = 1e4
+[[grains]]
+radius = 0.5
+density = 1.0
+placement = "explicit"
+positions = [[9.5, 10.0], [10.49, 10.0]]
+[lubrication]
+viscosity = 1.0
+h_min_over_a = 1e-2
+contacts = "{contacts}"
+dt = {dt}
+)";
+
+double overlap(const State& s) { return 1.0 - std::abs(s.particle_x[2] - s.particle_x[0]); }
+
+}  // namespace
+
+TEST_CASE("implicit contacts: a spring under lubrication relaxes by the backward Euler factor, at any step") {
+  // In contact xi_N = 2 c / h_min, c = (3/2) pi eta R_eq^2; the spring k_n. Per step the overlap
+  // is multiplied by 1 - dt k / xi (explicit: unstable past dt = 2 xi / k) or by xi / (xi + dt k)
+  // (implicit: the same fixed point, stable at every step). dt = 5 xi / k: -4 against 1/6.
+  const double c = 1.5 * std::numbers::pi * 0.25 * 0.25, xi = 2 * c / 1e-2, k = 1e4, dt = 5 * xi / k;
+  char step[64];
+  std::snprintf(step, sizeof step, "%.17g", dt);
+  for (const std::string contacts : {"explicit", "implicit"}) {
+    CAPTURE(contacts);
+    std::string s = kPair;
+    s.replace(s.find("{contacts}"), 10, contacts);
+    s.replace(s.find("{dt}"), 4, step);
+    auto sim = test::simulation_from(s, 1);
+    sim->prepare();
+    const double d0 = overlap(sim->state());
+    REQUIRE(d0 == doctest::Approx(0.01).epsilon(1e-9));
+    REQUIRE(sim->step());
+    if (contacts == "explicit") {
+      CHECK(overlap(sim->state()) == doctest::Approx(d0 * (1 - dt * k / xi)).epsilon(1e-9));  // -4 d0: thrown apart
+    } else {
+      double expected = d0;
+      for (int n = 1; n <= 4; ++n) {
+        expected *= xi / (xi + dt * k);
+        CHECK(overlap(sim->state()) == doctest::Approx(expected).epsilon(1e-9));
+        REQUIRE(sim->step());
+      }
+    }
+  }
+}
