@@ -20,6 +20,7 @@
 //                default 20; the thesis ran 100 in weeks), N = 224: Phi, z*, M, eps_dev.
 //   cost         Time per step and per unit strain against N (224 to 57,344) at Vi = 1e-2,
 //                h_min/a = 1e-2: fitted exponent, memory per grain.
+//   cost3d       The same in 3D: paste_3d_shear's spheres, 512 to 13,824 (1e-3, Phi = 0.45).
 // Every row is appended to bench/results/paste.csv. --quick shortens every run (a smoke test).
 #include <algorithm>
 #include <atomic>
@@ -289,13 +290,15 @@ Row shear_run(const Model& m, const State& packing, int threads, double transien
   sim.restore(packing);
   Row r;
   r.n = m.n_grains;
-  r.vi = m.params.get<paste::PasteParams>().eta * m.shear.rate / m.box_control.pressure;
+  const bool pressure = m.box_control.on;  // else a fixed volume: no Vi, no P_cont / P
+  r.vi = pressure ? m.params.get<paste::PasteParams>().eta * m.shear.rate / m.box_control.pressure : 0;
   const double t0 = bench::now_s();
   RunOptions opt;
   opt.time = transient / m.shear.rate;
   RunReport rep = sim.run(opt);
   std::vector<double> mu, phi, pc;
-  const Observer o(m, {"mu", "phi", "p_cont_ratio"});
+  const Observer o(
+      m, pressure ? std::vector<std::string>{"mu", "phi", "p_cont_ratio"} : std::vector<std::string>{"mu", "phi"});
   opt.time = 0.002 / m.shear.rate;
   int64_t steps = rep.steps_done;
   const double t_measure = sim.state().t;
@@ -305,7 +308,7 @@ Row shear_run(const Model& m, const State& packing, int threads, double transien
     const auto v = o.sample(m, sim.state());
     mu.push_back(v[0]);
     phi.push_back(v[1]);
-    pc.push_back(v[2]);
+    if (pressure) pc.push_back(v[2]);
   }
   r.wall = bench::now_s() - t0;
   r.steps = steps;
@@ -360,17 +363,19 @@ State tile(const Model& m, const State& p, int k) {
   State s = make_state(m);
   const int D = p.dim, R = p.rot;
   int64_t i = 0;
+  const int kz = D == 3 ? k : 1;
   for (int a = 0; a < k; ++a)
     for (int b = 0; b < k; ++b)
-      for (int64_t g = 0; g < p.n; ++g, ++i) {
-        s.particle_x[D * i] = p.particle_x[D * g] + a * p.box.len[0];
-        s.particle_x[D * i + 1] = p.particle_x[D * g + 1] + b * p.box.len[1];
-        s.particle_r[i] = p.particle_r[g];
-        s.particle_inv_m[i] = p.particle_inv_m[g];
-        s.particle_inv_i[i] = p.particle_inv_i[g];
-        for (int c = 0; c < D; ++c) s.particle_v[D * i + c] = 0;
-        for (int c = 0; c < R; ++c) s.particle_w[R * i + c] = 0;
-      }
+      for (int z = 0; z < kz; ++z)
+        for (int64_t g = 0; g < p.n; ++g, ++i) {
+          const int shift[3] = {a, b, z};
+          for (int c = 0; c < D; ++c) s.particle_x[D * i + c] = p.particle_x[D * g + c] + shift[c] * p.box.len[c];
+          s.particle_r[i] = p.particle_r[g];
+          s.particle_inv_m[i] = p.particle_inv_m[g];
+          s.particle_inv_i[i] = p.particle_inv_i[g];
+          for (int c = 0; c < D; ++c) s.particle_v[D * i + c] = 0;
+          for (int c = 0; c < R; ++c) s.particle_w[R * i + c] = 0;
+        }
   for (int a = 0; a < D; ++a) s.box.len[a] = k * p.box.len[a];
   s.nbr_valid = false;
   return s;
@@ -436,12 +441,69 @@ void cyclic(const Args& a) {
                   rows[k].back().wall);
 }
 
+// The least-squares slope of log y against log x.
+double fitted_exponent(const std::vector<double>& lx, const std::vector<double>& ly) {
+  const size_t points = lx.size();
+  double mx = 0, my = 0;
+  for (size_t i = 0; i < points; ++i) {
+    mx += lx[i] / static_cast<double>(points);
+    my += ly[i] / static_cast<double>(points);
+  }
+  double sxy = 0, sxx = 0;
+  for (size_t i = 0; i < points; ++i) {
+    sxy += (lx[i] - mx) * (ly[i] - my);
+    sxx += (lx[i] - mx) * (lx[i] - mx);
+  }
+  return sxy / sxx;
+}
+
+// One row of a cost table, printed; its point (log N, log cost per unit strain) kept for the fit.
+void cost_row(Row& r, int64_t n, double rss0, std::vector<double>& lx, std::vector<double>& ly) {
+  write(r);
+  const double per_step = r.wall / static_cast<double>(std::max<int64_t>(1, r.steps));
+  const double per_strain = r.wall / r.strain;
+  lx.push_back(std::log(static_cast<double>(n)));
+  ly.push_back(std::log(per_strain));
+  std::printf("%8lld %12.4g %14.4g %12.4g %10.2f %8lld %8.1f %12.3g\n", static_cast<long long>(n), per_step, per_strain,
+              static_cast<double>(r.steps) / r.strain, r.iters, static_cast<long long>(r.refactor), r.wall,
+              std::max(rss0, bench::peak_rss_bytes()) / 1e6 / static_cast<double>(n));
+  std::fflush(stdout);
+}
+
+const char* kCostHeader = "%8s %12s %14s %12s %10s %8s %8s %12s\n";
+
+// Cost against N in 3D: paste_3d_shear's spheres (Phi = 0.45, gammadot = 0.01, h_min/a = 1e-3),
+// a packing of 512 tiled k x k x k.
+void cost3d(const Args& a) {
+  const double strain = a.quick ? 0.005 : 0.05;
+  std::printf("\nCost against N in 3D: paste_3d_shear, packings of 512 spheres tiled k x k x k, %g of strain\n",
+              strain);
+  std::printf(kCostHeader, "N", "s/step", "s/unit strain", "steps/strain", "iters", "refact", "wall s", "MB/grain");
+  const Model base = model_of(scene("paste_3d_shear"), a, {"grains.0.count=512", "domain.hi=[19.0,19.0,19.0]"});
+  const State packing = prepare_packing(base, a.threads);
+  std::vector<double> lx, ly;
+  for (int k : a.quick ? std::vector<int>{1, 2} : std::vector<int>{1, 2, 3}) {
+    const int64_t n = base.n_grains * k * k * k;
+    const std::string side = num(19.0 * k);
+    const Model m =
+        model_of(scene("paste_3d_shear"), a,
+                 {"grains.0.count=" + std::to_string(n), "domain.hi=[" + side + "," + side + "," + side + "]"});
+    const State tiled = tile(m, packing, k);
+    const double rss0 = bench::peak_rss_bytes();
+    Row r = shear_run(m, tiled, a.threads, strain, 0);
+    r.section = "cost3d";
+    r.name = "N";
+    r.h_min = m.params.get<paste::PasteParams>().h_min_over_a;
+    cost_row(r, n, rss0, lx, ly);
+  }
+  std::printf("cost per unit strain ~ N^%.2f (target <= 1.5 in 3D; the thesis: 2.5)\n", fitted_exponent(lx, ly));
+}
+
 // Cost against N.
 void cost(const Args& a) {
   std::printf("\nCost against N: Vi = 1e-2, h_min/a = 1e-2, packings of 896 tiled k x k, %s\n",
               a.quick ? "0.002 of strain" : "0.02 of strain");
-  std::printf("%8s %12s %14s %12s %10s %8s %8s %12s\n", "N", "s/step", "s/unit strain", "steps/strain", "iters",
-              "refact", "wall s", "MB/grain");
+  std::printf(kCostHeader, "N", "s/step", "s/unit strain", "steps/strain", "iters", "refact", "wall s", "MB/grain");
   const Model base = model_of(scene("paste_shear"), a, {});
   const State packing = prepare_packing(base, a.threads);
   std::vector<int> ks = {1, 2, 4};
@@ -460,29 +522,9 @@ void cost(const Args& a) {
     r.section = "cost";
     r.name = "N";
     r.h_min = 1e-2;
-    write(r);
-    const double per_step = r.wall / static_cast<double>(std::max<int64_t>(1, r.steps));
-    const double per_strain = r.wall / r.strain;
-    lx.push_back(std::log(static_cast<double>(n)));
-    ly.push_back(std::log(per_strain));
-    std::printf("%8lld %12.4g %14.4g %12.4g %10.2f %8lld %8.1f %12.3g\n", static_cast<long long>(n), per_step,
-                per_strain, static_cast<double>(r.steps) / r.strain, r.iters, static_cast<long long>(r.refactor),
-                r.wall, std::max(rss0, bench::peak_rss_bytes()) / 1e6 / static_cast<double>(n));
-    std::fflush(stdout);
+    cost_row(r, n, rss0, lx, ly);
   }
-  // Least-squares exponent of the cost per unit strain.
-  const size_t points = lx.size();
-  double mx = 0, my = 0;
-  for (size_t i = 0; i < points; ++i) {
-    mx += lx[i] / static_cast<double>(points);
-    my += ly[i] / static_cast<double>(points);
-  }
-  double sxy = 0, sxx = 0;
-  for (size_t i = 0; i < points; ++i) {
-    sxy += (lx[i] - mx) * (ly[i] - my);
-    sxx += (lx[i] - mx) * (lx[i] - mx);
-  }
-  std::printf("cost per unit strain ~ N^%.2f (target <= 1.2 in 2D; the thesis: 2.5)\n", sxy / sxx);
+  std::printf("cost per unit strain ~ N^%.2f (target <= 1.2 in 2D; the thesis: 2.5)\n", fitted_exponent(lx, ly));
 }
 
 }  // namespace
@@ -511,8 +553,9 @@ int main(int argc, char** argv) {
     std::printf("paste bench on %s (%s), %d thread(s)%s\n", bench::host().c_str(), bench::cpu_model().c_str(),
                 a.threads, a.quick ? ", quick" : "");
     const std::vector<std::pair<std::string, void (*)(const Args&)>> sections = {
-        {"iso", iso},     {"equilibrium", equilibrium}, {"knobs", knobs},
-        {"shear", shear}, {"cyclic", cyclic},           {"cost", cost}};
+        {"iso", iso},      {"equilibrium", equilibrium}, {"knobs", knobs},
+        {"shear", shear},  {"cyclic", cyclic},           {"cost", cost},
+        {"cost3d", cost3d}};
     for (const auto& [name, fn] : sections)
       if (a.only.empty() || a.only == name) fn(a);
     return 0;
