@@ -27,6 +27,8 @@ Access solve_reads() {
           fid::nbr_start,
           fid::pair_j,
           fid::pair_f,
+          fid::pair_hist,       // implicit contacts: which springs stick
+          fid::particle_group,  // implicit contacts: the pair's contact law
           fid::box,
           fid::box_rate,
           fid::shear_rate,
@@ -104,6 +106,7 @@ void add_paste_stages(GraphBuilder& b) {
         "lubrication_solve", [&w](const Model& m, State& s) { paste::lubrication_solve(m, s, w, true); }, solve_reads(),
         solve_writes());
     b.after(solve, b.find("sum_forces"), "solves with the contact forces of the first state");
+    b.after(solve, b.find("clear_springs"), "implicit contacts: the springs as the first step starts them");
     return;
   }
   const paste::PasteFields f = paste::paste_fields();

@@ -70,7 +70,8 @@ EventId step_event();
 void paste_dt(const Model& m, State& s);
 
 // (particle_x, particle_r, particle_v, particle_w, particle_f, particle_t, particle_inv_m,
-//  particle_inv_i, nbr_start, pair_j, pair_f, box, box_rate, shear_rate, dt, paste_*) =>
+//  particle_inv_i, nbr_start, pair_j, pair_f, pair_hist, particle_group, box, box_rate,
+//  shear_rate, dt, paste_*) =>
 // (particle_v, particle_w, box_rate, pair_f_lub, paste_dt, paste_solver, paste_change,
 //  paste_factor)
 // `setup`: the velocities of the first state, the adaptive step left as it is.
