@@ -7,7 +7,9 @@
 #include <numbers>
 #include <string>
 
+#include "paste/contact_stiffness.hpp"
 #include "paste/lubrication_laws.hpp"
+#include "paste/params.hpp"
 #include "silt/observables.hpp"
 #include "support/scenes.hpp"
 
@@ -28,6 +30,8 @@ periodic = [true, true]
 [contact]
 model = "linear"
 k_n = 1e4
+friction = 0.3
+kt_over_kn = 0.5
 [[grains]]
 radius = 0.5
 density = 1.0
@@ -72,4 +76,34 @@ TEST_CASE("implicit contacts: a spring under lubrication relaxes by the backward
       }
     }
   }
+}
+
+TEST_CASE("implicit contacts: a sticking spring adds dt k_t, one at the Coulomb limit none") {
+  std::string text = kPair;
+  text.replace(text.find("{contacts}"), 10, "implicit");
+  text.replace(text.find("{dt}"), 4, "0.01");
+  auto sim = test::simulation_from(text, 1);
+  sim->prepare();
+  State s = sim->state();
+  const Model& m = sim->model();
+  paste::Links links;
+  paste::find_connections(s, m.params.get<paste::PasteParams>().law(), links);
+  REQUIRE(links.c.size() == 1);
+  const double dt = 0.01, kn = 1e4, kt = 0.5 * kn, fn = kn * 0.01, limit = 0.3 * fn / kt;  // spring length at the limit
+  double* hist = &s.pair_hist[2 * links.pair[0]];
+  for (const double length : {0.0, 0.5 * limit, limit}) {
+    CAPTURE(length);
+    hist[0] = 0;
+    hist[1] = length;
+    paste::set_contact_stiffness(m, s, dt, links);
+    CHECK(links.c[0].k_n == doctest::Approx(dt * kn).epsilon(1e-12));
+    CHECK(links.c[0].k_t == (length < limit ? doctest::Approx(dt * kt).epsilon(1e-12) : doctest::Approx(0.0)));
+  }
+  // Apart: no stiffness.
+  s.particle_x[2] += 0.02;
+  paste::find_connections(s, m.params.get<paste::PasteParams>().law(), links);
+  REQUIRE(links.c.size() == 1);
+  paste::set_contact_stiffness(m, s, dt, links);
+  CHECK(links.c[0].k_n == 0);
+  CHECK(links.c[0].k_t == 0);
 }
