@@ -145,7 +145,7 @@ int main(int argc, char** argv) {
       bench::append_csv(kCsv, kHeader, o.str());
     };
     // The roughness cutoff of each: silt's h_min = x a (a = 2), LAMMPS's cutinner = 2 + x a.
-    for (double x : {1e-2, 1e-3, 1e-4, 1e-6}) {
+    for (double x : {1e-2, 1e-3, 1e-4, 1e-6, 1e-8}) {
       const Model m = compile(load_scene_file(scene, {parse_override("lubrication.h_min_over_a=" + num(x))}));
       for (int threads : {1, 2}) {
         if (threads == 2 && x != 1e-3) continue;
