@@ -43,9 +43,10 @@ std::string signalled(const std::string& command, const std::string& file, int l
 
 }  // namespace
 
-TEST_CASE("SIGTERM and SIGINT stop a run at a step boundary; everything is written, exit 128 + signal") {
-  for (const auto& [signal, code] : {std::pair<const char*, int>{"TERM", 143}, {"INT", 130}}) {
-    CAPTURE(signal);
+TEST_CASE("SIGTERM and SIGINT stop a run at a step boundary, everything is written, exit 128 + signal") {
+  for (const auto& signal_code : {std::pair<const char*, int>{"TERM", 143}, {"INT", 130}}) {
+    const auto [signal, code] = signal_code;
+    CAPTURE(signal_code.first);
     silt::test::TempDir dir;
     const std::string stats = dir / "st.csv", summary = dir / "s.json";
     // sh runs a background job with SIGINT ignored unless it is interactive: silt installs its own
@@ -143,8 +144,9 @@ TEST_CASE("a preparation that fails writes a summary and its last good state") {
 
 TEST_CASE("the final state is sampled exactly once") {
   silt::test::TempDir dir;
-  for (const auto& [steps, rows_expected] : {std::pair<int, size_t>{1005, 12}, {1000, 11}}) {
-    CAPTURE(steps);
+  for (const auto& steps_rows : {std::pair<int, size_t>{1005, 12}, {1000, 11}}) {
+    const auto [steps, rows_expected] = steps_rows;
+    CAPTURE(steps_rows.first);
     const Result r = silt_cli("run " + scene_path("pack_2d") + " --steps " + std::to_string(steps) +
                               " --every 100 --observe t,step --quiet --stats " + (dir / "st.csv"));
     REQUIRE(r.code == 0);

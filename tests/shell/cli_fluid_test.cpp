@@ -42,7 +42,7 @@ TEST_CASE("silt run: a fluid step past the CFL limit exits 3 naming fluid.dt") {
   CHECK(r.out.find("CFL") != std::string::npos);
 }
 
-TEST_CASE("silt check: a fluid scene's cells, bytes per cell and dimensionless groups; a grid too large is refused") {
+TEST_CASE("silt check: a fluid scene's cells, bytes per cell and dimensionless groups, a grid too large is refused") {
   const Result ok = silt_cli("check " + scene_path("cavity_2d"));
   CHECK(ok.code == 0);
   CHECK(ok.out.find("128 x 128 cells") != std::string::npos);

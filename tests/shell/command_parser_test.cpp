@@ -108,7 +108,7 @@ TEST_CASE("lists are one word, written as on the command line, and expand into t
   CHECK_THROWS_AS(expand_list(Token{"[a b]", 1}), ParseError);
 }
 
-TEST_CASE("a condition needs no blanks around its comparisons; until static") {
+TEST_CASE("a condition needs no blanks around its comparisons, and until static parses") {
   const auto c = parse_line("run until t>=30 and ke<1e-3");
   REQUIRE(c);
   const RunLength r = parse_run_length(c->args);

@@ -121,7 +121,7 @@ TEST_CASE("materials: a Hertz collision of two materials lasts as the mixed modu
   }
 }
 
-TEST_CASE("materials: a rigid wall doubles the Hertz modulus; a wall's spring is in series with the grain's") {
+TEST_CASE("materials: a rigid wall doubles the Hertz modulus and a wall's spring is in series with the grain's") {
   const double r = 1e-3, m = 2500 * 4.0 / 3.0 * std::numbers::pi * r * r * r, v = 0.1;
   const std::string hertz = "model = \"hertz\"\nyoung_modulus = 7e10\npoisson_ratio = 0.3";
   for (bool rigid : {false, true}) {

@@ -11,8 +11,10 @@
 #include <vector>
 
 #include "silt/linalg.hpp"
+#include "support/scenes.hpp"
 
 using namespace silt::linalg;
+using silt::test::gaussian_vector;
 
 namespace {
 
@@ -62,14 +64,6 @@ SparseMatrix grid(int side, unsigned seed, double perturb = 0) {
   return from_triplets(n, t);
 }
 
-Vector random_vector(int64_t n, unsigned seed) {
-  std::mt19937_64 rng(seed);
-  std::normal_distribution<double> g;
-  Vector v(n);
-  for (int64_t i = 0; i < n; ++i) v[i] = g(rng);
-  return v;
-}
-
 double rel_diff(const Vector& a, const Vector& b) { return (a - b).norm() / b.norm(); }
 
 }  // namespace
@@ -98,7 +92,7 @@ TEST_CASE("every solver inverts the 1D chain to its closed form") {
 
 TEST_CASE("CG, Jacobi CG, factor-preconditioned CG and the direct solve agree") {
   const SparseMatrix a = grid(40, 1);
-  const Vector b = random_vector(a.rows(), 2);
+  const Vector b = gaussian_vector(a.rows(), 2);
   SolveOptions opt{1e-10, 20000};  // a relative residual round-off allows here (entries span 1e-2 .. 4e4)
   Vector x_cg = Vector::Zero(a.rows()), x_jac = x_cg, x_pcg = x_cg, x_direct;
   const SparseOperator op(a);
@@ -122,7 +116,7 @@ TEST_CASE("CG, Jacobi CG, factor-preconditioned CG and the direct solve agree") 
   CHECK(f.factor_bytes() >= 8 * f.factor_entries());
 }
 
-TEST_CASE("an older factor preconditions a changed matrix; the solver refactorises when it no longer helps") {
+TEST_CASE("an older factor preconditions a changed matrix and the solver refactorises when it no longer helps") {
   SolverSettings s;
   s.method = Method::kFactorPcg;
   s.options = {1e-10, 2000};
@@ -134,7 +128,7 @@ TEST_CASE("an older factor preconditions a changed matrix; the solver refactoris
   for (int step = 0; step < 12; ++step) {
     CAPTURE(step);
     const SparseMatrix a = grid(30, 7, 0.02 * step);
-    const Vector b = random_vector(a.rows(), 100 + step);
+    const Vector b = gaussian_vector(a.rows(), 100 + step);
     const SolveReport r = solver.solve(a, b, x, false);
     REQUIRE(r.ok());
     iterations += r.iterations;
@@ -152,7 +146,7 @@ TEST_CASE("an older factor preconditions a changed matrix; the solver refactoris
     s.method = m;
     SpdSolver other(s);
     const SparseMatrix a = grid(30, 7);
-    const Vector b = random_vector(a.rows(), 5);
+    const Vector b = gaussian_vector(a.rows(), 5);
     Vector y = Vector::Zero(a.rows());
     CHECK(other.solve(a, b, y, true).ok());
   }
@@ -167,14 +161,14 @@ TEST_CASE("a system that is not positive definite, or not finite, is a report, n
   CHECK(r.message.find("column") != std::string::npos);
   CHECK_FALSE(f.ready());
   Vector x;
-  CHECK(f.solve(random_vector(100, 1), x).status == SolveStatus::kNotPositive);
+  CHECK(f.solve(gaussian_vector(100, 1), x).status == SolveStatus::kNotPositive);
   // CG along a direction of negative curvature.
   const SparseMatrix neg = -grid(10, 3);
   Vector y = Vector::Zero(100);
-  const SolveReport c = conjugate_gradient(SparseOperator(neg), random_vector(100, 2), y, {});
+  const SolveReport c = conjugate_gradient(SparseOperator(neg), gaussian_vector(100, 2), y, {});
   CHECK(c.status == SolveStatus::kNotPositive);
   // Non-finite inputs.
-  Vector b = random_vector(100, 3);
+  Vector b = gaussian_vector(100, 3);
   b[5] = std::nan("");
   const SparseMatrix good = grid(10, 3);
   Vector z = Vector::Zero(100);
@@ -184,7 +178,7 @@ TEST_CASE("a system that is not positive definite, or not finite, is a report, n
   CHECK(f.factorize(inf).status == SolveStatus::kNotFinite);
   // The iteration limit.
   Vector w = Vector::Zero(100);
-  const SolveReport lim = conjugate_gradient(SparseOperator(good), random_vector(100, 4), w, {1e-14, 3});
+  const SolveReport lim = conjugate_gradient(SparseOperator(good), gaussian_vector(100, 4), w, {1e-14, 3});
   CHECK(lim.status == SolveStatus::kMaxIterations);
   CHECK(lim.message.find("3 iterations") != std::string::npos);
   CHECK(std::isfinite(lim.residual));
@@ -192,7 +186,7 @@ TEST_CASE("a system that is not positive definite, or not finite, is a report, n
 
 TEST_CASE("a solve gives the same bits on 1, 2 and 4 threads") {
   const SparseMatrix a = grid(90, 11);  // 8,100 unknowns: more than one reduction block
-  const Vector b = random_vector(a.rows(), 12);
+  const Vector b = gaussian_vector(a.rows(), 12);
   auto solve_on = [&](int threads, Method m) {
     tbb::task_arena arena(threads);
     Vector x = Vector::Zero(a.rows());

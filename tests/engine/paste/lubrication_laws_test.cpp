@@ -13,7 +13,7 @@ LubricationLaw law(double h_min, Cutoff c = Cutoff::kLinear) { return {2.0, h_mi
 
 }  // namespace
 
-TEST_CASE("above the cutoff the laws are the smooth-sphere ones (eq. 1.26, 1.27); none beyond h_max") {
+TEST_CASE("above the cutoff the laws are the smooth-sphere ones (eq. 1.26, 1.27), none beyond h_max") {
   const double r = 0.5, eta = 2.0;
   const double pi = std::numbers::pi;
   for (double h : {1e-3, 0.01, 0.3, 0.5}) {

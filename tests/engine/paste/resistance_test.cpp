@@ -91,7 +91,7 @@ TEST_CASE("-Xi V is the direct lubrication force, torque and stress of eq. 2.21-
   }
 }
 
-TEST_CASE("Xi is symmetric positive semi-definite; pinned and connected, it is definite; a loose grain is found") {
+TEST_CASE("Xi is symmetric positive semi-definite, definite when pinned and connected, and a loose grain is found") {
   // Grains on a square lattice, connected to their neighbours and along one diagonal (triangles:
   // see the next test for a graph without odd cycles).
   std::mt19937_64 rng(9);
