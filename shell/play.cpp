@@ -28,10 +28,10 @@ bool flush_background(shell::Session& session, const std::string& where) {
   return false;
 }
 
-shell::Session* g_session = nullptr;
+shell::Session* g_played = nullptr;
 std::atomic<bool> g_stop{false};
 void interrupt_session() {
-  if (g_session) g_session->interrupt();
+  if (g_played) g_played->interrupt();
 }
 
 }  // namespace
@@ -42,7 +42,7 @@ int play_command(const std::string& script, bool keep_going, int threads) {
   if (!in) return report_error("cannot read script '" + script + "'", 4);
   shell::Session session(std::cout, std::cerr, threads);
   session.set_script_dir(std::filesystem::path(script).parent_path().string());
-  g_session = &session;
+  g_played = &session;
   g_stop = false;
   StopSignals stop(&g_stop, interrupt_session);
   std::string line;
@@ -66,7 +66,7 @@ int play_command(const std::string& script, bool keep_going, int threads) {
   }
   session.execute("quit");
   if (!flush_background(session, script + ":" + std::to_string(n))) failed(static_cast<int>(ExitCode::kNumerical));
-  g_session = nullptr;
+  g_played = nullptr;
   return g_stop ? StopSignals::exit_code() : code;
 }
 

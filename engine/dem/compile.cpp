@@ -14,8 +14,6 @@
 namespace silt::dem {
 namespace {
 
-std::string fmt_(double x) { return format_number(x, 6); }
-
 void setup_walls(const SceneDesc& d, Model& m) {
   const int n = d.group_count("walls");
   for (int w = 0; w < n; ++w) {
@@ -79,8 +77,9 @@ void setup_neighbors(const SceneDesc& d, Model& m) {
   const double range = m.interaction_range();
   for (int k = 0; k < m.dim; ++k)
     if (m.box.periodic[k] && m.box.len[k] < 2 * range)
-      d.fail("domain.hi", "the periodic length along " + std::string(1, "xyz"[k]) + " (" + fmt_(m.box.len[k]) +
-                              ") must be at least twice the interaction range 2 r_max + skin = " + fmt_(range));
+      d.fail("domain.hi",
+             "the periodic length along " + std::string(1, "xyz"[k]) + " (" + format_number(m.box.len[k]) +
+                 ") must be at least twice the interaction range 2 r_max + skin = " + format_number(range));
 }
 
 // Energy the scene can supply: initial kinetic energy, the potential energy of free grains
@@ -131,9 +130,10 @@ void refresh_frozen(Model& m) {
 void check_time_step(const SceneDesc& d, const Model& m) {
   if (!(m.dt > m.dt_stable)) return;
   const std::string key = d.has("run.dt") ? "run.dt" : "run.dt_over_tc";
-  d.fail(key, "time step " + fmt_(m.dt) + " s exceeds the velocity-Verlet stability limit " + fmt_(m.dt_stable) +
-                  " s of the stiffest contact (reduced mass " + fmt_(m.m_eff_min) + ", stiffness " + fmt_(m.k_max) +
-                  "); reduce " + key + " (run.dt_over_tc <= " + fmt_(m.dt_stable / m.t_contact) + ")");
+  d.fail(key, "time step " + format_number(m.dt) + " s exceeds the velocity-Verlet stability limit " +
+                  format_number(m.dt_stable) + " s of the stiffest contact (reduced mass " +
+                  format_number(m.m_eff_min) + ", stiffness " + format_number(m.k_max) + "); reduce " + key +
+                  " (run.dt_over_tc <= " + format_number(m.dt_stable / m.t_contact) + ")");
 }
 
 // Initial velocities no scene can have: a grain that crosses the whole domain in one time step
@@ -150,8 +150,9 @@ void check_initial_speeds(const SceneDesc& d, const Model& m) {
     if (!(v * m.dt <= extent)) {
       const std::string p = "grains[" + std::to_string(m.init.group[i]) + "].";
       d.fail(d.has(p + "velocities") ? p + "velocities" : (d.has(p + "temperature") ? p + "temperature" : "run.dt"),
-             "grain " + std::to_string(i) + " starts at " + fmt_(v) + " m/s: it would cross the whole domain (" +
-                 fmt_(extent) + " m) in one time step of " + fmt_(m.dt) + " s: reduce its speed or run.dt");
+             "grain " + std::to_string(i) + " starts at " + format_number(v) +
+                 " m/s: it would cross the whole domain (" + format_number(extent) + " m) in one time step of " +
+                 format_number(m.dt) + " s: reduce its speed or run.dt");
     }
   }
 }

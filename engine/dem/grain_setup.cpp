@@ -20,8 +20,6 @@
 namespace silt::dem {
 namespace {
 
-std::string fmt_(double x) { return format_number(x, 6); }
-
 std::string key(int g, const char* leaf) { return "grains[" + std::to_string(g) + "]." + leaf; }
 
 // A uniform hash grid over grain centres for overlap queries while placing. Cells are at least
@@ -217,7 +215,7 @@ std::vector<double> draw_radii(const SceneDesc& d, const Model& m, int g, int64_
     if (frac.size() != sizes.size()) d.fail(key(g, "volume_fractions"), "needs one entry per radius in radii");
     const double total = std::accumulate(frac.begin(), frac.end(), 0.0);
     if (std::abs(total - 1) > 1e-9)
-      d.fail(key(g, "volume_fractions"), "must add up to 1 (they add up to " + fmt_(total) + ")");
+      d.fail(key(g, "volume_fractions"), "must add up to 1 (they add up to " + format_number(total) + ")");
     // Number fraction of size k is proportional to phi_k / r_k^D; largest-remainder rounding.
     std::vector<double> w(sizes.size());
     for (size_t k = 0; k < sizes.size(); ++k) w[k] = frac[k] / std::pow(sizes[k], m.dim);
@@ -310,7 +308,7 @@ void place_random(const SceneDesc& d, Model& m, int g, const Group& G, int64_t f
       for (int k = 0; k < D; ++k) vol *= G.hi[k] - G.lo[k];
       for (int64_t j = first; j < first + G.count; ++j) solid += grain_volume(D, rs[j]);
       d.fail(key(g, "count"), "could not place grain " + std::to_string(q + 1) + " of " + std::to_string(G.count) +
-                                  " at random without overlap (the group alone fills " + fmt_(solid / vol) +
+                                  " at random without overlap (the group alone fills " + format_number(solid / vol) +
                                   " of its region; random addition jams near 0.55 in 2D and 0.38 in 3D): use a "
                                   "larger region, fewer grains, or placement = \"lattice\"");
     }
@@ -473,9 +471,9 @@ void setup_grains(const SceneDesc& d, Model& m) {
     for (double r : G.radius) {
       const double mass = G.density * grain_volume(D, r), inertia = mass * r * r;
       if (!(mass > 0) || !std::isfinite(mass) || !(inertia > 0) || !std::isfinite(inertia))
-        d.fail(size_key, "a grain of radius " + fmt_(r) + " and density " + fmt_(G.density) + " has a mass of " +
-                             fmt_(mass) + " kg and a moment of inertia of " + fmt_(inertia) +
-                             ": both must be finite and positive");
+        d.fail(size_key, "a grain of radius " + format_number(r) + " and density " + format_number(G.density) +
+                             " has a mass of " + format_number(mass) + " kg and a moment of inertia of " +
+                             format_number(inertia) + ": both must be finite and positive");
       I.radius.push_back(r);
       I.mass.push_back(mass);
       I.inertia.push_back(D == 3 ? 0.4 * mass * r * r : 0.5 * mass * r * r);  // sphere, disk
@@ -563,16 +561,16 @@ void check_initial_overlaps(const Model& m) {
     const double f = grid.worst_overlap(x, I.radius[i], I.x, I.radius, &j);
     if (f > m.limits.max_overlap && !(I.frozen[i] && I.frozen[j]))
       m.desc.fail(group_location_key(m.desc, I.group[i]),
-                  "grains " + std::to_string(j) + " and " + std::to_string(i) + " overlap by " + fmt_(100 * f) +
-                      "% of the smaller radius at t = 0, beyond limits.max_overlap = " + fmt_(m.limits.max_overlap) +
-                      ": move them apart or reduce their radii");
+                  "grains " + std::to_string(j) + " and " + std::to_string(i) + " overlap by " +
+                      format_number(100 * f) + "% of the smaller radius at t = 0, beyond limits.max_overlap = " +
+                      format_number(m.limits.max_overlap) + ": move them apart or reduce their radii");
     grid.insert(i, x);
     for (size_t w = 0; w < m.walls.size(); ++w) {
       const double gap = wall_gap(m, x, I.radius[i], m.walls[w]);
       if (!I.frozen[i] && -gap > m.limits.max_overlap * I.radius[i])
         m.desc.fail("walls[" + std::to_string(w) + "].point",
                     "grain " + std::to_string(i) + " overlaps wall " + std::to_string(w) + " by " +
-                        fmt_(-100 * gap / I.radius[i]) + "% of its radius at t = 0");
+                        format_number(-100 * gap / I.radius[i]) + "% of its radius at t = 0");
     }
   }
 }

@@ -15,8 +15,6 @@
 namespace silt::fluid {
 namespace {
 
-std::string fmt(double x) { return format_number(x, 4); }
-
 BcType bc_type(const std::string& s) {
   if (s == "periodic") return BcType::kPeriodic;
   if (s == "free_slip") return BcType::kFreeSlip;
@@ -39,8 +37,9 @@ void compile_grid(const SceneDesc& d, const Model& m, Grid& g) {
   }
   for (int a = 1; a < m.dim; ++a)
     if (std::abs(g.h[a] - g.h[0]) > 1e-9 * g.h[0])
-      d.fail("fluid.cells", "the grid spacing must be the same along every axis: " + fmt(g.h[0]) + " m along x, " +
-                                fmt(g.h[a]) + " m along " + std::string(1, "xyz"[a]) + " (domain length / cells)");
+      d.fail("fluid.cells", "the grid spacing must be the same along every axis: " + format_number(g.h[0], 4) +
+                                " m along x, " + format_number(g.h[a], 4) + " m along " + std::string(1, "xyz"[a]) +
+                                " (domain length / cells)");
   for (int a = 0; a < m.dim; ++a) {
     for (int side = 0; side < 2; ++side) {
       const std::string key = std::string("fluid.boundary.") + face_names()[2 * a + side];
@@ -187,10 +186,11 @@ void finish_fluid(const SceneDesc& d, Model& m) {
   double inv = 0;
   for (int a = 0; a < m.dim; ++a) inv += 1 / (p.grid.h[a] * p.grid.h[a]);
   if (p.dt_fixed && p.viscous == Viscous::kExplicit && p.nu() * p.dt * inv > FluidParams::kViscousLimit)
-    d.fail("fluid.dt", "the explicit viscous term is unstable: nu dt sum 1/h^2 = " + fmt(p.nu() * p.dt * inv) +
-                           " exceeds " + fmt(FluidParams::kViscousLimit) + "; reduce fluid.dt below " +
-                           fmt(FluidParams::kViscousLimit / (p.nu() * inv)) +
-                           " s or use fluid.viscous = \"crank_nicolson\"");
+    d.fail("fluid.dt",
+           "the explicit viscous term is unstable: nu dt sum 1/h^2 = " + format_number(p.nu() * p.dt * inv, 4) +
+               " exceeds " + format_number(FluidParams::kViscousLimit, 4) + "; reduce fluid.dt below " +
+               format_number(FluidParams::kViscousLimit / (p.nu() * inv), 4) +
+               " s or use fluid.viscous = \"crank_nicolson\"");
   const double need = estimated_memory_bytes(m), have = available_memory_bytes();
   if (need > 0.9 * have)
     d.fail("fluid.cells", "the fluid needs about " + format_number(need / (1 << 30), 3) + " GiB (" +

@@ -23,8 +23,6 @@ std::string stiffness_key(const Model& m) {
   }
 }
 
-std::string fmt(double x) { return format_number(x, 4); }
-
 // What each stage reads and writes (their contracts in dem/stages.hpp).
 const Access kGrainConst = {fid::particle_r, fid::particle_inv_m, fid::particle_inv_i, fid::particle_frozen};
 
@@ -83,19 +81,20 @@ void diagnose_dem(GraphBuilder& b) {
     f.stage = "kick";
     f.particle = id;
     f.parameter = "run.dt";
-    f.message = "grain " + std::to_string(id) + " has a non-finite velocity or position; the time step " + fmt(s.dt) +
-                " s is too large for the contacts it meets: reduce run.dt (or run.dt_over_tc)";
+    f.message = "grain " + std::to_string(id) + " has a non-finite velocity or position; the time step " +
+                format_number(s.dt, 4) + " s is too large for the contacts it meets: reduce run.dt (or run.dt_over_tc)";
   });
   b.diagnose(event::kOverlap, [](const Model& m, const State& s, const EventSlot& e, StepFailure& f) {
     const int64_t id = s.particle_id[e.first()];
-    const std::string what = "grain " + std::to_string(id) + " overlaps a neighbour by " + fmt(100 * e.value()) +
-                             "% of the smaller radius, beyond limits.max_overlap = " + fmt(m.limits.max_overlap);
+    const std::string what =
+        "grain " + std::to_string(id) + " overlaps a neighbour by " + format_number(100 * e.value(), 4) +
+        "% of the smaller radius, beyond limits.max_overlap = " + format_number(m.limits.max_overlap, 4);
     f.stage = s.n_walls ? "contact_forces/wall_forces" : "contact_forces";
     f.particle = id;
     if (s.dt > m.dt_stable) {
       f.parameter = "run.dt";
-      f.message = what + ": the time step " + fmt(s.dt) + " s exceeds the stability limit " + fmt(m.dt_stable) +
-                  " s; reduce run.dt";
+      f.message = what + ": the time step " + format_number(s.dt, 4) + " s exceeds the stability limit " +
+                  format_number(m.dt_stable, 4) + " s; reduce run.dt";
     } else {
       f.parameter = stiffness_key(m);
       f.message = what + ": the contacts are too soft for the loads or the impacts; increase " + stiffness_key(m) +
@@ -105,8 +104,9 @@ void diagnose_dem(GraphBuilder& b) {
   b.diagnose(event::kRunaway, [](const Model& m, const State&, const EventSlot& e, StepFailure& f) {
     f.stage = "energy_check";
     f.parameter = "run.dt";
-    f.message = "kinetic energy " + fmt(e.value()) + " J exceeds " + fmt(m.limits.energy_factor) +
-                " times the energy the scene can supply (" + fmt(m.limits.energy_scale) +
+    f.message = "kinetic energy " + format_number(e.value(), 4) + " J exceeds " +
+                format_number(m.limits.energy_factor, 4) + " times the energy the scene can supply (" +
+                format_number(m.limits.energy_scale, 4) +
                 " J): the integration is unstable; reduce run.dt (or run.dt_over_tc)";
   });
 }

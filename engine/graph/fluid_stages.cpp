@@ -12,8 +12,6 @@
 namespace silt::graph {
 namespace {
 
-std::string fmt(double x) { return format_number(x, 4); }
-
 Access fluid_access() {
   const fluid::FluidFields f = fluid::fluid_fields();
   return {f.u[0], f.u[1], f.u[2], f.p, f.stat};
@@ -25,14 +23,16 @@ void diagnose_fluid(GraphBuilder& b) {
     f.stage = "fluid_load";
     if (e.first() == 0) {
       f.parameter = p.dt_fixed ? "fluid.dt" : "fluid.cfl";
-      f.message = "the fluid's CFL number dt sum |u|/h = " + fmt(e.value()) + " at step " + std::to_string(s.step) +
-                  " exceeds " + fmt(fluid::FluidParams::kCflLimit) + ", the stability limit of RK3 advection; " +
+      f.message = "the fluid's CFL number dt sum |u|/h = " + format_number(e.value(), 4) + " at step " +
+                  std::to_string(s.step) + " exceeds " + format_number(fluid::FluidParams::kCflLimit, 4) +
+                  ", the stability limit of RK3 advection; " +
                   (p.dt_fixed ? "reduce fluid.dt, or remove it for the adaptive step" : "reduce fluid.cfl");
     } else {
       f.parameter = "fluid.viscous";
-      f.message = "the explicit viscous term is unstable at this step: nu dt sum 1/h^2 = " + fmt(e.value()) +
-                  " exceeds " + fmt(fluid::FluidParams::kViscousLimit) +
-                  "; reduce fluid.dt or the viscosity, or use fluid.viscous = \"crank_nicolson\"";
+      f.message =
+          "the explicit viscous term is unstable at this step: nu dt sum 1/h^2 = " + format_number(e.value(), 4) +
+          " exceeds " + format_number(fluid::FluidParams::kViscousLimit, 4) +
+          "; reduce fluid.dt or the viscosity, or use fluid.viscous = \"crank_nicolson\"";
     }
   });
   b.diagnose(fluid::nonfinite_event(), [](const Model&, const State& s, const EventSlot&, StepFailure& f) {
@@ -46,8 +46,8 @@ void diagnose_fluid(GraphBuilder& b) {
     const auto& p = m.params.get<fluid::FluidParams>();
     f.stage = "fluid_pressure";
     f.parameter = "fluid.max_iterations";
-    f.message = "the pressure solve (multigrid CG) did not converge: relative residual " + fmt(e.value()) +
-                " above fluid.tolerance = " + fmt(p.tolerance) +
+    f.message = "the pressure solve (multigrid CG) did not converge: relative residual " + format_number(e.value(), 4) +
+                " above fluid.tolerance = " + format_number(p.tolerance, 4) +
                 "; raise fluid.max_iterations or fluid.tolerance, or use fluid.projection = \"fft\"";
   });
 }

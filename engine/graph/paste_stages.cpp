@@ -44,8 +44,6 @@ Access solve_writes() {
   return {fid::particle_v, fid::particle_w, fid::box_rate, f.pair_f_lub, f.dt, f.solver, f.change, f.factor};
 }
 
-std::string fmt(double x) { return format_number(x, 4); }
-
 void diagnose_paste(GraphBuilder& b) {
   b.diagnose(paste::solve_event(), [](const Model& m, const State& s, const EventSlot& e, StepFailure& f) {
     const auto& p = m.params.get<paste::PasteParams>();
@@ -56,8 +54,9 @@ void diagnose_paste(GraphBuilder& b) {
     switch (status) {
       case linalg::SolveStatus::kMaxIterations:
         f.parameter = "lubrication.max_iterations";
-        f.message = "the lubrication solve did not converge: relative residual " + fmt(e.value()) + " after " +
-                    fmt(iters) + " iterations, above lubrication.tolerance = " + fmt(p.solver.options.tolerance) +
+        f.message = "the lubrication solve did not converge: relative residual " + format_number(e.value(), 4) +
+                    " after " + format_number(iters, 4) +
+                    " iterations, above lubrication.tolerance = " + format_number(p.solver.options.tolerance, 4) +
                     "; raise lubrication.max_iterations, or use lubrication.solver = \"direct\"";
         break;
       case linalg::SolveStatus::kNotPositive: {
@@ -82,7 +81,7 @@ void diagnose_paste(GraphBuilder& b) {
       }
       default:
         f.parameter = "lubrication.h_min_over_a";
-        f.message = "the lubrication solve met a non-finite value (residual " + fmt(e.value()) +
+        f.message = "the lubrication solve met a non-finite value (residual " + format_number(e.value(), 4) +
                     "): the forces or the resistances overflowed; raise lubrication.h_min_over_a or lower the loads";
     }
   });
@@ -90,8 +89,8 @@ void diagnose_paste(GraphBuilder& b) {
     const auto& p = m.params.get<paste::PasteParams>();
     f.stage = "lubrication_solve";
     f.parameter = "lubrication.dt_min";
-    f.message = "the adaptive time step wants " + fmt(e.value()) + " s, below lubrication.dt_min = " + fmt(p.dt_min) +
-                " s (step " + std::to_string(s.step) +
+    f.message = "the adaptive time step wants " + format_number(e.value(), 4) +
+                " s, below lubrication.dt_min = " + format_number(p.dt_min, 4) + " s (step " + std::to_string(s.step) +
                 "): the configuration changes too fast for the explicit positions; lower lubrication.dt_min, or "
                 "raise lubrication.h_min_over_a (stiffer lubrication at contact)";
   });

@@ -18,10 +18,9 @@
 namespace silt::paste {
 namespace {
 
-using K = KeyType;
-using S = std::vector<std::string>;
-
 std::vector<KeySpec> paste_keys() {
+  using K = KeyType;
+  using S = std::vector<std::string>;
   // clang-format off
   return {
       {"lubrication.viscosity", K::kReal, std::nullopt, Range::positive(), "Pa s", true, {}, "Viscosity eta of the liquid: lubrication xi_N = (3/2) pi eta R^2 / h, xi_T = pi eta R ln(2 R / h) between grains closer than h_max (Peyneau 2009 eq. 1.26-1.29)."},

@@ -10,8 +10,6 @@
 namespace silt {
 namespace {
 
-std::string fmt_(double x) { return format_number(x, 6); }
-
 // The time step, and the run length in steps. The contact time comes from the DEM's part of
 // compile(), the step the modules propose from theirs; each module checks the step against its
 // own limits when it finishes.
@@ -19,12 +17,13 @@ void setup_time(const SceneDesc& d, Model& m) {
   const bool abs = d.has("run.dt"), rel = d.has("run.dt_over_tc");
   m.dt = abs ? d.real("run.dt") : (rel ? d.real("run.dt_over_tc") * m.t_contact : m.default_dt);
   if (!(m.dt > 0) || !std::isfinite(m.dt))
-    d.fail(abs ? "run.dt" : "run.dt_over_tc", "the time step is " + fmt_(m.dt) + " s: it must be finite and positive");
+    d.fail(abs ? "run.dt" : "run.dt_over_tc",
+           "the time step is " + format_number(m.dt) + " s: it must be finite and positive");
   if (d.has("run.steps")) m.run_steps = d.integer("run.steps");
   if (d.has("run.time")) {
     m.run_time = d.real("run.time");
     m.run_steps = steps_in(d.real("run.time"), m.dt);
-    if (m.run_steps < 0) d.fail("run.time", "run.time is more than 9e18 time steps of " + fmt_(m.dt) + " s");
+    if (m.run_steps < 0) d.fail("run.time", "run.time is more than 9e18 time steps of " + format_number(m.dt) + " s");
   }
   m.until_static.on = d.boolean("run.stop_when_static");
   m.until_static.force_tol = d.real("run.static_force_tol");

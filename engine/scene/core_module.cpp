@@ -12,10 +12,9 @@
 namespace silt::scene {
 namespace {
 
-using K = KeyType;
-using S = std::vector<std::string>;
-
 std::vector<KeySpec> core_keys() {
+  using K = KeyType;
+  using S = std::vector<std::string>;
   // clang-format off
   std::vector<KeySpec> s = {
       // ---- scene

@@ -11,10 +11,9 @@
 namespace silt::shear {
 namespace {
 
-using K = KeyType;
-using S = std::vector<std::string>;
-
 std::vector<KeySpec> shear_keys() {
+  using K = KeyType;
+  using S = std::vector<std::string>;
   // clang-format off
   std::vector<KeySpec> s = {
       // ---- box

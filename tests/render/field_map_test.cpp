@@ -2,6 +2,7 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <numbers>
 
 #include "render/render_support.hpp"
 #include "support/scenes.hpp"
@@ -12,8 +13,6 @@ using silt::test::near;
 using silt::test::pixel_at;
 
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 // A 4 x 4 x 4 box with two grains: one cut by the plane z = 2, one above it.
 const char* kCube = R"(
@@ -57,7 +56,7 @@ TEST_CASE("field_component: a component or the magnitude of a vector field, a sc
   CHECK(field_component(z, "magnitude").value == z.value);
   CHECK_THROWS_AS(field_component(w, "w"), RenderError);
   // The analytic curl: omega_z = 2 u0 k sin(kx) sin(ky) cos(kz) at the cell centres.
-  const double k = 2 * kPi, x = 1.5 / 5, y = 2.5 / 5, zc = 3.5 / 5;
+  const double k = 2 * std::numbers::pi, x = 1.5 / 5, y = 2.5 / 5, zc = 3.5 / 5;
   CHECK(z.at(1, 2, 3) == doctest::Approx(2 * k * std::sin(k * x) * std::sin(k * y) * std::cos(k * zc)));
   CHECK(w.at(1, 2, 3, 0) == doctest::Approx(-k * std::cos(k * x) * std::sin(k * y) * std::sin(k * zc)));
 }
@@ -73,8 +72,8 @@ TEST_CASE("3D slice of the Taylor-Green vortex: a vorticity component, its magni
   v.slice_position = 2.0;
   v.slice_component = "z";
   v.field_range_auto = false;
-  v.field_range[0] = -kPi;
-  v.field_range[1] = kPi;
+  v.field_range[0] = -std::numbers::pi;
+  v.field_range[1] = std::numbers::pi;
   RenderScene rs = build_render_scene(sim->model(), sim->state(), v, &w);
   REQUIRE(rs.fields.size() == 1);
   CHECK(rs.colorbar.label == "vorticity_z");
@@ -91,15 +90,15 @@ TEST_CASE("3D slice of the Taylor-Green vortex: a vorticity component, its magni
   CHECK(zero.r > 240);
   CHECK(zero.g > 240);
   CHECK(zero.b > 240);
-  CHECK(near(neg, div.at((w.at(8, 8, 16, 2) + kPi) / (2 * kPi)), 2));
-  CHECK(near(pos, div.at((w.at(24, 8, 16, 2) + kPi) / (2 * kPi)), 2));
+  CHECK(near(neg, div.at((w.at(8, 8, 16, 2) + std::numbers::pi) / (2 * std::numbers::pi)), 2));
+  CHECK(near(pos, div.at((w.at(24, 8, 16, 2) + std::numbers::pi) / (2 * std::numbers::pi)), 2));
   CHECK(near(zero, div.at(0.5), 2));
   // Grains: the one the plane cuts is drawn over the field (flat grey, not the red of omega_z
   // at y = 3), the other is not drawn (the field shows at its place).
   const Rgba cut = pixel_at(img, rs, 1.0303, 3.0, 2.0), above = pixel_at(img, rs, centre(24), centre(24), 2.0);
   CHECK(std::abs(cut.r - cut.b) < 30);
   CHECK(cut.r < 235);
-  CHECK(near(above, div.at((w.at(24, 24, 16, 2) + kPi) / (2 * kPi)), 2));
+  CHECK(near(above, div.at((w.at(24, 24, 16, 2) + std::numbers::pi) / (2 * std::numbers::pi)), 2));
   CHECK(rs.spheres.size() == 1);
 
   // The magnitude: the sequential map from 0 to the field's largest value, which (1, 1, 2) holds.
@@ -124,8 +123,8 @@ TEST_CASE("an oblique slice samples the field on its plane, and nothing off the 
   v.slice_position = 6 / s3;  // x + y + z = 6: through the centre, a hexagon in the cube
   v.slice_component = "z";
   v.field_range_auto = false;
-  v.field_range[0] = -kPi;
-  v.field_range[1] = kPi;
+  v.field_range[0] = -std::numbers::pi;
+  v.field_range[1] = std::numbers::pi;
   v.distance = 30;  // far enough to see the whole quad
   const RenderScene rs = build_render_scene(sim->model(), sim->state(), v, &w);
   REQUIRE(rs.fields.size() == 1);
@@ -134,11 +133,12 @@ TEST_CASE("an oblique slice samples the field on its plane, and nothing off the 
   const Image img = raster.draw(rs);
   // On the plane at (1.2, 1.3, 3.5) and (2.9, 0.6, 2.5): the analytic omega_z, within the
   // interpolation error of the grid (h = 0.12: a few colour levels).
-  const double k = kPi / 2;
+  const double k = std::numbers::pi / 2;
   for (const auto& p : {std::array<double, 3>{1.2, 1.3, 3.5}, std::array<double, 3>{2.9, 0.6, 2.5}}) {
-    const double omega = kPi * std::sin(k * p[0]) * std::sin(k * p[1]) * std::cos(k * p[2]);
+    const double omega = std::numbers::pi * std::sin(k * p[0]) * std::sin(k * p[1]) * std::cos(k * p[2]);
     CAPTURE(omega);
-    CHECK(near(pixel_at(img, rs, p[0], p[1], p[2]), Colormap::get("diverging").at((omega + kPi) / (2 * kPi)), 8));
+    CHECK(near(pixel_at(img, rs, p[0], p[1], p[2]),
+               Colormap::get("diverging").at((omega + std::numbers::pi) / (2 * std::numbers::pi)), 8));
   }
   // The quad's corner lies off the cube: background there.
   const auto& c0 = rs.fields[0].corners[0];

@@ -16,7 +16,7 @@ using namespace silt::render;
 
 namespace {
 
-constexpr int64_t kSteps = 100;
+constexpr int64_t kFrameSteps = 100;
 constexpr int64_t kEvery = 7;
 
 std::string bytes_of(const std::string& path) {
@@ -27,11 +27,12 @@ std::string bytes_of(const std::string& path) {
 }  // namespace
 
 TEST_CASE("frames every 7 steps leave the run bitwise unchanged (3D gas, 2D gas under Lees-Edwards shear)") {
-  for (const auto& [dim, rate] : {std::pair{3, 0.0}, std::pair{2, 0.5}}) {
-    CAPTURE(dim);
+  for (const auto& dim_rate : {std::pair{3, 0.0}, std::pair{2, 0.5}}) {
+    const auto [dim, rate] = dim_rate;
+    CAPTURE(dim_rate.first);
     const std::string scene = test::frictional_gas(dim, rate, 0.0, 0.06);
     RunOptions opt;
-    opt.steps = kSteps;
+    opt.steps = kFrameSteps;
     auto plain = test::simulation_from(scene);
     REQUIRE(plain->run(opt).end == RunEnd::kDone);
     // The states at the frame steps, seen by a hook that only looks.
@@ -58,9 +59,9 @@ TEST_CASE("frames every 7 steps leave the run bitwise unchanged (3D gas, 2D gas 
       REQUIRE(framed->run(opt).end == RunEnd::kDone);
       frames.finish();
       CHECK(frames.error().empty());
-      CHECK(frames.written() == kSteps / kEvery + 1);
+      CHECK(frames.written() == kFrameSteps / kEvery + 1);
     }
-    CHECK(seen.size() == static_cast<size_t>(kSteps / kEvery + 1));
+    CHECK(seen.size() == static_cast<size_t>(kFrameSteps / kEvery + 1));
     CHECK(before == seen);
     CHECK(after == seen);
     CHECK(state_hash(looked->state()) == state_hash(plain->state()));

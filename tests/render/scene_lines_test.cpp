@@ -49,7 +49,7 @@ dt = 1e-3
 double contact_x(const State& s, int k) { return 0.5 * (s.particle_x[2 * k] + s.particle_x[2 * k + 2]); }
 
 // Length of the run of non-white pixels through `at` along the column.
-int thickness(const Image& img, std::array<int, 2> at) {
+int line_thickness(const Image& img, std::array<int, 2> at) {
   int n = 0;
   for (int y = 0; y < img.height; ++y) n += !white(img.pixel(at[0], y));
   return n;
@@ -72,9 +72,9 @@ TEST_CASE("chain widths are proportional to the normal force: 1, 2 and 4 times t
   Rasterizer raster(1);
   const Image img = raster.draw(rs);
   const State& s = sim->state();
-  const int t1 = thickness(img, pixel_of(rs, contact_x(s, 0), 2)),
-            t2 = thickness(img, pixel_of(rs, contact_x(s, 2), 2)),
-            t4 = thickness(img, pixel_of(rs, contact_x(s, 4), 2));
+  const int t1 = line_thickness(img, pixel_of(rs, contact_x(s, 0), 2)),
+            t2 = line_thickness(img, pixel_of(rs, contact_x(s, 2), 2)),
+            t4 = line_thickness(img, pixel_of(rs, contact_x(s, 4), 2));
   CAPTURE(t1);
   CAPTURE(t2);
   CAPTURE(t4);

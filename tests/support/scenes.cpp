@@ -2,6 +2,7 @@
 
 #include "core/workspace.hpp"
 #include "dem/workspace.hpp"
+#include "silt/observables.hpp"
 #include "silt/scene.hpp"
 
 namespace silt::test {
@@ -78,7 +79,9 @@ std::string silt_binary() { return SILT_BINARY; }
 
 }  // namespace silt::test
 
+#include <algorithm>
 #include <cmath>
+#include <random>
 #include <sstream>
 
 namespace silt::test {
@@ -122,5 +125,21 @@ Collision head_on_collision(Simulation& sim, double v_rel) {
   c.restitution = (s.particle_v[D] - s.particle_v[0]) / v_rel;  // grain 0 moves +x, grain 1 -x
   return c;
 }
+
+double max_diff(const std::vector<double>& a, const std::vector<double>& b) {
+  double d = 0;
+  for (size_t i = 0; i < a.size(); ++i) d = std::max(d, std::abs(a[i] - b[i]));
+  return d;
+}
+
+Eigen::VectorXd gaussian_vector(int64_t n, unsigned seed) {
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> gauss;
+  Eigen::VectorXd v(n);
+  for (int64_t i = 0; i < n; ++i) v[i] = gauss(rng);
+  return v;
+}
+
+double observe(const Model& m, const State& s, const std::string& name) { return Observer(m, {name}).sample(m, s)[0]; }
 
 }  // namespace silt::test

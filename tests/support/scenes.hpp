@@ -1,10 +1,14 @@
 // Test fixtures: scenes built from strings.
 #pragma once
 
+#include <Eigen/Core>
+
+#include <cstdint>
 #include <memory>
 #include <set>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "silt/model.hpp"
 #include "silt/simulation.hpp"
@@ -58,5 +62,14 @@ struct Collision {
   double duration = 0;
 };
 Collision head_on_collision(Simulation& sim, double v_rel);
+
+// The largest |a[i] - b[i]| of two arrays of the same length.
+double max_diff(const std::vector<double>& a, const std::vector<double>& b);
+
+// n independent standard normal numbers from a seeded generator (mt19937_64).
+Eigen::VectorXd gaussian_vector(int64_t n, unsigned seed);
+
+// The value of one observable of the state, as silt run's stats would sample it.
+double observe(const Model& m, const State& s, const std::string& name);
 
 }  // namespace silt::test

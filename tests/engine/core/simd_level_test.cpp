@@ -10,7 +10,7 @@ using namespace silt;
 
 namespace {
 
-uint64_t hash_after(int dim, double zeta_t, bool sheared, bool baseline) {
+uint64_t hash_with_kernels(int dim, double zeta_t, bool sheared, bool baseline) {
   limit_to_baseline(baseline);
   auto sim = test::simulation_from(test::frictional_gas(dim, sheared ? 3.0 : 0.0, zeta_t, 0.06));
   for (int k = 0; k < 300; ++k) REQUIRE(sim->step());
@@ -28,6 +28,6 @@ TEST_CASE("AVX2 and baseline kernels give the same bits") {
         CAPTURE(dim);
         CAPTURE(zeta_t);
         CAPTURE(sheared);
-        CHECK(hash_after(dim, zeta_t, sheared, true) == hash_after(dim, zeta_t, sheared, false));
+        CHECK(hash_with_kernels(dim, zeta_t, sheared, true) == hash_with_kernels(dim, zeta_t, sheared, false));
       }
 }

@@ -15,7 +15,7 @@ namespace {
 
 // Two spheres approaching head-on (no gravity, no dashpot), with a glancing offset so that the
 // tangential spring works too; frictional.
-const char* kPair = R"(
+const char* kGlancingPair = R"(
 [scene]
 dimension = 3
 [domain]
@@ -42,7 +42,7 @@ TEST_CASE("energy: ke + e_contact is constant through an elastic collision, and 
   for (std::string law :
        {"model = \"linear\"\nk_n = 1e5\nfriction = 0.5", "model = \"hertz\"\nyoung_modulus = 1e7\nfriction = 0"}) {
     CAPTURE(law);
-    std::string text = kPair;
+    std::string text = kGlancingPair;
     text.replace(text.find("{law}"), 5, law);
     auto sim = test::simulation_from(text, 1);
     const Observer obs(sim->model(), {"ke", "e_contact", "momentum.x", "momentum.y", "n_contacts"});

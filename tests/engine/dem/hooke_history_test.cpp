@@ -13,7 +13,7 @@ namespace {
 
 // Two spheres of the chute (d = 0.98, density 1.9099, k_n = 2e5, gamma_n = 50, k_t = 2/7 k_n,
 // mu = 0.5) overlapping by about 1e-5 with relative normal, tangential and spin velocities.
-const char* kPair = R"(
+const char* kChutePair = R"(
 [scene]
 dimension = 3
 [domain]
@@ -51,12 +51,12 @@ TEST_CASE("hooke with history: a step's pair force is LAMMPS gran/hooke/history'
   // spring sticks), far above at 1 (it slides).
   for (double scale : {0.01, 1.0}) {
     CAPTURE(scale);
-    auto sim = test::simulation_from(test::fill(kPair, {{"vy", 0.2 * scale},
-                                                        {"vz", 0.3 * scale},
-                                                        {"wx", 0.2 * scale},
-                                                        {"wy", -0.1 * scale},
-                                                        {"wz", 0.5 * scale},
-                                                        {"wz2", -0.4 * scale}}));
+    auto sim = test::simulation_from(test::fill(kChutePair, {{"vy", 0.2 * scale},
+                                                             {"vz", 0.3 * scale},
+                                                             {"wx", 0.2 * scale},
+                                                             {"wy", -0.1 * scale},
+                                                             {"wz", 0.5 * scale},
+                                                             {"wz2", -0.4 * scale}}));
     REQUIRE(sim->step());
     const State& s = sim->state();
     const double dt = 1e-4, r = 0.49, pi = 3.14159265358979323846;

@@ -10,9 +10,11 @@
 #include "fluid/multigrid.hpp"
 #include "fluid/poisson_operator.hpp"
 #include "fluid/pressure_solve.hpp"
+#include "support/scenes.hpp"
 
 using namespace silt;
 using namespace silt::fluid;
+using silt::test::max_diff;
 
 namespace {
 
@@ -56,7 +58,7 @@ std::vector<double> apply(int dim, const std::array<SolverAxis, 3>& ax, const st
   return y;
 }
 
-std::vector<double> random_vector(size_t n, unsigned seed, bool zero_mean) {
+std::vector<double> random_field(size_t n, unsigned seed, bool zero_mean) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> u(-1, 1);
   std::vector<double> v(n);
@@ -65,12 +67,6 @@ std::vector<double> random_vector(size_t n, unsigned seed, bool zero_mean) {
   if (zero_mean)
     for (double& x : v) x -= mean / static_cast<double>(n);
   return v;
-}
-
-double max_diff(const std::vector<double>& a, const std::vector<double>& b) {
-  double d = 0;
-  for (size_t i = 0; i < a.size(); ++i) d = std::max(d, std::abs(a[i] - b[i]));
-  return d;
 }
 
 Grid grid_with(int dim, std::array<int64_t, 3> n, std::array<std::array<BcType, 2>, 3> bc) {
@@ -102,7 +98,7 @@ TEST_CASE("fluid fast solver: every axis kind inverts its operator to round-off"
           auto nn = [](AxisKind k) { return k == AxisKind::kPeriodic || k == AxisKind::kCellNN; };
           const bool singular = sigma == 0 && dim == 2 && nn(kx) && nn(klast);
           FastSolver solver(dim, ax);
-          const auto r = random_vector(static_cast<size_t>(solver.size()), seed++, singular);
+          const auto r = random_field(static_cast<size_t>(solver.size()), seed++, singular);
           std::vector<double> x = r;
           solver.solve(x.data(), sigma);
           const auto back = apply(dim, ax, x, sigma);
@@ -125,7 +121,7 @@ TEST_CASE("fluid fast solver: the pressure solve agrees with multigrid CG and wi
     for (size_t c = 0; c < cases.size(); ++c) {
       const Grid g = grid_with(dim, {12, 8, 6}, cases[c]);
       const bool singular = poisson_singular(g, 0.0);
-      const auto r = random_vector(static_cast<size_t>(g.cells()), 40 + static_cast<unsigned>(c), singular);
+      const auto r = random_field(static_cast<size_t>(g.cells()), 40 + static_cast<unsigned>(c), singular);
       // Transforms.
       FastSolver fast(dim, pressure_axes(g));
       std::vector<double> x_fast = r;

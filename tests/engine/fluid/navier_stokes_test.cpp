@@ -12,10 +12,9 @@
 
 using namespace silt;
 using namespace silt::fluid;
+using silt::test::max_diff;
 
 namespace {
-
-const double kPi = std::numbers::pi;
 
 // A periodic box of side 1 with the Taylor-Green vortex (U0 = 1).
 std::string taylor_green(int dim, int n, double viscosity, double dt, const std::string& viscous) {
@@ -37,7 +36,7 @@ double taylor_green_error(const Simulation& sim, double nu) {
   const FluidParams& p = sim.model().params.get<FluidParams>();
   const Grid& g = p.grid;
   const auto& u = sim.state().module_field(fluid_fields().u[0]);
-  const double k = 2 * kPi, decay = std::exp(-2 * nu * k * k * sim.state().t);
+  const double k = 2 * std::numbers::pi, decay = std::exp(-2 * nu * k * k * sim.state().t);
   double err = 0;
   const auto d = g.face_dims(0);
   for (int64_t j = 0; j < d[1]; ++j)
@@ -49,12 +48,6 @@ double taylor_green_error(const Simulation& sim, double nu) {
 }
 
 std::vector<double> velocity(const Simulation& sim, int a) { return sim.state().module_field(fluid_fields().u[a]); }
-
-double max_diff(const std::vector<double>& a, const std::vector<double>& b) {
-  double d = 0;
-  for (size_t i = 0; i < a.size(); ++i) d = std::max(d, std::abs(a[i] - b[i]));
-  return d;
-}
 
 // A channel: periodic x, walls at y = 0 and y = 1, nu = 1, 16 cells across.
 std::string channel(const std::string& drive) {

@@ -17,9 +17,11 @@
 #include "fluid/poisson_kernels.hpp"
 #include "fluid/poisson_operator.hpp"
 #include "silt/linalg.hpp"
+#include "support/scenes.hpp"
 
 using namespace silt::fluid;
 using silt::linalg::Vector;
+using silt::test::gaussian_vector;
 
 namespace {
 
@@ -53,14 +55,6 @@ Grid make_grid(int dim, std::array<int64_t, 3> n, std::array<double, 3> h, Boxes
 
 Grid grid_2d(Boxes b) { return make_grid(2, {16, 12, 1}, {0.1, 0.12, 1}, b); }
 Grid grid_3d(Boxes b) { return make_grid(3, {8, 8, 6}, {0.1, 0.09, 0.12}, b); }
-
-Vector random_vector(int64_t n, unsigned seed) {
-  std::mt19937_64 rng(seed);
-  std::normal_distribution<double> gauss;
-  Vector v(n);
-  for (int64_t i = 0; i < n; ++i) v[i] = gauss(rng);
-  return v;
-}
 
 void remove_mean(Vector& v) { v.array() -= v.mean(); }
 
@@ -126,7 +120,7 @@ TEST_CASE("fluid poisson: the matrix-free operator equals the assembled matrix")
         const PoissonOperator op(g, sigma);
         const silt::linalg::SparseMatrix a = assemble_poisson(g, sigma);
         CHECK((a - silt::linalg::SparseMatrix(a.transpose())).norm() == 0);
-        const Vector x = random_vector(op.size(), 7);
+        const Vector x = gaussian_vector(op.size(), 7);
         Vector y;
         op.apply(x, y);
         const Vector ya = a * x;
@@ -155,7 +149,7 @@ TEST_CASE("fluid poisson: multigrid CG agrees with the CHOLMOD direct solve") {
         PoissonSolver solver(g, 0, opt);
         CHECK(solver.preconditioner().levels() >= 2);
         // b of nonzero mean: in the singular case both solvers drop it
-        const Vector b = random_vector(g.cells(), 11);
+        const Vector b = gaussian_vector(g.cells(), 11);
         Vector x;
         const silt::linalg::SolveReport rep = solver.solve(b, x);
         CHECK(rep.ok());
@@ -171,7 +165,7 @@ TEST_CASE("fluid poisson: multigrid CG agrees with the CHOLMOD direct solve") {
     PoissonSolver solver(odd, 0, opt);
     CHECK(solver.preconditioner().levels() == 2);
     CHECK(solver.preconditioner().direct_coarsest() == (direct > 0));
-    const Vector b = random_vector(odd.cells(), 19);
+    const Vector b = gaussian_vector(odd.cells(), 19);
     Vector x;
     CHECK(solver.solve(b, x).ok());
     CHECK(rel_diff(x, direct_solve(odd, 0, b)) < 1e-9);
@@ -206,7 +200,7 @@ TEST_CASE("fluid poisson: the V-cycle is a symmetric positive definite map") {
     CAPTURE(c.g.n[0]);
     CAPTURE(c.g.pbc(0, 1));
     CAPTURE(c.o.max_direct_cells);
-    Vector u = random_vector(c.g.cells(), 3), v = random_vector(c.g.cells(), 4), mu, mv;
+    Vector u = gaussian_vector(c.g.cells(), 3), v = gaussian_vector(c.g.cells(), 4), mu, mv;
     mg.remove_mean(u);
     mg.remove_mean(v);
     mg.apply(u, mu);
@@ -229,7 +223,7 @@ TEST_CASE("fluid poisson: CG iterations with the V-cycle do not grow with the gr
         const Grid g = make_grid(dim, {m, m, dim == 3 ? m : 1}, {h, h, h}, boxes);
         PoissonSolver solver(g, 0, opt);
         Vector x;
-        const silt::linalg::SolveReport rep = solver.solve(random_vector(g.cells(), 5), x);
+        const silt::linalg::SolveReport rep = solver.solve(gaussian_vector(g.cells(), 5), x);
         CHECK(rep.ok());
         its.push_back(rep.iterations);
       }
@@ -269,7 +263,7 @@ TEST_CASE("fluid poisson: Helmholtz against its discrete eigenfunction") {
   // and against the direct solve, on a 3D box with a Dirichlet face
   const Grid g3 = grid_3d(Boxes::kDirichletFace);
   PoissonSolver s3(g3, sigma, opt);
-  const Vector b = random_vector(g3.cells(), 13);
+  const Vector b = gaussian_vector(g3.cells(), 13);
   CHECK(s3.solve(b, x).ok());
   CHECK(rel_diff(x, direct_solve(g3, sigma, b)) < 1e-9);
 }
@@ -278,7 +272,7 @@ TEST_CASE("fluid poisson: the same bits on 1 and 2 threads") {
   // Grids of several tasks per sweep and several blocks per dot product.
   for (const Grid& g : {make_grid(2, {128, 64, 1}, {0.01, 0.01, 1}, Boxes::kDirichletFace),
                         make_grid(3, {32, 16, 16}, {0.02, 0.02, 0.02}, Boxes::kPeriodicX)}) {
-    const Vector b = random_vector(g.cells(), 17);
+    const Vector b = gaussian_vector(g.cells(), 17);
     Vector x[2];
     silt::linalg::SolveReport rep[2];
     for (int t = 0; t < 2; ++t) {

@@ -20,7 +20,7 @@ namespace {
 // Two disks of radius 1/2 overlapping by 0.01 in a liquid, nothing else acting: the contact
 // spring pushes them apart against the lubrication in contact (the linear cutoff's constant
 // 2 c / h_min), quasi-statically with a fixed step.
-const char* kPair = R"(
+const char* kOverlappingPair = R"(
 [scene]
 dimension = 2
 [domain]
@@ -57,7 +57,7 @@ TEST_CASE("implicit contacts: a spring under lubrication relaxes by the backward
   std::snprintf(step, sizeof step, "%.17g", dt);
   for (const std::string contacts : {"explicit", "implicit"}) {
     CAPTURE(contacts);
-    std::string s = kPair;
+    std::string s = kOverlappingPair;
     s.replace(s.find("{contacts}"), 10, contacts);
     s.replace(s.find("{dt}"), 4, step);
     auto sim = test::simulation_from(s, 1);
@@ -79,7 +79,7 @@ TEST_CASE("implicit contacts: a spring under lubrication relaxes by the backward
 }
 
 TEST_CASE("implicit contacts: a sticking spring adds dt k_t, one at the Coulomb limit none") {
-  std::string text = kPair;
+  std::string text = kOverlappingPair;
   text.replace(text.find("{contacts}"), 10, "implicit");
   text.replace(text.find("{dt}"), 4, "0.01");
   auto sim = test::simulation_from(text, 1);

@@ -74,7 +74,7 @@ bool step(Simulation& sim) {
   return ok;
 }
 
-double norm(const std::vector<double>& v) {
+double norm2(const std::vector<double>& v) {
   double s = 0;
   for (double x : v) s += x * x;
   return std::sqrt(s);
@@ -113,12 +113,12 @@ TEST_CASE("paste: CG, PCG with a Cholesky factor and the direct solve give the s
     const auto lub = double_field(sim->state(), find_field("pair_f_lub")->id);
     f.emplace_back(lub.begin(), lub.end());
   }
-  REQUIRE(norm(f[0]) > 0);
+  REQUIRE(norm2(f[0]) > 0);
   for (size_t k = 1; k < f.size(); ++k) {
     REQUIRE(f[k].size() == f[0].size());
     std::vector<double> d(f[0].size());
     for (size_t i = 0; i < d.size(); ++i) d[i] = f[k][i] - f[0][i];
-    CHECK(norm(d) <= 1e-8 * norm(f[0]));
+    CHECK(norm2(d) <= 1e-8 * norm2(f[0]));
   }
 }
 
@@ -136,7 +136,7 @@ TEST_CASE("paste: the inertial stepper tends to the quasi-static solve as the St
   qs.restore(packing);
   const auto f_qs = lubrication(qs);
   const std::vector<double> ref(f_qs.begin(), f_qs.end());
-  REQUIRE(norm(ref) > 0);
+  REQUIRE(norm2(ref) > 0);
   double last = 1e300;
   for (double rho : {1e-2, 1e-4, 1e-6}) {
     CAPTURE(rho);
@@ -152,7 +152,7 @@ TEST_CASE("paste: the inertial stepper tends to the quasi-static solve as the St
     REQUIRE(f_in.size() == ref.size());
     std::vector<double> d(ref.size());
     for (size_t i = 0; i < d.size(); ++i) d[i] = f_in[i] - ref[i];
-    const double err = norm(d) / norm(ref);
+    const double err = norm2(d) / norm2(ref);
     // The difference is of the order of the Stokes number m / (xi dt).
     // Measured: 8.3e-2, 2.6e-3, 2.7e-5: linear in the mass once St << 1.
     CHECK(err < last / 20);
@@ -164,7 +164,7 @@ TEST_CASE("paste: the inertial stepper tends to the quasi-static solve as the St
 TEST_CASE("paste: without viscosity the inertial stepper is the explicit DEM (a head-on collision)") {
   // Two equal disks meeting at relative speed 1: elastic (no dashpot in a paste), duration
   // pi sqrt(m* / k) of the linear spring.
-  const char* kPair = R"(
+  const char* kMeetingPair = R"(
 [scene]
 dimension = 2
 [domain]
@@ -185,7 +185,7 @@ velocities = [[0.5, 0.0], [-0.5, 0.0]]
 )";
   const double m = std::numbers::pi * 0.25, duration = std::numbers::pi * std::sqrt(0.5 * m / 1e4);
   const double dt = duration / 200;
-  std::string dry = kPair, wet = kPair;
+  std::string dry = kMeetingPair, wet = kMeetingPair;
   char step[64];
   std::snprintf(step, sizeof step, "%.17g", dt);
   dry.replace(dry.find("{paste}"), 7, std::string("[run]\ndt = ") + step + "\n");

@@ -111,8 +111,6 @@ double periodic_gap(double a, double b, double len) {
   return std::abs(d - len * std::nearbyint(d / len));
 }
 
-double sample(const Model& m, const State& s, const std::string& name) { return Observer(m, {name}).sample(m, s)[0]; }
-
 }  // namespace
 
 // ---- 1. image arithmetic ---------------------------------------------------------------------
@@ -660,13 +658,13 @@ dt = 1e-3
     CHECK(meas.stress[0][0] > 0);
     CHECK(meas.stress[1][1] > 0);
     CHECK((meas.stress[0][1] > 0) == (nx * ny > 0));
-    CHECK(sample(sim->model(), s, "stress.xy") == doctest::Approx(fn * nx * dy / V).epsilon(1e-12));
-    CHECK(sample(sim->model(), s, "mu") == doctest::Approx(std::abs(nx / ny)).epsilon(1e-12));
+    CHECK(test::observe(sim->model(), s, "stress.xy") == doctest::Approx(fn * nx * dy / V).epsilon(1e-12));
+    CHECK(test::observe(sim->model(), s, "mu") == doctest::Approx(std::abs(nx / ny)).epsilon(1e-12));
     // Fabric <n n> of the single contact, and the fluctuating energy of grains at rest.
-    CHECK(sample(sim->model(), s, "fabric.xx") == doctest::Approx(nx * nx).epsilon(1e-12));
-    CHECK(sample(sim->model(), s, "fabric.xy") == doctest::Approx(nx * ny).epsilon(1e-12));
-    CHECK(sample(sim->model(), s, "fabric.yy") == doctest::Approx(ny * ny).epsilon(1e-12));
-    CHECK(sample(sim->model(), s, "ke_fluct") == 0);
+    CHECK(test::observe(sim->model(), s, "fabric.xx") == doctest::Approx(nx * nx).epsilon(1e-12));
+    CHECK(test::observe(sim->model(), s, "fabric.xy") == doctest::Approx(nx * ny).epsilon(1e-12));
+    CHECK(test::observe(sim->model(), s, "fabric.yy") == doctest::Approx(ny * ny).epsilon(1e-12));
+    CHECK(test::observe(sim->model(), s, "ke_fluct") == 0);
   }
   {  // the stress-controlled shear reads tau = -sigma_xy of the same contact
     const double th = 60 * pi / 180, dx = dist * std::cos(th), dy = dist * std::sin(th), off = 4.4;

@@ -13,11 +13,7 @@
 
 using namespace silt;
 
-namespace {
-
-double sample(const Model& m, const State& s, const std::string& name) { return Observer(m, {name}).sample(m, s)[0]; }
-
-}  // namespace
+namespace {}  // namespace
 
 // ---- 6. imposed pressure under shear ----------------------------------------------------------
 
@@ -280,9 +276,9 @@ dt = 1e-3
       const double gd = I / std::sqrt(mass / (std::pow(a, dim - 2) * P));
       CHECK(m.shear.rate == doctest::Approx(gd).epsilon(1e-12));
       for (const char* name : {"I", "gamma", "gammadot"}) CHECK(check_observable(name, m).empty());
-      CHECK(sample(m, s, "I") == doctest::Approx(I).epsilon(1e-12));
-      CHECK(sample(m, s, "gammadot") == doctest::Approx(gd).epsilon(1e-12));
-      CHECK(sample(m, s, "gamma") == 0);
+      CHECK(test::observe(m, s, "I") == doctest::Approx(I).epsilon(1e-12));
+      CHECK(test::observe(m, s, "gammadot") == doctest::Approx(gd).epsilon(1e-12));
+      CHECK(test::observe(m, s, "gamma") == 0);
     }
     // Imposed rate, fixed box: gamma = N dt gd, the upper image moved by gamma L_y, and I is
     // relative to the measured sigma_yy.
@@ -291,13 +287,13 @@ dt = 1e-3
       const Model& m = sim->model();
       const State& s = sim->state();
       for (int k = 0; k < 250; ++k) REQUIRE(sim->step());
-      CHECK(sample(m, s, "gamma") == doctest::Approx(250 * 1e-3 * -0.4).epsilon(1e-12));
-      CHECK(sample(m, s, "gammadot") == -0.4);
+      CHECK(test::observe(m, s, "gamma") == doctest::Approx(250 * 1e-3 * -0.4).epsilon(1e-12));
+      CHECK(test::observe(m, s, "gammadot") == -0.4);
       CHECK(s.le_displacement == doctest::Approx(-0.1 * 6.0).epsilon(1e-12));
       CHECK(s.box.le_offset == doctest::Approx(5.0 - 0.6).epsilon(1e-12));  // in [0, L_x)
       const double syy = measure(m, s).stress[1][1];
       REQUIRE(syy > 0);  // at least the kinetic part
-      CHECK(sample(m, s, "I") ==
+      CHECK(test::observe(m, s, "I") ==
             doctest::Approx(0.4 * std::sqrt(mass / (std::pow(m.a_max, dim - 2) * syy))).epsilon(1e-12));
     }
   }
@@ -358,12 +354,12 @@ TEST_CASE("stiffness number and damping of the shipped shear scenes, as observab
   const Model hertz =
       compile(load_scene_file(test::scene_path("shear3d_frictionless"), {parse_override("box.pressure=2")}));
   const State s3 = make_state(hertz);
-  CHECK(sample(hertz, s3, "kappa") == doctest::Approx(std::pow(7.7017e6 / 2, 2.0 / 3.0)).epsilon(1e-12));
-  CHECK(sample(hertz, s3, "zeta") == doctest::Approx(0.98));
+  CHECK(test::observe(hertz, s3, "kappa") == doctest::Approx(std::pow(7.7017e6 / 2, 2.0 / 3.0)).epsilon(1e-12));
+  CHECK(test::observe(hertz, s3, "zeta") == doctest::Approx(0.98));
   // Linear disks: kappa = k_N / P.
   const Model disks = compile(load_scene_file(test::scene_path("shear2d_dry")));
   const State s2 = make_state(disks);
-  CHECK(sample(disks, s2, "kappa") == doctest::Approx(1e4).epsilon(1e-12));
-  CHECK(sample(disks, s2, "zeta") == doctest::Approx(0.98).epsilon(1e-12));
-  CHECK(sample(disks, s2, "I") == doctest::Approx(0.01).epsilon(1e-12));
+  CHECK(test::observe(disks, s2, "kappa") == doctest::Approx(1e4).epsilon(1e-12));
+  CHECK(test::observe(disks, s2, "zeta") == doctest::Approx(0.98).epsilon(1e-12));
+  CHECK(test::observe(disks, s2, "I") == doctest::Approx(0.01).epsilon(1e-12));
 }
