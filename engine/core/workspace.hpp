@@ -16,6 +16,9 @@ class Workspace {
  public:
   virtual ~Workspace() = default;
   virtual void invalidate() = 0;
+  // The grains were renumbered (dem::update_neighbors sorts them in cell order): what was made for
+  // their former order is stale. A workspace that follows the renumbering itself overrides this.
+  virtual void renumbered() { invalidate(); }
   virtual size_t bytes() const = 0;  // held, for memory reports
 };
 
@@ -31,6 +34,11 @@ class Workspaces {
   }
   void invalidate() {
     for (auto& item : items_) item.second->invalidate();
+  }
+  // Tells every workspace but `by`, the one that renumbered the grains.
+  void renumbered(const Workspace* by) {
+    for (auto& item : items_)
+      if (item.second.get() != by) item.second->renumbered();
   }
   size_t bytes() const {
     size_t b = 0;

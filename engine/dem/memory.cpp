@@ -39,7 +39,7 @@ double grains_memory_bytes(const Model& m, int64_t n) {
   field_bytes_per(m.dim, m.rot, static_cast<int>(m.walls.size()), &per_grain, &per_pair);
   // Listed pairs per grain: the grains within r_i + r_j + skin of one, half of them (a half list),
   // at a dense packing (0.74 in 3D, 0.91 in 2D), times 1.5 for polydispersity.
-  const double r = m.r_mean > 0 ? m.r_mean : 1, reach = m.r_max > 0 ? 2 * m.r_max + m.skin : 2 * r;
+  const double r = m.r_mean > 0 ? m.r_mean : 1, reach = m.r_max > 0 ? m.interaction_range() : 2 * r;
   const double packing = m.dim == 3 ? 0.74 : 0.91;
   const double pairs_per_grain = 1.5 * 0.5 * packing * std::pow(reach / r, m.dim);
   // A grain: its fields twice (the state and the restart point), the model's initial values (about

@@ -182,8 +182,9 @@ bool permute_to_cell_order(State& s, DemWorkspace& sc) {
   return true;
 }
 
+// Returns whether the grains were renumbered.
 template <int D>
-void rebuild(const Model& m, State& s, DemWorkspace& sc) {
+bool rebuild(const Model& m, State& s, DemWorkspace& sc) {
   const int64_t n = s.n;
   const double skin = m.skin;
   const double cutoff = m.interaction_range();
@@ -323,22 +324,23 @@ void rebuild(const Model& m, State& s, DemWorkspace& sc) {
   sc.schedule = build_pair_schedule(n, s.nbr_start, s.pair_j);
   sc.schedule_valid = true;
   ++s.nbr_builds;
+  return sorted;
 }
 
 template <int D>
-void update(const Model& m, State& s, DemWorkspace& w) {
+bool update(const Model& m, State& s, DemWorkspace& w) {
   // Two grains approached by at most twice the largest displacement relative to the flow, plus
   // the affine strain times their separation (at most the list range).
   const bool stale = !s.nbr_valid || 2 * s.nbr_max_disp + s.nbr_strain * m.interaction_range() > m.skin - m.pair_gap;
-  if (stale) rebuild<D>(m, s, w);
+  const bool renumbered = stale && rebuild<D>(m, s, w);
   update_candidates(m, s, w, stale);
+  return renumbered;
 }
 
 }  // namespace
 
-void update_neighbors(const Model& m, State& s, DemWorkspace& w) {
-  if (m.dim == 2) update<2>(m, s, w);
-  else update<3>(m, s, w);
+bool update_neighbors(const Model& m, State& s, DemWorkspace& w) {
+  const bool renumbered = m.dim == 2 ? update<2>(m, s, w) : update<3>(m, s, w);
   // Post: a valid list in CSR form, its per-pair arrays as long as it.
   const int64_t np = s.n_pairs();
   SILT_ASSERT(s.nbr_valid && static_cast<int64_t>(s.nbr_start.size()) == s.n + 1 && s.nbr_start[s.n] == np,
@@ -347,6 +349,7 @@ void update_neighbors(const Model& m, State& s, DemWorkspace& w) {
                   static_cast<int64_t>(s.pair_hist.size()) == np * m.dim &&
                   static_cast<int64_t>(s.pair_touch.size()) == np,
               "a per-pair array is not as long as the pair list");
+  return renumbered;
 }
 
 }  // namespace silt::dem

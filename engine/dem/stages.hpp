@@ -27,7 +27,8 @@ void drift(const Model& m, State& s);
 // moved more than skin/2 since the last build; tangential histories of surviving pairs are kept.
 // Then re-select the contact candidates (contact_candidates.hpp) when they may have gone stale.
 // Pre: nbr_start has N + 1 entries or the list is invalid. Post: nbr_valid; nbr_start[N] = P.
-void update_neighbors(const Model& m, State& s, DemWorkspace& w);
+// Returns whether it renumbered the grains.
+bool update_neighbors(const Model& m, State& s, DemWorkspace& w);
 
 // (dt, box, box_rate, shear_rate, particle_x, particle_v, particle_w, particle_r, inv_m,
 //  nbr_start, pair_i, pair_j, pair_hist, pair_touch, pair_f) => (pair_f, pair_hist, pair_touch,

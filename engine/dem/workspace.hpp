@@ -44,6 +44,7 @@ struct DemWorkspace final : Workspace {
     schedule_valid = false;
     candidates_valid = false;
   }
+  void renumbered() override {}  // the renumbering rebuilds the list, its schedule and candidates
   // Contact candidates of the current selection.
   int64_t n_candidates(const std::vector<int32_t>& nbr_start) const {
     int64_t c = 0;

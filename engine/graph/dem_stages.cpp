@@ -118,9 +118,13 @@ void add_dem_stages(GraphBuilder& b) {
   auto& w = b.workspaces().get<dem::DemWorkspace>();
   const bool walls = !m.walls.empty();
   auto forces = b.forces();
+  Workspaces& all = b.workspaces();
   const int nbr = b.add(
-      "update_neighbors", [&w](const Model& mm, State& s) { dem::update_neighbors(mm, s, w); }, neighbor_reads(),
-      neighbor_writes());
+      "update_neighbors",
+      [&w, &all](const Model& mm, State& s) {
+        if (dem::update_neighbors(mm, s, w)) all.renumbered(&w);
+      },
+      neighbor_reads(), neighbor_writes());
   const int pairs = b.add(
       "contact_forces", [&w](const Model& mm, State& s) { dem::contact_forces(mm, s, w); }, contact_reads(m),
       contact_writes());

@@ -85,7 +85,7 @@ void box_drift(const Model& m, State& s) {
 void box_stress(const Model& m, State& s) { set_box_stresses(m, s); }
 
 void box_kick(const Model& m, State& s) {
-  box_stress(m, s);
+  set_box_stresses(m, s);
   half_kick(m, s);
 }
 

@@ -221,3 +221,33 @@ dt_over_tc = 0.05
       CHECK((h - expect).norm() <= 1e-15 + 1e-12 * expect.norm());
     }
 }
+
+namespace {
+
+// A workspace of another module, made for the grains' order: it counts what it is told.
+struct OrderProbe final : Workspace {
+  int invalidations = 0;
+  void invalidate() override { ++invalidations; }
+  size_t bytes() const override { return 0; }
+};
+
+}  // namespace
+
+TEST_CASE("a renumbering of the grains invalidates the other modules' workspaces, not the DEM's") {
+  auto sim = test::simulation_from(box_scene(3, 6, 1400, true, true), 1);
+  sim->prepare();
+  OrderProbe& probe = sim->workspaces().get<OrderProbe>();
+  dem::DemWorkspace& dem = test::dem_workspace(*sim);
+  int renumberings = 0;
+  for (int k = 0; k < 3000 && renumberings < 2; ++k) {
+    const int64_t builds = sim->state().nbr_builds;
+    const std::vector<int32_t> perm = dem.perm;
+    const int before = probe.invalidations;
+    REQUIRE(sim->step());
+    const bool renumbered = sim->state().nbr_builds != builds && dem.perm != perm;
+    CHECK(probe.invalidations == before + (renumbered ? 1 : 0));
+    renumberings += renumbered;
+    if (renumbered) CHECK(dem.schedule_valid);  // the DEM keeps what the rebuild made
+  }
+  CHECK(renumberings == 2);
+}
