@@ -13,6 +13,7 @@
 #include "shell/commands.hpp"
 #include "shell/session.hpp"
 #include "shell/stop_signals.hpp"
+#include "silt/input_files.hpp"
 
 namespace silt::cli {
 namespace {
@@ -37,7 +38,11 @@ void interrupt_session() {
 }  // namespace
 
 int play_command(const std::string& script, bool keep_going, int threads) {
-  if (const std::string problem = shell::input_file_problem(script); !problem.empty()) return report_error(problem, 4);
+  try {
+    check_input_file(script, "script", kMaxTextFileBytes);
+  } catch (const IoError& e) {
+    return report_error(e.what(), 4);
+  }
   std::ifstream in(script);
   if (!in) return report_error("cannot read script '" + script + "'", 4);
   shell::Session session(std::cout, std::cerr, threads);

@@ -2,6 +2,7 @@
 
 #include <readline/readline.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -81,12 +82,50 @@ int guarded_getc(FILE* stream) {
   return c;
 }
 
+// The commands whose paths through readline 8.2's callback interface crash or hang: the
+// incremental history searches (Ctrl-R, Ctrl-S by default) and the keyboard macros (Ctrl-X ( ) e).
+// They are unbound by function, not by key: a user's inputrc may give them any key.
+bool crashes_readline(rl_command_func_t* f) {
+  for (rl_command_func_t* bad : {rl_reverse_search_history, rl_forward_search_history, rl_start_kbd_macro,
+                                 rl_end_kbd_macro, rl_call_last_kbd_macro})
+    if (f == bad) return true;
+  return false;
+}
+
+void guard_keymaps();
+
+// Re-reading the inputrc (Ctrl-X Ctrl-R) binds what it says again: the guard follows it.
+int reread_init_file(int count, int key) {
+  const int r = rl_re_read_init_file(count, key);
+  guard_keymaps();
+  return r;
+}
+
+// Every binding of a crashing command removed from `map` and the keymaps under it (a prefix key,
+// "\C-x" or Escape, leads to another keymap; ANYOTHERKEY, the last entry, holds what a prefix key
+// did alone before a longer sequence was bound under it).
+void guard_keymap(Keymap map, std::vector<Keymap>& seen) {
+  if (!map || std::find(seen.begin(), seen.end(), map) != seen.end()) return;
+  seen.push_back(map);
+  for (int k = 0; k < KEYMAP_SIZE; ++k) {
+    KEYMAP_ENTRY& e = map[k];
+    if (e.type == ISKMAP) guard_keymap(reinterpret_cast<Keymap>(e.function), seen);  // readline stores it so
+    else if (e.type == ISFUNC && crashes_readline(e.function)) e.function = nullptr;
+    else if (e.type == ISFUNC && e.function == rl_re_read_init_file) e.function = reread_init_file;
+  }
+}
+
+void guard_keymaps() {
+  std::vector<Keymap> seen;
+  for (Keymap map :
+       {emacs_standard_keymap, emacs_meta_keymap, emacs_ctlx_keymap, vi_insertion_keymap, vi_movement_keymap})
+    guard_keymap(map, seen);
+}
+
 }  // namespace
 
 void guard_readline_keys() {
-  for (Keymap map : {emacs_standard_keymap, vi_insertion_keymap, vi_movement_keymap})
-    for (const char* seq : {"\\C-r", "\\C-s"}) rl_bind_keyseq_in_map(seq, nullptr, map);
-  for (const char* seq : {"\\C-x(", "\\C-x)", "\\C-xe"}) rl_bind_keyseq_in_map(seq, nullptr, emacs_standard_keymap);
+  guard_keymaps();
   rl_bind_keyseq("\\e[5~", rl_history_search_backward);  // Page Up: history with this prefix
   rl_bind_keyseq("\\e[6~", rl_history_search_forward);
   rl_getc_function = guarded_getc;

@@ -11,6 +11,7 @@
 
 #include "shell/progress.hpp"
 #include "shell/table.hpp"
+#include "silt/input_files.hpp"
 #include "silt/module.hpp"
 #include "silt/observables.hpp"
 #include "silt/text.hpp"
@@ -28,11 +29,11 @@ class RunFailure : public std::runtime_error {
 }  // namespace
 
 std::string input_file_problem(const std::string& path) {
-  std::error_code ec;
-  const auto st = std::filesystem::status(path, ec);
-  if (!std::filesystem::exists(st)) return "cannot read '" + path + "': no such file";
-  if (std::filesystem::is_directory(st)) return "'" + path + "' is a directory, not a file";
-  if (!std::filesystem::is_regular_file(st)) return "'" + path + "' is not a regular file (a device, a pipe)";
+  try {
+    check_input_file(path, "file", std::numeric_limits<std::uintmax_t>::max());  // each reader has its bound
+  } catch (const IoError& e) {
+    return e.what();
+  }
   return "";
 }
 

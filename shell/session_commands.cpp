@@ -9,6 +9,7 @@
 
 #include "shell/session.hpp"
 #include "shell/table.hpp"
+#include "silt/input_files.hpp"
 #include "silt/observables.hpp"
 #include "silt/text.hpp"
 
@@ -311,6 +312,7 @@ void Session::cmd_reset(const Command&) {
 void Session::cmd_source(const Command& c) {
   if (source_depth_ >= 16) throw std::runtime_error("source nested too deeply (16)");
   const std::string file = input_path(c.args[0].text);
+  check_input_file(file, "script", kMaxTextFileBytes);
   std::ifstream in(file);
   if (!in) throw std::runtime_error("cannot read '" + file + "'");
   // The script's own relative files are found beside it, as in `silt play`.

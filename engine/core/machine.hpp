@@ -8,5 +8,7 @@ namespace silt {
 // Bytes of memory available to a new allocation now (MemAvailable of /proc/meminfo; the physical
 // memory where that is not known).
 double available_memory_bytes();
+// Bytes of physical memory (1e18 where that is not known).
+double physical_memory_bytes();
 
 }  // namespace silt

@@ -144,9 +144,9 @@ void check_initial_speeds(const SceneDesc& d, const Model& m) {
   for (int k = 0; k < m.dim; ++k) extent = std::max(extent, m.box.len[k]);
   for (int64_t i = 0; i < m.n_grains; ++i) {
     if (m.init.frozen[i]) continue;
-    double v2 = 0;
-    for (int k = 0; k < m.dim; ++k) v2 += m.init.v[m.dim * i + k] * m.init.v[m.dim * i + k];
-    const double v = std::sqrt(v2);
+    // Without squaring, which overflows above 1e154 m/s: the speed given is the speed shown.
+    const double* vi = &m.init.v[m.dim * i];
+    const double v = std::hypot(vi[0], vi[1], m.dim == 3 ? vi[2] : 0.0);
     if (!(v * m.dt <= extent)) {
       const std::string p = "grains[" + std::to_string(m.init.group[i]) + "].";
       d.fail(d.has(p + "velocities") ? p + "velocities" : (d.has(p + "temperature") ? p + "temperature" : "run.dt"),

@@ -5,11 +5,14 @@
 #include <numbers>
 
 #include "dem/contact_laws.hpp"
+#include "dem/grain_setup.hpp"
 #include "silt/text.hpp"
 
 namespace silt {
 
-double verlet_stability_limit(double w0, double zeta) { return 2.0 / w0 * (std::sqrt(1.0 + zeta * zeta) - zeta); }
+// 2/w0 (sqrt(1 + zeta^2) - zeta), written without the difference that cancels to 0 for a strong
+// dashpot.
+double verlet_stability_limit(double w0, double zeta) { return 2.0 / w0 / (std::hypot(1.0, zeta) + zeta); }
 
 }  // namespace silt
 
@@ -64,15 +67,77 @@ double contact_time(const ContactParams& p, double m_eff, double r_eq, double ma
   return std::numbers::pi / std::sqrt(kc.k / m_eff);
 }
 
+namespace {
+
+// The keys that set a contact law's stiffness and its damping: a group's or a wall's own modulus
+// or spring (the tables under `prefixes`, in order) where it gives one, else [contact]'s.
+struct LawKeys {
+  std::string stiffness, damping;
+};
+LawKeys law_keys(const SceneDesc& d, NormalLaw law, std::initializer_list<std::string> prefixes = {}) {
+  LawKeys keys;
+  switch (law) {
+    case NormalLaw::kHertz: keys = {"contact.young_modulus", "contact.damping"}; break;
+    case NormalLaw::kHooke: keys = {"contact.k_n", "contact.gamma_n"}; break;
+    case NormalLaw::kLinear: keys = {"contact.k_n", "contact.damping"}; break;
+    case NormalLaw::kSpringDashpot: return {"contact.contact_time", "contact.restitution"};
+  }
+  const std::string own = law == NormalLaw::kHertz ? "young_modulus" : "k_n";
+  for (const std::string& prefix : prefixes)
+    if (d.has(prefix + own)) return {prefix + own, keys.damping};
+  return keys;
+}
+
+// The numbers a contact's scales are made of, each with the key that set it. Numbers at the ends of
+// the doubles' range (a tiny radius, a huge modulus) can make a scale 0, infinite or NaN: a scene
+// that cannot be integrated, refused at the key of the number that took it out of the range.
+struct ScaleInputs {
+  double m_eff, k, zeta;
+  std::string mass_key;
+  LawKeys law;
+};
+
+// `known`: how many of m*, k and zeta (in that order) the scale is made of, shown with it.
+void refuse_unless_finite(const SceneDesc& d, const std::string& key, const std::string& name, double value,
+                          bool zero_allowed, const ScaleInputs& in, int known) {
+  if (std::isfinite(value) && (value > 0 || (zero_allowed && value == 0))) return;
+  std::string made_of;
+  if (known >= 1) made_of += "lightest pair m* = " + format_number(in.m_eff);
+  if (known >= 2) made_of += ", stiffness " + format_number(in.k);
+  if (known >= 3) made_of += ", damping ratio " + format_number(in.zeta);
+  d.fail(key, "the contacts' " + name + " is " + format_number(value) + (made_of.empty() ? "" : " (" + made_of + ")") +
+                  ": it must be finite and " + (zero_allowed ? "not negative" : "positive") +
+                  ", and the value here takes it out of the range of floating-point numbers");
+}
+
+// The reduced mass, the stiffness and the damping ratio in turn, each at its own key; then the time
+// scales made of them (sqrt(m*/k), and the damping for the stability limit), at the key of the
+// factor farthest from 1 in magnitude: the one that took the scale out of the range.
+void check_scales(const SceneDesc& d, const ScaleInputs& in, std::initializer_list<std::pair<const char*, double>> times) {
+  refuse_unless_finite(d, in.mass_key, "reduced mass", in.m_eff, false, in, 0);
+  refuse_unless_finite(d, in.law.stiffness, "stiffness", in.k, false, in, 1);
+  refuse_unless_finite(d, in.law.damping, "damping ratio", in.zeta, true, in, 2);
+  const double mass_far = std::abs(std::log(in.m_eff)), k_far = std::abs(std::log(in.k));
+  const double zeta_far = in.zeta > 1 ? std::log(in.zeta) : 0;
+  const std::string& key = zeta_far > std::max(mass_far, k_far) ? in.law.damping
+                           : mass_far > k_far                   ? in.mass_key
+                                                                : in.law.stiffness;
+  for (const auto& [name, value] : times) refuse_unless_finite(d, key, name, value, false, in, 3);
+}
+
+}  // namespace
+
 void derive_contact_scales(const SceneDesc& d, Model& m) {
   // Lightest pair: the two lightest free grains, or one free grain against a wall or a frozen
   // grain (m* = m) when it is alone.
-  std::vector<double> free_mass;
+  std::vector<std::pair<double, int>> free_mass;  // mass, group
   for (int64_t i = 0; i < m.n_grains; ++i)
-    if (!m.init.frozen[i]) free_mass.push_back(m.init.mass[i]);
-  if (free_mass.empty()) free_mass.push_back(m.init.mass[0]);
+    if (!m.init.frozen[i]) free_mass.emplace_back(m.init.mass[i], m.init.group[i]);
+  if (free_mass.empty()) free_mass.emplace_back(m.init.mass[0], m.init.group[0]);
   std::partial_sort(free_mass.begin(), free_mass.begin() + std::min<size_t>(2, free_mass.size()), free_mass.end());
-  m.m_eff_min = free_mass.size() >= 2 ? free_mass[0] * free_mass[1] / (free_mass[0] + free_mass[1]) : free_mass[0];
+  const double m0 = free_mass[0].first;
+  m.m_eff_min = free_mass.size() >= 2 ? m0 * free_mass[1].first / (m0 + free_mass[1].first) : m0;
+  const std::string mass_key = grain_size_key(d, free_mass[0].second);  // the lightest grain's
   const ContactParams& c = m.contact;
   const double r_eq = m.r_min;  // reduced radius of two of the smallest grains
   double zeta = 0;
@@ -89,10 +154,13 @@ void derive_contact_scales(const SceneDesc& d, Model& m) {
   }
   m.zeta_max = zeta;
   m.dt_stable = verlet_stability_limit(std::sqrt(m.k_max / m.m_eff_min), zeta);
+  check_scales(d, {m.m_eff_min, m.k_max, zeta, mass_key, law_keys(d, c.law)},
+               {{"contact time", m.t_contact}, {"stability limit of the time step", m.dt_stable}});
   // Other materials (dem/materials.hpp): the stiffest of their laws with the lightest grains, a
   // grain against a wall (m* = m, R_eq = 2 r) included, may lower the limit; t_c stays the scene
   // material's (the unit of run.dt_over_tc).
-  auto limit_of = [&](const ContactParams& p, double m_eff, double req) {
+  auto limit_of = [&](const ContactParams& p, double m_eff, double req, const std::string& m_key,
+                      const LawKeys& keys) {
     double k = 0, z = 0;
     if (p.law == NormalLaw::kHertz) {
       k = 0.5 * p.e_tilde * std::sqrt(2.0 * req * m.limits.max_overlap * m.r_min);
@@ -102,24 +170,26 @@ void derive_contact_scales(const SceneDesc& d, Model& m) {
       k = kc.k;
       z = kc.c / (2.0 * std::sqrt(kc.k * m_eff));
     }
-    if (verlet_stability_limit(std::sqrt(k / m_eff), z) < m.dt_stable) {
-      m.dt_stable = verlet_stability_limit(std::sqrt(k / m_eff), z);
+    const double limit = verlet_stability_limit(std::sqrt(k / m_eff), z);
+    check_scales(d, {m_eff, k, z, m_key, keys}, {{"stability limit of the time step", limit}});
+    if (limit < m.dt_stable) {
+      m.dt_stable = limit;
       m.k_max = k;
       m.zeta_max = z;
     }
   };
-  for (const ContactParams& p : m.pair_contact) limit_of(p, m.m_eff_min, r_eq);
-  const double m_free = free_mass[0];  // the lightest free grain against a wall
-  for (const ContactParams& p : m.wall_contact) limit_of(p, m_free, 2.0 * m.r_min);
-  // Numbers at the ends of the doubles' range (a tiny radius, a huge modulus) can make these 0,
-  // infinite or NaN: a scene that cannot be integrated.
-  for (const auto& [name, value] :
-       {std::pair{"contact time", m.t_contact}, std::pair{"stiffness", m.k_max},
-        std::pair{"stability limit of the time step", m.dt_stable}, std::pair{"reduced mass", m.m_eff_min}})
-    if (!(value > 0) || !std::isfinite(value))
-      d.fail("contact.model", std::string("the contacts' ") + name + " is " + format_number(value) +
-                                  " with these grains and this law: it must be finite and positive (check the radii, "
-                                  "densities and the law's parameters)");
+  const int groups = d.group_count("grains");
+  auto group = [](int g) { return "grains[" + std::to_string(g) + "]."; };
+  for (size_t q = 0; q < m.pair_contact.size(); ++q) {
+    const int gi = static_cast<int>(q) / groups, gj = static_cast<int>(q) % groups;
+    limit_of(m.pair_contact[q], m.m_eff_min, r_eq, mass_key, law_keys(d, c.law, {group(gi), group(gj)}));
+  }
+  const double m_free = m0;  // the lightest free grain against a wall
+  for (size_t q = 0; q < m.wall_contact.size(); ++q) {
+    const int w = static_cast<int>(q) / groups, g = static_cast<int>(q) % groups;
+    limit_of(m.wall_contact[q], m_free, 2.0 * m.r_min, mass_key,
+             law_keys(d, c.law, {"walls[" + std::to_string(w) + "].", group(g)}));
+  }
 }
 
 }  // namespace silt::dem

@@ -419,6 +419,13 @@ void grains_from_checkpoint(const SceneDesc& d, const Model& m, int g, Group& G)
   if (G.count == 0) d.fail(k, "no grain of '" + path + "' lies in the group's region");
 }
 
+std::string grain_size_key(const SceneDesc& d, int g) {
+  const std::string prefix = "grains[" + std::to_string(g) + "].";
+  for (const char* leaf : {"radius", "radius_min", "radius_max", "radii", "radius_list", "frozen_from"})
+    if (d.has(prefix + leaf)) return prefix + leaf;
+  return prefix + "radius";
+}
+
 void setup_grains(const SceneDesc& d, Model& m) {
   const int n_groups = d.group_count("grains");
   if (n_groups == 0) throw SceneError(FileLoc{d.file, 1, 1}, "the scene has no [[grains]] table");
@@ -462,12 +469,7 @@ void setup_grains(const SceneDesc& d, Model& m) {
   for (int g = 0; g < n_groups; ++g) {
     const Group& G = groups[g];
     // A radius or a density at the ends of the doubles' range makes a mass of 0 or infinity.
-    std::string size_key = key(g, "radius");
-    for (const char* leaf : {"radius", "radius_min", "radius_max", "radii", "radius_list", "frozen_from"})
-      if (d.has(key(g, leaf))) {
-        size_key = key(g, leaf);
-        break;
-      }
+    const std::string size_key = grain_size_key(d, g);
     for (double r : G.radius) {
       const double mass = G.density * grain_volume(D, r), inertia = mass * r * r;
       if (!(mass > 0) || !std::isfinite(mass) || !(inertia > 0) || !std::isfinite(inertia))

@@ -9,6 +9,10 @@ namespace silt::dem {
 // Requires m.dim, m.box and m.walls. Throws SceneError at the offending key.
 void setup_grains(const SceneDesc& d, Model& m);
 
+// The key that gives group g's sizes (radius, radius_min, ..., frozen_from): where a mass made of
+// them is refused.
+std::string grain_size_key(const SceneDesc& d, int g);
+
 // Refuse overlaps beyond limits.max_overlap at t = 0 (grain-grain and grain-wall).
 void check_initial_overlaps(const Model& m);
 

@@ -43,10 +43,13 @@ double grains_memory_bytes(const Model& m, int64_t n) {
   const double packing = m.dim == 3 ? 0.74 : 0.91;
   const double pairs_per_grain = 1.5 * 0.5 * packing * std::pow(reach / r, m.dim);
   // A grain: its fields twice (the state and the restart point), the model's initial values (about
-  // 4 D + 5 numbers), the cell list (about 6 indices), and its pairs: their fields, the contact
-  // candidates, the previous list during a rebuild and the schedule (about 40 bytes).
-  const double grain = 2 * per_grain + 8.0 * (4 * m.dim + 5) + 24 + pairs_per_grain * (2 * per_pair + 40);
-  return static_cast<double>(n) * grain + 4096 * 8.0;
+  // 4 D + 5 numbers), its indices in the cell list and the renumbering (4), and its pairs: their
+  // fields, the contact candidates, the previous list during a rebuild and the schedule (about 40
+  // bytes).
+  const double grain = 2 * per_grain + 8.0 * (4 * m.dim + 5) + 16 + pairs_per_grain * (2 * per_pair + 40);
+  // The cell grid: one start index per cell, its cells bounded by the grains (neighbor_list.cpp).
+  const double grid = 4.0 * (kMaxCellsPerGrain * static_cast<double>(n) + kMaxCellsExtra + 1);
+  return static_cast<double>(n) * grain + grid + 4096 * 8.0;
 }
 
 void check_memory(const SceneDesc& d, const Model& m, int64_t n, const std::string& key) {

@@ -19,14 +19,13 @@
 #include "core/parallel.hpp"
 #include "core/periodic_image.hpp"
 #include "dem/contact_candidates.hpp"
+#include "dem/module.hpp"
 #include "dem/pair_schedule.hpp"
 #include "dem/stages.hpp"
 
 namespace silt::dem {
 namespace {
 
-// The cell grid holds at most this many cells per grain, plus a constant.
-constexpr double kMaxCellsPerGrain = 4, kMaxCellsExtra = 4096;
 
 struct CellGrid {
   int n[3] = {1, 1, 1};

@@ -18,6 +18,7 @@ class RestartPoint {
   void take(State& s);
   // The State taken.
   State give() const;
+  int64_t step() const { return base_.step; }
   size_t bytes() const {
     return state_bytes(base_) + held_.capacity() * 4 + (held_f_.capacity() + held_hist_.capacity()) * 8;
   }

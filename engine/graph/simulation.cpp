@@ -122,6 +122,8 @@ State Simulation::last_good_state() {
   return s;
 }
 
+int64_t Simulation::restart_step() const { return impl_->restart.step(); }
+
 bool Simulation::is_static() const {
   const Model& m = model_;
   if (!m.box_control.on) return false;

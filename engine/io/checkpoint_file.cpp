@@ -1,10 +1,10 @@
 #include "io/checkpoint_file.hpp"
 
 #include <cerrno>
-#include <filesystem>
 #include <fstream>
 
 #include "core/rng.hpp"
+#include "silt/input_files.hpp"
 
 namespace silt::ckpt {
 
@@ -29,11 +29,7 @@ System get_system(Reader& r) {
 }
 
 std::vector<char> read_checked(const std::string& path) {
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) throw IoError("'" + path + "' is a directory, not a checkpoint");
-  if (!std::filesystem::exists(path, ec)) throw IoError("cannot read checkpoint '" + path + "': no such file");
-  if (!std::filesystem::is_regular_file(path, ec))
-    throw IoError("'" + path + "' is not a regular file (a device, a pipe): not a checkpoint");
+  check_input_file(path, "checkpoint", max_checkpoint_bytes());
   std::vector<char> buf;
   bool read = false;
   try {

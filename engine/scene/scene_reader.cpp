@@ -2,10 +2,10 @@
 #include <toml++/toml.h>
 
 #include <cmath>
-#include <filesystem>
 #include <fstream>
 #include <sstream>
 
+#include "silt/input_files.hpp"
 #include "silt/scene.hpp"
 
 namespace silt {
@@ -273,16 +273,7 @@ SceneDesc parse_scene(const std::string& text, const std::string& name, const st
 }
 
 SceneDesc load_scene_file(const std::string& path, const std::vector<Override>& overrides) {
-  // Only a regular file of a sane size: not a directory, a device that never ends (/dev/zero), a
-  // pipe, or gigabytes read into memory.
-  constexpr std::uintmax_t kMaxBytes = 64u << 20;
-  std::error_code ec;
-  const auto st = std::filesystem::status(path, ec);
-  if (!std::filesystem::exists(st)) throw IoError("cannot read scene file '" + path + "': no such file");
-  if (std::filesystem::is_directory(st)) throw IoError("'" + path + "' is a directory, not a scene file");
-  if (!std::filesystem::is_regular_file(st)) throw IoError("'" + path + "' is not a regular file (a device, a pipe)");
-  if (std::filesystem::file_size(path, ec) > kMaxBytes)
-    throw IoError("scene file '" + path + "' is larger than 64 MiB: not a scene");
+  check_input_file(path, "scene file", kMaxTextFileBytes);
   std::ifstream in(path, std::ios::binary);
   if (!in) throw IoError("cannot read scene file '" + path + "'");
   std::ostringstream text;

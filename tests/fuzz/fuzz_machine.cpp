@@ -9,6 +9,7 @@ double g_available = 1 << 30;
 
 namespace silt {
 double available_memory_bytes() { return g_available; }
+double physical_memory_bytes() { return g_available; }
 }  // namespace silt
 
 namespace silt::fuzz {

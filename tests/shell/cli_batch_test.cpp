@@ -80,6 +80,19 @@ TEST_CASE("silt play stops on SIGTERM as silt run does") {
   CHECK_FALSE(contains(out, "> print t"));  // the script stopped where the signal came
 }
 
+TEST_CASE("silt play stops on SIGINT as silt run does, exit 130") {
+  silt::test::TempDir dir;
+  const std::string script = silt::test::write_file(
+      dir / "long.silt", "load " + scene_path("chute") + "\nwatch step every 50\nrun 1e9\nprint t\n");
+  const Result r = sh(
+      signalled(silt::test::silt_binary() + " play " + script + " > " + (dir / "out.txt"), dir / "out.txt", 6, "INT"));
+  CHECK(contains(r.out, "code=130"));
+  CHECK(contains(r.out, "interrupted: the script stops here"));
+  const std::string out = read_file(dir / "out.txt");
+  CHECK(contains(out, "paused:"));
+  CHECK_FALSE(contains(out, "> print t"));
+}
+
 TEST_CASE("the shell fed by a pipe pauses its run and ends on SIGTERM, exit 143") {
   silt::test::TempDir dir;
   const std::string out = dir / "out.txt";
@@ -119,6 +132,24 @@ TEST_CASE("every output is checked before the first step, and a failed write is 
   CHECK(j["exit_code"] == 4);
   CHECK(j["status"] == "ok");
   CHECK(j["warnings"].dump().find("/dev/full") != std::string::npos);
+}
+
+TEST_CASE("a checkpoint that cannot be written at the end of a run: exit 4, in the summary as for the process") {
+  silt::test::TempDir dir;
+  // A file size limit, as a full disk or a quota would stop a write: the checkpoint of pack_2d
+  // (about 60 kB) fails at the end of the run, the summary (a few kB) is written. With SIGXFSZ
+  // ignored, the write returns EFBIG instead of killing the process.
+  const Result r = sh("bash -c 'trap \"\" XFSZ; ulimit -f 24; " + silt::test::silt_binary() + " run " +
+                      scene_path("pack_2d") + " --steps 20 --quiet --save " + (dir / "end.ckpt") + " --summary " +
+                      (dir / "s.json") + "; echo code=$?'");
+  CHECK(contains(r.out, "cannot write checkpoint"));
+  CHECK(contains(r.out, "File too large"));
+  CHECK(contains(r.out, "code=4"));
+  CHECK_FALSE(std::filesystem::exists(dir / "end.ckpt"));
+  const auto j = read_json(dir / "s.json");
+  CHECK(j["exit_code"] == 4);
+  CHECK(j["status"] == "ok");
+  CHECK(j["warnings"].dump().find("end.ckpt") != std::string::npos);
 }
 
 TEST_CASE("a preparation that fails writes a summary and its last good state") {

@@ -5,15 +5,19 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 
 #include "shell/cli_fixtures.hpp"
 #include "shell/shell_fixtures.hpp"
+#include "core/machine.hpp"
+#include "silt/input_files.hpp"
 #include "silt/io.hpp"
 
 using silt::test::contains;
 using silt::test::Result;
 using silt::test::scene_path;
 using silt::test::silt_cli;
+using silt::test::write_file;
 
 namespace {
 
@@ -52,6 +56,11 @@ TEST_CASE("values no scene can supply are refused at their key") {
       silt_cli("check " + scene_path("collision_normal") + " --set 'grains.0.velocities=[[1e308, 0, 0], [0, 0, 0]]'");
   CHECK(r.code == 2);
   CHECK(contains(r.out, "cross the whole domain"));
+  // The speed is computed without squaring it (1e308^2 overflows): the message gives it.
+  CHECK(contains(r.out, "grain 0 starts at 1e+308 m/s"));
+  r = silt_cli("check " + scene_path("collision_normal") + " --set 'grains.0.velocities=[[3e200, 4e200, 0], [0, 0, 0]]'");
+  CHECK(r.code == 2);
+  CHECK(contains(r.out, "grain 0 starts at 5e+200 m/s"));
   r = silt_cli("check " + scene_path("collision_normal") + " --set grains.0.radius=1e-308");
   CHECK(r.code == 2);
   CHECK(contains(r.out, "must be finite and positive"));
@@ -63,6 +72,62 @@ TEST_CASE("values no scene can supply are refused at their key") {
   CHECK(contains(r.out, "not a finite number"));
   r = silt_cli("check " + scene_path("collision_normal") + " --set contact.contact_time=inf");
   CHECK(r.code == 2);
+}
+
+namespace {
+
+// A grain above a wall, hooke contacts: the wall's spring and the dashpot as given (lines 9, 13).
+const char* kWallScene = R"([scene]
+dimension = 3
+[domain]
+lo = [-5, -5, 0]
+hi = [5, 5, 5]
+[contact]
+model = "hooke"
+k_n = 100
+gamma_n = {gamma}
+[[walls]]
+point = [0, 0, 0]
+normal = [0, 0, 1]
+k_n = {wall_k}
+[[grains]]
+radius = 0.5
+density = 1000
+placement = "explicit"
+positions = [[0, 0, 1]]
+[run]
+dt = 1e-4
+)";
+
+}  // namespace
+
+TEST_CASE("a contact scale out of the numbers' range is refused at the key that caused it") {
+  silt::test::TempDir dir;
+  // A wall's spring of 1e308 in series with the grains' 100 N/m: the stiffness overflows.
+  std::string text = silt::test::fill(kWallScene, {{"gamma", 0.0}, {"wall_k", 1e308}});
+  Result r = silt_cli("check " + write_file(dir / "wall.toml", text));
+  CHECK(r.code == 2);
+  CHECK(contains(r.out, "wall.toml:13:7: the contacts' stiffness is inf"));
+  // A dashpot of 1e308 per second on grains of 524 kg: the damping ratio overflows.
+  text = silt::test::fill(kWallScene, {{"gamma", 1e308}, {"wall_k", 100.0}});
+  r = silt_cli("check " + write_file(dir / "dashpot.toml", text));
+  CHECK(r.code == 2);
+  CHECK(contains(r.out, "dashpot.toml:9:11: the contacts' damping ratio is inf"));
+  // On the command line, at the --set that gave the number: a contact time of 1e-200 s makes the
+  // spring-dashpot's stiffness infinite; a modulus of 1e-320 Pa makes the Hertz contact time so.
+  r = silt_cli("check " + scene_path("collision_normal") + " --set contact.friction=0.2 --set contact.contact_time=1e-200");
+  CHECK(r.code == 2);
+  CHECK(contains(r.out, "--set:2:"));
+  CHECK(contains(r.out, "the contacts' stiffness is inf"));
+  r = silt_cli("check " + scene_path("shear3d_frictionless") + " --set contact.young_modulus=1e-320");
+  CHECK(r.code == 2);
+  CHECK(contains(r.out, "--set:1:"));
+  CHECK(contains(r.out, "contact time is inf"));
+  // Grains of 1e-56 m: each mass is a number, the product of two in the reduced mass is not.
+  r = silt_cli("check " + scene_path("collision_normal") + " --set contact.friction=0.2 --set grains.0.radius=1e-56");
+  CHECK(r.code == 2);
+  CHECK(contains(r.out, "--set:2:"));
+  CHECK(contains(r.out, "the contacts' reduced mass is 0"));
 }
 
 TEST_CASE("only regular files of a sane size are read") {
@@ -80,6 +145,56 @@ TEST_CASE("only regular files of a sane size are read") {
   CHECK(contains(r.out, "not a regular file"));
   r = silt_cli("play /dev/zero");
   CHECK(r.code == 4);
+}
+
+TEST_CASE("scenes, scripts and checkpoints are read only up to the size any of them can have") {
+  silt::test::TempDir dir;
+  // Sparse files: as long as they say, without taking the disk space.
+  auto sparse = [&](const std::string& name, std::uintmax_t bytes, const std::string& head) {
+    const std::string path = dir / name;
+    std::ofstream(path, std::ios::binary) << head;
+    std::filesystem::resize_file(path, bytes);
+    return path;
+  };
+  Result r;
+  const std::string scene = sparse("big.toml", silt::kMaxTextFileBytes + 1, "[scene]\n");
+  const double t = timed([&] { r = silt_cli("check " + scene); });
+  CHECK(r.code == 4);
+  CHECK(contains(r.out, "more than any scene file can have here"));
+  CHECK(t < 5);
+  const std::string script = sparse("big.silt", silt::kMaxTextFileBytes + 1, "print t\n");
+  r = silt_cli("play " + script);
+  CHECK(r.code == 4);
+  CHECK(contains(r.out, "more than any script can have here"));
+  // A checkpoint larger than the machine's memory: no system that runs here has one.
+  const std::string ckpt = sparse("big.ckpt", silt::max_checkpoint_bytes() + 1, "SILTCKPT");
+  r = silt_cli("run " + scene_path("collision_normal") + " --steps 1 --restore " + ckpt);
+  CHECK(r.code == 4);
+  CHECK(contains(r.out, "more than any checkpoint can have here"));
+  // The shell's source and restore, through the same check.
+  silt::test::Fixture f;
+  REQUIRE(f.run("load " + scene_path("collision_normal")));
+  CHECK_FALSE(f.run("source " + script));
+  CHECK(contains(f.take_err(), "more than any script can have here"));
+  CHECK_FALSE(f.run("restore " + ckpt));
+  CHECK(contains(f.take_err(), "more than any checkpoint can have here"));
+  CHECK_FALSE(f.run("load " + scene));
+  CHECK(contains(f.take_err(), "more than any scene file can have here"));
+}
+
+TEST_CASE("a checkpoint is smaller than the memory its system needs, which the machine's bounds") {
+  // Why the machine's memory bounds a checkpoint: a checkpoint holds one copy of the state, and
+  // compiling refuses a system whose estimate (the state twice, its pairs and cells) does not fit.
+  silt::test::TempDir dir;
+  for (const char* name : {"collision_normal", "pack_2d", "silo"}) {
+    CAPTURE(name);
+    auto sim = silt::test::simulation_from(silt::test::read_file(scene_path(name)));
+    for (int k = 0; k < 20; ++k) REQUIRE(sim->step());
+    silt::write_checkpoint(dir / "c.ckpt", sim->model(), sim->state());
+    CHECK(static_cast<double>(std::filesystem::file_size(dir / "c.ckpt")) <
+          silt::estimated_memory_bytes(sim->model()));
+  }
+  CHECK(static_cast<double>(silt::max_checkpoint_bytes()) >= silt::available_memory_bytes());
 }
 
 TEST_CASE("an edited checkpoint with a recomputed checksum is refused as corrupt, exit 4") {

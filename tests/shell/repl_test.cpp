@@ -26,10 +26,13 @@ namespace {
 // given: type lines, read what it prints.
 class Terminal {
  public:
-  Terminal(const std::string& scene, const std::string& home) {
+  // `inputrc`: readline's init file (INPUTRC), "" for none.
+  Terminal(const std::string& scene, const std::string& home, const std::string& inputrc = "") {
     pid_ = forkpty(&fd_, nullptr, nullptr, nullptr);
     if (pid_ == 0) {
       setenv("HOME", home.c_str(), 1);
+      if (inputrc.empty()) unsetenv("INPUTRC");
+      else setenv("INPUTRC", inputrc.c_str(), 1);
       setenv("TERM", "xterm", 1);
       setenv("LC_ALL", "C.UTF-8", 1);  // readline reads multibyte characters
       if (chdir(home.c_str()) != 0) _exit(126);
@@ -173,6 +176,40 @@ TEST_CASE("on a terminal, the key sequences that crash readline's callback inter
   t.type("save a.ckp\xff\xbf\x1bwcc");
   t.type("print t\xc3\xa9\n");
   CHECK(!t.read_until("unknown observable 't\xc3\xa9'").empty());
+  t.type("quit\n");
+  CHECK(t.wait_exit() == 0);
+}
+
+TEST_CASE("commands that crash readline's callback interface do nothing under any key an inputrc gives them") {
+  TempDir home;
+  // Every keymap: emacs, its Meta and Ctrl-X maps, vi insertion and vi command (movement); keys
+  // that are prefixes of others; and the init file read again (Ctrl-X Ctrl-R) binds them anew.
+  std::ofstream(home / "inputrc") << "\"\\C-t\": reverse-search-history\n"
+                                     "\"\\eq\": forward-search-history\n"
+                                     "\"\\C-xq\": start-kbd-macro\n"
+                                     "\"\\C-xw\": end-kbd-macro\n"
+                                     "\"\\C-o\": call-last-kbd-macro\n"
+                                     "\"\\C-g\\C-g\": reverse-search-history\n"
+                                     "set keymap vi-insert\n"
+                                     "\"\\C-t\": reverse-search-history\n"
+                                     "set keymap vi-command\n"
+                                     "\"s\": forward-search-history\n"
+                                     "\"\\C-t\": call-last-kbd-macro\n";
+  Terminal t(silt::test::scene_path("collision_normal"), home.path(), home / "inputrc");
+  REQUIRE(!t.read_until("silt[t=0]> ").empty());
+  // Ctrl-T, Ctrl-X, a: a segmentation fault in GNU readline 8.2 with Ctrl-T bound to
+  // reverse-search-history; Ctrl-U clears the line.
+  t.type("\x14\x18" "a\x15");
+  t.type("\x1bq\x18" "a\x15\x07\x07\x18" "a\x15");  // Meta-q, the sequence Ctrl-G Ctrl-G
+  t.type("\x18qprint t\n\x18w\x0f\x15");       // a keyboard macro recorded and played
+  CHECK(!t.read_until("t = 0").empty());
+  t.type("\x18\x12\x14\x18" "a\x15");  // the inputrc read again (Ctrl-X Ctrl-R), then Ctrl-T
+  t.type("step\x01print \n");      // ordinary line editing stays: Ctrl-A to the line's beginning
+  CHECK(!t.read_until("step = 0").empty());
+  // Vi mode (Meta-Ctrl-J): Ctrl-T in insertion mode; Escape, then s and Ctrl-T in command mode;
+  // cc changes the whole line.
+  t.type("\x1b\n\x14\x18" "a\x1bs\x14" "ccprint dt\n");
+  CHECK(!t.read_until("dt = ").empty());
   t.type("quit\n");
   CHECK(t.wait_exit() == 0);
 }

@@ -81,6 +81,9 @@ class Simulation {
   // The state after the last step that completed without failure (replayed deterministically
   // from the last restart point, taken every limits.check_every steps).
   State last_good_state();
+  // The step of the restart point that replay starts from: at most limits.check_every steps before
+  // the current one, so the replay is that short whatever the run's length.
+  int64_t restart_step() const;
   // Equilibrium test of Model::until_static on the current state.
   bool is_static() const;
 

@@ -234,3 +234,26 @@ TEST_CASE("pure laws: linear family coefficients and reduced radius") {
   CHECK(h.fn == doctest::Approx(1.0 * std::sqrt(1.0) * std::pow(0.01, 1.5)));  // (E~/3) sqrt(2R) h^1.5
   CHECK(h.k == doctest::Approx(1.5 * std::sqrt(0.01)));                        // (E~/2) sqrt(2R h)
 }
+
+TEST_CASE("check's labels: Hertz t_c is the duration of a collision reaching the reference overlap") {
+  // Undamped grains at the relative speed whose collision reaches contact.hertz_ref_overlap
+  // (0.01 R_eq by default): 1/2 m* v^2 = (2/5) k_h h^(5/2). The collision lasts the t_c printed.
+  const double pi = std::numbers::pi;
+  const double r = 1e-3, m_eff = 2500 * 4.0 / 3.0 * pi * r * r * r / 2;
+  const double kh = 7e10 / (1 - 0.09) / 3 * std::sqrt(2 * r), h = 0.01 * r;
+  const double v_rel = std::sqrt(0.8 * kh * std::pow(h, 2.5) / m_eff);
+  const Model m = test::model_from(test::fill(kHertzPair, {{"zeta", 0.0}, {"v", v_rel / 2}, {"dt", 1e-9}}));
+  const std::string text = describe(m);
+  CHECK(text.find("duration of an undamped collision reaching contact.hertz_ref_overlap") != std::string::npos);
+  auto sim = test::simulation_from(
+      test::fill(kHertzPair, {{"zeta", 0.0}, {"v", v_rel / 2}, {"dt", m.t_contact / 20000}}));
+  CHECK(test::head_on_collision(*sim, v_rel).duration == doctest::Approx(m.t_contact).epsilon(2e-4));
+}
+
+TEST_CASE("check's labels: an undamped spring-dashpot (e = 1) has a damping ratio of 0, not -0") {
+  const Model m = test::model_from(pair_scene(1.0, false, 0.01));
+  CHECK(std::signbit(m.zeta_max));  // -ln(1) / ...: the sign a plain print would show
+  const std::string text = describe(m);
+  CHECK(text.find("damping ratio 0,") != std::string::npos);
+  CHECK(text.find("damping ratio -0") == std::string::npos);
+}

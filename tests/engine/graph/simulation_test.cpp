@@ -142,3 +142,44 @@ TEST_CASE("observables: names, suggestions and values") {
   CHECK(v[2] == doctest::Approx(2 * 0.5 * m1 * 0.25));
   CHECK(v[6] == doctest::Approx(2 * m1 / 1000.0));
 }
+
+TEST_CASE("the replay to the last good state runs at most limits.check_every steps, and ends") {
+  // The soft collision fails some tens of steps in; restart points every 7 steps, or every step.
+  for (const int every : {7, 1}) {
+    CAPTURE(every);
+    const std::string scene =
+        test::fill(kSoft, {{"k", 100.0}, {"v", 10.0}}) + "[limits]\ncheck_every = " + std::to_string(every) + "\n";
+    auto sim = test::simulation_from(scene);
+    bool ok = true;
+    for (int k = 0; k < 1000 && ok; ++k) ok = sim->step();
+    REQUIRE_FALSE(ok);
+    const int64_t failed = sim->state().failure.step;
+    REQUIRE(failed > 3 * every);  // several restart points into the run
+    const int64_t from = sim->restart_step();
+    CHECK(from <= failed - 1);
+    CHECK(failed - 1 - from < every);  // the steps replayed
+    const State good = sim->last_good_state();
+    CHECK(good.step == failed - 1);
+    auto again = test::simulation_from(scene);
+    while (again->state().step < good.step) REQUIRE(again->step());
+    CHECK(state_hash(again->state()) == state_hash(good));
+  }
+}
+
+TEST_CASE("observables: a grain's radius and mass, p[K].r and p[K].m") {
+  const double pi = 3.14159265358979323846;
+  // Spheres: 4/3 pi r^3 rho (density 1 by default).
+  auto spheres = test::simulation_from(test::fill(kSoft, {{"k", 1e5}, {"v", 0.5}}));
+  CHECK(test::observe(spheres->model(), spheres->state(), "p[1].r") == 0.5);
+  CHECK(test::observe(spheres->model(), spheres->state(), "p[1].m") == doctest::Approx(4.0 / 3.0 * pi * 0.125));
+  // Polydisperse disks: pi r^2 rho, each grain its own (by id).
+  const Model disks = test::model_from(test::frictional_gas(2, 0, 0, 0.1));
+  const Simulation sim(Model(disks), 1);
+  for (const int k : {0, 7, 129}) {
+    CAPTURE(k);
+    const double r = disks.init.radius[k];
+    CHECK(test::observe(disks, sim.state(), "p[" + std::to_string(k) + "].r") == r);
+    CHECK(test::observe(disks, sim.state(), "p[" + std::to_string(k) + "].m") == doctest::Approx(pi * r * r));
+  }
+  CHECK(disks.init.radius[0] != disks.init.radius[7]);
+}
