@@ -150,6 +150,10 @@ int run_command(const RunArgs& a) {
   opt.interrupt = &g_interrupt;
   opt.stop_when_static = model.until_static.on;
   opt.on_progress = [&progress](const State& s) { progress.update(s); };
+  opt.on_notice = [&progress](const std::string& n) {
+    progress.finish();  // the warning on a line of its own
+    std::cerr << "silt: warning: " << n << "\n";
+  };
   const RunReport rep = job->run(opt);
   progress.update(sim.state());
   progress.finish();

@@ -275,6 +275,7 @@ RunOptions Session::run_options(const RunLength& len, bool background) {
     }
   }
   opt.interrupt = &interrupt_;
+  opt.on_notice = [this, background](const std::string& n) { say("warning: " + n, background); };
   opt.boundary_wanted = [this] { return has_requests_.load(); };
   opt.between_steps = [this] {
     shown_t_ = sim_->state().t;

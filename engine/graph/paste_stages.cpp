@@ -36,12 +36,14 @@ Access solve_reads() {
           f.dt,
           f.solver,
           f.change,
-          f.factor};
+          f.factor,
+          f.alone,
+          fid::particle_id};  // names the grains alone
 }
 
 Access solve_writes() {
   const paste::PasteFields f = paste::paste_fields();
-  return {fid::particle_v, fid::particle_w, fid::box_rate, f.pair_f_lub, f.dt, f.solver, f.change, f.factor};
+  return {fid::particle_v, fid::particle_w, fid::box_rate, f.pair_f_lub, f.dt, f.solver, f.change, f.factor, f.alone};
 }
 
 void diagnose_paste(GraphBuilder& b) {

@@ -26,6 +26,7 @@ struct Simulation::Impl {
   std::unique_ptr<graph::StepGraph> setup;  // the forces of the first state
   graph::RestartPoint restart;              // last restart point
   bool primed = false;
+  std::vector<std::string> notices;  // the modules' notes not yet taken
 };
 
 Simulation::Simulation(Model model, int threads)
@@ -86,6 +87,24 @@ void Simulation::prepare() {
   state_.internal.clear();
   impl_->restart.take(state_);
   impl_->primed = true;
+  collect_notices();
+}
+
+void Simulation::collect_notices() {
+  for (const Module& mod : modules()) {
+    if (!mod.spec->notice || !model_.module_on(mod.spec->name)) continue;
+    std::string note = mod.spec->notice(model_, state_);
+    if (note.empty()) continue;
+    std::vector<std::string>& v = impl_->notices;
+    if (v.size() >= kMaxNotices) v.erase(v.begin());
+    v.push_back("step " + std::to_string(state_.step) + ": " + note);
+  }
+}
+
+std::vector<std::string> Simulation::take_notices() {
+  std::vector<std::string> out;
+  out.swap(impl_->notices);
+  return out;
 }
 
 void Simulation::restore(State s) {
@@ -105,6 +124,7 @@ bool Simulation::step() {
   execute(*impl_->step, state_);
   if (!impl_->step->diagnose(model_, state_)) return false;
   if (state_.step % model_.limits.check_every == 0) impl_->restart.take(state_);
+  collect_notices();
   return true;
 }
 
@@ -167,6 +187,12 @@ RunReport Simulation::run(const RunOptions& options) {
   const auto t0 = std::chrono::steady_clock::now();
   auto last_progress = t0;
   prepare();
+  auto tell = [&] {
+    if (impl_->notices.empty()) return;
+    for (const std::string& n : take_notices())
+      if (opt.on_notice) opt.on_notice(n);
+  };
+  tell();
   auto periodic = [&](bool force) {
     for (const PeriodicHook& h : opt.hooks)
       if (h.every > 0 && h.fn && (force || state_.step % h.every == 0)) h.fn(state_);
@@ -200,6 +226,7 @@ RunReport Simulation::run(const RunOptions& options) {
       break;
     }
     ++rep.steps_done;
+    tell();
     periodic(false);
     if (t_end >= 0 && state_.t >= t_end) {
       for (const PeriodicHook& h : opt.hooks)

@@ -120,6 +120,11 @@ RunReport RunJob::run(RunOptions opt) {
                            profiles_[0].samples.push_back(std::move(p.vx));
                          }});
   for (const PeriodicHook& h : extra_) opt.hooks.push_back(h);
+  // The modules' notes go into the summary's warnings too.
+  opt.on_notice = [this, tell = opt.on_notice](const std::string& n) {
+    warnings_.push_back(n);
+    if (tell) tell(n);
+  };
   const RunReport rep = sim_.run(opt);
   // The end is sampled once, whatever --every (a failed state is not a sample).
   if (rep.end != RunEnd::kFailed) sample(sim_.state());

@@ -13,6 +13,27 @@
 #include "linalg/vector_ops.hpp"
 
 namespace silt::linalg {
+namespace {
+
+// A view of `a` (compressed columns), no copy: the lower triangle of a symmetric matrix.
+cholmod_sparse view(const SparseMatrix& a) {
+  cholmod_sparse s{};
+  s.nrow = static_cast<size_t>(a.rows());
+  s.ncol = static_cast<size_t>(a.cols());
+  s.nzmax = static_cast<size_t>(a.nonZeros());
+  s.p = const_cast<int*>(a.outerIndexPtr());
+  s.i = const_cast<int*>(a.innerIndexPtr());
+  s.x = const_cast<double*>(a.valuePtr());
+  s.stype = -1;
+  s.itype = CHOLMOD_INT;
+  s.xtype = CHOLMOD_REAL;
+  s.dtype = CHOLMOD_DOUBLE;
+  s.sorted = 1;
+  s.packed = 1;
+  return s;
+}
+
+}  // namespace
 
 struct CholeskyFactor::Impl {
   cholmod_common c{};
@@ -34,24 +55,6 @@ struct CholeskyFactor::Impl {
     if (y) cholmod_free_dense(&y, &c);
     if (e) cholmod_free_dense(&e, &c);
     cholmod_finish(&c);
-  }
-
-  // A view of `a` (compressed columns), no copy.
-  static cholmod_sparse view(const SparseMatrix& a) {
-    cholmod_sparse s{};
-    s.nrow = static_cast<size_t>(a.rows());
-    s.ncol = static_cast<size_t>(a.cols());
-    s.nzmax = static_cast<size_t>(a.nonZeros());
-    s.p = const_cast<int*>(a.outerIndexPtr());
-    s.i = const_cast<int*>(a.innerIndexPtr());
-    s.x = const_cast<double*>(a.valuePtr());
-    s.stype = -1;
-    s.itype = CHOLMOD_INT;
-    s.xtype = CHOLMOD_REAL;
-    s.dtype = CHOLMOD_DOUBLE;
-    s.sorted = 1;
-    s.packed = 1;
-    return s;
   }
 
   bool same_pattern(const SparseMatrix& a) const {
@@ -81,7 +84,7 @@ void CholeskyFactor::analyze(const SparseMatrix& a0) {
   const SparseMatrix* a = compressed(a0, copy);
   Impl& im = *impl_;
   if (im.l) cholmod_free_factor(&im.l, &im.c);
-  cholmod_sparse v = Impl::view(*a);
+  cholmod_sparse v = view(*a);
   im.l = cholmod_analyze(&v, &im.c);
   im.n = a->rows();
   im.nnz = a->nonZeros();
@@ -104,7 +107,7 @@ SolveReport CholeskyFactor::factorize(const SparseMatrix& a0) {
       return rep;
     }
   if (!im.l || !im.same_pattern(*a)) analyze(*a);
-  cholmod_sparse v = Impl::view(*a);
+  cholmod_sparse v = view(*a);
   cholmod_factorize(&v, im.l, &im.c);
   ++factorizations_;
   if (im.c.status == CHOLMOD_NOT_POSDEF || im.l->minor < im.l->n) {
@@ -172,6 +175,47 @@ int64_t CholeskyFactor::factor_bytes() const {
   // Values, plus the integer pattern of a simplicial factor (a supernodal one's is small).
   return factor_entries() * static_cast<int64_t>(sizeof(double)) +
          (im.l->is_super ? static_cast<int64_t>(im.l->ssize) * 4 : factor_entries() * 4);
+}
+
+namespace {
+
+// The size of a supernodal symbolic factor: its values (the supernodes' rectangles, Lx), its
+// integers (Ls, Lpi, Lpx, super, and the permutation and column counts of n entries each), and
+// the largest update matrix of a supernode (maxcsize) the numerical factorisation works in.
+FactorSize size_of(const cholmod_factor* l, int64_t scale) {
+  FactorSize f;
+  if (!l) return f;
+  if (l->is_super) {
+    f.entries = static_cast<int64_t>(l->xsize) * scale * scale;
+    f.integers = static_cast<int64_t>(l->ssize) * scale + 3 * static_cast<int64_t>(l->nsuper + 1) +
+                 4 * static_cast<int64_t>(l->n) * scale;
+    f.update = static_cast<int64_t>(l->maxcsize) * scale * scale;
+  } else {
+    f.entries = static_cast<int64_t>(l->nzmax) * scale * scale;
+    f.integers = static_cast<int64_t>(l->nzmax) * scale * scale + 6 * static_cast<int64_t>(l->n) * scale;
+  }
+  return f;
+}
+
+}  // namespace
+
+FactorSize CholeskyFactor::size() const { return size_of(impl_->l, 1); }
+
+FactorSize block_factor_size(const SparseMatrix& pattern0, int block) {
+  SparseMatrix copy;
+  const SparseMatrix* pattern = compressed(pattern0, copy);
+  cholmod_common c{};
+  cholmod_start(&c);
+  c.supernodal = CHOLMOD_SUPERNODAL;
+  c.print = 0;
+  c.error_handler = nullptr;
+  cholmod_sparse v = view(*pattern);
+  v.xtype = CHOLMOD_PATTERN;
+  cholmod_factor* l = cholmod_analyze(&v, &c);
+  const FactorSize f = size_of(l, block);
+  if (l) cholmod_free_factor(&l, &c);
+  cholmod_finish(&c);
+  return f;
 }
 
 }  // namespace silt::linalg

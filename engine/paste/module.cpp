@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "core/machine.hpp"
+#include "paste/memory.hpp"
 #include "paste/observables.hpp"
 #include "paste/params.hpp"
 #include "paste/solve.hpp"
@@ -140,23 +141,23 @@ void compile_paste(const SceneDesc& d, Model& m) {
   m.kinetic_stress = p.stepper == Stepper::kInertial;
 }
 
-// The factor, its copy in the state, the matrix and the assembly buffers, as measured on
-// prepared packings (bench/paste cost; 7.2 to 8.5 kB per grain from N = 224 to 3,584 in 2D): the
-// factor of a 2D network fills in as N log N (nested dissection), of a 3D one as N^(4/3).
-double factor_memory_bytes(const Model& m) {
-  const double n = static_cast<double>(std::max<int64_t>(m.n_grains, 2));
-  const double pg = m.dim == 2 ? 3 : 6;
-  return m.dim == 2 ? 90 * pg * pg * n * std::log2(n) : 40 * pg * pg * n * std::cbrt(n);
-}
+double paste_memory_bytes(const Model& m) { return m.params.get<PasteParams>().memory.total(); }
+
+std::string megabytes(double bytes) { return format_number(bytes / (1 << 20), 3) + " MiB"; }
 
 void finish_paste(const SceneDesc& d, Model& m) {
+  PasteParams& p = m.params.get<PasteParams>();
+  p.memory = estimate_paste_memory(m);
+  const PasteMemory& e = p.memory;
   const double need = estimated_memory_bytes(m), have = available_memory_bytes();
   if (need > 0.9 * have)
-    d.fail("lubrication.viscosity", "the paste needs about " + format_number(need / (1 << 30), 3) +
-                                        " GiB (its grains, and the Cholesky factor of Xi: about " +
-                                        format_number(factor_memory_bytes(m) / (1 << 30), 3) +
-                                        " GiB); the machine has " + format_number(have / (1 << 30), 3) +
-                                        " GiB available: use fewer grains");
+    d.fail("lubrication.viscosity",
+           "the paste needs about " + format_number(need / (1 << 30), 3) + " GiB, of which the Cholesky factor of Xi " +
+               format_number(e.factor / (1 << 30), 3) + " GiB (" + std::to_string(e.connections) +
+               " connections at Phi = " + format_number(e.phi, 3) + ", " + std::to_string(e.entries) +
+               " entries in Xi); the machine has " + format_number(have / (1 << 30), 3) +
+               " GiB available: use fewer grains, a smaller lubrication.h_max_over_a, or lubrication.solver = \"cg\" "
+               "(no factor)");
 }
 
 std::string describe_paste(const Model& m) {
@@ -169,23 +170,47 @@ std::string describe_paste(const Model& m) {
     << linalg::method_name(p.solver.method) << " solver to " << p.solver.options.tolerance
     << (p.stokes_drag ? ", Stokes drag on every grain" : ", one grain pinned per cluster") << "; "
     << (p.implicit_contacts ? "implicit contacts ((Xi + dt K) V = F)" : "explicit contacts (eq. 2.19)") << "\n";
+  const bool pressure = m.box_control.on;
+  const double rate = m.shear.on && !m.shear.stress_controlled ? std::abs(m.shear.rate) : 0.0;
+  // The time unit compile_time_step chose: eta / P, else the shear time 1 / |gammadot|, else none.
+  const char* unit = pressure ? "eta/P" : (m.shear.on && m.shear.rate != 0 ? "1/gammadot" : nullptr);
   if (p.fixed_dt) o << "             time step fixed at " << p.dt_initial << " s\n";
-  else
+  else {
     o << "             time step adaptive (sec. 2.2.4) from " << p.dt_initial << " s, in [" << p.dt_min << ", "
-      << p.dt_max << "] s; time unit eta/P = " << p.time_unit << " s\n";
-  if (m.box_control.on) {
-    const double P = m.box_control.pressure;
-    o << "             kappa = " << stiffness_number(m, P) << "; ";
-    if (m.shear.on) {
-      const double vi = p.eta * std::abs(m.shear.rate) / P;
-      // Stokes number m gammadot / (eta a) (a grain of diameter a).
-      o << "Vi = eta gammadot / P = " << vi
-        << "; St = m gammadot / (eta a) = " << m.m_a * std::abs(m.shear.rate) / (p.eta * p.a);
-    } else {
-      o << "St at the time unit = m P / (eta^2 a) = " << m.m_a * P / (p.eta * p.eta * p.a);
-    }
+      << p.dt_max << "] s";
+    if (unit) o << "; time unit " << unit << " = " << p.time_unit << " s";
     o << "\n";
   }
+  // The dimensionless groups: kappa against the stress that drives the grains (the imposed
+  // pressure, else the viscous stress eta gammadot of an imposed rate), Vi against the pressure
+  // (Peyneau eq. 1.34, 4.1, 5.7), and the Stokes number St = m gammadot / (eta a) of a grain of
+  // diameter a at the loading's rate (whether the inertial stepper's mass matters).
+  auto stokes = [&](double r) { return m.m_a * r / (p.eta * p.a); };
+  if (pressure) {
+    const double P = m.box_control.pressure;
+    o << "             kappa = " << stiffness_number(m, P) << "; ";
+    if (rate > 0) {
+      o << "Vi = eta gammadot / P = " << p.eta * rate / P << "; St = m gammadot / (eta a) = " << stokes(rate);
+    } else if (m.box_control.cycle != StressCycle::kNone) {
+      const double w = m.box_control.cycle_omega;
+      o << "cycles Vi = eta w / P = " << p.eta * w / P << "; St = m w / (eta a) = " << stokes(w);
+    } else if (m.shear.stress_controlled) {
+      o << "imposed shear stress: Vi is measured (observable Vi); St at the time unit = m P / (eta^2 a) = "
+        << stokes(P / p.eta);
+    } else {
+      o << "St at the time unit = m P / (eta^2 a) = " << stokes(P / p.eta);
+    }
+    o << "\n";
+  } else if (rate > 0) {
+    const double viscous = p.eta * rate;
+    o << "             kappa at the viscous stress eta gammadot = " << stiffness_number(m, viscous)
+      << "; St = m gammadot / (eta a) = " << stokes(rate) << " (no imposed pressure: no Vi)\n";
+  }
+  const PasteMemory& e = p.memory;
+  o << "             memory beyond the grains about " << megabytes(e.total()) << ": the Cholesky factor "
+    << megabytes(e.factor) << " (CHOLMOD's analysis of " << e.connections << " connections, the initial grains at Phi = "
+    << e.phi << "), Xi (" << e.entries << " entries), its buffers and copies " << megabytes(e.held)
+    << ", a step's peak " << megabytes(e.transient) << "\n";
   return o.str();
 }
 
@@ -213,6 +238,14 @@ std::string check_paste_state(const Model& m, const State& s) {
   const int64_t size = s.n * pg + n_box;
   const auto& change = s.module_field(f.change);
   if (!change.empty() && static_cast<int64_t>(change.size()) != 2 * size) return "paste_change has the wrong length";
+  const auto& alone = s.module_field(f.alone);
+  if (!alone.empty()) {
+    if (alone[0] != 0 && alone[0] != 1) return "paste_alone's flag is neither 0 nor 1";
+    for (size_t k = 1; k < alone.size(); ++k)
+      if (!(alone[k] >= 0 && alone[k] < static_cast<double>(s.n)) || alone[k] != std::floor(alone[k]) ||
+          (k > 1 && !(alone[k] > alone[k - 1])))
+        return "paste_alone's grain ids are out of range or out of order";
+  }
   const auto& a = s.module_field(f.factor);
   if (a.empty()) return "";
   if (a.size() < 2 || a[0] != static_cast<double>(size) || !(a[1] >= 0) || a[1] > 1e12 ||
@@ -260,16 +293,20 @@ const ModuleSpec& module() {
          "Xi's diagonal and the right-hand side of the last solve, for the adaptive step; lubrication_solve"},
         {"paste_factor", Extent::kFree, "",
          "the matrix the held Cholesky factor was made from (n, nnz, columns, rows, values): a restart refactorises "
-         "it; lubrication_solve"}};
+         "it; lubrication_solve"},
+        {"paste_alone", Extent::kFree, "",
+         "1 when the set changed at the last solve (else 0), then the ids of the grains with no lubricated "
+         "connection, held at the affine flow, in increasing order; lubrication_solve"}};
     s.events = {"paste_solve", "paste_step"};
     s.observables = paste_observables();
     s.enabled = [](const SceneDesc& d) { return d.has("lubrication.viscosity"); };
     s.compile = compile_paste;
     s.finish = finish_paste;
-    s.memory_bytes = factor_memory_bytes;
+    s.memory_bytes = paste_memory_bytes;
     s.describe = describe_paste;
     s.steer = steer_paste;
     s.check_state = check_paste_state;
+    s.notice = [](const Model&, const State& st) { return alone_notice(st); };
     s.summary_group = "solver";
     s.summary = [](const Model&, const State& st) -> std::vector<std::pair<std::string, double>> {
       const auto& v = st.module_field(paste_fields().solver);

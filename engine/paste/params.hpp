@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "paste/lubrication_laws.hpp"
+#include "paste/memory.hpp"
 #include "silt/linalg.hpp"
 #include "silt/model.hpp"
 
@@ -45,6 +46,8 @@ struct PasteParams {
   // no dashpots: the liquid dissipates).
   ContactParams dry_contact;
   std::vector<ContactParams> dry_pair_contact;
+  // What the run will take beyond the grains (paste/memory.hpp), estimated once compiled.
+  PasteMemory memory;
 
   LubricationLaw law() const { return {eta, h_min_over_a * a, h_max_over_a * a, cutoff}; }
 };

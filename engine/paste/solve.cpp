@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <string>
 
 #include "core/parallel.hpp"
 #include "dem/stress.hpp"
@@ -47,6 +48,22 @@ double relative_change(const double* now, const double* before, int64_t n) {
   return top > 0 ? diff / top : 0;
 }
 
+// paste_alone: a flag, 1 when the set changed at this solve, then the ids of the grains alone in
+// their component of the connection graph (held at the affine flow), in increasing order.
+void record_alone(State& s, const std::vector<int32_t>& component, const std::vector<int64_t>& comp_size) {
+  std::vector<double>& field = s.module_field(paste_fields().alone);
+  std::vector<double> ids;
+  for (int64_t i = 0; i < static_cast<int64_t>(component.size()); ++i)
+    if (comp_size[component[i]] == 1) ids.push_back(s.particle_id[i]);
+  std::sort(ids.begin(), ids.end());
+  const bool same = !field.empty() && field.size() == ids.size() + 1 &&
+                    std::equal(ids.begin(), ids.end(), field.begin() + 1);
+  const bool was_empty = field.size() <= 1;
+  field.resize(ids.size() + 1);
+  std::copy(ids.begin(), ids.end(), field.begin() + 1);
+  field[0] = same || (was_empty && ids.empty()) ? 0 : 1;
+}
+
 // The next step (sec. 2.2.4): grow while Xi's diagonal and the right-hand side change by at most
 // dt_change a step, else shrink in proportion.
 double next_step(const PasteParams& p, double dt, double change) {
@@ -57,8 +74,9 @@ double next_step(const PasteParams& p, double dt, double change) {
 }  // namespace
 
 PasteFields paste_fields() {
-  static const PasteFields f{find_field("pair_f_lub")->id, find_field("paste_dt")->id, find_field("paste_solver")->id,
-                             find_field("paste_change")->id, find_field("paste_factor")->id};
+  static const PasteFields f{find_field("pair_f_lub")->id,   find_field("paste_dt")->id,
+                             find_field("paste_solver")->id, find_field("paste_change")->id,
+                             find_field("paste_factor")->id, find_field("paste_alone")->id};
   return f;
 }
 
@@ -73,6 +91,22 @@ EventId step_event() {
 }
 
 const char* stepper_name(Stepper s) { return s == Stepper::kInertial ? "inertial" : "quasi_static"; }
+
+std::string alone_notice(const State& s) {
+  const std::vector<double>& field = s.module_field(paste_fields().alone);
+  if (field.empty() || field[0] != 1) return "";
+  const size_t n = field.size() - 1;
+  if (n == 0) return "every grain has a lubricated connection again";
+  // The first ids, enough to find them (render.color_by = "id", p[K].x); then how many more.
+  constexpr size_t kNamed = 20;
+  std::string ids;
+  for (size_t k = 0; k < std::min(n, kNamed); ++k)
+    ids += (k ? ", " : "") + std::to_string(static_cast<int64_t>(field[k + 1]));
+  if (n > kNamed) ids += " and " + std::to_string(n - kNamed) + " more";
+  return std::string(n == 1 ? "grain " : "grains ") + ids + (n == 1 ? " has" : " have") +
+         " no lubricated connection (no gap below lubrication.h_max_over_a): held at the affine flow, which is how "
+         "the liquid carries a grain alone; lubrication.stokes_drag = true lets it move under a Stokes drag instead";
+}
 
 void paste_dt(const Model& m, State& s) {
   const PasteParams& p = m.params.get<PasteParams>();
@@ -174,6 +208,7 @@ void lubrication_solve(const Model& m, State& s, PasteWorkspace& w, bool setup) 
       ++comp_size[c];
       if (comp_first[c] < 0) comp_first[c] = i;
     }
+    record_alone(s, w.component, comp_size);
     double scale = 0;
     int64_t counted = 0;
     for (int64_t i = 0; i < n; ++i)
@@ -195,6 +230,9 @@ void lubrication_solve(const Model& m, State& s, PasteWorkspace& w, bool setup) 
       if (comp_size[c] > 1)
         for (int a = 0; a < R; ++a) val[w.system.diagonal_position(i * pg + D + a)] *= 1 + kRollRegularisation;
     }
+  } else {
+    // Inertia or the drag moves a grain alone: none is held.
+    record_alone(s, {}, {});
   }
 
   // Warm start from the last velocities.

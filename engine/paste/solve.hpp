@@ -22,7 +22,7 @@ namespace silt::paste {
 
 // The paste's own fields (registered by its module spec).
 struct PasteFields {
-  FieldId pair_f_lub, dt, solver, change, factor;
+  FieldId pair_f_lub, dt, solver, change, factor, alone;
 };
 PasteFields paste_fields();
 
@@ -73,11 +73,15 @@ void paste_dt(const Model& m, State& s);
 //  particle_inv_i, nbr_start, pair_j, pair_f, pair_hist, particle_group, box, box_rate,
 //  shear_rate, dt, paste_*) =>
 // (particle_v, particle_w, box_rate, pair_f_lub, paste_dt, paste_solver, paste_change,
-//  paste_factor)
+//  paste_factor, paste_alone)
 // `setup`: the velocities of the first state, the adaptive step left as it is.
 void lubrication_solve(const Model& m, State& s, PasteWorkspace& w, bool setup);
 
 // The stepper's name, for reports.
 const char* stepper_name(Stepper s);
+
+// What the run says when the grains with no lubricated connection change (paste_alone): their
+// ids, or that every grain is connected again; "" when the last solve left the set as it was.
+std::string alone_notice(const State& s);
 
 }  // namespace silt::paste

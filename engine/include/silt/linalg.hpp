@@ -109,6 +109,22 @@ struct CgWorkspace {
 SolveReport conjugate_gradient(const LinearOperator& a, const Vector& b, Vector& x, const SolveOptions& opt,
                                const Preconditioner* m = nullptr, CgWorkspace* ws = nullptr);
 
+// The memory a Cholesky factor will take, from CHOLMOD's symbolic analysis of a pattern alone (its
+// fill-reducing ordering and supernodal structure, as CholeskyFactor::analyze makes them): for
+// the matrix whose every entry of `pattern` (symmetric, both triangles) stands for a dense
+// block x block block, the supernodes' values scaled by block^2 (a block's rows and columns
+// stay together in the ordering: they have the same pattern). Cheap: no values, no numerical
+// factorisation, block^2 times fewer entries than the matrix itself.
+struct FactorSize {
+  int64_t entries = 0;  // values of the factor (the supernodes' rectangles)
+  int64_t integers = 0;  // its integer pattern and permutation
+  int64_t update = 0;    // the numerical factorisation's largest update matrix (values)
+  // Bytes: the factor held, and the factorisation's peak beyond it.
+  double factor_bytes() const { return 8.0 * static_cast<double>(entries) + 4.0 * static_cast<double>(integers); }
+  double workspace_bytes() const { return 8.0 * static_cast<double>(update); }
+};
+FactorSize block_factor_size(const SparseMatrix& pattern, int block);
+
 // A sparse Cholesky factor L L^T = A (CHOLMOD, supernodal). The symbolic analysis (fill-reducing
 // ordering and the factor's pattern) is kept and reused by factorize() while the pattern of A does
 // not change; analyze() starts over. A factor serves as a direct solver and as a preconditioner.
@@ -131,6 +147,9 @@ class CholeskyFactor final : public Preconditioner {
   // Bytes the numerical factor takes (known after analyze()), entries of L.
   int64_t factor_bytes() const;
   int64_t factor_entries() const;
+  // The analysed factor's size as block_factor_size gives it (block 1): what an estimate is
+  // checked against.
+  FactorSize size() const;
   int64_t analyses() const { return analyses_; }
   int64_t factorizations() const { return factorizations_; }
 

@@ -49,6 +49,12 @@ struct ModuleSpec {
   // "" when the module's own fields in a state read from a checkpoint are consistent (their
   // lengths and indices: those of Extent::kFree are not checked otherwise), else what is wrong.
   std::function<std::string(const Model& m, const State& s)> check_state;
+  // A note for the run's output after a step (and after the forces of the first state), "" when
+  // there is nothing new: something the module handled by a documented choice that the user
+  // should know of (a paste's grains with no lubricated connection, held at the affine flow).
+  // Read from the state alone, so that it is said once when what it reports changes, and a
+  // replayed step (the last good state) says nothing again.
+  std::function<std::string(const Model& m, const State& s)> notice;
   // Bytes the module's workspaces will take beyond its fields (a Cholesky factor), for the memory
   // estimate of `silt check` and the refusal of a scene that does not fit.
   std::function<double(const Model& m)> memory_bytes;

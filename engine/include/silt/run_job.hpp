@@ -46,7 +46,8 @@ class RunJob {
   // summary's warnings and by exit code 4 at the end.
   void add_output_error(std::string e);
 
-  // The run, with the job's hooks added to opt's.
+  // The run, with the job's hooks added to opt's; the modules' notes (RunOptions::on_notice) also
+  // go into the summary's warnings.
   RunReport run(RunOptions opt);
   // After the run: the stats flushed, the last good state written after a failure (beside the
   // summary, else the stats), the final checkpoint, then the summary. Returns the process's exit

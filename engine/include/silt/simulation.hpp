@@ -38,6 +38,8 @@ struct RunOptions {
   // True when between_steps has work for the next boundary (it is then served one step later
   // if the state at this boundary is not complete; see State::boundary_seen).
   std::function<bool()> boundary_wanted;
+  // The modules' notes ("step N: ..."; ModuleSpec::notice), as the steps make them.
+  std::function<void(const std::string&)> on_notice;
   const std::atomic<bool>* interrupt = nullptr;  // checked at every step boundary
   bool stop_when_static = false;                 // Model::until_static criterion
 };
@@ -86,6 +88,11 @@ class Simulation {
   int64_t restart_step() const;
   // Equilibrium test of Model::until_static on the current state.
   bool is_static() const;
+  // The modules' notes made by the steps (and the first state's forces) since the last call,
+  // "step N: ..." each; a run hands them to RunOptions::on_notice as they come. At most
+  // kMaxNotices are kept between calls (the latest).
+  std::vector<std::string> take_notices();
+  static constexpr size_t kMaxNotices = 1000;
 
   std::vector<std::string> stage_names() const;
   std::string describe_graph() const;
@@ -105,6 +112,7 @@ class Simulation {
  private:
   struct Impl;
   void execute(graph::StepGraph& g, State& s);
+  void collect_notices();
   Model model_;
   State state_;
   int threads_;

@@ -207,3 +207,59 @@ TEST_CASE("VTK image data: scalar and vector grid fields as cell data, read back
   CHECK(pvd.find("fields_000000") == std::string::npos);
   std::filesystem::remove_all("vtk_fields_out");
 }
+
+TEST_CASE("VTK of a paste: every grain's lubrication force, which balances its contact force") {
+  // Five disks in a fixed box (two contacts, four lubricated gaps only), solved once: in the
+  // quasi-static paste with no external force each grain's lubrication force is minus its contact
+  // force (eq. 2.19), to the solve's tolerance.
+  auto sim = test::simulation_from(R"(
+[scene]
+dimension = 2
+[domain]
+lo = [0, 0]
+hi = [8, 8]
+periodic = [true, true]
+[contact]
+model = "linear"
+k_n = 1e4
+[lubrication]
+viscosity = 1.0
+h_min_over_a = 1e-2
+tolerance = 1e-12
+dt = 1e-3
+[[grains]]
+radius = 0.5
+placement = "explicit"
+positions = [[3.0, 4.0], [3.98, 4.0], [4.577, 4.796], [5.2, 4.0], [3.5, 3.1]]
+)");
+  REQUIRE(sim->step());
+  const State& s = sim->state();
+  VtkWriter vtk("vtk_paste_out");
+  vtk.write(sim->model(), s);
+  const std::string grains = slurp("vtk_paste_out/grains_000000.vtu");
+  const auto lub = array_of(grains, "force_lub"), contact = array_of(grains, "force");
+  REQUIRE(lub.size() == 15);
+  REQUIRE(contact.size() == 15);
+  // The sum over each grain's connections of the stored pair forces (on i from j, and minus it
+  // on j).
+  const auto pf = double_field(s, find_field("pair_f_lub")->id);
+  std::vector<double> sum(15, 0.0);
+  for (int64_t i = 0; i < s.n; ++i)
+    for (int32_t p = s.nbr_start[i]; p < s.nbr_start[i + 1]; ++p)
+      for (int a = 0; a < 2; ++a) {
+        sum[3 * i + a] += pf[2 * p + a];
+        sum[3 * s.pair_j[p] + a] -= pf[2 * p + a];
+      }
+  double scale = 0;
+  for (double f : contact) scale = std::max(scale, std::abs(f));
+  REQUIRE(scale > 100);  // k_n times an overlap of 0.02
+  for (size_t k = 0; k < 15; ++k) {
+    CAPTURE(k);
+    // Nine significant digits in the file.
+    CHECK(lub[k] == doctest::Approx(sum[k]).scale(scale).epsilon(1e-8));
+    CHECK(lub[k] == doctest::Approx(-contact[k]).scale(scale).epsilon(1e-8));
+  }
+  // Only the touching pairs are contact lines; the lubrication is the grains' force_lub.
+  CHECK(slurp("vtk_paste_out/contacts_000000.vtp").find("NumberOfLines=\"2\"") != std::string::npos);
+  std::filesystem::remove_all("vtk_paste_out");
+}

@@ -1,0 +1,176 @@
+#include "paste/memory.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <vector>
+
+#include "paste/params.hpp"
+#include "paste/resistance.hpp"
+#include "paste/system.hpp"
+#include "silt/linalg.hpp"
+
+namespace silt::paste {
+namespace {
+
+// Random close packing: the densest a compression or an imposed pressure brings the grains to
+// (disks of a few sizes, Peyneau 2009 sec. 2.3.2: 0.836; monodisperse spheres 0.64).
+double jammed_fraction(int dim) { return dim == 2 ? 0.84 : 0.64; }
+
+double solid_fraction(const Model& m) {
+  double grains = 0, box = 1;
+  for (int64_t i = 0; i < m.n_grains; ++i) grains += grain_volume(m.dim, m.init.radius[i]);
+  for (int a = 0; a < m.dim; ++a) box *= m.box.len[a];
+  return box > 0 ? grains / box : 0;
+}
+
+// The solid fraction whose connections the run will solve with at most.
+double run_fraction(const Model& m, double phi0) {
+  const double jam = jammed_fraction(m.dim);
+  if (m.box_control.on) return std::max(phi0, jam);
+  if (m.prepare.compress)
+    return std::max(phi0, m.prepare.phi > 0 ? m.prepare.phi : jam / std::pow(m.prepare.dilation, m.dim));
+  return phi0;
+}
+
+// The pairs of grains whose gap is at most h_max once every centre and the box are scaled by
+// `scale` about the box's low corner (radii kept): a cell list of cells at least one reach wide,
+// or every pair when the box is less than three cells across.
+std::vector<std::array<int32_t, 2>> connected_pairs(const Model& m, double scale, double h_max) {
+  const int D = m.dim;
+  const int64_t n = m.n_grains;
+  Box box = m.box;
+  box.le_offset = 0;
+  for (int a = 0; a < D; ++a) box.len[a] *= scale;
+  std::vector<double> x(static_cast<size_t>(n * D));
+  for (int64_t i = 0; i < n; ++i)
+    for (int a = 0; a < D; ++a) x[D * i + a] = m.box.lo[a] + scale * (m.init.x[D * i + a] - m.box.lo[a]);
+  std::vector<std::array<int32_t, 2>> out;
+  auto test = [&](int64_t i, int64_t j) {
+    double d[3] = {0, 0, 0}, dist2 = 0;
+    for (int a = 0; a < D; ++a) d[a] = x[D * j + a] - x[D * i + a];
+    box.nearest(d, D);
+    for (int a = 0; a < D; ++a) dist2 += d[a] * d[a];
+    if (std::sqrt(dist2) - m.init.radius[i] - m.init.radius[j] <= h_max)
+      out.push_back({static_cast<int32_t>(std::min(i, j)), static_cast<int32_t>(std::max(i, j))});
+  };
+  const double reach = 2 * m.r_max + h_max;
+  std::array<int64_t, 3> cells{1, 1, 1};
+  bool few = false;
+  for (int a = 0; a < D; ++a) {
+    cells[a] = std::max<int64_t>(1, static_cast<int64_t>(box.len[a] / reach));
+    few = few || cells[a] < 3;
+  }
+  if (few) {
+    for (int64_t i = 0; i < n; ++i)
+      for (int64_t j = i + 1; j < n; ++j) test(i, j);
+    return out;
+  }
+  auto cell_of = [&](int64_t i, std::array<int64_t, 3>& c) {
+    for (int a = 0; a < 3; ++a) {
+      if (a >= D) {
+        c[a] = 0;
+        continue;
+      }
+      const double u = (x[D * i + a] - box.lo[a]) / box.len[a];
+      c[a] = ((static_cast<int64_t>(std::floor(u * static_cast<double>(cells[a]))) % cells[a]) + cells[a]) % cells[a];
+    }
+  };
+  const int64_t n_cells = cells[0] * cells[1] * cells[2];
+  std::vector<int64_t> head(static_cast<size_t>(n_cells), -1), next(static_cast<size_t>(n), -1);
+  std::array<int64_t, 3> c{};
+  for (int64_t i = 0; i < n; ++i) {
+    cell_of(i, c);
+    const int64_t k = (c[2] * cells[1] + c[1]) * cells[0] + c[0];
+    next[i] = head[k];
+    head[k] = i;
+  }
+  // Each grain against the grains of its 3^D cells with a larger index: every pair once. A
+  // sheared box starts unsheared (its offset zero): the plain periodic neighbours.
+  for (int64_t i = 0; i < n; ++i) {
+    cell_of(i, c);
+    for (int dz = (D == 3 ? -1 : 0); dz <= (D == 3 ? 1 : 0); ++dz)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          const int64_t cx = (c[0] + dx + cells[0]) % cells[0], cy = (c[1] + dy + cells[1]) % cells[1];
+          const int64_t cz = (c[2] + dz + cells[2]) % cells[2];
+          for (int64_t j = head[(cz * cells[1] + cy) * cells[0] + cx]; j >= 0; j = next[j])
+            if (j > i) test(i, j);
+        }
+  }
+  return out;
+}
+
+}  // namespace
+
+PasteMemory estimate_paste_memory(const Model& m) {
+  const PasteParams& p = m.params.get<PasteParams>();
+  PasteMemory e;
+  const int64_t n = m.n_grains;
+  if (n <= 0) return e;
+  const double phi0 = solid_fraction(m);
+  e.phi = run_fraction(m, phi0);
+  const double scale = phi0 > 0 && e.phi > phi0 ? std::pow(phi0 / e.phi, 1.0 / m.dim) : 1.0;
+  const auto pairs = connected_pairs(m, scale, p.h_max_over_a * p.a);
+  const auto c = static_cast<int64_t>(pairs.size());
+  e.connections = c;
+
+  bool controlled[3] = {false, false, false};
+  if (m.box_control.on)
+    for (int a = 0; a < m.dim; ++a) controlled[a] = m.box_control.controlled[a];
+  const SystemLayout l = make_layout(m.dim, n, controlled, m.shear.on);
+  const int64_t pg = l.per_grain, nb = l.n_box, size = l.size();
+  std::vector<uint8_t> linked(static_cast<size_t>(n), 0);
+  for (const auto& [i, j] : pairs) linked[i] = linked[j] = 1;
+  const auto n_linked = static_cast<int64_t>(std::count(linked.begin(), linked.end(), 1));
+
+  // Xi's pattern, as ResistanceSystem builds it: every diagonal entry, the whole diagonal block
+  // of a connected grain, the two blocks of every connection, and the box rows and columns of the
+  // connected grains.
+  e.entries = n_linked * pg * pg + (n - n_linked) * pg + 2 * c * pg * pg + nb;
+  if (c > 0 && nb > 0) e.entries += 2 * n_linked * pg * nb + nb * nb - nb;
+
+  // CHOLMOD's analysis of the grains' blocks (the box's strain rates one more block, dense).
+  const int64_t nodes = n + (nb > 0 ? 1 : 0);
+  std::vector<Eigen::Triplet<double>> t;
+  t.reserve(static_cast<size_t>(nodes + 2 * c + 2 * n_linked));
+  for (int64_t k = 0; k < nodes; ++k) t.emplace_back(static_cast<int>(k), static_cast<int>(k), 1.0);
+  for (const auto& [i, j] : pairs) {
+    t.emplace_back(i, j, 1.0);
+    t.emplace_back(j, i, 1.0);
+  }
+  if (nb > 0)
+    for (int64_t i = 0; i < n; ++i)
+      if (linked[i]) {
+        t.emplace_back(static_cast<int>(i), static_cast<int>(n), 1.0);
+        t.emplace_back(static_cast<int>(n), static_cast<int>(i), 1.0);
+      }
+  linalg::SparseMatrix pattern(nodes, nodes);
+  pattern.setFromTriplets(t.begin(), t.end());
+  const bool factored = p.solver.method != linalg::Method::kCg;
+  linalg::FactorSize f;
+  if (factored) f = linalg::block_factor_size(pattern, static_cast<int>(pg));
+  e.factor = f.factor_bytes();
+
+  // Held between steps: the matrix (values and rows, column starts), each connection's local
+  // G^T xi G and the positions it adds into (local_size^2 each), the connections themselves, a
+  // score of vectors of the unknowns (CG's, the factor's solves, the right-hand side, the
+  // adaptive step's copies); with factor_pcg, the state's copy of the factorised matrix (n, nnz,
+  // columns, rows, values as doubles), twice (the restart point holds the state too).
+  const auto dn = static_cast<double>(size), dc = static_cast<double>(c), dnz = static_cast<double>(e.entries);
+  const double nl = local_size(l);
+  e.held = 12 * dnz + 4 * dn + 16 * nl * nl * dc + dc * (sizeof(Connection) + 12) + 8 * dn + 20 * 8 * dn;
+  if (p.solver.method == linalg::Method::kFactorPcg) e.held += 2 * 8 * (3 + dn + 2 * dnz);
+  // Within a step: a new pattern's triplets (16 bytes each, one per local entry of the grains'
+  // and box's unknowns) and Eigen's transposed copy of them (12 bytes each), or the numerical
+  // factorisation's update matrix (with a sparser copy of Xi when only the stiff connections are
+  // factorised).
+  const double local_entries = static_cast<double>((2 * pg + nb) * (2 * pg + nb));
+  const double pattern_peak = (dn + local_entries * dc) * (16 + 12);
+  double factor_peak = factored ? f.workspace_bytes() + 8 * dn : 0;
+  if (factored && p.factor_gap_over_a < p.h_max_over_a) factor_peak += 12 * dnz;
+  e.transient = std::max(pattern_peak, factor_peak);
+  return e;
+}
+
+}  // namespace silt::paste

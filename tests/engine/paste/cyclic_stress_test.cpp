@@ -1,0 +1,128 @@
+// The cyclic loadings of Peyneau (2009) ch. 5 on a small paste (box.cycle): at every step the
+// stresses of the grains, contacts and lubrication together, are the imposed ones of the cycle
+// at that time (the box rows of the solve), over a whole cycle, and the box deforms the way they
+// push it.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <numbers>
+#include <string>
+
+#include "silt/observables.hpp"
+#include "support/scenes.hpp"
+
+using namespace silt;
+
+namespace {
+
+// 60 disks at random in a periodic 9 x 9 box, P = 1, eta = 1 (the time unit eta / P = 1): one
+// cycle of period 4 and amplitude 0.2, the step at most a fiftieth of it.
+const char* kCyclicPaste = R"(
+[scene]
+dimension = 2
+seed = 3
+[domain]
+lo = [0, 0]
+hi = [9, 9]
+periodic = [true, true]
+[box]
+pressure = 1.0
+cycle = "{kind}"
+cycle_period = 4.0
+cycle_amplitude = 0.2
+[contact]
+model = "linear"
+k_n = 1e4
+friction = 0.3
+kt_over_kn = 0.5
+[lubrication]
+viscosity = 1.0
+h_min_over_a = 1e-2
+tolerance = 1e-11
+dt_max = 0.08
+[[grains]]
+count = 60
+radius_min = 0.35
+radius_max = 0.5
+placement = "random"
+)";
+
+struct CycleRecord {
+  double worst = 0;             // largest |sigma_aa - Sigma_aa(t)| / P over the steps
+  double lowest = 1e300;        // smallest and largest Sigma_xx - Sigma_yy met, / P
+  double highest = -1e300;
+  double strain_half = 0;       // ln(L_x/L_x0) - ln(L_y/L_y0) at the first step past half a cycle
+  double cycle_error = 0;       // largest |cycle - t / period|
+  int64_t steps = 0;
+};
+
+// One cycle of the given kind; `imposed(t, axis)` is the cycle's stress as the thesis writes it.
+template <class Imposed>
+CycleRecord run_cycle(const std::string& kind, Imposed imposed) {
+  std::string scene = kCyclicPaste;
+  scene.replace(scene.find("{kind}"), 6, kind);
+  auto sim = test::simulation_from(scene, 1);
+  const Model& m = sim->model();
+  const double P = 1.0, period = 4.0;
+  const double lx0 = sim->state().box.len[0], ly0 = sim->state().box.len[1];
+  const Observer obs(m, {"stress.xx", "stress.yy", "cycle"});
+  CycleRecord rec;
+  bool half = false;
+  RunOptions opt;
+  opt.time = period;
+  opt.hooks.push_back({1, [&](const State& s) {
+                         const auto v = obs.sample(m, s);
+                         const double sxx = imposed(s.t, 0), syy = imposed(s.t, 1);
+                         rec.worst = std::max({rec.worst, std::abs(v[0] - sxx) / P, std::abs(v[1] - syy) / P});
+                         rec.lowest = std::min(rec.lowest, (sxx - syy) / P);
+                         rec.highest = std::max(rec.highest, (sxx - syy) / P);
+                         rec.cycle_error = std::max(rec.cycle_error, std::abs(v[2] - s.t / period));
+                         if (!half && s.t >= period / 2) {
+                           half = true;
+                           rec.strain_half = std::log(s.box.len[0] / lx0) - std::log(s.box.len[1] / ly0);
+                         }
+                         ++rec.steps;
+                       }});
+  const RunReport r = sim->run(opt);
+  if (r.end == RunEnd::kFailed) MESSAGE(sim->state().failure.message);
+  CHECK(r.end == RunEnd::kDone);
+  CHECK(sim->state().t >= period);
+  return rec;
+}
+
+}  // namespace
+
+TEST_CASE("paste: the alternating cycle imposes Sigma_xx = P (1 + d sin wt) and Sigma_yy = P (1 - d sin wt)") {
+  const double d = 0.2, w = 2 * std::numbers::pi / 4.0;
+  const CycleRecord r = run_cycle("alternating", [&](double t, int axis) {
+    return axis == 0 ? 1.0 + d * std::sin(w * t) : 1.0 - d * std::sin(w * t);  // eq. 5.3-5.4
+  });
+  CAPTURE(r.steps);
+  CHECK(r.steps >= 50);
+  // The box rows of each solve hold the total stress at the imposed one; the solve's relative
+  // residual is at most 1e-11 of a right-hand side of the order of P times the area (81).
+  CHECK(r.worst < 1e-8);
+  // The whole cycle was imposed: the deviator went to +-2 d P (sampled every step, at most a
+  // fiftieth of the period apart: within 1 - cos(2 pi / 100) = 2e-3 of its extremes).
+  CHECK(r.highest == doctest::Approx(2 * d).epsilon(3e-3));
+  CHECK(r.lowest == doctest::Approx(-2 * d).epsilon(3e-3));
+  CHECK(r.cycle_error < 1e-12);
+  // The first half cycle presses harder along x: the box gets narrower along x than along y.
+  CHECK(r.strain_half < 0);
+}
+
+TEST_CASE("paste: the biaxial cycle imposes Sigma_xx = P and Sigma_yy = P (1 + d (1 - cos wt))") {
+  const double d = 0.2, w = 2 * std::numbers::pi / 4.0;
+  const CycleRecord r = run_cycle("biaxial", [&](double t, int axis) {
+    return axis == 0 ? 1.0 : 1.0 + d * (1 - std::cos(w * t));  // eq. 5.15-5.16
+  });
+  CAPTURE(r.steps);
+  CHECK(r.steps >= 50);
+  CHECK(r.worst < 1e-8);
+  // The deviator Sigma_xx - Sigma_yy from 0 to -2 d P and back; never positive.
+  CHECK(r.highest <= 1e-12);
+  CHECK(r.lowest == doctest::Approx(-2 * d).epsilon(3e-3));
+  CHECK(r.cycle_error < 1e-12);
+  // y always pressed harder: the box gets narrower along y than along x.
+  CHECK(r.strain_half > 0);
+}

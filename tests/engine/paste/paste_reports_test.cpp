@@ -1,0 +1,170 @@
+// What a paste tells the user while it runs: the grains with no lubricated connection, named once
+// each time their set changes (held at the affine flow, a documented choice), and a solve that
+// does not converge, reported with its step, its residual and the key to change.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <set>
+#include <string>
+
+#include "paste/solve.hpp"
+#include "silt/text.hpp"
+#include "support/scenes.hpp"
+
+using namespace silt;
+
+namespace {
+
+// Disks of radius 0.5 (a = 1, h_max = 0.5) sheared at gammadot = 1 in a fixed periodic 12 x 12
+// box: 0, 1 and 2 in a cluster; 3 far above it, alone for good; 4 just below and to the right of
+// grain 1 (gap 0.8), alone at first, then carried toward it by the shear (0.4 slower along x).
+const char* kLonelyPaste = R"(
+[scene]
+dimension = 2
+[domain]
+lo = [0, 0]
+hi = [12, 12]
+periodic = [true, true]
+[shear]
+rate = 1.0
+[contact]
+model = "linear"
+k_n = 1e4
+[lubrication]
+viscosity = 1.0
+h_min_over_a = 1e-2
+{extra}
+[[grains]]
+radius = 0.5
+placement = "explicit"
+positions = [[3.0, 6.0], [4.05, 6.0], [3.5, 6.9], [9.0, 9.5], [5.8, 5.6]]
+)";
+
+std::string lonely_scene(const std::string& extra = "") {
+  std::string s = kLonelyPaste;
+  s.replace(s.find("{extra}"), 7, extra);
+  return s;
+}
+
+// The ids of the grains farther than h_max from every other (their nearest images), from the
+// positions alone.
+std::set<int> alone_by_geometry(const State& s, double h_max) {
+  std::set<int> out;
+  for (int64_t i = 0; i < s.n; ++i) {
+    bool connected = false;
+    for (int64_t j = 0; j < s.n && !connected; ++j) {
+      if (j == i) continue;
+      double d[3] = {0, 0, 0}, dist2 = 0;
+      for (int a = 0; a < s.dim; ++a) d[a] = s.particle_x[s.dim * j + a] - s.particle_x[s.dim * i + a];
+      s.box.nearest(d, s.dim);
+      for (int a = 0; a < s.dim; ++a) dist2 += d[a] * d[a];
+      connected = std::sqrt(dist2) - s.particle_r[i] - s.particle_r[j] <= h_max;
+    }
+    if (!connected) out.insert(s.particle_id[i]);
+  }
+  return out;
+}
+
+// The note a run gives for this set at this step.
+std::string expected_note(int64_t step, const std::set<int>& ids) {
+  std::string list;
+  for (int id : ids) list += (list.empty() ? "" : ", ") + std::to_string(id);
+  if (ids.empty()) return "step " + std::to_string(step) + ": every grain has a lubricated connection again";
+  return "step " + std::to_string(step) + ": " + (ids.size() == 1 ? "grain " : "grains ") + list +
+         (ids.size() == 1 ? " has" : " have") + " no lubricated connection";
+}
+
+}  // namespace
+
+TEST_CASE("paste: grains with no lubricated connection are named once each time their set changes") {
+  auto sim = test::simulation_from(lonely_scene(), 1);
+  const double h_max = 0.5;
+  sim->prepare();
+  std::vector<std::string> notes = sim->take_notices();
+  REQUIRE(notes.size() == 1);
+  CHECK(notes[0].rfind(expected_note(0, {3, 4}), 0) == 0);
+  CHECK(notes[0].find("held at the affine flow") != std::string::npos);
+  CHECK(notes[0].find("lubrication.stokes_drag") != std::string::npos);
+  // The grains alone are held at the affine flow: no velocity relative to it.
+  for (int a = 0; a < 2; ++a) CHECK(sim->state().particle_v[2 * 3 + a] == 0);
+  std::set<int> before = alone_by_geometry(sim->state(), h_max);
+  REQUIRE(before == std::set<int>{3, 4});
+  int changes = 0;
+  for (int k = 0; k < 400 && changes < 2; ++k) {
+    REQUIRE(sim->step());
+    const State& s = sim->state();
+    const std::set<int> now = alone_by_geometry(s, h_max);
+    notes = sim->take_notices();
+    CAPTURE(s.step);
+    if (now == before) {
+      CHECK(notes.empty());
+      continue;
+    }
+    ++changes;
+    REQUIRE(notes.size() == 1);
+    CHECK(notes[0].rfind(expected_note(s.step, now), 0) == 0);
+    before = now;
+  }
+  // Grain 4 reached grain 1 (only 3 left alone), then left it again or stayed: at least one
+  // change was seen, the first of them grain 4 joining.
+  CHECK(changes >= 1);
+  CHECK(before.count(3) == 1);
+}
+
+TEST_CASE("paste: with a Stokes drag or inertia no grain is held, and none is named") {
+  for (const std::string extra : {"stokes_drag = true", "stepper = \"inertial\"\ndt = 1e-3"}) {
+    CAPTURE(extra);
+    auto sim = test::simulation_from(lonely_scene(extra), 1);
+    sim->prepare();
+    for (int k = 0; k < 3; ++k) REQUIRE(sim->step());
+    CHECK(sim->take_notices().empty());
+  }
+}
+
+TEST_CASE("paste: a solve that does not converge stops the run naming the step, the residual and the key") {
+  // Jacobi CG allowed 3 iterations on a loose paste under pressure: far from the tolerance.
+  auto sim = test::simulation_from(R"(
+[scene]
+dimension = 2
+seed = 7
+[domain]
+lo = [0, 0]
+hi = [9, 9]
+periodic = [true, true]
+[box]
+pressure = 1.0
+[contact]
+model = "linear"
+k_n = 1e4
+[lubrication]
+viscosity = 1.0
+solver = "cg"
+max_iterations = 3
+[[grains]]
+count = 60
+radius_min = 0.35
+radius_max = 0.5
+placement = "random"
+)",
+                                   1);
+  CHECK_FALSE(sim->step());
+  const StepFailure& f = sim->state().failure;
+  CHECK(f.step == 1);
+  CHECK(f.stage == "lubrication_solve");
+  CHECK(f.parameter == "lubrication.max_iterations");
+  const auto& stats = sim->state().module_field(paste::paste_fields().solver);
+  REQUIRE(stats.size() == paste::kSolverStats);
+  CHECK(stats[paste::kLastIterations] == 3);
+  const double residual = stats[paste::kLastResidual];
+  CHECK(residual > 1e-8);  // above lubrication.tolerance
+  CHECK(std::isfinite(residual));
+  CAPTURE(f.message);
+  CHECK(f.message.rfind("step 1, stage lubrication_solve: the lubrication solve did not converge", 0) == 0);
+  CHECK(f.message.find("relative residual " + format_number(residual, 4) + " after 3 iterations") != std::string::npos);
+  CHECK(f.message.find("above lubrication.tolerance = " + format_number(1e-8, 4)) != std::string::npos);
+  CHECK(f.message.find("raise lubrication.max_iterations") != std::string::npos);
+  // The last good state is the first one, whole.
+  const State good = sim->last_good_state();
+  CHECK(good.step == 0);
+  for (double v : good.particle_v) CHECK(std::isfinite(v));
+}

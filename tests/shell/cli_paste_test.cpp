@@ -1,0 +1,88 @@
+// `silt check` and `silt run` on lubricated pastes: the dimensionless groups of a scene sheared at
+// an imposed rate, the memory estimate and the refusal of a paste that does not fit, and the
+// grains with no lubricated connection named in the run's output and summary.
+#include <doctest/doctest.h>
+
+#include <nlohmann/json.hpp>
+
+#include "shell/cli_fixtures.hpp"
+
+using namespace silt::test;
+
+namespace {
+
+bool has(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+
+}  // namespace
+
+TEST_CASE("silt check on a paste sheared at an imposed rate: its time unit, St, and the factor's memory") {
+  const Result r = silt_cli("check " + scene_path("paste_3d_shear"));
+  CAPTURE(r.out);
+  REQUIRE(r.code == 0);
+  // No pressure is imposed: the time unit is 1 / gammadot (= 100 s), not eta / P.
+  CHECK(has(r.out, "time unit 1/gammadot = 100 s"));
+  CHECK_FALSE(has(r.out, "eta/P"));
+  // St = m gammadot / (eta a): m = (4/3) pi 1^3 (density 1), gammadot = 0.01, eta = 1, a = 2.
+  CHECK(has(r.out, "St = m gammadot / (eta a) = 0.020944"));
+  CHECK(has(r.out, "kappa at the viscous stress eta gammadot = "));
+  CHECK(has(r.out, "memory beyond the grains about "));
+  CHECK(has(r.out, "connections, the initial grains at Phi = 0.45"));
+  // With a pressure: kappa, Vi and St of the shear.
+  const Result s = silt_cli("check " + scene_path("paste_shear"));
+  REQUIRE(s.code == 0);
+  CHECK(has(s.out, "Vi = eta gammadot / P = "));
+  CHECK(has(s.out, "St = m gammadot / (eta a) = "));
+  CHECK(has(s.out, "time unit eta/P = "));
+}
+
+TEST_CASE("silt check refuses up front a paste whose factor would not fit, saying how much it needs") {
+#if defined(__SANITIZE_ADDRESS__)
+  return;  // AddressSanitizer reserves terabytes of address space: no program of it starts under ulimit -v
+#endif
+  // The 4,096 spheres of paste_3d_shear with the address space limited to 384 MiB (the program
+  // takes about 250 MiB of it before it reads the scene, the grains 17 MiB): the paste's
+  // estimate (0.54 GiB, 0.3 of it the factor) is above what is left.
+  const Result r = sh("ulimit -v 393216; " + silt_binary() + " check " + scene_path("paste_3d_shear"));
+  CAPTURE(r.out);
+  CHECK(r.code == 2);
+  CHECK(has(r.out, "paste_3d_shear.toml:34:13:"));  // at lubrication.viscosity
+  CHECK(has(r.out, "the paste needs about "));
+  CHECK(has(r.out, "GiB, of which the Cholesky factor of Xi "));
+  CHECK(has(r.out, "use fewer grains"));
+  CHECK_FALSE(has(r.out, "bad_alloc"));
+}
+
+TEST_CASE("silt run names the grains with no lubricated connection in its output and its summary") {
+  // Two grains touching and one far from them, at rest in a fixed box: grain 2 is alone at the
+  // start and for the whole run, named once.
+  write_file("cli_lonely_paste.toml", R"(
+[scene]
+dimension = 2
+[domain]
+lo = [0, 0]
+hi = [10, 10]
+periodic = [true, true]
+[shear]
+rate = 0.01
+[contact]
+model = "linear"
+k_n = 1e4
+[lubrication]
+viscosity = 1.0
+[[grains]]
+radius = 0.5
+placement = "explicit"
+positions = [[3.0, 5.0], [4.05, 5.0], [8.0, 2.0]]
+)");
+  const Result r = silt_cli("run cli_lonely_paste.toml --steps 20 --quiet --summary cli_lonely_paste.json");
+  CAPTURE(r.out);
+  REQUIRE(r.code == 0);
+  const std::string note = "step 0: grain 2 has no lubricated connection";
+  CHECK(has(r.out, "silt: warning: " + note));
+  CHECK(r.out.find(note) == r.out.rfind(note));  // once
+  const auto j = nlohmann::json::parse(read_file("cli_lonely_paste.json"));
+  REQUIRE(j["warnings"].size() == 1);
+  CHECK(j["warnings"][0].get<std::string>().rfind(note, 0) == 0);
+  std::remove("cli_lonely_paste.toml");
+  std::remove("cli_lonely_paste.json");
+}

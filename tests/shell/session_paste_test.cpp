@@ -1,0 +1,93 @@
+// Steering a lubricated paste from the shell while it runs in the background: the roughness, the
+// viscous number and the pressure change at a step boundary and the next steps solve with them;
+// what would change the system solved is refused until the run stops.
+#include <doctest/doctest.h>
+
+#include <chrono>
+#include <fstream>
+#include <thread>
+
+#include "shell/shell_fixtures.hpp"
+#include "support/scenes.hpp"
+
+using namespace silt;
+using test::contains;
+using test::Fixture;
+
+namespace {
+
+// 60 disks at random in a periodic 9 x 9 box, sheared at Vi = 0.1 under P = 1 on y.
+const char* kSteeredPaste = R"(
+[scene]
+dimension = 2
+seed = 7
+[domain]
+lo = [0, 0]
+hi = [9, 9]
+periodic = [true, true]
+[box]
+pressure = 1.0
+controlled = [false, true]
+[shear]
+viscous_number = 0.1
+[contact]
+model = "linear"
+k_n = 1e4
+friction = 0.3
+kt_over_kn = 0.5
+[lubrication]
+viscosity = 1.0
+h_min_over_a = 1e-2
+[[grains]]
+count = 60
+radius_min = 0.35
+radius_max = 0.5
+placement = "random"
+[output]
+every = 10
+)";
+
+// Waits (at most 60 s) until the background run has done `more` steps past `from`.
+void wait_for_steps(Fixture& f, double from, double more) {
+  const auto t0 = std::chrono::steady_clock::now();
+  while (f.value("step") < from + more && std::chrono::steady_clock::now() - t0 < std::chrono::seconds(60))
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+}
+
+}  // namespace
+
+TEST_CASE("the shell steers a running paste: h_min, the viscous number and the pressure") {
+  test::TempDir dir;
+  std::ofstream(dir / "steered_paste.toml") << kSteeredPaste;
+  Fixture f;
+  REQUIRE(f.run("load " + (dir / "steered_paste.toml")));
+  REQUIRE(f.run("start 1000000"));
+  REQUIRE(f.s.running());
+  wait_for_steps(f, 0, 5);
+  f.take_out();
+  REQUIRE(f.run("set lubrication.h_min_over_a 1e-4"));
+  CHECK(contains(f.take_out(), "lubrication.h_min_over_a = 1e-4 (from the next step)"));
+  REQUIRE(f.run("set shear.viscous_number 0.05"));
+  REQUIRE(f.run("set box.pressure 2"));
+  CHECK(contains(f.take_out(), "box.pressure = 2 (from the next step)"));
+  // What changes the system solved waits for the run to stop.
+  CHECK_FALSE(f.run("set lubrication.stepper inertial"));
+  CHECK(contains(f.take_err(), "stop first"));
+  const double at = f.value("step");
+  wait_for_steps(f, at, 20);
+  REQUIRE(f.run("stop"));
+  CHECK_FALSE(contains(f.take_out(), "failed"));
+  CHECK(f.value("step") >= at + 20);
+  // The model the steps ran with: the new roughness, Vi = 0.05 at P = 2 (gammadot = Vi P / eta).
+  REQUIRE(f.run("check"));
+  const std::string model = f.take_out();
+  CHECK(contains(model, "h_min/a = 0.0001"));
+  CHECK(contains(model, "Vi = eta gammadot / P = 0.05"));
+  CHECK(f.value("gammadot") == doctest::Approx(0.1));
+  CHECK(f.value("Vi") == doctest::Approx(0.05));
+  // The box rows held the stress at the new pressure at every solve since (6 digits printed).
+  CHECK(f.value("stress.yy") == doctest::Approx(2.0).epsilon(1e-5));
+  // Stopped, the stepper can change: the scene is compiled again, the state kept.
+  REQUIRE(f.run("set lubrication.stepper inertial"));
+  CHECK(contains(f.take_out(), "(state kept)"));
+}
