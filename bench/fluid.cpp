@@ -8,8 +8,10 @@
 //   openfoam    the cavity at 128^2, Re = 10, dt = 0.005 L/U, against OpenFOAM's icoFoam
 //               (bench/openfoam/run_icofoam.sh) in the same run, both against a fine silt grid
 //   frames      a vorticity frame of the 2D cavity at 1024 x 1024 pixels and a 3D slice, timed
+//   poisson     one Poisson solve on 128^3 cells by the fast transforms and by multigrid CG to 1e-8
 //
-//   build/bench/fluid [--only cavity|throughput|openfoam|frames] [--quick]
+//   build/bench/fluid [--only cavity|throughput|openfoam|frames|poisson] [--quick]
+// (--quick: the smaller cases only, 32^3 for poisson.)
 #include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
@@ -17,12 +19,16 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <random>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include "bench_util.hpp"
+#include "fluid/fast_solver.hpp"
 #include "fluid/module.hpp"
+#include "fluid/multigrid.hpp"
+#include "fluid/pressure_solve.hpp"
 #include "fluid/step.hpp"
 #include "silt/render.hpp"
 #include "silt/simulation.hpp"
@@ -186,19 +192,42 @@ double triad_bandwidth(int threads) {
   return 24.0 * static_cast<double>(n) / best;
 }
 
-// Doubles a step reads and writes per cell, as implemented (fluid/step.cpp), caches assumed to
-// hold a few planes: per substep the fused momentum sweep (u, n_prev and the pressure read; u*,
-// n_prev written: 4D + 1), the divergence (D + 1), each transform pass over the cells (read and
-// write: 2 per pass, a forward and a backward pass per transformed axis), the Thomas sweeps (7),
-// the copy into the padded increment (2), the gradient correction (2D + 1) and the pressure's
-// update (3); with Crank-Nicolson, per component a gather, a solve and a scatter; per step the
-// loads and stores of the State (4D + 4).
-double doubles_per_cell_step(int dim, bool periodic_all, bool cn) {
-  const int transformed = periodic_all ? dim : dim - 1;
-  const double solve = 4.0 * transformed + (periodic_all ? 0.0 : 7.0);
-  double substep = (4.0 * dim + 1) + (dim + 1) + solve + 2 + (2.0 * dim + 1) + 3;
-  if (cn) substep += dim * (2 + solve + 2);
-  return 3 * substep + 4.0 * dim + 4;
+// Doubles a step must read and write per cell, as implemented (fluid/step.cpp), for the
+// Taylor-Green vortex of the throughput cases (every axis periodic), each sweep counted once over
+// the grid: its stencils' neighbours and the rows of ghosts the boundaries fill (a few rows or
+// planes, O(1/n) of the data) come from caches that hold a few planes. A "pass" reads and writes
+// every cell: 2.
+//
+// Per Runge-Kutta substep:
+//   fluid_momentum   one fused sweep: reads u (D components), the pressure so far and n_prev (D);
+//                    writes u* (D) and n_prev (D): 4D + 1. With Crank-Nicolson it also reads the
+//                    boundary Laplacian bc_lap (D; operators.cpp, MomentumPoint): 5D + 1
+//   fluid_viscous    (Crank-Nicolson) per component: the gather into the unknowns (dividing by
+//                    beta as it copies: read, write), the Helmholtz solve, the scatter back
+//                    (read, write): 2 + solve + 2
+//   fluid_pressure   the divergence (reads D, writes 1), the Poisson solve in place, the scatter
+//                    of the increment into its padded array (read, write): D + 1 + solve + 2
+//   fluid_project    one fused sweep: reads the increment once, reads and writes u (2D) and the
+//                    pressure (2): 2D + 3
+// A solve (fast_solver.cpp) transforms every axis but the last forward and back, one pass each,
+// and the last axis forward, divided by the eigenvalues and back in one pass (blocks gathered
+// into a buffer): 2 (D - 1) + 1 passes. When the last axis is not periodic (a wall), the Thomas
+// sweeps along it replace that pass, forward and back over a chunk of 64 modes that stays in
+// cache between the two (64 x n values and as many pivots): again 2D - 1 passes.
+// Per step: fluid_load copies the State's velocity and pressure into the padded arrays and
+// fluid_store copies them back (read, write, D + 1 arrays each): 4D + 4.
+// Not counted: the divergence the store computes only when a sample looks at the step (the
+// throughput runs take none); and the ghost fills, 7D + 6 a step (velocity and pressure before
+// each momentum sweep, velocity before each divergence, the increment before each projection,
+// velocity in the store), which along y and z write whole rows or planes of ghosts but along x
+// touch the two ends of every row, about 4 of its (n + 3) / 8 cache lines: some 2 x 32 / n
+// doubles per cell each, 10 % more than counted at 128^3 in 3D and 1 % at 1024^2.
+double doubles_per_cell_step(int dim, bool cn) {
+  const double D = dim;
+  const double solve = 2 * (2 * D - 1);
+  double substep = (cn ? 5 * D + 1 : 4 * D + 1) + (D + 1 + solve + 2) + (2 * D + 3);
+  if (cn) substep += D * (2 + solve + 2);
+  return 3 * substep + 4 * D + 4;
 }
 
 void throughput(bool quick) {
@@ -230,7 +259,7 @@ void throughput(bool quick) {
         ++steps;
       }
       const double wall = now_s() - t0, rate = cells * static_cast<double>(steps) / wall;
-      const double bytes = 8 * doubles_per_cell_step(c.dim, true, c.viscous == "crank_nicolson");
+      const double bytes = 8 * doubles_per_cell_step(c.dim, c.viscous == "crank_nicolson");
       const double bw = threads == 1 ? bw1 : bw2;
       std::printf("%4d %6d %-15s %7d %12.3g %10.0f %10.2f %8.0f%%\n", c.dim, c.n, c.viscous.c_str(), threads, rate,
                   bytes, rate * bytes / 1e9, 100 * rate * bytes / bw);
@@ -239,6 +268,78 @@ void throughput(bool quick) {
                      std::to_string(threads) + "," + std::to_string(steps) + "," + num(wall) + "," + num(rate) + "," +
                      num(bytes) + "," + num(rate * bytes / 1e9) + "," + num(bw / 1e9) + "," + num(rate * bytes / bw));
     }
+}
+
+// One solve of the projection's Poisson equation on an n^3 box, by the fast transforms and by CG
+// preconditioned by the multigrid V-cycle to a relative residual of 1e-8 (the comparison
+// was with HYPRE's PFMG multigrid: 17 to 22 times), from the same right-hand side (random, zero
+// mean), in a periodic box and in a walled one (Neumann on every face). Best of 5 transform
+// solves and of 3 CG solves (each after an untimed one that allocates the buffers), at 1 and 2
+// threads; the two solutions are compared (up to their constant) as a check that both solved the
+// same problem.
+void poisson(bool quick) {
+  const int n = quick ? 32 : 128;
+  std::printf("\nPoisson solve on %d^3 cells: fast transforms against multigrid-preconditioned CG to 1e-8\n", n);
+  std::printf("%-9s %7s %10s %10s %8s %10s %10s %8s\n", "box", "threads", "fft_s", "cg_s", "cg_its", "residual",
+              "max diff", "ratio");
+  const std::string header = "date,n,box,threads,fft_s,cg_s,cg_iterations,cg_residual,solution_diff,ratio";
+  for (const bool walls : {false, true}) {
+    fluid::Grid g;
+    g.dim = 3;
+    g.n = {n, n, n};
+    g.h = {1.0 / n, 1.0 / n, 1.0 / n};
+    for (auto& axis : g.bc)
+      for (fluid::Bc& bc : axis) bc.type = walls ? fluid::BcType::kNoSlip : fluid::BcType::kPeriodic;
+    const auto cells = static_cast<size_t>(g.cells());
+    std::vector<double> rhs(cells);
+    std::mt19937_64 rng(7);
+    std::uniform_real_distribution<double> uni(-1, 1);
+    double mean = 0;
+    for (double& v : rhs) mean += (v = uni(rng));
+    for (double& v : rhs) v -= mean / static_cast<double>(cells);
+    for (int threads : {1, 2}) {
+      tbb::task_arena arena(threads);
+      double fft_s = 1e30, cg_s = 1e30;
+      std::vector<double> x_fft;
+      linalg::Vector x_cg;
+      linalg::SolveReport rep;
+      arena.execute([&] {
+        fluid::FastSolver fast(3, fluid::pressure_axes(g));
+        for (int r = 0; r < 6; ++r) {
+          x_fft = rhs;
+          const double t0 = now_s();
+          fast.solve(x_fft.data(), 0.0);
+          if (r > 0) fft_s = std::min(fft_s, now_s() - t0);
+        }
+        fluid::PoissonSolverOptions opt;
+        opt.cg = {1e-8, 200};
+        fluid::PoissonSolver mg(g, 0.0, opt);
+        const Eigen::Map<const linalg::Vector> b(rhs.data(), static_cast<Eigen::Index>(cells));
+        for (int r = 0; r < 4; ++r) {
+          x_cg.setZero(static_cast<Eigen::Index>(cells));
+          const double t0 = now_s();
+          rep = mg.solve(b, x_cg);
+          if (r > 0) cg_s = std::min(cg_s, now_s() - t0);
+        }
+      });
+      if (!rep.ok()) throw std::runtime_error("multigrid CG did not converge");
+      // Both are zero-mean solutions of the singular problem: compare them after removing the means.
+      double mf = 0, mc = 0, scale = 0, diff = 0;
+      for (size_t i = 0; i < cells; ++i) mf += x_fft[i], mc += x_cg[static_cast<Eigen::Index>(i)];
+      mf /= static_cast<double>(cells), mc /= static_cast<double>(cells);
+      for (size_t i = 0; i < cells; ++i) {
+        scale = std::max(scale, std::abs(x_fft[i] - mf));
+        diff = std::max(diff, std::abs(x_fft[i] - mf - (x_cg[static_cast<Eigen::Index>(i)] - mc)));
+      }
+      const char* box = walls ? "walls" : "periodic";
+      std::printf("%-9s %7d %10.4f %10.4f %8d %10.2e %10.2e %8.1f\n", box, threads, fft_s, cg_s, rep.iterations,
+                  rep.residual, diff / scale, cg_s / fft_s);
+      append_csv(kResults + "fluid_poisson.csv", header,
+                 today() + "," + std::to_string(n) + "," + box + "," + std::to_string(threads) + "," + num(fft_s) + "," +
+                     num(cg_s) + "," + std::to_string(rep.iterations) + "," + num(rep.residual) + "," +
+                     num(diff / scale) + "," + num(cg_s / fft_s));
+    }
+  }
 }
 
 // A centreline profile (s, value) of a CSV with a header line.
@@ -394,13 +495,14 @@ int main(int argc, char** argv) {
       const std::string a = argv[i];
       if (a == "--only" && i + 1 < argc) only = argv[++i];
       else if (a == "--quick") quick = true;
-      else throw std::invalid_argument("usage: fluid [--only cavity|throughput|openfoam|frames] [--quick]");
+      else throw std::invalid_argument("usage: fluid [--only cavity|throughput|openfoam|frames|poisson] [--quick]");
     }
     std::printf("silt fluid benchmark, %s, %s\n", cpu_model().c_str(), today().c_str());
     if (only.empty() || only == "throughput") throughput(quick);
     if (only.empty() || only == "cavity") cavity(quick);
     if (only.empty() || only == "openfoam") openfoam(quick);
     if (only.empty() || only == "frames") frames();
+    if (only.empty() || only == "poisson") poisson(quick);
     return 0;
   });
 }

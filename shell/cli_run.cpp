@@ -149,6 +149,7 @@ int run_command(const RunArgs& a) {
   Progress progress(!a.quiet && ::isatty(2), sim.state().step, sim.steps_for(opt), model.n_grains);
   opt.interrupt = &g_interrupt;
   opt.stop_when_static = model.until_static.on;
+  opt.stop_when_steady = model.stop_when_steady;
   opt.on_progress = [&progress](const State& s) { progress.update(s); };
   opt.on_notice = [&progress](const std::string& n) {
     progress.finish();  // the warning on a line of its own

@@ -89,13 +89,14 @@ const std::vector<CommandSpec>& command_specs() {
       {"check", "check", "describe the loaded scene",
        "Prints the compiled model: dimension, grains, laws, time step and its stability limit, stages.", 0, 0,
        ArgKind::kNone},
-      {"run", "run [N | Ts | until EXPR | until static]", "run in the foreground",
+      {"run", "run [N | Ts | until EXPR | until static | until steady]", "run in the foreground",
        "Runs N steps, or T seconds of simulated time (\"run 0.5s\"), or until a condition on observables holds (\"run "
        "until t >= 1 and ke < 1e-6\", blanks optional: \"run until t>=1\"), or until the packing is static (the "
-       "scene's run.static_* criterion). Alone, it runs to the scene's end (run.steps or run.time), stopping when "
-       "static if the scene says run.stop_when_static, as silt run does. Ctrl-C pauses at the next step boundary.",
+       "scene's run.static_* criterion), or until the fluid is steady (run.steady_tol). Alone, it runs to the scene's "
+       "end (run.steps or run.time), stopping when static or steady if the scene says run.stop_when_static or "
+       "run.stop_when_steady, as silt run does. Ctrl-C pauses at the next step boundary.",
        0, -1, ArgKind::kObservable},
-      {"start", "start [N | Ts | until EXPR | until static]", "run in the background",
+      {"start", "start [N | Ts | until EXPR | until static | until steady]", "run in the background",
        "Runs in the background while the prompt stays responsive; stop pauses it. Alone, it runs to the scene's end "
        "as run does. set, get, print and the others act at the next step boundary.",
        0, -1, ArgKind::kObservable},
@@ -302,8 +303,8 @@ RunLength parse_run_length(const std::vector<Token>& all) {
   RunLength r;
   if (all.empty()) throw ParseError(0, "how long? N steps, Ts of simulated time, or until EXPR");
   const Token& first = all[0];
-  if (first.text == "until" && all.size() == 2 && all[1].text == "static") {
-    r.kind = RunLength::kStatic;
+  if (first.text == "until" && all.size() == 2 && (all[1].text == "static" || all[1].text == "steady")) {
+    r.kind = all[1].text == "static" ? RunLength::kStatic : RunLength::kSteady;
     return r;
   }
   if (first.text == "until") {
@@ -314,7 +315,7 @@ RunLength parse_run_length(const std::vector<Token>& all) {
     for (;;) {
       if (k + 2 >= args.size())
         throw ParseError(k < args.size() ? args[k].col : (args.empty() ? first.col : args.back().col),
-                         "expected: OBSERVABLE OP NUMBER (e.g. t >= 0.5), or static");
+                         "expected: OBSERVABLE OP NUMBER (e.g. t >= 0.5), or static, or steady");
       Clause c;
       c.observable = args[k].text;
       c.op = args[k + 1].text;

@@ -67,11 +67,12 @@ struct Condition {
 // The longest run, in steps (an int64_t holds it with room to spare).
 constexpr double kMaxSteps = 9e18;
 
-// How long `run` goes: N steps, a simulated time ("0.5s", "2e-3s"), until a condition, or until
-// the packing is static (the scene's criterion, run.static_*); or the scene's own length (`run`
-// alone: to the scene's end step, stopping when static if the scene says so).
+// How long `run` goes: N steps, a simulated time ("0.5s", "2e-3s"), until a condition, until
+// the packing is static (the scene's criterion, run.static_*) or until the fluid is steady
+// (run.steady_tol); or the scene's own length (`run` alone: to the scene's end step, stopping
+// when static or steady if the scene says so).
 struct RunLength {
-  enum Kind { kSteps, kTime, kUntil, kStatic, kScene } kind = kSteps;
+  enum Kind { kSteps, kTime, kUntil, kStatic, kSteady, kScene } kind = kSteps;
   int64_t steps = 0;
   double time = 0;
   Condition until;

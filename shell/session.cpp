@@ -254,6 +254,13 @@ RunOptions Session::run_options(const RunLength& len, bool background) {
       opt.steps = kForever;
       opt.stop_when_static = true;
       break;
+    case RunLength::kSteady:
+      if (!has_steady_test(m))
+        throw std::runtime_error("run until steady: the steady-state test (run.steady_tol) is the fluid's, and this "
+                                 "scene has no [fluid]");
+      opt.steps = kForever;
+      opt.stop_when_steady = true;
+      break;
     case RunLength::kScene: {
       if (m.adaptive_dt && m.run_time >= 0) {
         const double left = m.run_time - s.state().t;
@@ -262,6 +269,7 @@ RunOptions Session::run_options(const RunLength& len, bool background) {
                                    " s): give N, Ts or until EXPR to go on");
         opt.time = left;
         opt.stop_when_static = m.until_static.on;
+        opt.stop_when_steady = m.stop_when_steady;
         break;
       }
       const int64_t left = m.run_steps - s.state().step;
@@ -271,6 +279,7 @@ RunOptions Session::run_options(const RunLength& len, bool background) {
                                  " s): give N, Ts or until EXPR to go on");
       opt.steps = left;
       opt.stop_when_static = m.until_static.on;
+      opt.stop_when_steady = m.stop_when_steady;
       break;
     }
   }
@@ -344,6 +353,7 @@ void Session::run_for(const RunLength& len, bool background) {
     switch (r.end) {
       case RunEnd::kDone: how = "done"; break;
       case RunEnd::kStatic: how = "static"; break;
+      case RunEnd::kSteady: how = "steady"; break;
       case RunEnd::kInterrupted: how = until_met_ ? "condition met" : "paused"; break;
       case RunEnd::kFailed: failure = st.failure.message; break;
     }

@@ -32,6 +32,8 @@ std::vector<KeySpec> fluid_keys() {
       {"fluid.drive_axis", K::kString, Value(std::string("x")), Range::any(), "", false, S{"x", "y", "z"}, "Periodic axis along which a pressure gradient or a flow rate drives the flow (a channel)."},
       {"fluid.pressure_gradient", K::kReal, std::nullopt, Range::any(), "Pa/m", true, {}, "Pressure-driven flow: the mean -dp/dx along fluid.drive_axis, a uniform body force."},
       {"fluid.bulk_velocity", K::kReal, std::nullopt, Range::any(), "m/s", true, {}, "Flow-driven: the mean velocity along fluid.drive_axis, held by the mean pressure gradient it needs."},
+      {"run.stop_when_steady", K::kBool, Value(false), Range::any(), "", false, {}, "Stop when the fluid is steady: its velocity changes by less than run.steady_tol (relative, per unit time L / U), tested every limits.check_every steps; the summary's status is then steady."},
+      {"run.steady_tol", K::kReal, Value(1e-6), Range::positive(), "", false, {}, "Steady state: max |u(t + dt) - u(t)| / (max |u| dt) in units of U / L (fluid.velocity_scale / fluid.length_scale), the observable fluid.change_rate."},
       {"output.lines[].name", K::kString, std::nullopt, Range::any(), "", false, {}, "Line probe: its name in the summary's \"lines\"."},
       {"output.lines[].field", K::kString, std::nullopt, Range::any(), "", false, S{"u", "v", "w", "p", "vorticity"}, "Line probe: the field sampled (vorticity: its z component in 2D, its magnitude in 3D)."},
       {"output.lines[].from", K::kRealList, std::nullopt, Range::any(), "m", false, {}, "Line probe: the segment's start."},

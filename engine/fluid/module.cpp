@@ -124,6 +124,8 @@ void compile_steerable(const SceneDesc& d, const Model& m, FluidParams& p) {
     for (int a = 0; a < m.dim; ++a) inv += 1 / (p.grid.h[a] * p.grid.h[a]);
     p.dt = std::min(p.dt, 0.9 * FluidParams::kViscousLimit / (p.nu() * inv));
   }
+  p.stop_when_steady = d.boolean("run.stop_when_steady");
+  p.steady_tol = d.real("run.steady_tol");
   p.tolerance = d.real("fluid.tolerance");
   p.max_iterations = static_cast<int>(d.integer("fluid.max_iterations"));
 }
@@ -179,6 +181,7 @@ void compile_fluid(const SceneDesc& d, Model& m) {
   // The fluid's step is the step's (the grains, if any, sub-cycle in a later version).
   m.propose_dt(p.dt);
   m.adaptive_dt = m.adaptive_dt || !p.dt_fixed;
+  m.stop_when_steady = p.stop_when_steady;
 }
 
 void finish_fluid(const SceneDesc& d, Model& m) {

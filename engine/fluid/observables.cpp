@@ -7,7 +7,7 @@ namespace {
 
 double stat(const ObservableContext& c, FluidStat k) {
   const auto& v = c.s.module_field(fluid_fields().stat);
-  return v.size() == kStatCount ? v[k] : 0.0;
+  return static_cast<int>(v.size()) > k ? v[k] : 0.0;
 }
 
 const FluidParams& params(const ObservableContext& c) { return c.m.params.get<FluidParams>(); }
@@ -25,10 +25,11 @@ std::vector<ObservableSpec> fluid_observables() {
       {"fluid.cfl", "", "CFL number dt sum_a max|u_a| / h_a of the last step",
        [](const ObservableContext& c, const ObservableArgs&) { return stat(c, kCfl); }},
       {"fluid.dt", "s", "the fluid's time step (the next one when adaptive)",
-       [](const ObservableContext& c, const ObservableArgs&) {
-         const double next = stat(c, kDtNext);
-         return next > 0 ? next : c.s.dt;
-       }},
+       [](const ObservableContext& c, const ObservableArgs&) { return next_dt(c.m, c.s); }},
+      {"fluid.change_rate", "",
+       "max |u(t + dt) - u(t)| / (max |u| dt) of the last step, in units of U / L: the relative change of the "
+       "velocity per unit time L / U (run.stop_when_steady)",
+       [](const ObservableContext& c, const ObservableArgs&) { return change_rate(params(c), c.s); }},
       {"fluid.pressure_gradient", "Pa/m", "mean -dp/dx along the drive axis (imposed, or holding the flow rate)",
        [](const ObservableContext& c, const ObservableArgs&) { return stat(c, kDriveGradient); }},
       {"fluid.bulk_velocity", "m/s", "mean velocity along the drive axis over the domain",

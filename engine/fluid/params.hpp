@@ -49,6 +49,10 @@ struct FluidParams {
   int drive_axis = 0;
   double pressure_gradient = 0;  // kPressure: -dp/dx along drive_axis [Pa/m] (steerable)
   double bulk_velocity = 0;      // kFlowRate: the imposed mean velocity along drive_axis [m/s] (steerable)
+  // run.stop_when_steady: runs end when the velocity's relative change per unit time L / U falls
+  // below steady_tol (fluid/step.hpp, kChangeRate).
+  bool stop_when_steady = false;
+  double steady_tol = 1e-6;
   Initial initial = Initial::kRest;
   double initial_velocity = 0;  // Taylor-Green amplitude U0 [m/s]
   std::vector<LineProbe> lines;

@@ -96,11 +96,11 @@ const ModuleSpec& module() {
     s.doc = "incompressible Navier-Stokes on a staggered grid (RK3, projection by fast transforms)";
     s.keys = fluid_keys();
     s.fields = {
-        {"fluid_u", Extent::kFaceX, "m/s", "x velocity on the x faces; fluid_advance"},
-        {"fluid_v", Extent::kFaceY, "m/s", "y velocity on the y faces; fluid_advance"},
-        {"fluid_w", Extent::kFaceZ, "m/s", "z velocity on the z faces (3D); fluid_advance"},
-        {"fluid_p", Extent::kCell, "Pa", "pressure at the cell centres (of the last projection); fluid_advance"},
-        {"fluid_stat", Extent::kFree, "", "next dt, div max, CFL, solver numbers (fluid/step.hpp); fluid_advance"}};
+        {"fluid_u", Extent::kFaceX, "m/s", "x velocity on the x faces; fluid_store"},
+        {"fluid_v", Extent::kFaceY, "m/s", "y velocity on the y faces; fluid_store"},
+        {"fluid_w", Extent::kFaceZ, "m/s", "z velocity on the z faces (3D); fluid_store"},
+        {"fluid_p", Extent::kCell, "Pa", "pressure at the cell centres (of the last projection); fluid_store"},
+        {"fluid_stat", Extent::kFree, "", "next dt, div max, CFL, change rate, solver numbers (fluid/step.hpp); fluid_load, fluid_pressure, fluid_store"}};
     s.events = {"fluid_cfl", "fluid_nonfinite", "fluid_solve"};
     s.observables = fluid_observables();
     s.enabled = [](const SceneDesc& d) { return d.has("fluid.cells"); };
@@ -110,7 +110,9 @@ const ModuleSpec& module() {
     s.steer = steer_fluid;
     s.memory_bytes = fluid_memory_bytes;
     s.check_state = [](const Model&, const State& st) -> std::string {
-      if (st.module_field(fluid_fields().stat).size() != kStatCount) return "fluid_stat has the wrong length";
+      // kStatCount - 1: a checkpoint written before kChangeRate (fluid_load appends it).
+      const size_t n = st.module_field(fluid_fields().stat).size();
+      if (n != kStatCount && n != kStatCount - 1) return "fluid_stat has the wrong length";
       for (int a = 0; a < 3; ++a)
         for (double v : st.module_field(fluid_fields().u[a]))
           if (!std::isfinite(v)) return "a fluid velocity is not finite";
@@ -121,7 +123,7 @@ const ModuleSpec& module() {
     s.summary = [](const Model&, const State& st) {
       const auto& v = st.module_field(fluid_fields().stat);
       std::vector<std::pair<std::string, double>> out;
-      if (v.size() != kStatCount) return out;
+      if (v.size() < kStatCount - 1) return out;
       out = {{"solves", v[kSolves]},
              {"iters_mean", v[kSolves] > 0 ? v[kItersSum] / v[kSolves] : 0.0},
              {"iters_max", v[kItersMax]},
@@ -132,6 +134,7 @@ const ModuleSpec& module() {
       return cell_fields(m.params.get<FluidParams>(), st, only);
     };
     s.lines = line_samples;
+    s.steady = [](const Model& m, const State& st) { return is_steady(m.params.get<FluidParams>(), st); };
     return s;
   }();
   return spec;

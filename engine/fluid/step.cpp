@@ -17,14 +17,16 @@ constexpr double kGamma[3] = {8.0 / 15.0, 5.0 / 12.0, 3.0 / 4.0};
 constexpr double kZeta[3] = {0.0, -17.0 / 60.0, -5.0 / 12.0};
 
 // Copies between the State's arrays (no ghosts) and the padded ones, multiplying by `scale` (a
-// load leaves the ghosts as they were); a store returns the largest |value| of the padded array
-// (NaN if any is).
-template <bool kLoad>
-double copy_state(const Grid& g, const Layout& L, int a, std::vector<double>& state, double* padded,
-                  double scale = 1.0) {
+// load leaves the ghosts as they were). A store returns the largest |value| of the padded array
+// (NaN if any is) and, with kChange, the largest |value| the State held before and the largest
+// change |new - old| it makes (both 0 without).
+template <bool kLoad, bool kChange = false>
+std::array<double, 3> copy_state(const Grid& g, const Layout& L, int a, std::vector<double>& state, double* padded,
+                                 double scale = 1.0) {
   const auto d = a < 0 ? g.n : g.face_dims(a);
-  const auto mx = parallel_max<1>(d[1] * d[2], 8, [&](int64_t b, int64_t e) {
-    double m = 0;
+  return parallel_max<3>(d[1] * d[2], 8, [&](int64_t b, int64_t e) {
+    double m = 0, m_old = 0, change = 0;
+    auto keep_max = [](double& to, double v) { to = (v > to || v != v) ? v : to; };  // a NaN stays
     for (int64_t row = b; row < e; ++row) {
       const int64_t j = row % d[1], k = row / d[1];
       double* p = padded + L.at(0, j, k);
@@ -34,15 +36,17 @@ double copy_state(const Grid& g, const Layout& L, int a, std::vector<double>& st
       } else {
         for (int64_t i = 0; i < d[0]; ++i) {
           const double v = p[i];
+          if constexpr (kChange) {
+            keep_max(m_old, std::abs(s[i]));
+            keep_max(change, std::abs(v * scale - s[i]));
+          }
           s[i] = v * scale;
-          const double av = std::abs(v);
-          m = (av > m || av != av) ? av : m;  // a NaN stays
+          keep_max(m, std::abs(v));
         }
       }
     }
-    return std::array<double, 1>{m};
+    return std::array<double, 3>{m, m_old, change};
   });
-  return mx[0];
 }
 
 void prepare(const FluidParams& p, FluidWorkspace& w) {
@@ -171,17 +175,26 @@ double adaptive_dt(const FluidParams& p, double rate) {
   return std::min(dt, p.dt_max);
 }
 
-void fluid_dt(const Model& m, State& s) {
+double next_dt(const Model& m, const State& s) {
   const FluidParams& p = m.params.get<FluidParams>();
-  if (p.dt_fixed) {
-    s.dt = p.dt;
-    return;
-  }
+  if (p.dt_fixed) return p.dt;
+  // From the velocity of the state (kRate) under the parameters of now, so that a target CFL or
+  // a viscosity steered between steps acts at the next step; a state no step has stored yet
+  // (kDtNext still 0) takes the model's first step.
   const auto& stat = s.module_field(fluid_fields().stat);
-  const double next = stat.size() == kStatCount ? stat[kDtNext] : 0.0;
-  s.dt = next > 0 ? next : p.dt;
-  if (m.n_grains > 0) s.dt = std::min(s.dt, m.dt);  // grains in the same step keep theirs
+  const bool stored = stat.size() > kRate && stat[kDtNext] > 0;
+  const double dt = stored ? adaptive_dt(p, stat[kRate]) : p.dt;
+  return m.n_grains > 0 ? std::min(dt, m.dt) : dt;  // grains in the same step keep theirs
 }
+
+void fluid_dt(const Model& m, State& s) { s.dt = next_dt(m, s); }
+
+double change_rate(const FluidParams& p, const State& s) {
+  const auto& stat = s.module_field(fluid_fields().stat);
+  return stat.size() > kChangeRate ? stat[kChangeRate] * p.length_scale / p.velocity_scale : 0.0;
+}
+
+bool is_steady(const FluidParams& p, const State& s) { return change_rate(p, s) < p.steady_tol; }
 
 void initial_velocity(const Model& m, State& s) {
   const FluidParams& p = m.params.get<FluidParams>();
@@ -234,7 +247,8 @@ void fluid_load(const Model& m, State& s, FluidWorkspace& w) {
   w.drive = 0;
   w.dt = s.dt;
   auto& stat = s.module_field(f.stat);
-  if (stat.size() != kStatCount) {  // a state made without the fluid's numbers
+  if (stat.size() == kStatCount - 1) stat.push_back(0.0);  // a checkpoint of before kChangeRate
+  if (stat.size() != kStatCount) {                         // a state made without the fluid's numbers
     stat.assign(kStatCount, 0.0);
     stat[kRate] = cfl_number(p, s, 1.0);
   }
@@ -354,12 +368,21 @@ void fluid_store(const Model& m, State& s, FluidWorkspace& w) {
   fill_velocity_ghosts(g, w.L, u);
   double div_max = 0;
   if (s.boundary_seen) div_max = divergence_max(g, w.L, {u[0], u[1], u[2]}, w.cells.data());
-  double rate = 0;  // sum_a max |u_a| / h_a, from the values stored
-  for (int a = 0; a < g.dim; ++a) rate += copy_state<false>(g, w.L, a, s.module_field(f.u[a]), u[a]) / g.h[a];
+  // sum_a max |u_a| / h_a from the values stored, and how much they changed: max |u^(n+1) - u^n|
+  // over max(max |u^(n+1)|, max |u^n|), 0 for a fluid at rest throughout. Every step, so that the
+  // last state of any run has it: the old values are read in the pass that overwrites them.
+  double rate = 0, speed = 0, change = 0;
+  for (int a = 0; a < g.dim; ++a) {
+    const auto r = copy_state<false, true>(g, w.L, a, s.module_field(f.u[a]), u[a]);
+    rate += r[0] / g.h[a];
+    speed = std::max({speed, r[0], r[1]});
+    change = std::max(change, r[2]);
+  }
   // p = rho p_kin.
   auto& ps = s.module_field(f.p);
   copy_state<false>(g, w.L, -1, ps, w.p_kin.data(), p.density);
   if (s.boundary_seen) stat[kDivMax] = div_max;
+  stat[kChangeRate] = speed > 0 ? change / (speed * w.dt) : 0.0;
   stat[kDriveGradient] = p.drive == Drive::kFlowRate ? w.drive * p.density : p.pressure_gradient;
   stat[kCellSteps] += static_cast<double>(g.cells());
   stat[kRate] = rate;

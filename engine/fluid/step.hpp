@@ -52,6 +52,11 @@ enum FluidStat : int {
   kDriveGradient,  // the mean pressure gradient that holds the imposed flow rate [Pa/m]
   kCellSteps,      // cell-steps advanced so far
   kRate,           // sum_a max |u_a| / h_a of the state [1/s] (the CFL number is dt times it)
+  // max |u^(n+1) - u^n| / (dt max(max |u^(n+1)|, max |u^n|)) over the faces in the last step
+  // [1/s]: the relative change of the velocity per unit time, which run.stop_when_steady compares
+  // with run.steady_tol (times L / U). Last, so that a checkpoint written before it existed still
+  // reads (kStatCount - 1 entries).
+  kChangeRate,
   kStatCount
 };
 
@@ -103,6 +108,8 @@ void fluid_project(const Model& m, State& s, FluidWorkspace& w);
 void fluid_store(const Model& m, State& s, FluidWorkspace& w);
 // (fluid_stat, dt) => (dt): the fluid's time step, fixed or from the target CFL number.
 void fluid_dt(const Model& m, State& s);
+// The step fluid_dt takes from this state.
+double next_dt(const Model& m, const State& s);
 // The initial velocity (at rest, or a Taylor-Green vortex) into a fresh state.
 void initial_velocity(const Model& m, State& s);
 
@@ -111,5 +118,10 @@ void initial_velocity(const Model& m, State& s);
 double adaptive_dt(const FluidParams& p, double rate);
 // dt sum_a max|u_a| / h_a.
 double cfl_number(const FluidParams& p, const State& s, double dt);
+// The relative change of the velocity per unit time L / U of the last observed step
+// (kChangeRate times fluid.length_scale / fluid.velocity_scale), and whether it is below
+// run.steady_tol: the steady state of run.stop_when_steady.
+double change_rate(const FluidParams& p, const State& s);
+bool is_steady(const FluidParams& p, const State& s);
 
 }  // namespace silt::fluid

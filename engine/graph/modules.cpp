@@ -80,6 +80,12 @@ std::vector<LineSample> module_lines(const Model& m, const State& s) {
   return out;
 }
 
+bool has_steady_test(const Model& m) {
+  for (const Module& mod : list())
+    if (mod.spec->steady && m.module_on(mod.spec->name)) return true;
+  return false;
+}
+
 void register_module(const ModuleSpec* spec, StageAdder add_stages) {
   if (find_module(spec->name)) throw std::logic_error("module " + spec->name + " is already registered");
   register_parts(*spec);

@@ -167,6 +167,16 @@ bool Simulation::is_static() const {
   return (meas.ke - meas.ke_rot) / std::max<int64_t>(1, n_free) <= m.until_static.ke_tol * std::pow(a, m.dim) * P;
 }
 
+bool Simulation::is_steady() const {
+  bool any = false;
+  for (const Module& mod : modules())
+    if (mod.spec->steady && model_.module_on(mod.spec->name)) {
+      if (!mod.spec->steady(model_, state_)) return false;
+      any = true;
+    }
+  return any;
+}
+
 int64_t Simulation::steps_for(const RunOptions& opt) const {
   // The one conversion of a time to steps (the time step is fixed: choose_dt's). An adaptive step
   // runs until the time is reached instead.
@@ -199,11 +209,14 @@ RunReport Simulation::run(const RunOptions& options) {
   };
   periodic(true);
   // A step stores its pair forces (State::boundary_seen) only when something sees its end: a
-  // hook, a request, a restart point or the static test (every check_every steps), the end of
-  // the run.
+  // hook, a request, a restart point or the static and steady tests (every check_every steps),
+  // the end of the run.
   auto observed = [&](int64_t k) {
     const int64_t next = state_.step + 1;
     if (k + 1 == opt.steps || next % model_.limits.check_every == 0) return true;
+    // A run of a given time with an adaptive step ends at the first boundary at or past it, which
+    // no step count foretells: the steps that may end it (within two of the last one's dt) are seen.
+    if (t_end >= 0 && state_.t + 2 * state_.dt >= t_end) return true;
     for (const PeriodicHook& h : opt.hooks)
       if (h.every > 0 && h.fn && next % h.every == 0) return true;
     return opt.boundary_wanted && opt.boundary_wanted();
@@ -237,11 +250,15 @@ RunReport Simulation::run(const RunOptions& options) {
       rep.end = RunEnd::kInterrupted;
       break;
     }
-    if (opt.stop_when_static && state_.step % model_.limits.check_every == 0 && is_static()) {
-      rep.end = RunEnd::kStatic;
-      for (const PeriodicHook& h : opt.hooks)
-        if (h.every > 0 && h.fn && state_.step % h.every != 0) h.fn(state_);
-      break;
+    // Equilibrium and steady states are tested at the boundaries `observed` makes complete.
+    if ((opt.stop_when_static || opt.stop_when_steady) && state_.step % model_.limits.check_every == 0) {
+      if (opt.stop_when_static && is_static()) rep.end = RunEnd::kStatic;
+      else if (opt.stop_when_steady && is_steady()) rep.end = RunEnd::kSteady;
+      if (rep.end != RunEnd::kDone) {
+        for (const PeriodicHook& h : opt.hooks)
+          if (h.every > 0 && h.fn && state_.step % h.every != 0) h.fn(state_);
+        break;
+      }
     }
     if (opt.on_progress && (k & 63) == 0) {
       const auto now = std::chrono::steady_clock::now();

@@ -66,6 +66,7 @@ const char* RunJob::status(RunEnd end) {
   switch (end) {
     case RunEnd::kDone: return "ok";
     case RunEnd::kStatic: return "static";
+    case RunEnd::kSteady: return "steady";
     case RunEnd::kInterrupted: return "interrupted";
     case RunEnd::kFailed: return "failed";
   }
@@ -187,6 +188,8 @@ int RunJob::finish(const RunReport& rep, int interrupted) {
   sum.profiles = profiles_;
   if (m.until_static.on && rep.end == RunEnd::kDone)
     sum.warnings.push_back("run.stop_when_static: no equilibrium within the run length");
+  if (m.stop_when_steady && rep.end == RunEnd::kDone)
+    sum.warnings.push_back("run.stop_when_steady: no steady state within the run length");
   return write_outputs(sum, code);
 }
 

@@ -12,7 +12,7 @@ std::string describe(const Model& m) {
     if (mod.spec->describe && m.module_on(mod.spec->name)) o << mod.spec->describe(m);
   if (m.adaptive_dt && m.run_time >= 0) o << "run          until t = " << m.run_time << " s (adaptive time step)";
   else o << "run          " << m.run_steps << " steps = " << m.run_steps * m.dt << " s";
-  o << (m.until_static.on ? ", or until static" : "") << "\n";
+  o << (m.until_static.on ? ", or until static" : "") << (m.stop_when_steady ? ", or until steady" : "") << "\n";
   o << "observe      ";
   for (size_t k = 0; k < m.observe.size(); ++k) o << m.observe[k] << (k + 1 < m.observe.size() ? ", " : "");
   o << " every " << m.sample_every << " steps\n";

@@ -62,3 +62,70 @@ TEST_CASE("silt play: the shell steers the cavity's Reynolds number while it run
   CHECK(r.code == 0);
   CHECK(r.out.find("0.0025") != std::string::npos);  // mu = rho U L / Re = 1 / 400
 }
+
+TEST_CASE("silt run: the cavity stops when steady, with the summary's status steady, or says it did not get there") {
+  const std::string json = "cli_fluid_steady.json";
+  const Result r = silt_cli("run " + scene_path("cavity_2d") +
+                            " --set fluid.cells=[16,16] --set fluid.reynolds=10 --summary " + json + " --quiet");
+  REQUIRE(r.code == 0);
+  CHECK(r.out.find("status steady") != std::string::npos);
+  const auto j = nlohmann::json::parse(read_file(json));
+  CHECK(j["status"] == "steady");
+  CHECK(j["warnings"].empty());
+  CHECK(j["sim_time"].get<double>() < 50);  // the scene's run.time is the cap
+  CHECK(j["observables"]["fluid.change_rate"]["last"].get<double>() < 1e-6);
+  const Result short_run = silt_cli("run " + scene_path("cavity_2d") +
+                                    " --set fluid.cells=[16,16] --time 0.5 --summary " + json + " --quiet");
+  REQUIRE(short_run.code == 0);
+  const auto k = nlohmann::json::parse(read_file(json));
+  CHECK(k["status"] == "ok");
+  CHECK(k["warnings"].dump().find("run.stop_when_steady") != std::string::npos);
+  CHECK(silt_cli("check " + scene_path("cavity_2d")).out.find("or until steady") != std::string::npos);
+}
+
+TEST_CASE("silt play: run until steady, and a target CFL steered between runs") {
+  const std::string script = write_file(
+      "cli_fluid_until_steady.silt", "load " + scene_path("cavity_2d") +
+                                         "\nset fluid.cells [16, 16]\nset fluid.reynolds 10\nset fluid.cfl 0.25\n"
+                                         "run 20\nprint fluid.cfl\nset fluid.cfl 0.4\nrun 1\nprint fluid.cfl\n"
+                                         "run until steady\nprint fluid.change_rate\n");
+  const Result r = silt_cli("play " + script);
+  INFO(r.out);
+  CHECK(r.code == 0);
+  CHECK(r.out.find("fluid.cfl = 0.25") != std::string::npos);
+  CHECK(r.out.find("fluid.cfl = 0.4") != std::string::npos);  // at the first step after the set
+  CHECK(r.out.find("steady: ") != std::string::npos);
+  const std::string no_fluid =
+      write_file("cli_fluid_until_steady_dry.silt", "load " + scene_path("collision_normal") + "\nrun until steady\n");
+  const Result dry = silt_cli("play " + no_fluid);
+  CHECK(dry.code == 2);
+  CHECK(dry.out.find("no [fluid]") != std::string::npos);
+}
+
+TEST_CASE("silt play: the shipped cavity_reynolds.silt plays, on a smaller grid and for less time") {
+  // The script's own commands, with the grid, the frames' size and the times made small (its full
+  // length is `silt play scenes/cavity_reynolds.silt`); each replaced line must be in it.
+  std::string text = read_file(std::string(SILT_SOURCE_DIR) + "/scenes/cavity_reynolds.silt");
+  auto replace = [&](const std::string& from, const std::string& to) {
+    const size_t at = text.find(from);
+    REQUIRE_MESSAGE(at != std::string::npos, "scenes/cavity_reynolds.silt no longer says: " << from);
+    text.replace(at, from.size(), to);
+  };
+  replace("load cavity_2d.toml", "load " + scene_path("cavity_2d"));
+  replace("set fluid.cells [96, 96]", "set fluid.cells [24, 24]");
+  replace("set render.width 640", "set render.width 160");
+  replace("set render.height 640", "set render.height 160");
+  replace("every 400", "every 20");
+  replace("frames cavity_film every 150", "frames cli_fluid_film every 30");
+  replace("run until t >= 8", "run until t >= 0.4");
+  replace("run until t >= 16", "run until t >= 0.8");
+  replace("run until t >= 24", "run until t >= 1.2");
+  replace("render cavity_final.png", "render cli_fluid_final.png");
+  std::filesystem::remove_all("cli_fluid_film");
+  const Result r = silt_cli("play " + write_file("cli_fluid_reynolds.silt", text));
+  INFO(r.out);
+  CHECK(r.code == 0);
+  CHECK(r.out.find("mu = 0.01 Pa s") != std::string::npos);  // check, at load: Re = 100
+  CHECK(std::filesystem::exists("cli_fluid_film/frame_000000.png"));
+  CHECK(std::filesystem::exists("cli_fluid_final.png"));
+}

@@ -108,7 +108,7 @@ TEST_CASE("lists are one word, written as on the command line, and expand into t
   CHECK_THROWS_AS(expand_list(Token{"[a b]", 1}), ParseError);
 }
 
-TEST_CASE("a condition needs no blanks around its comparisons, and until static parses") {
+TEST_CASE("a condition needs no blanks around its comparisons, and until static and until steady parse") {
   const auto c = parse_line("run until t>=30 and ke<1e-3");
   REQUIRE(c);
   const RunLength r = parse_run_length(c->args);
@@ -121,6 +121,7 @@ TEST_CASE("a condition needs no blanks around its comparisons, and until static 
   CHECK(r.until.clauses[1].value == doctest::Approx(1e-3));
   CHECK(parse_run_length(parse_line("run until x!=-2")->args).until.clauses[0].value == -2);
   CHECK(parse_run_length(parse_line("run until static")->args).kind == RunLength::kStatic);
+  CHECK(parse_run_length(parse_line("run until steady")->args).kind == RunLength::kSteady);
   CHECK_THROWS_AS(parse_run_length(parse_line("run until t>=")->args), ParseError);
   CHECK_THROWS_AS(parse_run_length(parse_line("run until t=>1")->args), ParseError);
 }

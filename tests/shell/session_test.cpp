@@ -189,7 +189,7 @@ TEST_CASE("interrupting a foreground run pauses it at a step boundary") {
 TEST_CASE("help, params, stats, profile, render and frames print what a person reads") {
   Fixture f;
   REQUIRE(f.run("help"));
-  CHECK(f.take_out().find("run [N | Ts | until EXPR | until static]") != std::string::npos);
+  CHECK(f.take_out().find("run [N | Ts | until EXPR | until static | until steady]") != std::string::npos);
   REQUIRE(f.run("help watch"));
   CHECK(f.take_out().find("every N steps") != std::string::npos);
   REQUIRE(f.run("load " + test::scene_path("pack_2d")));

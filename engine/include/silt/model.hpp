@@ -259,6 +259,9 @@ struct Model {
   int64_t run_steps = 0;  // from [run] (steps or time / dt), overridable on the command line
   double run_time = -1;   // [run] time when given [s]: the run length of an adaptive step
   StaticCriterion until_static;
+  // Runs end when every enabled module's steady-state test holds (ModuleSpec::steady; the
+  // fluid's run.stop_when_steady), tested every limits.check_every steps.
+  bool stop_when_steady = false;
 
   double skin = 0;  // Verlet skin [m]
   // Gap within which every pair must stay listed: 0 for contacts alone, the lubrication range

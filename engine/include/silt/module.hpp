@@ -67,6 +67,10 @@ struct ModuleSpec {
   // needs; and its line probes, sampled for the summary at the end of a run.
   std::function<std::vector<GridField>(const Model& m, const State& s, std::string_view only)> grid_fields;
   std::function<std::vector<LineSample>(const Model& m, const State& s)> lines;
+  // Whether the state is steady by the module's own test (a fluid whose velocity no longer
+  // changes), for runs that stop when steady (Model::stop_when_steady, RunEnd::kSteady); empty:
+  // the module has no such test.
+  std::function<bool(const Model& m, const State& s)> steady;
   // Turn the module off in a copy of the model that compresses the grains dry before the run
   // (procedure O, prepare.compress), restoring what it changed in the DEM's parts.
   std::function<void(Model& dry)> prepare_dry;
@@ -89,6 +93,8 @@ const Module* find_module(std::string_view name);
 // model enables.
 std::vector<GridField> module_grid_fields(const Model& m, const State& s, std::string_view only = {});
 std::vector<LineSample> module_lines(const Model& m, const State& s);
+// Whether a module the model enables has a steady-state test (ModuleSpec::steady).
+bool has_steady_test(const Model& m);
 // Adds a module after the built-in ones (a module of a test, or of a user's build). Its fields and
 // events are registered, and its keys and observables join the schema and the observable table.
 // Call before scenes using it are read; not thread-safe.

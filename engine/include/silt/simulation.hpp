@@ -18,7 +18,9 @@ class StepGraph;
 }
 class Workspaces;
 
-enum class RunEnd { kDone, kStatic, kInterrupted, kFailed };
+// How a run ended: its length done, static (Model::until_static), steady (Model::stop_when_steady),
+// interrupted, or failed.
+enum class RunEnd { kDone, kStatic, kSteady, kInterrupted, kFailed };
 
 // Something to do with the state every `every` steps (samples, frames, VTK files), and at the
 // first state of a run; also at the last one when the run stops early on equilibrium.
@@ -42,6 +44,7 @@ struct RunOptions {
   std::function<void(const std::string&)> on_notice;
   const std::atomic<bool>* interrupt = nullptr;  // checked at every step boundary
   bool stop_when_static = false;                 // Model::until_static criterion
+  bool stop_when_steady = false;                 // the modules' steady-state tests (Model::stop_when_steady)
 };
 
 struct RunReport {
@@ -93,6 +96,9 @@ class Simulation {
   // kMaxNotices are kept between calls (the latest).
   std::vector<std::string> take_notices();
   static constexpr size_t kMaxNotices = 1000;
+  // Whether every enabled module with a steady-state test (ModuleSpec::steady) finds the current
+  // state steady; false when none has one.
+  bool is_steady() const;
 
   std::vector<std::string> stage_names() const;
   std::string describe_graph() const;

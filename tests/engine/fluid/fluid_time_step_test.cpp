@@ -1,0 +1,102 @@
+// The fluid's time step: the adaptive step holds the target CFL number, a steered target acts at
+// the next step, and the dimensionless form takes fluid.dt in units of L / U.
+#include <doctest/doctest.h>
+
+#include <cmath>
+
+#include "fluid/module.hpp"
+#include "fluid/step.hpp"
+#include "support/scenes.hpp"
+
+using namespace silt;
+using namespace silt::fluid;
+using silt::test::max_diff;
+
+namespace {
+
+// The lid-driven cavity of side `side` with a lid of speed `lid`, 24 x 24 cells, Re = 100.
+std::string lid_cavity(double side, double lid, const std::string& extra) {
+  const std::string s = std::to_string(side);
+  return "[scene]\ndimension = 2\n[domain]\nlo = [0.0, 0.0]\nhi = [" + s + ", " + s +
+         "]\n[fluid]\ncells = [24, 24]\nreynolds = 100.0\n" + extra +
+         "\n[fluid.boundary]\ny_hi_velocity = [" + std::to_string(lid) + ", 0.0]\n";
+}
+
+// dt sum_a max |u_a| / h_a of a state's stored velocities, computed here from the fields.
+double rate_of(const Simulation& sim) {
+  const Grid& g = sim.model().params.get<FluidParams>().grid;
+  double rate = 0;
+  for (int a = 0; a < g.dim; ++a) {
+    double m = 0;
+    for (double v : sim.state().module_field(fluid_fields().u[a])) m = std::max(m, std::abs(v));
+    rate += m / g.h[a];
+  }
+  return rate;
+}
+
+}  // namespace
+
+TEST_CASE("fluid: the adaptive step holds the target CFL number, and a steered target acts at the next step") {
+  auto sim = test::simulation_from(lid_cavity(1.0, 1.0, "cfl = 0.3"));
+  // The first step starts from rest (the lid moves only its ghosts): it is the model's first step,
+  // dt = cfl h / (D U). From then on dt = cfl / rate of the state it starts from, so that the CFL
+  // number of each step, dt times that rate, is the target up to two roundings.
+  REQUIRE(sim->step());
+  for (int k = 0; k < 20; ++k) {
+    const double rate = rate_of(*sim);
+    REQUIRE(sim->step());
+    CHECK(sim->state().dt * rate == doctest::Approx(0.3).epsilon(1e-12));
+    CHECK(test::observe(sim->model(), sim->state(), "fluid.cfl") == doctest::Approx(0.3).epsilon(1e-12));
+  }
+  // Steered to 0.6: the next step's dt (the fluid.dt observable before it runs) and CFL follow.
+  REQUIRE(steer(sim->model_for_steering(), parse_override("fluid.cfl=0.6")) == "");
+  const double rate = rate_of(*sim);
+  CHECK(test::observe(sim->model(), sim->state(), "fluid.dt") == doctest::Approx(0.6 / rate).epsilon(1e-12));
+  REQUIRE(sim->step());
+  CHECK(sim->state().dt == doctest::Approx(0.6 / rate).epsilon(1e-12));
+  CHECK(test::observe(sim->model(), sim->state(), "fluid.cfl") == doctest::Approx(0.6).epsilon(1e-12));
+  // A step capped by fluid.dt_max (in units of L / U here) is below the target, and says so.
+  auto capped = test::simulation_from(lid_cavity(1.0, 1.0, "cfl = 0.3\ndt_max = 0.001"));
+  for (int k = 0; k < 5; ++k) REQUIRE(capped->step());
+  CHECK(capped->state().dt == doctest::Approx(0.001).epsilon(1e-14));
+  const double cfl = test::observe(capped->model(), capped->state(), "fluid.cfl");
+  CHECK(cfl < 0.3);
+  CHECK(cfl > 0);
+}
+
+TEST_CASE("fluid: the dimensionless form takes fluid.dt and fluid.dt_max in units of L / U") {
+  // A cavity of side L = 2 m with a lid of U = 0.5 m/s: L / U = 4 s, nu = U L / Re = 0.01 m^2/s.
+  // fluid.dt = 0.01 is then 0.04 s, and the flow is the unit cavity's at dt = 0.01 scaled by U
+  // in velocity and L in length: the same numbers up to rounding.
+  auto unit = test::simulation_from(lid_cavity(1.0, 1.0, "dt = 0.01"));
+  auto scaled = test::simulation_from(lid_cavity(2.0, 0.5, "dt = 0.01"));
+  const FluidParams& p = scaled->model().params.get<FluidParams>();
+  CHECK(p.dt == doctest::Approx(0.04).epsilon(1e-14));
+  CHECK(p.viscosity == doctest::Approx(0.01).epsilon(1e-14));
+  CHECK(p.length_scale == 2.0);
+  CHECK(p.velocity_scale == 0.5);
+  for (int k = 0; k < 30; ++k) {
+    REQUIRE(unit->step());
+    REQUIRE(scaled->step());
+  }
+  CHECK(scaled->state().t == doctest::Approx(30 * 0.04).epsilon(1e-13));
+  CHECK(test::observe(scaled->model(), scaled->state(), "fluid.dt") == doctest::Approx(0.04).epsilon(1e-14));
+  double u_max = 0;
+  for (int a = 0; a < 2; ++a) {
+    std::vector<double> u = scaled->state().module_field(fluid_fields().u[a]);
+    for (double& v : u) v /= 0.5;
+    const auto& ref = unit->state().module_field(fluid_fields().u[a]);
+    for (double v : ref) u_max = std::max(u_max, std::abs(v));
+    // Each step's arithmetic differs by the scales' roundings (1e-16 relative), carried through
+    // 30 steps: far below 1e-12 of the lid speed.
+    CHECK(max_diff(u, ref) < 1e-12);
+  }
+  CHECK(u_max > 0.1);  // the flow is under way
+  // The pressure scales as rho U^2.
+  std::vector<double> pr = scaled->state().module_field(fluid_fields().p);
+  for (double& v : pr) v /= 0.25;
+  CHECK(max_diff(pr, unit->state().module_field(fluid_fields().p)) < 1e-11);
+  // The adaptive step's cap in units of L / U too.
+  const Model capped = test::model_from(lid_cavity(2.0, 0.5, "dt_max = 0.005"));
+  CHECK(capped.params.get<FluidParams>().dt_max == doctest::Approx(0.02).epsilon(1e-14));
+}
