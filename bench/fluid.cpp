@@ -335,8 +335,8 @@ void poisson(bool quick) {
       std::printf("%-9s %7d %10.4f %10.4f %8d %10.2e %10.2e %8.1f\n", box, threads, fft_s, cg_s, rep.iterations,
                   rep.residual, diff / scale, cg_s / fft_s);
       append_csv(kResults + "fluid_poisson.csv", header,
-                 today() + "," + std::to_string(n) + "," + box + "," + std::to_string(threads) + "," + num(fft_s) + "," +
-                     num(cg_s) + "," + std::to_string(rep.iterations) + "," + num(rep.residual) + "," +
+                 today() + "," + std::to_string(n) + "," + box + "," + std::to_string(threads) + "," + num(fft_s) +
+                     "," + num(cg_s) + "," + std::to_string(rep.iterations) + "," + num(rep.residual) + "," +
                      num(diff / scale) + "," + num(cg_s / fft_s));
     }
   }

@@ -256,8 +256,9 @@ RunOptions Session::run_options(const RunLength& len, bool background) {
       break;
     case RunLength::kSteady:
       if (!has_steady_test(m))
-        throw std::runtime_error("run until steady: the steady-state test (run.steady_tol) is the fluid's, and this "
-                                 "scene has no [fluid]");
+        throw std::runtime_error(
+            "run until steady: the steady-state test (run.steady_tol) is the fluid's, and this "
+            "scene has no [fluid]");
       opt.steps = kForever;
       opt.stop_when_steady = true;
       break;

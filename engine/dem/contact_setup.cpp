@@ -113,7 +113,8 @@ void refuse_unless_finite(const SceneDesc& d, const std::string& key, const std:
 // The reduced mass, the stiffness and the damping ratio in turn, each at its own key; then the time
 // scales made of them (sqrt(m*/k), and the damping for the stability limit), at the key of the
 // factor farthest from 1 in magnitude: the one that took the scale out of the range.
-void check_scales(const SceneDesc& d, const ScaleInputs& in, std::initializer_list<std::pair<const char*, double>> times) {
+void check_scales(const SceneDesc& d, const ScaleInputs& in,
+                  std::initializer_list<std::pair<const char*, double>> times) {
   refuse_unless_finite(d, in.mass_key, "reduced mass", in.m_eff, false, in, 0);
   refuse_unless_finite(d, in.law.stiffness, "stiffness", in.k, false, in, 1);
   refuse_unless_finite(d, in.law.damping, "damping ratio", in.zeta, true, in, 2);
@@ -159,8 +160,7 @@ void derive_contact_scales(const SceneDesc& d, Model& m) {
   // Other materials (dem/materials.hpp): the stiffest of their laws with the lightest grains, a
   // grain against a wall (m* = m, R_eq = 2 r) included, may lower the limit; t_c stays the scene
   // material's (the unit of run.dt_over_tc).
-  auto limit_of = [&](const ContactParams& p, double m_eff, double req, const std::string& m_key,
-                      const LawKeys& keys) {
+  auto limit_of = [&](const ContactParams& p, double m_eff, double req, const std::string& m_key, const LawKeys& keys) {
     double k = 0, z = 0;
     if (p.law == NormalLaw::kHertz) {
       k = 0.5 * p.e_tilde * std::sqrt(2.0 * req * m.limits.max_overlap * m.r_min);

@@ -26,7 +26,6 @@
 namespace silt::dem {
 namespace {
 
-
 struct CellGrid {
   int n[3] = {1, 1, 1};
   double lo[3] = {0, 0, 0};

@@ -95,12 +95,13 @@ const ModuleSpec& module() {
     s.name = "fluid";
     s.doc = "incompressible Navier-Stokes on a staggered grid (RK3, projection by fast transforms)";
     s.keys = fluid_keys();
-    s.fields = {
-        {"fluid_u", Extent::kFaceX, "m/s", "x velocity on the x faces; fluid_store"},
-        {"fluid_v", Extent::kFaceY, "m/s", "y velocity on the y faces; fluid_store"},
-        {"fluid_w", Extent::kFaceZ, "m/s", "z velocity on the z faces (3D); fluid_store"},
-        {"fluid_p", Extent::kCell, "Pa", "pressure at the cell centres (of the last projection); fluid_store"},
-        {"fluid_stat", Extent::kFree, "", "next dt, div max, CFL, change rate, solver numbers (fluid/step.hpp); fluid_load, fluid_pressure, fluid_store"}};
+    s.fields = {{"fluid_u", Extent::kFaceX, "m/s", "x velocity on the x faces; fluid_store"},
+                {"fluid_v", Extent::kFaceY, "m/s", "y velocity on the y faces; fluid_store"},
+                {"fluid_w", Extent::kFaceZ, "m/s", "z velocity on the z faces (3D); fluid_store"},
+                {"fluid_p", Extent::kCell, "Pa", "pressure at the cell centres (of the last projection); fluid_store"},
+                {"fluid_stat", Extent::kFree, "",
+                 "next dt, div max, CFL, change rate, solver numbers (fluid/step.hpp); fluid_load, fluid_pressure, "
+                 "fluid_store"}};
     s.events = {"fluid_cfl", "fluid_nonfinite", "fluid_solve"};
     s.observables = fluid_observables();
     s.enabled = [](const SceneDesc& d) { return d.has("fluid.cells"); };

@@ -208,9 +208,10 @@ std::string describe_paste(const Model& m) {
   }
   const PasteMemory& e = p.memory;
   o << "             memory beyond the grains about " << megabytes(e.total()) << ": the Cholesky factor "
-    << megabytes(e.factor) << " (CHOLMOD's analysis of " << e.connections << " connections, the initial grains at Phi = "
-    << e.phi << "), Xi (" << e.entries << " entries), its buffers and copies " << megabytes(e.held)
-    << ", a step's peak " << megabytes(e.transient) << "\n";
+    << megabytes(e.factor) << " (CHOLMOD's analysis of " << e.connections
+    << " connections, the initial grains at Phi = " << e.phi << "), Xi (" << e.entries
+    << " entries), its buffers and copies " << megabytes(e.held) << ", a step's peak " << megabytes(e.transient)
+    << "\n";
   return o.str();
 }
 

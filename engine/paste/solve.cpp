@@ -56,8 +56,8 @@ void record_alone(State& s, const std::vector<int32_t>& component, const std::ve
   for (int64_t i = 0; i < static_cast<int64_t>(component.size()); ++i)
     if (comp_size[component[i]] == 1) ids.push_back(s.particle_id[i]);
   std::sort(ids.begin(), ids.end());
-  const bool same = !field.empty() && field.size() == ids.size() + 1 &&
-                    std::equal(ids.begin(), ids.end(), field.begin() + 1);
+  const bool same =
+      !field.empty() && field.size() == ids.size() + 1 && std::equal(ids.begin(), ids.end(), field.begin() + 1);
   const bool was_empty = field.size() <= 1;
   field.resize(ids.size() + 1);
   std::copy(ids.begin(), ids.end(), field.begin() + 1);

@@ -139,9 +139,9 @@ TEST_CASE("a checkpoint that cannot be written at the end of a run: exit 4, in t
   // A file size limit, as a full disk or a quota would stop a write: the checkpoint of pack_2d
   // (about 60 kB) fails at the end of the run, the summary (a few kB) is written. With SIGXFSZ
   // ignored, the write returns EFBIG instead of killing the process.
-  const Result r = sh("bash -c 'trap \"\" XFSZ; ulimit -f 24; " + silt::test::silt_binary() + " run " +
-                      scene_path("pack_2d") + " --steps 20 --quiet --save " + (dir / "end.ckpt") + " --summary " +
-                      (dir / "s.json") + "; echo code=$?'");
+  const Result r =
+      sh("bash -c 'trap \"\" XFSZ; ulimit -f 24; " + silt::test::silt_binary() + " run " + scene_path("pack_2d") +
+         " --steps 20 --quiet --save " + (dir / "end.ckpt") + " --summary " + (dir / "s.json") + "; echo code=$?'");
   CHECK(contains(r.out, "cannot write checkpoint"));
   CHECK(contains(r.out, "File too large"));
   CHECK(contains(r.out, "code=4"));

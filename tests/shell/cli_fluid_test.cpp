@@ -84,11 +84,11 @@ TEST_CASE("silt run: the cavity stops when steady, with the summary's status ste
 }
 
 TEST_CASE("silt play: run until steady, and a target CFL steered between runs") {
-  const std::string script = write_file(
-      "cli_fluid_until_steady.silt", "load " + scene_path("cavity_2d") +
-                                         "\nset fluid.cells [16, 16]\nset fluid.reynolds 10\nset fluid.cfl 0.25\n"
-                                         "run 20\nprint fluid.cfl\nset fluid.cfl 0.4\nrun 1\nprint fluid.cfl\n"
-                                         "run until steady\nprint fluid.change_rate\n");
+  const std::string script = write_file("cli_fluid_until_steady.silt",
+                                        "load " + scene_path("cavity_2d") +
+                                            "\nset fluid.cells [16, 16]\nset fluid.reynolds 10\nset fluid.cfl 0.25\n"
+                                            "run 20\nprint fluid.cfl\nset fluid.cfl 0.4\nrun 1\nprint fluid.cfl\n"
+                                            "run until steady\nprint fluid.change_rate\n");
   const Result r = silt_cli("play " + script);
   INFO(r.out);
   CHECK(r.code == 0);

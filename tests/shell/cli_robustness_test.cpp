@@ -7,9 +7,9 @@
 #include <filesystem>
 #include <fstream>
 
+#include "core/machine.hpp"
 #include "shell/cli_fixtures.hpp"
 #include "shell/shell_fixtures.hpp"
-#include "core/machine.hpp"
 #include "silt/input_files.hpp"
 #include "silt/io.hpp"
 
@@ -58,7 +58,8 @@ TEST_CASE("values no scene can supply are refused at their key") {
   CHECK(contains(r.out, "cross the whole domain"));
   // The speed is computed without squaring it (1e308^2 overflows): the message gives it.
   CHECK(contains(r.out, "grain 0 starts at 1e+308 m/s"));
-  r = silt_cli("check " + scene_path("collision_normal") + " --set 'grains.0.velocities=[[3e200, 4e200, 0], [0, 0, 0]]'");
+  r = silt_cli("check " + scene_path("collision_normal") +
+               " --set 'grains.0.velocities=[[3e200, 4e200, 0], [0, 0, 0]]'");
   CHECK(r.code == 2);
   CHECK(contains(r.out, "grain 0 starts at 5e+200 m/s"));
   r = silt_cli("check " + scene_path("collision_normal") + " --set grains.0.radius=1e-308");
@@ -115,7 +116,8 @@ TEST_CASE("a contact scale out of the numbers' range is refused at the key that 
   CHECK(contains(r.out, "dashpot.toml:9:11: the contacts' damping ratio is inf"));
   // On the command line, at the --set that gave the number: a contact time of 1e-200 s makes the
   // spring-dashpot's stiffness infinite; a modulus of 1e-320 Pa makes the Hertz contact time so.
-  r = silt_cli("check " + scene_path("collision_normal") + " --set contact.friction=0.2 --set contact.contact_time=1e-200");
+  r = silt_cli("check " + scene_path("collision_normal") +
+               " --set contact.friction=0.2 --set contact.contact_time=1e-200");
   CHECK(r.code == 2);
   CHECK(contains(r.out, "--set:2:"));
   CHECK(contains(r.out, "the contacts' stiffness is inf"));
@@ -191,8 +193,7 @@ TEST_CASE("a checkpoint is smaller than the memory its system needs, which the m
     auto sim = silt::test::simulation_from(silt::test::read_file(scene_path(name)));
     for (int k = 0; k < 20; ++k) REQUIRE(sim->step());
     silt::write_checkpoint(dir / "c.ckpt", sim->model(), sim->state());
-    CHECK(static_cast<double>(std::filesystem::file_size(dir / "c.ckpt")) <
-          silt::estimated_memory_bytes(sim->model()));
+    CHECK(static_cast<double>(std::filesystem::file_size(dir / "c.ckpt")) < silt::estimated_memory_bytes(sim->model()));
   }
   CHECK(static_cast<double>(silt::max_checkpoint_bytes()) >= silt::available_memory_bytes());
 }

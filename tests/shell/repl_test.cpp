@@ -199,16 +199,26 @@ TEST_CASE("commands that crash readline's callback interface do nothing under an
   REQUIRE(!t.read_until("silt[t=0]> ").empty());
   // Ctrl-T, Ctrl-X, a: a segmentation fault in GNU readline 8.2 with Ctrl-T bound to
   // reverse-search-history; Ctrl-U clears the line.
-  t.type("\x14\x18" "a\x15");
-  t.type("\x1bq\x18" "a\x15\x07\x07\x18" "a\x15");  // Meta-q, the sequence Ctrl-G Ctrl-G
-  t.type("\x18qprint t\n\x18w\x0f\x15");       // a keyboard macro recorded and played
+  t.type(
+      "\x14\x18"
+      "a\x15");
+  t.type(
+      "\x1bq\x18"
+      "a\x15\x07\x07\x18"
+      "a\x15");                           // Meta-q, the sequence Ctrl-G Ctrl-G
+  t.type("\x18qprint t\n\x18w\x0f\x15");  // a keyboard macro recorded and played
   CHECK(!t.read_until("t = 0").empty());
-  t.type("\x18\x12\x14\x18" "a\x15");  // the inputrc read again (Ctrl-X Ctrl-R), then Ctrl-T
-  t.type("step\x01print \n");      // ordinary line editing stays: Ctrl-A to the line's beginning
+  t.type(
+      "\x18\x12\x14\x18"
+      "a\x15");                // the inputrc read again (Ctrl-X Ctrl-R), then Ctrl-T
+  t.type("step\x01print \n");  // ordinary line editing stays: Ctrl-A to the line's beginning
   CHECK(!t.read_until("step = 0").empty());
   // Vi mode (Meta-Ctrl-J): Ctrl-T in insertion mode; Escape, then s and Ctrl-T in command mode;
   // cc changes the whole line.
-  t.type("\x1b\n\x14\x18" "a\x1bs\x14" "ccprint dt\n");
+  t.type(
+      "\x1b\n\x14\x18"
+      "a\x1bs\x14"
+      "ccprint dt\n");
   CHECK(!t.read_until("dt = ").empty());
   t.type("quit\n");
   CHECK(t.wait_exit() == 0);

@@ -116,7 +116,7 @@ SolveReport conjugate_gradient(const LinearOperator& a, const Vector& b, Vector&
 // stay together in the ordering: they have the same pattern). Cheap: no values, no numerical
 // factorisation, block^2 times fewer entries than the matrix itself.
 struct FactorSize {
-  int64_t entries = 0;  // values of the factor (the supernodes' rectangles)
+  int64_t entries = 0;   // values of the factor (the supernodes' rectangles)
   int64_t integers = 0;  // its integer pattern and permutation
   int64_t update = 0;    // the numerical factorisation's largest update matrix (values)
   // Bytes: the factor held, and the factorisation's peak beyond it.

@@ -245,8 +245,8 @@ TEST_CASE("check's labels: Hertz t_c is the duration of a collision reaching the
   const Model m = test::model_from(test::fill(kHertzPair, {{"zeta", 0.0}, {"v", v_rel / 2}, {"dt", 1e-9}}));
   const std::string text = describe(m);
   CHECK(text.find("duration of an undamped collision reaching contact.hertz_ref_overlap") != std::string::npos);
-  auto sim = test::simulation_from(
-      test::fill(kHertzPair, {{"zeta", 0.0}, {"v", v_rel / 2}, {"dt", m.t_contact / 20000}}));
+  auto sim =
+      test::simulation_from(test::fill(kHertzPair, {{"zeta", 0.0}, {"v", v_rel / 2}, {"dt", m.t_contact / 20000}}));
   CHECK(test::head_on_collision(*sim, v_rel).duration == doctest::Approx(m.t_contact).epsilon(2e-4));
 }
 

@@ -18,8 +18,8 @@ namespace {
 std::string lid_cavity(double side, double lid, const std::string& extra) {
   const std::string s = std::to_string(side);
   return "[scene]\ndimension = 2\n[domain]\nlo = [0.0, 0.0]\nhi = [" + s + ", " + s +
-         "]\n[fluid]\ncells = [24, 24]\nreynolds = 100.0\n" + extra +
-         "\n[fluid.boundary]\ny_hi_velocity = [" + std::to_string(lid) + ", 0.0]\n";
+         "]\n[fluid]\ncells = [24, 24]\nreynolds = 100.0\n" + extra + "\n[fluid.boundary]\ny_hi_velocity = [" +
+         std::to_string(lid) + ", 0.0]\n";
 }
 
 // dt sum_a max |u_a| / h_a of a state's stored velocities, computed here from the fields.

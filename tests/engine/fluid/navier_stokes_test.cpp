@@ -94,8 +94,8 @@ TEST_CASE("fluid: the 3D Taylor-Green vortex is second order in space") {
     for (int64_t kk = 0; kk < d[2]; ++kk)
       for (int64_t j = 0; j < d[1]; ++j)
         for (int64_t i = 0; i < n; ++i) {  // face n is face 0 again
-          const double phi = std::sin(k * i * grid.h[0]) * std::cos(k * (j + 0.5) * grid.h[1]) *
-                             std::cos(k * (kk + 0.5) * grid.h[2]);
+          const double phi =
+              std::sin(k * i * grid.h[0]) * std::cos(k * (j + 0.5) * grid.h[1]) * std::cos(k * (kk + 0.5) * grid.h[2]);
           dot += phi * u[i + d[0] * (j + d[1] * kk)];
           norm += phi * phi;
         }

@@ -48,11 +48,11 @@ placement = "random"
 )";
 
 struct CycleRecord {
-  double worst = 0;             // largest |sigma_aa - Sigma_aa(t)| / P over the steps
-  double lowest = 1e300;        // smallest and largest Sigma_xx - Sigma_yy met, / P
+  double worst = 0;       // largest |sigma_aa - Sigma_aa(t)| / P over the steps
+  double lowest = 1e300;  // smallest and largest Sigma_xx - Sigma_yy met, / P
   double highest = -1e300;
-  double strain_half = 0;       // ln(L_x/L_x0) - ln(L_y/L_y0) at the first step past half a cycle
-  double cycle_error = 0;       // largest |cycle - t / period|
+  double strain_half = 0;  // ln(L_x/L_x0) - ln(L_y/L_y0) at the first step past half a cycle
+  double cycle_error = 0;  // largest |cycle - t / period|
   int64_t steps = 0;
 };
 

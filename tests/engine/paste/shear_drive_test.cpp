@@ -176,9 +176,8 @@ void check_shear_drive(int dim) {
   // The shear's drive: the lubrication force of the affine flow u = gammadot (y - lo_y) e_x on
   // grains at rest relative to it. Across a connection u_i - u_j(image) = -gammadot r_ij,y e_x,
   // the image above moving at gammadot L_y with the Lees-Edwards images.
-  const Eigen::VectorXd drive = direct_loads(l, links.c, s, [&](const Eigen::Vector3d& r) {
-    return Eigen::Vector3d(-rate * r[1], 0, 0);
-  });
+  const Eigen::VectorXd drive =
+      direct_loads(l, links.c, s, [&](const Eigen::Vector3d& r) { return Eigen::Vector3d(-rate * r[1], 0, 0); });
   REQUIRE(drive.norm() > 0);
   for (int64_t k = 0; k < l.size(); ++k) {
     CAPTURE(k);
