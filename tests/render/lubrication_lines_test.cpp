@@ -15,31 +15,6 @@ using silt::test::pixel_of;
 
 namespace {
 
-// Five disks of radius 0.5 (h_max = 0.5) in a fixed box: 0-1 and 1-2 touch (overlaps 0.02 and
-// 0.005), 1-3, 2-3, 0-4 and 1-4 are lubricated gaps only (0.011 to 0.22). One solve gives the
-// connections their lubrication forces: in a fixed box with no external force, the contacts' own
-// lubrication balances the contact forces, and the gaps carry about 1e-11.
-const char* kLubricatedFive = R"(
-[scene]
-dimension = 2
-[domain]
-lo = [0, 0]
-hi = [8, 8]
-periodic = [true, true]
-[contact]
-model = "linear"
-k_n = 1e4
-[lubrication]
-viscosity = 1.0
-h_min_over_a = 1e-2
-tolerance = 1e-12
-dt = 1e-3
-[[grains]]
-radius = 0.5
-placement = "explicit"
-positions = [[3.0, 4.0], [3.98, 4.0], [4.577, 4.796], [5.2, 4.0], [3.5, 3.1]]
-)";
-
 // The normal lubrication force of every pair that has one, as the frame defines it: f . d / |d|,
 // f the force on i from j and d = x_i - x_j (positive: pushed apart).
 struct LubricatedPair {
@@ -67,7 +42,7 @@ std::vector<LubricatedPair> lubricated_pairs(const State& s) {
 }  // namespace
 
 TEST_CASE("a paste's frame draws its lubrication forces apart from the contacts' chains") {
-  auto sim = test::simulation_from(kLubricatedFive);
+  auto sim = test::simulation_from(test::kLubricatedFive);
   sim->prepare();
   const State& s = sim->state();
   const std::vector<LubricatedPair> lub = lubricated_pairs(s);
@@ -124,7 +99,7 @@ TEST_CASE("a paste's frame draws its lubrication forces apart from the contacts'
 }
 
 TEST_CASE("the lubrication forces' colour bar, and a dry scene that has none to draw") {
-  auto sim = test::simulation_from(kLubricatedFive);
+  auto sim = test::simulation_from(test::kLubricatedFive);
   sim->prepare();
   View v = test::plain_view(800, 600, {"lubrication", "colorbar"});
   const RenderScene rs = build_render_scene(sim->model(), sim->state(), v);

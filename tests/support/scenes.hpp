@@ -72,4 +72,29 @@ Eigen::VectorXd gaussian_vector(int64_t n, unsigned seed);
 // The value of one observable of the state, as silt run's stats would sample it.
 double observe(const Model& m, const State& s, const std::string& name);
 
+// A lubricated paste of five disks of radius 0.5 (h_max = 0.5) in a fixed periodic box, a fixed
+// step: 0-1 and 1-2 touch (overlaps 0.02 and 0.005), 1-3, 2-3, 0-4 and 1-4 are lubricated gaps
+// only (0.011 to 0.22). With no external force, one solve gives the contacts' own lubrication
+// the contact forces to balance (eq. 2.19); the gaps carry about 1e-11.
+inline const char* kLubricatedFive = R"(
+[scene]
+dimension = 2
+[domain]
+lo = [0, 0]
+hi = [8, 8]
+periodic = [true, true]
+[contact]
+model = "linear"
+k_n = 1e4
+[lubrication]
+viscosity = 1.0
+h_min_over_a = 1e-2
+tolerance = 1e-12
+dt = 1e-3
+[[grains]]
+radius = 0.5
+placement = "explicit"
+positions = [[3.0, 4.0], [3.98, 4.0], [4.577, 4.796], [5.2, 4.0], [3.5, 3.1]]
+)";
+
 }  // namespace silt::test

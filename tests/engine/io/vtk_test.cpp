@@ -212,26 +212,8 @@ TEST_CASE("VTK of a paste: every grain's lubrication force, which balances its c
   // Five disks in a fixed box (two contacts, four lubricated gaps only), solved once: in the
   // quasi-static paste with no external force each grain's lubrication force is minus its contact
   // force (eq. 2.19), to the solve's tolerance.
-  auto sim = test::simulation_from(R"(
-[scene]
-dimension = 2
-[domain]
-lo = [0, 0]
-hi = [8, 8]
-periodic = [true, true]
-[contact]
-model = "linear"
-k_n = 1e4
-[lubrication]
-viscosity = 1.0
-h_min_over_a = 1e-2
-tolerance = 1e-12
-dt = 1e-3
-[[grains]]
-radius = 0.5
-placement = "explicit"
-positions = [[3.0, 4.0], [3.98, 4.0], [4.577, 4.796], [5.2, 4.0], [3.5, 3.1]]
-)");
+  auto sim = test::simulation_from(test::kLubricatedFive);
+
   REQUIRE(sim->step());
   const State& s = sim->state();
   VtkWriter vtk("vtk_paste_out");
