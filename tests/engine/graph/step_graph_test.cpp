@@ -10,6 +10,9 @@
 #include <set>
 #include <sstream>
 
+#include "core/assert.hpp"
+#include "dem/stages.hpp"
+#include "dem/workspace.hpp"
 #include "graph/adders.hpp"
 #include "graph/step_graph.hpp"
 #include "support/scenes.hpp"
@@ -116,6 +119,41 @@ TEST_CASE("the run-time access check names a stage that writes or reads an undec
   CHECK(run(stage("honest", {}, {fid::particle_x}, {fid::particle_f}, [](const Model&, State& s) {
           for (size_t k = 0; k < s.particle_f.size(); ++k) s.particle_f[k] = 2 * s.particle_x[k];
         })).empty());
+}
+
+TEST_CASE("a broken invariant stops the step with an internal error on both executors") {
+  // contact_forces asserts that update_neighbors left it a valid pair list: run it alone on a
+  // state that has none.
+  const Model m = compile(load_scene_file(test::scene_path("collision_normal")));
+  tbb::task_arena arena(2);
+  for (bool flow : {false, true}) {
+    CAPTURE(flow);
+    Workspaces ws;
+    auto& w = ws.get<dem::DemWorkspace>();
+    graph::StageList list;
+    list.stages.push_back(
+        stage("contact_forces", {}, {}, {}, [&w](const Model& mm, State& s) { dem::contact_forces(mm, s, w); }));
+    State s = make_state(m);
+    s.nbr_valid = false;
+    arena.execute([&] {
+      graph::StepGraph g(std::move(list));
+      flow ? g.run_flow(m, s) : g.run_serial(m, s);
+      REQUIRE(s.internal.raised());
+      CHECK(s.internal.stage() == "contact_forces");
+      CHECK(s.internal.message().find("internal error in stage contact_forces") != std::string::npos);
+      CHECK(s.internal.message().find("contact_forces.cpp") != std::string::npos);
+      CHECK(s.internal.message().find("assertion 's.nbr_valid") != std::string::npos);
+      CHECK(s.internal.message().find("needs a valid pair list") != std::string::npos);
+      CHECK_FALSE(g.diagnose(m, s));
+      CHECK(s.failure.internal);
+      CHECK(s.failure.stage == "contact_forces");
+    });
+  }
+  // Outside a stage the assertion is an exception of its own type.
+  Workspaces ws;
+  State s = make_state(m);
+  s.nbr_valid = false;
+  CHECK_THROWS_AS(dem::contact_forces(m, s, ws.get<dem::DemWorkspace>()), InternalError);
 }
 
 TEST_CASE("every stage of the shipped scenes touches only what it declares") {
