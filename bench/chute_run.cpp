@@ -8,8 +8,12 @@
 //
 //   build/bench/chute_run [--silt PATH] [--baseline PATH] [--repeat N] [--no-lammps] [--steps N]
 //
+// After each round, a loop with the memory traffic of silt's kick over the chute's 17,600 grains
+// (machine_reference.hpp, 30,000 sweeps) on 1 and 2 threads: what this machine's memory gives a
+// grain pass from the second core at that moment.
+//
 // Prints the wall time of every run and the medians with their ratios; appends one row per run
-// to bench/results/chute_run.csv.
+// to bench/results/chute_run.csv (the reference as program "stream-reference").
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
@@ -19,6 +23,7 @@
 #include <vector>
 
 #include "bench_util.hpp"
+#include "machine_reference.hpp"
 
 using namespace silt;
 
@@ -75,7 +80,9 @@ int run(int argc, char** argv) {
   }
   std::map<std::pair<std::string, int>, std::vector<double>> times;
   const std::string date = bench::today(), cpu = bench::cpu_model();
-  for (int r = 0; r < repeat; ++r)
+  constexpr int64_t kStreamGrains = 17600, kStreamSweeps = 30000;
+  bench::StreamLoop stream(kStreamGrains);
+  for (int r = 0; r < repeat; ++r) {
     for (size_t k = 0; k < jobs.size(); ++k) {
       const Job& j = jobs[(k + r) % jobs.size()];  // a rotating order
       const double t0 = bench::now_s();
@@ -89,12 +96,23 @@ int run(int argc, char** argv) {
                         date + ",\"" + cpu + "\"," + j.program + "," + std::to_string(j.cores) + "," + steps + "," +
                             std::to_string(r + 1) + "," + std::to_string(wall));
     }
+    for (int c : {1, 2}) {
+      const double wall = stream.seconds(c, kStreamSweeps);
+      times[{"stream-reference", c}].push_back(wall);
+      std::printf("round %d  %-14s %d core(s)  %7.2f s\n", r + 1, "stream-reference", c, wall);
+      bench::append_csv(src + "/bench/results/chute_run.csv", "date,cpu,program,cores,steps,round,wall_s",
+                        date + ",\"" + cpu + "\",stream-reference," + std::to_string(c) + "," +
+                            std::to_string(kStreamSweeps) + "," + std::to_string(r + 1) + "," + std::to_string(wall));
+    }
+  }
   auto med = [&](const std::string& p, int c) { return median(times[{p, c}]); };
   std::printf("\nmedians of %d interleaved runs of %s steps:\n", repeat, steps.c_str());
   for (const auto& [key, v] : times)
     std::printf("  %-14s %d core(s)  %7.2f s  (%.2f .. %.2f)\n", key.first.c_str(), key.second, median(v),
                 *std::min_element(v.begin(), v.end()), *std::max_element(v.begin(), v.end()));
   std::printf("silt: 2 threads / 1 thread %.2f\n", med("silt", 1) / med("silt", 2));
+  std::printf("stream-reference (the kick's memory traffic): 2 threads / 1 thread %.2f\n",
+              med("stream-reference", 1) / med("stream-reference", 2));
   if (!baseline.empty()) {
     std::printf("silt-baseline: 2 threads / 1 thread %.2f\n", med("silt-baseline", 1) / med("silt-baseline", 2));
     std::printf("silt / silt-baseline time: 1 thread %.3f, 2 threads %.3f\n", med("silt", 1) / med("silt-baseline", 1),
