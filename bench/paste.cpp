@@ -11,8 +11,8 @@
 //                packing), with the wall time, steps and solver iterations; each run stops after
 //                --budget seconds of wall time (default 600, the target for 1e-8) if not static.
 //   knobs        dt_change (the adaptive step's threshold) and the solver (direct, factor_pcg
-//                at three refactorisation thresholds, cg) at h_min/a = 1e-3: cost against the
-//                equilibrium reached.
+//                at three refactorisation thresholds and refactorised every 10 or 100 solves, cg)
+//                at h_min/a = 1e-3: cost against the equilibrium reached.
 //   shear        Chapter 4: mu* and Phi against Vi (--vi 0.1,0.01) at N = 896, h_min/a = 1e-2,
 //                through --strain 0.5 1.0 (transient, averaged), next to the fits of Tables 4.2
 //                and 4.4, with P_cont/P.
@@ -257,6 +257,8 @@ void knobs(const Args& a) {
       {"solver=direct", {"lubrication.solver=\"direct\""}},
       {"solver=factor_pcg refactor 5", {"lubrication.refactor_iterations=5"}},
       {"solver=factor_pcg refactor 40", {"lubrication.refactor_iterations=40"}},
+      {"solver=factor_pcg every 10 solves", {"lubrication.refactor_every=10"}},
+      {"solver=factor_pcg every 100 solves", {"lubrication.refactor_every=100"}},
       {"solver=cg (Jacobi)", {"lubrication.solver=\"cg\"", "lubrication.max_iterations=100000"}},
   };
   State packing;
