@@ -13,7 +13,8 @@
 // grain pass from the second core at that moment.
 //
 // Prints the wall time of every run and the medians with their ratios; appends one row per run
-// to bench/results/chute_run.csv (the reference as program "stream-reference").
+// to bench/results/chute_run.csv (the reference as program "stream-reference", its sweeps in the
+// steps column).
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>

@@ -512,31 +512,26 @@ void cost(const Args& a) {
   if (!a.quick) ks.push_back(8);
   std::vector<double> lx, ly;
   const double strain = a.quick ? 0.002 : 0.02;
-  {
-    // N = 224 (the thesis' isotropic samples): a packing of its own, prepared as the scene's, in a
-    // box of a quarter of the area.
-    const Model m = model_of(scene("paste_shear"), a, {"grains.0.count=224", "domain.hi=[16.0,16.0]"});
-    const State own = prepare_packing(m, a.threads);
+  // One row: the sheared run of `start`, its cost per step and per unit strain, its memory.
+  auto measure = [&](const Model& m, const State& start) {
     const double rss0 = bench::peak_rss_bytes();
-    Row r = shear_run(m, own, a.threads, strain, 0);
+    Row r = shear_run(m, start, a.threads, strain, 0);
     r.section = "cost";
     r.name = "N";
     r.h_min = 1e-2;
     cost_row(r, m.n_grains, rss0, lx, ly);
-  }
+  };
+  // N = 224 (the thesis' isotropic samples): a packing of its own, prepared as the scene's, in a
+  // box of a quarter of the area.
+  const Model small = model_of(scene("paste_shear"), a, {"grains.0.count=224", "domain.hi=[16.0,16.0]"});
+  measure(small, prepare_packing(small, a.threads));
   for (int k : ks) {
     const int64_t n = base.n_grains * k * k;
     const double side = 34.0 * k;  // room for the random placement the model is compiled with
     const Model m = model_of(scene("paste_shear"), a,
                              {"grains.0.count=" + std::to_string(n), "domain.hi=[" + num(side) + "," + num(side) + "]",
                               "prepare.compress=false", "prepare.dilation=1.0"});
-    const State tiled = tile(m, packing, k);
-    const double rss0 = bench::peak_rss_bytes();
-    Row r = shear_run(m, tiled, a.threads, strain, 0);
-    r.section = "cost";
-    r.name = "N";
-    r.h_min = 1e-2;
-    cost_row(r, n, rss0, lx, ly);
+    measure(m, tile(m, packing, k));
   }
   std::printf("cost per unit strain ~ N^%.2f (target <= 1.2 in 2D; the thesis: 2.5)\n", fitted_exponent(lx, ly));
 }
