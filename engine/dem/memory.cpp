@@ -4,6 +4,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "core/cell_grid.hpp"
 #include "core/machine.hpp"
 #include "dem/module.hpp"
 #include "silt/text.hpp"

@@ -13,9 +13,6 @@ std::vector<ObservableSpec> dem_observables();
 void compile_dem(const SceneDesc& d, Model& m);
 void finish_dem(const SceneDesc& d, Model& m);
 std::string describe_dem(const Model& m);
-// The neighbour cell grid holds at most this many cells per grain, plus a constant (its cells are
-// enlarged until it does, whatever the box): its memory follows the grains.
-constexpr double kMaxCellsPerGrain = 4, kMaxCellsExtra = 4096;
 // Bytes n grains of this model take, their pairs and cells included (an estimate from the field
 // list and a dense packing); refuse (at `key`) a scene that would not fit in the machine.
 double grains_memory_bytes(const Model& m, int64_t n);

@@ -16,6 +16,7 @@
 
 #include "core/assert.hpp"
 #include "core/buffers.hpp"
+#include "core/cell_grid.hpp"
 #include "core/parallel.hpp"
 #include "core/periodic_image.hpp"
 #include "dem/contact_candidates.hpp"
@@ -25,126 +26,6 @@
 
 namespace silt::dem {
 namespace {
-
-struct CellGrid {
-  int n[3] = {1, 1, 1};
-  double lo[3] = {0, 0, 0};
-  double inv_size[3] = {1, 1, 1};
-  bool wrap[3] = {false, false, false};
-  double le_shift = 0;     // Lees-Edwards offset in x cells (the image above is shifted by it)
-  bool may_repeat = true;  // a stencil may name a cell twice (a periodic direction of few cells)
-  int64_t count() const { return int64_t{n[0]} * n[1] * n[2]; }
-};
-
-template <int D>
-CellGrid make_grid(const Model& m, const State& s, double cutoff) {
-  CellGrid g;
-  // Extent of the grains in the open directions (they may leave the nominal domain).
-  double xmin[3], xmax[3];
-  for (int k = 0; k < D; ++k) {
-    xmin[k] = 1e308;
-    xmax[k] = -1e308;
-  }
-  for (int64_t i = 0; i < s.n; ++i)
-    for (int k = 0; k < D; ++k) {
-      const double x = s.particle_x[D * i + k];
-      if (!std::isfinite(x)) continue;  // a grain gone to infinity (the step reports it) takes no cells
-      xmin[k] = std::min(xmin[k], x);
-      xmax[k] = std::max(xmax[k], x);
-    }
-  // Keep the total number of cells bounded (a grain flying away, or grains tiny against a long
-  // periodic box, must not allocate a huge grid): at most about 4 cells per grain plus a
-  // constant, by enlarging the cells, in every direction.
-  const double cap = kMaxCellsPerGrain * static_cast<double>(s.n) + kMaxCellsExtra;
-  double size[3] = {cutoff, cutoff, cutoff};
-  for (int grow = 0; grow < 2100; ++grow) {
-    double total = 1;
-    for (int k = 0; k < D; ++k) {
-      if (s.box.periodic[k]) {
-        g.wrap[k] = true;
-        // (A box length gone non-finite, which the box's stage reports, gets one cell.)
-        const double cells = std::floor(s.box.len[k] / size[k]);
-        g.n[k] = std::isfinite(cells) ? static_cast<int>(std::clamp(cells, 1.0, 1e9)) : 1;
-        g.lo[k] = s.box.lo[k];
-        g.inv_size[k] = g.n[k] / s.box.len[k];
-      } else {
-        g.lo[k] = xmin[k];
-        const double span = std::max(0.0, xmax[k] - xmin[k]);
-        g.n[k] = static_cast<int>(std::min(1e9, std::floor(span / size[k]))) + 1;
-        g.inv_size[k] = 1.0 / size[k];
-      }
-      total *= g.n[k];
-    }
-    if (total <= cap) break;
-    for (int k = 0; k < D; ++k) size[k] *= 2;
-  }
-  (void)m;
-  if (s.box.lees_edwards) g.le_shift = s.box.le_offset * g.inv_size[0];
-  // An offset outside [0, L_x] is a broken box (the box's stage reports it): no shift.
-  if (!(g.le_shift >= 0 && g.le_shift <= g.n[0])) g.le_shift = 0;
-  g.may_repeat = false;
-  for (int k = 0; k < D; ++k)
-    if (g.wrap[k] && g.n[k] < (k == 0 && s.box.lees_edwards ? 4 : 3)) g.may_repeat = true;
-  return g;
-}
-
-template <int D>
-int32_t cell_index(const CellGrid& g, const double* x) {
-  int c[3] = {0, 0, 0};
-  for (int k = 0; k < D; ++k) {
-    // Clamped before the conversion: a coordinate far away (or not finite) is the edge cell.
-    const double f = std::floor((x[k] - g.lo[k]) * g.inv_size[k]);
-    int q = std::isfinite(f) ? static_cast<int>(std::clamp(f, -2e9, 2e9)) : 0;
-    if (g.wrap[k]) {
-      q %= g.n[k];
-      if (q < 0) q += g.n[k];
-    } else {
-      q = std::clamp(q, 0, g.n[k] - 1);
-    }
-    c[k] = q;
-  }
-  return static_cast<int32_t>((int64_t{c[2]} * g.n[1] + c[1]) * g.n[0] + c[0]);
-}
-
-// The distinct cells around cell `c` (fewer than 3^D when a periodic direction has < 3 cells).
-// Under Lees-Edwards, the row of cells across the y boundary is shifted along x by the offset:
-// a grain there appears at x + offset above the box (x - offset below), so the x range scanned
-// across the boundary is moved by the shift and widened by one cell for its fractional part.
-template <int D>
-int stencil(const CellGrid& g, int32_t c, int32_t* out) {
-  int cc[3] = {static_cast<int>(c % g.n[0]), static_cast<int>((c / g.n[0]) % g.n[1]),
-               static_cast<int>(c / (int64_t{g.n[0]} * g.n[1]))};
-  int count = 0;
-  const int zr = D == 3 ? 1 : 0;
-  for (int dz = -zr; dz <= zr; ++dz)
-    for (int dy = -1; dy <= 1; ++dy) {
-      const int qy = cc[1] + dy;
-      const bool across = g.le_shift != 0 && (qy < 0 || qy >= g.n[1]);
-      int x0 = cc[0] - 1, x1 = cc[0] + 1;
-      if (across) {
-        const double base = cc[0] + (qy >= g.n[1] ? -g.le_shift : g.le_shift);
-        x0 = static_cast<int>(std::floor(base)) - 1;
-        x1 = x0 + 3;
-      }
-      for (int qx = x0; qx <= x1; ++qx) {
-        int q[3] = {qx, qy, cc[2] + dz};
-        bool ok = true;
-        for (int k = 0; k < D; ++k) {
-          if (q[k] < 0 || q[k] >= g.n[k]) {
-            if (!g.wrap[k]) {
-              ok = false;
-              break;
-            }
-            q[k] = ((q[k] % g.n[k]) + g.n[k]) % g.n[k];
-          }
-        }
-        if (!ok) continue;
-        const int32_t id = static_cast<int32_t>((int64_t{q[2]} * g.n[1] + q[1]) * g.n[0] + q[0]);
-        if (!g.may_repeat || std::find(out, out + count, id) == out + count) out[count++] = id;
-      }
-    }
-  return count;
-}
 
 // Renumber the grains in the order of sc.cell_items (by cell, then by index). Returns false when
 // they already are in that order. Afterwards sc.perm[new] = old and the cell arrays follow.
@@ -186,20 +67,9 @@ bool rebuild(const Model& m, State& s, DemWorkspace& sc) {
   const int64_t n = s.n;
   const double skin = m.skin;
   const double cutoff = m.interaction_range();
-  const CellGrid g = make_grid<D>(m, s, cutoff);
-  // Counting sort of grains by cell; grains in a cell stay in index order.
-  sc.cell_of.resize(n);
-  sc.cell_start.assign(g.count() + 1, 0);
-  parallel_for(n, 4096, [&](int64_t b, int64_t e) {
-    for (int64_t i = b; i < e; ++i) sc.cell_of[i] = cell_index<D>(g, &s.particle_x[D * i]);
-  });
-  for (int64_t i = 0; i < n; ++i) ++sc.cell_start[sc.cell_of[i] + 1];
-  for (int64_t c = 0; c < g.count(); ++c) sc.cell_start[c + 1] += sc.cell_start[c];
-  sc.cell_items.resize(n);
-  {
-    std::vector<int32_t> pos(sc.cell_start.begin(), sc.cell_start.end() - 1);
-    for (int64_t i = 0; i < n; ++i) sc.cell_items[pos[sc.cell_of[i]]++] = static_cast<int32_t>(i);
-  }
+  const CellGrid g = make_cell_grid<D>(s.particle_x.data(), n, s.box, cutoff);
+  // Grains in a cell stay in index order.
+  sort_into_cells<D>(g, s.particle_x.data(), n, sc.cell_of, sc.cell_start, sc.cell_items);
   // In cell order (renumbered now or already), grain j > i lies in a cell after i's or later in
   // i's own: the search skips the cells before it, about half of them.
   const bool in_order = m.sort_grains && n > Model::kSortMin;
@@ -227,7 +97,7 @@ bool rebuild(const Model& m, State& s, DemWorkspace& sc) {
   struct Stencil {
     int32_t cell = -1;
     int count = 0;
-    int32_t cells[36];
+    int32_t cells[kMaxStencil];
   };
   // visit(i, st, f): calls f(j) for every listed partner j > i, in no particular order.
   auto visit = [&](int64_t i, Stencil& st, auto&& f) {

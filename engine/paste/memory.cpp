@@ -5,6 +5,7 @@
 #include <cmath>
 #include <vector>
 
+#include "core/cell_grid.hpp"
 #include "paste/params.hpp"
 #include "paste/resistance.hpp"
 #include "paste/system.hpp"
@@ -34,10 +35,10 @@ double run_fraction(const Model& m, double phi0) {
 }
 
 // The pairs of grains whose gap is at most h_max once every centre and the box are scaled by
-// `scale` about the box's low corner (radii kept): a cell list of cells at least one reach wide,
-// or every pair when the box is less than three cells across.
+// `scale` about the box's low corner (radii kept). A sheared box starts unsheared (its offset
+// zero): the plain periodic neighbours.
+template <int D>
 std::vector<std::array<int32_t, 2>> connected_pairs(const Model& m, double scale, double h_max) {
-  const int D = m.dim;
   const int64_t n = m.n_grains;
   Box box = m.box;
   box.le_offset = 0;
@@ -46,58 +47,10 @@ std::vector<std::array<int32_t, 2>> connected_pairs(const Model& m, double scale
   for (int64_t i = 0; i < n; ++i)
     for (int a = 0; a < D; ++a) x[D * i + a] = m.box.lo[a] + scale * (m.init.x[D * i + a] - m.box.lo[a]);
   std::vector<std::array<int32_t, 2>> out;
-  auto test = [&](int64_t i, int64_t j) {
-    double d[3] = {0, 0, 0}, dist2 = 0;
-    for (int a = 0; a < D; ++a) d[a] = x[D * j + a] - x[D * i + a];
-    box.nearest(d, D);
-    for (int a = 0; a < D; ++a) dist2 += d[a] * d[a];
-    if (std::sqrt(dist2) - m.init.radius[i] - m.init.radius[j] <= h_max)
-      out.push_back({static_cast<int32_t>(std::min(i, j)), static_cast<int32_t>(std::max(i, j))});
-  };
-  const double reach = 2 * m.r_max + h_max;
-  std::array<int64_t, 3> cells{1, 1, 1};
-  bool few = false;
-  for (int a = 0; a < D; ++a) {
-    cells[a] = std::max<int64_t>(1, static_cast<int64_t>(box.len[a] / reach));
-    few = few || cells[a] < 3;
-  }
-  if (few) {
-    for (int64_t i = 0; i < n; ++i)
-      for (int64_t j = i + 1; j < n; ++j) test(i, j);
-    return out;
-  }
-  auto cell_of = [&](int64_t i, std::array<int64_t, 3>& c) {
-    for (int a = 0; a < 3; ++a) {
-      if (a >= D) {
-        c[a] = 0;
-        continue;
-      }
-      const double u = (x[D * i + a] - box.lo[a]) / box.len[a];
-      c[a] = ((static_cast<int64_t>(std::floor(u * static_cast<double>(cells[a]))) % cells[a]) + cells[a]) % cells[a];
-    }
-  };
-  const int64_t n_cells = cells[0] * cells[1] * cells[2];
-  std::vector<int64_t> head(static_cast<size_t>(n_cells), -1), next(static_cast<size_t>(n), -1);
-  std::array<int64_t, 3> c{};
-  for (int64_t i = 0; i < n; ++i) {
-    cell_of(i, c);
-    const int64_t k = (c[2] * cells[1] + c[1]) * cells[0] + c[0];
-    next[i] = head[k];
-    head[k] = i;
-  }
-  // Each grain against the grains of its 3^D cells with a larger index: every pair once. A
-  // sheared box starts unsheared (its offset zero): the plain periodic neighbours.
-  for (int64_t i = 0; i < n; ++i) {
-    cell_of(i, c);
-    for (int dz = (D == 3 ? -1 : 0); dz <= (D == 3 ? 1 : 0); ++dz)
-      for (int dy = -1; dy <= 1; ++dy)
-        for (int dx = -1; dx <= 1; ++dx) {
-          const int64_t cx = (c[0] + dx + cells[0]) % cells[0], cy = (c[1] + dy + cells[1]) % cells[1];
-          const int64_t cz = (c[2] + dz + cells[2]) % cells[2];
-          for (int64_t j = head[(cz * cells[1] + cy) * cells[0] + cx]; j >= 0; j = next[j])
-            if (j > i) test(i, j);
-        }
-  }
+  const double* r = m.init.radius.data();
+  for_each_pair_in_range<D>(x.data(), n, box, 2 * m.r_max + h_max, [&](int64_t i, int64_t j, const Vec<D>& d) {
+    if (d.norm() - r[i] - r[j] <= h_max) out.push_back({static_cast<int32_t>(i), static_cast<int32_t>(j)});
+  });
   return out;
 }
 
@@ -111,7 +64,8 @@ PasteMemory estimate_paste_memory(const Model& m) {
   const double phi0 = solid_fraction(m);
   e.phi = run_fraction(m, phi0);
   const double scale = phi0 > 0 && e.phi > phi0 ? std::pow(phi0 / e.phi, 1.0 / m.dim) : 1.0;
-  const auto pairs = connected_pairs(m, scale, p.h_max_over_a * p.a);
+  const double h_max = p.h_max_over_a * p.a;
+  const auto pairs = m.dim == 2 ? connected_pairs<2>(m, scale, h_max) : connected_pairs<3>(m, scale, h_max);
   const auto c = static_cast<int64_t>(pairs.size());
   e.connections = c;
 
