@@ -5,7 +5,9 @@
 # target, inputs run, seconds, exec/s, corpus size, new units, peak RSS, result (ok, or crash,
 # leak, timeout, oom with the input saved in build-fuzz/artifacts/).
 # Usage: bench/fuzz_all.sh [RUNS [TARGET...]]; FUZZ_MAX_SECONDS=S stops each target after S seconds
-# if it has not run its RUNS inputs by then (the row then says how many it ran).
+# if it has not run its RUNS inputs by then (the row then says how many it ran). FUZZ_WORKERS=W
+# runs W processes of each target at once on its corpus (which they share as libFuzzer reloads
+# it), each with its own seed and RUNS/W inputs; the row gives their sum.
 set -uo pipefail
 cd "$(dirname "$0")/.."
 runs=${1:-1000000}
@@ -16,26 +18,47 @@ out=build-fuzz
 csv=bench/results/fuzz.csv
 tests/fuzz/build.sh "$out" || exit 1
 [ -f "$csv" ] || echo "date,target,inputs,seconds,exec_per_s,corpus_files,corpus_kb,new_units,peak_rss_mb,result" > "$csv"
-stat() { grep -oE "stat::$1: *[0-9]+" "$log" | grep -oE '[0-9]+$' || echo 0; }
+workers=${FUZZ_WORKERS:-1}
+# A libFuzzer final statistic, summed over the workers' logs (the largest for peak_rss_mb).
+stat() {
+  local total=0 v
+  for l in "${logs[@]}"; do
+    v=$(grep -oE "stat::$1: *[0-9]+" "$l" | grep -oE '[0-9]+$' || echo 0)
+    if [ "$1" = peak_rss_mb ]; then total=$((v > total ? v : total)); else total=$((total + v)); fi
+  done
+  echo $total
+}
 printf '%-15s %10s %8s %8s %14s  %s\n' target inputs seconds exec/s corpus result
 failed=0
 for t in "${targets[@]}"; do
   start=$(date +%s.%N)
   limit=()
   [ -z "${FUZZ_MAX_SECONDS:-}" ] || limit=(-max_total_time="$FUZZ_MAX_SECONDS")
-  tests/fuzz/run.sh "$t" "$out" -runs="$runs" "${limit[@]}"
-  status=$?
+  logs=()
+  if [ "$workers" -le 1 ]; then
+    tests/fuzz/run.sh "$t" "$out" -runs="$runs" "${limit[@]}"
+    status=$?
+    logs=("$out/logs/$t.log")
+  else
+    pids=()
+    for w in $(seq 1 "$workers"); do
+      FUZZ_WORKER=$w tests/fuzz/run.sh "$t" "$out" -runs=$(((runs + workers - 1) / workers)) -seed="$w" "${limit[@]}" &
+      pids+=($!)
+      logs+=("$out/logs/$t-$w.log")
+    done
+    status=0
+    for p in "${pids[@]}"; do wait "$p" || status=1; done
+  fi
   seconds=$(awk -v a="$start" -v b="$(date +%s.%N)" 'BEGIN { printf "%.1f", b - a }')
-  log=$out/logs/$t.log
   inputs=$(stat number_of_executed_units)
   result=ok
   if [ $status -ne 0 ]; then
     failed=1
-    if grep -q 'ERROR: libFuzzer: timeout' "$log"; then result=timeout
-    elif grep -q 'out-of-memory' "$log"; then result=oom
-    elif grep -q 'LeakSanitizer' "$log"; then result=leak
+    if grep -q 'ERROR: libFuzzer: timeout' "${logs[@]}"; then result=timeout
+    elif grep -q 'out-of-memory' "${logs[@]}"; then result=oom
+    elif grep -q 'LeakSanitizer' "${logs[@]}"; then result=leak
     else result=crash; fi
-    artifact=$(grep -oE 'Test unit written to [^ ]+' "$log" | tail -n 1 | sed 's/.* //')
+    artifact=$(cat "${logs[@]}" | grep -oE 'Test unit written to [^ ]+' | tail -n 1 | sed 's/.* //')
     [ -z "$artifact" ] || result="$result $artifact"
   fi
   files=$(find "$out/corpus/$t" -type f | wc -l)

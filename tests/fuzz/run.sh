@@ -3,6 +3,7 @@
 # with its options, the rest of the arguments passed to libFuzzer (-max_total_time=20,
 # -runs=1000000). The log goes to BUILD_DIR/logs/TARGET.log, a failing input to
 # BUILD_DIR/artifacts/. Exit status: libFuzzer's, or 1 when the log holds a sanitizer report.
+# With FUZZ_WORKER=K set (one of several processes on the same corpus), the log is TARGET-K.log.
 # Usage: tests/fuzz/run.sh TARGET BUILD_DIR [LIBFUZZER_FLAG...]
 set -uo pipefail
 cd "$(dirname "$0")/../.."
@@ -25,7 +26,7 @@ case $target in
     ;;
 esac
 mkdir -p "$build/logs" "$build/artifacts"
-log=$build/logs/$target.log
+log=$build/logs/$target${FUZZ_WORKER:+-$FUZZ_WORKER}.log
 ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
   LSAN_OPTIONS=suppressions=$PWD/tests/fuzz/lsan.supp \
   "$build/tests/fuzz/${target}_fuzz" "${options[@]}" -artifact_prefix="$build/artifacts/$target-" "$@" \
