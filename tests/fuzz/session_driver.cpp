@@ -70,6 +70,19 @@ std::string small_scene(const std::string& text) {
   return out + "\n[render]\nwidth = 160\nheight = 120\n\n[prepare]\nmax_steps = " + std::to_string(kMaxRunSteps) + "\n";
 }
 
+// The session's directory, a fresh copy of the files. libFuzzer's timer (SIGALRM, for -timeout)
+// interrupts system calls, and the copy then fails with EINTR (once in 115,148 inputs): it is
+// made again.
+void fresh_work_dir() {
+  for (int attempt = 0;; ++attempt) {
+    std::error_code ec;
+    fs::remove_all(kWork, ec);
+    if (!ec) fs::copy(kFiles, kWork, ec);
+    if (!ec) return;
+    if (ec != std::errc::interrupted || attempt == 100) bug("cannot make the session directory: " + ec.message());
+  }
+}
+
 }  // namespace
 
 void prepare_sessions() {
@@ -89,9 +102,7 @@ void prepare_sessions() {
 }
 
 SessionDriver::SessionDriver(uint8_t selector) {
-  std::error_code ec;
-  fs::remove_all(kWork, ec);
-  fs::copy(kFiles, kWork);
+  fresh_work_dir();
   if (::chdir(kWork) != 0) bug("cannot enter the session directory");
   session_.emplace(out_, err_, 1);
   if (selector % 4 < 3) session_->execute(std::string("load ") + kScenes[selector % 4] + ".toml");
