@@ -150,6 +150,9 @@ int shell_command(const std::string& scene, int threads) {
   ::fcntl(g_pipe[0], F_SETFL, O_NONBLOCK);
   struct sigaction sa {};
   sa.sa_handler = on_shell_signal;
+  // A write to a full pipe (stdout read by a slower program) blocked when the signal comes is
+  // resumed, not failed with EINTR, which would put std::cout in error and lose the rest.
+  sa.sa_flags = SA_RESTART;
   sigemptyset(&sa.sa_mask);
   sigaction(SIGINT, &sa, nullptr);
   sigaction(SIGTERM, &sa, nullptr);

@@ -25,6 +25,7 @@ StopSignals::StopSignals(std::atomic<bool>* flag, void (*also)()) {
   g_caught = 0;
   struct sigaction sa {};
   sa.sa_handler = on_stop_signal;
+  sa.sa_flags = SA_RESTART;  // a write to a pipe (stdout) blocked when the signal comes goes on
   sigemptyset(&sa.sa_mask);
   sigaction(SIGINT, &sa, &g_old_int);
   sigaction(SIGTERM, &sa, &g_old_term);

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <fstream>
 #include <nlohmann/json.hpp>
 
 #include "shell/cli_fixtures.hpp"
@@ -106,6 +107,27 @@ TEST_CASE("the shell fed by a pipe pauses its run and ends on SIGTERM, exit 143"
                       " echo code=$?");
   CHECK(contains(r.out, "code=143"));
   CHECK(contains(read_file(out), "paused:"));
+}
+
+TEST_CASE("Ctrl-C while the shell's output waits on a full pipe loses none of it") {
+  // 200 `help` (about 880 KB) into a pipe nobody reads for half a second: the shell blocks in a
+  // write, and a signal then must not fail that write (std::cout would drop all later output).
+  silt::test::TempDir dir;
+  const std::string in = dir / "in.txt", fifo = dir / "o", out = dir / "out.txt";
+  {
+    std::ofstream f(in);
+    for (int k = 0; k < 200; ++k) f << "help\n";
+    f << "print step\n";
+  }
+  const std::string shell = silt::test::silt_binary() + " shell " + scene_path("collision_normal") + " < " + in;
+  const Result quiet = sh(shell + " | wc -c");
+  const Result r =
+      sh("mkfifo " + fifo + "; " + shell + " > " + fifo + " & p=$!; exec 4< " + fifo +
+         "; sleep 0.5; for k in 1 2 3; do kill -INT $p; sleep 0.1; done; cat <&4 > " + out + "; wait $p; echo code=$?");
+  CHECK(contains(r.out, "code=0"));
+  const std::string text = read_file(out);
+  CHECK(std::to_string(text.size()) + "\n" == quiet.out);
+  CHECK(contains(text.substr(text.size() - 20), "step = 0"));
 }
 
 TEST_CASE("every output is checked before the first step, and a failed write is exit 4 in the summary too") {
