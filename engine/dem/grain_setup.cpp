@@ -6,6 +6,7 @@
 #include "dem/grain_setup.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <numeric>
@@ -48,7 +49,10 @@ class PlacementGrid {
     const int D = m_.dim;
     int64_t c[3];
     cell_of(x, c);
-    std::vector<uint64_t> keys;
+    // The neighbouring cells' keys, each once (a periodic direction of one or two cells wraps
+    // onto itself), on the stack: this runs for every trial position of every grain.
+    std::array<uint64_t, 27> keys;
+    int nkeys = 0;
     const int zr = D == 3 ? 1 : 0;
     for (int dz = -zr; dz <= zr; ++dz)
       for (int dy = -1; dy <= 1; ++dy)
@@ -56,13 +60,13 @@ class PlacementGrid {
           int64_t n[3] = {c[0] + dx, c[1] + dy, c[2] + dz};
           for (int k = 0; k < 3; ++k)
             if (wrap_[k]) n[k] = ((n[k] % wrap_[k]) + wrap_[k]) % wrap_[k];
-          keys.push_back(pack(n));
+          keys[nkeys++] = pack(n);
         }
-    std::sort(keys.begin(), keys.end());
-    keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+    std::sort(keys.begin(), keys.begin() + nkeys);
+    nkeys = static_cast<int>(std::unique(keys.begin(), keys.begin() + nkeys) - keys.begin());
     double worst = 0;
-    for (uint64_t kk : keys) {
-      auto it = cells_.find(kk);
+    for (int q = 0; q < nkeys; ++q) {
+      auto it = cells_.find(keys[q]);
       if (it == cells_.end()) continue;
       for (int64_t j : it->second) {
         double d2 = 0;

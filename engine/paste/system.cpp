@@ -127,32 +127,101 @@ void find_connections(const State& s, const LubricationLaw& law, Links& out) {
   else scan.template operator()<3>();
 }
 
+// The pattern written column by column, its rows in order, without a list of triplets to sort
+// (whose allocation and sort cost more than the assembly itself once the connections change at
+// every step). Every unknown has its diagonal entry; a connection of i and j fills the p x p
+// blocks (i, i), (i, j), (j, i), (j, j), the blocks of i and j against the box strain rates, and
+// the strain rates' own block. A grain's column thus holds, for each grain connected to it or
+// itself (in order), p rows, then the strain rates' rows; a strain rate's column, p rows for each
+// connected grain, then the strain rates'. The entries and their order are those of
+// setFromTriplets on the same triplets (a test compares them).
 void ResistanceSystem::build_pattern(const std::vector<Connection>& cs) {
   const SystemLayout& l = layout_;
-  const int n = local_size(l);
-  std::vector<Eigen::Triplet<double>> t;
-  t.reserve(static_cast<size_t>(l.size()) + cs.size() * static_cast<size_t>(n * n));
-  for (int64_t k = 0; k < l.size(); ++k) t.emplace_back(static_cast<int>(k), static_cast<int>(k), 0.0);
-  for (const Connection& c : cs)
-    for (int q = 0; q < n; ++q) {
-      const int64_t gq = local_to_global(l, c, q);
-      if (gq < 0) continue;
-      for (int r = 0; r < n; ++r) {
-        const int64_t gr = local_to_global(l, c, r);
-        if (gr >= 0) t.emplace_back(static_cast<int>(gr), static_cast<int>(gq), 0.0);
-      }
+  const int n = local_size(l), p = l.per_grain, nb = l.n_box;
+  const int64_t grains = l.grains, size = l.size();
+  // Each grain's partners, itself included, sorted and unique (CSR over grains).
+  std::vector<int64_t> start(static_cast<size_t>(grains) + 1, 0);
+  for (const Connection& c : cs) {
+    ++start[c.i + 1];
+    ++start[c.j + 1];
+  }
+  std::vector<int64_t> rank(static_cast<size_t>(grains), -1);  // among the connected grains
+  int64_t connected = 0;
+  for (int64_t g = 0; g < grains; ++g) {
+    if (start[g + 1] > 0) {
+      rank[g] = connected++;
+      ++start[g + 1];  // the grain itself
     }
-  a_ = linalg::SparseMatrix(l.size(), l.size());
-  a_.setFromTriplets(t.begin(), t.end());
-  a_.makeCompressed();
-  auto position = [&](int64_t row, int64_t col) {
-    const int* rows = a_.innerIndexPtr();
-    const int* b = rows + a_.outerIndexPtr()[col];
-    const int* e = rows + a_.outerIndexPtr()[col + 1];
-    return static_cast<int64_t>(std::lower_bound(b, e, static_cast<int>(row)) - rows);
+    start[g + 1] += start[g];
+  }
+  std::vector<int32_t> adj(static_cast<size_t>(start[grains]));
+  {
+    std::vector<int64_t> fill(start.begin(), start.end() - 1);
+    for (int64_t g = 0; g < grains; ++g)
+      if (rank[g] >= 0) adj[fill[g]++] = static_cast<int32_t>(g);
+    for (const Connection& c : cs) {
+      adj[fill[c.i]++] = c.j;
+      adj[fill[c.j]++] = c.i;
+    }
+  }
+  std::vector<int64_t> partners(static_cast<size_t>(grains), 0);
+  for (int64_t g = 0; g < grains; ++g) {
+    auto b = adj.begin() + start[g], e = adj.begin() + start[g + 1];
+    std::sort(b, e);
+    partners[g] = std::unique(b, e) - b;
+  }
+  const bool any = !cs.empty();
+  // Column starts.
+  std::vector<int> outer(static_cast<size_t>(size) + 1, 0);
+  for (int64_t g = 0; g < grains; ++g)
+    for (int a = 0; a < p; ++a) outer[g * p + a + 1] = static_cast<int>(rank[g] >= 0 ? partners[g] * p + nb : 1);
+  for (int k = 0; k < nb; ++k) outer[l.box_unknown(k) + 1] = static_cast<int>(any ? connected * p + nb : 1);
+  for (int64_t k = 0; k < size; ++k) outer[k + 1] += outer[k];
+  std::vector<int> inner(static_cast<size_t>(outer[size]));
+  for (int64_t g = 0; g < grains; ++g)
+    for (int a = 0; a < p; ++a) {
+      int* out = inner.data() + outer[g * p + a];
+      if (rank[g] < 0) {
+        *out = static_cast<int>(g * p + a);
+        continue;
+      }
+      for (int64_t q = start[g]; q < start[g] + partners[g]; ++q)
+        for (int b = 0; b < p; ++b) *out++ = static_cast<int>(adj[q] * int64_t{p} + b);
+      for (int k = 0; k < nb; ++k) *out++ = static_cast<int>(l.box_unknown(k));
+    }
+  for (int k = 0; k < nb; ++k) {
+    int* out = inner.data() + outer[l.box_unknown(k)];
+    if (!any) {
+      *out = static_cast<int>(l.box_unknown(k));
+      continue;
+    }
+    for (int64_t g = 0; g < grains; ++g)
+      if (rank[g] >= 0)
+        for (int b = 0; b < p; ++b) *out++ = static_cast<int>(g * p + b);
+    for (int m = 0; m < nb; ++m) *out++ = static_cast<int>(l.box_unknown(m));
+  }
+  const std::vector<double> zeros(inner.size(), 0.0);
+  a_ = Eigen::Map<const linalg::SparseMatrix>(size, size, static_cast<int64_t>(inner.size()), outer.data(),
+                                              inner.data(), zeros.data());
+  diag_pos_.resize(static_cast<size_t>(size));
+  // Where row `row` of column `col` is: in a grain's column, after the blocks of the partners
+  // before the row's grain; in a strain rate's column, after the connected grains before it.
+  auto position = [&](int64_t row, int64_t col) -> int64_t {
+    const int64_t base = outer[col];
+    const bool row_box = row >= grains * p;
+    if (col < grains * p) {
+      const int64_t g = col / p;
+      if (rank[g] < 0) return base;
+      if (row_box) return base + partners[g] * p + (row - grains * p);
+      const auto b = adj.begin() + start[g];
+      const int64_t at = std::lower_bound(b, b + partners[g], static_cast<int32_t>(row / p)) - b;
+      return base + at * p + row % p;
+    }
+    if (!any) return base;
+    if (row_box) return base + connected * p + (row - grains * p);
+    return base + rank[row / p] * p + row % p;
   };
-  diag_pos_.resize(static_cast<size_t>(l.size()));
-  for (int64_t k = 0; k < l.size(); ++k) diag_pos_[k] = position(k, k);
+  for (int64_t k = 0; k < size; ++k) diag_pos_[k] = position(k, k);
   pos_.assign(cs.size() * static_cast<size_t>(n * n), -1);
   for (size_t k = 0; k < cs.size(); ++k)
     for (int q = 0; q < n; ++q) {

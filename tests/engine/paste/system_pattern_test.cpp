@@ -1,0 +1,107 @@
+// The resistance system's sparse pattern, written column by column, against the pattern of the
+// triplets it stands for (every local pair of unknowns of every connection, and every diagonal
+// entry), and its assembled values against the sum of the connections' local blocks: random
+// connection graphs in 2D and 3D with grains left out, with and without box strain rates.
+#include <doctest/doctest.h>
+
+#include <Eigen/SparseCore>
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <set>
+
+#include "paste/system.hpp"
+
+using namespace silt;
+using namespace silt::paste;
+
+namespace {
+
+// `count` connections between `grains` grains, the last three grains never connected; the same
+// pair at most once, as in a pair list.
+std::vector<Connection> pattern_test_graph(int dim, int64_t grains, int count, std::mt19937_64& rng) {
+  std::uniform_int_distribution<int32_t> pick(0, static_cast<int32_t>(grains - 4));
+  std::normal_distribution<double> g;
+  std::set<std::pair<int32_t, int32_t>> seen;
+  std::vector<Connection> cs;
+  while (static_cast<int>(cs.size()) < count) {
+    Connection c;
+    c.i = pick(rng);
+    c.j = pick(rng);
+    if (c.i == c.j || !seen.insert({std::min(c.i, c.j), std::max(c.i, c.j)}).second) continue;
+    double norm = 0;
+    for (int a = 0; a < dim; ++a) {
+      c.n[a] = g(rng);
+      norm += c.n[a] * c.n[a];
+    }
+    for (int a = 0; a < dim; ++a) {
+      c.n[a] /= std::sqrt(norm);
+      c.r[a] = 1.05 * c.n[a];
+    }
+    c.xi_n = 1.0 + std::abs(g(rng));
+    c.xi_t = 0.1 + 0.1 * std::abs(g(rng));
+    cs.push_back(c);
+  }
+  return cs;
+}
+
+// The same matrix from triplets: the local blocks summed by Eigen.
+linalg::SparseMatrix pattern_from_triplets(const SystemLayout& l, const std::vector<Connection>& cs,
+                                           const std::vector<double>& radius) {
+  const int n = local_size(l);
+  std::vector<Eigen::Triplet<double>> t;
+  for (int64_t k = 0; k < l.size(); ++k) t.emplace_back(static_cast<int>(k), static_cast<int>(k), 0.0);
+  std::vector<double> loc(static_cast<size_t>(n * n));
+  for (const Connection& c : cs) {
+    local_block(l, c, radius[c.i], radius[c.j], c.xi_n, c.xi_t, loc.data());
+    for (int q = 0; q < n; ++q)
+      for (int r = 0; r < n; ++r) {
+        const int64_t gq = local_to_global(l, c, q), gr = local_to_global(l, c, r);
+        if (gq >= 0 && gr >= 0) t.emplace_back(static_cast<int>(gr), static_cast<int>(gq), loc[r * n + q]);
+      }
+  }
+  linalg::SparseMatrix a(l.size(), l.size());
+  a.setFromTriplets(t.begin(), t.end());
+  a.makeCompressed();
+  return a;
+}
+
+}  // namespace
+
+TEST_CASE("paste: the resistance pattern written by columns is the triplets' pattern, its values their sums") {
+  std::mt19937_64 rng(11);
+  for (int dim : {2, 3})
+    for (int boxes = 0; boxes <= dim; ++boxes)
+      for (bool shear : {false, true}) {
+        CAPTURE(dim);
+        CAPTURE(boxes);
+        CAPTURE(shear);
+        const int64_t grains = 40;
+        bool controlled[3] = {false, false, false};
+        for (int a = 0; a < boxes; ++a) controlled[a] = true;
+        const SystemLayout l = make_layout(dim, grains, controlled, shear);
+        std::vector<double> radius(grains);
+        for (auto& r : radius) r = 0.4 + 0.1 * std::uniform_real_distribution<double>()(rng);
+        ResistanceSystem sys;
+        // Several graphs in turn (the pattern rebuilt each time), the empty one included.
+        for (int count : {0, 1, 30, 80, 30}) {
+          CAPTURE(count);
+          const std::vector<Connection> cs = pattern_test_graph(dim, grains, count, rng);
+          CHECK(sys.assemble(l, cs, radius, 0.3));
+          const linalg::SparseMatrix want = pattern_from_triplets(l, cs, radius);
+          const linalg::SparseMatrix& got = sys.matrix();
+          REQUIRE(got.nonZeros() == want.nonZeros());
+          CHECK(std::equal(got.outerIndexPtr(), got.outerIndexPtr() + l.size() + 1, want.outerIndexPtr()));
+          CHECK(std::equal(got.innerIndexPtr(), got.innerIndexPtr() + got.nonZeros(), want.innerIndexPtr()));
+          double worst = 0, largest = 0;
+          for (int64_t k = 0; k < got.nonZeros(); ++k) {
+            worst = std::max(worst, std::abs(got.valuePtr()[k] - want.valuePtr()[k]));
+            largest = std::max(largest, std::abs(want.valuePtr()[k]));
+          }
+          CHECK(worst <= 1e-14 * largest);
+          for (int64_t k = 0; k < l.size(); ++k) CHECK(got.innerIndexPtr()[sys.diagonal_position(k)] == k);
+          // The same connections again: the pattern is kept.
+          CHECK_FALSE(sys.assemble(l, cs, radius, 0.3));
+        }
+      }
+}
