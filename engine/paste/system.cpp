@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <stdexcept>
 
 #include "core/parallel.hpp"
 #include "core/periodic_image.hpp"
@@ -140,12 +142,14 @@ void ResistanceSystem::build_pattern(const std::vector<Connection>& cs) {
   const int n = local_size(l), p = l.per_grain, nb = l.n_box;
   const int64_t grains = l.grains, size = l.size();
   // Each grain's partners, itself included, sorted and unique (CSR over grains).
-  std::vector<int64_t> start(static_cast<size_t>(grains) + 1, 0);
+  std::vector<int64_t>&start = start_, &rank = rank_, &partners = partners_;
+  std::vector<int32_t>& adj = adj_;
+  start.assign(static_cast<size_t>(grains) + 1, 0);
   for (const Connection& c : cs) {
     ++start[c.i + 1];
     ++start[c.j + 1];
   }
-  std::vector<int64_t> rank(static_cast<size_t>(grains), -1);  // among the connected grains
+  rank.assign(static_cast<size_t>(grains), -1);  // among the connected grains
   int64_t connected = 0;
   for (int64_t g = 0; g < grains; ++g) {
     if (start[g + 1] > 0) {
@@ -154,82 +158,84 @@ void ResistanceSystem::build_pattern(const std::vector<Connection>& cs) {
     }
     start[g + 1] += start[g];
   }
-  std::vector<int32_t> adj(static_cast<size_t>(start[grains]));
-  {
-    std::vector<int64_t> fill(start.begin(), start.end() - 1);
-    for (int64_t g = 0; g < grains; ++g)
-      if (rank[g] >= 0) adj[fill[g]++] = static_cast<int32_t>(g);
-    for (const Connection& c : cs) {
-      adj[fill[c.i]++] = c.j;
-      adj[fill[c.j]++] = c.i;
-    }
+  adj.resize(static_cast<size_t>(start[grains]));
+  partners.assign(start.begin(), start.end() - 1);  // first the fill positions
+  for (int64_t g = 0; g < grains; ++g)
+    if (rank[g] >= 0) adj[partners[g]++] = static_cast<int32_t>(g);
+  for (const Connection& c : cs) {
+    adj[partners[c.i]++] = c.j;
+    adj[partners[c.j]++] = c.i;
   }
-  std::vector<int64_t> partners(static_cast<size_t>(grains), 0);
   for (int64_t g = 0; g < grains; ++g) {
     auto b = adj.begin() + start[g], e = adj.begin() + start[g + 1];
     std::sort(b, e);
     partners[g] = std::unique(b, e) - b;
   }
   const bool any = !cs.empty();
-  // Column starts.
-  std::vector<int> outer(static_cast<size_t>(size) + 1, 0);
-  for (int64_t g = 0; g < grains; ++g)
-    for (int a = 0; a < p; ++a) outer[g * p + a + 1] = static_cast<int>(rank[g] >= 0 ? partners[g] * p + nb : 1);
-  for (int k = 0; k < nb; ++k) outer[l.box_unknown(k) + 1] = static_cast<int>(any ? connected * p + nb : 1);
-  for (int64_t k = 0; k < size; ++k) outer[k + 1] += outer[k];
-  std::vector<int> inner(static_cast<size_t>(outer[size]));
+  // Column starts, then rows, written into the matrix's own arrays.
+  int64_t nnz = 0;
+  for (int64_t g = 0; g < grains; ++g) nnz += p * (rank[g] >= 0 ? partners[g] * p + nb : 1);
+  nnz += nb * (any ? connected * p + nb : 1);
+  if (nnz > std::numeric_limits<int>::max()) throw std::length_error("the resistance matrix has over 2^31 entries");
+  if (a_.rows() != size || a_.cols() != size) a_.resize(size, size);
+  a_.makeCompressed();
+  a_.resizeNonZeros(nnz);
+  int* outer = a_.outerIndexPtr();
+  int* out = a_.innerIndexPtr();
+  outer[0] = 0;
   for (int64_t g = 0; g < grains; ++g)
     for (int a = 0; a < p; ++a) {
-      int* out = inner.data() + outer[g * p + a];
+      const int* col = out;
       if (rank[g] < 0) {
-        *out = static_cast<int>(g * p + a);
-        continue;
+        *out++ = static_cast<int>(g * p + a);
+      } else {
+        for (int64_t q = start[g]; q < start[g] + partners[g]; ++q)
+          for (int b = 0; b < p; ++b) *out++ = static_cast<int>(adj[q] * int64_t{p} + b);
+        for (int k = 0; k < nb; ++k) *out++ = static_cast<int>(l.box_unknown(k));
       }
-      for (int64_t q = start[g]; q < start[g] + partners[g]; ++q)
-        for (int b = 0; b < p; ++b) *out++ = static_cast<int>(adj[q] * int64_t{p} + b);
-      for (int k = 0; k < nb; ++k) *out++ = static_cast<int>(l.box_unknown(k));
+      outer[g * p + a + 1] = outer[g * p + a] + static_cast<int>(out - col);
     }
   for (int k = 0; k < nb; ++k) {
-    int* out = inner.data() + outer[l.box_unknown(k)];
+    const int* col = out;
     if (!any) {
-      *out = static_cast<int>(l.box_unknown(k));
-      continue;
+      *out++ = static_cast<int>(l.box_unknown(k));
+    } else {
+      for (int64_t g = 0; g < grains; ++g)
+        if (rank[g] >= 0)
+          for (int b = 0; b < p; ++b) *out++ = static_cast<int>(g * p + b);
+      for (int m = 0; m < nb; ++m) *out++ = static_cast<int>(l.box_unknown(m));
     }
-    for (int64_t g = 0; g < grains; ++g)
-      if (rank[g] >= 0)
-        for (int b = 0; b < p; ++b) *out++ = static_cast<int>(g * p + b);
-    for (int m = 0; m < nb; ++m) *out++ = static_cast<int>(l.box_unknown(m));
+    outer[l.box_unknown(k) + 1] = outer[l.box_unknown(k)] + static_cast<int>(out - col);
   }
-  const std::vector<double> zeros(inner.size(), 0.0);
-  a_ = Eigen::Map<const linalg::SparseMatrix>(size, size, static_cast<int64_t>(inner.size()), outer.data(),
-                                              inner.data(), zeros.data());
-  diag_pos_.resize(static_cast<size_t>(size));
   // Where row `row` of column `col` is: in a grain's column, after the blocks of the partners
   // before the row's grain; in a strain rate's column, after the connected grains before it.
-  auto position = [&](int64_t row, int64_t col) -> int64_t {
+  auto position = [&](int64_t row, int64_t col) -> int32_t {
     const int64_t base = outer[col];
     const bool row_box = row >= grains * p;
+    int64_t at = 0;
     if (col < grains * p) {
       const int64_t g = col / p;
-      if (rank[g] < 0) return base;
-      if (row_box) return base + partners[g] * p + (row - grains * p);
-      const auto b = adj.begin() + start[g];
-      const int64_t at = std::lower_bound(b, b + partners[g], static_cast<int32_t>(row / p)) - b;
-      return base + at * p + row % p;
+      if (rank[g] < 0) return static_cast<int32_t>(base);
+      if (row_box) {
+        at = partners[g] * p + (row - grains * p);
+      } else {
+        const auto b = adj.begin() + start[g];
+        at = (std::lower_bound(b, b + partners[g], static_cast<int32_t>(row / p)) - b) * p + row % p;
+      }
+    } else if (any) {
+      at = row_box ? connected * p + (row - grains * p) : rank[row / p] * p + row % p;
     }
-    if (!any) return base;
-    if (row_box) return base + connected * p + (row - grains * p);
-    return base + rank[row / p] * p + row % p;
+    return static_cast<int32_t>(base + at);
   };
+  diag_pos_.resize(static_cast<size_t>(size));
   for (int64_t k = 0; k < size; ++k) diag_pos_[k] = position(k, k);
-  pos_.assign(cs.size() * static_cast<size_t>(n * n), -1);
+  pos_.resize(cs.size() * static_cast<size_t>(n * n));
   for (size_t k = 0; k < cs.size(); ++k)
     for (int q = 0; q < n; ++q) {
       const int64_t gq = local_to_global(l, cs[k], q);
-      if (gq < 0) continue;
       for (int r = 0; r < n; ++r) {
         const int64_t gr = local_to_global(l, cs[k], r);
-        if (gr >= 0) pos_[k * n * n + r * n + q] = position(gr, gq);
+        pos_[k * n * n + r * n + q] = gq >= 0 && gr >= 0 ? position(gr, gq) : -1;
       }
     }
   pairs_.resize(cs.size());
@@ -271,7 +277,7 @@ void ResistanceSystem::add_contact_stiffness(const std::vector<Connection>& cs, 
   }
 }
 
-void ResistanceSystem::add_block(const Connection& c, const double* loc, const int64_t* pos, double shear_rate,
+void ResistanceSystem::add_block(const Connection& c, const double* loc, const int32_t* pos, double shear_rate,
                                  linalg::Vector& rhs) {
   const int n = local_size(layout_);
   double* val = a_.valuePtr();
@@ -290,7 +296,7 @@ linalg::SparseMatrix ResistanceSystem::sparsified(const std::vector<uint8_t>& ke
   const int n = local_size(layout_), p = layout_.per_grain;
   for (size_t k = 0; k < pairs_.size() && k < keep.size(); ++k) {
     if (keep[k]) continue;
-    const int64_t* pos = &pos_[k * n * n];
+    const int32_t* pos = &pos_[k * n * n];
     // The (i, j) and (j, i) blocks: local rows of one grain, columns of the other.
     for (int r = 0; r < p; ++r)
       for (int q = 0; q < p; ++q) {
@@ -322,8 +328,8 @@ void ResistanceSystem::pin(int64_t k, double scale, linalg::Vector& rhs) {
 }
 
 size_t ResistanceSystem::bytes() const {
-  return static_cast<size_t>(a_.nonZeros()) * (sizeof(double) + sizeof(int)) + pos_.size() * sizeof(int64_t) +
-         local_.size() * sizeof(double) + diag_pos_.size() * sizeof(int64_t) +
+  return static_cast<size_t>(a_.nonZeros()) * (sizeof(double) + sizeof(int)) + pos_.size() * sizeof(int32_t) +
+         local_.size() * sizeof(double) + diag_pos_.size() * sizeof(int32_t) +
          pairs_.size() * sizeof(std::pair<int32_t, int32_t>);
 }
 

@@ -72,12 +72,18 @@ class ResistanceSystem {
   linalg::SparseMatrix a_;
   linalg::Vector shear_rhs_;
   std::vector<std::pair<int32_t, int32_t>> pairs_;  // the connected pairs of the pattern
-  std::vector<int64_t> pos_;                        // per connection, per local (row, col) unknown pair
+  // Per connection, per local (row, col) unknown pair: where it adds in the matrix's values, -1
+  // for none (the imposed shear's column). 32 bits, as the matrix's own indices.
+  std::vector<int32_t> pos_;
   std::vector<int64_t> diag_pos_;
+  // build_pattern's work arrays, kept: the pattern changes at nearly every step of a large
+  // system, and fresh arrays would cost a page fault per page each time.
+  std::vector<int64_t> start_, rank_, partners_;
+  std::vector<int32_t> adj_;
   std::vector<double> local_;  // per connection, its local G^T xi G
   void build_pattern(const std::vector<Connection>& c);
   // Add a connection's local block at its positions, its shear column times -shear_rate to rhs.
-  void add_block(const Connection& c, const double* local, const int64_t* pos, double shear_rate, linalg::Vector& rhs);
+  void add_block(const Connection& c, const double* local, const int32_t* pos, double shear_rate, linalg::Vector& rhs);
 };
 
 // The local unknowns of a connection: grain i's, grain j's, the box strain rates, then the shear
