@@ -26,11 +26,17 @@ VelocityProfile velocity_profile(const Model& m, const State& s, int n_slabs, in
     const double y = s.particle_x[D * i + axis] - lo, r = s.particle_r[i];
     const double v =
         s.particle_v[D * i + component] + (affine ? s.shear_rate * (s.particle_x[D * i + 1] - s.box.lo[1]) : 0.0);
-    int first = static_cast<int>(std::floor((y - r) / h)), last = static_cast<int>(std::floor((y + r) / h));
+    // The slabs it overlaps, in double first: a grain of a failed run (a position or a radius not
+    // finite, or far outside the box) is not counted, and a grain larger than a periodic box
+    // counts once in each slab, so that the indices stay small integers.
+    double lo_k = std::floor((y - r) / h), hi_k = std::floor((y + r) / h);
     if (!periodic) {
-      first = std::max(first, 0);
-      last = std::min(last, n_slabs - 1);
+      lo_k = std::max(lo_k, 0.0);
+      hi_k = std::min(hi_k, n_slabs - 1.0);
     }
+    if (!(std::abs(lo_k) < 1e9 && std::abs(hi_k) < 1e9)) continue;
+    hi_k = std::min(hi_k, lo_k + n_slabs - 1);
+    const int first = static_cast<int>(lo_k), last = static_cast<int>(hi_k);
     for (int k = first; k <= last; ++k) {
       const int slab = ((k % n_slabs) + n_slabs) % n_slabs;
       // A periodic image seen through the sheared boundary moves gammadot L_y faster or slower.

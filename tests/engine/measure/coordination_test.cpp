@@ -103,3 +103,21 @@ TEST_CASE("connectivity observable names: pn.K with a count K, apart from the gr
     CHECK(std::count(names.begin(), names.end(), listed) == 1);
   }
 }
+
+TEST_CASE("the velocity profile skips a grain it cannot place (a failed run's NaN, a far position)") {
+  auto sim = test::simulation_from(test::fill(kCluster, {{"mu", 0.3}}));
+  const Model& m = sim->model();
+  State s = sim->state();
+  s.particle_v[0] = 1.0;
+  s.particle_x[2 * 1 + 1] = std::nan("");  // grain 1: its y
+  s.particle_x[2 * 2 + 1] = 1e300;         // grain 2: far above the box
+  s.particle_r[3] = 1e300;                 // grain 3: covers every slab
+  const VelocityProfile p = velocity_profile(m, s, 10);
+  int64_t counted = 0;
+  for (int k = 0; k < 10; ++k) {
+    CHECK(std::isfinite(p.vx[k]));
+    counted += p.count[k];
+  }
+  CHECK(counted >= 11);  // the other grains, each in one or two slabs, and grain 3 in every slab
+  CHECK(p.count[9] >= 1);
+}
