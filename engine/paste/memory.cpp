@@ -107,14 +107,14 @@ PasteMemory estimate_paste_memory(const Model& m) {
   e.factor = f.factor_bytes();
 
   // Held between steps: the matrix (values and rows, column starts), each connection's local
-  // G^T xi G and the positions it adds into (local_size^2 each, 8 and 4 bytes), the connections themselves, a
-  // score of vectors of the unknowns (CG's, the factor's solves, the right-hand side, the
+  // G^T xi G and the positions it adds into (local_size^2 each, 8 and 4 bytes), the connections themselves, the
+  // diagonal's positions, a score of vectors of the unknowns (CG's, the factor's solves, the right-hand side, the
   // adaptive step's copies); with factor_pcg, the state's copy of the factorised matrix (n, nnz,
   // columns, rows, values as doubles), twice (the restart point holds the state too).
   const auto dn = static_cast<double>(size), dc = static_cast<double>(c), dnz = static_cast<double>(e.entries);
   const double nl = local_size(l);
   const double grains = static_cast<double>(n);
-  e.held = 12 * dnz + 4 * dn + 12 * nl * nl * dc + dc * (sizeof(Connection) + 12) + 8 * dn + 20 * 8 * dn + 24 * grains +
+  e.held = 12 * dnz + 4 * dn + 12 * nl * nl * dc + dc * (sizeof(Connection) + 12) + 4 * dn + 20 * 8 * dn + 24 * grains +
            4 * (2 * dc + grains);  // and the pattern's work arrays (per grain, per connection end)
   if (p.solver.method == linalg::Method::kFactorPcg) e.held += 2 * 8 * (3 + dn + 2 * dnz);
   // Within a step: the numerical factorisation's update matrix (with a sparser copy of Xi when

@@ -178,7 +178,7 @@ void ResistanceSystem::build_pattern(const std::vector<Connection>& cs) {
   nnz += nb * (any ? connected * p + nb : 1);
   if (nnz > std::numeric_limits<int>::max()) throw std::length_error("the resistance matrix has over 2^31 entries");
   if (a_.rows() != size || a_.cols() != size) a_.resize(size, size);
-  a_.makeCompressed();
+  a_.makeCompressed();  // a no-op unless something left it uncompressed
   a_.resizeNonZeros(nnz);
   int* outer = a_.outerIndexPtr();
   int* out = a_.innerIndexPtr();
@@ -207,37 +207,48 @@ void ResistanceSystem::build_pattern(const std::vector<Connection>& cs) {
     }
     outer[l.box_unknown(k) + 1] = outer[l.box_unknown(k)] + static_cast<int>(out - col);
   }
-  // Where row `row` of column `col` is: in a grain's column, after the blocks of the partners
-  // before the row's grain; in a strain rate's column, after the connected grains before it.
-  auto position = [&](int64_t row, int64_t col) -> int32_t {
+  // Where grain h's block is among grain g's partners (its slot in g's sorted adjacency).
+  auto slot = [&](int64_t g, int64_t h) -> int64_t {
+    const auto b = adj.begin() + start[g];
+    return std::lower_bound(b, b + partners[g], static_cast<int32_t>(h)) - b;
+  };
+  // Where row `row` of column `col` is, given the slot of the row's grain in the column's grain:
+  // in a grain's column, after the blocks of the partners before it; in a strain rate's column,
+  // after the connected grains before it.
+  auto position = [&](int64_t row, int64_t col, int64_t row_slot) -> int32_t {
     const int64_t base = outer[col];
     const bool row_box = row >= grains * p;
     int64_t at = 0;
     if (col < grains * p) {
       const int64_t g = col / p;
       if (rank[g] < 0) return static_cast<int32_t>(base);
-      if (row_box) {
-        at = partners[g] * p + (row - grains * p);
-      } else {
-        const auto b = adj.begin() + start[g];
-        at = (std::lower_bound(b, b + partners[g], static_cast<int32_t>(row / p)) - b) * p + row % p;
-      }
+      at = row_box ? partners[g] * p + (row - grains * p) : row_slot * p + row % p;
     } else if (any) {
       at = row_box ? connected * p + (row - grains * p) : rank[row / p] * p + row % p;
     }
     return static_cast<int32_t>(base + at);
   };
   diag_pos_.resize(static_cast<size_t>(size));
-  for (int64_t k = 0; k < size; ++k) diag_pos_[k] = position(k, k);
+  for (int64_t k = 0; k < size; ++k) {
+    const bool grain = k < grains * p && rank[k / p] >= 0;
+    diag_pos_[k] = position(k, k, grain ? slot(k / p, k / p) : 0);
+  }
   pos_.resize(cs.size() * static_cast<size_t>(n * n));
-  for (size_t k = 0; k < cs.size(); ++k)
+  for (size_t k = 0; k < cs.size(); ++k) {
+    // side 0 is grain i, side 1 grain j, side 2 the box; slots[column side][row side]
+    const int64_t gi = cs[k].i, gj = cs[k].j;
+    const int64_t slots[2][2] = {{slot(gi, gi), slot(gi, gj)}, {slot(gj, gi), slot(gj, gj)}};
+    auto side = [p](int q) { return q < p ? 0 : q < 2 * p ? 1 : 2; };
     for (int q = 0; q < n; ++q) {
       const int64_t gq = local_to_global(l, cs[k], q);
       for (int r = 0; r < n; ++r) {
         const int64_t gr = local_to_global(l, cs[k], r);
-        pos_[k * n * n + r * n + q] = gq >= 0 && gr >= 0 ? position(gr, gq) : -1;
+        const int sq = side(q), sr = side(r);
+        const int64_t row_slot = sq < 2 && sr < 2 ? slots[sq][sr] : 0;
+        pos_[k * n * n + r * n + q] = gq >= 0 && gr >= 0 ? position(gr, gq, row_slot) : -1;
       }
     }
+  }
   pairs_.resize(cs.size());
   for (size_t k = 0; k < cs.size(); ++k) pairs_[k] = {cs[k].i, cs[k].j};
 }

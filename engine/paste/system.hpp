@@ -75,7 +75,7 @@ class ResistanceSystem {
   // Per connection, per local (row, col) unknown pair: where it adds in the matrix's values, -1
   // for none (the imposed shear's column). 32 bits, as the matrix's own indices.
   std::vector<int32_t> pos_;
-  std::vector<int64_t> diag_pos_;
+  std::vector<int32_t> diag_pos_;
   // build_pattern's work arrays, kept: the pattern changes at nearly every step of a large
   // system, and fresh arrays would cost a page fault per page each time.
   std::vector<int64_t> start_, rank_, partners_;
