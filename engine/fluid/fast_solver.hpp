@@ -6,7 +6,8 @@
 // transforms apply them in O(m log m) (Schumann & Sweet 1988; CaNS, Costa 2018):
 //
 //   axis kind   unknowns             symmetry of the data          transform    lambda_p h^2
-//   periodic    m                    periodic                      R2HC/HC2R    2 - 2 cos(2 pi p / m)
+//   periodic    m                    periodic                      r2c/c2r      2 - 2 cos(2 pi p / m)
+//                                     (odd m: R2HC/HC2R)
 //   cell NN     cell centres         even about -1/2 and m - 1/2  DCT-II/III   2 - 2 cos(pi p / m)
 //   cell DD     (p = 0 on the faces)  odd about -1/2 and m - 1/2  DST-II/III   2 - 2 cos(pi (p + 1) / m)
 //   cell ND / DN                     even / odd, odd / even        DCT-IV, DST-IV  2 - 2 cos(pi (p + 1/2) / m)
@@ -61,10 +62,15 @@ class FastSolver {
   size_t bytes() const;
   // Eigenvalue of mode p along axis a, times h^2 (the table above).
   static double eigenvalue(AxisKind kind, int64_t p, int64_t m);
+  // The frequency at position p of a periodic line of even length m in the packed order of its
+  // real-to-complex transform (Re 0, Re m/2, Re 1, Im 1, Re 2, Im 2, ...).
+  static int64_t packed_frequency(int64_t p, int64_t m);
 
  private:
   struct Plans;
   void transform(double* data, int axis, bool forward, std::optional<double> divide_at = std::nullopt);
+  void to_modes(double* buf, int axis);    // a buffer's block of lines into the eigenbasis
+  void from_modes(double* buf, int axis);  // and back
   void divide_block(double* buf, int axis, int64_t i0, int64_t count, int64_t o, double sigma) const;
   void tridiagonal(double* data, double sigma);
   static constexpr int64_t kChunk = 64;  // modes per Thomas sweep
