@@ -28,12 +28,12 @@ void parallel_for(int64_t n, int64_t grain, F&& f) {
 }
 
 // K maxima over [0, n) of f(begin, end), which returns the maxima of its block as
-// std::array<double, K> (0 for an empty range).
+// std::array<double, K> (0 for an empty range). A NaN of any block stays, whatever the split.
 template <size_t K, class F>
 std::array<double, K> parallel_max(int64_t n, int64_t grain, F&& f) {
   using A = std::array<double, K>;
   auto join = [](A a, const A& b) {
-    for (size_t k = 0; k < K; ++k) a[k] = std::max(a[k], b[k]);
+    for (size_t k = 0; k < K; ++k) a[k] = (b[k] > a[k] || b[k] != b[k]) ? b[k] : a[k];
     return a;
   };
   if (n <= grain) return n > 0 ? f(int64_t{0}, n) : A{};

@@ -282,10 +282,14 @@ void FastSolver::divide_block(double* buf, int axis, int64_t i0, int64_t count, 
   for (int64_t b = 0; b < count; ++b) {
     double* line = buf + b * plans_->stride[axis];
     const double lx = lambda_[0][i0 + b];
-    for (int64_t j = 0; j < n; ++j) {
-      const double l = base[j] + lx;
-      line[j] = l > 0 ? line[j] * inv_norm / l : 0.0;  // the singular mode: zero mean
-    }
+    run_simd([&] {
+      SILT_IVDEP
+      for (int64_t j = 0; j < n; ++j) {
+        const double l = base[j] + lx;
+        const double q = line[j] * inv_norm / (l > 0 ? l : 1.0);
+        line[j] = l > 0 ? q : 0.0;  // the singular mode: zero mean
+      }
+    });
   }
 }
 
