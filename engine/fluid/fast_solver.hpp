@@ -22,8 +22,9 @@
 // pass over the data.
 //
 // Transforms run on blocks of lines, each block of an axis with the same FFTW plan (chosen by
-// FFTW_ESTIMATE, not by timing): along x a block aligned as the planner's buffer where it lies,
-// other blocks copied into aligned per-thread buffers (along y and z, the lines of kBlock
+// FFTW_ESTIMATE, not by timing): along x a real-to-real block aligned as the planner's buffer
+// where it lies, other blocks (and every real-to-complex one, its lines padded by two values)
+// copied into aligned per-thread buffers (along y and z, the lines of kBlock
 // neighbouring x, read as whole cache lines and transposed). Every line is transformed by the
 // same code whatever thread runs it, so results are bitwise the same for any thread count.
 #pragma once
