@@ -32,16 +32,15 @@ std::array<double, 3> copy_state(const Grid& g, const Layout& L, int a, std::vec
   constexpr uint64_t kAbs = ~(uint64_t{1} << 63);
   return parallel_max<3>(d[1] * d[2], 8, [&](int64_t b, int64_t e) {
     uint64_t m = 0, m_old = 0, change = 0;
-    for (int64_t row = b; row < e; ++row) {
-      const int64_t j = row % d[1], k = row / d[1];
-      double* p = padded + L.at(0, j, k);
-      double* s = state.data() + row * d[0];
-      if constexpr (kLoad) {
-        run_simd([&] {
+    // One choice of the instruction set for the whole block of rows.
+    run_simd([&] {
+      for (int64_t row = b; row < e; ++row) {
+        const int64_t j = row % d[1], k = row / d[1];
+        double* p = padded + L.at(0, j, k);
+        double* s = state.data() + row * d[0];
+        if constexpr (kLoad) {
           for (int64_t i = 0; i < d[0]; ++i) p[i] = s[i] * scale;
-        });
-      } else {
-        run_simd([&] {
+        } else {
           for (int64_t i = 0; i < d[0]; ++i) {
             const double v = p[i], nv = v * scale;
             if constexpr (kChange) {
@@ -54,9 +53,9 @@ std::array<double, 3> copy_state(const Grid& g, const Layout& L, int a, std::vec
             const uint64_t av = std::bit_cast<uint64_t>(v) & kAbs;
             m = av > m ? av : m;
           }
-        });
+        }
       }
-    }
+    });
     return std::array<double, 3>{std::bit_cast<double>(m), std::bit_cast<double>(m_old), std::bit_cast<double>(change)};
   });
 }
