@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -33,7 +34,7 @@ template <size_t K, class F>
 std::array<double, K> parallel_max(int64_t n, int64_t grain, F&& f) {
   using A = std::array<double, K>;
   auto join = [](A a, const A& b) {
-    for (size_t k = 0; k < K; ++k) a[k] = (b[k] > a[k] || b[k] != b[k]) ? b[k] : a[k];
+    for (size_t k = 0; k < K; ++k) a[k] = (b[k] > a[k] || std::isnan(b[k])) ? b[k] : a[k];
     return a;
   };
   if (n <= grain) return n > 0 ? f(int64_t{0}, n) : A{};
