@@ -12,6 +12,7 @@
 
 #include "core/parallel.hpp"
 #include "core/simd_level.hpp"
+#include "fluid/half_length_fft.hpp"
 
 namespace silt::fluid {
 namespace {
@@ -67,13 +68,24 @@ std::array<double, 2> end_diagonals(AxisKind k) {
 
 }  // namespace
 
+std::vector<double> half_length_twiddles(int64_t n) {
+  std::vector<double> w(static_cast<size_t>(2 * (n / 4 + 1)));
+  for (int64_t k = 0; 4 * k <= n; ++k) {
+    const double t = 2 * std::numbers::pi * static_cast<double>(k) / static_cast<double>(n);
+    // Exact at a quarter turn (the middle frequency of N = n / 2 even).
+    w[2 * k] = 4 * k == n ? 0.0 : std::cos(t);
+    w[2 * k + 1] = 4 * k == n ? -1.0 : -std::sin(t);
+  }
+  return w;
+}
+
 // Per axis, the forward and backward plans of one block of lines (kLinesX along x, kBlock along y
 // and z), in place on an aligned buffer, the lines one after the other: along y and z the gather
 // transposes kBlock neighbouring x (read contiguously) into lines.
 struct FastSolver::Plans {
   std::array<fftw_plan, 3> fwd{}, bwd{};
-  std::array<bool, 3> packed{false, false, false};  // r2c / c2r plans (periodic, even length)
-  std::array<int64_t, 3> stride{1, 1, 1};           // between the lines of a buffer
+  std::array<bool, 3> packed{false, false, false};  // half-length complex plans (periodic, even length)
+  std::array<std::vector<double>, 3> twiddles;      // of the packed axes (half_length_fft.hpp)
   int64_t buffer_size = 0;
   tbb::enumerable_thread_specific<Buffer> buffers;
   tbb::enumerable_thread_specific<std::vector<double>> scratch;
@@ -125,12 +137,13 @@ FastSolver::FastSolver(int dim, const std::array<SolverAxis, 3>& axes)
   tri_axis_ = axes[dim - 1].kind == AxisKind::kPeriodic ? -1 : dim - 1;
   for (int a = 0; a < dim; ++a)
     if (axes[a].kind == AxisKind::kFaceDN) tri_axis_ = a;
-  // A periodic axis of even length is transformed by FFTW's real-to-complex pair, whose vectorised
-  // codelets run about three times as fast as its halfcomplex r2r ones, in the packed order
-  // below (packed_frequency); an odd length keeps the halfcomplex pair.
+  // A periodic axis of even length is transformed by a complex transform of half its length
+  // (half_length_fft.hpp), whose vectorised codelets run two to three times as fast as FFTW's
+  // real-to-complex and halfcomplex ones, in the packed order below (packed_frequency); an odd
+  // length keeps the halfcomplex pair.
   for (int a = 0; a < dim; ++a) {
     plans_->packed[a] = axes[a].kind == AxisKind::kPeriodic && m_[a] % 2 == 0 && a != tri_axis_;
-    plans_->stride[a] = plans_->packed[a] ? m_[a] + 2 : m_[a];
+    if (plans_->packed[a]) plans_->twiddles[a] = half_length_twiddles(m_[a]);
   }
   int64_t longest = 1;
   for (int a = 0; a < dim; ++a) {
@@ -140,30 +153,34 @@ FastSolver::FastSolver(int dim, const std::array<SolverAxis, 3>& axes)
       const int64_t q = plans_->packed[a] ? packed_frequency(p, m_[a]) : p;
       lambda_[a][p] = eigenvalue(axes[a].kind, q, m_[a]) * ih2;
     }
-    longest = std::max(longest, plans_->stride[a]);
+    longest = std::max(longest, m_[a]);
   }
-  plans_->buffer_size = std::max(longest * kBlock, plans_->stride[0] * kLinesX);
+  plans_->buffer_size = std::max(longest * kBlock, m_[0] * kLinesX);
   Buffer probe = make_buffer(plans_->buffer_size);
   std::lock_guard<std::mutex> lock(planner_lock());
   for (int a = 0; a < dim; ++a) {
     if (a == tri_axis_) continue;
+    // Along x the lines one after the other; along y and z the kBlock lines of a block interleaved
+    // (point j of line b at j kBlock + b; a complex value of the packed lines at 2 (k kBlock + b)).
     const int n = static_cast<int>(m_[a]), lines = a == 0 ? kLinesX : kBlock;
+    const int step = a == 0 ? 1 : kBlock, dist = a == 0 ? n : 1;  // between points, between lines
     // FFTW_ESTIMATE: the plan from heuristics, never from timings, so every run makes the same one.
     if (plans_->packed[a]) {
-      // In place: each line of n reals padded to n + 2, n / 2 + 1 complex values out.
+      // In place: each line of n reals as n / 2 complex values.
       auto* c = reinterpret_cast<fftw_complex*>(probe.get());
-      const int rd = n + 2, cd = n / 2 + 1;
+      const int h = n / 2, cd = a == 0 ? h : 1;
       plans_->fwd[a] =
-          fftw_plan_many_dft_r2c(1, &n, lines, probe.get(), nullptr, 1, rd, c, nullptr, 1, cd, FFTW_ESTIMATE);
+          fftw_plan_many_dft(1, &h, lines, c, nullptr, step, cd, c, nullptr, step, cd, FFTW_FORWARD, FFTW_ESTIMATE);
       plans_->bwd[a] =
-          fftw_plan_many_dft_c2r(1, &n, lines, c, nullptr, 1, cd, probe.get(), nullptr, 1, rd, FFTW_ESTIMATE);
+          fftw_plan_many_dft(1, &h, lines, c, nullptr, step, cd, c, nullptr, step, cd, FFTW_BACKWARD, FFTW_ESTIMATE);
     } else {
       fftw_r2r_kind f, b;
       kinds_of(axes[a].kind, f, b);
+      double* d = probe.get();
       plans_->fwd[a] =
-          fftw_plan_many_r2r(1, &n, lines, probe.get(), nullptr, 1, n, probe.get(), nullptr, 1, n, &f, FFTW_ESTIMATE);
+          fftw_plan_many_r2r(1, &n, lines, d, nullptr, step, dist, d, nullptr, step, dist, &f, FFTW_ESTIMATE);
       plans_->bwd[a] =
-          fftw_plan_many_r2r(1, &n, lines, probe.get(), nullptr, 1, n, probe.get(), nullptr, 1, n, &b, FFTW_ESTIMATE);
+          fftw_plan_many_r2r(1, &n, lines, d, nullptr, step, dist, d, nullptr, step, dist, &b, FFTW_ESTIMATE);
     }
     if (!plans_->fwd[a] || !plans_->bwd[a]) throw std::runtime_error("FFTW could not plan a transform");
     norm_ *= scale_of(axes[a].kind, m_[a]);
@@ -180,17 +197,23 @@ size_t FastSolver::bytes() const {
   return b;
 }
 
-// A block of lines in a buffer (`stride` apart) into the eigenbasis and back. The packed order
-// of a real-to-complex line of even length n: Re 0, Re n/2, then Re p, Im p for p = 1 .. n/2 - 1;
-// FFTW leaves Re n/2 at n (Im 0 and Im n/2 are 0), moved to 1 and back.
+// A block of lines into the eigenbasis and back: along x kLinesX lines one after the other, along
+// y and z kBlock lines interleaved. The packed order of a periodic line of even length n: Re 0,
+// Re n/2, then Re p, Im p for p = 1 .. n/2 - 1.
 void FastSolver::to_modes(double* buf, int axis) {
   if (!plans_->packed[axis]) {
     fftw_execute_r2r(plans_->fwd[axis], buf, buf);
     return;
   }
-  fftw_execute_dft_r2c(plans_->fwd[axis], buf, reinterpret_cast<fftw_complex*>(buf));
-  const int64_t n = m_[axis], stride = plans_->stride[axis], lines = axis == 0 ? kLinesX : kBlock;
-  for (int64_t b = 0; b < lines; ++b) buf[b * stride + 1] = buf[b * stride + n];
+  auto* c = reinterpret_cast<fftw_complex*>(buf);
+  fftw_execute_dft(plans_->fwd[axis], c, c);
+  const int64_t n = m_[axis];
+  const double* w = plans_->twiddles[axis].data();
+  if (axis > 0) {
+    run_simd([&] { pack_spectrum(buf, n, w, kBlock); });
+    return;
+  }
+  for (int64_t b = 0; b < kLinesX; ++b) pack_spectrum(buf + b * n, n, w);
 }
 
 void FastSolver::from_modes(double* buf, int axis) {
@@ -198,61 +221,70 @@ void FastSolver::from_modes(double* buf, int axis) {
     fftw_execute_r2r(plans_->bwd[axis], buf, buf);
     return;
   }
-  const int64_t n = m_[axis], stride = plans_->stride[axis], lines = axis == 0 ? kLinesX : kBlock;
-  for (int64_t b = 0; b < lines; ++b) {
-    double* line = buf + b * stride;
-    line[n] = line[1];
-    line[1] = line[n + 1] = 0;
+  const int64_t n = m_[axis];
+  const double* w = plans_->twiddles[axis].data();
+  if (axis > 0) {
+    run_simd([&] { unpack_spectrum(buf, n, w, kBlock); });
+  } else {
+    for (int64_t b = 0; b < kLinesX; ++b) unpack_spectrum(buf + b * n, n, w);
   }
-  fftw_execute_dft_c2r(plans_->bwd[axis], reinterpret_cast<fftw_complex*>(buf), buf);
+  auto* c = reinterpret_cast<fftw_complex*>(buf);
+  fftw_execute_dft(plans_->bwd[axis], c, c);
 }
 
 // Lines along `axis`, kBlock at a time: gathered into a buffer, transformed, scattered back.
 // With divide_at (along y or z), each block is transformed forward, its modes divided and
 // transformed back while it is in the buffer.
 void FastSolver::transform(double* data, int axis, bool forward, std::optional<double> divide_at) {
-  const int64_t m0 = m_[0], m1 = m_[1], n = m_[axis], ls = plans_->stride[axis];
+  const int64_t m0 = m_[0], m1 = m_[1], n = m_[axis];
   auto run = [&](double* buf) { forward ? to_modes(buf, axis) : from_modes(buf, axis); };
   if (axis == 0) {
     constexpr int B = kLinesX;
     const int64_t lines = m1 * m_[2], blocks = (lines + B - 1) / B;
-    // A whole block aligned as the planner's buffer is transformed where it lies (r2r only).
+    // A whole block aligned as the planner's buffer is transformed where it lies.
     const int align = fftw_alignment_of(plans_->buffer());
-    const bool packed = plans_->packed[0];
     parallel_for(blocks, 1, [&](int64_t b0, int64_t b1) {
       double* buf = plans_->buffer();
       for (int64_t blk = b0; blk < b1; ++blk) {
         const int64_t first = blk * B, count = std::min<int64_t>(B, lines - first);
         double* block = data + first * n;
-        if (!packed && count == B && fftw_alignment_of(block) == align) {
-          fftw_execute_r2r(forward ? plans_->fwd[0] : plans_->bwd[0], block, block);
+        if (count == B && fftw_alignment_of(block) == align) {
+          run(block);
           continue;
         }
-        for (int64_t b = 0; b < count; ++b) std::memcpy(buf + b * ls, block + b * n, sizeof(double) * n);
-        if (count < B) std::memset(buf + count * ls, 0, sizeof(double) * (B - count) * ls);
+        std::memcpy(buf, block, sizeof(double) * n * count);
+        if (count < B) std::memset(buf + count * n, 0, sizeof(double) * (B - count) * n);
         run(buf);
-        for (int64_t b = 0; b < count; ++b) std::memcpy(block + b * n, buf + b * ls, sizeof(double) * n);
+        std::memcpy(block, buf, sizeof(double) * n * count);
       }
     });
     return;
   }
-  // Along y or z: blocks of kBlock neighbouring x at one (other) index.
+  // Along y or z: blocks of kBlock neighbouring x at one (other) index, interleaved in the buffer:
+  // point j of line b at j B + b, or (packed lines) points 2k and 2k + 1 at 2 (k B + b) and one
+  // further, as the complex transform reads them. Lines past the grid's edge are zeros.
   constexpr int B = kBlock;
   const int64_t stride = axis == 1 ? m0 : m0 * m1;        // between points of a line
   const int64_t others = axis == 1 ? m_[2] : m1;          // the third index
   const int64_t other_stride = axis == 1 ? m0 * m1 : m0;  // its stride
   const int64_t xb = (m0 + B - 1) / B, blocks = xb * others;
+  const bool packed = plans_->packed[axis];
   parallel_for(blocks, 2, [&](int64_t b0, int64_t b1) {
     double* buf = plans_->buffer();
     for (int64_t blk = b0; blk < b1; ++blk) {
       const int64_t i0 = (blk % xb) * B, o = blk / xb, count = std::min<int64_t>(B, m0 - i0);
       double* base = data + i0 + o * other_stride;
-      // Transposed into the buffer: line b's point j at b * ls + j.
-      for (int64_t j = 0; j < n; ++j) {
-        const double* src = base + j * stride;
-        for (int64_t b = 0; b < count; ++b) buf[b * ls + j] = src[b];
+      if (count < B) std::memset(buf, 0, sizeof(double) * n * B);
+      if (packed) {
+        for (int64_t k = 0; 2 * k < n; ++k) {
+          const double* even = base + 2 * k * stride;
+          const double* odd = even + stride;
+          double* row = buf + 2 * k * B;
+          for (int64_t b = 0; b < count; ++b) row[2 * b] = even[b], row[2 * b + 1] = odd[b];
+        }
+      } else {
+        for (int64_t j = 0; j < n; ++j) std::memcpy(buf + j * B, base + j * stride, sizeof(double) * count);
       }
-      if (count < B) std::memset(buf + count * ls, 0, sizeof(double) * (B - count) * ls);
       if (divide_at) {
         to_modes(buf, axis);
         divide_block(buf, axis, i0, count, o, *divide_at);
@@ -260,9 +292,15 @@ void FastSolver::transform(double* data, int axis, bool forward, std::optional<d
       } else {
         run(buf);
       }
-      for (int64_t j = 0; j < n; ++j) {
-        double* dst = base + j * stride;
-        for (int64_t b = 0; b < count; ++b) dst[b] = buf[b * ls + j];
+      if (packed) {
+        for (int64_t k = 0; 2 * k < n; ++k) {
+          double* even = base + 2 * k * stride;
+          double* odd = even + stride;
+          const double* row = buf + 2 * k * B;
+          for (int64_t b = 0; b < count; ++b) even[b] = row[2 * b], odd[b] = row[2 * b + 1];
+        }
+      } else {
+        for (int64_t j = 0; j < n; ++j) std::memcpy(base + j * stride, buf + j * B, sizeof(double) * count);
       }
     }
   });
@@ -279,18 +317,33 @@ void FastSolver::divide_block(double* buf, int axis, int64_t i0, int64_t count, 
     const int64_t y = axis == 2 ? o : j, z = axis == 2 ? j : o;
     base[j] = sigma + lambda_[1][y] + (dim_ == 3 ? lambda_[2][z] : 0.0);
   }
-  for (int64_t b = 0; b < count; ++b) {
-    double* line = buf + b * plans_->stride[axis];
-    const double lx = lambda_[0][i0 + b];
-    run_simd([&] {
-      SILT_IVDEP
-      for (int64_t j = 0; j < n; ++j) {
-        const double l = base[j] + lx;
-        const double q = line[j] * inv_norm / (l > 0 ? l : 1.0);
-        line[j] = l > 0 ? q : 0.0;  // the singular mode: zero mean
+  // Position p of line b: at 2 (p / 2) B + 2 b + p % 2 when packed (a complex value per two
+  // positions), at p B + b otherwise.
+  const bool packed = plans_->packed[axis];
+  const double* lx = lambda_[0].data() + i0;
+  auto divide = [inv_norm](double& v, double l) {
+    const double q = v * inv_norm / (l > 0 ? l : 1.0);
+    v = l > 0 ? q : 0.0;  // the singular mode: zero mean
+  };
+  run_simd([&] {
+    if (packed) {
+      for (int64_t p = 0; p < n; p += 2) {
+        double* row = buf + p * kBlock;
+        const double s0 = base[p], s1 = base[p + 1];
+        SILT_IVDEP
+        for (int64_t b = 0; b < count; ++b) {
+          divide(row[2 * b], s0 + lx[b]);
+          divide(row[2 * b + 1], s1 + lx[b]);
+        }
       }
-    });
-  }
+      return;
+    }
+    for (int64_t p = 0; p < n; ++p) {
+      double* row = buf + p * kBlock;
+      SILT_IVDEP
+      for (int64_t b = 0; b < count; ++b) divide(row[b], base[p] + lx[b]);
+    }
+  });
 }
 
 // The Thomas algorithm along axis t, for every mode q of the other axes: row k of mode q is

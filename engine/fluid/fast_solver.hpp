@@ -6,7 +6,7 @@
 // transforms apply them in O(m log m) (Schumann & Sweet 1988; CaNS, Costa 2018):
 //
 //   axis kind   unknowns             symmetry of the data          transform    lambda_p h^2
-//   periodic    m                    periodic                      r2c/c2r      2 - 2 cos(2 pi p / m)
+//   periodic    m                    periodic                      complex n/2  2 - 2 cos(2 pi p / m)
 //                                     (odd m: R2HC/HC2R)
 //   cell NN     cell centres         even about -1/2 and m - 1/2  DCT-II/III   2 - 2 cos(pi p / m)
 //   cell DD     (p = 0 on the faces)  odd about -1/2 and m - 1/2  DST-II/III   2 - 2 cos(pi (p + 1) / m)
@@ -22,11 +22,13 @@
 // pass over the data.
 //
 // Transforms run on blocks of lines, each block of an axis with the same FFTW plan (chosen by
-// FFTW_ESTIMATE, not by timing): along x a real-to-real block aligned as the planner's buffer
-// where it lies, other blocks (and every real-to-complex one, its lines padded by two values)
-// copied into aligned per-thread buffers (along y and z, the lines of kBlock
-// neighbouring x, read as whole cache lines and transposed). Every line is transformed by the
-// same code whatever thread runs it, so results are bitwise the same for any thread count.
+// FFTW_ESTIMATE, not by timing). A periodic line of even length goes through a complex transform
+// of half its length (half_length_fft.hpp). Along x a block aligned as the planner's buffer is
+// transformed where it lies, others are copied into aligned per-thread buffers; along y and z the
+// lines of kBlock neighbouring x are copied into a buffer interleaved (read and written as whole
+// rows), so the transforms, the packing of the spectra and the division by the eigenvalues run
+// across the block's lines. Every line is transformed by the same code whatever thread runs it,
+// so results are bitwise the same for any thread count.
 #pragma once
 
 #include <array>

@@ -1,0 +1,81 @@
+// The discrete Fourier transform of a real line of even length n through a complex transform of
+// length N = n / 2 (Press et al., Numerical Recipes, 3rd ed., §12.3.2): the line read as N complex
+// values z_k = x_2k + i x_2k+1, transformed (Z = DFT_N z), then split into the spectra of the even
+// and odd points, E_k = (Z_k + conj Z_N-k) / 2 and O_k = (Z_k - conj Z_N-k) / 2i, and joined:
+// X_k = E_k + W^k O_k, X_N-k = conj(E_k - W^k O_k), with W = exp(-2 pi i / n).
+//
+// In place, in the packed order of the fast solver: X_0, X_N (both real), then Re X_k, Im X_k for
+// k = 1 .. N - 1, n values. The scale is FFTW's: forward unnormalised, and the backward pair
+// (unpack_spectrum, then the backward complex transform) gives n x. FFTW's complex codelets are
+// vectorised where its real-to-complex ones are not, so the pair runs two to three times as fast.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "core/simd_level.hpp"
+
+namespace silt::fluid {
+
+// cos and -sin of 2 pi k / n for k = 0 .. n / 4, interleaved: W^k.
+std::vector<double> half_length_twiddles(int64_t n);
+
+// Both below work on `lanes` lines side by side (complex k of line l at v + 2 (lanes k + l)): one
+// line (lanes = 1) or a block whose lines are interleaved, each loop over the lines contiguous.
+// At k = N / 2 the two ends are the same values, which each line reads before it writes.
+
+// After the forward complex transform of the N values of each line: the packed spectra.
+inline void pack_spectrum(double* v, int64_t n, const double* w, int64_t lanes = 1) {
+  const int64_t N = n / 2, cs = 2 * lanes;
+  SILT_IVDEP
+  for (int64_t l = 0; l < lanes; ++l) {
+    const double r0 = v[2 * l], i0 = v[2 * l + 1];
+    v[2 * l] = r0 + i0;
+    v[2 * l + 1] = r0 - i0;
+  }
+  for (int64_t k = 1; 2 * k <= N; ++k) {
+    double* a = v + k * cs;
+    double* b = v + (N - k) * cs;
+    const double wr = w[2 * k], wi = w[2 * k + 1];
+    SILT_IVDEP
+    for (int64_t l = 0; l < lanes; ++l) {
+      const double ar = a[2 * l], ai = a[2 * l + 1], br = b[2 * l], bi = -b[2 * l + 1];  // Z_k, conj Z_N-k
+      const double er = 0.5 * (ar + br), ei = 0.5 * (ai + bi);
+      const double orr = 0.5 * (ai - bi), oi = -0.5 * (ar - br);      // (Z_k - conj Z_N-k) / 2i
+      const double tr = wr * orr - wi * oi, ti = wr * oi + wi * orr;  // W^k O_k
+      b[2 * l] = er - tr;
+      b[2 * l + 1] = ti - ei;
+      a[2 * l] = er + tr;
+      a[2 * l + 1] = ei + ti;
+    }
+  }
+}
+
+// Before the backward complex transform: the N complex values of each line whose transform is n x.
+inline void unpack_spectrum(double* v, int64_t n, const double* w, int64_t lanes = 1) {
+  const int64_t N = n / 2, cs = 2 * lanes;
+  SILT_IVDEP
+  for (int64_t l = 0; l < lanes; ++l) {
+    const double x0 = v[2 * l], xn = v[2 * l + 1];
+    v[2 * l] = x0 + xn;
+    v[2 * l + 1] = x0 - xn;
+  }
+  for (int64_t k = 1; 2 * k <= N; ++k) {
+    double* a = v + k * cs;
+    double* b = v + (N - k) * cs;
+    const double wr = w[2 * k], wi = -w[2 * k + 1];  // conj W^k
+    SILT_IVDEP
+    for (int64_t l = 0; l < lanes; ++l) {
+      const double ar = a[2 * l], ai = a[2 * l + 1], br = b[2 * l], bi = -b[2 * l + 1];  // X_k, conj X_N-k
+      const double er = ar + br, ei = ai + bi, dr = ar - br, di = ai - bi;
+      const double orr = dr * wr - di * wi, oi = dr * wi + di * wr;  // (X_k - conj X_N-k) conj W^k
+      // Z_k = E + i O, Z_N-k = conj E + i conj O.
+      b[2 * l] = er + oi;
+      b[2 * l + 1] = orr - ei;
+      a[2 * l] = er - oi;
+      a[2 * l + 1] = ei + orr;
+    }
+  }
+}
+
+}  // namespace silt::fluid
