@@ -84,8 +84,14 @@ std::vector<double> half_length_twiddles(int64_t n) {
 // transposes kBlock neighbouring x (read contiguously) into lines.
 struct FastSolver::Plans {
   std::array<fftw_plan, 3> fwd{}, bwd{};
-  std::array<bool, 3> packed{false, false, false};  // half-length complex plans (periodic, even length)
-  std::array<std::vector<double>, 3> twiddles;      // of the packed axes (half_length_fft.hpp)
+  std::array<bool, 3> packed{false, false, false};       // half-length complex plans (periodic, even length)
+  std::array<std::vector<double>, 3> twiddles;           // of the packed axes (half_length_fft.hpp)
+  std::array<bool, 3> interleaved{false, false, false};  // a block's lines interleaved (y, z; short lines)
+  std::array<int64_t, 3> group{1, 1, 1};                 // lines per complex transform of a packed axis not interleaved
+  // Between the lines of a block not interleaved: m along x (a block in place), along y and z m
+  // rounded up to 8 and 8 more, so that a block's lines neither start on the same cache set
+  // (lines of 2^k points would) nor lose the 64-byte alignment of the buffer.
+  std::array<int64_t, 3> stride{1, 1, 1};
   int64_t buffer_size = 0;
   tbb::enumerable_thread_specific<Buffer> buffers;
   tbb::enumerable_thread_specific<std::vector<double>> scratch;
@@ -144,6 +150,15 @@ FastSolver::FastSolver(int dim, const std::array<SolverAxis, 3>& axes)
   for (int a = 0; a < dim; ++a) {
     plans_->packed[a] = axes[a].kind == AxisKind::kPeriodic && m_[a] % 2 == 0 && a != tri_axis_;
     if (plans_->packed[a]) plans_->twiddles[a] = half_length_twiddles(m_[a]);
+    plans_->interleaved[a] = a > 0 && m_[a] * kBlock * static_cast<int64_t>(sizeof(double)) <= kInterleavedBytes;
+    // Lines one after the other: transformed and packed a group at a time, the group in the
+    // first-level cache between the two; a group starts 64 bytes after the one before it (the
+    // alignment the plan was made for), or the block is one group.
+    const int64_t lines = a == 0 ? kLinesX : kBlock;
+    plans_->stride[a] = a == 0 || plans_->interleaved[a] ? m_[a] : (m_[a] + 7) / 8 * 8 + 8;
+    int64_t g = lines;
+    while (g > 1 && g * m_[a] * static_cast<int64_t>(sizeof(double)) > kInterleavedBytes) g /= 2;
+    plans_->group[a] = (g * plans_->stride[a]) % 8 == 0 ? g : lines;
   }
   int64_t longest = 1;
   for (int a = 0; a < dim; ++a) {
@@ -153,26 +168,29 @@ FastSolver::FastSolver(int dim, const std::array<SolverAxis, 3>& axes)
       const int64_t q = plans_->packed[a] ? packed_frequency(p, m_[a]) : p;
       lambda_[a][p] = eigenvalue(axes[a].kind, q, m_[a]) * ih2;
     }
-    longest = std::max(longest, m_[a]);
+    longest = std::max(longest, plans_->stride[a]);
   }
   plans_->buffer_size = std::max(longest * kBlock, m_[0] * kLinesX);
   Buffer probe = make_buffer(plans_->buffer_size);
   std::lock_guard<std::mutex> lock(planner_lock());
   for (int a = 0; a < dim; ++a) {
     if (a == tri_axis_) continue;
-    // Along x the lines one after the other; along y and z the kBlock lines of a block interleaved
-    // (point j of line b at j kBlock + b; a complex value of the packed lines at 2 (k kBlock + b)).
+    // The lines one after the other, or interleaved (point j of line b at j kBlock + b; a complex
+    // value of the packed lines at 2 (k kBlock + b)).
     const int n = static_cast<int>(m_[a]), lines = a == 0 ? kLinesX : kBlock;
-    const int step = a == 0 ? 1 : kBlock, dist = a == 0 ? n : 1;  // between points, between lines
+    const bool il = plans_->interleaved[a];
+    const int packed_lines = il ? lines : static_cast<int>(plans_->group[a]);
+    // between points, between lines
+    const int step = il ? kBlock : 1, dist = il ? 1 : static_cast<int>(plans_->stride[a]);
     // FFTW_ESTIMATE: the plan from heuristics, never from timings, so every run makes the same one.
     if (plans_->packed[a]) {
       // In place: each line of n reals as n / 2 complex values.
       auto* c = reinterpret_cast<fftw_complex*>(probe.get());
-      const int h = n / 2, cd = a == 0 ? h : 1;
-      plans_->fwd[a] =
-          fftw_plan_many_dft(1, &h, lines, c, nullptr, step, cd, c, nullptr, step, cd, FFTW_FORWARD, FFTW_ESTIMATE);
-      plans_->bwd[a] =
-          fftw_plan_many_dft(1, &h, lines, c, nullptr, step, cd, c, nullptr, step, cd, FFTW_BACKWARD, FFTW_ESTIMATE);
+      const int h = n / 2, cd = il ? 1 : dist / 2;
+      plans_->fwd[a] = fftw_plan_many_dft(1, &h, packed_lines, c, nullptr, step, cd, c, nullptr, step, cd, FFTW_FORWARD,
+                                          FFTW_ESTIMATE);
+      plans_->bwd[a] = fftw_plan_many_dft(1, &h, packed_lines, c, nullptr, step, cd, c, nullptr, step, cd,
+                                          FFTW_BACKWARD, FFTW_ESTIMATE);
     } else {
       fftw_r2r_kind f, b;
       kinds_of(axes[a].kind, f, b);
@@ -198,22 +216,28 @@ size_t FastSolver::bytes() const {
 }
 
 // A block of lines into the eigenbasis and back: along x kLinesX lines one after the other, along
-// y and z kBlock lines interleaved. The packed order of a periodic line of even length n: Re 0,
+// y and z kBlock lines, interleaved or one after the other. The packed order of a periodic line of even length n: Re 0,
 // Re n/2, then Re p, Im p for p = 1 .. n/2 - 1.
 void FastSolver::to_modes(double* buf, int axis) {
   if (!plans_->packed[axis]) {
     fftw_execute_r2r(plans_->fwd[axis], buf, buf);
     return;
   }
-  auto* c = reinterpret_cast<fftw_complex*>(buf);
-  fftw_execute_dft(plans_->fwd[axis], c, c);
   const int64_t n = m_[axis];
   const double* w = plans_->twiddles[axis].data();
-  if (axis > 0) {
+  if (plans_->interleaved[axis]) {
+    auto* c = reinterpret_cast<fftw_complex*>(buf);
+    fftw_execute_dft(plans_->fwd[axis], c, c);
     run_simd([&] { pack_spectrum(buf, n, w, kBlock); });
     return;
   }
-  for (int64_t b = 0; b < kLinesX; ++b) pack_spectrum(buf + b * n, n, w);
+  const int64_t lines = axis == 0 ? kLinesX : kBlock, g = plans_->group[axis], ls = plans_->stride[axis];
+  for (int64_t first = 0; first < lines; first += g) {
+    double* lines_of_group = buf + first * ls;
+    auto* c = reinterpret_cast<fftw_complex*>(lines_of_group);
+    fftw_execute_dft(plans_->fwd[axis], c, c);
+    for (int64_t b = 0; b < g; ++b) pack_spectrum(lines_of_group + b * ls, n, w);
+  }
 }
 
 void FastSolver::from_modes(double* buf, int axis) {
@@ -223,13 +247,19 @@ void FastSolver::from_modes(double* buf, int axis) {
   }
   const int64_t n = m_[axis];
   const double* w = plans_->twiddles[axis].data();
-  if (axis > 0) {
+  if (plans_->interleaved[axis]) {
     run_simd([&] { unpack_spectrum(buf, n, w, kBlock); });
-  } else {
-    for (int64_t b = 0; b < kLinesX; ++b) unpack_spectrum(buf + b * n, n, w);
+    auto* c = reinterpret_cast<fftw_complex*>(buf);
+    fftw_execute_dft(plans_->bwd[axis], c, c);
+    return;
   }
-  auto* c = reinterpret_cast<fftw_complex*>(buf);
-  fftw_execute_dft(plans_->bwd[axis], c, c);
+  const int64_t lines = axis == 0 ? kLinesX : kBlock, g = plans_->group[axis], ls = plans_->stride[axis];
+  for (int64_t first = 0; first < lines; first += g) {
+    double* lines_of_group = buf + first * ls;
+    for (int64_t b = 0; b < g; ++b) unpack_spectrum(lines_of_group + b * ls, n, w);
+    auto* c = reinterpret_cast<fftw_complex*>(lines_of_group);
+    fftw_execute_dft(plans_->bwd[axis], c, c);
+  }
 }
 
 // Lines along `axis`, kBlock at a time: gathered into a buffer, transformed, scattered back.
@@ -260,22 +290,30 @@ void FastSolver::transform(double* data, int axis, bool forward, std::optional<d
     });
     return;
   }
-  // Along y or z: blocks of kBlock neighbouring x at one (other) index, interleaved in the buffer:
-  // point j of line b at j B + b, or (packed lines) points 2k and 2k + 1 at 2 (k B + b) and one
-  // further, as the complex transform reads them. Lines past the grid's edge are zeros.
+  // Along y or z: blocks of kBlock neighbouring x at one (other) index, copied into the buffer as
+  // whole rows. Short lines are interleaved there: point j of line b at j B + b, or (packed lines)
+  // points 2k and 2k + 1 at 2 (k B + b) and one further, as the complex transform reads them.
+  // Long ones (whose interleaved block would not stay in the first-level cache) are transposed:
+  // point j of line b at b n + j. Lines past the grid's edge are zeros.
   constexpr int B = kBlock;
   const int64_t stride = axis == 1 ? m0 : m0 * m1;        // between points of a line
   const int64_t others = axis == 1 ? m_[2] : m1;          // the third index
   const int64_t other_stride = axis == 1 ? m0 * m1 : m0;  // its stride
   const int64_t xb = (m0 + B - 1) / B, blocks = xb * others;
-  const bool packed = plans_->packed[axis];
+  const bool packed = plans_->packed[axis], il = plans_->interleaved[axis];
+  const int64_t ls = plans_->stride[axis];
   parallel_for(blocks, 2, [&](int64_t b0, int64_t b1) {
     double* buf = plans_->buffer();
     for (int64_t blk = b0; blk < b1; ++blk) {
       const int64_t i0 = (blk % xb) * B, o = blk / xb, count = std::min<int64_t>(B, m0 - i0);
       double* base = data + i0 + o * other_stride;
-      if (count < B) std::memset(buf, 0, sizeof(double) * n * B);
-      if (packed) {
+      if (count < B) std::memset(buf, 0, sizeof(double) * (il ? n : ls) * B);
+      if (!il) {
+        for (int64_t j = 0; j < n; ++j) {
+          const double* src = base + j * stride;
+          for (int64_t b = 0; b < count; ++b) buf[b * ls + j] = src[b];
+        }
+      } else if (packed) {
         for (int64_t k = 0; 2 * k < n; ++k) {
           const double* even = base + 2 * k * stride;
           const double* odd = even + stride;
@@ -292,7 +330,12 @@ void FastSolver::transform(double* data, int axis, bool forward, std::optional<d
       } else {
         run(buf);
       }
-      if (packed) {
+      if (!il) {
+        for (int64_t j = 0; j < n; ++j) {
+          double* dst = base + j * stride;
+          for (int64_t b = 0; b < count; ++b) dst[b] = buf[b * ls + j];
+        }
+      } else if (packed) {
         for (int64_t k = 0; 2 * k < n; ++k) {
           double* even = base + 2 * k * stride;
           double* odd = even + stride;
@@ -317,8 +360,8 @@ void FastSolver::divide_block(double* buf, int axis, int64_t i0, int64_t count, 
     const int64_t y = axis == 2 ? o : j, z = axis == 2 ? j : o;
     base[j] = sigma + lambda_[1][y] + (dim_ == 3 ? lambda_[2][z] : 0.0);
   }
-  // Position p of line b: at 2 (p / 2) B + 2 b + p % 2 when packed (a complex value per two
-  // positions), at p B + b otherwise.
+  // Position p of line b: interleaved, at 2 (p / 2) B + 2 b + p % 2 when packed (a complex value
+  // per two positions), at p B + b otherwise; transposed, at b n + p.
   const bool packed = plans_->packed[axis];
   const double* lx = lambda_[0].data() + i0;
   auto divide = [inv_norm](double& v, double l) {
@@ -326,6 +369,14 @@ void FastSolver::divide_block(double* buf, int axis, int64_t i0, int64_t count, 
     v = l > 0 ? q : 0.0;  // the singular mode: zero mean
   };
   run_simd([&] {
+    if (!plans_->interleaved[axis]) {
+      for (int64_t b = 0; b < count; ++b) {
+        double* line = buf + b * plans_->stride[axis];
+        SILT_IVDEP
+        for (int64_t p = 0; p < n; ++p) divide(line[p], base[p] + lx[b]);
+      }
+      return;
+    }
     if (packed) {
       for (int64_t p = 0; p < n; p += 2) {
         double* row = buf + p * kBlock;

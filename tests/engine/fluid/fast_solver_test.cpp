@@ -145,16 +145,17 @@ TEST_CASE("fluid fast solver: a real line's spectrum through a complex transform
   }
 }
 
-// Periodic lines as short as 2 and 4 points and a periodic y axis in 3D, in blocks that fill the
-// transforms' buffers and blocks that do not.
+// Periodic lines as short as 2 and 4 points, odd and even, along x, y and z, in blocks that fill
+// the transforms' buffers and blocks that do not.
 TEST_CASE("fluid fast solver: periodic axes of every short even length and of odd lengths invert to round-off") {
   unsigned seed = 11;
-  for (int64_t m : {2, 3, 4, 5, 6, 16, 34})
+  // Lines of more than 128 points along y and z are transposed, shorter ones interleaved.
+  const std::array<int64_t, 3> sizes[] = {{2, 4, 4},   {3, 5, 4},   {4, 6, 4},   {5, 7, 4},   {6, 8, 4},
+                                          {16, 18, 4}, {34, 36, 4}, {3, 136, 6}, {5, 4, 137}, {4, 2, 130}};
+  for (const auto& m : sizes)
     for (double sigma : {0.0, 3.0}) {
       std::array<SolverAxis, 3> ax{};
-      ax[0] = {m, AxisKind::kPeriodic, 0.1};
-      ax[1] = {m + 2, AxisKind::kPeriodic, 0.1};
-      ax[2] = {4, AxisKind::kPeriodic, 0.1};
+      for (int a = 0; a < 3; ++a) ax[a] = {m[a], AxisKind::kPeriodic, 0.1};
       FastSolver solver(3, ax);
       const auto r = random_field(static_cast<size_t>(solver.size()), seed++, sigma == 0);
       std::vector<double> x = r;
@@ -162,7 +163,7 @@ TEST_CASE("fluid fast solver: periodic axes of every short even length and of od
       const auto back = apply(3, ax, x, sigma);
       double scale = 0;
       for (double v : r) scale = std::max(scale, std::abs(v));
-      INFO("m " << m << " sigma " << sigma);
+      INFO("m " << m[0] << " " << m[1] << " " << m[2] << " sigma " << sigma);
       CHECK(max_diff(back, r) < 1e-10 * scale);
     }
 }
