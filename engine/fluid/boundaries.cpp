@@ -1,9 +1,15 @@
 #include "fluid/boundaries.hpp"
 
+#include <algorithm>
+
 #include "core/parallel.hpp"
 
 namespace silt::fluid {
 namespace {
+
+// Lines per task of the ghost fills: a line's ghosts take some nanoseconds, so a grid's ghosts on
+// one axis (some thousand lines at 32^3) are not worth a fork and a join.
+constexpr int64_t kGhostLinesPerTask = 4096;
 
 // Calls f(q) for the padded index q of position 0 along axis b, for every position of the other
 // axes over their whole padded range (-1 .. n + 1).
@@ -12,7 +18,7 @@ void for_each_line(const Layout& L, int b, F&& f) {
   const int o1 = b == 0 ? 1 : 0, o2 = b == 2 ? 1 : 2;
   const int64_t n1 = L.n[o1] + 3, n2 = L.dim == 3 ? L.n[o2] + 3 : 1;
   const int64_t off2 = L.dim == 3 ? 1 : 0;
-  parallel_for(n2, 1, [&](int64_t k0, int64_t k1) {
+  parallel_for(n2, std::max<int64_t>(1, kGhostLinesPerTask / n1), [&](int64_t k0, int64_t k1) {
     for (int64_t k = k0; k < k1; ++k)
       for (int64_t j = 0; j < n1; ++j) {
         std::array<int64_t, 3> idx{0, 0, 0};
