@@ -22,10 +22,11 @@ std::vector<double> half_length_twiddles(int64_t n);
 
 // Both below work on `lanes` lines side by side (complex k of line l at v + 2 (lanes k + l)): one
 // line (lanes = 1) or a block whose lines are interleaved, each loop over the lines contiguous.
-// At k = N / 2 the two ends are the same values, which each line reads before it writes.
-
-// After the forward complex transform of the N values of each line: the packed spectra.
-inline void pack_spectrum(double* v, int64_t n, const double* w, int64_t lanes = 1) {
+// Entries 0 and 1 of each line become their sum and difference; then f(a, b, W^k) for the pairs of
+// complex values k and N - k of each line, k = 1 .. N / 2 (at k = N / 2 a and b are the same
+// values, which f reads before it writes).
+template <class F>
+inline void for_each_mode_pair(double* v, int64_t n, const double* w, int64_t lanes, F&& f) {
   const int64_t N = n / 2, cs = 2 * lanes;
   SILT_IVDEP
   for (int64_t l = 0; l < lanes; ++l) {
@@ -38,44 +39,39 @@ inline void pack_spectrum(double* v, int64_t n, const double* w, int64_t lanes =
     double* b = v + (N - k) * cs;
     const double wr = w[2 * k], wi = w[2 * k + 1];
     SILT_IVDEP
-    for (int64_t l = 0; l < lanes; ++l) {
-      const double ar = a[2 * l], ai = a[2 * l + 1], br = b[2 * l], bi = -b[2 * l + 1];  // Z_k, conj Z_N-k
-      const double er = 0.5 * (ar + br), ei = 0.5 * (ai + bi);
-      const double orr = 0.5 * (ai - bi), oi = -0.5 * (ar - br);      // (Z_k - conj Z_N-k) / 2i
-      const double tr = wr * orr - wi * oi, ti = wr * oi + wi * orr;  // W^k O_k
-      b[2 * l] = er - tr;
-      b[2 * l + 1] = ti - ei;
-      a[2 * l] = er + tr;
-      a[2 * l + 1] = ei + ti;
-    }
+    for (int64_t l = 0; l < lanes; ++l) f(a + 2 * l, b + 2 * l, wr, wi);
   }
 }
 
-// Before the backward complex transform: the N complex values of each line whose transform is n x.
+// After the forward complex transform of the N values of each line: the packed spectra
+// (entries 0 and 1: X_0 = Re Z_0 + Im Z_0 and X_N = Re Z_0 - Im Z_0).
+inline void pack_spectrum(double* v, int64_t n, const double* w, int64_t lanes = 1) {
+  for_each_mode_pair(v, n, w, lanes, [](double* a, double* b, double wr, double wi) {
+    const double ar = a[0], ai = a[1], br = b[0], bi = -b[1];  // Z_k, conj Z_N-k
+    const double er = 0.5 * (ar + br), ei = 0.5 * (ai + bi);
+    const double orr = 0.5 * (ai - bi), oi = -0.5 * (ar - br);      // (Z_k - conj Z_N-k) / 2i
+    const double tr = wr * orr - wi * oi, ti = wr * oi + wi * orr;  // W^k O_k
+    b[0] = er - tr;
+    b[1] = ti - ei;
+    a[0] = er + tr;
+    a[1] = ei + ti;
+  });
+}
+
+// Before the backward complex transform: the N complex values of each line whose transform is
+// n x (entries 0 and 1: Z_0 = X_0 + X_N + i (X_0 - X_N)).
 inline void unpack_spectrum(double* v, int64_t n, const double* w, int64_t lanes = 1) {
-  const int64_t N = n / 2, cs = 2 * lanes;
-  SILT_IVDEP
-  for (int64_t l = 0; l < lanes; ++l) {
-    const double x0 = v[2 * l], xn = v[2 * l + 1];
-    v[2 * l] = x0 + xn;
-    v[2 * l + 1] = x0 - xn;
-  }
-  for (int64_t k = 1; 2 * k <= N; ++k) {
-    double* a = v + k * cs;
-    double* b = v + (N - k) * cs;
-    const double wr = w[2 * k], wi = -w[2 * k + 1];  // conj W^k
-    SILT_IVDEP
-    for (int64_t l = 0; l < lanes; ++l) {
-      const double ar = a[2 * l], ai = a[2 * l + 1], br = b[2 * l], bi = -b[2 * l + 1];  // X_k, conj X_N-k
-      const double er = ar + br, ei = ai + bi, dr = ar - br, di = ai - bi;
-      const double orr = dr * wr - di * wi, oi = dr * wi + di * wr;  // (X_k - conj X_N-k) conj W^k
-      // Z_k = E + i O, Z_N-k = conj E + i conj O.
-      b[2 * l] = er + oi;
-      b[2 * l + 1] = orr - ei;
-      a[2 * l] = er - oi;
-      a[2 * l + 1] = ei + orr;
-    }
-  }
+  for_each_mode_pair(v, n, w, lanes, [](double* a, double* b, double wr, double w_im) {
+    const double wi = -w_im;                                   // conj W^k
+    const double ar = a[0], ai = a[1], br = b[0], bi = -b[1];  // X_k, conj X_N-k
+    const double er = ar + br, ei = ai + bi, dr = ar - br, di = ai - bi;
+    const double orr = dr * wr - di * wi, oi = dr * wi + di * wr;  // (X_k - conj X_N-k) conj W^k
+    // Z_k = E + i O, Z_N-k = conj E + i conj O.
+    b[0] = er + oi;
+    b[1] = orr - ei;
+    a[0] = er - oi;
+    a[1] = ei + orr;
+  });
 }
 
 }  // namespace silt::fluid
