@@ -79,13 +79,34 @@ std::vector<double> half_length_twiddles(int64_t n) {
   return w;
 }
 
+std::vector<double> cosine_twiddles(int64_t n) {
+  std::vector<double> c(static_cast<size_t>(2 * (n / 2 + 1)));
+  for (int64_t k = 0; 2 * k <= n; ++k) {
+    const double t = std::numbers::pi * static_cast<double>(k) / static_cast<double>(2 * n);
+    c[2 * k] = std::cos(t);
+    c[2 * k + 1] = std::sin(t);
+  }
+  return c;
+}
+
 // Per axis, the forward and backward plans of one block of lines (kLinesX along x, kBlock along y
-// and z), in place on an aligned buffer, the lines one after the other: along y and z the gather
-// transposes kBlock neighbouring x (read contiguously) into lines.
+// and z), in place on an aligned buffer, and how the lines sit there.
 struct FastSolver::Plans {
+  enum class Path : uint8_t {
+    kRealToReal,  // FFTW's real-to-real pair
+    kPeriodic,    // the half-length complex transform (periodic, even length)
+    kCosine,      // and the cosine transform from it (cell NN, even length)
+    kSine,        // and the sine transform (cell DD, even length)
+  };
   std::array<fftw_plan, 3> fwd{}, bwd{};
-  std::array<bool, 3> packed{false, false, false};       // half-length complex plans (periodic, even length)
-  std::array<std::vector<double>, 3> twiddles;           // of the packed axes (half_length_fft.hpp)
+  std::array<Path, 3> path{};
+  std::array<bool, 3> packed{false, false, false};  // a half-length complex transform (every path but the first)
+  std::array<std::vector<double>, 3> twiddles;      // of the packed axes (half_length_fft.hpp)
+  std::array<std::vector<double>, 3> cosines;       // of the cosine and sine axes
+  // Place r of a line in the buffer holds sign[r] times point source[r] (the cosine and sine
+  // paths reorder the points; empty: point r as it is).
+  std::array<std::vector<int64_t>, 3> source;
+  std::array<std::vector<double>, 3> sign;
   std::array<bool, 3> interleaved{false, false, false};  // a block's lines interleaved (y, z; short lines)
   std::array<int64_t, 3> group{1, 1, 1};                 // lines per complex transform of a packed axis not interleaved
   // Between the lines of a block not interleaved: m along x (a block in place), along y and z m
@@ -145,11 +166,27 @@ FastSolver::FastSolver(int dim, const std::array<SolverAxis, 3>& axes)
     if (axes[a].kind == AxisKind::kFaceDN) tri_axis_ = a;
   // A periodic axis of even length is transformed by a complex transform of half its length
   // (half_length_fft.hpp), whose vectorised codelets run two to three times as fast as FFTW's
-  // real-to-complex and halfcomplex ones, in the packed order below (packed_frequency); an odd
-  // length keeps the halfcomplex pair.
+  // real-to-complex and halfcomplex ones, in the packed order below (packed_frequency); so are
+  // the cosine and sine transforms of cells between Neumann or Dirichlet ends (cell NN, DD) of
+  // even length, reordered and rotated (cosine_mode). Odd lengths and the other kinds keep
+  // FFTW's real-to-real pairs.
+  using Path = Plans::Path;
   for (int a = 0; a < dim; ++a) {
-    plans_->packed[a] = axes[a].kind == AxisKind::kPeriodic && m_[a] % 2 == 0 && a != tri_axis_;
+    const bool even = m_[a] % 2 == 0 && a != tri_axis_;
+    Path& path = plans_->path[a];
+    if (even && axes[a].kind == AxisKind::kPeriodic) path = Path::kPeriodic;
+    if (even && axes[a].kind == AxisKind::kCellNN) path = Path::kCosine;
+    if (even && axes[a].kind == AxisKind::kCellDD) path = Path::kSine;
+    plans_->packed[a] = path != Path::kRealToReal;
     if (plans_->packed[a]) plans_->twiddles[a] = half_length_twiddles(m_[a]);
+    if (path == Path::kCosine || path == Path::kSine) {
+      plans_->cosines[a] = cosine_twiddles(m_[a]);
+      for (int64_t r = 0; r < m_[a]; ++r) {
+        const int64_t j = cosine_source(r, m_[a]);
+        plans_->source[a].push_back(j);
+        plans_->sign[a].push_back(path == Path::kSine && j % 2 == 1 ? -1.0 : 1.0);
+      }
+    }
     plans_->interleaved[a] = a > 0 && m_[a] * kBlock * static_cast<int64_t>(sizeof(double)) <= kInterleavedBytes;
     // Lines one after the other: transformed and packed a group at a time, the group in the
     // first-level cache between the two; a group starts 64 bytes after the one before it (the
@@ -165,7 +202,10 @@ FastSolver::FastSolver(int dim, const std::array<SolverAxis, 3>& axes)
     lambda_[a].resize(m_[a]);
     const double ih2 = 1 / (axes[a].h * axes[a].h);
     for (int64_t p = 0; p < m_[a]; ++p) {
-      const int64_t q = plans_->packed[a] ? packed_frequency(p, m_[a]) : p;
+      int64_t q = p;  // the mode at place p
+      if (plans_->path[a] == Path::kPeriodic) q = packed_frequency(p, m_[a]);
+      if (plans_->path[a] == Path::kCosine) q = cosine_mode(p, m_[a]);
+      if (plans_->path[a] == Path::kSine) q = m_[a] - 1 - cosine_mode(p, m_[a]);
       lambda_[a][p] = eigenvalue(axes[a].kind, q, m_[a]) * ih2;
     }
     longest = std::max(longest, plans_->stride[a]);
@@ -225,10 +265,15 @@ void FastSolver::to_modes(double* buf, int axis) {
   }
   const int64_t n = m_[axis];
   const double* w = plans_->twiddles[axis].data();
+  const double* cw = plans_->cosines[axis].data();
+  const bool cosine = !plans_->cosines[axis].empty();
   if (plans_->interleaved[axis]) {
     auto* c = reinterpret_cast<fftw_complex*>(buf);
     fftw_execute_dft(plans_->fwd[axis], c, c);
-    run_simd([&] { pack_spectrum(buf, n, w, kBlock); });
+    run_simd([&] {
+      pack_spectrum(buf, n, w, kBlock);
+      if (cosine) cosine_from_spectrum(buf, n, cw, kBlock);
+    });
     return;
   }
   const int64_t lines = axis == 0 ? kLinesX : kBlock, g = plans_->group[axis], ls = plans_->stride[axis];
@@ -236,7 +281,10 @@ void FastSolver::to_modes(double* buf, int axis) {
     double* lines_of_group = buf + first * ls;
     auto* c = reinterpret_cast<fftw_complex*>(lines_of_group);
     fftw_execute_dft(plans_->fwd[axis], c, c);
-    for (int64_t b = 0; b < g; ++b) pack_spectrum(lines_of_group + b * ls, n, w);
+    for (int64_t b = 0; b < g; ++b) {
+      pack_spectrum(lines_of_group + b * ls, n, w);
+      if (cosine) cosine_from_spectrum(lines_of_group + b * ls, n, cw);
+    }
   }
 }
 
@@ -247,8 +295,13 @@ void FastSolver::from_modes(double* buf, int axis) {
   }
   const int64_t n = m_[axis];
   const double* w = plans_->twiddles[axis].data();
+  const double* cw = plans_->cosines[axis].data();
+  const bool cosine = !plans_->cosines[axis].empty();
   if (plans_->interleaved[axis]) {
-    run_simd([&] { unpack_spectrum(buf, n, w, kBlock); });
+    run_simd([&] {
+      if (cosine) spectrum_from_cosine(buf, n, cw, kBlock);
+      unpack_spectrum(buf, n, w, kBlock);
+    });
     auto* c = reinterpret_cast<fftw_complex*>(buf);
     fftw_execute_dft(plans_->bwd[axis], c, c);
     return;
@@ -256,7 +309,10 @@ void FastSolver::from_modes(double* buf, int axis) {
   const int64_t lines = axis == 0 ? kLinesX : kBlock, g = plans_->group[axis], ls = plans_->stride[axis];
   for (int64_t first = 0; first < lines; first += g) {
     double* lines_of_group = buf + first * ls;
-    for (int64_t b = 0; b < g; ++b) unpack_spectrum(lines_of_group + b * ls, n, w);
+    for (int64_t b = 0; b < g; ++b) {
+      if (cosine) spectrum_from_cosine(lines_of_group + b * ls, n, cw);
+      unpack_spectrum(lines_of_group + b * ls, n, w);
+    }
     auto* c = reinterpret_cast<fftw_complex*>(lines_of_group);
     fftw_execute_dft(plans_->bwd[axis], c, c);
   }
@@ -268,6 +324,13 @@ void FastSolver::from_modes(double* buf, int axis) {
 void FastSolver::transform(double* data, int axis, bool forward, std::optional<double> divide_at) {
   const int64_t m0 = m_[0], m1 = m_[1], n = m_[axis];
   auto run = [&](double* buf) { forward ? to_modes(buf, axis) : from_modes(buf, axis); };
+  // A path that reorders the points does so where they are points: into the buffer going forward,
+  // out of it going back (both when the modes are divided in the buffer).
+  const std::vector<int64_t>& source = plans_->source[axis];
+  const std::vector<double>& sign = plans_->sign[axis];
+  static const std::vector<int64_t> kAsTheyAre;
+  const std::vector<int64_t>& src_in = forward ? source : kAsTheyAre;
+  const std::vector<int64_t>& src_out = !forward || divide_at ? source : kAsTheyAre;
   if (axis == 0) {
     constexpr int B = kLinesX;
     const int64_t lines = m1 * m_[2], blocks = (lines + B - 1) / B;
@@ -278,23 +341,32 @@ void FastSolver::transform(double* data, int axis, bool forward, std::optional<d
       for (int64_t blk = b0; blk < b1; ++blk) {
         const int64_t first = blk * B, count = std::min<int64_t>(B, lines - first);
         double* block = data + first * n;
-        if (count == B && fftw_alignment_of(block) == align) {
+        if (count == B && fftw_alignment_of(block) == align && source.empty()) {
           run(block);
           continue;
         }
-        std::memcpy(buf, block, sizeof(double) * n * count);
+        if (src_in.empty()) {
+          std::memcpy(buf, block, sizeof(double) * n * count);
+        } else {
+          for (int64_t b = 0; b < count; ++b)
+            for (int64_t r = 0; r < n; ++r) buf[b * n + r] = sign[r] * block[b * n + src_in[r]];
+        }
         if (count < B) std::memset(buf + count * n, 0, sizeof(double) * (B - count) * n);
         run(buf);
-        std::memcpy(block, buf, sizeof(double) * n * count);
+        if (src_out.empty()) {
+          std::memcpy(block, buf, sizeof(double) * n * count);
+        } else {
+          for (int64_t b = 0; b < count; ++b)
+            for (int64_t r = 0; r < n; ++r) block[b * n + src_out[r]] = sign[r] * buf[b * n + r];
+        }
       }
     });
     return;
   }
   // Along y or z: blocks of kBlock neighbouring x at one (other) index, copied into the buffer as
-  // whole rows. Short lines are interleaved there: point j of line b at j B + b, or (packed lines)
-  // points 2k and 2k + 1 at 2 (k B + b) and one further, as the complex transform reads them.
-  // Long ones (whose interleaved block would not stay in the first-level cache) are transposed:
-  // point j of line b at b n + j. Lines past the grid's edge are zeros.
+  // whole rows, place r of a line holding its point source[r] (times sign[r]; point r when the
+  // path does not reorder). Short lines are interleaved there, long ones (whose interleaved block
+  // would not stay in the first-level cache) transposed. Lines past the grid's edge are zeros.
   constexpr int B = kBlock;
   const int64_t stride = axis == 1 ? m0 : m0 * m1;        // between points of a line
   const int64_t others = axis == 1 ? m_[2] : m1;          // the third index
@@ -302,26 +374,22 @@ void FastSolver::transform(double* data, int axis, bool forward, std::optional<d
   const int64_t xb = (m0 + B - 1) / B, blocks = xb * others;
   const bool packed = plans_->packed[axis], il = plans_->interleaved[axis];
   const int64_t ls = plans_->stride[axis];
+  // Interleaved, a packed line's places 2k and 2k + 1 are one complex value: at 2 (k B + b) and
+  // one further; other interleaved lines' place r at r B + b; transposed, at b ls + r.
+  const int shift = il && packed ? 1 : 0;
+  const int64_t row = il ? (packed ? 2 * B : B) : 1, lane = il ? (packed ? 2 : 1) : ls, odd = il && packed ? 1 : 0;
   parallel_for(blocks, 2, [&](int64_t b0, int64_t b1) {
     double* buf = plans_->buffer();
     for (int64_t blk = b0; blk < b1; ++blk) {
       const int64_t i0 = (blk % xb) * B, o = blk / xb, count = std::min<int64_t>(B, m0 - i0);
       double* base = data + i0 + o * other_stride;
       if (count < B) std::memset(buf, 0, sizeof(double) * (il ? n : ls) * B);
-      if (!il) {
-        for (int64_t j = 0; j < n; ++j) {
-          const double* src = base + j * stride;
-          for (int64_t b = 0; b < count; ++b) buf[b * ls + j] = src[b];
-        }
-      } else if (packed) {
-        for (int64_t k = 0; 2 * k < n; ++k) {
-          const double* even = base + 2 * k * stride;
-          const double* odd = even + stride;
-          double* row = buf + 2 * k * B;
-          for (int64_t b = 0; b < count; ++b) row[2 * b] = even[b], row[2 * b + 1] = odd[b];
-        }
-      } else {
-        for (int64_t j = 0; j < n; ++j) std::memcpy(buf + j * B, base + j * stride, sizeof(double) * count);
+      // Place r of line b at (r >> shift) row + b lane + (r & odd).
+      for (int64_t r = 0; r < n; ++r) {
+        const double* from = base + (src_in.empty() ? r : src_in[r]) * stride;
+        const double sg = src_in.empty() ? 1.0 : sign[r];
+        double* to = buf + (r >> shift) * row + (r & odd);
+        for (int64_t b = 0; b < count; ++b) to[b * lane] = sg * from[b];
       }
       if (divide_at) {
         to_modes(buf, axis);
@@ -330,20 +398,11 @@ void FastSolver::transform(double* data, int axis, bool forward, std::optional<d
       } else {
         run(buf);
       }
-      if (!il) {
-        for (int64_t j = 0; j < n; ++j) {
-          double* dst = base + j * stride;
-          for (int64_t b = 0; b < count; ++b) dst[b] = buf[b * ls + j];
-        }
-      } else if (packed) {
-        for (int64_t k = 0; 2 * k < n; ++k) {
-          double* even = base + 2 * k * stride;
-          double* odd = even + stride;
-          const double* row = buf + 2 * k * B;
-          for (int64_t b = 0; b < count; ++b) even[b] = row[2 * b], odd[b] = row[2 * b + 1];
-        }
-      } else {
-        for (int64_t j = 0; j < n; ++j) std::memcpy(base + j * stride, buf + j * B, sizeof(double) * count);
+      for (int64_t r = 0; r < n; ++r) {
+        double* to = base + (src_out.empty() ? r : src_out[r]) * stride;
+        const double sg = src_out.empty() ? 1.0 : sign[r];
+        const double* from = buf + (r >> shift) * row + (r & odd);
+        for (int64_t b = 0; b < count; ++b) to[b] = sg * from[b * lane];
       }
     }
   });

@@ -9,7 +9,9 @@
 //   periodic    m                    periodic                      complex n/2  2 - 2 cos(2 pi p / m)
 //                                     (odd m: R2HC/HC2R)
 //   cell NN     cell centres         even about -1/2 and m - 1/2  DCT-II/III   2 - 2 cos(pi p / m)
+//                                     (even m: via complex m/2)
 //   cell DD     (p = 0 on the faces)  odd about -1/2 and m - 1/2  DST-II/III   2 - 2 cos(pi (p + 1) / m)
+//                                     (even m: via complex m/2)
 //   cell ND / DN                     even / odd, odd / even        DCT-IV, DST-IV  2 - 2 cos(pi (p + 1/2) / m)
 //   face DD     interior faces       odd about -1 and m            DST-I        2 - 2 cos(pi (p + 1) / (m + 1))
 //   face DN     faces 1 .. n         odd about -1, even about m - 1/2   (none: Thomas along it)
@@ -23,7 +25,9 @@
 //
 // Transforms run on blocks of lines, each block of an axis with the same FFTW plan (chosen by
 // FFTW_ESTIMATE, not by timing). A periodic line of even length goes through a complex transform
-// of half its length (half_length_fft.hpp). Along x a block aligned as the planner's buffer is
+// of half its length, and so do the cosine and sine transforms of cell NN and DD lines of even
+// length, their points reordered on the way in and out and their spectra rotated
+// (half_length_fft.hpp). Along x a block aligned as the planner's buffer is
 // transformed where it lies, others are copied into aligned per-thread buffers; along y and z the
 // lines of kBlock neighbouring x are copied into a buffer, read and written as whole rows: short
 // lines interleaved, so the transforms, the packing of the spectra and the division by the

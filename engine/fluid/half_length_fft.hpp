@@ -11,6 +11,7 @@
 #pragma once
 
 #include <cstdint>
+#include <numbers>
 #include <vector>
 
 #include "core/simd_level.hpp"
@@ -72,6 +73,63 @@ inline void unpack_spectrum(double* v, int64_t n, const double* w, int64_t lanes
     a[0] = er - oi;
     a[1] = ei + orr;
   });
+}
+
+// The cosine transform (DCT-II, FFTW's REDFT10: Y_k = 2 sum_j x_j cos(pi k (j + 1/2) / n)) of a
+// line of even length n through the real one (Makhoul 1980): the points reordered as v_r =
+// x_source(r) (cosine_source: the even points forward, then the odd ones backward), V = DFT_n v in
+// the packed order above, then Y_k = 2 Re(exp(-i pi k / 2n) V_k) for k and n - k from V_k. The
+// spectrum stays in the packed places: Y_0 at 0, Y_n/2 at 1, Y_k at 2k and Y_n-k at 2k + 1
+// (cosine_mode). The sine transform (DST-II, RODFT10) is the cosine one of (-1)^j x_j with the
+// modes reversed (mode n - 1 - q where the cosine transform has q). Backward: the same steps
+// reversed give 2n x, as FFTW's REDFT01 (RODFT01) after REDFT10 (RODFT10).
+
+// Point of the line at place r of the reordered one.
+inline int64_t cosine_source(int64_t r, int64_t n) { return 2 * r < n ? 2 * r : 2 * (n - r) - 1; }
+// Cosine mode at place p of the packed spectrum.
+inline int64_t cosine_mode(int64_t p, int64_t n) {
+  if (p < 2) return p == 0 ? 0 : n / 2;
+  return p % 2 == 0 ? p / 2 : n - p / 2;
+}
+// cos and sin of pi k / 2n for k = 0 .. n / 2, interleaved.
+std::vector<double> cosine_twiddles(int64_t n);
+
+// After pack_spectrum: the cosine spectra.
+inline void cosine_from_spectrum(double* v, int64_t n, const double* c, int64_t lanes = 1) {
+  const int64_t N = n / 2, cs = 2 * lanes;
+  SILT_IVDEP
+  for (int64_t l = 0; l < lanes; ++l) {
+    v[2 * l] *= 2;                        // Y_0 = 2 V_0
+    v[2 * l + 1] *= std::numbers::sqrt2;  // Y_n/2 = 2 cos(pi / 4) V_n/2
+  }
+  for (int64_t k = 1; k < N; ++k) {
+    double* a = v + k * cs;
+    const double ck = c[2 * k], sk = c[2 * k + 1];
+    SILT_IVDEP
+    for (int64_t l = 0; l < lanes; ++l) {
+      const double vr = a[2 * l], vi = a[2 * l + 1];
+      a[2 * l] = 2 * (ck * vr + sk * vi);      // Y_k
+      a[2 * l + 1] = 2 * (sk * vr - ck * vi);  // Y_n-k
+    }
+  }
+}
+
+// Before unpack_spectrum: twice the real spectra whose cosine spectra these are (the rotation
+// above is its own inverse).
+inline void spectrum_from_cosine(double* v, int64_t n, const double* c, int64_t lanes = 1) {
+  const int64_t N = n / 2, cs = 2 * lanes;
+  SILT_IVDEP
+  for (int64_t l = 0; l < lanes; ++l) v[2 * l + 1] *= std::numbers::sqrt2;
+  for (int64_t k = 1; k < N; ++k) {
+    double* a = v + k * cs;
+    const double ck = c[2 * k], sk = c[2 * k + 1];
+    SILT_IVDEP
+    for (int64_t l = 0; l < lanes; ++l) {
+      const double yk = a[2 * l], yn = a[2 * l + 1];
+      a[2 * l] = ck * yk + sk * yn;
+      a[2 * l + 1] = sk * yk - ck * yn;
+    }
+  }
 }
 
 }  // namespace silt::fluid

@@ -145,27 +145,73 @@ TEST_CASE("fluid fast solver: a real line's spectrum through a complex transform
   }
 }
 
-// Periodic lines as short as 2 and 4 points, odd and even, along x, y and z, in blocks that fill
-// the transforms' buffers and blocks that do not.
+// The cosine transform through the real one (Makhoul): reordered points, the real spectrum in
+// packed order, rotated, against the definition Y_q = 2 sum_j x_j cos(pi q (j + 1/2) / n) at the
+// place of each mode q; and back to 2n x.
+TEST_CASE("fluid fast solver: the cosine transform of a line through its real spectrum") {
+  unsigned seed = 5;
+  for (int64_t n : {2, 4, 6, 8, 10, 16, 30, 64}) {
+    const auto x = random_field(static_cast<size_t>(n), seed++, false);
+    std::vector<double> v(static_cast<size_t>(n));
+    for (int64_t r = 0; r < n; ++r) v[r] = x[cosine_source(r, n)];
+    // The packed real spectrum of v by its definition.
+    std::vector<double> line(static_cast<size_t>(n));
+    for (int64_t k = 0; 2 * k <= n; ++k) {
+      double re = 0, im = 0;
+      for (int64_t j = 0; j < n; ++j) {
+        const double t = 2 * std::numbers::pi * static_cast<double>(j * k % n) / static_cast<double>(n);
+        re += v[j] * std::cos(t);
+        im -= v[j] * std::sin(t);
+      }
+      if (k == 0) line[0] = re;
+      else if (2 * k == n) line[1] = re;
+      else line[2 * k] = re, line[2 * k + 1] = im;
+    }
+    const auto c = cosine_twiddles(n);
+    std::vector<double> spectrum = line;
+    cosine_from_spectrum(line.data(), n, c.data());
+    INFO("n " << n);
+    for (int64_t p = 0; p < n; ++p) {
+      const int64_t q = cosine_mode(p, n);
+      double y = 0;
+      for (int64_t j = 0; j < n; ++j)
+        y += 2 * x[j] *
+             std::cos(std::numbers::pi * static_cast<double>(q) * (static_cast<double>(j) + 0.5) /
+                      static_cast<double>(n));
+      CHECK(std::abs(line[p] - y) < 1e-12 * n);
+    }
+    // Every mode once.
+    std::vector<int> seen(static_cast<size_t>(n), 0);
+    for (int64_t p = 0; p < n; ++p) ++seen[cosine_mode(p, n)];
+    for (int s : seen) CHECK(s == 1);
+    spectrum_from_cosine(line.data(), n, c.data());
+    for (int64_t p = 0; p < n; ++p) CHECK(std::abs(line[p] - 2 * spectrum[p]) < 1e-12 * n);
+  }
+}
+
+// Periodic, cell NN and cell DD lines as short as 2 and 4 points, odd and even, along x, y and z
+// (the last one solved by Thomas when not periodic), in blocks that fill the transforms' buffers
+// and blocks that do not.
 TEST_CASE("fluid fast solver: periodic axes of every short even length and of odd lengths invert to round-off") {
   unsigned seed = 11;
   // Lines of more than 128 points along y and z are transposed, shorter ones interleaved.
   const std::array<int64_t, 3> sizes[] = {{2, 4, 4},   {3, 5, 4},   {4, 6, 4},   {5, 7, 4},   {6, 8, 4},
                                           {16, 18, 4}, {34, 36, 4}, {3, 136, 6}, {5, 4, 137}, {4, 2, 130}};
-  for (const auto& m : sizes)
-    for (double sigma : {0.0, 3.0}) {
-      std::array<SolverAxis, 3> ax{};
-      for (int a = 0; a < 3; ++a) ax[a] = {m[a], AxisKind::kPeriodic, 0.1};
-      FastSolver solver(3, ax);
-      const auto r = random_field(static_cast<size_t>(solver.size()), seed++, sigma == 0);
-      std::vector<double> x = r;
-      solver.solve(x.data(), sigma);
-      const auto back = apply(3, ax, x, sigma);
-      double scale = 0;
-      for (double v : r) scale = std::max(scale, std::abs(v));
-      INFO("m " << m[0] << " " << m[1] << " " << m[2] << " sigma " << sigma);
-      CHECK(max_diff(back, r) < 1e-10 * scale);
-    }
+  for (AxisKind kind : {AxisKind::kPeriodic, AxisKind::kCellNN, AxisKind::kCellDD})
+    for (const auto& m : sizes)
+      for (double sigma : {0.0, 3.0}) {
+        std::array<SolverAxis, 3> ax{};
+        for (int a = 0; a < 3; ++a) ax[a] = {m[a], kind, 0.1};
+        FastSolver solver(3, ax);
+        const auto r = random_field(static_cast<size_t>(solver.size()), seed++, sigma == 0);
+        std::vector<double> x = r;
+        solver.solve(x.data(), sigma);
+        const auto back = apply(3, ax, x, sigma);
+        double scale = 0;
+        for (double v : r) scale = std::max(scale, std::abs(v));
+        INFO("kind " << int(kind) << " m " << m[0] << " " << m[1] << " " << m[2] << " sigma " << sigma);
+        CHECK(max_diff(back, r) < 1e-10 * scale);
+      }
 }
 
 // Even lengths take the half-length complex transforms along a periodic axis, odd ones the halfcomplex
