@@ -89,6 +89,13 @@ std::vector<double> cosine_twiddles(int64_t n) {
   return c;
 }
 
+std::vector<double> face_sine_table(int64_t N) {
+  std::vector<double> s(static_cast<size_t>(N / 2 + 1));
+  for (int64_t j = 0; 2 * j <= N; ++j)
+    s[j] = std::sin(std::numbers::pi * static_cast<double>(j) / static_cast<double>(N));
+  return s;
+}
+
 // Per axis, the forward and backward plans of one block of lines (kLinesX along x, kBlock along y
 // and z), in place on an aligned buffer, and how the lines sit there.
 struct FastSolver::Plans {
@@ -97,16 +104,26 @@ struct FastSolver::Plans {
     kPeriodic,    // the half-length complex transform (periodic, even length)
     kCosine,      // and the cosine transform from it (cell NN, even length)
     kSine,        // and the sine transform (cell DD, even length)
+    kFaceSine,    // and the sine transform of interior faces (face DD, odd length)
+  };
+  // Where the points of a line go in the buffer: place r holds sign[r] times point[r] (empty:
+  // point r as it is; a sign 0 makes the place zero).
+  struct Reorder {
+    std::vector<int64_t> point;
+    std::vector<double> sign;
+    bool empty() const { return point.empty(); }
   };
   std::array<fftw_plan, 3> fwd{}, bwd{};
   std::array<Path, 3> path{};
   std::array<bool, 3> packed{false, false, false};  // a half-length complex transform (every path but the first)
   std::array<std::vector<double>, 3> twiddles;      // of the packed axes (half_length_fft.hpp)
   std::array<std::vector<double>, 3> cosines;       // of the cosine and sine axes
-  // Place r of a line in the buffer holds sign[r] times point source[r] (the cosine and sine
-  // paths reorder the points; empty: point r as it is).
-  std::array<std::vector<int64_t>, 3> source;
-  std::array<std::vector<double>, 3> sign;
+  std::array<std::vector<double>, 3> sines;         // of the face sine axes
+  // Into the buffer going forward and backward ([0], [1]), and out of it: the cosine and sine
+  // paths reorder the points where they are points (into the buffer forward, out of it backward);
+  // the face sine path, its own inverse, shifts them by one place both ways.
+  std::array<std::array<Reorder, 2>, 3> gather, scatter;
+  std::array<int64_t, 3> slots{1, 1, 1};                 // places of a line in the buffer: m, or m + 1 (face sine)
   std::array<bool, 3> interleaved{false, false, false};  // a block's lines interleaved (y, z; short lines)
   std::array<int64_t, 3> group{1, 1, 1};                 // lines per complex transform of a packed axis not interleaved
   // Between the lines of a block not interleaved: m along x (a block in place), along y and z m
@@ -177,24 +194,37 @@ FastSolver::FastSolver(int dim, const std::array<SolverAxis, 3>& axes)
     if (even && axes[a].kind == AxisKind::kPeriodic) path = Path::kPeriodic;
     if (even && axes[a].kind == AxisKind::kCellNN) path = Path::kCosine;
     if (even && axes[a].kind == AxisKind::kCellDD) path = Path::kSine;
+    if (m_[a] % 2 == 1 && a != tri_axis_ && axes[a].kind == AxisKind::kFaceDD) path = Path::kFaceSine;
     plans_->packed[a] = path != Path::kRealToReal;
-    if (plans_->packed[a]) plans_->twiddles[a] = half_length_twiddles(m_[a]);
+    const int64_t n = plans_->slots[a] = path == Path::kFaceSine ? m_[a] + 1 : m_[a];
+    if (plans_->packed[a]) plans_->twiddles[a] = half_length_twiddles(n);
     if (path == Path::kCosine || path == Path::kSine) {
-      plans_->cosines[a] = cosine_twiddles(m_[a]);
-      for (int64_t r = 0; r < m_[a]; ++r) {
-        const int64_t j = cosine_source(r, m_[a]);
-        plans_->source[a].push_back(j);
-        plans_->sign[a].push_back(path == Path::kSine && j % 2 == 1 ? -1.0 : 1.0);
+      plans_->cosines[a] = cosine_twiddles(n);
+      Plans::Reorder r;
+      for (int64_t p = 0; p < n; ++p) {
+        const int64_t j = cosine_source(p, n);
+        r.point.push_back(j);
+        r.sign.push_back(path == Path::kSine && j % 2 == 1 ? -1.0 : 1.0);
       }
+      plans_->gather[a][0] = plans_->scatter[a][1] = r;
     }
-    plans_->interleaved[a] = a > 0 && m_[a] * kBlock * static_cast<int64_t>(sizeof(double)) <= kInterleavedBytes;
+    if (path == Path::kFaceSine) {
+      plans_->sines[a] = face_sine_table(n);
+      Plans::Reorder r;
+      for (int64_t p = 0; p < n; ++p) {
+        r.point.push_back(p == 0 ? 0 : p - 1);
+        r.sign.push_back(p == 0 ? 0.0 : 1.0);
+      }
+      plans_->gather[a][0] = plans_->gather[a][1] = r;
+    }
+    plans_->interleaved[a] = a > 0 && n * kBlock * static_cast<int64_t>(sizeof(double)) <= kInterleavedBytes;
     // Lines one after the other: transformed and packed a group at a time, the group in the
     // first-level cache between the two; a group starts 64 bytes after the one before it (the
     // alignment the plan was made for), or the block is one group.
     const int64_t lines = a == 0 ? kLinesX : kBlock;
-    plans_->stride[a] = a == 0 || plans_->interleaved[a] ? m_[a] : (m_[a] + 7) / 8 * 8 + 8;
+    plans_->stride[a] = a == 0 || plans_->interleaved[a] ? n : (n + 7) / 8 * 8 + 8;
     int64_t g = lines;
-    while (g > 1 && g * m_[a] * static_cast<int64_t>(sizeof(double)) > kInterleavedBytes) g /= 2;
+    while (g > 1 && g * n * static_cast<int64_t>(sizeof(double)) > kInterleavedBytes) g /= 2;
     plans_->group[a] = (g * plans_->stride[a]) % 8 == 0 ? g : lines;
   }
   int64_t longest = 1;
@@ -210,14 +240,14 @@ FastSolver::FastSolver(int dim, const std::array<SolverAxis, 3>& axes)
     }
     longest = std::max(longest, plans_->stride[a]);
   }
-  plans_->buffer_size = std::max(longest * kBlock, m_[0] * kLinesX);
+  plans_->buffer_size = std::max(longest * kBlock, plans_->slots[0] * kLinesX);
   Buffer probe = make_buffer(plans_->buffer_size);
   std::lock_guard<std::mutex> lock(planner_lock());
   for (int a = 0; a < dim; ++a) {
     if (a == tri_axis_) continue;
     // The lines one after the other, or interleaved (point j of line b at j kBlock + b; a complex
     // value of the packed lines at 2 (k kBlock + b)).
-    const int n = static_cast<int>(m_[a]), lines = a == 0 ? kLinesX : kBlock;
+    const int n = static_cast<int>(plans_->slots[a]), lines = a == 0 ? kLinesX : kBlock;
     const bool il = plans_->interleaved[a];
     const int packed_lines = il ? lines : static_cast<int>(plans_->group[a]);
     // between points, between lines
@@ -263,7 +293,8 @@ void FastSolver::to_modes(double* buf, int axis) {
     fftw_execute_r2r(plans_->fwd[axis], buf, buf);
     return;
   }
-  const int64_t n = m_[axis];
+  if (plans_->path[axis] == Plans::Path::kFaceSine) return face_sine(buf, axis);
+  const int64_t n = plans_->slots[axis];
   const double* w = plans_->twiddles[axis].data();
   const double* cw = plans_->cosines[axis].data();
   const bool cosine = !plans_->cosines[axis].empty();
@@ -293,7 +324,8 @@ void FastSolver::from_modes(double* buf, int axis) {
     fftw_execute_r2r(plans_->bwd[axis], buf, buf);
     return;
   }
-  const int64_t n = m_[axis];
+  if (plans_->path[axis] == Plans::Path::kFaceSine) return face_sine(buf, axis);
+  const int64_t n = plans_->slots[axis];
   const double* w = plans_->twiddles[axis].data();
   const double* cw = plans_->cosines[axis].data();
   const bool cosine = !plans_->cosines[axis].empty();
@@ -318,55 +350,83 @@ void FastSolver::from_modes(double* buf, int axis) {
   }
 }
 
+// The face sine transform, forward or back (its own inverse): prepared, the forward complex
+// transform, packed and finished (half_length_fft.hpp).
+void FastSolver::face_sine(double* buf, int axis) {
+  const int64_t n = plans_->slots[axis];
+  const double* w = plans_->twiddles[axis].data();
+  const double* sn = plans_->sines[axis].data();
+  if (plans_->interleaved[axis]) {
+    run_simd([&] { face_sine_prepare(buf, n, sn, kBlock); });
+    auto* c = reinterpret_cast<fftw_complex*>(buf);
+    fftw_execute_dft(plans_->fwd[axis], c, c);
+    run_simd([&] {
+      pack_spectrum(buf, n, w, kBlock);
+      face_sine_finish(buf, n, kBlock);
+    });
+    return;
+  }
+  const int64_t lines = axis == 0 ? kLinesX : kBlock, g = plans_->group[axis], ls = plans_->stride[axis];
+  for (int64_t first = 0; first < lines; first += g) {
+    double* lines_of_group = buf + first * ls;
+    for (int64_t b = 0; b < g; ++b) face_sine_prepare(lines_of_group + b * ls, n, sn);
+    auto* c = reinterpret_cast<fftw_complex*>(lines_of_group);
+    fftw_execute_dft(plans_->fwd[axis], c, c);
+    for (int64_t b = 0; b < g; ++b) {
+      pack_spectrum(lines_of_group + b * ls, n, w);
+      face_sine_finish(lines_of_group + b * ls, n);
+    }
+  }
+}
+
 // Lines along `axis`, kBlock at a time: gathered into a buffer, transformed, scattered back.
 // With divide_at (along y or z), each block is transformed forward, its modes divided and
 // transformed back while it is in the buffer.
 void FastSolver::transform(double* data, int axis, bool forward, std::optional<double> divide_at) {
-  const int64_t m0 = m_[0], m1 = m_[1], n = m_[axis];
+  // n points a line in the data, ns places in the buffer.
+  const int64_t m0 = m_[0], m1 = m_[1], n = m_[axis], ns = plans_->slots[axis];
   auto run = [&](double* buf) { forward ? to_modes(buf, axis) : from_modes(buf, axis); };
-  // A path that reorders the points does so where they are points: into the buffer going forward,
-  // out of it going back (both when the modes are divided in the buffer).
-  const std::vector<int64_t>& source = plans_->source[axis];
-  const std::vector<double>& sign = plans_->sign[axis];
-  static const std::vector<int64_t> kAsTheyAre;
-  const std::vector<int64_t>& src_in = forward ? source : kAsTheyAre;
-  const std::vector<int64_t>& src_out = !forward || divide_at ? source : kAsTheyAre;
+  // With divide_at the block goes forward and back in the buffer: in as forward, out as back.
+  const Plans::Reorder& in = plans_->gather[axis][forward ? 0 : 1];
+  const Plans::Reorder& out = plans_->scatter[axis][forward && !divide_at ? 0 : 1];
   if (axis == 0) {
     constexpr int B = kLinesX;
     const int64_t lines = m1 * m_[2], blocks = (lines + B - 1) / B;
-    // A whole block aligned as the planner's buffer is transformed where it lies.
+    // A whole block aligned as the planner's buffer is transformed where it lies (when the path
+    // moves no point).
     const int align = fftw_alignment_of(plans_->buffer());
+    const bool in_place = ns == n && in.empty() && out.empty();
     parallel_for(blocks, 1, [&](int64_t b0, int64_t b1) {
       double* buf = plans_->buffer();
       for (int64_t blk = b0; blk < b1; ++blk) {
         const int64_t first = blk * B, count = std::min<int64_t>(B, lines - first);
         double* block = data + first * n;
-        if (count == B && fftw_alignment_of(block) == align && source.empty()) {
+        if (count == B && fftw_alignment_of(block) == align && in_place) {
           run(block);
           continue;
         }
-        if (src_in.empty()) {
+        if (in.empty() && ns == n) {
           std::memcpy(buf, block, sizeof(double) * n * count);
         } else {
           for (int64_t b = 0; b < count; ++b)
-            for (int64_t r = 0; r < n; ++r) buf[b * n + r] = sign[r] * block[b * n + src_in[r]];
+            for (int64_t r = 0; r < ns; ++r) buf[b * ns + r] = in.sign[r] * block[b * n + in.point[r]];
         }
-        if (count < B) std::memset(buf + count * n, 0, sizeof(double) * (B - count) * n);
+        if (count < B) std::memset(buf + count * ns, 0, sizeof(double) * (B - count) * ns);
         run(buf);
-        if (src_out.empty()) {
-          std::memcpy(block, buf, sizeof(double) * n * count);
+        if (out.empty()) {
+          for (int64_t b = 0; b < count; ++b) std::memcpy(block + b * n, buf + b * ns, sizeof(double) * n);
         } else {
           for (int64_t b = 0; b < count; ++b)
-            for (int64_t r = 0; r < n; ++r) block[b * n + src_out[r]] = sign[r] * buf[b * n + r];
+            for (int64_t r = 0; r < n; ++r) block[b * n + out.point[r]] = out.sign[r] * buf[b * ns + r];
         }
       }
     });
     return;
   }
   // Along y or z: blocks of kBlock neighbouring x at one (other) index, copied into the buffer as
-  // whole rows, place r of a line holding its point source[r] (times sign[r]; point r when the
-  // path does not reorder). Short lines are interleaved there, long ones (whose interleaved block
-  // would not stay in the first-level cache) transposed. Lines past the grid's edge are zeros.
+  // whole rows (place r of a line holding point r, or as the path reorders them). Short lines are
+  // interleaved there, long ones (whose interleaved block would not stay in the first-level cache)
+  // transposed. Lines past the grid's edge are zeros.
   constexpr int B = kBlock;
   const int64_t stride = axis == 1 ? m0 : m0 * m1;        // between points of a line
   const int64_t others = axis == 1 ? m_[2] : m1;          // the third index
@@ -383,11 +443,11 @@ void FastSolver::transform(double* data, int axis, bool forward, std::optional<d
     for (int64_t blk = b0; blk < b1; ++blk) {
       const int64_t i0 = (blk % xb) * B, o = blk / xb, count = std::min<int64_t>(B, m0 - i0);
       double* base = data + i0 + o * other_stride;
-      if (count < B) std::memset(buf, 0, sizeof(double) * (il ? n : ls) * B);
+      if (count < B) std::memset(buf, 0, sizeof(double) * (il ? ns : ls) * B);
       // Place r of line b at (r >> shift) row + b lane + (r & odd).
-      for (int64_t r = 0; r < n; ++r) {
-        const double* from = base + (src_in.empty() ? r : src_in[r]) * stride;
-        const double sg = src_in.empty() ? 1.0 : sign[r];
+      for (int64_t r = 0; r < ns; ++r) {
+        const double* from = base + (in.empty() ? r : in.point[r]) * stride;
+        const double sg = in.empty() ? 1.0 : in.sign[r];
         double* to = buf + (r >> shift) * row + (r & odd);
         for (int64_t b = 0; b < count; ++b) to[b * lane] = sg * from[b];
       }
@@ -399,8 +459,8 @@ void FastSolver::transform(double* data, int axis, bool forward, std::optional<d
         run(buf);
       }
       for (int64_t r = 0; r < n; ++r) {
-        double* to = base + (src_out.empty() ? r : src_out[r]) * stride;
-        const double sg = src_out.empty() ? 1.0 : sign[r];
+        double* to = base + (out.empty() ? r : out.point[r]) * stride;
+        const double sg = out.empty() ? 1.0 : out.sign[r];
         const double* from = buf + (r >> shift) * row + (r & odd);
         for (int64_t b = 0; b < count; ++b) to[b] = sg * from[b * lane];
       }

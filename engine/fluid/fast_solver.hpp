@@ -14,6 +14,7 @@
 //                                     (even m: via complex m/2)
 //   cell ND / DN                     even / odd, odd / even        DCT-IV, DST-IV  2 - 2 cos(pi (p + 1/2) / m)
 //   face DD     interior faces       odd about -1 and m            DST-I        2 - 2 cos(pi (p + 1) / (m + 1))
+//                                     (odd m: via complex (m+1)/2)
 //   face DN     faces 1 .. n         odd about -1, even about m - 1/2   (none: Thomas along it)
 //
 // Along the last axis, when it is not periodic, the equation of each horizontal mode is
@@ -26,8 +27,8 @@
 // Transforms run on blocks of lines, each block of an axis with the same FFTW plan (chosen by
 // FFTW_ESTIMATE, not by timing). A periodic line of even length goes through a complex transform
 // of half its length, and so do the cosine and sine transforms of cell NN and DD lines of even
-// length, their points reordered on the way in and out and their spectra rotated
-// (half_length_fft.hpp). Along x a block aligned as the planner's buffer is
+// length, their points reordered on the way in and out and their spectra rotated, and the sine
+// transform of face DD lines of odd length (half_length_fft.hpp). Along x a block aligned as the planner's buffer is
 // transformed where it lies, others are copied into aligned per-thread buffers; along y and z the
 // lines of kBlock neighbouring x are copied into a buffer, read and written as whole rows: short
 // lines interleaved, so the transforms, the packing of the spectra and the division by the
@@ -78,6 +79,7 @@ class FastSolver {
   void transform(double* data, int axis, bool forward, std::optional<double> divide_at = std::nullopt);
   void to_modes(double* buf, int axis);    // a buffer's block of lines into the eigenbasis
   void from_modes(double* buf, int axis);  // and back
+  void face_sine(double* buf, int axis);   // both ways along a face DD axis of odd length
   void divide_block(double* buf, int axis, int64_t i0, int64_t count, int64_t o, double sigma) const;
   void tridiagonal(double* data, double sigma);
   static constexpr int64_t kChunk = 64;  // modes per Thomas sweep

@@ -132,4 +132,50 @@ inline void spectrum_from_cosine(double* v, int64_t n, const double* c, int64_t 
   }
 }
 
+// The sine transform of interior faces (DST-I, FFTW's RODFT00, Y_k = 2 sum_j x_j sin(pi (j + 1)
+// (k + 1) / N) for m = N - 1 points, N even) through the real transform of N values (Numerical
+// Recipes §12.4.1): f_0 = 0, f_j = x_j-1; y_j = sin(pi j / N) (f_j + f_N-j) + (f_j - f_N-j) / 2, whose
+// real spectrum Y gives F_2k = -Im Y_k and F_2k+1 = F_2k-1 + Re Y_k (F_1 = Re Y_0 / 2), F_q the
+// sums sum_j f_j sin(pi j q / N). Place r of a line's N places is at (r / 2) cs + r % 2 (cs = 2
+// lanes), lane l 2l further. face_sine_prepare takes the N places (place 0 zero) to y;
+// face_sine_finish takes the packed spectrum of y to 2 F_q at place q - 1, natural order, place
+// N - 1 zero: FFTW's Y_k at place k. The transform is its own inverse up to 2N.
+std::vector<double> face_sine_table(int64_t N);  // sin(pi j / N), j = 0 .. N / 2
+
+inline void face_sine_prepare(double* v, int64_t N, const double* s, int64_t lanes = 1) {
+  const int64_t cs = 2 * lanes;
+  auto at = [cs](int64_t r) { return (r >> 1) * cs + (r & 1); };
+  SILT_IVDEP
+  for (int64_t l = 0; l < lanes; ++l) v[2 * l] = 0;
+  for (int64_t j = 1; 2 * j <= N; ++j) {
+    double* a = v + at(j);
+    double* b = v + at(N - j);
+    const double sj = s[j];
+    SILT_IVDEP
+    for (int64_t l = 0; l < lanes; ++l) {
+      const double fa = a[2 * l], fb = b[2 * l];
+      const double sym = sj * (fa + fb), anti = 0.5 * (fa - fb);
+      a[2 * l] = sym + anti;
+      b[2 * l] = sym - anti;  // at j = N / 2 (a = b) anti is 0
+    }
+  }
+}
+
+inline void face_sine_finish(double* v, int64_t N, int64_t lanes = 1) {
+  const int64_t cs = 2 * lanes;
+  // Place 0 holds Re Y_0 = 2 F_1 already; each step reads 2 F_2k-1 where the one before left it.
+  for (int64_t k = 1; 2 * k < N; ++k) {
+    double* pair = v + k * cs;          // places 2k, 2k + 1: Re Y_k, Im Y_k
+    double* before = v + (k - 1) * cs;  // places 2k - 2 (2 F_2k-1) and 2k - 1
+    SILT_IVDEP
+    for (int64_t l = 0; l < lanes; ++l) {
+      const double re = pair[2 * l], im = pair[2 * l + 1];
+      before[2 * l + 1] = -2 * im;           // 2 F_2k at place 2k - 1
+      pair[2 * l] = before[2 * l] + 2 * re;  // 2 F_2k+1 at place 2k
+    }
+  }
+  SILT_IVDEP
+  for (int64_t l = 0; l < lanes; ++l) v[(N - 1) / 2 * cs + 1 + 2 * l] = 0;  // place N - 1
+}
+
 }  // namespace silt::fluid
