@@ -1,37 +1,19 @@
 #include "fluid/fast_solver.hpp"
 
 #include <fftw3.h>
-#include <tbb/enumerable_thread_specific.h>
 
 #include <cmath>
-#include <cstring>
-#include <mutex>
 #include <numbers>
 #include <optional>
 #include <stdexcept>
 
 #include "core/parallel.hpp"
 #include "core/simd_level.hpp"
+#include "fluid/fast_solver_plans.hpp"
 #include "fluid/half_length_fft.hpp"
 
 namespace silt::fluid {
 namespace {
-
-// FFTW's planner is not thread-safe (its execution is): plans are made under one lock.
-std::mutex& planner_lock() {
-  static std::mutex m;
-  return m;
-}
-
-struct FftwFree {
-  void operator()(double* p) const { fftw_free(p); }
-};
-using Buffer = std::unique_ptr<double, FftwFree>;
-Buffer make_buffer(int64_t n) {
-  auto* p = static_cast<double*>(fftw_malloc(sizeof(double) * static_cast<size_t>(std::max<int64_t>(n, 1))));
-  if (!p) throw std::bad_alloc();
-  return Buffer(p);
-}
 
 // The transform pair of an axis kind (forward: into the eigenbasis), and its scale factor.
 void kinds_of(AxisKind k, fftw_r2r_kind& fwd, fftw_r2r_kind& bwd) {
@@ -67,91 +49,6 @@ std::array<double, 2> end_diagonals(AxisKind k) {
 }
 
 }  // namespace
-
-std::vector<double> half_length_twiddles(int64_t n) {
-  std::vector<double> w(static_cast<size_t>(2 * (n / 4 + 1)));
-  for (int64_t k = 0; 4 * k <= n; ++k) {
-    const double t = 2 * std::numbers::pi * static_cast<double>(k) / static_cast<double>(n);
-    // Exact at a quarter turn (the middle frequency of N = n / 2 even).
-    w[2 * k] = 4 * k == n ? 0.0 : std::cos(t);
-    w[2 * k + 1] = 4 * k == n ? -1.0 : -std::sin(t);
-  }
-  return w;
-}
-
-std::vector<double> cosine_twiddles(int64_t n) {
-  std::vector<double> c(static_cast<size_t>(2 * (n / 2 + 1)));
-  for (int64_t k = 0; 2 * k <= n; ++k) {
-    const double t = std::numbers::pi * static_cast<double>(k) / static_cast<double>(2 * n);
-    c[2 * k] = std::cos(t);
-    c[2 * k + 1] = std::sin(t);
-  }
-  return c;
-}
-
-std::vector<double> face_sine_table(int64_t N) {
-  std::vector<double> s(static_cast<size_t>(N / 2 + 1));
-  for (int64_t j = 0; 2 * j <= N; ++j)
-    s[j] = std::sin(std::numbers::pi * static_cast<double>(j) / static_cast<double>(N));
-  return s;
-}
-
-// Per axis, the forward and backward plans of one block of lines (kLinesX along x, kBlock along y
-// and z), in place on an aligned buffer, and how the lines sit there.
-struct FastSolver::Plans {
-  enum class Path : uint8_t {
-    kRealToReal,  // FFTW's real-to-real pair
-    kPeriodic,    // the half-length complex transform (periodic, even length)
-    kCosine,      // and the cosine transform from it (cell NN, even length)
-    kSine,        // and the sine transform (cell DD, even length)
-    kFaceSine,    // and the sine transform of interior faces (face DD, odd length)
-  };
-  // Where the points of a line go in the buffer: place r holds sign[r] times point[r] (empty:
-  // point r as it is; a sign 0 makes the place zero).
-  struct Reorder {
-    std::vector<int64_t> point;
-    std::vector<double> sign;
-    bool empty() const { return point.empty(); }
-  };
-  std::array<fftw_plan, 3> fwd{}, bwd{};
-  std::array<Path, 3> path{};
-  std::array<bool, 3> packed{false, false, false};  // a half-length complex transform (every path but the first)
-  std::array<std::vector<double>, 3> twiddles;      // of the packed axes (half_length_fft.hpp)
-  std::array<std::vector<double>, 3> cosines;       // of the cosine and sine axes
-  std::array<std::vector<double>, 3> sines;         // of the face sine axes
-  // Into the buffer going forward and backward ([0], [1]), and out of it: the cosine and sine
-  // paths reorder the points where they are points (into the buffer forward, out of it backward);
-  // the face sine path, its own inverse, shifts them by one place both ways.
-  std::array<std::array<Reorder, 2>, 3> gather, scatter;
-  std::array<int64_t, 3> slots{1, 1, 1};                 // places of a line in the buffer: m, or m + 1 (face sine)
-  std::array<bool, 3> interleaved{false, false, false};  // a block's lines interleaved (y, z; short lines)
-  std::array<int64_t, 3> group{1, 1, 1};                 // lines per complex transform of a packed axis not interleaved
-  // Between the lines of a block not interleaved: m along x (a block in place), along y and z m
-  // rounded up to 8 and 8 more, so that a block's lines neither start on the same cache set
-  // (lines of 2^k points would) nor lose the 64-byte alignment of the buffer.
-  std::array<int64_t, 3> stride{1, 1, 1};
-  int64_t buffer_size = 0;
-  tbb::enumerable_thread_specific<Buffer> buffers;
-  tbb::enumerable_thread_specific<std::vector<double>> scratch;
-  ~Plans() {
-    std::lock_guard<std::mutex> lock(planner_lock());
-    for (int a = 0; a < 3; ++a) {
-      if (fwd[a]) fftw_destroy_plan(fwd[a]);
-      if (bwd[a]) fftw_destroy_plan(bwd[a]);
-    }
-  }
-  double* buffer() {
-    Buffer& b = buffers.local();
-    if (!b) b = make_buffer(buffer_size);
-    return b.get();
-  }
-  // Per-thread scratch of n values (the Thomas sweep's upper diagonals, a block's eigenvalues).
-  double* scratch_of(int64_t n) {
-    std::vector<double>& v = scratch.local();
-    if (static_cast<int64_t>(v.size()) < n) v.resize(static_cast<size_t>(n));
-    return v.data();
-  }
-};
 
 int64_t FastSolver::packed_frequency(int64_t p, int64_t m) {
   if (p == 0) return 0;
@@ -283,189 +180,6 @@ size_t FastSolver::bytes() const {
     if (buf) b += static_cast<size_t>(plans_->buffer_size) * sizeof(double);
   for (const std::vector<double>& v : plans_->scratch) b += v.capacity() * sizeof(double);
   return b;
-}
-
-// A block of lines into the eigenbasis and back: along x kLinesX lines one after the other, along
-// y and z kBlock lines, interleaved or one after the other. The packed order of a periodic line of even length n: Re 0,
-// Re n/2, then Re p, Im p for p = 1 .. n/2 - 1.
-void FastSolver::to_modes(double* buf, int axis) {
-  if (!plans_->packed[axis]) {
-    fftw_execute_r2r(plans_->fwd[axis], buf, buf);
-    return;
-  }
-  if (plans_->path[axis] == Plans::Path::kFaceSine) return face_sine(buf, axis);
-  const int64_t n = plans_->slots[axis];
-  const double* w = plans_->twiddles[axis].data();
-  const double* cw = plans_->cosines[axis].data();
-  const bool cosine = !plans_->cosines[axis].empty();
-  if (plans_->interleaved[axis]) {
-    auto* c = reinterpret_cast<fftw_complex*>(buf);
-    fftw_execute_dft(plans_->fwd[axis], c, c);
-    run_simd([&] {
-      pack_spectrum(buf, n, w, kBlock);
-      if (cosine) cosine_from_spectrum(buf, n, cw, kBlock);
-    });
-    return;
-  }
-  const int64_t lines = axis == 0 ? kLinesX : kBlock, g = plans_->group[axis], ls = plans_->stride[axis];
-  for (int64_t first = 0; first < lines; first += g) {
-    double* lines_of_group = buf + first * ls;
-    auto* c = reinterpret_cast<fftw_complex*>(lines_of_group);
-    fftw_execute_dft(plans_->fwd[axis], c, c);
-    for (int64_t b = 0; b < g; ++b) {
-      pack_spectrum(lines_of_group + b * ls, n, w);
-      if (cosine) cosine_from_spectrum(lines_of_group + b * ls, n, cw);
-    }
-  }
-}
-
-void FastSolver::from_modes(double* buf, int axis) {
-  if (!plans_->packed[axis]) {
-    fftw_execute_r2r(plans_->bwd[axis], buf, buf);
-    return;
-  }
-  if (plans_->path[axis] == Plans::Path::kFaceSine) return face_sine(buf, axis);
-  const int64_t n = plans_->slots[axis];
-  const double* w = plans_->twiddles[axis].data();
-  const double* cw = plans_->cosines[axis].data();
-  const bool cosine = !plans_->cosines[axis].empty();
-  if (plans_->interleaved[axis]) {
-    run_simd([&] {
-      if (cosine) spectrum_from_cosine(buf, n, cw, kBlock);
-      unpack_spectrum(buf, n, w, kBlock);
-    });
-    auto* c = reinterpret_cast<fftw_complex*>(buf);
-    fftw_execute_dft(plans_->bwd[axis], c, c);
-    return;
-  }
-  const int64_t lines = axis == 0 ? kLinesX : kBlock, g = plans_->group[axis], ls = plans_->stride[axis];
-  for (int64_t first = 0; first < lines; first += g) {
-    double* lines_of_group = buf + first * ls;
-    for (int64_t b = 0; b < g; ++b) {
-      if (cosine) spectrum_from_cosine(lines_of_group + b * ls, n, cw);
-      unpack_spectrum(lines_of_group + b * ls, n, w);
-    }
-    auto* c = reinterpret_cast<fftw_complex*>(lines_of_group);
-    fftw_execute_dft(plans_->bwd[axis], c, c);
-  }
-}
-
-// The face sine transform, forward or back (its own inverse): prepared, the forward complex
-// transform, packed and finished (half_length_fft.hpp).
-void FastSolver::face_sine(double* buf, int axis) {
-  const int64_t n = plans_->slots[axis];
-  const double* w = plans_->twiddles[axis].data();
-  const double* sn = plans_->sines[axis].data();
-  if (plans_->interleaved[axis]) {
-    run_simd([&] { face_sine_prepare(buf, n, sn, kBlock); });
-    auto* c = reinterpret_cast<fftw_complex*>(buf);
-    fftw_execute_dft(plans_->fwd[axis], c, c);
-    run_simd([&] {
-      pack_spectrum(buf, n, w, kBlock);
-      face_sine_finish(buf, n, kBlock);
-    });
-    return;
-  }
-  const int64_t lines = axis == 0 ? kLinesX : kBlock, g = plans_->group[axis], ls = plans_->stride[axis];
-  for (int64_t first = 0; first < lines; first += g) {
-    double* lines_of_group = buf + first * ls;
-    for (int64_t b = 0; b < g; ++b) face_sine_prepare(lines_of_group + b * ls, n, sn);
-    auto* c = reinterpret_cast<fftw_complex*>(lines_of_group);
-    fftw_execute_dft(plans_->fwd[axis], c, c);
-    for (int64_t b = 0; b < g; ++b) {
-      pack_spectrum(lines_of_group + b * ls, n, w);
-      face_sine_finish(lines_of_group + b * ls, n);
-    }
-  }
-}
-
-// Lines along `axis`, kBlock at a time: gathered into a buffer, transformed, scattered back.
-// With divide_at (along y or z), each block is transformed forward, its modes divided and
-// transformed back while it is in the buffer.
-void FastSolver::transform(double* data, int axis, bool forward, std::optional<double> divide_at) {
-  // n points a line in the data, ns places in the buffer.
-  const int64_t m0 = m_[0], m1 = m_[1], n = m_[axis], ns = plans_->slots[axis];
-  auto run = [&](double* buf) { forward ? to_modes(buf, axis) : from_modes(buf, axis); };
-  // With divide_at the block goes forward and back in the buffer: in as forward, out as back.
-  const Plans::Reorder& in = plans_->gather[axis][forward ? 0 : 1];
-  const Plans::Reorder& out = plans_->scatter[axis][forward && !divide_at ? 0 : 1];
-  if (axis == 0) {
-    constexpr int B = kLinesX;
-    const int64_t lines = m1 * m_[2], blocks = (lines + B - 1) / B;
-    // A whole block aligned as the planner's buffer is transformed where it lies (when the path
-    // moves no point).
-    const int align = fftw_alignment_of(plans_->buffer());
-    const bool in_place = ns == n && in.empty() && out.empty();
-    parallel_for(blocks, 1, [&](int64_t b0, int64_t b1) {
-      double* buf = plans_->buffer();
-      for (int64_t blk = b0; blk < b1; ++blk) {
-        const int64_t first = blk * B, count = std::min<int64_t>(B, lines - first);
-        double* block = data + first * n;
-        if (count == B && fftw_alignment_of(block) == align && in_place) {
-          run(block);
-          continue;
-        }
-        if (in.empty() && ns == n) {
-          std::memcpy(buf, block, sizeof(double) * n * count);
-        } else {
-          for (int64_t b = 0; b < count; ++b)
-            for (int64_t r = 0; r < ns; ++r) buf[b * ns + r] = in.sign[r] * block[b * n + in.point[r]];
-        }
-        if (count < B) std::memset(buf + count * ns, 0, sizeof(double) * (B - count) * ns);
-        run(buf);
-        if (out.empty()) {
-          for (int64_t b = 0; b < count; ++b) std::memcpy(block + b * n, buf + b * ns, sizeof(double) * n);
-        } else {
-          for (int64_t b = 0; b < count; ++b)
-            for (int64_t r = 0; r < n; ++r) block[b * n + out.point[r]] = out.sign[r] * buf[b * ns + r];
-        }
-      }
-    });
-    return;
-  }
-  // Along y or z: blocks of kBlock neighbouring x at one (other) index, copied into the buffer as
-  // whole rows (place r of a line holding point r, or as the path reorders them). Short lines are
-  // interleaved there, long ones (whose interleaved block would not stay in the first-level cache)
-  // transposed. Lines past the grid's edge are zeros.
-  constexpr int B = kBlock;
-  const int64_t stride = axis == 1 ? m0 : m0 * m1;        // between points of a line
-  const int64_t others = axis == 1 ? m_[2] : m1;          // the third index
-  const int64_t other_stride = axis == 1 ? m0 * m1 : m0;  // its stride
-  const int64_t xb = (m0 + B - 1) / B, blocks = xb * others;
-  const bool packed = plans_->packed[axis], il = plans_->interleaved[axis];
-  const int64_t ls = plans_->stride[axis];
-  // Interleaved, a packed line's places 2k and 2k + 1 are one complex value: at 2 (k B + b) and
-  // one further; other interleaved lines' place r at r B + b; transposed, at b ls + r.
-  const int shift = il && packed ? 1 : 0;
-  const int64_t row = il ? (packed ? 2 * B : B) : 1, lane = il ? (packed ? 2 : 1) : ls, odd = il && packed ? 1 : 0;
-  parallel_for(blocks, 2, [&](int64_t b0, int64_t b1) {
-    double* buf = plans_->buffer();
-    for (int64_t blk = b0; blk < b1; ++blk) {
-      const int64_t i0 = (blk % xb) * B, o = blk / xb, count = std::min<int64_t>(B, m0 - i0);
-      double* base = data + i0 + o * other_stride;
-      if (count < B) std::memset(buf, 0, sizeof(double) * (il ? ns : ls) * B);
-      // Place r of line b at (r >> shift) row + b lane + (r & odd).
-      for (int64_t r = 0; r < ns; ++r) {
-        const double* from = base + (in.empty() ? r : in.point[r]) * stride;
-        const double sg = in.empty() ? 1.0 : in.sign[r];
-        double* to = buf + (r >> shift) * row + (r & odd);
-        for (int64_t b = 0; b < count; ++b) to[b * lane] = sg * from[b];
-      }
-      if (divide_at) {
-        to_modes(buf, axis);
-        divide_block(buf, axis, i0, count, o, *divide_at);
-        from_modes(buf, axis);
-      } else {
-        run(buf);
-      }
-      for (int64_t r = 0; r < n; ++r) {
-        double* to = base + (out.empty() ? r : out.point[r]) * stride;
-        const double sg = out.empty() ? 1.0 : out.sign[r];
-        const double* from = buf + (r >> shift) * row + (r & odd);
-        for (int64_t b = 0; b < count; ++b) to[b] = sg * from[b * lane];
-      }
-    }
-  });
 }
 
 // Every axis transformed: divide each mode of a gathered block (lines along `axis`, the last one;

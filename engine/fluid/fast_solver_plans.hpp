@@ -1,0 +1,94 @@
+// The fast solver's plans and buffers, shared by its two sources: fast_solver.cpp (the axes, the
+// eigenvalues, the division and the Thomas sweeps) and fast_solver_lines.cpp (the lines of a
+// block into the buffers, through the transforms and back).
+#pragma once
+
+#include <fftw3.h>
+#include <tbb/enumerable_thread_specific.h>
+
+#include <algorithm>
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <new>
+#include <vector>
+
+#include "fluid/fast_solver.hpp"
+
+namespace silt::fluid {
+
+// FFTW's planner is not thread-safe (its execution is): plans are made under one lock.
+inline std::mutex& planner_lock() {
+  static std::mutex m;
+  return m;
+}
+
+struct FftwFree {
+  void operator()(double* p) const { fftw_free(p); }
+};
+using Buffer = std::unique_ptr<double, FftwFree>;
+inline Buffer make_buffer(int64_t n) {
+  auto* p = static_cast<double*>(fftw_malloc(sizeof(double) * static_cast<size_t>(std::max<int64_t>(n, 1))));
+  if (!p) throw std::bad_alloc();
+  return Buffer(p);
+}
+
+// Per axis, the forward and backward plans of one block of lines (kLinesX along x, kBlock along y
+// and z), in place on an aligned buffer, and how the lines sit there.
+struct FastSolver::Plans {
+  enum class Path : uint8_t {
+    kRealToReal,  // FFTW's real-to-real pair
+    kPeriodic,    // the half-length complex transform (periodic, even length)
+    kCosine,      // and the cosine transform from it (cell NN, even length)
+    kSine,        // and the sine transform (cell DD, even length)
+    kFaceSine,    // and the sine transform of interior faces (face DD, odd length)
+  };
+  // Where the points of a line go in the buffer: place r holds sign[r] times point[r] (empty:
+  // point r as it is; a sign 0 makes the place zero).
+  struct Reorder {
+    std::vector<int64_t> point;
+    std::vector<double> sign;
+    bool empty() const { return point.empty(); }
+  };
+  std::array<fftw_plan, 3> fwd{}, bwd{};
+  std::array<Path, 3> path{};
+  std::array<bool, 3> packed{false, false, false};  // a half-length complex transform (every path but the first)
+  std::array<std::vector<double>, 3> twiddles;      // of the packed axes (half_length_fft.hpp)
+  std::array<std::vector<double>, 3> cosines;       // of the cosine and sine axes
+  std::array<std::vector<double>, 3> sines;         // of the face sine axes
+  // Into the buffer going forward and backward ([0], [1]), and out of it: the cosine and sine
+  // paths reorder the points where they are points (into the buffer forward, out of it backward);
+  // the face sine path, its own inverse, shifts them by one place both ways.
+  std::array<std::array<Reorder, 2>, 3> gather, scatter;
+  std::array<int64_t, 3> slots{1, 1, 1};                 // places of a line in the buffer: m, or m + 1 (face sine)
+  std::array<bool, 3> interleaved{false, false, false};  // a block's lines interleaved (y, z; short lines)
+  std::array<int64_t, 3> group{1, 1, 1};                 // lines per complex transform of a packed axis not interleaved
+  // Between the lines of a block not interleaved: m along x (a block in place), along y and z m
+  // rounded up to 8 and 8 more, so that a block's lines neither start on the same cache set
+  // (lines of 2^k points would) nor lose the 64-byte alignment of the buffer.
+  std::array<int64_t, 3> stride{1, 1, 1};
+  int64_t buffer_size = 0;
+  tbb::enumerable_thread_specific<Buffer> buffers;
+  tbb::enumerable_thread_specific<std::vector<double>> scratch;
+  ~Plans() {
+    std::lock_guard<std::mutex> lock(planner_lock());
+    for (int a = 0; a < 3; ++a) {
+      if (fwd[a]) fftw_destroy_plan(fwd[a]);
+      if (bwd[a]) fftw_destroy_plan(bwd[a]);
+    }
+  }
+  double* buffer() {
+    Buffer& b = buffers.local();
+    if (!b) b = make_buffer(buffer_size);
+    return b.get();
+  }
+  // Per-thread scratch of n values (the Thomas sweep's upper diagonals, a block's eigenvalues).
+  double* scratch_of(int64_t n) {
+    std::vector<double>& v = scratch.local();
+    if (static_cast<int64_t>(v.size()) < n) v.resize(static_cast<size_t>(n));
+    return v.data();
+  }
+};
+
+}  // namespace silt::fluid
