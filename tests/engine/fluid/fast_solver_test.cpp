@@ -189,6 +189,69 @@ TEST_CASE("fluid fast solver: the cosine transform of a line through its real sp
   }
 }
 
+// The sine transform of interior faces through the real transform of m + 1 places: the prepared
+// line's real spectrum (by its definition) finished into Y_k = 2 sum_j x_j sin(pi (j + 1) (k + 1)
+// / (m + 1)) at place k, one line and three interleaved; and applied twice, 2 (m + 1) x.
+TEST_CASE("fluid fast solver: the sine transform of interior faces through a real spectrum") {
+  unsigned seed = 9;
+  for (int64_t m : {1, 3, 5, 7, 15, 31, 63}) {
+    const int64_t N = m + 1;
+    const auto x = random_field(static_cast<size_t>(m), seed++, false);
+    const auto sn = face_sine_table(N);
+    // The real spectrum of v, packed, by its definition.
+    auto spectrum = [N](const std::vector<double>& v) {
+      std::vector<double> out(static_cast<size_t>(N));
+      for (int64_t k = 0; 2 * k <= N; ++k) {
+        double re = 0, im = 0;
+        for (int64_t j = 0; j < N; ++j) {
+          const double t = 2 * std::numbers::pi * static_cast<double>(j * k % N) / static_cast<double>(N);
+          re += v[j] * std::cos(t);
+          im -= v[j] * std::sin(t);
+        }
+        if (k == 0) out[0] = re;
+        else if (2 * k == N) out[1] = re;
+        else out[2 * k] = re, out[2 * k + 1] = im;
+      }
+      return out;
+    };
+    auto transform = [&](const std::vector<double>& in) {  // in: m values; out: N places
+      std::vector<double> v(static_cast<size_t>(N), 0.0);
+      for (int64_t j = 0; j < m; ++j) v[j + 1] = in[j];
+      face_sine_prepare(v.data(), N, sn.data());
+      v = spectrum(v);
+      face_sine_finish(v.data(), N);
+      return v;
+    };
+    const auto y = transform(x);
+    INFO("m " << m);
+    for (int64_t k = 0; k < m; ++k) {
+      double d = 0;
+      for (int64_t j = 0; j < m; ++j)
+        d += 2 * x[j] * std::sin(std::numbers::pi * static_cast<double>((j + 1) * (k + 1)) / static_cast<double>(N));
+      CHECK(std::abs(y[k] - d) < 1e-12 * N);
+    }
+    CHECK(y[m] == 0.0);
+    // Three lines interleaved (place r of line l at 2 (3 (r / 2) + l) + r % 2): each as alone.
+    std::vector<double> three(static_cast<size_t>(3 * N), 0.0);
+    auto at = [](int64_t r, int64_t l) { return 2 * (3 * (r / 2) + l) + r % 2; };
+    for (int64_t l = 0; l < 3; ++l)
+      for (int64_t j = 0; j < m; ++j) three[at(j + 1, l)] = (1.0 + l) * x[j];
+    face_sine_prepare(three.data(), N, sn.data(), 3);
+    for (int64_t l = 0; l < 3; ++l) {
+      std::vector<double> v(static_cast<size_t>(N));
+      for (int64_t r = 0; r < N; ++r) v[r] = three[at(r, l)];
+      v = spectrum(v);
+      for (int64_t r = 0; r < N; ++r) three[at(r, l)] = v[r];
+    }
+    face_sine_finish(three.data(), N, 3);
+    for (int64_t l = 0; l < 3; ++l)
+      for (int64_t k = 0; k < N; ++k) CHECK(std::abs(three[at(k, l)] - (1.0 + l) * y[k]) < 1e-12 * N);
+    std::vector<double> yk(y.begin(), y.begin() + m);
+    const auto back = transform(yk);
+    for (int64_t j = 0; j < m; ++j) CHECK(std::abs(back[j] - 2.0 * N * x[j]) < 1e-11 * N * N);
+  }
+}
+
 // Periodic, cell NN, cell DD and face DD lines as short as 2 and 4 points, odd and even, along x, y and z
 // (the last one solved by Thomas when not periodic), in blocks that fill the transforms' buffers
 // and blocks that do not.
