@@ -11,6 +11,32 @@
 #include "fluid/half_length_fft.hpp"
 
 namespace silt::fluid {
+namespace {
+
+using Path = LinePath;
+
+// A line of n points along x into the places of its path (Plans::gather), in loops of stride 1 or
+// 2 rather than through the index table: the cosine and sine paths take the even points forward
+// and the odd ones backward (negated for the sine), the face sine path shifts them by one place.
+void line_into_places(Path path, const double* from, double* to, int64_t n) {
+  if (path == Path::kFaceSine) {
+    to[0] = 0;
+    std::memcpy(to + 1, from, sizeof(double) * n);
+    return;
+  }
+  const double odd = path == Path::kSine ? -1.0 : 1.0;
+  for (int64_t r = 0; 2 * r < n; ++r) to[r] = from[2 * r];
+  for (int64_t r = 0; 2 * r < n; ++r) to[n - 1 - r] = odd * from[2 * r + 1];
+}
+
+// And back (Plans::scatter of the cosine and sine paths).
+void places_into_line(Path path, const double* from, double* to, int64_t n) {
+  const double odd = path == Path::kSine ? -1.0 : 1.0;
+  for (int64_t r = 0; 2 * r < n; ++r) to[2 * r] = from[r];
+  for (int64_t r = 0; 2 * r < n; ++r) to[2 * r + 1] = odd * from[n - 1 - r];
+}
+
+}  // namespace
 
 // A block of lines into the eigenbasis and back: along x kLinesX lines one after the other, along
 // y and z kBlock lines, interleaved or one after the other. The packed order of a periodic line
@@ -117,6 +143,7 @@ void FastSolver::transform(double* data, int axis, bool forward, std::optional<d
   const Plans::Reorder& in = plans_->gather[axis][forward ? 0 : 1];
   const Plans::Reorder& out = plans_->scatter[axis][forward && !divide_at ? 0 : 1];
   if (axis == 0) {
+    const LinePath path = plans_->path[axis];
     constexpr int B = kLinesX;
     const int64_t lines = m1 * m_[2], blocks = (lines + B - 1) / B;
     // A whole block aligned as the planner's buffer is transformed where it lies (when the path
@@ -135,16 +162,14 @@ void FastSolver::transform(double* data, int axis, bool forward, std::optional<d
         if (in.empty() && ns == n) {
           std::memcpy(buf, block, sizeof(double) * n * count);
         } else {
-          for (int64_t b = 0; b < count; ++b)
-            for (int64_t r = 0; r < ns; ++r) buf[b * ns + r] = in.sign[r] * block[b * n + in.point[r]];
+          for (int64_t b = 0; b < count; ++b) line_into_places(path, block + b * n, buf + b * ns, n);
         }
         if (count < B) std::memset(buf + count * ns, 0, sizeof(double) * (B - count) * ns);
         run(buf);
         if (out.empty()) {
           for (int64_t b = 0; b < count; ++b) std::memcpy(block + b * n, buf + b * ns, sizeof(double) * n);
         } else {
-          for (int64_t b = 0; b < count; ++b)
-            for (int64_t r = 0; r < n; ++r) block[b * n + out.point[r]] = out.sign[r] * buf[b * ns + r];
+          for (int64_t b = 0; b < count; ++b) places_into_line(path, buf + b * ns, block + b * n, n);
         }
       }
     });

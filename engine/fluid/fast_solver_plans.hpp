@@ -34,16 +34,19 @@ inline Buffer make_buffer(int64_t n) {
   return Buffer(p);
 }
 
+// How the lines of an axis are transformed.
+enum class LinePath : uint8_t {
+  kRealToReal,  // FFTW's real-to-real pair
+  kPeriodic,    // the half-length complex transform (periodic, even length)
+  kCosine,      // and the cosine transform from it (cell NN, even length)
+  kSine,        // and the sine transform (cell DD, even length)
+  kFaceSine,    // and the sine transform of interior faces (face DD, odd length)
+};
+
 // Per axis, the forward and backward plans of one block of lines (kLinesX along x, kBlock along y
 // and z), in place on an aligned buffer, and how the lines sit there.
 struct FastSolver::Plans {
-  enum class Path : uint8_t {
-    kRealToReal,  // FFTW's real-to-real pair
-    kPeriodic,    // the half-length complex transform (periodic, even length)
-    kCosine,      // and the cosine transform from it (cell NN, even length)
-    kSine,        // and the sine transform (cell DD, even length)
-    kFaceSine,    // and the sine transform of interior faces (face DD, odd length)
-  };
+  using Path = LinePath;
   // Where the points of a line go in the buffer: place r holds sign[r] times point[r] (empty:
   // point r as it is; a sign 0 makes the place zero).
   struct Reorder {
