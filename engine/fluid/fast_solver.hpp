@@ -79,7 +79,7 @@ class FastSolver {
   void transform(double* data, int axis, bool forward, std::optional<double> divide_at = std::nullopt);
   void to_modes(double* buf, int axis);    // a buffer's block of lines into the eigenbasis
   void from_modes(double* buf, int axis);  // and back
-  void face_sine(double* buf, int axis);   // both ways along a face DD axis of odd length
+  void through_modes(double* buf, int axis, bool forward);
   void divide_block(double* buf, int axis, int64_t i0, int64_t count, int64_t o, double sigma) const;
   void tridiagonal(double* data, double sigma);
   static constexpr int64_t kChunk = 64;  // modes per Thomas sweep

@@ -41,94 +41,51 @@ void places_into_line(Path path, const double* from, double* to, int64_t n) {
 // A block of lines into the eigenbasis and back: along x kLinesX lines one after the other, along
 // y and z kBlock lines, interleaved or one after the other. The packed order of a periodic line
 // of even length n: Re 0, Re n/2, then Re p, Im p for p = 1 .. n/2 - 1.
-void FastSolver::to_modes(double* buf, int axis) {
+void FastSolver::to_modes(double* buf, int axis) { through_modes(buf, axis, true); }
+void FastSolver::from_modes(double* buf, int axis) { through_modes(buf, axis, false); }
+
+// A half-length path: each line prepared, the block's complex transform, each line finished
+// (half_length_fft.hpp). Forward: packed, and rotated into its cosine spectrum. Backward: rotated
+// back and unpacked, then transformed. The face sine path, its own inverse, goes the same way
+// both ways: prepared, transformed forward, packed and finished.
+void FastSolver::through_modes(double* buf, int axis, bool forward) {
   if (!plans_->packed[axis]) {
-    fftw_execute_r2r(plans_->fwd[axis], buf, buf);
+    fftw_execute_r2r(forward ? plans_->fwd[axis] : plans_->bwd[axis], buf, buf);
     return;
   }
-  if (plans_->path[axis] == Plans::Path::kFaceSine) return face_sine(buf, axis);
   const int64_t n = plans_->slots[axis];
   const double* w = plans_->twiddles[axis].data();
   const double* cw = plans_->cosines[axis].data();
-  const bool cosine = !plans_->cosines[axis].empty();
-  if (plans_->interleaved[axis]) {
-    auto* c = reinterpret_cast<fftw_complex*>(buf);
-    fftw_execute_dft(plans_->fwd[axis], c, c);
-    run_simd([&] {
-      pack_spectrum(buf, n, w, kBlock);
-      if (cosine) cosine_from_spectrum(buf, n, cw, kBlock);
-    });
-    return;
-  }
-  const int64_t lines = axis == 0 ? kLinesX : kBlock, g = plans_->group[axis], ls = plans_->stride[axis];
-  for (int64_t first = 0; first < lines; first += g) {
-    double* lines_of_group = buf + first * ls;
-    auto* c = reinterpret_cast<fftw_complex*>(lines_of_group);
-    fftw_execute_dft(plans_->fwd[axis], c, c);
-    for (int64_t b = 0; b < g; ++b) {
-      pack_spectrum(lines_of_group + b * ls, n, w);
-      if (cosine) cosine_from_spectrum(lines_of_group + b * ls, n, cw);
-    }
-  }
-}
-
-void FastSolver::from_modes(double* buf, int axis) {
-  if (!plans_->packed[axis]) {
-    fftw_execute_r2r(plans_->bwd[axis], buf, buf);
-    return;
-  }
-  if (plans_->path[axis] == Plans::Path::kFaceSine) return face_sine(buf, axis);
-  const int64_t n = plans_->slots[axis];
-  const double* w = plans_->twiddles[axis].data();
-  const double* cw = plans_->cosines[axis].data();
-  const bool cosine = !plans_->cosines[axis].empty();
-  if (plans_->interleaved[axis]) {
-    run_simd([&] {
-      if (cosine) spectrum_from_cosine(buf, n, cw, kBlock);
-      unpack_spectrum(buf, n, w, kBlock);
-    });
-    auto* c = reinterpret_cast<fftw_complex*>(buf);
-    fftw_execute_dft(plans_->bwd[axis], c, c);
-    return;
-  }
-  const int64_t lines = axis == 0 ? kLinesX : kBlock, g = plans_->group[axis], ls = plans_->stride[axis];
-  for (int64_t first = 0; first < lines; first += g) {
-    double* lines_of_group = buf + first * ls;
-    for (int64_t b = 0; b < g; ++b) {
-      if (cosine) spectrum_from_cosine(lines_of_group + b * ls, n, cw);
-      unpack_spectrum(lines_of_group + b * ls, n, w);
-    }
-    auto* c = reinterpret_cast<fftw_complex*>(lines_of_group);
-    fftw_execute_dft(plans_->bwd[axis], c, c);
-  }
-}
-
-// The face sine transform, forward or back (its own inverse): prepared, the forward complex
-// transform, packed and finished (half_length_fft.hpp).
-void FastSolver::face_sine(double* buf, int axis) {
-  const int64_t n = plans_->slots[axis];
-  const double* w = plans_->twiddles[axis].data();
   const double* sn = plans_->sines[axis].data();
+  const bool cosine = !plans_->cosines[axis].empty(), face_sine = plans_->path[axis] == Plans::Path::kFaceSine;
+  const bool fwd = forward || face_sine;
+  auto before = [&](double* v, int64_t lanes) {
+    if (face_sine) face_sine_prepare(v, n, sn, lanes);
+    if (fwd) return;
+    if (cosine) spectrum_from_cosine(v, n, cw, lanes);
+    unpack_spectrum(v, n, w, lanes);
+  };
+  auto after = [&](double* v, int64_t lanes) {
+    if (!fwd) return;
+    pack_spectrum(v, n, w, lanes);
+    if (cosine) cosine_from_spectrum(v, n, cw, lanes);
+    if (face_sine) face_sine_finish(v, n, lanes);
+  };
+  const fftw_plan plan = fwd ? plans_->fwd[axis] : plans_->bwd[axis];
   if (plans_->interleaved[axis]) {
-    run_simd([&] { face_sine_prepare(buf, n, sn, kBlock); });
+    run_simd([&] { before(buf, kBlock); });
     auto* c = reinterpret_cast<fftw_complex*>(buf);
-    fftw_execute_dft(plans_->fwd[axis], c, c);
-    run_simd([&] {
-      pack_spectrum(buf, n, w, kBlock);
-      face_sine_finish(buf, n, kBlock);
-    });
+    fftw_execute_dft(plan, c, c);
+    run_simd([&] { after(buf, kBlock); });
     return;
   }
   const int64_t lines = axis == 0 ? kLinesX : kBlock, g = plans_->group[axis], ls = plans_->stride[axis];
   for (int64_t first = 0; first < lines; first += g) {
     double* lines_of_group = buf + first * ls;
-    for (int64_t b = 0; b < g; ++b) face_sine_prepare(lines_of_group + b * ls, n, sn);
+    for (int64_t b = 0; b < g; ++b) before(lines_of_group + b * ls, 1);
     auto* c = reinterpret_cast<fftw_complex*>(lines_of_group);
-    fftw_execute_dft(plans_->fwd[axis], c, c);
-    for (int64_t b = 0; b < g; ++b) {
-      pack_spectrum(lines_of_group + b * ls, n, w);
-      face_sine_finish(lines_of_group + b * ls, n);
-    }
+    fftw_execute_dft(plan, c, c);
+    for (int64_t b = 0; b < g; ++b) after(lines_of_group + b * ls, 1);
   }
 }
 

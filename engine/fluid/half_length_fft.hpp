@@ -94,13 +94,16 @@ inline int64_t cosine_mode(int64_t p, int64_t n) {
 // cos and sin of pi k / 2n for k = 0 .. n / 2, interleaved.
 std::vector<double> cosine_twiddles(int64_t n);
 
-// After pack_spectrum: the cosine spectra.
-inline void cosine_from_spectrum(double* v, int64_t n, const double* c, int64_t lanes = 1) {
+// After pack_spectrum (scale 2): the cosine spectra. Before unpack_spectrum (scale 1): twice the
+// real spectra whose cosine spectra these are (the rotation is its own inverse):
+// Y_0 = scale V_0, Y_n/2 = sqrt 2 V_n/2 (2 cos(pi / 4)), and for the pair of places of V_k,
+// (Y_k, Y_n-k) = scale (c V_r + s V_i, s V_r - c V_i) with c, s = cos, sin(pi k / 2n).
+inline void rotate_cosine_spectrum(double* v, int64_t n, const double* c, double scale, int64_t lanes = 1) {
   const int64_t N = n / 2, cs = 2 * lanes;
   SILT_IVDEP
   for (int64_t l = 0; l < lanes; ++l) {
-    v[2 * l] *= 2;                        // Y_0 = 2 V_0
-    v[2 * l + 1] *= std::numbers::sqrt2;  // Y_n/2 = 2 cos(pi / 4) V_n/2
+    v[2 * l] *= scale;
+    v[2 * l + 1] *= std::numbers::sqrt2;
   }
   for (int64_t k = 1; k < N; ++k) {
     double* a = v + k * cs;
@@ -108,28 +111,16 @@ inline void cosine_from_spectrum(double* v, int64_t n, const double* c, int64_t 
     SILT_IVDEP
     for (int64_t l = 0; l < lanes; ++l) {
       const double vr = a[2 * l], vi = a[2 * l + 1];
-      a[2 * l] = 2 * (ck * vr + sk * vi);      // Y_k
-      a[2 * l + 1] = 2 * (sk * vr - ck * vi);  // Y_n-k
+      a[2 * l] = scale * (ck * vr + sk * vi);
+      a[2 * l + 1] = scale * (sk * vr - ck * vi);
     }
   }
 }
-
-// Before unpack_spectrum: twice the real spectra whose cosine spectra these are (the rotation
-// above is its own inverse).
+inline void cosine_from_spectrum(double* v, int64_t n, const double* c, int64_t lanes = 1) {
+  rotate_cosine_spectrum(v, n, c, 2.0, lanes);
+}
 inline void spectrum_from_cosine(double* v, int64_t n, const double* c, int64_t lanes = 1) {
-  const int64_t N = n / 2, cs = 2 * lanes;
-  SILT_IVDEP
-  for (int64_t l = 0; l < lanes; ++l) v[2 * l + 1] *= std::numbers::sqrt2;
-  for (int64_t k = 1; k < N; ++k) {
-    double* a = v + k * cs;
-    const double ck = c[2 * k], sk = c[2 * k + 1];
-    SILT_IVDEP
-    for (int64_t l = 0; l < lanes; ++l) {
-      const double yk = a[2 * l], yn = a[2 * l + 1];
-      a[2 * l] = ck * yk + sk * yn;
-      a[2 * l + 1] = sk * yk - ck * yn;
-    }
-  }
+  rotate_cosine_spectrum(v, n, c, 1.0, lanes);
 }
 
 // The sine transform of interior faces (DST-I, FFTW's RODFT00, Y_k = 2 sum_j x_j sin(pi (j + 1)

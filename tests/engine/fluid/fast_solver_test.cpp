@@ -83,6 +83,25 @@ Grid grid_with(int dim, std::array<int64_t, 3> n, std::array<std::array<BcType, 
   return g;
 }
 
+// The real spectrum of v (even length n) by its definition, in the packed order: X_0, X_n/2, then
+// Re X_k, Im X_k for k = 1 .. n/2 - 1.
+std::vector<double> packed_real_spectrum(const std::vector<double>& v) {
+  const auto n = static_cast<int64_t>(v.size());
+  std::vector<double> out(v.size());
+  for (int64_t k = 0; 2 * k <= n; ++k) {
+    double re = 0, im = 0;
+    for (int64_t j = 0; j < n; ++j) {
+      const double t = 2 * std::numbers::pi * static_cast<double>(j * k % n) / static_cast<double>(n);
+      re += v[j] * std::cos(t);
+      im -= v[j] * std::sin(t);
+    }
+    if (k == 0) out[0] = re;
+    else if (2 * k == n) out[1] = re;
+    else out[2 * k] = re, out[2 * k + 1] = im;
+  }
+  return out;
+}
+
 }  // namespace
 
 // The packed spectrum of a real line through the complex transform of half its length, against
@@ -154,19 +173,7 @@ TEST_CASE("fluid fast solver: the cosine transform of a line through its real sp
     const auto x = random_field(static_cast<size_t>(n), seed++, false);
     std::vector<double> v(static_cast<size_t>(n));
     for (int64_t r = 0; r < n; ++r) v[r] = x[cosine_source(r, n)];
-    // The packed real spectrum of v by its definition.
-    std::vector<double> line(static_cast<size_t>(n));
-    for (int64_t k = 0; 2 * k <= n; ++k) {
-      double re = 0, im = 0;
-      for (int64_t j = 0; j < n; ++j) {
-        const double t = 2 * std::numbers::pi * static_cast<double>(j * k % n) / static_cast<double>(n);
-        re += v[j] * std::cos(t);
-        im -= v[j] * std::sin(t);
-      }
-      if (k == 0) line[0] = re;
-      else if (2 * k == n) line[1] = re;
-      else line[2 * k] = re, line[2 * k + 1] = im;
-    }
+    std::vector<double> line = packed_real_spectrum(v);
     const auto c = cosine_twiddles(n);
     std::vector<double> spectrum = line;
     cosine_from_spectrum(line.data(), n, c.data());
@@ -198,27 +205,11 @@ TEST_CASE("fluid fast solver: the sine transform of interior faces through a rea
     const int64_t N = m + 1;
     const auto x = random_field(static_cast<size_t>(m), seed++, false);
     const auto sn = face_sine_table(N);
-    // The real spectrum of v, packed, by its definition.
-    auto spectrum = [N](const std::vector<double>& v) {
-      std::vector<double> out(static_cast<size_t>(N));
-      for (int64_t k = 0; 2 * k <= N; ++k) {
-        double re = 0, im = 0;
-        for (int64_t j = 0; j < N; ++j) {
-          const double t = 2 * std::numbers::pi * static_cast<double>(j * k % N) / static_cast<double>(N);
-          re += v[j] * std::cos(t);
-          im -= v[j] * std::sin(t);
-        }
-        if (k == 0) out[0] = re;
-        else if (2 * k == N) out[1] = re;
-        else out[2 * k] = re, out[2 * k + 1] = im;
-      }
-      return out;
-    };
     auto transform = [&](const std::vector<double>& in) {  // in: m values; out: N places
       std::vector<double> v(static_cast<size_t>(N), 0.0);
       for (int64_t j = 0; j < m; ++j) v[j + 1] = in[j];
       face_sine_prepare(v.data(), N, sn.data());
-      v = spectrum(v);
+      v = packed_real_spectrum(v);
       face_sine_finish(v.data(), N);
       return v;
     };
@@ -240,7 +231,7 @@ TEST_CASE("fluid fast solver: the sine transform of interior faces through a rea
     for (int64_t l = 0; l < 3; ++l) {
       std::vector<double> v(static_cast<size_t>(N));
       for (int64_t r = 0; r < N; ++r) v[r] = three[at(r, l)];
-      v = spectrum(v);
+      v = packed_real_spectrum(v);
       for (int64_t r = 0; r < N; ++r) three[at(r, l)] = v[r];
     }
     face_sine_finish(three.data(), N, 3);
