@@ -92,36 +92,18 @@ FastSolver::FastSolver(int dim, const std::array<SolverAxis, 3>& axes)
     if (even && axes[a].kind == AxisKind::kCellNN) path = Path::kCosine;
     if (even && axes[a].kind == AxisKind::kCellDD) path = Path::kSine;
     if (m_[a] % 2 == 1 && a != tri_axis_ && axes[a].kind == AxisKind::kFaceDD) path = Path::kFaceSine;
-    plans_->packed[a] = path != Path::kRealToReal;
     const int64_t n = plans_->slots[a] = path == Path::kFaceSine ? m_[a] + 1 : m_[a];
-    if (plans_->packed[a]) plans_->twiddles[a] = half_length_twiddles(n);
-    if (path == Path::kCosine || path == Path::kSine) {
-      plans_->cosines[a] = cosine_twiddles(n);
-      Plans::Reorder r;
-      for (int64_t p = 0; p < n; ++p) {
-        const int64_t j = cosine_source(p, n);
-        r.point.push_back(j);
-        r.sign.push_back(path == Path::kSine && j % 2 == 1 ? -1.0 : 1.0);
-      }
-      plans_->gather[a][0] = plans_->scatter[a][1] = r;
-    }
-    if (path == Path::kFaceSine) {
-      plans_->sines[a] = face_sine_table(n);
-      Plans::Reorder r;
-      for (int64_t p = 0; p < n; ++p) {
-        r.point.push_back(p == 0 ? 0 : p - 1);
-        r.sign.push_back(p == 0 ? 0.0 : 1.0);
-      }
-      plans_->gather[a][0] = plans_->gather[a][1] = r;
-    }
-    plans_->interleaved[a] = a > 0 && n * kBlock * static_cast<int64_t>(sizeof(double)) <= kInterleavedBytes;
+    if (half_length(path)) plans_->twiddles[a] = half_length_twiddles(n);
+    if (cosine_like(path)) plans_->cosines[a] = cosine_twiddles(n);
+    if (path == Path::kFaceSine) plans_->sines[a] = face_sine_table(n);
+    plans_->interleaved[a] = a > 0 && n * kBlock * static_cast<int64_t>(sizeof(double)) <= kCacheBlockBytes;
     // Lines one after the other: transformed and packed a group at a time, the group in the
     // first-level cache between the two; a group starts 64 bytes after the one before it (the
     // alignment the plan was made for), or the block is one group.
     const int64_t lines = a == 0 ? kLinesX : kBlock;
     plans_->stride[a] = a == 0 || plans_->interleaved[a] ? n : (n + 7) / 8 * 8 + 8;
     int64_t g = lines;
-    while (g > 1 && g * n * static_cast<int64_t>(sizeof(double)) > kInterleavedBytes) g /= 2;
+    while (g > 1 && g * n * static_cast<int64_t>(sizeof(double)) > kCacheBlockBytes) g /= 2;
     plans_->group[a] = (g * plans_->stride[a]) % 8 == 0 ? g : lines;
   }
   int64_t longest = 1;
@@ -150,7 +132,7 @@ FastSolver::FastSolver(int dim, const std::array<SolverAxis, 3>& axes)
     // between points, between lines
     const int step = il ? kBlock : 1, dist = il ? 1 : static_cast<int>(plans_->stride[a]);
     // FFTW_ESTIMATE: the plan from heuristics, never from timings, so every run makes the same one.
-    if (plans_->packed[a]) {
+    if (half_length(plans_->path[a])) {
       // In place: each line of n reals as n / 2 complex values.
       auto* c = reinterpret_cast<fftw_complex*>(probe.get());
       const int h = n / 2, cd = il ? 1 : dist / 2;
@@ -195,7 +177,7 @@ void FastSolver::divide_block(double* buf, int axis, int64_t i0, int64_t count, 
   }
   // Position p of line b: interleaved, at 2 (p / 2) B + 2 b + p % 2 when packed (a complex value
   // per two positions), at p B + b otherwise; transposed, at b n + p.
-  const bool packed = plans_->packed[axis];
+  const bool packed = half_length(plans_->path[axis]);
   const double* lx = lambda_[0].data() + i0;
   auto divide = [inv_norm](double& v, double l) {
     const double q = v * inv_norm / (l > 0 ? l : 1.0);

@@ -28,12 +28,13 @@
 // FFTW_ESTIMATE, not by timing). A periodic line of even length goes through a complex transform
 // of half its length, and so do the cosine and sine transforms of cell NN and DD lines of even
 // length, their points reordered on the way in and out and their spectra rotated, and the sine
-// transform of face DD lines of odd length (half_length_fft.hpp). Along x a block aligned as the planner's buffer is
-// transformed where it lies, others are copied into aligned per-thread buffers; along y and z the
-// lines of kBlock neighbouring x are copied into a buffer, read and written as whole rows: short
-// lines interleaved, so the transforms, the packing of the spectra and the division by the
-// eigenvalues run across the block's lines, long ones transposed. Every line is transformed by the same code whatever
-// thread runs it, so results are bitwise the same for any thread count.
+// transform of face DD lines of odd length (half_length_fft.hpp). Along x a block aligned as the
+// planner's buffer is transformed where it lies, others are copied into aligned per-thread
+// buffers; along y and z the lines of kBlock neighbouring x are copied into a buffer, read and
+// written as whole rows: short lines interleaved, so the transforms, the packing of the spectra
+// and the division by the eigenvalues run across the block's lines, long ones transposed. Every
+// line is transformed by the same code whatever thread runs it, so results are bitwise the same
+// for any thread count.
 #pragma once
 
 #include <array>
@@ -77,16 +78,16 @@ class FastSolver {
  private:
   struct Plans;
   void transform(double* data, int axis, bool forward, std::optional<double> divide_at = std::nullopt);
-  void to_modes(double* buf, int axis);    // a buffer's block of lines into the eigenbasis
-  void from_modes(double* buf, int axis);  // and back
+  // A buffer's block of lines into the eigenbasis (forward) and back.
   void through_modes(double* buf, int axis, bool forward);
   void divide_block(double* buf, int axis, int64_t i0, int64_t count, int64_t o, double sigma) const;
   void tridiagonal(double* data, double sigma);
   static constexpr int64_t kChunk = 64;  // modes per Thomas sweep
-  // Along y and z a block's lines are interleaved when the block takes at most this (lines of
-  // up to 128 points); longer ones, whose interleaved transforms run several times slower, are
-  // transposed.
-  static constexpr int64_t kInterleavedBytes = 32 << 10;
+  // What stays in the first-level cache. Along y and z a block's lines are interleaved when the
+  // block takes at most this (lines of up to 128 points); longer ones, whose interleaved
+  // transforms run several times slower, are transposed. Lines one after the other are
+  // transformed and finished a group of at most this at a time.
+  static constexpr int64_t kCacheBlockBytes = 32 << 10;
 
   int dim_;
   std::array<int64_t, 3> m_{1, 1, 1};

@@ -15,9 +15,9 @@ namespace {
 
 using Path = LinePath;
 
-// A line of n points along x into the places of its path (Plans::gather), in loops of stride 1 or
-// 2 rather than through the index table: the cosine and sine paths take the even points forward
-// and the odd ones backward (negated for the sine), the face sine path shifts them by one place.
+// A line of n points along x into the places of its path (place_point, place_sign), in loops of
+// stride 1 or 2: the cosine and sine paths take the even points forward and the odd ones backward
+// (negated for the sine), the face sine path shifts them by one place.
 void line_into_places(Path path, const double* from, double* to, int64_t n) {
   if (path == Path::kFaceSine) {
     to[0] = 0;
@@ -29,7 +29,7 @@ void line_into_places(Path path, const double* from, double* to, int64_t n) {
   for (int64_t r = 0; 2 * r < n; ++r) to[n - 1 - r] = odd * from[2 * r + 1];
 }
 
-// And back (Plans::scatter of the cosine and sine paths).
+// And back (the cosine and sine paths).
 void places_into_line(Path path, const double* from, double* to, int64_t n) {
   const double odd = path == Path::kSine ? -1.0 : 1.0;
   for (int64_t r = 0; 2 * r < n; ++r) to[2 * r] = from[r];
@@ -40,16 +40,13 @@ void places_into_line(Path path, const double* from, double* to, int64_t n) {
 
 // A block of lines into the eigenbasis and back: along x kLinesX lines one after the other, along
 // y and z kBlock lines, interleaved or one after the other. The packed order of a periodic line
-// of even length n: Re 0, Re n/2, then Re p, Im p for p = 1 .. n/2 - 1.
-void FastSolver::to_modes(double* buf, int axis) { through_modes(buf, axis, true); }
-void FastSolver::from_modes(double* buf, int axis) { through_modes(buf, axis, false); }
-
-// A half-length path: each line prepared, the block's complex transform, each line finished
-// (half_length_fft.hpp). Forward: packed, and rotated into its cosine spectrum. Backward: rotated
-// back and unpacked, then transformed. The face sine path, its own inverse, goes the same way
-// both ways: prepared, transformed forward, packed and finished.
+// of even length n: Re 0, Re n/2, then Re p, Im p for p = 1 .. n/2 - 1. A half-length path: each line prepared, the
+// block's complex transform, each line finished (half_length_fft.hpp). Forward: packed, and rotated into its cosine
+// spectrum. Backward: rotated back and unpacked, then transformed. The face sine path, its own inverse, goes the same
+// way both ways: prepared, transformed forward, packed and finished.
 void FastSolver::through_modes(double* buf, int axis, bool forward) {
-  if (!plans_->packed[axis]) {
+  const LinePath path = plans_->path[axis];
+  if (!half_length(path)) {
     fftw_execute_r2r(forward ? plans_->fwd[axis] : plans_->bwd[axis], buf, buf);
     return;
   }
@@ -57,7 +54,7 @@ void FastSolver::through_modes(double* buf, int axis, bool forward) {
   const double* w = plans_->twiddles[axis].data();
   const double* cw = plans_->cosines[axis].data();
   const double* sn = plans_->sines[axis].data();
-  const bool cosine = !plans_->cosines[axis].empty(), face_sine = plans_->path[axis] == Plans::Path::kFaceSine;
+  const bool cosine = cosine_like(path), face_sine = path == LinePath::kFaceSine;
   const bool fwd = forward || face_sine;
   auto before = [&](double* v, int64_t lanes) {
     if (face_sine) face_sine_prepare(v, n, sn, lanes);
@@ -95,35 +92,33 @@ void FastSolver::through_modes(double* buf, int axis, bool forward) {
 void FastSolver::transform(double* data, int axis, bool forward, std::optional<double> divide_at) {
   // n points a line in the data, ns places in the buffer.
   const int64_t m0 = m_[0], m1 = m_[1], n = m_[axis], ns = plans_->slots[axis];
-  auto run = [&](double* buf) { forward ? to_modes(buf, axis) : from_modes(buf, axis); };
+  const LinePath path = plans_->path[axis];
   // With divide_at the block goes forward and back in the buffer: in as forward, out as back.
-  const Plans::Reorder& in = plans_->gather[axis][forward ? 0 : 1];
-  const Plans::Reorder& out = plans_->scatter[axis][forward && !divide_at ? 0 : 1];
+  const bool reorder_in = reorders_in(path, forward), reorder_out = reorders_out(path, forward && !divide_at);
   if (axis == 0) {
-    const LinePath path = plans_->path[axis];
     constexpr int B = kLinesX;
     const int64_t lines = m1 * m_[2], blocks = (lines + B - 1) / B;
     // A whole block aligned as the planner's buffer is transformed where it lies (when the path
     // moves no point).
     const int align = fftw_alignment_of(plans_->buffer());
-    const bool in_place = ns == n && in.empty() && out.empty();
+    const bool in_place = ns == n && !reorder_in && !reorder_out;
     parallel_for(blocks, 1, [&](int64_t b0, int64_t b1) {
       double* buf = plans_->buffer();
       for (int64_t blk = b0; blk < b1; ++blk) {
         const int64_t first = blk * B, count = std::min<int64_t>(B, lines - first);
         double* block = data + first * n;
         if (count == B && fftw_alignment_of(block) == align && in_place) {
-          run(block);
+          through_modes(block, axis, forward);
           continue;
         }
-        if (in.empty() && ns == n) {
+        if (!reorder_in) {
           std::memcpy(buf, block, sizeof(double) * n * count);
         } else {
           for (int64_t b = 0; b < count; ++b) line_into_places(path, block + b * n, buf + b * ns, n);
         }
         if (count < B) std::memset(buf + count * ns, 0, sizeof(double) * (B - count) * ns);
-        run(buf);
-        if (out.empty()) {
+        through_modes(buf, axis, forward);
+        if (!reorder_out) {
           for (int64_t b = 0; b < count; ++b) std::memcpy(block + b * n, buf + b * ns, sizeof(double) * n);
         } else {
           for (int64_t b = 0; b < count; ++b) places_into_line(path, buf + b * ns, block + b * n, n);
@@ -141,7 +136,7 @@ void FastSolver::transform(double* data, int axis, bool forward, std::optional<d
   const int64_t others = axis == 1 ? m_[2] : m1;          // the third index
   const int64_t other_stride = axis == 1 ? m0 * m1 : m0;  // its stride
   const int64_t xb = (m0 + B - 1) / B, blocks = xb * others;
-  const bool packed = plans_->packed[axis], il = plans_->interleaved[axis];
+  const bool packed = half_length(path), il = plans_->interleaved[axis];
   const int64_t ls = plans_->stride[axis];
   // Interleaved, a packed line's places 2k and 2k + 1 are one complex value: at 2 (k B + b) and
   // one further; other interleaved lines' place r at r B + b; transposed, at b ls + r.
@@ -155,21 +150,26 @@ void FastSolver::transform(double* data, int axis, bool forward, std::optional<d
       if (count < B) std::memset(buf, 0, sizeof(double) * (il ? ns : ls) * B);
       // Place r of line b at (r >> shift) row + b lane + (r & odd).
       for (int64_t r = 0; r < ns; ++r) {
-        const double* from = base + (in.empty() ? r : in.point[r]) * stride;
-        const double sg = in.empty() ? 1.0 : in.sign[r];
+        const int64_t j = reorder_in ? place_point(path, r, n) : r;
+        const double sg = reorder_in ? place_sign(path, r, n) : 1.0;
         double* to = buf + (r >> shift) * row + (r & odd);
+        if (j < 0) {
+          for (int64_t b = 0; b < count; ++b) to[b * lane] = 0;
+          continue;
+        }
+        const double* from = base + j * stride;
         for (int64_t b = 0; b < count; ++b) to[b * lane] = sg * from[b];
       }
       if (divide_at) {
-        to_modes(buf, axis);
+        through_modes(buf, axis, true);
         divide_block(buf, axis, i0, count, o, *divide_at);
-        from_modes(buf, axis);
+        through_modes(buf, axis, false);
       } else {
-        run(buf);
+        through_modes(buf, axis, forward);
       }
       for (int64_t r = 0; r < n; ++r) {
-        double* to = base + (out.empty() ? r : out.point[r]) * stride;
-        const double sg = out.empty() ? 1.0 : out.sign[r];
+        double* to = base + (reorder_out ? place_point(path, r, n) : r) * stride;
+        const double sg = reorder_out ? place_sign(path, r, n) : 1.0;
         const double* from = buf + (r >> shift) * row + (r & odd);
         for (int64_t b = 0; b < count; ++b) to[b] = sg * from[b * lane];
       }

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "fluid/fast_solver.hpp"
+#include "fluid/half_length_fft.hpp"
 
 namespace silt::fluid {
 
@@ -43,27 +44,33 @@ enum class LinePath : uint8_t {
   kFaceSine,    // and the sine transform of interior faces (face DD, odd length)
 };
 
+inline bool half_length(LinePath p) { return p != LinePath::kRealToReal; }
+inline bool cosine_like(LinePath p) { return p == LinePath::kCosine || p == LinePath::kSine; }
+
+// Where the points of a line of n points sit among the places of its path in the buffer. The
+// cosine and sine paths reorder them where they are points (going in forward, coming out
+// backward): place r holds point cosine_source(r, n), negated for the sine when that point is
+// odd. The face sine path, its own inverse, shifts them by one place going in either way (place 0
+// is zero, place r holds point r - 1) and takes the first n places out.
+inline bool reorders_in(LinePath p, bool forward) { return cosine_like(p) ? forward : p == LinePath::kFaceSine; }
+inline bool reorders_out(LinePath p, bool forward) { return cosine_like(p) && !forward; }
+// The point at place r (-1: the place is zero) and its sign, when the path reorders.
+inline int64_t place_point(LinePath p, int64_t r, int64_t n) {
+  return p == LinePath::kFaceSine ? r - 1 : cosine_source(r, n);
+}
+inline double place_sign(LinePath p, int64_t r, int64_t n) {
+  return p == LinePath::kSine && cosine_source(r, n) % 2 == 1 ? -1.0 : 1.0;
+}
+
 // Per axis, the forward and backward plans of one block of lines (kLinesX along x, kBlock along y
 // and z), in place on an aligned buffer, and how the lines sit there.
 struct FastSolver::Plans {
   using Path = LinePath;
-  // Where the points of a line go in the buffer: place r holds sign[r] times point[r] (empty:
-  // point r as it is; a sign 0 makes the place zero).
-  struct Reorder {
-    std::vector<int64_t> point;
-    std::vector<double> sign;
-    bool empty() const { return point.empty(); }
-  };
   std::array<fftw_plan, 3> fwd{}, bwd{};
   std::array<Path, 3> path{};
-  std::array<bool, 3> packed{false, false, false};  // a half-length complex transform (every path but the first)
-  std::array<std::vector<double>, 3> twiddles;      // of the packed axes (half_length_fft.hpp)
-  std::array<std::vector<double>, 3> cosines;       // of the cosine and sine axes
-  std::array<std::vector<double>, 3> sines;         // of the face sine axes
-  // Into the buffer going forward and backward ([0], [1]), and out of it: the cosine and sine
-  // paths reorder the points where they are points (into the buffer forward, out of it backward);
-  // the face sine path, its own inverse, shifts them by one place both ways.
-  std::array<std::array<Reorder, 2>, 3> gather, scatter;
+  std::array<std::vector<double>, 3> twiddles;           // of the half-length axes (half_length_fft.hpp)
+  std::array<std::vector<double>, 3> cosines;            // of the cosine and sine axes
+  std::array<std::vector<double>, 3> sines;              // of the face sine axes
   std::array<int64_t, 3> slots{1, 1, 1};                 // places of a line in the buffer: m, or m + 1 (face sine)
   std::array<bool, 3> interleaved{false, false, false};  // a block's lines interleaved (y, z; short lines)
   std::array<int64_t, 3> group{1, 1, 1};                 // lines per complex transform of a packed axis not interleaved
