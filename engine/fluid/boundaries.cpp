@@ -29,12 +29,42 @@ void for_each_line(const Layout& L, int b, F&& f) {
   });
 }
 
-// The ghosts of a line along a periodic axis of n cells (or faces, the face n being face 0).
-template <class At>
-void wrap_periodic(At&& at, int64_t n) {
-  at(-1) = at(n - 1);
-  at(n) = at(0);
-  at(n + 1) = at(1);
+// Rows (x lines) per task of the periodic fills along x, about as the sweeps cut the grid, so a
+// thread fills the rows it will sweep.
+constexpr int64_t kRowsPerTask = 64;
+
+// The ghosts along a periodic axis b of the arrays f (n cells, or n faces, the face n being face
+// 0): on every line along b, over the whole padded extent of the other axes, -1 from n - 1, n
+// from 0 and n + 1 from 1. Along x that is three values at the ends of each row; along the other
+// axes whole rows (y in 3D) or planes (the last axis), copied as contiguous blocks.
+template <size_t K>
+void wrap_periodic_axis(const Layout& L, int b, const std::array<double*, K>& f) {
+  const int64_t n = L.n[b], sb = L.s[b];
+  const int64_t p1 = L.n[1] + 3, p2 = L.dim == 3 ? L.n[2] + 3 : 1;
+  auto wrap_block = [&](double* u, int64_t base, int64_t len) {  // base: the block at index 0 along b
+    std::copy_n(u + base + (n - 1) * sb, len, u + base - sb);
+    std::copy_n(u + base, len, u + base + n * sb);
+    std::copy_n(u + base + sb, len, u + base + (n + 1) * sb);
+  };
+  if (b == 0) {
+    parallel_for(p1 * p2, kRowsPerTask, [&](int64_t r0, int64_t r1) {
+      for (double* u : f)
+        for (int64_t r = r0; r < r1; ++r) {
+          double* row = u + L.at(0, r % p1 - 1, L.dim == 3 ? r / p1 - 1 : 0);
+          row[-1] = row[n - 1];
+          row[n] = row[0];
+          row[n + 1] = row[1];
+        }
+    });
+  } else if (b == L.dim - 1) {
+    const int64_t base = b == 2 ? L.at(-1, -1, 0) : L.at(-1, 0);
+    for (double* u : f) wrap_block(u, base, sb);
+  } else {
+    parallel_for(p2, std::max<int64_t>(1, kRowsPerTask / 3), [&](int64_t k0, int64_t k1) {
+      for (double* u : f)
+        for (int64_t k = k0; k < k1; ++k) wrap_block(u, L.at(-1, 0, k - 1), L.s[1]);
+    });
+  }
 }
 
 // Along x the lines are the rows, visited one after the other, each touched only at its ends:
@@ -60,6 +90,11 @@ double inflow_velocity(const Grid& g, int b, int side, int a, const std::array<d
 
 void fill_velocity_ghosts(const Grid& g, const Layout& L, const std::array<double*, 3>& c) {
   for (int b = 0; b < g.dim; ++b) {
+    if (g.periodic(b)) {
+      if (g.dim == 3) wrap_periodic_axis<3>(L, b, c);
+      else wrap_periodic_axis<2>(L, b, {c[0], c[1]});
+      continue;
+    }
     const int64_t n = g.n[b], sb = L.s[b];
     for (int a = 0; a < g.dim; ++a) {
       double* u = c[a];
@@ -68,7 +103,6 @@ void fill_velocity_ghosts(const Grid& g, const Layout& L, const std::array<doubl
         double* line = u + q;  // line[i * sb]: position i along b
         auto at = [&](int64_t i) -> double& { return line[i * sb]; };
         if (b == 0) prefetch_row_ends(L, line, n);
-        if (g.periodic(b)) return wrap_periodic(at, n);
         for (int side = 0; side < 2; ++side) {
           const Bc& bc = g.bc[b][side];
           const int64_t edge = side == 0 ? 0 : (normal ? n : n - 1);  // last value inside
@@ -113,12 +147,15 @@ void fill_velocity_ghosts(const Grid& g, const Layout& L, const std::array<doubl
 
 void fill_pressure_ghosts(const Grid& g, const Layout& L, double* p) {
   for (int b = 0; b < g.dim; ++b) {
+    if (g.periodic(b)) {
+      wrap_periodic_axis<1>(L, b, {p});
+      continue;
+    }
     const int64_t n = g.n[b], sb = L.s[b];
     for_each_line(L, b, [&](int64_t q, const std::array<int64_t, 3>&) {
       double* line = p + q;
       auto at = [&](int64_t i) -> double& { return line[i * sb]; };
       if (b == 0) prefetch_row_ends(L, line, n);
-      if (g.periodic(b)) return wrap_periodic(at, n);
       const double lo = g.pbc(b, 0) == PressureBc::kDirichlet ? -1.0 : 1.0;
       const double hi = g.pbc(b, 1) == PressureBc::kDirichlet ? -1.0 : 1.0;
       at(-1) = lo * at(0);

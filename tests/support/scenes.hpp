@@ -69,6 +69,9 @@ double max_diff(const std::vector<double>& a, const std::vector<double>& b);
 // n independent standard normal numbers from a seeded generator (mt19937_64).
 Eigen::VectorXd gaussian_vector(int64_t n, unsigned seed);
 
+// |a - b| / |b| in the 2-norm: how far a solution is from a reference.
+inline double rel_diff(const Eigen::VectorXd& a, const Eigen::VectorXd& b) { return (a - b).norm() / b.norm(); }
+
 // The value of one observable of the state, as silt run's stats would sample it.
 double observe(const Model& m, const State& s, const std::string& name);
 

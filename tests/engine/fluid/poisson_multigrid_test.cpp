@@ -22,6 +22,7 @@
 using namespace silt::fluid;
 using silt::linalg::Vector;
 using silt::test::gaussian_vector;
+using silt::test::rel_diff;
 
 namespace {
 
@@ -73,8 +74,6 @@ Vector direct_solve(const Grid& g, double sigma, Vector b) {
   if (singular) remove_mean(x);
   return x;
 }
-
-double rel_diff(const Vector& a, const Vector& b) { return (a - b).norm() / b.norm(); }
 
 }  // namespace
 

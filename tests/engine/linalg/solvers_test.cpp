@@ -15,6 +15,7 @@
 
 using namespace silt::linalg;
 using silt::test::gaussian_vector;
+using silt::test::rel_diff;
 
 namespace {
 
@@ -63,8 +64,6 @@ SparseMatrix grid(int side, unsigned seed, double perturb = 0) {
   for (int k = 0; k < n; ++k) t.emplace_back(k, k, diag[k] + 1e-2);
   return from_triplets(n, t);
 }
-
-double rel_diff(const Vector& a, const Vector& b) { return (a - b).norm() / b.norm(); }
 
 }  // namespace
 
