@@ -11,6 +11,15 @@
 
 namespace silt::fluid {
 
+// The strides of a padded layout (fluid/layout.hpp) with the x stride known to be 1 when compiled,
+// so that a kernel reaches the x neighbours of a point at constant offsets from one address
+// instead of holding one more address for each: a kernel of many neighbours then fits in the
+// registers. The kernels take these or the layout's stride array.
+struct UnitXStrides {
+  int64_t y = 0, z = 0;
+  constexpr int64_t operator[](int b) const { return b == 0 ? 1 : (b == 1 ? y : z); }
+};
+
 // Advection -div(u_a u) of component a at face q, in divergence form with centred averages
 // (Morinishi et al. 1998, "Div.-S2"): with a discretely divergence-free velocity it conserves
 // both momentum and kinetic energy, so that the inviscid scheme neither creates nor destroys
@@ -18,8 +27,8 @@ namespace silt::fluid {
 // centres between faces; along b != a, the flux u_b u_a at the edges, both averaged from the two
 // neighbouring values:
 //   N_a = - sum_b [ F_b(q + 1/2 e_b) - F_b(q - 1/2 e_b) ] / h_b.
-template <int D, int A>
-inline double advection_kernel(const double* const* c, int64_t q, const int64_t* s, const double* inv_h) {
+template <int D, int A, class S>
+inline double advection_kernel(const double* const* c, int64_t q, const S& s, const double* inv_h) {
   const double* ca = c[A];
   double n = 0;
   for (int b = 0; b < D; ++b) {
@@ -39,8 +48,8 @@ inline double advection_kernel(const double* const* c, int64_t q, const int64_t*
 }
 
 // Laplacian of one component (or of the pressure) at q: sum_b (f(q + e_b) - 2 f(q) + f(q - e_b)) / h_b^2.
-template <int D>
-inline double laplacian_kernel(const double* f, int64_t q, const int64_t* s, const double* inv_h2) {
+template <int D, class S>
+inline double laplacian_kernel(const double* f, int64_t q, const S& s, const double* inv_h2) {
   double l = 0;
   for (int b = 0; b < D; ++b) l += (f[q + s[b]] - 2 * f[q] + f[q - s[b]]) * inv_h2[b];
   return l;
