@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdint>
 
+#include "core/assert.hpp"
 #include "core/parallel.hpp"
 #include "core/simd_level.hpp"
 #include "fluid/stencil_kernels.hpp"
@@ -124,6 +125,7 @@ void momentum_substep_d(const Grid& g, const Layout& L, const PaddedConst& u, co
                         const Padded& n_prev, const PaddedConst& bc_lap, const SubstepCoefficients& k) {
   const double inv_h[3] = {1 / g.h[0], 1 / g.h[1], 1 / g.h[2]};
   const double inv_h2[3] = {inv_h[0] * inv_h[0], inv_h[1] * inv_h[1], inv_h[2] * inv_h[2]};
+  SILT_ASSERT(L.s[0] == 1, "the padded rows are contiguous along x");
   const UnitXStrides s{L.s[1], L.s[2]};
   auto point = [&]<int A>() {
     return MomentumPoint<D, A, CN>{u.data(), s, inv_h, inv_h2, k, u_star[A], n_prev[A], bc_lap[A], k.adt * inv_h[A]};
