@@ -7,9 +7,9 @@
 namespace silt::fluid {
 namespace {
 
-// Lines per task of the ghost fills: a line's ghosts take some nanoseconds, so a grid's ghosts on
-// one axis (some thousand lines at 32^3) are not worth a fork and a join.
-constexpr int64_t kGhostLinesPerTask = 4096;
+// Lines per task of the ghost fills, about as the sweeps cut the grid (rows along x), so a
+// thread fills the lines of the part of the grid it sweeps.
+constexpr int64_t kLinesPerTask = 64;
 
 // Calls f(q) for the padded index q of position 0 along axis b, for every position of the other
 // axes over their whole padded range (-1 .. n + 1).
@@ -18,20 +18,15 @@ void for_each_line(const Layout& L, int b, F&& f) {
   const int o1 = b == 0 ? 1 : 0, o2 = b == 2 ? 1 : 2;
   const int64_t n1 = L.n[o1] + 3, n2 = L.dim == 3 ? L.n[o2] + 3 : 1;
   const int64_t off2 = L.dim == 3 ? 1 : 0;
-  parallel_for(n2, std::max<int64_t>(1, kGhostLinesPerTask / n1), [&](int64_t k0, int64_t k1) {
-    for (int64_t k = k0; k < k1; ++k)
-      for (int64_t j = 0; j < n1; ++j) {
-        std::array<int64_t, 3> idx{0, 0, 0};
-        idx[o1] = j - 1;
-        if (L.dim == 3) idx[o2] = k - off2;
-        f(L.at(idx[0], idx[1], idx[2]), idx);
-      }
+  parallel_for(n1 * n2, kLinesPerTask, [&](int64_t l0, int64_t l1) {
+    for (int64_t l = l0; l < l1; ++l) {
+      std::array<int64_t, 3> idx{0, 0, 0};
+      idx[o1] = l % n1 - 1;
+      if (L.dim == 3) idx[o2] = l / n1 - off2;
+      f(L.at(idx[0], idx[1], idx[2]), idx);
+    }
   });
 }
-
-// Rows (x lines) per task of the periodic fills along x, about as the sweeps cut the grid, so a
-// thread fills the rows it will sweep.
-constexpr int64_t kRowsPerTask = 64;
 
 // The ghosts along a periodic axis b of the arrays f (n cells, or n faces, the face n being face
 // 0): on every line along b, over the whole padded extent of the other axes, -1 from n - 1, n
@@ -47,7 +42,7 @@ void wrap_periodic_axis(const Layout& L, int b, const std::array<double*, K>& f)
     std::copy_n(u + base + sb, len, u + base + (n + 1) * sb);
   };
   if (b == 0) {
-    parallel_for(p1 * p2, kRowsPerTask, [&](int64_t r0, int64_t r1) {
+    parallel_for(p1 * p2, kLinesPerTask, [&](int64_t r0, int64_t r1) {
       for (double* u : f)
         for (int64_t r = r0; r < r1; ++r) {
           double* row = u + L.at(0, r % p1 - 1, L.dim == 3 ? r / p1 - 1 : 0);
@@ -60,7 +55,7 @@ void wrap_periodic_axis(const Layout& L, int b, const std::array<double*, K>& f)
     const int64_t base = b == 2 ? L.at(-1, -1, 0) : L.at(-1, 0);
     for (double* u : f) wrap_block(u, base, sb);
   } else {
-    parallel_for(p2, std::max<int64_t>(1, kRowsPerTask / 3), [&](int64_t k0, int64_t k1) {
+    parallel_for(p2, std::max<int64_t>(1, kLinesPerTask / 3), [&](int64_t k0, int64_t k1) {
       for (double* u : f)
         for (int64_t k = k0; k < k1; ++k) wrap_block(u, L.at(-1, 0, k - 1), L.s[1]);
     });
