@@ -4,18 +4,21 @@
 //               steady state, against the centreline profiles of Ghia, Ghia & Shin (1982), with the
 //               cost of each: the fluid's first speed-accuracy table
 //   throughput  cell-steps per second at 1 and 2 threads, 2D and 3D, 32^3 to 256^3, the bytes a
-//               step must move and a triad bandwidth measured in the same run
+//               step must move and a triad bandwidth measured beside each case (paired rounds)
 //   openfoam    the cavity at 128^2, Re = 10, dt = 0.005 L/U, against OpenFOAM's icoFoam
 //               (bench/openfoam/run_icofoam.sh) in the same run, both against a fine silt grid
 //   frames      a vorticity frame of the 2D cavity at 1024 x 1024 pixels and a 3D slice, timed
 //   poisson     one Poisson solve on 128^3 cells by the fast transforms and by multigrid CG to 1e-8
 //
-//   build/bench/fluid [--only cavity|throughput|openfoam|frames|poisson] [--quick]
-// (--quick: the smaller cases only, 32^3 for poisson.)
+//   build/bench/fluid [--only cavity|throughput|openfoam|frames|poisson] [--quick] [--simd LEVELS]
+// (--quick: the smaller cases only, 32^3 for poisson. --simd avx2,avx512: the kernels' vector
+// instructions, each level in turn for every throughput case, side by side; by default the
+// processor's widest.)
 #include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -25,6 +28,7 @@
 #include <vector>
 
 #include "bench_util.hpp"
+#include "core/simd_level.hpp"
 #include "fluid/fast_solver.hpp"
 #include "fluid/module.hpp"
 #include "fluid/multigrid.hpp"
@@ -37,6 +41,8 @@ using namespace silt;
 using namespace silt::bench;
 
 namespace {
+
+constexpr int kRounds = 5;  // timed rounds of each throughput case
 
 const std::string kResults = std::string(SILT_SOURCE_DIR) + "/bench/results/";
 
@@ -173,23 +179,50 @@ void cavity(bool quick) {
   }
 }
 
-// Triad a = b + 3 c over 2^25 doubles (768 MB): the bandwidth the machine gives [B/s], 24 bytes
-// per element (write-allocate not counted, as in STREAM).
-double triad_bandwidth(int threads) {
-  const int64_t n = int64_t{1} << 25;
-  std::vector<double> a(n, 1), b(n, 2), c(n, 3);
-  tbb::task_arena arena(threads);
-  double best = 1e30;
-  for (int r = 0; r < 5; ++r) {
-    const double t0 = now_s();
-    arena.execute([&] {
-      tbb::parallel_for(tbb::blocked_range<int64_t>(0, n, 1 << 16), [&](const tbb::blocked_range<int64_t>& rg) {
-        for (int64_t i = rg.begin(); i < rg.end(); ++i) a[i] = b[i] + 3.0 * c[i];
+// Triad a = b + 3 c over 2^25 doubles (768 MB each array): the bandwidth the machine gives
+// [B/s], 24 bytes per element (write-allocate not counted, as in STREAM), best of `reps` passes
+// after one untimed one, on `threads` threads.
+class Triad {
+ public:
+  Triad() : a_(kN, 1), b_(kN, 2), c_(kN, 3) {}
+  double bandwidth(int threads, int reps) {
+    tbb::task_arena arena(threads);
+    double best = 1e30;
+    for (int r = 0; r <= reps; ++r) {
+      const double t0 = now_s();
+      arena.execute([&] {
+        tbb::parallel_for(tbb::blocked_range<int64_t>(0, kN, 1 << 16), [&](const tbb::blocked_range<int64_t>& rg) {
+          for (int64_t i = rg.begin(); i < rg.end(); ++i) a_[i] = b_[i] + 3.0 * c_[i];
+        });
       });
-    });
-    best = std::min(best, now_s() - t0);
+      if (r > 0) best = std::min(best, now_s() - t0);
+    }
+    return 24.0 * static_cast<double>(kN) / best;
   }
-  return 24.0 * static_cast<double>(n) / best;
+
+ private:
+  static constexpr int64_t kN = int64_t{1} << 25;
+  std::vector<double> a_, b_, c_;
+};
+
+// "avx2,avx512" -> the levels, in that order.
+std::vector<SimdLevel> simd_levels(const std::string& list) {
+  std::vector<SimdLevel> out;
+  std::stringstream in(list);
+  for (std::string name; std::getline(in, name, ',');) {
+    if (name == "baseline") out.push_back(SimdLevel::kBaseline);
+    else if (name == "avx2") out.push_back(SimdLevel::kAvx2);
+    else if (name == "avx512") out.push_back(SimdLevel::kAvx512);
+    else throw std::invalid_argument("--simd: unknown level '" + name + "' (baseline, avx2, avx512)");
+  }
+  if (out.empty()) throw std::invalid_argument("--simd: no level given");
+  return out;
+}
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  const size_t m = v.size() / 2;
+  return v.size() % 2 ? v[m] : 0.5 * (v[m - 1] + v[m]);
 }
 
 // Doubles a step must read and write per cell, as implemented (fluid/step.cpp), for the
@@ -230,14 +263,22 @@ double doubles_per_cell_step(int dim, bool cn) {
   return 3 * substep + 4 * D + 4;
 }
 
-void throughput(bool quick) {
-  const double bw1 = triad_bandwidth(1), bw2 = triad_bandwidth(2);
-  std::printf("\nTriad bandwidth: %.2f GB/s on 1 thread, %.2f GB/s on 2\n", bw1 / 1e9, bw2 / 1e9);
-  std::printf("\nThroughput: Taylor-Green vortex (periodic), RK3 with 3 pressure solves per step\n");
-  std::printf("%4s %6s %-15s %7s %12s %10s %10s %9s\n", "dim", "n", "viscous", "threads", "cell-steps/s", "B/cell-step",
-              "GB/s", "of triad");
+// The machine's bandwidth changes from one minute to the next on a shared host (its triad has
+// gone from 22 to 36 GB/s within an hour), so each case is timed in rounds, each a block of steps
+// (at least 0.4 s and one step) right after a triad on the same number of threads (best of three
+// passes): the fraction of each round is the block's mean rate over that triad, and a case's is
+// the median of its rounds' (also written: the lowest and highest round, and the triad's median).
+void throughput(bool quick, const std::vector<SimdLevel>& levels) {
+  Triad triad;
+  std::printf(
+      "\nThroughput: Taylor-Green vortex (periodic), RK3 with 3 pressure solves per step;\n"
+      "each case in %d rounds of a triad then a block of steps, the fraction of each round paired\n",
+      kRounds);
+  std::printf("%4s %6s %-15s %7s %12s %10s %10s %10s %9s %13s %s\n", "dim", "n", "viscous", "threads", "cell-steps/s",
+              "B/cell-step", "GB/s", "triad GB/s", "of triad", "rounds min-max", "simd");
   const std::string header =
-      "date,dim,n,viscous,threads,steps,wall_s,cell_steps_per_s,bytes_per_cell_step,gb_per_s,triad_gb_per_s,fraction";
+      "date,dim,n,viscous,threads,steps,wall_s,cell_steps_per_s,bytes_per_cell_step,gb_per_s,triad_gb_per_s,fraction,"
+      "triad_timing,rounds,fraction_min,fraction_max,simd";
   struct Case {
     int dim, n;
     std::string viscous;
@@ -247,27 +288,42 @@ void throughput(bool quick) {
                              {3, 128, "explicit"},        {3, 128, "crank_nicolson"}, {3, 256, "explicit"}};
   if (quick) cases = {{2, 256, "explicit"}, {3, 64, "explicit"}};
   for (const Case& c : cases)
-    for (int threads : {1, 2}) {
-      Simulation sim(model_of(taylor_green_scene(c.dim, c.n, c.viscous)), threads);
-      sim.step();  // plans, workspaces, first touch
-      const double cells = std::pow(static_cast<double>(c.n), c.dim);
-      int64_t steps = 0;
-      const double t0 = now_s();
-      while (steps < 3 || now_s() - t0 < 2.0) {
-        sim.state().boundary_seen = false;
-        if (!sim.step()) throw std::runtime_error("the run failed: " + sim.state().failure.message);
-        ++steps;
+    for (int threads : {1, 2})
+      for (SimdLevel level : levels) {
+        limit_simd(level);
+        Simulation sim(model_of(taylor_green_scene(c.dim, c.n, c.viscous)), threads);
+        sim.step();  // plans, workspaces, first touch
+        const double cells = std::pow(static_cast<double>(c.n), c.dim);
+        const double bytes = 8 * doubles_per_cell_step(c.dim, c.viscous == "crank_nicolson");
+        int64_t steps = 0;
+        double wall = 0;
+        std::vector<double> fractions, triads;
+        for (int r = 0; r < kRounds; ++r) {
+          triads.push_back(triad.bandwidth(threads, 3));
+          int64_t block = 0;
+          const double t0 = now_s();
+          while (block < 1 || now_s() - t0 < 0.4) {
+            sim.state().boundary_seen = false;
+            if (!sim.step()) throw std::runtime_error("the run failed: " + sim.state().failure.message);
+            ++block;
+          }
+          const double dt = now_s() - t0;
+          fractions.push_back(cells * static_cast<double>(block) * bytes / dt / triads.back());
+          steps += block;
+          wall += dt;
+        }
+        const double rate = cells * static_cast<double>(steps) / wall, bw = median(triads), f = median(fractions);
+        const auto [lo, hi] = std::minmax_element(fractions.begin(), fractions.end());
+        std::printf("%4d %6d %-15s %7d %12.3g %10.0f %10.2f %10.2f %8.0f%% %6.0f-%.0f%% %s\n", c.dim, c.n,
+                    c.viscous.c_str(), threads, rate, bytes, rate * bytes / 1e9, bw / 1e9, 100 * f, 100 * *lo,
+                    100 * *hi, simd_name(simd_level()));
+        append_csv(kResults + "fluid_throughput.csv", header,
+                   today() + "," + std::to_string(c.dim) + "," + std::to_string(c.n) + "," + c.viscous + "," +
+                       std::to_string(threads) + "," + std::to_string(steps) + "," + num(wall) + "," + num(rate) + "," +
+                       num(bytes) + "," + num(rate * bytes / 1e9) + "," + num(bw / 1e9) + "," + num(f) + ",paired," +
+                       std::to_string(kRounds) + "," + num(*lo) + "," + num(*hi) + "," + simd_name(simd_level()));
       }
-      const double wall = now_s() - t0, rate = cells * static_cast<double>(steps) / wall;
-      const double bytes = 8 * doubles_per_cell_step(c.dim, c.viscous == "crank_nicolson");
-      const double bw = threads == 1 ? bw1 : bw2;
-      std::printf("%4d %6d %-15s %7d %12.3g %10.0f %10.2f %8.0f%%\n", c.dim, c.n, c.viscous.c_str(), threads, rate,
-                  bytes, rate * bytes / 1e9, 100 * rate * bytes / bw);
-      append_csv(kResults + "fluid_throughput.csv", header,
-                 today() + "," + std::to_string(c.dim) + "," + std::to_string(c.n) + "," + c.viscous + "," +
-                     std::to_string(threads) + "," + std::to_string(steps) + "," + num(wall) + "," + num(rate) + "," +
-                     num(bytes) + "," + num(rate * bytes / 1e9) + "," + num(bw / 1e9) + "," + num(rate * bytes / bw));
-    }
+  limit_simd(levels.front());
 }
 
 // One solve of the projection's Poisson equation on an n^3 box, by the fast transforms and by CG
@@ -491,14 +547,19 @@ int main(int argc, char** argv) {
   return guarded_main([&] {
     std::string only;
     bool quick = false;
+    std::vector<SimdLevel> levels = {simd_level()};
     for (int i = 1; i < argc; ++i) {
       const std::string a = argv[i];
       if (a == "--only" && i + 1 < argc) only = argv[++i];
       else if (a == "--quick") quick = true;
-      else throw std::invalid_argument("usage: fluid [--only cavity|throughput|openfoam|frames|poisson] [--quick]");
+      else if (a == "--simd" && i + 1 < argc) levels = simd_levels(argv[++i]);
+      else
+        throw std::invalid_argument(
+            "usage: fluid [--only cavity|throughput|openfoam|frames|poisson] [--quick] [--simd baseline,avx2,avx512]");
     }
     std::printf("silt fluid benchmark, %s, %s\n", cpu_model().c_str(), today().c_str());
-    if (only.empty() || only == "throughput") throughput(quick);
+    limit_simd(levels.front());
+    if (only.empty() || only == "throughput") throughput(quick, levels);
     if (only.empty() || only == "cavity") cavity(quick);
     if (only.empty() || only == "openfoam") openfoam(quick);
     if (only.empty() || only == "frames") frames();

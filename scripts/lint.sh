@@ -2,12 +2,23 @@
 # Format and lint check of the C++ files a change touches: those changed in the last commit and
 # those changed since it (staged or not). clang-format must leave them as they are; clang-tidy's
 # checks (.clang-tidy) must find nothing. Needs a build directory with compile_commands.json.
+# Also: the built silt holds no fused multiply-add (every vector level must give the same bits,
+# core/simd_level.hpp; GCC 12 fuses some patterns for AVX-512 in spite of -ffp-contract=off).
 # Usage: scripts/lint.sh [BUILD_DIR]      (default: build)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build_dir=${1:-build}
 mapfile -t files < <({ git diff --name-only HEAD~1 HEAD 2>/dev/null || true; git diff --name-only HEAD; } |
                      sort -u | grep -E '\.(cpp|hpp)$' | while read -r f; do [ -f "$f" ] && echo "$f"; done)
+if [ -x "$build_dir/silt" ] && command -v objdump > /dev/null; then
+  fused=$(objdump -d --no-show-raw-insn -C "$build_dir/silt" |
+          awk '/^[0-9a-f]+ <.*>:$/ { fn = $0 } /\tvfn?m(add|sub)/ { print fn }' | sort -u)
+  if [ -n "$fused" ]; then
+    echo "lint: fused multiply-adds in $build_dir/silt, in:"
+    echo "$fused"
+    exit 1
+  fi
+fi
 if [ ${#files[@]} -eq 0 ]; then
   echo "lint: no C++ file changed"
   exit 0

@@ -6,18 +6,30 @@ namespace silt {
 namespace {
 
 // Also at static initialisation, which may come before the run-time library has read the
-// processor's features: read them first.
-bool detect_avx2() {
+// processor's features: read them first. (The library counts AVX-512 only where the operating
+// system saves its registers.)
+SimdLevel detect() {
   __builtin_cpu_init();
-  return __builtin_cpu_supports("avx2");
+  if (__builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl") && __builtin_cpu_supports("avx512dq") &&
+      __builtin_cpu_supports("avx512bw"))
+    return SimdLevel::kAvx512;
+  return __builtin_cpu_supports("avx2") ? SimdLevel::kAvx2 : SimdLevel::kBaseline;
 }
-const bool kHasAvx2 = detect_avx2();
-std::atomic<bool> g_baseline{false};
+const SimdLevel kWidest = detect();
+std::atomic<SimdLevel> g_most{SimdLevel::kAvx512};
 
 }  // namespace
 
-bool avx2_in_use() { return kHasAvx2 && !g_baseline.load(std::memory_order_relaxed); }
+SimdLevel simd_level() { return std::min(kWidest, g_most.load(std::memory_order_relaxed)); }
 
-void limit_to_baseline(bool on) { g_baseline = on; }
+void limit_simd(SimdLevel most) { g_most = most; }
+
+const char* simd_name(SimdLevel level) {
+  switch (level) {
+    case SimdLevel::kAvx512: return "avx512";
+    case SimdLevel::kAvx2: return "avx2";
+    default: return "baseline";
+  }
+}
 
 }  // namespace silt

@@ -1,8 +1,11 @@
 // Which vector instructions the hot kernels (the DEM's pair scans and contact forces, the fluid's
-// stencils) use: AVX2 where the processor has it (chosen at run time, so that the build stays
-// portable), or the baseline of the build (x86-64-v2: SSE4.2). Both run the same IEEE operations
-// on each value, without fused multiply-adds, and give the same bits; tests compare them.
+// stencils) use: AVX-512 (512-bit vectors) or AVX2 where the processor has them (chosen at run
+// time, so that the build stays portable), or the baseline of the build (x86-64-v2: SSE4.2). All
+// run the same IEEE operations on each value, without fused multiply-adds, and give the same bits;
+// tests compare them.
 #pragma once
+
+#include <algorithm>
 
 // Before a loop whose iterations are independent (its arrays do not overlap): vectorise it
 // without the run-time overlap checks GCC gives up on past a few arrays. (Clang, which builds
@@ -15,20 +18,39 @@
 
 namespace silt {
 
-bool avx2_in_use();
-// Limit the kernels to the baseline (true) or let them use AVX2 where present (false).
-void limit_to_baseline(bool on);
+// Ordered: each level has the instructions of the one before.
+enum class SimdLevel { kBaseline, kAvx2, kAvx512 };
 
-// Runs f() with its body (everything it calls inline) compiled for AVX2 when avx2_in_use(), else
-// for the baseline: a loop written once, vectorised for both. f must not use fused multiply-adds
-// (neither target enables them), so both give the same bits.
+// The level the kernels use: the processor's widest, at most the limit.
+SimdLevel simd_level();
+inline bool avx2_in_use() { return simd_level() >= SimdLevel::kAvx2; }
+// Limit the kernels to `most` (kAvx512: no limit); tests compare the levels' bits.
+void limit_simd(SimdLevel most);
+const char* simd_name(SimdLevel level);
+
+// Runs f() with its body (everything it calls inline) compiled for the widest level in use, at
+// most kMost (a kernel whose loops gain nothing from 512-bit vectors stays at AVX2). f must not
+// use fused multiply-adds (no target enables them), so every level gives the same bits.
 template <class F>
 [[gnu::target("avx2"), gnu::flatten]] void run_avx2(const F& f) {
   f();
 }
+// (GCC keeps to 256-bit vectors unless told; clang, which builds the fuzz targets, takes no such
+// option in the attribute.)
+#if defined(__clang__)
+#define SILT_AVX512_TARGET "avx2,avx512f,avx512vl,avx512dq,avx512bw"
+#else
+#define SILT_AVX512_TARGET "avx2,avx512f,avx512vl,avx512dq,avx512bw,prefer-vector-width=512"
+#endif
 template <class F>
+[[gnu::target(SILT_AVX512_TARGET), gnu::flatten]] void run_avx512(const F& f) {
+  f();
+}
+template <SimdLevel kMost = SimdLevel::kAvx512, class F>
 void run_simd(const F& f) {
-  if (avx2_in_use()) run_avx2(f);
+  const SimdLevel level = std::min(simd_level(), kMost);
+  if (level == SimdLevel::kAvx512) run_avx512(f);
+  else if (level == SimdLevel::kAvx2) run_avx2(f);
   else f();
 }
 

@@ -50,8 +50,12 @@ inline void pack_spectrum(double* v, int64_t n, const double* w, int64_t lanes =
   for_each_mode_pair(v, n, w, lanes, [](double* a, double* b, double wr, double wi) {
     const double ar = a[0], ai = a[1], br = b[0], bi = -b[1];  // Z_k, conj Z_N-k
     const double er = 0.5 * (ar + br), ei = 0.5 * (ai + bi);
-    const double orr = 0.5 * (ai - bi), oi = -0.5 * (ar - br);      // (Z_k - conj Z_N-k) / 2i
-    const double tr = wr * orr - wi * oi, ti = wr * oi + wi * orr;  // W^k O_k
+    const double orr = 0.5 * (ai - bi), oi = -0.5 * (ar - br);  // (Z_k - conj Z_N-k) / 2i
+    // W^k O_k. Every product added (wr orr + (-wi) oi is wr orr - wi oi to the bit): GCC 12
+    // fuses a product subtracted in one lane and added in the next into a fused multiply-add
+    // (vfmsubadd) where the processor has AVX-512, -ffp-contract=off notwithstanding.
+    const double nwi = -wi;
+    const double tr = wr * orr + nwi * oi, ti = wr * oi + wi * orr;
     b[0] = er - tr;
     b[1] = ti - ei;
     a[0] = er + tr;
@@ -66,7 +70,8 @@ inline void unpack_spectrum(double* v, int64_t n, const double* w, int64_t lanes
     const double wi = -w_im;                                   // conj W^k
     const double ar = a[0], ai = a[1], br = b[0], bi = -b[1];  // X_k, conj X_N-k
     const double er = ar + br, ei = ai + bi, dr = ar - br, di = ai - bi;
-    const double orr = dr * wr - di * wi, oi = dr * wi + di * wr;  // (X_k - conj X_N-k) conj W^k
+    // (X_k - conj X_N-k) conj W^k; every product added, as in pack_spectrum.
+    const double orr = dr * wr + di * w_im, oi = dr * wi + di * wr;
     // Z_k = E + i O, Z_N-k = conj E + i conj O.
     b[0] = er + oi;
     b[1] = orr - ei;
@@ -107,12 +112,12 @@ inline void rotate_cosine_spectrum(double* v, int64_t n, const double* c, double
   }
   for (int64_t k = 1; k < N; ++k) {
     double* a = v + k * cs;
-    const double ck = c[2 * k], sk = c[2 * k + 1];
+    const double ck = c[2 * k], sk = c[2 * k + 1], nck = -ck;
     SILT_IVDEP
     for (int64_t l = 0; l < lanes; ++l) {
       const double vr = a[2 * l], vi = a[2 * l + 1];
       a[2 * l] = scale * (ck * vr + sk * vi);
-      a[2 * l + 1] = scale * (sk * vr - ck * vi);
+      a[2 * l + 1] = scale * (sk * vr + nck * vi);  // products added, as in pack_spectrum
     }
   }
 }

@@ -19,6 +19,35 @@ namespace {
 constexpr double kGamma[3] = {8.0 / 15.0, 5.0 / 12.0, 3.0 / 4.0};
 constexpr double kZeta[3] = {0.0, -17.0 / 60.0, -5.0 / 12.0};
 
+// The maxima of |x| as the bits of |x|: for non-negative doubles their order is the integers',
+// and a NaN's bits are above infinity's, so a NaN stays; integer maxima vectorise.
+constexpr uint64_t kAbs = ~(uint64_t{1} << 63);
+
+// One row of a store: s = p * scale, the largest |p| into m and, with kChange, the largest |s|
+// before and |new - old| into m_old and change. The arrays never overlap (restrict: without it GCC
+// leaves the 512-bit loop scalar).
+template <bool kChange>
+inline void store_row(const double* __restrict p, double* __restrict s, int64_t n, double scale, uint64_t& m,
+                      uint64_t& m_old, uint64_t& change) {
+  uint64_t lm = m, lo = m_old, lc = change;  // in registers: the loop is then a reduction
+  for (int64_t i = 0; i < n; ++i) {
+    const double v = p[i], nv = v * scale;
+    if constexpr (kChange) {
+      const uint64_t o = std::bit_cast<uint64_t>(s[i]) & kAbs;
+      const uint64_t c = std::bit_cast<uint64_t>(nv - s[i]) & kAbs;
+      lo = o > lo ? o : lo;
+      lc = c > lc ? c : lc;
+    }
+    s[i] = nv;
+    const uint64_t av = std::bit_cast<uint64_t>(v) & kAbs;
+    lm = av > lm ? av : lm;
+  }
+  m = lm, m_old = lo, change = lc;
+}
+inline void load_row(double* __restrict p, const double* __restrict s, int64_t n, double scale) {
+  for (int64_t i = 0; i < n; ++i) p[i] = s[i] * scale;
+}
+
 // Copies between the State's arrays (no ghosts) and the padded ones, multiplying by `scale` (a
 // load leaves the ghosts as they were). A store returns the largest |value| of the padded array
 // (NaN if any is) and, with kChange, the largest |value| the State held before and the largest
@@ -27,9 +56,6 @@ template <bool kLoad, bool kChange = false>
 std::array<double, 3> copy_state(const Grid& g, const Layout& L, int a, std::vector<double>& state, double* padded,
                                  double scale = 1.0) {
   const auto d = a < 0 ? g.n : g.face_dims(a);
-  // The maxima of |x| as the bits of |x|: for non-negative doubles their order is the integers',
-  // and a NaN's bits are above infinity's, so a NaN stays; integer maxima vectorise.
-  constexpr uint64_t kAbs = ~(uint64_t{1} << 63);
   return parallel_max<3>(d[1] * d[2], 8, [&](int64_t b, int64_t e) {
     uint64_t m = 0, m_old = 0, change = 0;
     // One choice of the instruction set for the whole block of rows.
@@ -38,22 +64,8 @@ std::array<double, 3> copy_state(const Grid& g, const Layout& L, int a, std::vec
         const int64_t j = row % d[1], k = row / d[1];
         double* p = padded + L.at(0, j, k);
         double* s = state.data() + row * d[0];
-        if constexpr (kLoad) {
-          for (int64_t i = 0; i < d[0]; ++i) p[i] = s[i] * scale;
-        } else {
-          for (int64_t i = 0; i < d[0]; ++i) {
-            const double v = p[i], nv = v * scale;
-            if constexpr (kChange) {
-              const uint64_t o = std::bit_cast<uint64_t>(s[i]) & kAbs;
-              const uint64_t c = std::bit_cast<uint64_t>(nv - s[i]) & kAbs;
-              m_old = o > m_old ? o : m_old;
-              change = c > change ? c : change;
-            }
-            s[i] = nv;
-            const uint64_t av = std::bit_cast<uint64_t>(v) & kAbs;
-            m = av > m ? av : m;
-          }
-        }
+        if constexpr (kLoad) load_row(p, s, d[0], scale);
+        else store_row<kChange>(p, s, d[0], scale, m, m_old, change);
       }
     });
     return std::array<double, 3>{std::bit_cast<double>(m), std::bit_cast<double>(m_old), std::bit_cast<double>(change)};

@@ -88,8 +88,8 @@ void check_touch_pass(bool lees_edwards, int64_t n_pairs) {
 }  // namespace
 
 TEST_CASE("touch pass matches the nearest-image test bit for bit (periodic and Lees-Edwards, 2D and 3D)") {
-  for (bool baseline : {false, true}) {
-    limit_to_baseline(baseline);  // AVX2 where present, then the baseline
+  for (SimdLevel level : {SimdLevel::kAvx512, SimdLevel::kAvx2, SimdLevel::kBaseline}) {
+    limit_simd(level);  // the widest the processor has, then narrower
     for (int64_t n_pairs : {1, 2, 5, 7, 200, 201, 203}) {
       check_touch_pass<2>(false, n_pairs);
       check_touch_pass<3>(false, n_pairs);
@@ -97,7 +97,7 @@ TEST_CASE("touch pass matches the nearest-image test bit for bit (periodic and L
       check_touch_pass<3>(true, n_pairs);
     }
   }
-  limit_to_baseline(false);
+  limit_simd(SimdLevel::kAvx512);
 }
 
 TEST_CASE("after every step pair_touch says which listed pairs touch, and pairs apart hold no force or spring") {

@@ -65,8 +65,8 @@ TEST_CASE("fluid: the same bits on 1, 2 and 4 threads") {
   }
 }
 
-TEST_CASE("fluid: the AVX2 and baseline stencils give the same bits") {
-  if (!avx2_in_use()) MESSAGE("no AVX2 on this processor: both runs use the baseline");
+TEST_CASE("fluid: the AVX-512, AVX2 and baseline stencils give the same bits") {
+  MESSAGE("widest vector instructions of this processor: " << simd_name(simd_level()));
   // Walls and a lid (each component updated on its own faces), periodic axes, an inflow and an
   // outflow (a row whose components start and end at different faces), Crank-Nicolson.
   const std::string open_channel =
@@ -75,15 +75,17 @@ TEST_CASE("fluid: the AVX2 and baseline stencils give the same bits") {
       "[fluid.boundary]\nx_lo = \"inflow\"\nx_lo_velocity = [1.0, 0.0, 0.0]\nx_lo_profile = \"parabolic\"\n"
       "x_hi = \"outflow\"\n";
   for (const std::string& scene : {cavity(3, 10), cavity(2, 24, "viscous = \"crank_nicolson\""), open_channel}) {
-    uint64_t h[2];
-    for (bool baseline : {false, true}) {
-      limit_to_baseline(baseline);
+    CAPTURE(scene);
+    uint64_t h[3];
+    for (SimdLevel level : {SimdLevel::kAvx512, SimdLevel::kAvx2, SimdLevel::kBaseline}) {
+      limit_simd(level);
       auto sim = test::simulation_from(scene);
       for (int s = 0; s < 6; ++s) REQUIRE(sim->step());
-      limit_to_baseline(false);
-      h[baseline ? 1 : 0] = state_hash(sim->state());
+      limit_simd(SimdLevel::kAvx512);
+      h[static_cast<int>(level)] = state_hash(sim->state());
     }
-    CHECK(h[0] == h[1]);
+    CHECK(h[2] == h[0]);
+    CHECK(h[1] == h[0]);
   }
 }
 
