@@ -22,26 +22,24 @@ struct PaddedState {
   PaddedConst cptr() const { return {u[0].data(), u[1].data(), u[2].data()}; }
 };
 
-PaddedState padded(const FluidParams& fp, const State& s) {
+// Rows copied in parallel (each thread first touches the rows it copies). Without the pressure
+// (p empty) where only the velocity is read.
+PaddedState padded(const FluidParams& fp, const State& s, bool with_pressure = true) {
   const Grid& g = fp.grid;
   PaddedState ps;
   ps.L = Layout(g);
   const FluidFields f = fluid_fields();
-  for (int a = 0; a < 3; ++a) {
-    if (a >= g.dim) continue;
-    ps.u[a].assign(static_cast<size_t>(ps.L.size), 0.0);
-    const auto d = g.face_dims(a);
-    const auto& src = s.module_field(f.u[a]);
-    for (int64_t k = 0; k < d[2]; ++k)
-      for (int64_t j = 0; j < d[1]; ++j)
-        std::copy_n(src.data() + d[0] * (j + d[1] * k), d[0], ps.u[a].data() + ps.L.at(0, j, k));
-  }
+  const auto copy_rows = [&](const std::vector<double>& src, std::vector<double>& to, const std::array<int64_t, 3>& d) {
+    to.resize(static_cast<size_t>(ps.L.size));
+    parallel_for(d[1] * d[2], 16, [&](int64_t b, int64_t e) {
+      for (int64_t row = b; row < e; ++row)
+        std::copy_n(src.data() + d[0] * row, d[0], to.data() + ps.L.at(0, row % d[1], row / d[1]));
+    });
+  };
+  for (int a = 0; a < g.dim; ++a) copy_rows(s.module_field(f.u[a]), ps.u[a], g.face_dims(a));
   fill_velocity_ghosts(g, ps.L, ps.ptr());
-  ps.p.assign(static_cast<size_t>(ps.L.size), 0.0);
-  const auto& src = s.module_field(f.p);
-  for (int64_t k = 0; k < g.n[2]; ++k)
-    for (int64_t j = 0; j < g.n[1]; ++j)
-      std::copy_n(src.data() + g.n[0] * (j + g.n[1] * k), g.n[0], ps.p.data() + ps.L.at(0, j, k));
+  if (!with_pressure) return ps;
+  copy_rows(s.module_field(f.p), ps.p, g.n);
   fill_pressure_ghosts(g, ps.L, ps.p.data());
   return ps;
 }
@@ -53,41 +51,65 @@ double face_weight(const Grid& g, int a, int64_t i) {
   return (i == 0 || i == g.n[a]) ? 0.5 : 1.0;
 }
 
-// Vorticity components at the cell centres: each the mean of the four edge values around the
-// cell (in 2D, the z component: the four corners).
+// Vorticity components at the centre of the cell at padded index q (w[0] in 2D: the z
+// component; x, y, z in 3D): each the mean of the four edge values around the cell (in 2D, the
+// four corners).
+template <int D>
+void vorticity_at(const PaddedState& ps, int64_t q, const double inv_h[3], double* w) {
+  const int64_t* s = ps.L.s.data();
+  const PaddedConst c = ps.cptr();
+  // omega_z at edges (i, j), (i+1, j), (i, j+1), (i+1, j+1), at the cell's z centre.
+  const double wz =
+      0.25 * (vorticity_kernel<0, 1>(c.data(), q, s, inv_h) + vorticity_kernel<0, 1>(c.data(), q + s[0], s, inv_h) +
+              vorticity_kernel<0, 1>(c.data(), q + s[1], s, inv_h) +
+              vorticity_kernel<0, 1>(c.data(), q + s[0] + s[1], s, inv_h));
+  if constexpr (D == 2) {
+    w[0] = wz;
+  } else {
+    w[0] =
+        0.25 * (vorticity_kernel<1, 2>(c.data(), q, s, inv_h) + vorticity_kernel<1, 2>(c.data(), q + s[1], s, inv_h) +
+                vorticity_kernel<1, 2>(c.data(), q + s[2], s, inv_h) +
+                vorticity_kernel<1, 2>(c.data(), q + s[1] + s[2], s, inv_h));
+    // omega_y = d u/dz - d w/dx: the (z, x) pair taken in that order.
+    w[1] =
+        0.25 * (vorticity_kernel<2, 0>(c.data(), q, s, inv_h) + vorticity_kernel<2, 0>(c.data(), q + s[0], s, inv_h) +
+                vorticity_kernel<2, 0>(c.data(), q + s[2], s, inv_h) +
+                vorticity_kernel<2, 0>(c.data(), q + s[0] + s[2], s, inv_h));
+    w[2] = wz;
+  }
+}
+
 template <int D>
 void cell_vorticity(const Grid& g, const PaddedState& ps, std::vector<double>& out) {
   const int nc = D == 3 ? 3 : 1;
   const double inv_h[3] = {1 / g.h[0], 1 / g.h[1], 1 / g.h[2]};
-  const int64_t* s = ps.L.s.data();
-  const PaddedConst c = ps.cptr();
-  out.assign(static_cast<size_t>(g.cells() * nc), 0.0);
-  for (int64_t k = 0; k < g.n[2]; ++k)
-    for (int64_t j = 0; j < g.n[1]; ++j)
+  out.resize(static_cast<size_t>(g.cells() * nc));
+  parallel_for(g.n[1] * g.n[2], 16, [&](int64_t b, int64_t e) {
+    for (int64_t row = b; row < e; ++row) {
+      const int64_t j = row % g.n[1], k = row / g.n[1];
+      for (int64_t i = 0; i < g.n[0]; ++i) vorticity_at<D>(ps, ps.L.at(i, j, k), inv_h, &out[nc * g.cell(i, j, k)]);
+    }
+  });
+}
+
+// (1/2) sum over cells of |omega|^2 times the cell volume, in rows of cells summed in fixed
+// chunks (the same sum on any number of threads), without storing the vorticity.
+template <int D>
+double enstrophy_of(const Grid& g, const PaddedState& ps) {
+  const int nc = D == 3 ? 3 : 1;
+  const double inv_h[3] = {1 / g.h[0], 1 / g.h[1], 1 / g.h[2]};
+  const auto sums = deterministic_sums<1>(g.n[1] * g.n[2], 16, [&](int64_t b, int64_t e) {
+    double acc = 0, w[3];
+    for (int64_t row = b; row < e; ++row) {
+      const int64_t j = row % g.n[1], k = row / g.n[1];
       for (int64_t i = 0; i < g.n[0]; ++i) {
-        const int64_t q = ps.L.at(i, j, k), cell = g.cell(i, j, k);
-        // omega_z at edges (i, j), (i+1, j), (i, j+1), (i+1, j+1), at the cell's z centre.
-        const double wz = 0.25 * (vorticity_kernel<0, 1>(c.data(), q, s, inv_h) +
-                                  vorticity_kernel<0, 1>(c.data(), q + s[0], s, inv_h) +
-                                  vorticity_kernel<0, 1>(c.data(), q + s[1], s, inv_h) +
-                                  vorticity_kernel<0, 1>(c.data(), q + s[0] + s[1], s, inv_h));
-        if constexpr (D == 2) {
-          out[cell] = wz;
-        } else {
-          const double wx = 0.25 * (vorticity_kernel<1, 2>(c.data(), q, s, inv_h) +
-                                    vorticity_kernel<1, 2>(c.data(), q + s[1], s, inv_h) +
-                                    vorticity_kernel<1, 2>(c.data(), q + s[2], s, inv_h) +
-                                    vorticity_kernel<1, 2>(c.data(), q + s[1] + s[2], s, inv_h));
-          // omega_y = d u/dz - d w/dx: the (z, x) pair taken in that order.
-          const double wy = 0.25 * (vorticity_kernel<2, 0>(c.data(), q, s, inv_h) +
-                                    vorticity_kernel<2, 0>(c.data(), q + s[0], s, inv_h) +
-                                    vorticity_kernel<2, 0>(c.data(), q + s[2], s, inv_h) +
-                                    vorticity_kernel<2, 0>(c.data(), q + s[0] + s[2], s, inv_h));
-          out[3 * cell] = wx;
-          out[3 * cell + 1] = wy;
-          out[3 * cell + 2] = wz;
-        }
+        vorticity_at<D>(ps, ps.L.at(i, j, k), inv_h, w);
+        for (int c = 0; c < nc; ++c) acc += w[c] * w[c];
       }
+    }
+    return std::array<double, 1>{acc};
+  });
+  return 0.5 * sums[0] * g.cell_volume();
 }
 
 GridField grid_field(const Grid& g, const std::string& name, const std::string& unit, int components) {
@@ -162,19 +184,13 @@ double kinetic_energy(const FluidParams& p, const State& s) {
 }
 
 double enstrophy(const FluidParams& p, const State& s) {
-  const Grid& g = p.grid;
-  const PaddedState ps = padded(p, s);
-  std::vector<double> w;
-  if (g.dim == 2) cell_vorticity<2>(g, ps, w);
-  else cell_vorticity<3>(g, ps, w);
-  double sum = 0;
-  for (double v : w) sum += v * v;
-  return 0.5 * sum * g.cell_volume();
+  const PaddedState ps = padded(p, s, false);
+  return p.grid.dim == 2 ? enstrophy_of<2>(p.grid, ps) : enstrophy_of<3>(p.grid, ps);
 }
 
 double max_divergence(const FluidParams& p, const State& s) {
   const Grid& g = p.grid;
-  const PaddedState ps = padded(p, s);
+  const PaddedState ps = padded(p, s, false);
   std::vector<double> cells(static_cast<size_t>(g.cells()));
   return divergence_max(g, ps.L, ps.cptr(), cells.data());
 }
