@@ -79,10 +79,14 @@ void FastSolver::through_modes(double* buf, int axis, bool forward) {
   const int64_t lines = axis == 0 ? kLinesX : kBlock, g = plans_->group[axis], ls = plans_->stride[axis];
   for (int64_t first = 0; first < lines; first += g) {
     double* lines_of_group = buf + first * ls;
-    for (int64_t b = 0; b < g; ++b) before(lines_of_group + b * ls, 1);
+    run_simd([&] {
+      for (int64_t b = 0; b < g; ++b) before(lines_of_group + b * ls, 1);
+    });
     auto* c = reinterpret_cast<fftw_complex*>(lines_of_group);
     fftw_execute_dft(plan, c, c);
-    for (int64_t b = 0; b < g; ++b) after(lines_of_group + b * ls, 1);
+    run_simd([&] {
+      for (int64_t b = 0; b < g; ++b) after(lines_of_group + b * ls, 1);
+    });
   }
 }
 

@@ -10,6 +10,7 @@
 // vectorised where its real-to-complex ones are not, so the pair runs two to three times as fast.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <numbers>
 #include <vector>
@@ -26,8 +27,39 @@ std::vector<double> half_length_twiddles(int64_t n);
 // Entries 0 and 1 of each line become their sum and difference; then f(a, b, W^k) for the pairs of
 // complex values k and N - k of each line, k = 1 .. N / 2 (at k = N / 2 a and b are the same
 // values, which f reads before it writes).
+// One line (lanes = 1), whose pairs no loop over lanes can vectorise: the pairs a chunk at a time,
+// the values at N - k copied in k's order into a buffer, f run over the chunk as one loop, and the
+// buffer copied back. At k = N / 2 (a and b the same values) f's a wins, as below: that value is
+// not copied back.
+template <class F>
+inline void for_each_mode_pair_of_line(double* v, int64_t n, const double* w, F&& f) {
+  const int64_t N = n / 2;
+  const double r0 = v[0], i0 = v[1];
+  v[0] = r0 + i0;
+  v[1] = r0 - i0;
+  constexpr int64_t kChunk = 32;
+  double mirror[2 * kChunk];
+  for (int64_t k0 = 1; 2 * k0 <= N; k0 += kChunk) {
+    const int64_t count = std::min(kChunk, N / 2 - k0 + 1);
+    for (int64_t l = 0; l < count; ++l) {
+      mirror[2 * l] = v[2 * (N - k0 - l)];
+      mirror[2 * l + 1] = v[2 * (N - k0 - l) + 1];
+    }
+    double* a = v + 2 * k0;
+    const double* wk = w + 2 * k0;
+    SILT_IVDEP
+    for (int64_t l = 0; l < count; ++l) f(a + 2 * l, mirror + 2 * l, wk[2 * l], wk[2 * l + 1]);
+    for (int64_t l = 0; l < count; ++l) {
+      if (2 * (k0 + l) == N) continue;
+      v[2 * (N - k0 - l)] = mirror[2 * l];
+      v[2 * (N - k0 - l) + 1] = mirror[2 * l + 1];
+    }
+  }
+}
+
 template <class F>
 inline void for_each_mode_pair(double* v, int64_t n, const double* w, int64_t lanes, F&& f) {
+  if (lanes == 1) return for_each_mode_pair_of_line(v, n, w, f);
   const int64_t N = n / 2, cs = 2 * lanes;
   SILT_IVDEP
   for (int64_t l = 0; l < lanes; ++l) {
@@ -109,6 +141,16 @@ inline void rotate_cosine_spectrum(double* v, int64_t n, const double* c, double
   for (int64_t l = 0; l < lanes; ++l) {
     v[2 * l] *= scale;
     v[2 * l + 1] *= std::numbers::sqrt2;
+  }
+  if (lanes == 1) {  // one line: the loop over k vectorises
+    SILT_IVDEP
+    for (int64_t k = 1; k < N; ++k) {
+      const double ck = c[2 * k], sk = c[2 * k + 1], nck = -ck;
+      const double vr = v[2 * k], vi = v[2 * k + 1];
+      v[2 * k] = scale * (ck * vr + sk * vi);
+      v[2 * k + 1] = scale * (sk * vr + nck * vi);
+    }
+    return;
   }
   for (int64_t k = 1; k < N; ++k) {
     double* a = v + k * cs;
