@@ -12,6 +12,7 @@
 #include <fstream>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace silt::bench {
 
@@ -25,6 +26,13 @@ int guarded_main(F&& body) {
     std::fprintf(stderr, "%s\n", e.what());
     return 2;
   }
+}
+
+// The median of v (the mean of the middle two for an even count).
+inline double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  const size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
 inline double now_s() {

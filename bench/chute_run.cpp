@@ -27,6 +27,7 @@
 #include "machine_reference.hpp"
 
 using namespace silt;
+using silt::bench::median;
 
 namespace {
 
@@ -35,12 +36,6 @@ struct Job {
   int cores;            // threads or ranks
   std::string command;
 };
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  const size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
 
 int run(int argc, char** argv) {
   const std::string src = SILT_SOURCE_DIR;

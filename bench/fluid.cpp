@@ -179,7 +179,7 @@ void cavity(bool quick) {
   }
 }
 
-// Triad a = b + 3 c over 2^25 doubles (768 MB each array): the bandwidth the machine gives
+// Triad a = b + 3 c over 2^25 doubles (256 MiB each array): the bandwidth the machine gives
 // [B/s], 24 bytes per element (write-allocate not counted, as in STREAM), best of `reps` passes
 // after one untimed one, on `threads` threads.
 class Triad {
@@ -209,20 +209,11 @@ class Triad {
 std::vector<SimdLevel> simd_levels(const std::string& list) {
   std::vector<SimdLevel> out;
   std::stringstream in(list);
-  for (std::string name; std::getline(in, name, ',');) {
-    if (name == "baseline") out.push_back(SimdLevel::kBaseline);
-    else if (name == "avx2") out.push_back(SimdLevel::kAvx2);
-    else if (name == "avx512") out.push_back(SimdLevel::kAvx512);
-    else throw std::invalid_argument("--simd: unknown level '" + name + "' (baseline, avx2, avx512)");
-  }
+  for (std::string name; std::getline(in, name, ',');)
+    if (!simd_level_named(name, out.emplace_back()))
+      throw std::invalid_argument("--simd: unknown level '" + name + "' (baseline, avx2, avx512)");
   if (out.empty()) throw std::invalid_argument("--simd: no level given");
   return out;
-}
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  const size_t m = v.size() / 2;
-  return v.size() % 2 ? v[m] : 0.5 * (v[m - 1] + v[m]);
 }
 
 // Doubles a step must read and write per cell, as implemented (fluid/step.cpp), for the
@@ -264,10 +255,15 @@ double doubles_per_cell_step(int dim, bool cn) {
 }
 
 // The machine's bandwidth changes from one minute to the next on a shared host (its triad has
-// gone from 22 to 36 GB/s within an hour), so each case is timed in rounds, each a block of steps
+// gone from 22 to 39 GB/s within an hour), so each case is timed in rounds, each a block of steps
 // (at least 0.4 s and one step) right after a triad on the same number of threads (best of three
-// passes): the fraction of each round is the block's mean rate over that triad, and a case's is
-// the median of its rounds' (also written: the lowest and highest round, and the triad's median).
+// passes, as STREAM reports: the highest bandwidth, so the fraction errs low): the fraction of a
+// round is the block's mean rate times the bytes over that triad, and a case's is the median of
+// its rounds' (the lowest and highest round are printed and written too). With several vector
+// levels, one simulation steps through every level in each round (all levels give the same bits),
+// the levels' order turning from one round to the next, so that a drift of the machine falls on
+// all alike. The printed GB/s is the case's mean rate times its bytes and the triad its rounds'
+// median: their quotient is near, not equal to, the median of the rounds' fractions.
 void throughput(bool quick, const std::vector<SimdLevel>& levels) {
   Triad triad;
   std::printf(
@@ -287,19 +283,25 @@ void throughput(bool quick, const std::vector<SimdLevel>& levels) {
                              {2, 1024, "crank_nicolson"}, {3, 32, "explicit"},        {3, 64, "explicit"},
                              {3, 128, "explicit"},        {3, 128, "crank_nicolson"}, {3, 256, "explicit"}};
   if (quick) cases = {{2, 256, "explicit"}, {3, 64, "explicit"}};
+  struct Timing {
+    int64_t steps = 0;
+    double wall = 0;
+    std::vector<double> fractions, triads;
+  };
+  const size_t nl = levels.size();
   for (const Case& c : cases)
-    for (int threads : {1, 2})
-      for (SimdLevel level : levels) {
-        limit_simd(level);
-        Simulation sim(model_of(taylor_green_scene(c.dim, c.n, c.viscous)), threads);
-        sim.step();  // plans, workspaces, first touch
-        const double cells = std::pow(static_cast<double>(c.n), c.dim);
-        const double bytes = 8 * doubles_per_cell_step(c.dim, c.viscous == "crank_nicolson");
-        int64_t steps = 0;
-        double wall = 0;
-        std::vector<double> fractions, triads;
-        for (int r = 0; r < kRounds; ++r) {
-          triads.push_back(triad.bandwidth(threads, 3));
+    for (int threads : {1, 2}) {
+      Simulation sim(model_of(taylor_green_scene(c.dim, c.n, c.viscous)), threads);
+      sim.step();  // plans, workspaces, first touch
+      const double cells = std::pow(static_cast<double>(c.n), c.dim);
+      const double bytes = 8 * doubles_per_cell_step(c.dim, c.viscous == "crank_nicolson");
+      std::vector<Timing> at(nl);
+      for (int r = 0; r < kRounds; ++r)
+        for (size_t i = 0; i < nl; ++i) {
+          const size_t li = (i + static_cast<size_t>(r)) % nl;
+          limit_simd(levels[li]);
+          Timing& t = at[li];
+          t.triads.push_back(triad.bandwidth(threads, 3));
           int64_t block = 0;
           const double t0 = now_s();
           while (block < 1 || now_s() - t0 < 0.4) {
@@ -308,21 +310,26 @@ void throughput(bool quick, const std::vector<SimdLevel>& levels) {
             ++block;
           }
           const double dt = now_s() - t0;
-          fractions.push_back(cells * static_cast<double>(block) * bytes / dt / triads.back());
-          steps += block;
-          wall += dt;
+          t.fractions.push_back(cells * static_cast<double>(block) * bytes / dt / t.triads.back());
+          t.steps += block;
+          t.wall += dt;
         }
-        const double rate = cells * static_cast<double>(steps) / wall, bw = median(triads), f = median(fractions);
-        const auto [lo, hi] = std::minmax_element(fractions.begin(), fractions.end());
+      for (size_t li = 0; li < nl; ++li) {
+        const Timing& t = at[li];
+        const char* name = simd_name(std::min(levels[li], simd_widest()));
+        const double rate = cells * static_cast<double>(t.steps) / t.wall, bw = median(t.triads);
+        const double f = median(t.fractions);
+        const auto [lo, hi] = std::minmax_element(t.fractions.begin(), t.fractions.end());
         std::printf("%4d %6d %-15s %7d %12.3g %10.0f %10.2f %10.2f %8.0f%% %6.0f-%.0f%% %s\n", c.dim, c.n,
                     c.viscous.c_str(), threads, rate, bytes, rate * bytes / 1e9, bw / 1e9, 100 * f, 100 * *lo,
-                    100 * *hi, simd_name(simd_level()));
+                    100 * *hi, name);
         append_csv(kResults + "fluid_throughput.csv", header,
                    today() + "," + std::to_string(c.dim) + "," + std::to_string(c.n) + "," + c.viscous + "," +
-                       std::to_string(threads) + "," + std::to_string(steps) + "," + num(wall) + "," + num(rate) + "," +
-                       num(bytes) + "," + num(rate * bytes / 1e9) + "," + num(bw / 1e9) + "," + num(f) + ",paired," +
-                       std::to_string(kRounds) + "," + num(*lo) + "," + num(*hi) + "," + simd_name(simd_level()));
+                       std::to_string(threads) + "," + std::to_string(t.steps) + "," + num(t.wall) + "," + num(rate) +
+                       "," + num(bytes) + "," + num(rate * bytes / 1e9) + "," + num(bw / 1e9) + "," + num(f) +
+                       ",paired," + std::to_string(kRounds) + "," + num(*lo) + "," + num(*hi) + "," + name);
       }
+    }
   limit_simd(levels.front());
 }
 

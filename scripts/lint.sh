@@ -10,15 +10,23 @@ cd "$(dirname "$0")/.."
 build_dir=${1:-build}
 mapfile -t files < <({ git diff --name-only HEAD~1 HEAD 2>/dev/null || true; git diff --name-only HEAD; } |
                      sort -u | grep -E '\.(cpp|hpp)$' | while read -r f; do [ -f "$f" ] && echo "$f"; done)
-if [ -x "$build_dir/silt" ] && command -v objdump > /dev/null; then
-  fused=$(objdump -d --no-show-raw-insn -C "$build_dir/silt" |
-          awk '/^[0-9a-f]+ <.*>:$/ { fn = $0 } /\tvfn?m(add|sub)/ { print fn }' | sort -u)
+if ! command -v objdump > /dev/null; then
+  echo "lint: objdump (binutils) is missing: cannot check the build for fused multiply-adds"
+  exit 1
+fi
+for bin in "$build_dir/silt" "$build_dir/tests/silt_tests"; do
+  if [ ! -x "$bin" ]; then
+    echo "lint: $bin is not built: cannot check it for fused multiply-adds"
+    exit 1
+  fi
+  fused=$(objdump -d --no-show-raw-insn -C "$bin" |
+          awk '/^[0-9a-f]+ <.*>:$/ { fn = $0 } /:[[:space:]]+(\{[a-z]+\} *)?vfn?m(add|sub)/ { print fn }' | sort -u)
   if [ -n "$fused" ]; then
-    echo "lint: fused multiply-adds in $build_dir/silt, in:"
+    echo "lint: fused multiply-adds in $bin, in:"
     echo "$fused"
     exit 1
   fi
-fi
+done
 if [ ${#files[@]} -eq 0 ]; then
   echo "lint: no C++ file changed"
   exit 0

@@ -22,6 +22,8 @@ std::atomic<SimdLevel> g_most{SimdLevel::kAvx512};
 
 SimdLevel simd_level() { return std::min(kWidest, g_most.load(std::memory_order_relaxed)); }
 
+SimdLevel simd_widest() { return kWidest; }
+
 void limit_simd(SimdLevel most) { g_most = most; }
 
 const char* simd_name(SimdLevel level) {
@@ -30,6 +32,15 @@ const char* simd_name(SimdLevel level) {
     case SimdLevel::kAvx2: return "avx2";
     default: return "baseline";
   }
+}
+
+bool simd_level_named(const std::string& name, SimdLevel& level) {
+  for (SimdLevel l : {SimdLevel::kBaseline, SimdLevel::kAvx2, SimdLevel::kAvx512})
+    if (name == simd_name(l)) {
+      level = l;
+      return true;
+    }
+  return false;
 }
 
 }  // namespace silt

@@ -22,11 +22,6 @@ namespace silt::fluid {
 // cos and -sin of 2 pi k / n for k = 0 .. n / 4, interleaved: W^k.
 std::vector<double> half_length_twiddles(int64_t n);
 
-// Both below work on `lanes` lines side by side (complex k of line l at v + 2 (lanes k + l)): one
-// line (lanes = 1) or a block whose lines are interleaved, each loop over the lines contiguous.
-// Entries 0 and 1 of each line become their sum and difference; then f(a, b, W^k) for the pairs of
-// complex values k and N - k of each line, k = 1 .. N / 2 (at k = N / 2 a and b are the same
-// values, which f reads before it writes).
 // One line (lanes = 1), whose pairs no loop over lanes can vectorise: the pairs a chunk at a time,
 // the values at N - k copied in k's order into a buffer, f run over the chunk as one loop, and the
 // buffer copied back. At k = N / 2 (a and b the same values) f's a wins, as below: that value is
@@ -57,6 +52,11 @@ inline void for_each_mode_pair_of_line(double* v, int64_t n, const double* w, F&
   }
 }
 
+// Both below work on `lanes` lines side by side (complex k of line l at v + 2 (lanes k + l)): one
+// line (lanes = 1) or a block whose lines are interleaved, each loop over the lines contiguous.
+// Entries 0 and 1 of each line become their sum and difference; then f(a, b, W^k) for the pairs of
+// complex values k and N - k of each line, k = 1 .. N / 2 (at k = N / 2 a and b are the same
+// values, which f reads before it writes).
 template <class F>
 inline void for_each_mode_pair(double* v, int64_t n, const double* w, int64_t lanes, F&& f) {
   if (lanes == 1) return for_each_mode_pair_of_line(v, n, w, f);
@@ -142,25 +142,22 @@ inline void rotate_cosine_spectrum(double* v, int64_t n, const double* c, double
     v[2 * l] *= scale;
     v[2 * l + 1] *= std::numbers::sqrt2;
   }
+  // (vr, vi) at a rotated; every product added, as in pack_spectrum.
+  const auto rotate = [scale](double* a, double ck, double sk) {
+    const double nck = -ck, vr = a[0], vi = a[1];
+    a[0] = scale * (ck * vr + sk * vi);
+    a[1] = scale * (sk * vr + nck * vi);
+  };
   if (lanes == 1) {  // one line: the loop over k vectorises
     SILT_IVDEP
-    for (int64_t k = 1; k < N; ++k) {
-      const double ck = c[2 * k], sk = c[2 * k + 1], nck = -ck;
-      const double vr = v[2 * k], vi = v[2 * k + 1];
-      v[2 * k] = scale * (ck * vr + sk * vi);
-      v[2 * k + 1] = scale * (sk * vr + nck * vi);
-    }
+    for (int64_t k = 1; k < N; ++k) rotate(v + 2 * k, c[2 * k], c[2 * k + 1]);
     return;
   }
   for (int64_t k = 1; k < N; ++k) {
     double* a = v + k * cs;
-    const double ck = c[2 * k], sk = c[2 * k + 1], nck = -ck;
+    const double ck = c[2 * k], sk = c[2 * k + 1];
     SILT_IVDEP
-    for (int64_t l = 0; l < lanes; ++l) {
-      const double vr = a[2 * l], vi = a[2 * l + 1];
-      a[2 * l] = scale * (ck * vr + sk * vi);
-      a[2 * l + 1] = scale * (sk * vr + nck * vi);  // products added, as in pack_spectrum
-    }
+    for (int64_t l = 0; l < lanes; ++l) rotate(a + 2 * l, ck, sk);
   }
 }
 inline void cosine_from_spectrum(double* v, int64_t n, const double* c, int64_t lanes = 1) {

@@ -22,8 +22,7 @@ struct PaddedState {
   PaddedConst cptr() const { return {u[0].data(), u[1].data(), u[2].data()}; }
 };
 
-// Rows copied in parallel (each thread first touches the rows it copies). Without the pressure
-// (p empty) where only the velocity is read.
+// Rows copied in parallel. Without the pressure (p empty) where only the velocity is read.
 PaddedState padded(const FluidParams& fp, const State& s, bool with_pressure = true) {
   const Grid& g = fp.grid;
   PaddedState ps;
@@ -51,31 +50,12 @@ double face_weight(const Grid& g, int a, int64_t i) {
   return (i == 0 || i == g.n[a]) ? 0.5 : 1.0;
 }
 
-// Vorticity components at the centre of the cell at padded index q (w[0] in 2D: the z
-// component; x, y, z in 3D): each the mean of the four edge values around the cell (in 2D, the
-// four corners).
-template <int D>
-void vorticity_at(const PaddedState& ps, int64_t q, const double inv_h[3], double* w) {
-  const int64_t* s = ps.L.s.data();
-  const PaddedConst c = ps.cptr();
-  // omega_z at edges (i, j), (i+1, j), (i, j+1), (i+1, j+1), at the cell's z centre.
-  const double wz =
-      0.25 * (vorticity_kernel<0, 1>(c.data(), q, s, inv_h) + vorticity_kernel<0, 1>(c.data(), q + s[0], s, inv_h) +
-              vorticity_kernel<0, 1>(c.data(), q + s[1], s, inv_h) +
-              vorticity_kernel<0, 1>(c.data(), q + s[0] + s[1], s, inv_h));
-  if constexpr (D == 2) {
-    w[0] = wz;
-  } else {
-    w[0] =
-        0.25 * (vorticity_kernel<1, 2>(c.data(), q, s, inv_h) + vorticity_kernel<1, 2>(c.data(), q + s[1], s, inv_h) +
-                vorticity_kernel<1, 2>(c.data(), q + s[2], s, inv_h) +
-                vorticity_kernel<1, 2>(c.data(), q + s[1] + s[2], s, inv_h));
-    // omega_y = d u/dz - d w/dx: the (z, x) pair taken in that order.
-    w[1] =
-        0.25 * (vorticity_kernel<2, 0>(c.data(), q, s, inv_h) + vorticity_kernel<2, 0>(c.data(), q + s[0], s, inv_h) +
-                vorticity_kernel<2, 0>(c.data(), q + s[2], s, inv_h) +
-                vorticity_kernel<2, 0>(c.data(), q + s[0] + s[2], s, inv_h));
-    w[2] = wz;
+// f(row, i, padded index) for every cell, rows of cells (j, k) handed out in parallel.
+template <class F>
+void for_each_cell_row(const Grid& g, const Layout& L, int64_t b, int64_t e, F&& f) {
+  for (int64_t row = b; row < e; ++row) {
+    const int64_t q0 = L.at(0, row % g.n[1], row / g.n[1]);
+    for (int64_t i = 0; i < g.n[0]; ++i) f(row, i, q0 + i);
   }
 }
 
@@ -83,12 +63,12 @@ template <int D>
 void cell_vorticity(const Grid& g, const PaddedState& ps, std::vector<double>& out) {
   const int nc = D == 3 ? 3 : 1;
   const double inv_h[3] = {1 / g.h[0], 1 / g.h[1], 1 / g.h[2]};
+  const PaddedConst c = ps.cptr();
   out.resize(static_cast<size_t>(g.cells() * nc));
   parallel_for(g.n[1] * g.n[2], 16, [&](int64_t b, int64_t e) {
-    for (int64_t row = b; row < e; ++row) {
-      const int64_t j = row % g.n[1], k = row / g.n[1];
-      for (int64_t i = 0; i < g.n[0]; ++i) vorticity_at<D>(ps, ps.L.at(i, j, k), inv_h, &out[nc * g.cell(i, j, k)]);
-    }
+    for_each_cell_row(g, ps.L, b, e, [&](int64_t row, int64_t i, int64_t q) {
+      cell_vorticity_kernel<D>(c.data(), q, ps.L.s.data(), inv_h, &out[nc * (row * g.n[0] + i)]);
+    });
   });
 }
 
@@ -98,18 +78,16 @@ template <int D>
 double enstrophy_of(const Grid& g, const PaddedState& ps) {
   const int nc = D == 3 ? 3 : 1;
   const double inv_h[3] = {1 / g.h[0], 1 / g.h[1], 1 / g.h[2]};
-  const auto sums = deterministic_sums<1>(g.n[1] * g.n[2], 16, [&](int64_t b, int64_t e) {
+  const PaddedConst c = ps.cptr();
+  const double sum = deterministic_sum(g.n[1] * g.n[2], 16, [&](int64_t b, int64_t e) {
     double acc = 0, w[3];
-    for (int64_t row = b; row < e; ++row) {
-      const int64_t j = row % g.n[1], k = row / g.n[1];
-      for (int64_t i = 0; i < g.n[0]; ++i) {
-        vorticity_at<D>(ps, ps.L.at(i, j, k), inv_h, w);
-        for (int c = 0; c < nc; ++c) acc += w[c] * w[c];
-      }
-    }
-    return std::array<double, 1>{acc};
+    for_each_cell_row(g, ps.L, b, e, [&](int64_t, int64_t, int64_t q) {
+      cell_vorticity_kernel<D>(c.data(), q, ps.L.s.data(), inv_h, w);
+      for (int k = 0; k < nc; ++k) acc += w[k] * w[k];
+    });
+    return acc;
   });
-  return 0.5 * sums[0] * g.cell_volume();
+  return 0.5 * sum * g.cell_volume();
 }
 
 GridField grid_field(const Grid& g, const std::string& name, const std::string& unit, int components) {

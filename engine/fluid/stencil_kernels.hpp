@@ -77,4 +77,26 @@ inline double vorticity_kernel(const double* const* c, int64_t q, const int64_t*
   return (c[B][q] - c[B][q - s[A]]) * inv_h[A] - (c[A][q] - c[A][q - s[B]]) * inv_h[B];
 }
 
+// Vorticity at the centre of the cell at q (w[0] in 2D: the z component; x, y, z in 3D): each
+// component the mean of its four edge values around the cell (in 2D, the four corners).
+template <int D>
+inline void cell_vorticity_kernel(const double* const* c, int64_t q, const int64_t* s, const double* inv_h, double* w) {
+  // omega_z at edges (i, j), (i+1, j), (i, j+1), (i+1, j+1), at the cell's z centre.
+  const double wz =
+      0.25 * (vorticity_kernel<0, 1>(c, q, s, inv_h) + vorticity_kernel<0, 1>(c, q + s[0], s, inv_h) +
+              vorticity_kernel<0, 1>(c, q + s[1], s, inv_h) + vorticity_kernel<0, 1>(c, q + s[0] + s[1], s, inv_h));
+  if constexpr (D == 2) {
+    w[0] = wz;
+  } else {
+    w[0] =
+        0.25 * (vorticity_kernel<1, 2>(c, q, s, inv_h) + vorticity_kernel<1, 2>(c, q + s[1], s, inv_h) +
+                vorticity_kernel<1, 2>(c, q + s[2], s, inv_h) + vorticity_kernel<1, 2>(c, q + s[1] + s[2], s, inv_h));
+    // omega_y = d u/dz - d w/dx: the (z, x) pair taken in that order.
+    w[1] =
+        0.25 * (vorticity_kernel<2, 0>(c, q, s, inv_h) + vorticity_kernel<2, 0>(c, q + s[0], s, inv_h) +
+                vorticity_kernel<2, 0>(c, q + s[2], s, inv_h) + vorticity_kernel<2, 0>(c, q + s[0] + s[2], s, inv_h));
+    w[2] = wz;
+  }
+}
+
 }  // namespace silt::fluid
