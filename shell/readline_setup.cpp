@@ -83,18 +83,22 @@ int guarded_getc(FILE* stream) {
 }
 
 // The commands whose paths through readline 8.2's callback interface crash or hang: the
-// incremental history searches (Ctrl-R, Ctrl-S by default) and the keyboard macros (Ctrl-X ( ) e).
-// They are unbound by function, not by key: a user's inputrc may give them any key.
+// incremental history searches (Ctrl-R, Ctrl-S by default), the keyboard macros (Ctrl-X ( ) e),
+// the character searches (Ctrl-], Meta-Ctrl-]: an Escape as the character sought, then any key,
+// reads a null pointer) and the bracketed paste (Escape [200~: input that ends inside the paste
+// overflows its buffer). They are unbound by function, not by key: a user's inputrc may give them
+// any key. (The vi mode's character searches, f F t T, do not crash.)
 bool crashes_readline(rl_command_func_t* f) {
-  for (rl_command_func_t* bad : {rl_reverse_search_history, rl_forward_search_history, rl_start_kbd_macro,
-                                 rl_end_kbd_macro, rl_call_last_kbd_macro})
+  for (rl_command_func_t* bad :
+       {rl_reverse_search_history, rl_forward_search_history, rl_start_kbd_macro, rl_end_kbd_macro,
+        rl_call_last_kbd_macro, rl_char_search, rl_backward_char_search, rl_bracketed_paste_begin})
     if (f == bad) return true;
   return false;
 }
 
 void guard_keymaps();
 
-// Re-reading the inputrc (Ctrl-X Ctrl-R) binds what it says again: the guard follows it.
+// Re-reading the inputrc (Ctrl-X Ctrl-R) binds and sets what it says again: the guard follows it.
 int reread_init_file(int count, int key) {
   const int r = rl_re_read_init_file(count, key);
   guard_keymaps();
@@ -116,6 +120,8 @@ void guard_keymap(Keymap map, std::vector<Keymap>& seen) {
 }
 
 void guard_keymaps() {
+  // Without its paste command, the terminal is not asked to mark pastes: a paste arrives as typed.
+  rl_variable_bind("enable-bracketed-paste", "off");
   std::vector<Keymap> seen;
   for (Keymap map :
        {emacs_standard_keymap, emacs_meta_keymap, emacs_ctlx_keymap, vi_insertion_keymap, vi_movement_keymap})
