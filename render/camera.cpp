@@ -55,10 +55,20 @@ M4 look_at(const Vec3& eye, const Vec3& target, const Vec3& up_hint) {
 
 }  // namespace
 
-Camera frame_2d(const Box& box, const Margins& mg, int width, int height, double depth) {
+Camera frame_2d(const Box& state_box, const Margins& mg, int width, int height, double depth) {
   Camera c;
   c.ortho = true;
   const double w = width - mg.left - mg.right, h = height - mg.top - mg.bottom;
+  // A box no frame can hold (a failed run's NaN, a length that is not positive, or one so small
+  // or large that the scale is not a finite positive number) is framed as the unit square at the
+  // origin: the frame still shows its time and bars, and nothing is converted from a NaN.
+  Box box = state_box;
+  const auto framable = [&](const Box& b) {
+    const double sc = std::min(w / b.len[0], h / b.len[1]);
+    return std::isfinite(b.lo[0]) && std::isfinite(b.lo[1]) && std::isfinite(sc) && sc > 0 &&
+           std::isfinite(sc * b.len[0]) && std::isfinite(sc * b.len[1]);
+  };
+  if (!framable(box)) box.lo = {0, 0, 0}, box.len = {1, 1, 1};
   const double s = std::min(w / box.len[0], h / box.len[1]);
   // Centre the domain in the free area; world extents of the whole image.
   const double px0 = mg.left + 0.5 * (w - s * box.len[0]);

@@ -384,3 +384,27 @@ dt = 1e-3
   CHECK(rs.spheres[1].centre[0] == doctest::Approx(9.0));
   CHECK(rs.spheres[1].centre[1] == doctest::Approx(-0.2));
 }
+
+// A failed run's state (NaN box lengths and positions) drawn by a frame hook: the frame is drawn
+// whole, with no value converted from a NaN (UBSan found frame_2d converting the 2D box's pixel
+// extent, from a shell session whose sheared run blew up).
+TEST_CASE("a frame of a failed state (NaN box and positions) is drawn without converting a NaN") {
+  const std::string block3d =
+      "[scene]\ndimension = 3\n[domain]\nlo = [-1, -1, -1]\nhi = [3, 3, 3]\n[contact]\nmodel = \"hooke\"\n"
+      "k_n = 1000\n[[grains]]\nradius = 0.49\nplacement = \"lattice\"\nlattice = \"sc\"\nspacing = 1.0\n"
+      "region_lo = [0, 0, 0]\nregion_hi = [2, 2, 2]\n[run]\ndt = 1e-3\n";
+  for (const std::string& scene : {std::string(kRow), block3d}) {
+    auto sim = test::simulation_from(scene);
+    State s = sim->state();
+    const double nan = std::nan("");
+    s.box.len = {nan, nan, nan};
+    for (double& x : s.particle_x) x = nan;
+    const View v = plain(160, 120, {"grains", "chains", "box", "time", "scalebar"});
+    const RenderScene rs = build_render_scene(sim->model(), s, v);
+    for (int d : rs.camera.domain_px) CHECK(std::abs(d) <= 1000);
+    Rasterizer raster(1);
+    const Image img = raster.draw(rs);
+    CHECK(img.width == 160);
+    CHECK(img.height == 120);
+  }
+}
