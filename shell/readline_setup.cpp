@@ -64,6 +64,22 @@ int utf8_checked(FILE* stream, int lead) {
 // build, found as a timeout).
 constexpr int kMaxCount = 1000;
 
+// A line is held at kMaxLine bytes: a killed line yanked back many times, killed again and yanked
+// again grows geometrically (four rounds of Ctrl-A Ctrl-K and forty Ctrl-Y took minutes; found as
+// a libFuzzer timeout). Before each key, a longer line is cut back (undoably), unless a key
+// sequence, a count or a search is being read.
+constexpr int kMaxLine = 1 << 16;
+
+void hold_line_length() {
+  if (rl_end <= kMaxLine || RL_ISSTATE(RL_STATE_MULTIKEY | RL_STATE_NUMERICARG | RL_STATE_ISEARCH | RL_STATE_NSEARCH |
+                                       RL_STATE_SEARCH | RL_STATE_CHARSEARCH | RL_STATE_VIMOTION))
+    return;
+  rl_delete_text(kMaxLine, rl_end);
+  rl_point = std::min(rl_point, rl_end);
+  rl_mark = std::min(rl_mark, rl_end);
+  rl_ding();
+}
+
 // The keys as readline reads them, with two of its crashes kept away and counts bounded. In vi mode, an unfinished
 // escape sequence with a number ("\e[5", "\e[1;5") ended by a byte that no terminal sends inside
 // one (a control character, DEL, a byte above 127) makes readline 8.2's callback interface read a
@@ -71,6 +87,7 @@ constexpr int kMaxCount = 1000;
 // dropped, and the Escape enters command mode). Bytes above 127: utf8_checked.
 int guarded_getc(FILE* stream) {
   static bool in_escape = false;  // the key sequence being read began with Escape
+  hold_line_length();
   const int c = rl_getc(stream);
   if (RL_ISSTATE(RL_STATE_NUMERICARG) && rl_numeric_arg > kMaxCount) rl_numeric_arg = kMaxCount;
   if (RL_ISSTATE(RL_STATE_MULTIKEY)) {

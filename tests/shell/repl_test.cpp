@@ -171,6 +171,12 @@ TEST_CASE("on a terminal, the key sequences that crash readline's callback inter
   t.type("\x1d\x1b\x01\x15\x1b[200~\x15");
   t.type("print step\n");
   CHECK(!t.read_until("step = 0").empty());
+  // A line killed and yanked back forty times, four rounds: 26 million characters, minutes in
+  // readline; held at 65,536 now.
+  std::string yanks = "abcdefghij";
+  for (int round = 0; round < 4; ++round) yanks += "\x01\x0b" + std::string(40, '\x19');
+  t.type(yanks + "\x15print t\n");
+  CHECK(!t.read_until("t = 0").empty());
   // Vi mode (Meta-Ctrl-J), an escape sequence with a number cut by a byte above 127 or a control
   // character: a null pointer read in readline 8.2's callback interface. Then 'i' to insert.
   t.type("\x1b\n\x1b[5\xae\x1b[1;5\x01iprint t\n");
