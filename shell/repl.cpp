@@ -97,17 +97,32 @@ extern "C" void on_line(char* line) {
 
 // The shell without a terminal: plain lines (a pipe, a file), a background run's messages
 // printed between them, Ctrl-C (SIGINT) pausing a run as on a terminal.
+// A line longer than this is refused whole (the input of `silt shell < /dev/zero` has no end of
+// line: it was kept, and searched again from its start after every read of 4 KiB).
+constexpr size_t kMaxPlainLine = size_t{1} << 20;
+
 int plain_lines(shell::Session& session) {
   std::string buf;
+  size_t scanned = 0;     // buf[0, scanned) holds no end of line
+  bool too_long = false;  // the line being read is past kMaxPlainLine: dropped up to its end
   bool eof = false;
   while (!session.quit_requested() && !g_terminated) {
     const auto messages = session.take_messages();
     for (const auto& m : messages) std::cout << m << "\n";
     if (!messages.empty()) std::cout << std::flush;
-    const auto nl = buf.find('\n');
+    const auto nl = buf.find('\n', scanned);
+    if (nl == std::string::npos) scanned = buf.size();
+    if (nl == std::string::npos && buf.size() > kMaxPlainLine) {
+      if (!too_long) std::cerr << "error: a line longer than " << kMaxPlainLine << " bytes: ignored\n";
+      too_long = true;
+      buf.clear();
+      scanned = 0;
+    }
     if (nl != std::string::npos) {
       std::string line = buf.substr(0, nl);
       buf.erase(0, nl + 1);
+      scanned = 0;
+      if (std::exchange(too_long, false)) continue;  // the end of a line refused above
       if (!line.empty() && line.back() == '\r') line.pop_back();
       session.execute(line);
       char drain[64];  // a Ctrl-C that paused the command is spent
@@ -116,7 +131,7 @@ int plain_lines(shell::Session& session) {
       continue;
     }
     if (eof) {
-      if (!buf.empty()) session.execute(std::exchange(buf, std::string()));
+      if (!buf.empty() && !too_long) session.execute(std::exchange(buf, std::string()));
       break;
     }
     fd_set fds;

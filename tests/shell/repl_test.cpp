@@ -267,4 +267,10 @@ TEST_CASE("without a terminal the shell reads plain lines: control characters ar
   }
   std::tie(code, out) = shell(noise);
   CHECK(code == 0);
+  // A line of 3 MiB (as `silt shell < /dev/zero` reads): refused, and the next line runs. The whole
+  // of it was kept and searched again from its start after every read (300 MB of zeros: minutes).
+  std::tie(code, out) = shell(std::string(3 << 20, 'x') + "\nprint step\n");
+  CHECK(code == 0);
+  CHECK(contains(out, "a line longer than 1048576 bytes: ignored"));
+  CHECK(contains(out, "step = 0"));
 }
