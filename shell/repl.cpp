@@ -95,12 +95,12 @@ extern "C" void on_line(char* line) {
   }
 }
 
-// The shell without a terminal: plain lines (a pipe, a file), a background run's messages
-// printed between them, Ctrl-C (SIGINT) pausing a run as on a terminal.
 // A line longer than this is refused whole (the input of `silt shell < /dev/zero` has no end of
 // line: it was kept, and searched again from its start after every read of 4 KiB).
 constexpr size_t kMaxPlainLine = size_t{1} << 20;
 
+// The shell without a terminal: plain lines (a pipe, a file), a background run's messages
+// printed between them, Ctrl-C (SIGINT) pausing a run as on a terminal.
 int plain_lines(shell::Session& session) {
   std::string buf;
   size_t scanned = 0;     // buf[0, scanned) holds no end of line

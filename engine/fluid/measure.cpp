@@ -50,7 +50,7 @@ double face_weight(const Grid& g, int a, int64_t i) {
   return (i == 0 || i == g.n[a]) ? 0.5 : 1.0;
 }
 
-// f(row, i, padded index) for every cell, rows of cells (j, k) handed out in parallel.
+// f(row, i, padded index) for every cell of the rows of cells [b, e) (row = j + n_y k).
 template <class F>
 void for_each_cell_row(const Grid& g, const Layout& L, int64_t b, int64_t e, F&& f) {
   for (int64_t row = b; row < e; ++row) {

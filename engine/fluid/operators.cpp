@@ -241,12 +241,6 @@ void project_velocity(const Grid& g, const Layout& L, const Padded& u, const dou
   else project_velocity_d<3>(g, L, u, phi, coeff, p);
 }
 
-namespace {
-inline void scaled_copy(const double* __restrict from, double* __restrict to, int64_t n, double scale) {
-  for (int64_t i = 0; i < n; ++i) to[i] = from[i] * scale;
-}
-}  // namespace
-
 void gather_unknowns(const Grid& g, const Layout& L, int a, const double* padded, double* out, double scale) {
   sweep_rows(L, range_of(g, a), [&](int64_t q0, int64_t n, int64_t row) {
     run_simd([&] { scaled_copy(padded + q0, out + row * n, n, scale); });

@@ -99,4 +99,10 @@ inline void cell_vorticity_kernel(const double* const* c, int64_t q, const int64
   }
 }
 
+// to = from * scale over a row of n values (the padded arrays' rows and the State's or the
+// unknowns' never overlap; restrict lets GCC vectorise it at every level without overlap checks).
+inline void scaled_copy(const double* __restrict from, double* __restrict to, int64_t n, double scale) {
+  for (int64_t i = 0; i < n; ++i) to[i] = from[i] * scale;
+}
+
 }  // namespace silt::fluid

@@ -11,6 +11,7 @@
 #include "fluid/boundaries.hpp"
 #include "fluid/operators.hpp"
 #include "fluid/pressure_solve.hpp"
+#include "fluid/stencil_kernels.hpp"
 
 namespace silt::fluid {
 namespace {
@@ -44,9 +45,6 @@ inline void store_row(const double* __restrict p, double* __restrict s, int64_t 
   }
   m = lm, m_old = lo, change = lc;
 }
-inline void load_row(double* __restrict p, const double* __restrict s, int64_t n, double scale) {
-  for (int64_t i = 0; i < n; ++i) p[i] = s[i] * scale;
-}
 
 // Copies between the State's arrays (no ghosts) and the padded ones, multiplying by `scale` (a
 // load leaves the ghosts as they were). A store returns the largest |value| of the padded array
@@ -64,7 +62,7 @@ std::array<double, 3> copy_state(const Grid& g, const Layout& L, int a, std::vec
         const int64_t j = row % d[1], k = row / d[1];
         double* p = padded + L.at(0, j, k);
         double* s = state.data() + row * d[0];
-        if constexpr (kLoad) load_row(p, s, d[0], scale);
+        if constexpr (kLoad) scaled_copy(s, p, d[0], scale);
         else store_row<kChange>(p, s, d[0], scale, m, m_old, change);
       }
     });
