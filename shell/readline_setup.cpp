@@ -66,19 +66,32 @@ constexpr int kMaxCount = 1000;
 
 // A line is held at kMaxLine bytes: a killed line yanked back many times, killed again and yanked
 // again grows geometrically (four rounds of Ctrl-A Ctrl-K and forty Ctrl-Y took minutes; found as
-// a libFuzzer timeout). Before each key, a longer line is cut back (undoably), unless a key
-// sequence, a count or a search is being read.
+// a libFuzzer timeout). Before each key, a longer line is cut back, unless a key sequence, a count
+// or a search is being read. The cut forgets the line's undo list: kept, it would hold every text
+// cut (a megabyte a key at most, see kMaxRepeat), and undoing past the cut would reach beyond the
+// line's end.
 constexpr int kMaxLine = 1 << 16;
 
 void hold_line_length() {
   if (rl_end <= kMaxLine || RL_ISSTATE(RL_STATE_MULTIKEY | RL_STATE_NUMERICARG | RL_STATE_ISEARCH | RL_STATE_NSEARCH |
                                        RL_STATE_SEARCH | RL_STATE_CHARSEARCH | RL_STATE_VIMOTION))
     return;
-  rl_delete_text(kMaxLine, rl_end);
+  rl_free_undo_list();
+  rl_end = kMaxLine;
+  rl_line_buffer[rl_end] = '\0';
   rl_point = std::min(rl_point, rl_end);
   rl_mark = std::min(rl_mark, rl_end);
   rl_ding();
 }
+
+// vi's put (p, P) and redo (.) insert a text count times within one key, where the line's cut
+// cannot reach: readline 8.2 grows the line by one reallocation per copy, so a count of 999 on a
+// line of 64 KiB took minutes and gigabytes (a libFuzzer out-of-memory). Their count is held at
+// kMaxRepeat; a redo of a put reaches the put through its key, and is held there.
+constexpr int kMaxRepeat = 16;
+
+int held_vi_put(int count, int key) { return rl_vi_put(std::min(count, kMaxRepeat), key); }
+int held_vi_redo(int count, int key) { return rl_vi_redo(std::min(count, kMaxRepeat), key); }
 
 // The keys as readline reads them, with two of its crashes kept away and counts bounded. In vi mode, an unfinished
 // escape sequence with a number ("\e[5", "\e[1;5") ended by a byte that no terminal sends inside
@@ -122,7 +135,8 @@ int reread_init_file(int count, int key) {
   return r;
 }
 
-// Every binding of a crashing command removed from `map` and the keymaps under it (a prefix key,
+// Every binding of a crashing command removed from `map` and the keymaps under it, and the vi
+// commands that repeat a text bound to their held versions (a prefix key,
 // "\C-x" or Escape, leads to another keymap; ANYOTHERKEY, the last entry, holds what a prefix key
 // did alone before a longer sequence was bound under it).
 void guard_keymap(Keymap map, std::vector<Keymap>& seen) {
@@ -133,6 +147,8 @@ void guard_keymap(Keymap map, std::vector<Keymap>& seen) {
     if (e.type == ISKMAP) guard_keymap(reinterpret_cast<Keymap>(e.function), seen);  // readline stores it so
     else if (e.type == ISFUNC && crashes_readline(e.function)) e.function = nullptr;
     else if (e.type == ISFUNC && e.function == rl_re_read_init_file) e.function = reread_init_file;
+    else if (e.type == ISFUNC && e.function == rl_vi_put) e.function = held_vi_put;
+    else if (e.type == ISFUNC && e.function == rl_vi_redo) e.function = held_vi_redo;
   }
 }
 

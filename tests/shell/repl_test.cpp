@@ -186,6 +186,15 @@ TEST_CASE("on a terminal, the key sequences that crash readline's callback inter
   t.type("save a.ckp\xff\xbf\x1bwcc");
   t.type("print t\xc3\xa9\n");
   CHECK(!t.read_until("unknown observable 't\xc3\xa9'").empty());
+  // Still in vi mode: a line yanked (0y$) and put back with a count (999p) three times, then the
+  // put redone with a count (999.): one reallocation of the line per copy, minutes and gigabytes
+  // in readline 8.2 once the line is long; the counts of both are held at 16 now, and the line
+  // cut back to 65,536 characters at the next key.
+  std::string puts = "abcdefgh\x1b";
+  for (int k = 0; k < 3; ++k) puts += "0y$999p";
+  for (int k = 0; k < 8; ++k) puts += "999.";
+  t.type(puts + "ccprint t\n");
+  CHECK(!t.read_until("t = 0", 30).empty());
   t.type("quit\n");
   CHECK(t.wait_exit() == 0);
 }
