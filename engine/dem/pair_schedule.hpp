@@ -32,9 +32,9 @@ namespace silt::dem {
 
 // A conflict-free order of the pair loop's blocks of rows.
 struct PairSchedule {
-  static constexpr int64_t kBlock = 256;  // rows per block
-  std::vector<int32_t> blocks;            // block indices, grouped by colour
-  std::vector<int32_t> colour_start;      // colour c holds blocks[colour_start[c] .. colour_start[c + 1])
+  static constexpr int64_t kBlock = 1024;  // rows per block
+  std::vector<int32_t> blocks;             // block indices, grouped by colour
+  std::vector<int32_t> colour_start;       // colour c holds blocks[colour_start[c] .. colour_start[c + 1])
   int colours() const { return static_cast<int>(colour_start.size()) - 1; }
   // The same order as a graph: block b may run once its n_before[b] predecessors have run (the
   // blocks of earlier colours that write a grain it writes, the nearest for each such grain); its

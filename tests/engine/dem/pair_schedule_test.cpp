@@ -98,7 +98,7 @@ int check_schedule(int64_t n, const std::vector<int32_t>& start, const std::vect
 
 TEST_CASE("pair schedule: random partners, no two blocks of a colour write the same grain") {
   std::mt19937 rng(7);
-  for (int64_t n : {1, 255, 256, 257, 3000}) {
+  for (int64_t n : {int64_t{1}, B - 1, B, B + 1, 3 * B + 500}) {
     std::vector<int32_t> start(n + 1, 0), pj;
     for (int64_t i = 0; i < n; ++i) {
       std::set<int32_t> row;

@@ -9,6 +9,8 @@ using namespace silt;
 
 namespace {
 
+// Each scene holds over twice PairSchedule::kBlock grains, so that the pair loop runs three blocks
+// or more, and the blocks that write a common grain are ordered across threads.
 // Frictional polydisperse spheres poured on a wall in a periodic box: pairs, walls, rebuilds.
 const char* kPour3d = R"(
 [scene]
@@ -16,7 +18,7 @@ dimension = 3
 seed = 11
 [domain]
 lo = [0, 0, 0]
-hi = [8, 8, 20]
+hi = [8, 8, 44]
 periodic = [true, true, false]
 [gravity]
 magnitude = 9.81
@@ -30,7 +32,7 @@ friction = 0.4
 point = [0, 0, 0]
 normal = [0, 0, 1]
 [[grains]]
-count = 1200
+count = 2640
 radius_min = 0.3
 radius_max = 0.45
 placement = "random"
@@ -48,7 +50,7 @@ dimension = 2
 seed = 5
 [domain]
 lo = [0, 0]
-hi = [50, 50]
+hi = [74, 74]
 periodic = [true, true]
 [box]
 pressure = 1.0
@@ -58,7 +60,7 @@ k_n = 1e4
 damping = 0.5
 friction = 0.3
 [[grains]]
-count = 1100
+count = 2400
 radius_min = 0.35
 radius_max = 0.5
 placement = "random"
@@ -74,7 +76,7 @@ dimension = 3
 seed = 3
 [domain]
 lo = [0, 0, 0]
-hi = [11, 11, 11]
+hi = [14.3, 14.3, 14.3]
 periodic = [true, true, true]
 [box]
 pressure = 1.0
@@ -88,7 +90,7 @@ k_n = 1e4
 damping = 0.5
 friction = 0.4
 [[grains]]
-count = 1100
+count = 2420
 radius_min = 0.35
 radius_max = 0.5
 placement = "random"
