@@ -8,6 +8,7 @@
 #include <cstring>
 #include <cwchar>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace silt::cli {
@@ -135,20 +136,27 @@ int reread_init_file(int count, int key) {
   return r;
 }
 
-// Every binding of a crashing command removed from `map` and the keymaps under it, and the vi
-// commands that repeat a text bound to their held versions (a prefix key,
-// "\C-x" or Escape, leads to another keymap; ANYOTHERKEY, the last entry, holds what a prefix key
-// did alone before a longer sequence was bound under it).
+// What a binding of f becomes: nothing for a crashing command, silt's version of a command it
+// wraps, f itself otherwise.
+rl_command_func_t* guarded(rl_command_func_t* f) {
+  if (crashes_readline(f)) return nullptr;
+  const std::pair<rl_command_func_t*, rl_command_func_t*> wrapped[] = {
+      {rl_re_read_init_file, reread_init_file}, {rl_vi_put, held_vi_put}, {rl_vi_redo, held_vi_redo}};
+  for (const auto& [from, to] : wrapped)
+    if (f == from) return to;
+  return f;
+}
+
+// Every binding of `map` and the keymaps under it guarded (a prefix key, "\C-x" or Escape, leads
+// to another keymap; ANYOTHERKEY, the last entry, holds what a prefix key did alone before a
+// longer sequence was bound under it).
 void guard_keymap(Keymap map, std::vector<Keymap>& seen) {
   if (!map || std::find(seen.begin(), seen.end(), map) != seen.end()) return;
   seen.push_back(map);
   for (int k = 0; k < KEYMAP_SIZE; ++k) {
     KEYMAP_ENTRY& e = map[k];
     if (e.type == ISKMAP) guard_keymap(reinterpret_cast<Keymap>(e.function), seen);  // readline stores it so
-    else if (e.type == ISFUNC && crashes_readline(e.function)) e.function = nullptr;
-    else if (e.type == ISFUNC && e.function == rl_re_read_init_file) e.function = reread_init_file;
-    else if (e.type == ISFUNC && e.function == rl_vi_put) e.function = held_vi_put;
-    else if (e.type == ISFUNC && e.function == rl_vi_redo) e.function = held_vi_redo;
+    else if (e.type == ISFUNC) e.function = guarded(e.function);
   }
 }
 

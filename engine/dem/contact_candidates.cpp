@@ -55,7 +55,8 @@ void select_dim(const Model& m, State& s, DemWorkspace& sc) {
   sc.cand_end.assign(nb, 0);
   const PeriodicImage<D> img(s.box);
   const bool all = m.contact_skin >= m.skin;
-  parallel_for(nb, 8, [&](int64_t b, int64_t e) {
+  // Tasks of about 2,048 rows, whatever the schedule's block size.
+  parallel_for(nb, std::max<int64_t>(1, 2048 / PairSchedule::kBlock), [&](int64_t b, int64_t e) {
     for (int64_t k = b; k < e; ++k) {
       if (all) select_block<D, true>(s, sc, img, m.contact_skin, k);
       else select_block<D, false>(s, sc, img, m.contact_skin, k);
