@@ -1,5 +1,6 @@
 #include "shell/readline_setup.hpp"
 
+#include <readline/history.h>
 #include <readline/readline.h>
 
 #include <algorithm>
@@ -8,6 +9,7 @@
 #include <cstring>
 #include <cwchar>
 #include <string>
+#include <unordered_set>
 #include <utility>
 #include <vector>
 
@@ -73,11 +75,26 @@ constexpr int kMaxCount = 1000;
 // line's end.
 constexpr int kMaxLine = 1 << 16;
 
+// Frees the line's undo list. A history line recalled, edited, left and recalled again keeps its
+// undo list in its history entry, which then points inside the line's list (the later edits are
+// pushed on top), and readline 8.2's rl_free_undo_list forgets only an entry pointing at the
+// list's head: the entry would keep freed records, freed again when the history is cleared (a
+// double free, found by fuzzing) or read by an undo once the line is recalled. Every entry that
+// points into the list lets go of it first.
+void free_undo_list() {
+  std::unordered_set<const void*> records;
+  for (const UNDO_LIST* u = rl_undo_list; u; u = u->next) records.insert(u);
+  if (HIST_ENTRY** entries = history_list())
+    for (HIST_ENTRY** e = entries; *e; ++e)
+      if (records.count((*e)->data)) (*e)->data = nullptr;
+  rl_free_undo_list();
+}
+
 void hold_line_length() {
   if (rl_end <= kMaxLine || RL_ISSTATE(RL_STATE_MULTIKEY | RL_STATE_NUMERICARG | RL_STATE_ISEARCH | RL_STATE_NSEARCH |
                                        RL_STATE_SEARCH | RL_STATE_CHARSEARCH | RL_STATE_VIMOTION))
     return;
-  rl_free_undo_list();
+  free_undo_list();
   rl_end = kMaxLine;
   rl_line_buffer[rl_end] = '\0';
   rl_point = std::min(rl_point, rl_end);

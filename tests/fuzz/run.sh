@@ -21,12 +21,13 @@ case $target in
   # Sessions run some hundred inputs a second: the entropic schedule's bookkeeping of every
   # coverage feature, a quarter of each run's time here, is left out (-entropic=0).
   # AddressSanitizer keeps freed blocks in a quarantine (256 MB by default) to catch their use,
-  # and a size class keeps the memory it once held: the terminal target allocates and frees
-  # blocks of 80 to 128 KiB by the thousand (4,100 to 41,600 per size class over its corpus), and
-  # each of those classes came to hold a whole quarantine (about 280 MB each). Replaying the terminal corpus (6,471 inputs) ended
-  # at 485, 1,138, 1,721 and 2,567 MB resident with quarantines of 16, 64, 128 and 256 MB, 38 MB
-  # of it live (an out-of-memory at 256). 32 MB is still ten inputs' frees (2.9 MB an input on
-  # average): a use after free within an input is still caught.
+  # and a size class keeps the memory it once held: the session targets allocate and free blocks
+  # of 80 to 128 KiB by the thousand (zlib's buffers, four for each PNG frame written, and the
+  # frames' pixels: 4,100 to 41,600 per size class over the terminal corpus), and each of those
+  # classes came to hold a whole quarantine (about 280 MB each). Replaying the terminal corpus
+  # (6,471 inputs) ended at 485, 1,138, 1,721 and 2,567 MB resident with quarantines of 16, 64,
+  # 128 and 256 MB, 38 MB of it live (an out-of-memory at 256). 32 MB is still ten inputs' frees
+  # (2.9 MB an input on average): a use after free within an input is still caught.
   session | repl)
     options+=(-dict="$corpus/session.dict" -max_len=2048 -timeout=30 -entropic=0)
     asan_extra=:quarantine_size_mb=32

@@ -199,6 +199,37 @@ TEST_CASE("on a terminal, the key sequences that crash readline's callback inter
   CHECK(t.wait_exit() == 0);
 }
 
+TEST_CASE("a history line edited twice and cut back to 65,536 bytes keeps a sound undo list") {
+  TempDir home;
+  // One screen line scrolled sideways: a line of 65,536 characters wrapped over 80 columns takes
+  // readline seconds to redraw after each key.
+  std::ofstream(home / "inputrc") << "set horizontal-scroll-mode on\n";
+  Terminal t(silt::test::scene_path("collision_normal"), home.path(), home / "inputrc");
+  REQUIRE(!t.read_until("silt[t=0]> ").empty());
+  t.type("print t\n");
+  REQUIRE(!t.read_until("t = 0").empty());
+  // A history line recalled (Ctrl-P), edited, left (Ctrl-N), recalled and edited again keeps its
+  // undo list in its history entry, which then points inside the line's list. The line made
+  // longer than 65,536 bytes (Meta-1000 and a space, 66 times) is cut at the next key, Enter: the
+  // cut freed the list and left the entry holding freed records, freed again when the history was
+  // cleared (a double free the fuzzer found) and read by an undo once the line is recalled.
+  std::string keys = "\x10 \x0e\x10 ";
+  for (int k = 0; k < 66; ++k)
+    keys +=
+        "\x1b"
+        "1000 ";
+  t.type(keys);
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));  // Enter read on its own: accepted
+  t.type("\n");
+  REQUIRE(!t.read_until("t = 0", 30).empty());
+  // The cut line and then the edited one recalled, undone, and left (readline 8.2 read the freed
+  // records: "double free or corruption" from glibc, the shell aborted).
+  t.type("\x10\x10\x1f\x1f\x1f\x0e\x0e\x15print step\n");
+  CHECK(!t.read_until("step = 0", 30).empty());
+  t.type("quit\n");
+  CHECK(t.wait_exit() == 0);
+}
+
 TEST_CASE("commands that crash readline's callback interface do nothing under any key an inputrc gives them") {
   TempDir home;
   // Every keymap: emacs, its Meta and Ctrl-X maps, vi insertion and vi command (movement); keys
