@@ -11,6 +11,19 @@ seconds=${1:-20}
 out=build-fuzz
 tests/fuzz/build.sh "$out"
 failed=0
+# First the inputs the targets found (tests/fuzz/crashes/, by extension), each target's in one
+# process in name order: some broke silt only after an earlier input's state.
+declare -A found=([scene]=toml [checkpoint]=ckpt [session]=session [repl]=keys)
+for t in scene checkpoint session repl; do
+  files=(tests/fuzz/crashes/*."${found[$t]}")
+  if FUZZ_REPLAY=1 tests/fuzz/run.sh "$t" "$out" "${files[@]}"; then
+    echo "fuzz $t: the ${#files[@]} inputs found before ran clean"
+  else
+    echo "fuzz $t: FAILED on the inputs found before, log $out/logs/$t-replay.log"
+    grep -E 'ERROR:|runtime error:|silt fuzz:|^ +#[0-3] |SUMMARY:|Running: ' "$out/logs/$t-replay.log" | cut -c1-200 | tail -n 14
+    failed=1
+  fi
+done
 for t in command_parser scene checkpoint session repl; do
   if tests/fuzz/run.sh "$t" "$out" -max_total_time="$seconds"; then
     echo "fuzz $t: ok, $(grep -oE '^Done [0-9]+ runs in [0-9]+ second' "$out/logs/$t.log" | sed 's/^Done //;s/ second$/ s/')"

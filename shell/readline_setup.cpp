@@ -84,9 +84,11 @@ constexpr int kMaxLine = 1 << 16;
 void free_undo_list() {
   std::unordered_set<const void*> records;
   for (const UNDO_LIST* u = rl_undo_list; u; u = u->next) records.insert(u);
+  // The first history_length entries: rl_clear_history frees the entries without clearing the
+  // array, so the list is not ended by a null pointer after it.
   if (HIST_ENTRY** entries = history_list())
-    for (HIST_ENTRY** e = entries; *e; ++e)
-      if (records.count((*e)->data)) (*e)->data = nullptr;
+    for (int k = 0; k < history_length; ++k)
+      if (records.count(entries[k]->data)) entries[k]->data = nullptr;
   rl_free_undo_list();
 }
 

@@ -4,7 +4,8 @@
 # -runs=1000000). The log goes to BUILD_DIR/logs/TARGET.log, a failing input to
 # BUILD_DIR/artifacts/. Exit status: libFuzzer's, or 1 when the log holds a sanitizer report.
 # With FUZZ_WORKER=K set (one of several processes on the same corpus), the log is TARGET-K.log.
-# Usage: tests/fuzz/run.sh TARGET BUILD_DIR [LIBFUZZER_FLAG...]
+# Usage: tests/fuzz/run.sh TARGET BUILD_DIR [LIBFUZZER_FLAG...]; FUZZ_REPLAY=1 tests/fuzz/run.sh
+# TARGET BUILD_DIR FILE...
 set -uo pipefail
 cd "$(dirname "$0")/../.."
 target=$1
@@ -37,12 +38,16 @@ case $target in
     exit 2
     ;;
 esac
+# With FUZZ_REPLAY set, no fuzzing: the arguments are files, run once each in that order in one
+# process (what an input leaves behind, readline's history or kill ring, reaches the next).
+inputs=("$corpus/$target")
+[ -z "${FUZZ_REPLAY:-}" ] || inputs=()
 mkdir -p "$build/logs" "$build/artifacts"
-log=$build/logs/$target${FUZZ_WORKER:+-$FUZZ_WORKER}.log
+log=$build/logs/$target${FUZZ_WORKER:+-$FUZZ_WORKER}${FUZZ_REPLAY:+-replay}.log
 ASAN_OPTIONS=detect_leaks=1${asan_extra:-} UBSAN_OPTIONS=print_stacktrace=1 \
   LSAN_OPTIONS=suppressions=$PWD/tests/fuzz/lsan.supp \
   "$build/tests/fuzz/${target}_fuzz" "${options[@]}" -artifact_prefix="$build/artifacts/$target-" "$@" \
-  "$corpus/$target" > "$log" 2>&1
+  "${inputs[@]}" > "$log" 2>&1
 status=$?
 if [ $status -eq 0 ] && grep -qE 'ERROR: (AddressSanitizer|LeakSanitizer|libFuzzer)|runtime error:|silt fuzz:' "$log"; then
   status=1
