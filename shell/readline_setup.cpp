@@ -182,6 +182,9 @@ void guard_keymap(Keymap map, std::vector<Keymap>& seen) {
 void guard_keymaps() {
   // Without its paste command, the terminal is not asked to mark pastes: a paste arrives as typed.
   rl_variable_bind("enable-bracketed-paste", "off");
+  // The line scrolled sideways instead of wrapped reads past readline 8.2's display buffer after a
+  // count's insertion of about 1,000 characters (heap-buffer-overflow in rl_redisplay): wrapped.
+  rl_variable_bind("horizontal-scroll-mode", "off");
   std::vector<Keymap> seen;
   for (Keymap map :
        {emacs_standard_keymap, emacs_meta_keymap, emacs_ctlx_keymap, vi_insertion_keymap, vi_movement_keymap})

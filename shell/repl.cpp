@@ -171,7 +171,12 @@ int shell_command(const std::string& scene, int threads) {
   sigemptyset(&sa.sa_mask);
   sigaction(SIGINT, &sa, nullptr);
   sigaction(SIGTERM, &sa, nullptr);
-  if (!::isatty(STDIN_FILENO)) {
+  // A terminal that cannot move the cursor up (TERM dumb or unset, as in an editor's shell
+  // buffer) gets plain lines too: readline 8.2 would scroll the line sideways there, and that
+  // display reads past its buffer after a count's insertion of about 1,000 characters
+  // (AddressSanitizer: heap-buffer-overflow in rl_redisplay from _rl_arg_dispatch).
+  const char* term = std::getenv("TERM");
+  if (!::isatty(STDIN_FILENO) || !term || !*term || std::strcmp(term, "dumb") == 0) {
     if (!scene.empty()) session.execute("load \"" + scene + "\"");
     const int code = plain_lines(session);
     g_session = nullptr;
