@@ -14,13 +14,16 @@ failed=0
 # First the inputs the targets found (tests/fuzz/crashes/, by extension), each target's in one
 # process in name order: some broke silt only after an earlier input's state.
 declare -A found=([scene]=toml [checkpoint]=ckpt [session]=session [repl]=keys)
+shopt -s nullglob
 for t in scene checkpoint session repl; do
   files=(tests/fuzz/crashes/*."${found[$t]}")
+  [ ${#files[@]} -gt 0 ] || continue
   if FUZZ_REPLAY=1 tests/fuzz/run.sh "$t" "$out" "${files[@]}"; then
     echo "fuzz $t: the ${#files[@]} inputs found before ran clean"
   else
     echo "fuzz $t: FAILED on the inputs found before, log $out/logs/$t-replay.log"
-    grep -E 'ERROR:|runtime error:|silt fuzz:|^ +#[0-3] |SUMMARY:|Running: ' "$out/logs/$t-replay.log" | cut -c1-200 | tail -n 14
+    grep -E 'ERROR:|runtime error:|silt fuzz:|^ +#[0-3] |SUMMARY:|Running: ' "$out/logs/$t-replay.log" |
+      cut -c1-200 | tail -n 14 || true
     failed=1
   fi
 done
@@ -29,7 +32,8 @@ for t in command_parser scene checkpoint session repl; do
     echo "fuzz $t: ok, $(grep -oE '^Done [0-9]+ runs in [0-9]+ second' "$out/logs/$t.log" | sed 's/^Done //;s/ second$/ s/')"
   else
     echo "fuzz $t: FAILED, log $out/logs/$t.log"
-    grep -E 'ERROR:|runtime error:|silt fuzz:|^ +#[0-3] |SUMMARY:|Test unit written' "$out/logs/$t.log" | cut -c1-200 | head -n 12
+    grep -E 'ERROR:|runtime error:|silt fuzz:|^ +#[0-3] |SUMMARY:|Test unit written' "$out/logs/$t.log" |
+      cut -c1-200 | head -n 12 || true
     failed=1
   fi
 done

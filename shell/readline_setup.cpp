@@ -13,6 +13,10 @@
 #include <utility>
 #include <vector>
 
+// readline 8.2's copy of the line being typed while the history is walked (exported, declared in
+// its private header only).
+extern "C" HIST_ENTRY* _rl_saved_line_for_history;
+
 namespace silt::cli {
 namespace {
 
@@ -88,7 +92,11 @@ void free_undo_list() {
   // array, so the list is not ended by a null pointer after it.
   if (HIST_ENTRY** entries = history_list())
     for (int k = 0; k < history_length; ++k)
-      if (records.count(entries[k]->data)) entries[k]->data = nullptr;
+      if (entries[k] && records.count(entries[k]->data)) entries[k]->data = nullptr;
+  // The line being typed when the history was entered keeps its undo list apart, and a vi-mode
+  // search can leave it shared with the line recalled: it lets go too.
+  if (_rl_saved_line_for_history && records.count(_rl_saved_line_for_history->data))
+    _rl_saved_line_for_history->data = nullptr;
   rl_free_undo_list();
 }
 

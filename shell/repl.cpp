@@ -7,9 +7,10 @@
 // (and abandons a sourced script); at the prompt it clears the line. SIGTERM (a scheduler, a
 // closing terminal's session manager) pauses the run and ends the session as `quit` does, exit 143.
 //
-// Without a terminal on standard input (a pipe, a file, a scheduler's job) there is no line
-// editing at all: lines are read as they are, a control character is part of the line, and
-// nothing of readline runs (its callback interface crashes on some key sequences, below).
+// Without a terminal on standard input (a pipe, a file, a scheduler's job), or on one that cannot
+// move the cursor up (TERM=dumb), there is no line editing at all: lines are read as they are, a
+// control character is part of the line, and nothing of readline runs after its set-up (its
+// callback interface crashes on some key sequences, below).
 //
 // On a terminal, the key sequences that crash GNU readline 8.2's callback interface are unbound:
 // the incremental history searches (Ctrl-R, Ctrl-S), which Ctrl-X and another key then crash, and
@@ -171,12 +172,19 @@ int shell_command(const std::string& scene, int threads) {
   sigemptyset(&sa.sa_mask);
   sigaction(SIGINT, &sa, nullptr);
   sigaction(SIGTERM, &sa, nullptr);
-  // A terminal that cannot move the cursor up (TERM dumb or unset, as in an editor's shell
-  // buffer) gets plain lines too: readline 8.2 would scroll the line sideways there, and that
-  // display reads past its buffer after a count's insertion of about 1,000 characters
-  // (AddressSanitizer: heap-buffer-overflow in rl_redisplay from _rl_arg_dispatch).
-  const char* term = std::getenv("TERM");
-  if (!::isatty(STDIN_FILENO) || !term || !*term || std::strcmp(term, "dumb") == 0) {
+  const bool terminal = ::isatty(STDIN_FILENO);
+  if (terminal) {
+    rl_catch_signals = 0;
+    install_completion(&session);
+    rl_readline_name = "silt";
+    rl_initialize();  // reads the terminal's description (TERM) and the inputrc
+  }
+  // A terminal that cannot move the cursor up (TERM dumb, unset or not described, as in an
+  // editor's shell buffer) gets plain lines too: readline 8.2 would scroll the line sideways
+  // there, and that display reads past its buffer after a count's insertion of about 1,000
+  // characters (AddressSanitizer: heap-buffer-overflow in rl_redisplay from _rl_arg_dispatch).
+  const char* up = terminal ? rl_get_termcap("up") : nullptr;
+  if (!up || !*up) {
     if (!scene.empty()) session.execute("load \"" + scene + "\"");
     const int code = plain_lines(session);
     g_session = nullptr;
@@ -184,10 +192,6 @@ int shell_command(const std::string& scene, int threads) {
     ::close(g_pipe[1]);
     return code;
   }
-  rl_catch_signals = 0;
-  install_completion(&session);
-  rl_readline_name = "silt";
-  rl_initialize();
   guard_readline_keys();
   using_history();
   read_history(history_path().c_str());
