@@ -58,7 +58,9 @@ for t in "${targets[@]}"; do
     elif grep -q 'out-of-memory' "${logs[@]}"; then result=oom
     elif grep -q 'LeakSanitizer' "${logs[@]}"; then result=leak
     else result=crash; fi
-    artifact=$(cat "${logs[@]}" | grep -oE 'Test unit written to [^ ]+' | tail -n 1 | sed 's/.* //')
+    # The failing input (libFuzzer also writes slow units, which are not failures).
+    artifact=$(cat "${logs[@]}" | grep -oE 'Test unit written to [^ ]+-(crash|leak|timeout|oom)-[^ ]+' | tail -n 1 |
+      sed 's/.* //' || true)
     [ -z "$artifact" ] || result="$result $artifact"
   fi
   files=$(find "$out/corpus/$t" -type f | wc -l)

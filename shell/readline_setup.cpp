@@ -1,6 +1,5 @@
 #include "shell/readline_setup.hpp"
 
-#include <readline/history.h>
 #include <readline/readline.h>
 
 #include <algorithm>
@@ -9,13 +8,8 @@
 #include <cstring>
 #include <cwchar>
 #include <string>
-#include <unordered_set>
 #include <utility>
 #include <vector>
-
-// readline 8.2's copy of the line being typed while the history is walked (exported, declared in
-// its private header only).
-extern "C" HIST_ENTRY* _rl_saved_line_for_history;
 
 namespace silt::cli {
 namespace {
@@ -74,39 +68,17 @@ constexpr int kMaxCount = 1000;
 // A line is held at kMaxLine bytes: a killed line yanked back many times, killed again and yanked
 // again grows geometrically (four rounds of Ctrl-A Ctrl-K and forty Ctrl-Y took minutes; found as
 // a libFuzzer timeout). Before each key, a longer line is cut back, unless a key sequence, a count
-// or a search is being read. The cut forgets the line's undo list: kept, it would hold every text
-// cut (a megabyte a key at most, see kMaxRepeat), and undoing past the cut would reach beyond the
-// line's end.
+// or a search is being read. The cut is an edit as any other, which undo takes back: freeing the
+// line's undo list instead left history entries holding freed records, as readline 8.2 forgets
+// only the entries that point at the list's head, while a history line edited, left and recalled
+// points inside it (double frees the fuzzer found, through the history and vi's search).
 constexpr int kMaxLine = 1 << 16;
-
-// Frees the line's undo list. A history line recalled, edited, left and recalled again keeps its
-// undo list in its history entry, which then points inside the line's list (the later edits are
-// pushed on top), and readline 8.2's rl_free_undo_list forgets only an entry pointing at the
-// list's head: the entry would keep freed records, freed again when the history is cleared (a
-// double free, found by fuzzing) or read by an undo once the line is recalled. Every entry that
-// points into the list lets go of it first.
-void free_undo_list() {
-  std::unordered_set<const void*> records;
-  for (const UNDO_LIST* u = rl_undo_list; u; u = u->next) records.insert(u);
-  // The first history_length entries: rl_clear_history frees the entries without clearing the
-  // array, so the list is not ended by a null pointer after it.
-  if (HIST_ENTRY** entries = history_list())
-    for (int k = 0; k < history_length; ++k)
-      if (entries[k] && records.count(entries[k]->data)) entries[k]->data = nullptr;
-  // The line being typed when the history was entered keeps its undo list apart, and a vi-mode
-  // search can leave it shared with the line recalled: it lets go too.
-  if (_rl_saved_line_for_history && records.count(_rl_saved_line_for_history->data))
-    _rl_saved_line_for_history->data = nullptr;
-  rl_free_undo_list();
-}
 
 void hold_line_length() {
   if (rl_end <= kMaxLine || RL_ISSTATE(RL_STATE_MULTIKEY | RL_STATE_NUMERICARG | RL_STATE_ISEARCH | RL_STATE_NSEARCH |
                                        RL_STATE_SEARCH | RL_STATE_CHARSEARCH | RL_STATE_VIMOTION))
     return;
-  free_undo_list();
-  rl_end = kMaxLine;
-  rl_line_buffer[rl_end] = '\0';
+  rl_delete_text(kMaxLine, rl_end);
   rl_point = std::min(rl_point, rl_end);
   rl_mark = std::min(rl_mark, rl_end);
   rl_ding();
@@ -143,13 +115,15 @@ int guarded_getc(FILE* stream) {
 // The commands whose paths through readline 8.2's callback interface crash or hang: the
 // incremental history searches (Ctrl-R, Ctrl-S by default), the keyboard macros (Ctrl-X ( ) e),
 // the character searches (Ctrl-], Meta-Ctrl-]: an Escape as the character sought, then any key,
-// reads a null pointer) and the bracketed paste (Escape [200~: input that ends inside the paste
-// overflows its buffer). They are unbound by function, not by key: a user's inputrc may give them
-// any key. (The vi mode's character searches, f F t T, do not crash.)
+// reads a null pointer), the bracketed paste (Escape [200~: input that ends inside the paste
+// overflows its buffer) and vi's history search (/ ? n N: a line found, edited, left with k and
+// recalled with j, edited again and left, leaves a history entry holding freed undo records,
+// freed again when the history is cleared). They are unbound by function, not by key: a user's
+// inputrc may give them any key. (The vi mode's character searches, f F t T, do not crash.)
 bool crashes_readline(rl_command_func_t* f) {
-  for (rl_command_func_t* bad :
-       {rl_reverse_search_history, rl_forward_search_history, rl_start_kbd_macro, rl_end_kbd_macro,
-        rl_call_last_kbd_macro, rl_char_search, rl_backward_char_search, rl_bracketed_paste_begin})
+  for (rl_command_func_t* bad : {rl_reverse_search_history, rl_forward_search_history, rl_start_kbd_macro,
+                                 rl_end_kbd_macro, rl_call_last_kbd_macro, rl_char_search, rl_backward_char_search,
+                                 rl_bracketed_paste_begin, rl_vi_search, rl_vi_search_again})
     if (f == bad) return true;
   return false;
 }

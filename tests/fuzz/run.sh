@@ -3,7 +3,8 @@
 # with its options, the rest of the arguments passed to libFuzzer (-max_total_time=20,
 # -runs=1000000). The log goes to BUILD_DIR/logs/TARGET.log, a failing input to
 # BUILD_DIR/artifacts/. Exit status: libFuzzer's, or 1 when the log holds a sanitizer report.
-# With FUZZ_WORKER=K set (one of several processes on the same corpus), the log is TARGET-K.log.
+# With FUZZ_WORKER=K set (one of several processes on the same corpus), the log is TARGET-K.log;
+# with FUZZ_REPLAY set, TARGET-replay.log.
 # Usage: tests/fuzz/run.sh TARGET BUILD_DIR [LIBFUZZER_FLAG...]; FUZZ_REPLAY=1 tests/fuzz/run.sh
 # TARGET BUILD_DIR FILE...
 set -uo pipefail
@@ -28,7 +29,8 @@ case $target in
   # classes came to hold a whole quarantine (about 280 MB each). Replaying the terminal corpus
   # (6,471 inputs) ended at 485, 1,138, 1,721 and 2,567 MB resident with quarantines of 16, 64,
   # 128 and 256 MB, 38 MB of it live (an out-of-memory at 256). 32 MB is still ten inputs' frees
-  # (2.9 MB an input on average): a use after free within an input is still caught.
+  # (2.9 MB an input on average): a use after free within an input is still caught unless more than
+  # 32 MB is freed in between.
   session | repl)
     options+=(-dict="$corpus/session.dict" -max_len=2048 -timeout=30 -entropic=0)
     asan_extra=:quarantine_size_mb=32
@@ -39,9 +41,16 @@ case $target in
     ;;
 esac
 # With FUZZ_REPLAY set, no fuzzing: the arguments are files, run once each in that order in one
-# process (what an input leaves behind, readline's history or kill ring, reaches the next).
+# process (what an input leaves behind, readline's history or kill ring, reaches the next), whole
+# (no -max_len).
 inputs=("$corpus/$target")
-[ -z "${FUZZ_REPLAY:-}" ] || inputs=()
+if [ -n "${FUZZ_REPLAY:-}" ]; then
+  [ $# -gt 0 ] || { echo "run.sh: FUZZ_REPLAY and no files" >&2; exit 2; }
+  inputs=()
+  kept=()
+  for o in "${options[@]}"; do [[ $o == -max_len=* ]] || kept+=("$o"); done
+  options=("${kept[@]}")
+fi
 mkdir -p "$build/logs" "$build/artifacts"
 log=$build/logs/$target${FUZZ_WORKER:+-$FUZZ_WORKER}${FUZZ_REPLAY:+-replay}.log
 ASAN_OPTIONS=detect_leaks=1${asan_extra:-} UBSAN_OPTIONS=print_stacktrace=1 \
