@@ -11,6 +11,13 @@ seconds=${1:-20}
 out=build-fuzz
 tests/fuzz/build.sh "$out"
 failed=0
+# A failed run of target T: its log and the lines that tell what broke.
+report() {
+  echo "fuzz $1: FAILED$2, log $3"
+  { grep -E '^Running: ' "$3" | tail -n 1 || true; } # a replay: the input that broke
+  grep -E 'ERROR:|runtime error:|silt fuzz:|^ +#[0-3] |SUMMARY:|Test unit written' "$3" | cut -c1-200 | head -n 12 || true
+  failed=1
+}
 # First the inputs the targets found (tests/fuzz/crashes/, by extension), each target's in one
 # process in name order: some broke silt only after an earlier input's state.
 declare -A found=([scene]=toml [checkpoint]=ckpt [session]=session [repl]=keys)
@@ -21,20 +28,14 @@ for t in scene checkpoint session repl; do
   if FUZZ_REPLAY=1 tests/fuzz/run.sh "$t" "$out" "${files[@]}"; then
     echo "fuzz $t: the ${#files[@]} inputs found before ran clean"
   else
-    echo "fuzz $t: FAILED on the inputs found before, log $out/logs/$t-replay.log"
-    grep -E 'ERROR:|runtime error:|silt fuzz:|^ +#[0-3] |SUMMARY:|Running: ' "$out/logs/$t-replay.log" |
-      cut -c1-200 | tail -n 14 || true
-    failed=1
+    report "$t" " on the inputs found before" "$out/logs/$t-replay.log"
   fi
 done
 for t in command_parser scene checkpoint session repl; do
   if tests/fuzz/run.sh "$t" "$out" -max_total_time="$seconds"; then
     echo "fuzz $t: ok, $(grep -oE '^Done [0-9]+ runs in [0-9]+ second' "$out/logs/$t.log" | sed 's/^Done //;s/ second$/ s/')"
   else
-    echo "fuzz $t: FAILED, log $out/logs/$t.log"
-    grep -E 'ERROR:|runtime error:|silt fuzz:|^ +#[0-3] |SUMMARY:|Test unit written' "$out/logs/$t.log" |
-      cut -c1-200 | head -n 12 || true
-    failed=1
+    report "$t" "" "$out/logs/$t.log"
   fi
 done
 exit $failed
