@@ -16,9 +16,10 @@ corpus=$build/corpus
 # Limits: a hang, or memory beyond these (2 GB in all, 1 GB in one allocation), is a bug.
 options=(-rss_limit_mb=2048 -malloc_limit_mb=1024 -print_final_stats=1)
 asan_extra=
+max_len=  # libFuzzer's longest input, when the target sets one
 case $target in
-  command_parser) options+=(-max_len=256 -timeout=5) ;;
-  scene) options+=(-dict="$corpus/scene.dict" -max_len=4096 -timeout=20) ;;
+  command_parser) max_len=256; options+=(-timeout=5) ;;
+  scene) max_len=4096; options+=(-dict="$corpus/scene.dict" -timeout=20) ;;
   checkpoint) options+=(-timeout=10) ;;  # -max_len: the largest seed
   # Sessions run some hundred inputs a second: the entropic schedule's bookkeeping of every
   # coverage feature, a quarter of each run's time here, is left out (-entropic=0).
@@ -32,7 +33,8 @@ case $target in
   # (2.9 MB an input on average): a use after free within an input is still caught unless more than
   # 32 MB is freed in between.
   session | repl)
-    options+=(-dict="$corpus/session.dict" -max_len=2048 -timeout=30 -entropic=0)
+    max_len=2048
+    options+=(-dict="$corpus/session.dict" -timeout=30 -entropic=0)
     asan_extra=:quarantine_size_mb=32
     ;;
   *)
@@ -47,9 +49,8 @@ inputs=("$corpus/$target")
 if [ -n "${FUZZ_REPLAY:-}" ]; then
   [ $# -gt 0 ] || { echo "run.sh: FUZZ_REPLAY and no files" >&2; exit 2; }
   inputs=()
-  kept=()
-  for o in "${options[@]}"; do [[ $o == -max_len=* ]] || kept+=("$o"); done
-  options=("${kept[@]}")
+elif [ -n "$max_len" ]; then
+  options+=(-max_len="$max_len")
 fi
 mkdir -p "$build/logs" "$build/artifacts"
 log=$build/logs/$target${FUZZ_WORKER:+-$FUZZ_WORKER}${FUZZ_REPLAY:+-replay}.log
