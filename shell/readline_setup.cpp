@@ -72,13 +72,20 @@ constexpr int kMaxCount = 1000;
 // line's undo list instead left history entries holding freed records, as readline 8.2 forgets
 // only the entries that point at the list's head, while a history line edited, left and recalled
 // points inside it (double frees the fuzzer found, through the history and vi's search).
-constexpr int kMaxLine = 1 << 16;
+// 4 KiB, not more: in a multibyte locale readline 8.2 finds a character boundary by reading the
+// line from its start, so a motion over the line costs its length squared: vi's bracket match (%)
+// repeated on a line of 64 KiB took three minutes in the fuzz build (a libFuzzer timeout), one
+// second at 4 KiB. The cut ends at a character's first byte, so that no byte of a character is
+// left alone (vi's word motions loop forever on one).
+constexpr int kMaxLine = 1 << 12;
 
 void hold_line_length() {
   if (rl_end <= kMaxLine || RL_ISSTATE(RL_STATE_MULTIKEY | RL_STATE_NUMERICARG | RL_STATE_ISEARCH | RL_STATE_NSEARCH |
                                        RL_STATE_SEARCH | RL_STATE_CHARSEARCH | RL_STATE_VIMOTION))
     return;
-  rl_delete_text(kMaxLine, rl_end);
+  int cut = kMaxLine;
+  while (cut > 0 && (static_cast<unsigned char>(rl_line_buffer[cut]) & 0xc0) == 0x80) --cut;
+  rl_delete_text(cut, rl_end);
   rl_point = std::min(rl_point, rl_end);
   rl_mark = std::min(rl_mark, rl_end);
   rl_ding();

@@ -174,7 +174,7 @@ TEST_CASE("on a terminal, the key sequences that crash readline's callback inter
   t.type("print step\n");
   CHECK(!t.read_until("step = 0").empty());
   // A line killed and yanked back forty times, four rounds: 26 million characters, minutes in
-  // readline; held at 65,536 now.
+  // readline; held at 4,096 bytes now.
   std::string yanks = "abcdefghij";
   for (int round = 0; round < 4; ++round) yanks += "\x01\x0b" + std::string(40, '\x19');
   t.type(yanks + "\x15print t\n");
@@ -191,7 +191,7 @@ TEST_CASE("on a terminal, the key sequences that crash readline's callback inter
   // Still in vi mode: a line yanked (0y$) and put back with a count (999p) three times, then the
   // put redone with a count (999.): one reallocation of the line per copy, minutes and gigabytes
   // in readline 8.2 once the line is long; the counts of both are held at 16 now, and the line
-  // cut back to 65,536 characters at the next key.
+  // cut back to 4,096 bytes at the next key.
   std::string puts = "abcdefgh\x1b";
   for (int k = 0; k < 3; ++k) puts += "0y$999p";
   for (int k = 0; k < 8; ++k) puts += "999.";
@@ -230,6 +230,33 @@ TEST_CASE("a count's long insertion is drawn wrapped, and a dumb terminal reads 
   CHECK(!t.read_until("control character").empty());
   t.type("print step\n");
   CHECK(!t.read_until("step = 0").empty());
+  t.type("quit\n");
+  CHECK(t.wait_exit() == 0);
+}
+
+TEST_CASE("a long line is cut to 4 KiB at a character, and vi's motions cross it promptly") {
+  TempDir home;
+  Terminal t(silt::test::scene_path("collision_normal"), home.path());
+  REQUIRE(!t.read_until("silt[t=0]> ").empty());
+  // "(((" then five times Meta-1000 and a character of two bytes (10,003 bytes), entered: cut at
+  // the next key to 4,095 bytes, as byte 4,096 is the second of a character.
+  const std::string meta_1000_e = std::string("\x1b") + "1000\xc3\xa9";
+  std::string keys = "(((";
+  for (int k = 0; k < 5; ++k) keys += meta_1000_e;
+  std::string cut = "(((";
+  for (int k = 0; k < 2046; ++k) cut += "\xc3\xa9";
+  t.type(keys + "\n");
+  CHECK(!t.read_until("unknown command '" + cut + "' (help").empty());
+  // Forty such insertions, then vi mode (Meta-Ctrl-J) and the bracket match (%) ten times:
+  // readline 8.2 finds each character boundary from the line's start, so on the 65,536 bytes the
+  // line was held at before, the ten took 46 s.
+  keys = "(";
+  for (int k = 0; k < 40; ++k) keys += meta_1000_e;
+  t.type(keys +
+         "\x1b\n\x1b"
+         "0%%%%%%%%%%$bbbwwwe0999w999bcc");
+  t.type("print t\n");
+  CHECK(!t.read_until("t = 0", 20).empty());
   t.type("quit\n");
   CHECK(t.wait_exit() == 0);
 }
