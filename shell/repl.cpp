@@ -10,7 +10,8 @@
 // Without a terminal on standard input (a pipe, a file, a scheduler's job), or on one that cannot
 // move the cursor up (TERM=dumb), there is no line editing at all: lines are read as they are, a
 // control character is part of the line, and nothing of readline runs after its set-up (its
-// callback interface crashes on some key sequences, below).
+// callback interface crashes on some key sequences, below); the latter still has a prompt and the
+// history file.
 //
 // On a terminal, the key sequences that crash GNU readline 8.2's callback interface are unbound:
 // the incremental history searches (Ctrl-R, Ctrl-S), which Ctrl-X and another key then crash, and
@@ -101,16 +102,23 @@ extern "C" void on_line(char* line) {
 constexpr size_t kMaxPlainLine = size_t{1} << 20;
 
 // The shell without a terminal: plain lines (a pipe, a file), a background run's messages
-// printed between them, Ctrl-C (SIGINT) pausing a run as on a terminal.
-int plain_lines(shell::Session& session) {
+// printed between them, Ctrl-C (SIGINT) pausing a run as on a terminal. On a terminal without line
+// editing (`prompted`), a prompt is printed whenever a line is awaited (again after a background
+// run's messages, on a line of its own) and each line entered goes to the history file.
+int plain_lines(shell::Session& session, bool prompted) {
   std::string buf;
   size_t scanned = 0;     // buf[0, scanned) holds no end of line
   bool too_long = false;  // the line being read is past kMaxPlainLine: dropped up to its end
   bool eof = false;
+  bool prompt_due = prompted, prompt_shown = false;
   while (!session.quit_requested() && !g_terminated) {
     const auto messages = session.take_messages();
+    if (!messages.empty() && std::exchange(prompt_shown, false)) std::cout << "\n";
     for (const auto& m : messages) std::cout << m << "\n";
-    if (!messages.empty()) std::cout << std::flush;
+    if (!messages.empty()) {
+      std::cout << std::flush;
+      prompt_due = prompted;
+    }
     const auto nl = buf.find('\n', scanned);
     if (nl == std::string::npos) scanned = buf.size();
     if (nl == std::string::npos && buf.size() > kMaxPlainLine) {
@@ -125,7 +133,10 @@ int plain_lines(shell::Session& session) {
       scanned = 0;
       if (std::exchange(too_long, false)) continue;  // the end of a line refused above
       if (!line.empty() && line.back() == '\r') line.pop_back();
+      if (prompted && !line.empty()) remember(line.c_str());
       session.execute(line);
+      prompt_due = prompted;
+      prompt_shown = false;
       char drain[64];  // a Ctrl-C that paused the command is spent
       while (::read(g_pipe[0], drain, sizeof drain) > 0) {
       }
@@ -134,6 +145,10 @@ int plain_lines(shell::Session& session) {
     if (eof) {
       if (!buf.empty() && !too_long) session.execute(std::exchange(buf, std::string()));
       break;
+    }
+    if (std::exchange(prompt_due, false)) {
+      std::cout << session.prompt() << std::flush;
+      prompt_shown = true;
     }
     fd_set fds;
     FD_ZERO(&fds);
@@ -152,6 +167,7 @@ int plain_lines(shell::Session& session) {
       else if (n == 0 || errno != EINTR) eof = true;
     }
   }
+  if (prompt_shown) std::cout << "\n";  // end of input typed at the prompt
   session.execute("quit");
   return g_terminated ? 128 + SIGTERM : 0;
 }
@@ -186,7 +202,8 @@ int shell_command(const std::string& scene, int threads) {
   const char* up = terminal ? rl_get_termcap("up") : nullptr;
   if (!up || !*up) {
     if (!scene.empty()) session.execute("load \"" + scene + "\"");
-    const int code = plain_lines(session);
+    if (terminal) using_history();
+    const int code = plain_lines(session, terminal);
     g_session = nullptr;
     ::close(g_pipe[0]);
     ::close(g_pipe[1]);

@@ -224,14 +224,20 @@ TEST_CASE("a count's long insertion is drawn wrapped, and a dumb terminal reads 
   }
   Terminal t(silt::test::scene_path("collision_normal"), home.path(), home / "inputrc", "dumb");
   REQUIRE(!t.read_until("loaded").empty());
+  CHECK(!t.read_until("silt[t=0]> ").empty());  // a prompt all the same
   t.type(
       "\x1b"
       "1000b\n");  // a line as any other, refused
   CHECK(!t.read_until("control character").empty());
+  CHECK(!t.read_until("silt[t=0]> ").empty());
   t.type("print step\n");
   CHECK(!t.read_until("step = 0").empty());
+  // A background run's messages on lines of their own, then the prompt again.
+  t.type("start 20\n");
+  CHECK(!t.read_until("\nsilt[t=").empty());
   t.type("quit\n");
   CHECK(t.wait_exit() == 0);
+  CHECK(contains(read_text(home / ".silt_history"), "print step\nstart 20\nquit\n"));
 }
 
 TEST_CASE("a long line is cut to 4 KiB at a character, and vi's motions cross it promptly") {
