@@ -43,7 +43,26 @@ class Terminal {
     }
   }
   ~Terminal() { kill_now(); }
-  void type(const std::string& s) { (void)!write(fd_, s.data(), s.size()); }
+  // Written as the terminal takes it, its output read meanwhile (a long paste would otherwise
+  // block on a full terminal while the shell blocks on drawing it).
+  void type(const std::string& s) {
+    const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+    size_t at = 0;
+    while (at < s.size() && std::chrono::steady_clock::now() < end) {
+      pollfd p{fd_, POLLIN | POLLOUT, 0};
+      if (poll(&p, 1, 50) <= 0) continue;
+      if (p.revents & POLLIN) {
+        char buf[4096];
+        const ssize_t n = read(fd_, buf, sizeof buf);
+        if (n > 0) seen_.append(buf, n);
+      }
+      if (p.revents & POLLOUT) {
+        const ssize_t n = write(fd_, s.data() + at, std::min<size_t>(s.size() - at, 1024));
+        if (n > 0) at += static_cast<size_t>(n);
+      }
+      if (p.revents & (POLLHUP | POLLERR)) break;
+    }
+  }
   // Output until `marker` appears (or the timeout): "" when it did not.
   std::string read_until(const std::string& marker, double seconds = 10) {
     const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
@@ -240,7 +259,7 @@ TEST_CASE("a count's long insertion is drawn wrapped, and a dumb terminal reads 
   CHECK(contains(read_text(home / ".silt_history"), "print step\nstart 20\nquit\n"));
 }
 
-TEST_CASE("a long line is cut to 4 KiB at a character, and vi's motions cross it promptly") {
+TEST_CASE("a long line is cut to 4 KiB at a character: vi's motions cross it promptly, a long paste's Enter is kept") {
   TempDir home;
   Terminal t(silt::test::scene_path("collision_normal"), home.path());
   REQUIRE(!t.read_until("silt[t=0]> ").empty());
@@ -263,6 +282,10 @@ TEST_CASE("a long line is cut to 4 KiB at a character, and vi's motions cross it
          "0%%%%%%%%%%$bbbwwwe0999w999bcc");
   t.type("print t\n");
   CHECK(!t.read_until("t = 0", 20).empty());
+  // A paste of 70,000 characters and its Enter: the line entered is the first 4,096.
+  t.type(std::string(70000, 'x') + "\nprint step\n");
+  CHECK(!t.read_until("unknown command '" + std::string(4096, 'x') + "' (help").empty());
+  CHECK(!t.read_until("step = 0").empty());
   t.type("quit\n");
   CHECK(t.wait_exit() == 0);
 }
