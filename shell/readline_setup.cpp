@@ -75,8 +75,8 @@ constexpr int kMaxCount = 1000;
 // 4 KiB, not more: in a multibyte locale readline 8.2 finds a character boundary by reading the
 // line from its start, so a motion over the line costs its length squared: vi's bracket match (%)
 // repeated on a line of 64 KiB took three minutes in the fuzz build (a libFuzzer timeout), one
-// second at 4 KiB. The cut ends at a character's first byte, so that no byte of a character is
-// left alone (vi's word motions loop forever on one).
+// second at 4 KiB. The cut ends at a character's first byte, so that the line keeps whole
+// characters (vi's word motions looped forever on a byte that is none, above).
 constexpr int kMaxLine = 1 << 12;
 
 void hold_line_length() {

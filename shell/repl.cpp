@@ -159,6 +159,10 @@ int plain_lines(shell::Session& session, bool prompted) {
     if (r > 0 && FD_ISSET(g_pipe[0], &fds)) {
       char drain[64];
       (void)!::read(g_pipe[0], drain, sizeof drain);
+      if (std::exchange(prompt_shown, false)) {  // Ctrl-C at the prompt: the terminal dropped the line
+        std::cout << "\n";
+        prompt_due = true;
+      }
     }
     if (r > 0 && FD_ISSET(STDIN_FILENO, &fds)) {
       char chunk[4096];

@@ -249,6 +249,8 @@ TEST_CASE("a count's long insertion is drawn wrapped, and a dumb terminal reads 
       "1000b\n");  // a line as any other, refused
   CHECK(!t.read_until("control character").empty());
   CHECK(!t.read_until("silt[t=0]> ").empty());
+  t.type("print st\x03");  // Ctrl-C: the terminal drops the line, and a new prompt follows
+  CHECK(!t.read_until("\nsilt[t=0]> ").empty());
   t.type("print step\n");
   CHECK(!t.read_until("step = 0").empty());
   // A background run's messages on lines of their own, then the prompt again.
