@@ -56,7 +56,7 @@ for t in "${targets[@]}"; do
     failed=1
     if grep -q 'ERROR: libFuzzer: timeout' "${logs[@]}"; then result=timeout
     elif grep -q 'out-of-memory' "${logs[@]}"; then result=oom
-    elif grep -q 'LeakSanitizer' "${logs[@]}"; then result=leak
+    elif grep -q 'ERROR: LeakSanitizer' "${logs[@]}"; then result=leak
     else result=crash; fi
     # The failing input (libFuzzer also writes slow units, which are not failures).
     artifact=$(cat "${logs[@]}" | grep -oE 'Test unit written to [^ ]+-(crash|leak|timeout|oom)-[^ ]+' | tail -n 1 |

@@ -125,12 +125,16 @@ int guarded_getc(FILE* stream) {
 // reads a null pointer), the bracketed paste (Escape [200~: input that ends inside the paste
 // overflows its buffer) and vi's history search (/ ? n N: a line found, edited, left with k and
 // recalled with j, edited again and left, leaves a history entry holding freed undo records,
-// freed again when the history is cleared). They are unbound by function, not by key: a user's
+// freed again when the history is cleared) and the other non-incremental history searches, whose
+// code vi's shares (Meta-p, Meta-n: `5`, Ctrl-O, Ctrl-P, Meta-p, Enter, `a`, Ctrl-P frees undo
+// records twice when the line is reverted). They are unbound by function, not by key: a user's
 // inputrc may give them any key. (The vi mode's character searches, f F t T, do not crash.)
 bool crashes_readline(rl_command_func_t* f) {
-  for (rl_command_func_t* bad : {rl_reverse_search_history, rl_forward_search_history, rl_start_kbd_macro,
-                                 rl_end_kbd_macro, rl_call_last_kbd_macro, rl_char_search, rl_backward_char_search,
-                                 rl_bracketed_paste_begin, rl_vi_search, rl_vi_search_again})
+  for (rl_command_func_t* bad :
+       {rl_reverse_search_history, rl_forward_search_history, rl_start_kbd_macro, rl_end_kbd_macro,
+        rl_call_last_kbd_macro, rl_char_search, rl_backward_char_search, rl_bracketed_paste_begin, rl_vi_search,
+        rl_vi_search_again, rl_noninc_forward_search, rl_noninc_reverse_search, rl_noninc_forward_search_again,
+        rl_noninc_reverse_search_again})
     if (f == bad) return true;
   return false;
 }
