@@ -198,11 +198,11 @@ TEST_CASE("on a terminal, the key sequences that crash readline's callback inter
   for (int round = 0; round < 4; ++round) yanks += "\x01\x0b" + std::string(40, '\x19');
   t.type(yanks + "\x15print t\n");
   CHECK(!t.read_until("t = 0").empty());
-  // A line entered with Ctrl-O, recalled, a non-incremental search (Meta-p) ended by Enter, then
-  // another line recalled: readline 8.2 freed undo records twice (AddressSanitizer, in the
-  // sanitizer build's run of this test). Meta-p does nothing now.
-  t.type("5\x0f\x10\x1bp\na\x10\x15print t\n");
-  CHECK(!t.read_until("t = 0").empty());
+  // The non-incremental history search (Meta-p), in which readline 8.2 frees undo records twice
+  // (tests/fuzz/crashes/noninc_search_undo.keys, replayed by the test script), does nothing: the
+  // keys after it are typed into the line.
+  t.type("abc\x1bpx\n");
+  CHECK(!t.read_until("unknown command 'abcx'").empty());
   // Vi mode (Meta-Ctrl-J), an escape sequence with a number cut by a byte above 127 or a control
   // character: a null pointer read in readline 8.2's callback interface. Then 'i' to insert.
   t.type("\x1b\n\x1b[5\xae\x1b[1;5\x01iprint t\n");
