@@ -13,12 +13,10 @@
 // callback interface crashes on some key sequences, below); the latter still has a prompt and the
 // history file.
 //
-// On a terminal, the commands that crash GNU readline 8.2's callback interface are unbound
-// (shell/readline_setup.cpp has the list): the incremental history searches (Ctrl-R, Ctrl-S),
-// which Ctrl-X and another key then crash, the non-incremental ones (Meta-p, Meta-n, vi's / ? n N),
-// which free undo records twice, and keyboard macros (Ctrl-X ( ) e), which crash when they hold a
-// newline. The arrow keys still walk the history, and a prefix of the line walks it with Page
-// Up/Down.
+// On a terminal, the commands that crash GNU readline 8.2's callback interface (history
+// searches, keyboard macros and others) are unbound by function: the list, with what each did, is
+// `crashes_readline` in shell/readline_setup.cpp. The arrow keys still walk the history, and a
+// prefix of the line walks it with Page Up/Down.
 //
 // Two libraries in the process export the rl_* symbols: GNU readline, which silt links, and
 // libedit, which Mesa's llvmpipe (OSMesa -> libLLVM) brings in. The dynamic linker binds each
