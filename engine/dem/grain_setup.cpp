@@ -32,7 +32,10 @@ class PlacementGrid {
       size_[k] = cell;
       wrap_[k] = 0;
       if (k < m.dim && m.box.periodic[k]) {
-        wrap_[k] = std::max<int64_t>(1, static_cast<int64_t>(std::floor(m.box.len[k] / cell)));
+        // Bounded as a double before the conversion: a box far longer than its grains (refused
+        // later if it does not fit) gets cells wider than `cell`, which only costs time.
+        const double n = std::floor(m.box.len[k] / cell);
+        wrap_[k] = std::isfinite(n) ? static_cast<int64_t>(std::clamp(n, 1.0, kMaxWrap)) : 1;
         size_[k] = m.box.len[k] / wrap_[k];
       }
     }
@@ -104,6 +107,7 @@ class PlacementGrid {
     return (static_cast<uint64_t>(c[0] & 0x1FFFFF)) | (static_cast<uint64_t>(c[1] & 0x1FFFFF) << 21) |
            (static_cast<uint64_t>(c[2] & 0x1FFFFF) << 42);
   }
+  static constexpr double kMaxWrap = 1 << 20;  // below the 21 bits a cell index keeps in pack()
   const Model& m_;
   double size_[3];
   int64_t wrap_[3];
