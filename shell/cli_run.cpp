@@ -166,8 +166,9 @@ int run_command(const RunArgs& a) {
       std::cerr << "silt: " << frames->removed() << " frame(s) of an earlier run removed from " << a.frames << "\n";
   }
   if (rep.end == RunEnd::kFailed) std::cerr << "silt: numerical failure at " << sim.state().failure.message << "\n";
-  if (rep.end == RunEnd::kInterrupted && StopSignals::caught() == SIGTERM)
-    std::cerr << "silt: terminated (SIGTERM): stopped at step " << sim.state().step << ", outputs written\n";
+  if (rep.end == RunEnd::kInterrupted && StopSignals::caught() != SIGINT && StopSignals::caught() != 0)
+    std::cerr << "silt: " << StopSignals::describe() << ": stopped at step " << sim.state().step
+              << ", outputs written\n";
   code = job->finish(rep, StopSignals::exit_code());
   if (!job->last_good_path().empty())
     std::cerr << "silt: last good state (step " << sim.state().failure.step - 1 << ") written to "

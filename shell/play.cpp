@@ -1,8 +1,9 @@
 // `silt play SCRIPT`: the shell's commands from a file, each echoed with its line number.
 // Stops at the first error with "SCRIPT:LINE: message" and exit code 2, or 3 when a run failed
 // numerically (INTERFACE.md); --keep-going goes on and exits with that code at the end.
-// SIGINT or SIGTERM pauses the run going on at a step boundary, as in `silt run`; the script then
-// stops, its outputs are written (`quit`), and the exit code is the signal's (130, 143).
+// SIGINT, SIGTERM or SIGHUP pauses the run going on at a step boundary, as in `silt run`; the
+// script then stops, its outputs are written (`quit`), and the exit code is the signal's (130,
+// 143, 129).
 // Relative input files are looked for in the current directory, then beside the script.
 #include <algorithm>
 #include <csignal>
@@ -63,8 +64,7 @@ int play_command(const std::string& script, bool keep_going, int threads) {
     if (!session.execute(line, where)) failed(session.last_error_code());
     if (!flush_background(session, where)) failed(static_cast<int>(ExitCode::kNumerical));
     if (g_stop) {
-      std::cerr << where << ": " << (StopSignals::caught() == SIGTERM ? "terminated (SIGTERM)" : "interrupted")
-                << ": the script stops here\n";
+      std::cerr << where << ": " << StopSignals::describe() << ": the script stops here\n";
       break;
     }
     if ((code != 0 && !keep_going) || session.quit_requested()) break;

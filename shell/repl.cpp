@@ -5,7 +5,8 @@
 // waits on stdin and on a self-pipe written by the SIGINT handler, with a timeout to print the
 // background run's messages. Ctrl-C during a foreground run pauses it at the next step boundary
 // (and abandons a sourced script); at the prompt it clears the line. SIGTERM (a scheduler, a
-// closing terminal's session manager) pauses the run and ends the session as `quit` does, exit 143.
+// closing terminal's session manager) pauses the run and ends the session as `quit` does, exit 143;
+// SIGHUP (the terminal closed) does the same, exit 129, unless it is ignored (nohup).
 //
 // Without a terminal on standard input (a pipe, a file, a scheduler's job), or on one that cannot
 // move the cursor up (TERM=dumb), there is no line editing at all: lines are read as they are, a
@@ -75,9 +76,10 @@ bool g_have_line = false, g_eof = false;
 
 volatile std::sig_atomic_t g_terminated = 0;
 
-// SIGINT pauses a run (or clears the line); SIGTERM also ends the session, as `quit` does.
+// SIGINT pauses a run (or clears the line); SIGTERM and SIGHUP also end the session, as `quit`
+// does, with the signal's exit code.
 extern "C" void on_shell_signal(int sig) {
-  if (sig == SIGTERM) g_terminated = 1;
+  if (sig == SIGTERM || sig == SIGHUP) g_terminated = sig;
   if (g_session) g_session->interrupt();
   const char c = 'i';
   if (g_pipe[1] >= 0) (void)!::write(g_pipe[1], &c, 1);
@@ -173,7 +175,7 @@ int plain_lines(shell::Session& session, bool prompted) {
   }
   if (prompt_shown) std::cout << "\n";  // end of input typed at the prompt
   session.execute("quit");
-  return g_terminated ? 128 + SIGTERM : 0;
+  return g_terminated ? 128 + g_terminated : 0;
 }
 
 }  // namespace
@@ -192,6 +194,9 @@ int shell_command(const std::string& scene, int threads) {
   sigemptyset(&sa.sa_mask);
   sigaction(SIGINT, &sa, nullptr);
   sigaction(SIGTERM, &sa, nullptr);
+  struct sigaction hup {};
+  sigaction(SIGHUP, nullptr, &hup);
+  if (hup.sa_handler != SIG_IGN) sigaction(SIGHUP, &sa, nullptr);
   const bool terminal = ::isatty(STDIN_FILENO);
   if (terminal) {
     rl_catch_signals = 0;
@@ -278,7 +283,7 @@ int shell_command(const std::string& scene, int threads) {
   g_session = nullptr;
   ::close(g_pipe[0]);
   ::close(g_pipe[1]);
-  return g_terminated ? 128 + SIGTERM : 0;
+  return g_terminated ? 128 + g_terminated : 0;
 }
 
 }  // namespace silt::cli

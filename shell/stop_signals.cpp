@@ -9,7 +9,8 @@ std::atomic<bool>* g_flag = nullptr;
 void (*g_also)() = nullptr;
 volatile std::sig_atomic_t g_caught = 0;
 struct sigaction g_old_int {
-}, g_old_term{};
+}, g_old_term{}, g_old_hup{};
+bool g_hup_installed = false;
 
 extern "C" void on_stop_signal(int sig) {
   g_caught = sig;
@@ -29,16 +30,29 @@ StopSignals::StopSignals(std::atomic<bool>* flag, void (*also)()) {
   sigemptyset(&sa.sa_mask);
   sigaction(SIGINT, &sa, &g_old_int);
   sigaction(SIGTERM, &sa, &g_old_term);
+  // SIGHUP (the terminal closed) too, unless it is ignored: `nohup silt run` keeps running.
+  sigaction(SIGHUP, nullptr, &g_old_hup);
+  g_hup_installed = g_old_hup.sa_handler != SIG_IGN;
+  if (g_hup_installed) sigaction(SIGHUP, &sa, nullptr);
 }
 
 StopSignals::~StopSignals() {
   sigaction(SIGINT, &g_old_int, nullptr);
   sigaction(SIGTERM, &g_old_term, nullptr);
+  if (g_hup_installed) sigaction(SIGHUP, &g_old_hup, nullptr);
   g_flag = nullptr;
   g_also = nullptr;
 }
 
 int StopSignals::caught() { return g_caught; }
+
+const char* StopSignals::describe() {
+  switch (g_caught) {
+    case SIGTERM: return "terminated (SIGTERM)";
+    case SIGHUP: return "hung up (SIGHUP)";
+    default: return "interrupted";
+  }
+}
 
 int StopSignals::exit_code() { return 128 + (g_caught != 0 ? static_cast<int>(g_caught) : SIGINT); }
 

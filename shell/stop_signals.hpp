@@ -1,8 +1,9 @@
-// SIGINT (Ctrl-C) and SIGTERM (what batch schedulers send at a job's time limit) as a request to
-// stop: while a StopSignals lives, either signal sets a flag that runs poll at every step
+// SIGINT (Ctrl-C), SIGTERM (what batch schedulers send at a job's time limit) and SIGHUP (the
+// terminal closed; left alone when ignored, as under nohup) as a request to stop: while a
+// StopSignals lives, each signal sets a flag that runs poll at every step
 // boundary, and optionally calls a function (which must be async-signal-safe), instead of killing
 // the process; the run then writes all its outputs and the process exits with the signal's code
-// (128 + signal: 130, 143). The previous handlers come back when it is destroyed.
+// (128 + signal: 130, 143, 129). The previous handlers come back when it is destroyed.
 #pragma once
 
 #include <atomic>
@@ -16,8 +17,11 @@ class StopSignals {
   StopSignals(const StopSignals&) = delete;
   StopSignals& operator=(const StopSignals&) = delete;
 
-  // The last signal caught (SIGINT or SIGTERM), 0 when none.
+  // The last signal caught (SIGINT, SIGTERM or SIGHUP), 0 when none.
   static int caught();
+  // What the last signal did, for messages: "terminated (SIGTERM)", "hung up (SIGHUP)" or
+  // "interrupted".
+  static const char* describe();
   // 128 + the signal caught; 130 (SIGINT) when none was (a run stopped another way).
   static int exit_code();
 };

@@ -1,6 +1,6 @@
-// Batch runs lose nothing: a scheduler's SIGTERM, an output that cannot be written, a preparation
-// that fails, a step count that is not a multiple of --every; and the command line's numbers read
-// as the shell reads them. Each case is a reproducer run through the binary.
+// Batch runs lose nothing: a scheduler's SIGTERM, a closed terminal's SIGHUP, an output that cannot be written, a
+// preparation that fails, a step count that is not a multiple of --every; and the command line's numbers read as the
+// shell reads them. Each case is a reproducer run through the binary.
 #include <doctest/doctest.h>
 
 #include <algorithm>
@@ -44,8 +44,8 @@ std::string signalled(const std::string& command, const std::string& file, int l
 
 }  // namespace
 
-TEST_CASE("SIGTERM and SIGINT stop a run at a step boundary, everything is written, exit 128 + signal") {
-  for (const auto& signal_code : {std::pair<const char*, int>{"TERM", 143}, {"INT", 130}}) {
+TEST_CASE("SIGTERM, SIGINT and SIGHUP stop a run at a step boundary, everything is written, exit 128 + signal") {
+  for (const auto& signal_code : {std::pair<const char*, int>{"TERM", 143}, {"INT", 130}, {"HUP", 129}}) {
     const auto [signal, code] = signal_code;
     CAPTURE(signal_code.first);
     silt::test::TempDir dir;
@@ -66,6 +66,20 @@ TEST_CASE("SIGTERM and SIGINT stop a run at a step boundary, everything is writt
     CHECK(step_of(rows.back()) == j["steps"].get<long long>());
     CHECK(j["steps_run"].get<long long>() == j["steps"].get<long long>());
   }
+}
+
+TEST_CASE("an ignored SIGHUP stays ignored (nohup): the run goes on until SIGTERM") {
+  silt::test::TempDir dir;
+  const std::string stats = dir / "st.csv", summary = dir / "s.json";
+  const std::string run = "(trap '' HUP; exec " + silt::test::silt_binary() + " run " + scene_path("chute") +
+                          " --steps 1e9 --every 20 --observe t,step --quiet --stats " + stats + " --summary " +
+                          summary + ")";
+  const Result r = sh(run + " & p=$!; i=0; while [ \"$(cat " + stats +
+                      " 2>/dev/null | wc -l)\" -lt 4 ] && [ $i -lt 600 ]; do sleep 0.05; i=$((i+1)); done;"
+                      " kill -HUP $p; sleep 0.3; kill -0 $p && echo alive; kill -TERM $p; wait $p; echo code=$?");
+  CHECK(contains(r.out, "alive"));
+  CHECK(contains(r.out, "code=143"));
+  CHECK(read_json(summary)["status"] == "interrupted");
 }
 
 TEST_CASE("silt play stops on SIGTERM as silt run does") {
@@ -94,19 +108,23 @@ TEST_CASE("silt play stops on SIGINT as silt run does, exit 130") {
   CHECK_FALSE(contains(out, "> print t"));
 }
 
-TEST_CASE("the shell fed by a pipe pauses its run and ends on SIGTERM, exit 143") {
-  silt::test::TempDir dir;
-  const std::string out = dir / "out.txt";
-  // The commands come through a pipe that stays open (a fifo held by the test's shell), as from a
-  // job's script.
-  const std::string fifo = dir / "in";
-  const Result r = sh("mkfifo " + fifo + "; " + silt::test::silt_binary() + " shell " + scene_path("chute") + " < " +
-                      fifo + " > " + out + " & p=$!; exec 3> " + fifo +
-                      "; printf 'watch step every 50\\nrun 1e9\\n' >&3; i=0; while [ \"$(cat " + out +
-                      " | wc -l)\" -lt 4 ] && [ $i -lt 600 ]; do sleep 0.05; i=$((i+1)); done; kill -TERM $p; wait $p;"
-                      " echo code=$?");
-  CHECK(contains(r.out, "code=143"));
-  CHECK(contains(read_file(out), "paused:"));
+TEST_CASE("the shell fed by a pipe pauses its run and ends on SIGTERM (exit 143) or SIGHUP (exit 129)") {
+  for (const auto& signal_code : {std::pair<const char*, int>{"TERM", 143}, {"HUP", 129}}) {
+    const auto [signal, code] = signal_code;
+    CAPTURE(signal_code.first);
+    silt::test::TempDir dir;
+    const std::string out = dir / "out.txt";
+    // The commands come through a pipe that stays open (a fifo held by the test's shell), as from a
+    // job's script.
+    const std::string fifo = dir / "in";
+    const Result r = sh("mkfifo " + fifo + "; " + silt::test::silt_binary() + " shell " + scene_path("chute") + " < " +
+                        fifo + " > " + out + " & p=$!; exec 3> " + fifo +
+                        "; printf 'watch step every 50\\nrun 1e9\\n' >&3; i=0; while [ \"$(cat " + out +
+                        " | wc -l)\" -lt 4 ] && [ $i -lt 600 ]; do sleep 0.05; i=$((i+1)); done; kill -" + signal +
+                        " $p; wait $p; echo code=$?");
+    CHECK(contains(r.out, "code=" + std::to_string(code)));
+    CHECK(contains(read_file(out), "paused:"));
+  }
 }
 
 TEST_CASE("Ctrl-C while the shell's output waits on a full pipe loses none of it") {

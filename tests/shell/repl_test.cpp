@@ -87,7 +87,12 @@ class Terminal {
     pid_ = -1;
     return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   }
-  // As a crash or a hang-up would end it: no chance to write anything.
+  // The terminal closed (a window shut, an ssh connection lost): the kernel sends SIGHUP.
+  void hang_up() {
+    ::close(fd_);
+    fd_ = -1;
+  }
+  // As a crash would end it: no chance to write anything.
   void kill_now() {
     if (pid_ <= 0) return;
     kill(pid_, SIGKILL);
@@ -134,6 +139,25 @@ TEST_CASE("the interactive shell: GNU readline, Ctrl-C pauses a run, tab complet
   CHECK(!t.read_until("unknown command 'nonsense'").empty());
   t.type("quit\n");
   CHECK(t.wait_exit() == 0);
+}
+
+TEST_CASE(
+    "a closed terminal (SIGHUP) ends the shell as quit does: the background run stops, its file is whole, exit 129") {
+  TempDir home;
+  Terminal t(silt::test::scene_path("chute"), home.path());
+  REQUIRE(!t.read_until("silt[t=0]> ").empty());
+  t.type("stats st.csv every 20\nstart 1e9\n");
+  const std::string csv = home.path() + "/st.csv";
+  auto lines = [&] {
+    const std::string text = read_text(csv);
+    return std::count(text.begin(), text.end(), '\n');
+  };
+  for (int i = 0; i < 400 && lines() < 5; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  t.hang_up();
+  CHECK(t.wait_exit() == 129);
+  const std::string rows = read_text(csv);
+  CHECK(std::count(rows.begin(), rows.end(), '\n') >= 5);
+  CHECK(rows.back() == '\n');
 }
 
 TEST_CASE("history: each line is saved as it is entered, and the next session has it") {
