@@ -3,7 +3,9 @@
 #include <ft2build.h>
 #include FT_FREETYPE_H
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <mutex>
@@ -45,9 +47,13 @@ void blend(Image& img, int x, int y, Rgba c, double a) {
   p[2] = static_cast<uint8_t>(std::lround(p[2] * (1 - b) + c.b * b));
 }
 
+// The rectangle [x0, x0 + w) x [y0, y0 + h), clipped to the image first: its cost is bounded by
+// the image's, whatever the rectangle.
 void fill(Image& img, int x0, int y0, int w, int h, Rgba c) {
-  for (int y = y0; y < y0 + h; ++y)
-    for (int x = x0; x < x0 + w; ++x) blend(img, x, y, c, 1.0);
+  const int64_t xa = std::max<int64_t>(x0, 0), xb = std::min<int64_t>(int64_t{x0} + w, img.width);
+  const int64_t ya = std::max<int64_t>(y0, 0), yb = std::min<int64_t>(int64_t{y0} + h, img.height);
+  for (int64_t y = ya; y < yb; ++y)
+    for (int64_t x = xa; x < xb; ++x) blend(img, static_cast<int>(x), static_cast<int>(y), c, 1.0);
 }
 
 }  // namespace

@@ -249,9 +249,14 @@ RenderScene build_render_scene(const Model& m, const State& s, const View& v, co
   }
   if (v.wants("scalebar") && rs.camera.pixels_per_unit > 0) {
     // 2D: a fifth of the box. 3D: lengths at the target's depth (in the plane through it facing
-    // the camera), about a sixth of the width seen there.
+    // the camera), about a sixth of the width seen there; also in 2D when a fifth of the box is
+    // not in the frame (a box the frame could not hold is framed as the unit square, camera.cpp,
+    // and its fifth could be billions of pixels).
     const double free_width = (v.width - mg.left - mg.right) / rs.camera.pixels_per_unit;
-    const double len = nice_length(D == 2 ? 0.2 * s.box.len[0] : free_width / 6);
+    double target = D == 2 ? 0.2 * s.box.len[0] : free_width / 6;
+    if (!(target > 0 && target <= free_width)) target = free_width / 6;
+    const double len = nice_length(target);
+    if (!(std::isfinite(len) && len > 0)) return rs;
     rs.scalebar.on = true;
     rs.scalebar.width_px = static_cast<int>(std::lround(len * rs.camera.pixels_per_unit));
     rs.scalebar.x = 20;

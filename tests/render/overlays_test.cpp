@@ -1,6 +1,7 @@
 // Overlays (scale bar, time and step) and the automatic framing of 3D domains.
 #include <doctest/doctest.h>
 
+#include <chrono>
 #include <cmath>
 #include <cstdlib>
 
@@ -85,6 +86,33 @@ TEST_CASE("the scale bar's length in pixels is its label's length in world units
   const double world = std::abs(pixel_of(rs, len, 2)[0] - pixel_of(rs, 0, 2)[0]);
   CHECK(std::abs(drawn - world) <= 1);
   CHECK(drawn > 50);
+}
+
+// A 2D box the frame cannot hold (here its height is negative: framed as the unit square) keeps
+// its length: a fifth of it was the bar's length in the frame's scale, 6.8e8 pixels here. And the
+// overlays filled a bar pixel by pixel out to its end, inside the image or not: the terminal fuzz
+// target's slowest input (2026-11-28, 25 s; 65 s replayed alone) spent its time there.
+TEST_CASE("the scale bar of a box the frame cannot hold is a sixth of the frame, and any bar draws promptly") {
+  auto sim = test::simulation_from(kRow);
+  State s = sim->state();
+  s.box.len[0] = 1e7;
+  s.box.len[1] = -1;
+  const View v = test::plain_view(800, 400, {"grains", "scalebar"});
+  RenderScene rs = build_render_scene(sim->model(), s, v);
+  REQUIRE(rs.scalebar.on);
+  CHECK(rs.scalebar.width_px > 0);
+  CHECK(rs.scalebar.width_px <= v.width / 6);
+  CHECK(label_length(rs.scalebar.label) * rs.camera.pixels_per_unit ==
+        doctest::Approx(rs.scalebar.width_px).epsilon(0.01));
+  // The overlays clip what they fill to the image: a bar two billion pixels long costs what one
+  // across the image does.
+  rs.scalebar.width_px = 2'000'000'000;
+  Rasterizer raster(1);
+  Image img = raster.draw(rs);
+  const auto start = std::chrono::steady_clock::now();
+  compose_overlays(rs, img);
+  CHECK(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() < 2.0);
+  CHECK(img.pixel(v.width - 1, rs.scalebar.y + 2).r < 100);  // drawn to the image's edge
 }
 
 TEST_CASE("the time and step are drawn, and another time draws other pixels") {
