@@ -3,6 +3,7 @@
 #include <readline/readline.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -100,20 +101,31 @@ constexpr int kMaxRepeat = 16;
 int held_vi_put(int count, int key) { return rl_vi_put(std::min(count, kMaxRepeat), key); }
 int held_vi_redo(int count, int key) { return rl_vi_redo(std::min(count, kMaxRepeat), key); }
 
-// The keys as readline reads them, with two of its crashes kept away and counts bounded. In vi mode, an unfinished
-// escape sequence with a number ("\e[5", "\e[1;5") ended by a byte that no terminal sends inside
-// one (a control character, DEL, a byte above 127) makes readline 8.2's callback interface read a
-// null pointer: such a byte ends the sequence as an Escape does (the sequence and the byte are
-// dropped, and the Escape enters command mode). Bytes above 127: utf8_checked.
+// The keys as readline reads them, with two of its crashes kept away and counts bounded. In vi
+// mode, an escape sequence that bound ones begin with and that ends in a number so far ("\e[5",
+// a prefix of Page Up's "\e[5~"; "\e[1;5") makes readline 8.2's callback interface read a null
+// pointer when the next byte does not continue it and is p, P or v (readline falls back to Escape,
+// `[`, the number as a count and that command) or a control character, DEL or a byte above 127.
+// Such a byte ends the sequence as an Escape does (the sequence and the byte are dropped, and the
+// Escape enters command mode): after a number, any byte that leaves the bound sequences; anywhere
+// in the sequence, a byte that is not printable ASCII. readline's own record of the sequence read
+// so far is the reference (rl_executing_keyseq). Escaping more than this (any byte that leaves a
+// bound sequence, "\e[s" too) reached another of readline's double frees of undo records within
+// minutes of fuzzing. Bytes above 127: utf8_checked.
 int guarded_getc(FILE* stream) {
-  static bool in_escape = false;  // the key sequence being read began with Escape
   hold_line_length();
   const int c = rl_getc(stream);
   if (RL_ISSTATE(RL_STATE_NUMERICARG) && rl_numeric_arg > kMaxCount) rl_numeric_arg = kMaxCount;
-  if (RL_ISSTATE(RL_STATE_MULTIKEY)) {
-    if (rl_editing_mode == 0 && in_escape && c != EOF && (c < 0x20 || c > 0x7e)) return '\033';
-  } else {
-    in_escape = c == '\033';
+  if (RL_ISSTATE(RL_STATE_MULTIKEY) && rl_editing_mode == 0 && c != EOF && rl_key_sequence_length >= 1 &&
+      rl_executing_keyseq[0] == '\033') {
+    if (c < 0x20 || c > 0x7e) return '\033';
+    if (rl_key_sequence_length >= 2 &&
+        std::isdigit(static_cast<unsigned char>(rl_executing_keyseq[rl_key_sequence_length - 1]))) {
+      std::string sequence(rl_executing_keyseq, static_cast<size_t>(rl_key_sequence_length));
+      sequence.push_back(static_cast<char>(c));
+      int type = ISFUNC;
+      if (!rl_function_of_keyseq_len(sequence.data(), sequence.size(), rl_get_keymap(), &type)) return '\033';
+    }
   }
   if (c >= 0x80 && MB_CUR_MAX > 1) return utf8_checked(stream, c);
   return c;

@@ -231,6 +231,10 @@ TEST_CASE("on a terminal, the key sequences that crash readline's callback inter
   // character: a null pointer read in readline 8.2's callback interface. Then 'i' to insert.
   t.type("\x1b\n\x1b[5\xae\x1b[1;5\x01iprint t\n");
   CHECK(!t.read_until("t = 0").empty());
+  // The same sequences cut by p, P or v (vi's put and the editing-mode key): the same null pointer
+  // read, in the real shell too (tests/fuzz/crashes/vi_escape_prefix_put.keys).
+  t.type("\x1b[5p\x1b[1;5P\x1b[2v\x1b[6piprint t\n");
+  CHECK(!t.read_until("t = 0").empty());
   // Still in vi mode: bytes that are no UTF-8 character, then `w` on them (readline looped
   // forever), the line then changed whole (cc); a character of two bytes reaches the command whole.
   t.type("save a.ckp\xff\xbf\x1bwcc");
