@@ -114,6 +114,13 @@ int held_vi_redo(int count, int key) { return rl_vi_redo(std::min(count, kMaxRep
 // minutes of fuzzing. Bytes above 127: utf8_checked.
 int guarded_getc(FILE* stream) {
   hold_line_length();
+  // vi's first Escape in a line frees the line's undo list (so that U reverts only to there), and
+  // readline 8.2 then forgets a history entry's pointer into that list only when it points at its
+  // head: a history line recalled and edited, vi mode, Up, Escape left an entry holding freed
+  // records (a double free when the history is cleared; tests/fuzz/crashes/vi_history_undo.keys).
+  // The line counts as having entered command mode already: nothing is freed, and U reverts the
+  // whole line.
+  RL_SETSTATE(RL_STATE_VICMDONCE);
   const int c = rl_getc(stream);
   if (RL_ISSTATE(RL_STATE_NUMERICARG) && rl_numeric_arg > kMaxCount) rl_numeric_arg = kMaxCount;
   if (RL_ISSTATE(RL_STATE_MULTIKEY) && rl_editing_mode == 0 && c != EOF && rl_key_sequence_length >= 1 &&

@@ -253,6 +253,23 @@ TEST_CASE("on a terminal, the key sequences that crash readline's callback inter
   CHECK(t.wait_exit() == 0);
 }
 
+TEST_CASE("vi mode on an edited history line: Escape keeps the undo records the history holds") {
+  TempDir home;
+  Terminal t(silt::test::scene_path("collision_normal"), home.path());
+  REQUIRE(!t.read_until("silt[t=0]> ").empty());
+  t.type("3\n");
+  REQUIRE(!t.read_until("unknown command '3'").empty());
+  // Up, `a`, vi mode (Meta-Ctrl-J), Up, Escape, `h`: readline 8.2 freed the line's undo records at
+  // the first Escape while the history entry kept them (tests/fuzz/crashes/vi_history_undo.keys).
+  // Then the line entered, the history walked over both lines, the first entered again.
+  t.type("\x1b[Aa\x1b\n\x1b[A\x1bh\n");
+  CHECK(!t.read_until("unknown command '3a'").empty());
+  t.type("\x1b[A\x1b[A\x1b[B\x1b[A\n");
+  CHECK(!t.read_until("unknown command '3'").empty());
+  t.type("quit\n");
+  CHECK(t.wait_exit() == 0);
+}
+
 TEST_CASE("a count's long insertion is drawn wrapped, and a dumb terminal reads plain lines") {
   TempDir home;
   // readline 8.2 scrolling the line sideways (an inputrc's horizontal-scroll-mode, or a terminal
