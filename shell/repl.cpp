@@ -41,6 +41,7 @@
 #include "shell/commands.hpp"
 #include "shell/readline_setup.hpp"
 #include "shell/session.hpp"
+#include "shell/stop_signals.hpp"
 
 namespace silt::cli {
 namespace {
@@ -194,9 +195,7 @@ int shell_command(const std::string& scene, int threads) {
   sigemptyset(&sa.sa_mask);
   sigaction(SIGINT, &sa, nullptr);
   sigaction(SIGTERM, &sa, nullptr);
-  struct sigaction hup {};
-  sigaction(SIGHUP, nullptr, &hup);
-  if (hup.sa_handler != SIG_IGN) sigaction(SIGHUP, &sa, nullptr);
+  install_hangup(sa);
   const bool terminal = ::isatty(STDIN_FILENO);
   if (terminal) {
     rl_catch_signals = 0;

@@ -20,6 +20,15 @@ extern "C" void on_stop_signal(int sig) {
 
 }  // namespace
 
+bool install_hangup(const struct sigaction& sa, struct sigaction* old) {
+  struct sigaction current {};
+  sigaction(SIGHUP, nullptr, &current);
+  if (old) *old = current;
+  if (current.sa_handler == SIG_IGN) return false;
+  sigaction(SIGHUP, &sa, nullptr);
+  return true;
+}
+
 StopSignals::StopSignals(std::atomic<bool>* flag, void (*also)()) {
   g_flag = flag;
   g_also = also;
@@ -31,9 +40,7 @@ StopSignals::StopSignals(std::atomic<bool>* flag, void (*also)()) {
   sigaction(SIGINT, &sa, &g_old_int);
   sigaction(SIGTERM, &sa, &g_old_term);
   // SIGHUP (the terminal closed) too, unless it is ignored: `nohup silt run` keeps running.
-  sigaction(SIGHUP, nullptr, &g_old_hup);
-  g_hup_installed = g_old_hup.sa_handler != SIG_IGN;
-  if (g_hup_installed) sigaction(SIGHUP, &sa, nullptr);
+  g_hup_installed = install_hangup(sa, &g_old_hup);
 }
 
 StopSignals::~StopSignals() {

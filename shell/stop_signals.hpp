@@ -8,7 +8,13 @@
 
 #include <atomic>
 
+#include <csignal>
+
 namespace silt::cli {
+
+// Installs `sa` for SIGHUP unless SIGHUP is ignored (as under nohup, which must keep the process
+// running when the terminal closes); the previous action goes to `old`. True when installed.
+bool install_hangup(const struct sigaction& sa, struct sigaction* old = nullptr);
 
 class StopSignals {
  public:
