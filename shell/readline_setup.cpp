@@ -12,6 +12,11 @@
 #include <utility>
 #include <vector>
 
+// readline 8.2's state of a count being read (rlprivate.h, not installed): NUM_READONE makes the key
+// that ends the count come back as the next key read, as universal-argument does in the callback
+// interface. See ends_count_accepting_line.
+extern "C" int _rl_argcxt;
+
 namespace silt::cli {
 namespace {
 
@@ -101,6 +106,29 @@ constexpr int kMaxRepeat = 16;
 int held_vi_put(int count, int key) { return rl_vi_put(std::min(count, kMaxRepeat), key); }
 int held_vi_redo(int count, int key) { return rl_vi_redo(std::min(count, kMaxRepeat), key); }
 
+// readline 8.2's callback interface does not hand over a line accepted by the key that ends a
+// count (vi: `1` Enter; emacs: Meta-1 Enter): rl_callback_read_char returns from the count's branch
+// without looking at rl_done, so the line waits for the next key, which then runs on the finished
+// line before it is handed over. vi's s did so and left the next line holding a NUL before its end,
+// where the forward character search loops forever (a libFuzzer timeout:
+// tests/fuzz/crashes/vi_count_enter_subst.keys). Such a key is handed back to readline as the next
+// key to read, with the count kept (readline's own NUM_READONE, which universal-argument uses in
+// this interface): readline then reads it as any key, and the line goes to the handler at once.
+bool ends_count_accepting_line(int c) {
+  constexpr int kNumReadOne = 0x04;  // rlprivate.h
+  if (!RL_ISSTATE(RL_STATE_NUMERICARG) || c < 0 || c >= KEYMAP_SIZE - 1) return false;
+  const int plain = c & 0x7f;
+  if (std::isdigit(plain) || plain == '-') return false;  // digits and the sign continue the count
+  const KEYMAP_ENTRY& e = rl_get_keymap()[c];
+  if (e.type != ISFUNC) return false;
+  for (rl_command_func_t* accepts : {rl_newline, rl_vi_eof_maybe, rl_operate_and_get_next, rl_insert_comment})
+    if (e.function == accepts) {
+      _rl_argcxt |= kNumReadOne;
+      return true;
+    }
+  return false;
+}
+
 // The keys as readline reads them, with two of its crashes kept away and counts bounded. In vi
 // mode, an escape sequence that bound ones begin with and that ends in a number so far ("\e[5",
 // a prefix of Page Up's "\e[5~"; "\e[1;5") makes readline 8.2's callback interface read a null
@@ -123,6 +151,7 @@ int guarded_getc(FILE* stream) {
   RL_SETSTATE(RL_STATE_VICMDONCE);
   const int c = rl_getc(stream);
   if (RL_ISSTATE(RL_STATE_NUMERICARG) && rl_numeric_arg > kMaxCount) rl_numeric_arg = kMaxCount;
+  if (ends_count_accepting_line(c)) return c;
   if (RL_ISSTATE(RL_STATE_MULTIKEY) && rl_editing_mode == 0 && c != EOF && rl_key_sequence_length >= 1 &&
       rl_executing_keyseq[0] == '\033') {
     if (c < 0x20 || c > 0x7e) return '\033';

@@ -8,6 +8,7 @@
 #include <readline/readline.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
@@ -46,6 +47,17 @@ void reset_readline() {
   rl_set_keymap(emacs_standard_keymap);
   rl_editing_mode = 1;
   rl_clear_history();  // with the undo lists of edited history lines
+}
+
+// readline's line after a key: rl_end bytes with no NUL among them, the point within it. readline
+// 8.2's forward character search loops forever on a NUL before the line's end, so a key that breaks
+// this is a bug before it hangs (tests/fuzz/crashes/vi_count_enter_subst.keys).
+void check_line() {
+  if (!rl_line_buffer) return;
+  const auto end = static_cast<size_t>(std::max(rl_end, 0));
+  if (std::strlen(rl_line_buffer) != end || rl_point < 0 || rl_point > rl_end)
+    silt::fuzz::bug("readline's line broken: " + std::to_string(std::strlen(rl_line_buffer)) +
+                    " bytes before a NUL, end " + std::to_string(rl_end) + ", point " + std::to_string(rl_point));
 }
 
 }  // namespace
@@ -88,6 +100,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   // the end of input (Ctrl-D). A key sequence may take several bytes: the calls are bounded.
   for (size_t calls = 0; !g_eof && calls < size + 16; ++calls) {
     rl_callback_read_char();
+    check_line();
     if (!g_have_line) continue;
     g_have_line = false;
     if (!driver.line(g_pending)) break;

@@ -270,6 +270,29 @@ TEST_CASE("vi mode on an edited history line: Escape keeps the undo records the 
   CHECK(t.wait_exit() == 0);
 }
 
+TEST_CASE("a count ended by Enter enters the line at once, in emacs and in vi mode") {
+  TempDir home;
+  Terminal t(silt::test::scene_path("collision_normal"), home.path());
+  REQUIRE(!t.read_until("silt[t=0]> ").empty());
+  // readline 8.2's callback interface handed such a line over only at the next key, after running
+  // that key on it: vi's s then left the next line holding a NUL before its end, where the forward
+  // character search loops forever (tests/fuzz/crashes/vi_count_enter_subst.keys).
+  t.type(
+      "emacs\x1b"
+      "2\n");  // Meta-2, Enter
+  CHECK(!t.read_until("unknown command 'emacs'").empty());
+  t.type(
+      "\x1b\nvi\x1b"
+      "1\n");  // Meta-Ctrl-J (vi mode), Escape, 1, Enter
+  CHECK(!t.read_until("unknown command 'vi'").empty());
+  t.type(
+      "sx\x1b"
+      "0fx\n");  // the next line starts in insert mode; then a forward search
+  CHECK(!t.read_until("unknown command 'sx'").empty());
+  t.type("quit\n");
+  CHECK(t.wait_exit() == 0);
+}
+
 TEST_CASE("a count's long insertion is drawn wrapped, and a dumb terminal reads plain lines") {
   TempDir home;
   // readline 8.2 scrolling the line sideways (an inputrc's horizontal-scroll-mode, or a terminal
