@@ -109,11 +109,11 @@ int held_vi_redo(int count, int key) { return rl_vi_redo(std::min(count, kMaxRep
 // readline 8.2's callback interface does not hand over a line accepted by the key that ends a
 // count (vi: `1` Enter; emacs: Meta-1 Enter): rl_callback_read_char returns from the count's branch
 // without looking at rl_done, so the line waits for the next key, which then runs on the finished
-// line before it is handed over. vi's s did so and left the next line holding a NUL before its end,
-// where the forward character search loops forever (a libFuzzer timeout:
-// tests/fuzz/crashes/vi_count_enter_subst.keys). Such a key is handed back to readline as the next
-// key to read, with the count kept (readline's own NUM_READONE, which universal-argument uses in
-// this interface): readline then reads it as any key, and the line goes to the handler at once.
+// line before it is handed over (vi mode, `st`, Escape, `1`, Enter, `s`: found by the terminal
+// fuzz target, tests/fuzz/crashes/vi_count_enter_subst.keys). Such a key is handed back to
+// readline as the next key to read, with the count kept (readline's own NUM_READONE, which
+// universal-argument uses in this interface): readline then reads it as any key, and the line
+// goes to the handler at once.
 bool ends_count_accepting_line(int c) {
   constexpr int kNumReadOne = 0x04;  // rlprivate.h
   if (!RL_ISSTATE(RL_STATE_NUMERICARG) || c < 0 || c >= KEYMAP_SIZE - 1) return false;

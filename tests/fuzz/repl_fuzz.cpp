@@ -49,11 +49,11 @@ void reset_readline() {
   rl_clear_history();  // with the undo lists of edited history lines
 }
 
-// readline's line after a key: rl_end bytes with no NUL among them, the point within it. readline
-// 8.2's forward character search loops forever on a NUL before the line's end, so a key that breaks
-// this is a bug before it hangs (tests/fuzz/crashes/vi_count_enter_subst.keys).
+// readline's line after a key, while it is being edited (not once handed over, when readline's
+// fields are left as they were): rl_end bytes with no NUL among them, the point within it.
+// readline 8.2's forward character search loops forever on a NUL before the line's end.
 void check_line() {
-  if (!rl_line_buffer) return;
+  if (!rl_line_buffer || !RL_ISSTATE(RL_STATE_CALLBACK) || RL_ISSTATE(RL_STATE_DONE)) return;
   const auto end = static_cast<size_t>(std::max(rl_end, 0));
   if (std::strlen(rl_line_buffer) != end || rl_point < 0 || rl_point > rl_end)
     silt::fuzz::bug("readline's line broken: " + std::to_string(std::strlen(rl_line_buffer)) +

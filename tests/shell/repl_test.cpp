@@ -275,8 +275,7 @@ TEST_CASE("a count ended by Enter enters the line at once, in emacs and in vi mo
   Terminal t(silt::test::scene_path("collision_normal"), home.path());
   REQUIRE(!t.read_until("silt[t=0]> ").empty());
   // readline 8.2's callback interface handed such a line over only at the next key, after running
-  // that key on it: vi's s then left the next line holding a NUL before its end, where the forward
-  // character search loops forever (tests/fuzz/crashes/vi_count_enter_subst.keys).
+  // that key on the finished line (tests/fuzz/crashes/vi_count_enter_subst.keys).
   t.type(
       "emacs\x1b"
       "2\n");  // Meta-2, Enter
