@@ -14,7 +14,7 @@
 
 // readline 8.2's state of a count being read (rlprivate.h, not installed): NUM_READONE makes the key
 // that ends the count come back as the next key read, as universal-argument does in the callback
-// interface. See ends_count_accepting_line.
+// interface. See ends_count_accepting_line and guarded_getc.
 extern "C" int _rl_argcxt;
 
 namespace silt::cli {
@@ -113,19 +113,15 @@ int held_vi_redo(int count, int key) { return rl_vi_redo(std::min(count, kMaxRep
 // fuzz target, tests/fuzz/crashes/vi_count_enter_subst.keys). Such a key is handed back to
 // readline as the next key to read, with the count kept (readline's own NUM_READONE, which
 // universal-argument uses in this interface): readline then reads it as any key, and the line
-// goes to the handler at once.
+// goes to the handler at once. Whether c is such a key; guarded_getc sets readline's state.
 bool ends_count_accepting_line(int c) {
-  constexpr int kNumReadOne = 0x04;  // rlprivate.h
   if (!RL_ISSTATE(RL_STATE_NUMERICARG) || c < 0 || c >= KEYMAP_SIZE - 1) return false;
   const int plain = c & 0x7f;
   if (std::isdigit(plain) || plain == '-') return false;  // digits and the sign continue the count
   const KEYMAP_ENTRY& e = rl_get_keymap()[c];
   if (e.type != ISFUNC) return false;
   for (rl_command_func_t* accepts : {rl_newline, rl_vi_eof_maybe, rl_operate_and_get_next, rl_insert_comment})
-    if (e.function == accepts) {
-      _rl_argcxt |= kNumReadOne;
-      return true;
-    }
+    if (e.function == accepts) return true;
   return false;
 }
 
@@ -151,7 +147,11 @@ int guarded_getc(FILE* stream) {
   RL_SETSTATE(RL_STATE_VICMDONCE);
   const int c = rl_getc(stream);
   if (RL_ISSTATE(RL_STATE_NUMERICARG) && rl_numeric_arg > kMaxCount) rl_numeric_arg = kMaxCount;
-  if (ends_count_accepting_line(c)) return c;
+  if (ends_count_accepting_line(c)) {
+    constexpr int kNumReadOne = 0x04;  // rlprivate.h
+    _rl_argcxt |= kNumReadOne;         // c comes back as the next key read, the count kept
+    return c;
+  }
   if (RL_ISSTATE(RL_STATE_MULTIKEY) && rl_editing_mode == 0 && c != EOF && rl_key_sequence_length >= 1 &&
       rl_executing_keyseq[0] == '\033') {
     if (c < 0x20 || c > 0x7e) return '\033';
