@@ -104,7 +104,41 @@ void hold_line_length() {
 constexpr int kMaxRepeat = 16;
 
 int held_vi_put(int count, int key) { return rl_vi_put(std::min(count, kMaxRepeat), key); }
-int held_vi_redo(int count, int key) { return rl_vi_redo(std::min(count, kMaxRepeat), key); }
+
+// vi's redo (.) of an operator (d, c, y) in readline 8.2 runs it with the motion of the last
+// operator that had one, whichever it was: after `cc` (recorded as the motion c) a `d` left
+// without a motion (`d` Escape, `d.`) is the command redone, and `.` dispatches `c` as the motion
+// of `d`. The change inside the delete empties the line, and the delete then restores the line's
+// old end: rl_end past a NUL, on which the forward character search (vi's f, t) loops forever
+// (vi mode, `1` Escape `S` Escape `p` `d..` `fx`: silt's shell at full CPU until killed; found by
+// the terminal fuzz target's check of the line, tests/fuzz/crashes/vi_redo_cross_operator.keys).
+// A motion read by the operator itself may be a redo too (an operator run from an Escape
+// sequence's fallback reads it so), which runs the last command inside the operator. readline
+// runs an operator or a redo while an operator runs only on such paths (`dd` and its redo take
+// another): they are refused, and the outer operator then fails for want of a motion, as vi's
+// does. The watch ends at the next command key read (guarded_getc): an operator left by readline's
+// longjmp must not leave every later one refused.
+bool g_operator_running = false;
+
+int held_vi_redo(int count, int key) {
+  if (g_operator_running) {
+    rl_ding();
+    return 1;
+  }
+  return rl_vi_redo(std::min(count, kMaxRepeat), key);
+}
+
+template <rl_command_func_t* Operator>
+int single_operator(int count, int key) {
+  if (g_operator_running) {
+    rl_ding();
+    return 1;
+  }
+  g_operator_running = true;
+  const int r = Operator(count, key);
+  g_operator_running = false;
+  return r;
+}
 
 // readline 8.2's callback interface does not hand over a line accepted by the key that ends a
 // count (vi: `1` Enter; emacs: Meta-1 Enter): rl_callback_read_char returns from the count's branch
@@ -145,6 +179,7 @@ int guarded_getc(FILE* stream) {
   // The line counts as having entered command mode already: nothing is freed, and U reverts the
   // whole line.
   RL_SETSTATE(RL_STATE_VICMDONCE);
+  if (RL_ISSTATE(RL_STATE_READCMD)) g_operator_running = false;  // a command's first key
   const int c = rl_getc(stream);
   if (RL_ISSTATE(RL_STATE_NUMERICARG) && rl_numeric_arg > kMaxCount) rl_numeric_arg = kMaxCount;
   if (ends_count_accepting_line(c)) {
@@ -201,7 +236,12 @@ int reread_init_file(int count, int key) {
 rl_command_func_t* guarded(rl_command_func_t* f) {
   if (crashes_readline(f)) return nullptr;
   const std::pair<rl_command_func_t*, rl_command_func_t*> wrapped[] = {
-      {rl_re_read_init_file, reread_init_file}, {rl_vi_put, held_vi_put}, {rl_vi_redo, held_vi_redo}};
+      {rl_re_read_init_file, reread_init_file},
+      {rl_vi_put, held_vi_put},
+      {rl_vi_redo, held_vi_redo},
+      {rl_vi_delete_to, single_operator<rl_vi_delete_to>},
+      {rl_vi_change_to, single_operator<rl_vi_change_to>},
+      {rl_vi_yank_to, single_operator<rl_vi_yank_to>}};
   for (const auto& [from, to] : wrapped)
     if (f == from) return to;
   return f;
