@@ -292,6 +292,28 @@ TEST_CASE("a count ended by Enter enters the line at once, in emacs and in vi mo
   CHECK(t.wait_exit() == 0);
 }
 
+TEST_CASE("vi's redo of an operator left without a motion keeps the line whole") {
+  TempDir home;
+  Terminal t(silt::test::scene_path("collision_normal"), home.path());
+  REQUIRE(!t.read_until("silt[t=0]> ").empty());
+  // vi mode (Meta-Ctrl-J), `cc` (recorded as the motion c), `d.` (a delete left without a motion),
+  // then `.`: readline 8.2 ran c as the motion of d, which emptied the line and left its end past
+  // the NUL; this line was lost, and on others `fx` looped forever
+  // (tests/fuzz/crashes/vi_redo_cross_operator.keys).
+  t.type(
+      "\x1b\nprint t\x1b"
+      "0ccprint step\x1b"
+      "0d..fx\n");
+  CHECK(!t.read_until("step = 0").empty());
+  // A redo of an operator with its own motion still repeats it: `dw`, then `.` deletes a word.
+  t.type(
+      "print a b step\x1b"
+      "0wdw.\n");
+  CHECK(!t.read_until("step = 0").empty());
+  t.type("quit\n");
+  CHECK(t.wait_exit() == 0);
+}
+
 TEST_CASE("a count's long insertion is drawn wrapped, and a dumb terminal reads plain lines") {
   TempDir home;
   // readline 8.2 scrolling the line sideways (an inputrc's horizontal-scroll-mode, or a terminal
