@@ -120,20 +120,20 @@ int held_vi_put(int count, int key) { return rl_vi_put(std::min(count, kMaxRepea
 // longjmp must not leave every later one refused.
 bool g_operator_running = false;
 
+// Whether a redo or an operator is refused here (it rings the bell if so).
+bool refused_inside_operator() {
+  if (g_operator_running) rl_ding();
+  return g_operator_running;
+}
+
 int held_vi_redo(int count, int key) {
-  if (g_operator_running) {
-    rl_ding();
-    return 1;
-  }
+  if (refused_inside_operator()) return 1;
   return rl_vi_redo(std::min(count, kMaxRepeat), key);
 }
 
 template <rl_command_func_t* Operator>
 int single_operator(int count, int key) {
-  if (g_operator_running) {
-    rl_ding();
-    return 1;
-  }
+  if (refused_inside_operator()) return 1;
   g_operator_running = true;
   const int r = Operator(count, key);
   g_operator_running = false;
