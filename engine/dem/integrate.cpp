@@ -14,11 +14,14 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <type_traits>
 
 #include "core/assert.hpp"
 #include "core/parallel.hpp"
 #include "core/periodic_image.hpp"
+#include "core/simd_level.hpp"
+#include "dem/grain_pass_avx2.hpp"
 #include "dem/stages.hpp"
 
 namespace silt::dem {
@@ -58,7 +61,7 @@ struct DriftArgs {
 // The arguments come by value: a local copy that the stores to the arrays cannot alias, so the
 // loop keeps them in registers (captured in a closure they would be reloaded after each store).
 template <int D, bool Affine>
-std::array<double, 2> drift_range(const DriftArgs<D> a, int64_t b, int64_t e) {
+std::array<double, 2> drift_scalar(const DriftArgs<D> a, int64_t b, int64_t e) {
   constexpr int R = kRotDim<D>;
   double* __restrict x = a.x;
   double* __restrict v = a.v;
@@ -103,6 +106,48 @@ std::array<double, 2> drift_range(const DriftArgs<D> a, int64_t b, int64_t e) {
     worst_step = std::max(worst_step, s2);
   }
   return {worst, worst_step};
+}
+
+// The same for spheres without an affine flow, four grains at a time where the processor has
+// AVX2 (grain_pass_avx2.hpp; the same bits), the last ones by the scalar loop.
+template <int D, bool Affine>
+std::array<double, 2> drift_range(const DriftArgs<D> a, int64_t b, int64_t e) {
+#if defined(__SSE4_1__)
+  if constexpr (D == 3 && !Affine) {
+    if (avx2_in_use() && !a.img.lees_edwards) {
+      grain_avx2::DriftArrays va{a.dt, a.h, {}, {}, {}, a.x, a.v, a.w, a.disp, a.f, a.t, a.inv_m, a.inv_i, a.frozen};
+      for (int k = 0; k < 3; ++k) {
+        va.g[k] = a.g[k];
+        va.lo[k] = a.img.periodic[k] ? a.box.lo[k] : -std::numeric_limits<double>::infinity();
+        va.hi[k] = a.img.periodic[k] ? a.box.lo[k] + a.img.len[k] : std::numeric_limits<double>::infinity();
+      }
+      double worst[2] = {0, 0};
+      constexpr int64_t kChunk = 256;  // grains per call: their flags fit on the stack
+      uint8_t redo[kChunk / 4];
+      int64_t i = b;
+      for (; i + 4 <= e; i += kChunk) {
+        const int64_t m = std::min(kChunk, e - i) / 4;
+        grain_avx2::drift_spheres(va, i, m, worst, redo);
+        for (int64_t q = 0; q < m; ++q)
+          for (int l = 0; redo[q] >> l; ++l)
+            if (redo[q] >> l & 1) {
+              const int64_t g = i + 4 * q + l;
+              double* xg = a.x + 3 * g;
+              if (!std::isfinite(xg[0] + xg[1] + xg[2])) a.nonfinite->raise(g, 0);
+              a.img.wrap(xg, a.box);
+            }
+        if (m < kChunk / 4) {
+          i += 4 * m;
+          break;
+        }
+      }
+      const std::array<double, 2> tail = drift_scalar<D, Affine>(a, i, e);
+      for (int k = 0; k < 2; ++k) worst[k] = std::max(worst[k], tail[k]);
+      return {worst[0], worst[1]};
+    }
+  }
+#endif
+  return drift_scalar<D, Affine>(a, b, e);
 }
 
 template <int D, bool Affine>
@@ -163,7 +208,7 @@ struct KickArgs {
 // without friction it wrote no torque: Torque false starts from zero) and, with Kick, the second
 // half kick of grains [b, e). Arguments by value, as in drift_range.
 template <int D, bool Kick, bool Torque, bool Sources>
-void kick_range(const KickArgs<D> a, int64_t b, int64_t e) {
+void kick_scalar(const KickArgs<D> a, int64_t b, int64_t e) {
   constexpr int R = kRotDim<D>;
   double* __restrict force = a.force;
   double* __restrict torq = a.torq;
@@ -196,6 +241,43 @@ void kick_range(const KickArgs<D> a, int64_t b, int64_t e) {
       if (!std::isfinite(sum)) a.nonfinite->raise(i, 0);
     }
   }
+}
+
+// The same, four grains at a time where the processor has AVX2 and the pass is a plain kick of
+// spheres (grain_pass_avx2.hpp; the same bits), the last ones by the scalar loop.
+template <int D, bool Kick, bool Torque, bool Sources>
+void kick_range(const KickArgs<D> a, int64_t b, int64_t e) {
+#if defined(__SSE4_1__)
+  if constexpr (D == 3 && Kick && !Sources) {
+    if (avx2_in_use() && a.gd == 0.0) {
+      if constexpr (!Torque) std::fill(a.torq + 3 * b, a.torq + 3 * e, 0.0);
+      const grain_avx2::KickArrays va{a.h,     {a.g[0], a.g[1], a.g[2]}, a.v, a.w, a.force, a.torq, a.inv_m, a.inv_i,
+                                      a.frozen};
+      constexpr int64_t kChunk = 256;  // grains per call: their flags fit on the stack
+      uint8_t redo[kChunk / 4];
+      int64_t i = b;
+      for (; i + 4 <= e; i += kChunk) {
+        const int64_t m = std::min(kChunk, e - i) / 4;
+        grain_avx2::kick_spheres(va, i, m, redo);
+        for (int64_t q = 0; q < m; ++q)
+          if (redo[q])
+            for (int64_t g = i + 4 * q; g < i + 4 * q + 4; ++g) {
+              if (a.frozen[g]) continue;
+              double sum = 0;  // the scalar loop's sum, from the stored velocities
+              for (int k = 0; k < 3; ++k) sum += a.v[3 * g + k];
+              for (int k = 0; k < 3; ++k) sum += a.w[3 * g + k];
+              if (!std::isfinite(sum)) a.nonfinite->raise(g, 0);
+            }
+        if (m < kChunk / 4) {
+          i += 4 * m;
+          break;
+        }
+      }
+      return kick_scalar<D, Kick, true, Sources>(a, i, e);
+    }
+  }
+#endif
+  kick_scalar<D, Kick, Torque, Sources>(a, b, e);
 }
 
 template <int D, bool Kick>
