@@ -10,6 +10,9 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
+
+#include "dem/grain_pass.hpp"
 
 #if defined(__SSE4_1__)
 #include <immintrin.h>
@@ -46,32 +49,25 @@ SILT_AVX2_INLINE __m256d frozen_mask(const uint8_t* frozen) {
 SILT_AVX2_INLINE __m256d load(const double* p, int k) { return _mm256_loadu_pd(p + 4 * k); }
 SILT_AVX2_INLINE void store(double* p, int k, __m256d v) { _mm256_storeu_pd(p + 4 * k, v); }
 
-struct DriftArrays {
-  double dt, h;
-  double g[3];
-  double lo[3], hi[3];  // the box test of each axis: lo <= x < hi (-inf and inf when not periodic)
-  double* x;
-  double* v;
-  double* w;
-  double* disp;
-  const double* f;
-  const double* t;
-  const double* inv_m;
-  const double* inv_i;
-  const uint8_t* frozen;
-};
-
 // Half kick and drift of grains [b, b + 4 m). The grains of `redo` (bit l of entry k: grain
 // b + 4 k + l) left the box or have a position that is not finite: their values are stored as
-// the vector computed them, and the scalar code finishes them (raise, wrap). Returns the largest
-// squared displacement since the last build and the largest squared step, of the grains that are
-// not frozen.
-[[gnu::target("avx2")]] inline void drift_spheres(const DriftArrays a, int64_t b, int64_t m, double* worst,
+// the vector computed them, and the scalar code finishes them (raise, wrap). worst[0] and
+// worst[1] are raised to the largest squared displacement since the last build and the largest
+// squared step of the grains that are not frozen.
+[[gnu::target("avx2")]] inline void drift_spheres(const grain_pass::DriftArgs<3> a, int64_t b, int64_t m, double* worst,
                                                   uint8_t* redo) {
   const __m256d h = _mm256_set1_pd(a.h), dt = _mm256_set1_pd(a.dt);
   const __m256d g[3] = {_mm256_setr_pd(a.g[0], a.g[1], a.g[2], a.g[0]), _mm256_setr_pd(a.g[1], a.g[2], a.g[0], a.g[1]),
                         _mm256_setr_pd(a.g[2], a.g[0], a.g[1], a.g[2])};
   const __m256d sign = _mm256_set1_pd(-0.0), inf = _mm256_set1_pd(__builtin_inf());
+  // The box test of each axis, lo <= x < hi as PeriodicImage::wrap takes it (-inf and inf on an
+  // axis that is not periodic).
+  __m256d lo[3], hi[3];
+  for (int k = 0; k < 3; ++k) {
+    const double l = a.img.periodic[k] ? a.box.lo[k] : -std::numeric_limits<double>::infinity();
+    lo[k] = _mm256_set1_pd(l);
+    hi[k] = _mm256_set1_pd(a.img.periodic[k] ? a.box.lo[k] + a.img.len[k] : std::numeric_limits<double>::infinity());
+  }
   __m256d wd = _mm256_setzero_pd(), ws = _mm256_setzero_pd();
   for (int64_t q = 0; q < m; ++q) {
     const int64_t i = b + 4 * q;
@@ -116,8 +112,8 @@ struct DriftArrays {
     const __m256d xs = _mm256_add_pd(_mm256_add_pd(p[0], p[1]), p[2]);
     __m256d ok = _mm256_cmp_pd(_mm256_andnot_pd(sign, xs), inf, _CMP_LT_OQ);
     for (int k = 0; k < 3; ++k) {
-      ok = _mm256_and_pd(ok, _mm256_cmp_pd(p[k], _mm256_set1_pd(a.lo[k]), _CMP_GE_OQ));
-      ok = _mm256_and_pd(ok, _mm256_cmp_pd(p[k], _mm256_set1_pd(a.hi[k]), _CMP_LT_OQ));
+      ok = _mm256_and_pd(ok, _mm256_cmp_pd(p[k], lo[k], _CMP_GE_OQ));
+      ok = _mm256_and_pd(ok, _mm256_cmp_pd(p[k], hi[k], _CMP_LT_OQ));
     }
     redo[q] = static_cast<uint8_t>(
         _mm256_movemask_pd(_mm256_andnot_pd(_mm256_or_pd(ok, frz), _mm256_castsi256_pd(_mm256_set1_epi64x(-1)))));
@@ -131,23 +127,11 @@ struct DriftArrays {
   }
 }
 
-struct KickArrays {
-  double h;
-  double g[3];
-  double* v;
-  double* w;
-  const double* f;
-  const double* t;
-  const double* inv_m;
-  const double* inv_i;
-  const uint8_t* frozen;
-};
-
 // The second half kick of grains [b, b + 4 m), without shear and without other force sources.
-// Returns whether every velocity of the grains that are not frozen is below 1e300 in magnitude
-// (then their sums, which the scalar code checks, are finite); otherwise the caller checks the
-// grains of the entries of `redo` that are set.
-[[gnu::target("avx2")]] inline void kick_spheres(const KickArrays a, int64_t b, int64_t m, uint8_t* redo) {
+// redo[k] is set unless every velocity of the four grains b + 4 k .. is below 1e300 in
+// magnitude (then the sums of each grain's velocities, which the scalar code checks, are finite);
+// the caller checks the grains of those entries.
+[[gnu::target("avx2")]] inline void kick_spheres(const grain_pass::KickArgs<3> a, int64_t b, int64_t m, uint8_t* redo) {
   const __m256d h = _mm256_set1_pd(a.h);
   const __m256d g[3] = {_mm256_setr_pd(a.g[0], a.g[1], a.g[2], a.g[0]), _mm256_setr_pd(a.g[1], a.g[2], a.g[0], a.g[1]),
                         _mm256_setr_pd(a.g[2], a.g[0], a.g[1], a.g[2])};
@@ -156,8 +140,8 @@ struct KickArrays {
     const int64_t i = b + 4 * q;
     double* v = a.v + 3 * i;
     double* w = a.w + 3 * i;
-    const double* f = a.f + 3 * i;
-    const double* t = a.t + 3 * i;
+    const double* f = a.force + 3 * i;
+    const double* t = a.torq + 3 * i;
     __m256d im[3], ii[3], fz[3];
     spread(_mm256_loadu_pd(a.inv_m + i), im);
     spread(_mm256_loadu_pd(a.inv_i + i), ii);

@@ -21,6 +21,7 @@
 #include "core/parallel.hpp"
 #include "core/periodic_image.hpp"
 #include "core/simd_level.hpp"
+#include "dem/grain_pass.hpp"
 #include "dem/grain_pass_avx2.hpp"
 #include "dem/stages.hpp"
 
@@ -28,33 +29,9 @@ namespace silt::dem {
 namespace {
 
 constexpr int64_t kGrain = 1024;
-
-// Affine: the box deforms (stress control or shear). The grains are carried by the affine flow
-// x -> lo + lambda (x - lo) and v_x += gammadot (y - lo_y), and move relative to it with their
-// stored velocity c (the flow is not stored in particle_v). For the lengths this is Peyneau's
-// eq. 3.10 without its coupling terms, negligible for dissipative grains at small I. For the
-// shear the motion stays Newton's: the velocity u = c + gammadot (y - lo_y) e_x obeys
-// m du/dt = F, so dc_x/dt = F_x/m - gammadot c_y (the SLLOD equations of Evans & Morriss
-// 1990, exact for simple shear at a constant rate; Peyneau integrates u itself; when the rate
-// changes, the grains follow the new flow at once, as for the lengths). A kick takes the c_y of
-// the instant of its force: c_y(t) in the first half kick, c_y(t + dt) in the second.
-template <int D>
-struct DriftArgs {
-  double dt, h, gd;
-  EventSlot* nonfinite;
-  double lo[D], g[D], lambda[D];
-  PeriodicImage<D> img;
-  Box box;
-  double* x;
-  double* v;
-  double* w;
-  double* disp;
-  const double* f;
-  const double* t;
-  const double* inv_m;
-  const double* inv_i;
-  const uint8_t* frozen;
-};
+using grain_pass::DriftArgs;
+using grain_pass::KickArgs;
+using grain_pass::kMaxSources;
 
 // Kick and drift grains [b, e); returns the largest squared displacement since the last build
 // and the largest squared displacement of this drift.
@@ -115,19 +92,13 @@ std::array<double, 2> drift_range(const DriftArgs<D> a, int64_t b, int64_t e) {
 #if defined(__SSE4_1__)
   if constexpr (D == 3 && !Affine) {
     if (avx2_in_use() && !a.img.lees_edwards) {
-      grain_avx2::DriftArrays va{a.dt, a.h, {}, {}, {}, a.x, a.v, a.w, a.disp, a.f, a.t, a.inv_m, a.inv_i, a.frozen};
-      for (int k = 0; k < 3; ++k) {
-        va.g[k] = a.g[k];
-        va.lo[k] = a.img.periodic[k] ? a.box.lo[k] : -std::numeric_limits<double>::infinity();
-        va.hi[k] = a.img.periodic[k] ? a.box.lo[k] + a.img.len[k] : std::numeric_limits<double>::infinity();
-      }
       double worst[2] = {0, 0};
       constexpr int64_t kChunk = 256;  // grains per call: their flags fit on the stack
       uint8_t redo[kChunk / 4];
       int64_t i = b;
       for (; i + 4 <= e; i += kChunk) {
         const int64_t m = std::min(kChunk, e - i) / 4;
-        grain_avx2::drift_spheres(va, i, m, worst, redo);
+        grain_avx2::drift_spheres(a, i, m, worst, redo);
         for (int64_t q = 0; q < m; ++q)
           for (int l = 0; redo[q] >> l; ++l)
             if (redo[q] >> l & 1) {
@@ -183,27 +154,6 @@ void kick_drift_dim(const Model& m, State& s, double kick) {
   s.nbr_step_disp = std::sqrt(max_d2[1]);
 }
 
-// At most this many force (or torque) sources besides the pair sums.
-constexpr int kMaxSources = 8;
-
-template <int D>
-struct KickArgs {
-  double h, gd;  // half step, shear rate (0 without shear)
-  double g[D];
-  int n_force, n_torque;
-  const double* force_src[kMaxSources];  // per grain: force_items[k] vectors of D
-  int force_items[kMaxSources];          // 1, or W for a per grain-wall source
-  const double* torque_src[kMaxSources];
-  const double* inv_m;
-  const double* inv_i;
-  const uint8_t* frozen;
-  double* force;
-  double* torq;
-  double* v;
-  double* w;
-  EventSlot* nonfinite;
-};
-
 // The force sources into particle_f / particle_t (contact_forces left the pair sums there;
 // without friction it wrote no torque: Torque false starts from zero) and, with Kick, the second
 // half kick of grains [b, e). Arguments by value, as in drift_range.
@@ -251,14 +201,12 @@ void kick_range(const KickArgs<D> a, int64_t b, int64_t e) {
   if constexpr (D == 3 && Kick && !Sources) {
     if (avx2_in_use() && a.gd == 0.0) {
       if constexpr (!Torque) std::fill(a.torq + 3 * b, a.torq + 3 * e, 0.0);
-      const grain_avx2::KickArrays va{a.h,     {a.g[0], a.g[1], a.g[2]}, a.v, a.w, a.force, a.torq, a.inv_m, a.inv_i,
-                                      a.frozen};
       constexpr int64_t kChunk = 256;  // grains per call: their flags fit on the stack
       uint8_t redo[kChunk / 4];
       int64_t i = b;
       for (; i + 4 <= e; i += kChunk) {
         const int64_t m = std::min(kChunk, e - i) / 4;
-        grain_avx2::kick_spheres(va, i, m, redo);
+        grain_avx2::kick_spheres(a, i, m, redo);
         for (int64_t q = 0; q < m; ++q)
           if (redo[q])
             for (int64_t g = i + 4 * q; g < i + 4 * q + 4; ++g) {
