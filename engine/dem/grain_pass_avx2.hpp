@@ -1,18 +1,19 @@
-// The grain passes of velocity Verlet (integrate.cpp) for spheres without an affine flow, four
-// grains per AVX2 instruction. The arrays hold the three components of each grain side by side,
-// so the twelve values of four grains are three registers: the updates are done on those as they
-// lie, each grain's mass (or inertia) and frozen flag spread to its three lanes, and the values
-// that need a grain's three components together (its squared displacements, the sum whose
-// finiteness is checked, the box test) are taken after a transposition to one register per
-// component. Every value goes through the same IEEE operations in the same order as in the
-// scalar loop, so both give the same bits (tests compare them); a grain that leaves the box or
-// whose values are not finite is handed back to the scalar code.
+// The grain passes of velocity Verlet (integrate.cpp) for disks and spheres without an affine
+// flow, four grains per AVX2 instruction. The arrays hold the D components of each grain side by
+// side, so the 4 D values of four grains are D registers: the updates are done on those as they
+// lie, each grain's mass (or inertia) and frozen flag spread to its lanes, and the values that
+// need a grain's components together (its squared displacements, the sum whose finiteness is
+// checked, the box test) are taken after a transposition to one register per component. Every
+// value goes through the same IEEE operations in the same order as in the scalar loop, so both
+// give the same bits (tests compare them); a grain that leaves the box or whose values are not
+// finite is handed back to the scalar code.
 #pragma once
 
 #include <cstdint>
 #include <limits>
 
 #include "dem/grain_pass.hpp"
+#include "silt/vec.hpp"
 
 #if defined(__SSE4_1__)
 #include <immintrin.h>
@@ -23,19 +24,44 @@ namespace silt::dem::grain_avx2 {
 #if defined(__SSE4_1__)
 #define SILT_AVX2_INLINE [[gnu::target("avx2"), gnu::always_inline]] inline
 
-// Four grains' values, a0 = [x0 y0 z0 x1], a1 = [y1 z1 x2 y2], a2 = [z2 x3 y3 z3], as
-// c[0] = [x0 x1 x2 x3], c[1] = the y, c[2] = the z.
-SILT_AVX2_INLINE void transpose(__m256d a0, __m256d a1, __m256d a2, __m256d* c) {
-  c[0] = _mm256_permute4x64_pd(_mm256_blend_pd(_mm256_blend_pd(a0, a1, 0b0100), a2, 0b0010), _MM_SHUFFLE(1, 2, 3, 0));
-  c[1] = _mm256_permute4x64_pd(_mm256_blend_pd(_mm256_blend_pd(a0, a1, 0b1001), a2, 0b0100), _MM_SHUFFLE(2, 3, 0, 1));
-  c[2] = _mm256_permute4x64_pd(_mm256_blend_pd(_mm256_blend_pd(a0, a1, 0b0010), a2, 0b1001), _MM_SHUFFLE(3, 0, 1, 2));
+// Four grains' values as they lie, D registers (3D: a[0] = [x0 y0 z0 x1], a[1] = [y1 z1 x2 y2],
+// a[2] = [z2 x3 y3 z3]; 2D: a[0] = [x0 y0 x1 y1], a[1] = [x2 y2 x3 y3]), as one register per
+// component: c[0] = [x0 x1 x2 x3], c[1] = the y, ...
+template <int D>
+SILT_AVX2_INLINE void transpose(const __m256d* a, __m256d* c) {
+  if constexpr (D == 3) {
+    c[0] = _mm256_permute4x64_pd(_mm256_blend_pd(_mm256_blend_pd(a[0], a[1], 0b0100), a[2], 0b0010),
+                                 _MM_SHUFFLE(1, 2, 3, 0));
+    c[1] = _mm256_permute4x64_pd(_mm256_blend_pd(_mm256_blend_pd(a[0], a[1], 0b1001), a[2], 0b0100),
+                                 _MM_SHUFFLE(2, 3, 0, 1));
+    c[2] = _mm256_permute4x64_pd(_mm256_blend_pd(_mm256_blend_pd(a[0], a[1], 0b0010), a[2], 0b1001),
+                                 _MM_SHUFFLE(3, 0, 1, 2));
+  } else {
+    c[0] = _mm256_permute4x64_pd(_mm256_unpacklo_pd(a[0], a[1]), _MM_SHUFFLE(3, 1, 2, 0));
+    c[1] = _mm256_permute4x64_pd(_mm256_unpackhi_pd(a[0], a[1]), _MM_SHUFFLE(3, 1, 2, 0));
+  }
 }
 
-// One value per grain, p = [p0 p1 p2 p3], spread to the lanes of the grains' components.
+// One value per grain, p = [p0 p1 p2 p3], spread to the lanes of the grains' D components.
+template <int D>
 SILT_AVX2_INLINE void spread(__m256d p, __m256d* e) {
-  e[0] = _mm256_permute4x64_pd(p, _MM_SHUFFLE(1, 0, 0, 0));
-  e[1] = _mm256_permute4x64_pd(p, _MM_SHUFFLE(2, 2, 1, 1));
-  e[2] = _mm256_permute4x64_pd(p, _MM_SHUFFLE(3, 3, 3, 2));
+  if constexpr (D == 3) {
+    e[0] = _mm256_permute4x64_pd(p, _MM_SHUFFLE(1, 0, 0, 0));
+    e[1] = _mm256_permute4x64_pd(p, _MM_SHUFFLE(2, 2, 1, 1));
+    e[2] = _mm256_permute4x64_pd(p, _MM_SHUFFLE(3, 3, 3, 2));
+  } else if constexpr (D == 2) {
+    e[0] = _mm256_permute4x64_pd(p, _MM_SHUFFLE(1, 1, 0, 0));
+    e[1] = _mm256_permute4x64_pd(p, _MM_SHUFFLE(3, 3, 2, 2));
+  } else {
+    e[0] = p;
+  }
+}
+
+// A vector of D components per grain (gravity) as the lanes of D registers.
+template <int D>
+SILT_AVX2_INLINE void pattern(const double* g, __m256d* e) {
+  for (int k = 0; k < D; ++k)
+    e[k] = _mm256_setr_pd(g[(4 * k) % D], g[(4 * k + 1) % D], g[(4 * k + 2) % D], g[(4 * k + 3) % D]);
 }
 
 // All bits set in the lane of each frozen grain of four.
@@ -49,21 +75,36 @@ SILT_AVX2_INLINE __m256d frozen_mask(const uint8_t* frozen) {
 SILT_AVX2_INLINE __m256d load(const double* p, int k) { return _mm256_loadu_pd(p + 4 * k); }
 SILT_AVX2_INLINE void store(double* p, int k, __m256d v) { _mm256_storeu_pd(p + 4 * k, v); }
 
+// w += h t / I on the R rotation components of four grains (frozen ones kept), the values
+// stored returned in ws.
+template <int R>
+SILT_AVX2_INLINE void spin_kick(double* w, const double* t, const __m256d* ii, const __m256d* fz, __m256d h,
+                                __m256d* ws) {
+  for (int k = 0; k < R; ++k) {
+    const __m256d w0 = load(w, k);
+    const __m256d wk = _mm256_add_pd(w0, _mm256_mul_pd(_mm256_mul_pd(h, load(t, k)), ii[k]));
+    ws[k] = _mm256_blendv_pd(wk, w0, fz[k]);
+    store(w, k, ws[k]);
+  }
+}
+
 // Half kick and drift of grains [b, b + 4 m). The grains of `redo` (bit l of entry k: grain
 // b + 4 k + l) left the box or have a position that is not finite: their values are stored as
 // the vector computed them, and the scalar code finishes them (raise, wrap). worst[0] and
 // worst[1] are raised to the largest squared displacement since the last build and the largest
 // squared step of the grains that are not frozen.
-[[gnu::target("avx2")]] inline void drift_spheres(const grain_pass::DriftArgs<3> a, int64_t b, int64_t m, double* worst,
-                                                  uint8_t* redo) {
+template <int D>
+[[gnu::target("avx2")]] inline void drift_grains(const grain_pass::DriftArgs<D> a, int64_t b, int64_t m, double* worst,
+                                                 uint8_t* redo) {
+  constexpr int R = kRotDim<D>;
   const __m256d h = _mm256_set1_pd(a.h), dt = _mm256_set1_pd(a.dt);
-  const __m256d g[3] = {_mm256_setr_pd(a.g[0], a.g[1], a.g[2], a.g[0]), _mm256_setr_pd(a.g[1], a.g[2], a.g[0], a.g[1]),
-                        _mm256_setr_pd(a.g[2], a.g[0], a.g[1], a.g[2])};
+  __m256d g[D];
+  pattern<D>(a.g, g);
   const __m256d sign = _mm256_set1_pd(-0.0), inf = _mm256_set1_pd(__builtin_inf());
   // The box test of each axis, lo <= x < hi as PeriodicImage::wrap takes it (-inf and inf on an
   // axis that is not periodic).
-  __m256d lo[3], hi[3];
-  for (int k = 0; k < 3; ++k) {
+  __m256d lo[D], hi[D];
+  for (int k = 0; k < D; ++k) {
     const double l = a.img.periodic[k] ? a.box.lo[k] : -std::numeric_limits<double>::infinity();
     lo[k] = _mm256_set1_pd(l);
     hi[k] = _mm256_set1_pd(a.img.periodic[k] ? a.box.lo[k] + a.img.len[k] : std::numeric_limits<double>::infinity());
@@ -71,19 +112,18 @@ SILT_AVX2_INLINE void store(double* p, int k, __m256d v) { _mm256_storeu_pd(p + 
   __m256d wd = _mm256_setzero_pd(), ws = _mm256_setzero_pd();
   for (int64_t q = 0; q < m; ++q) {
     const int64_t i = b + 4 * q;
-    double* x = a.x + 3 * i;
-    double* v = a.v + 3 * i;
-    double* w = a.w + 3 * i;
-    double* disp = a.disp + 3 * i;
-    const double* f = a.f + 3 * i;
-    const double* t = a.t + 3 * i;
+    double* x = a.x + D * i;
+    double* v = a.v + D * i;
+    double* disp = a.disp + D * i;
+    const double* f = a.f + D * i;
     const __m256d frz = frozen_mask(a.frozen + i);
-    __m256d im[3], ii[3], fz[3];
-    spread(_mm256_loadu_pd(a.inv_m + i), im);
-    spread(_mm256_loadu_pd(a.inv_i + i), ii);
-    spread(frz, fz);
-    __m256d xn[3], dn[3], st[3];
-    for (int k = 0; k < 3; ++k) {
+    __m256d im[D], ii[R], fz[D], fr[R];
+    spread<D>(_mm256_loadu_pd(a.inv_m + i), im);
+    spread<R>(_mm256_loadu_pd(a.inv_i + i), ii);
+    spread<D>(frz, fz);
+    spread<R>(frz, fr);
+    __m256d xn[D], dn[D], st[D];
+    for (int k = 0; k < D; ++k) {
       // v + h (f / m + g); step = dt v; the new position and displacement.
       const __m256d v0 = load(v, k), x0 = load(x, k), d0 = load(disp, k);
       const __m256d vk = _mm256_add_pd(v0, _mm256_mul_pd(h, _mm256_add_pd(_mm256_mul_pd(load(f, k), im[k]), g[k])));
@@ -93,25 +133,24 @@ SILT_AVX2_INLINE void store(double* p, int k, __m256d v) { _mm256_storeu_pd(p + 
       store(v, k, _mm256_blendv_pd(vk, v0, fz[k]));
       store(x, k, _mm256_blendv_pd(xn[k], x0, fz[k]));
       store(disp, k, _mm256_blendv_pd(dn[k], d0, fz[k]));
-      const __m256d w0 = load(w, k);
-      const __m256d wk = _mm256_add_pd(w0, _mm256_mul_pd(_mm256_mul_pd(h, load(t, k)), ii[k]));
-      store(w, k, _mm256_blendv_pd(wk, w0, fz[k]));
     }
-    __m256d c[3], s[3], p[3];
-    transpose(dn[0], dn[1], dn[2], c);
-    transpose(st[0], st[1], st[2], s);
-    transpose(xn[0], xn[1], xn[2], p);
-    __m256d d2 = _mm256_mul_pd(c[0], c[0]), s2 = _mm256_mul_pd(s[0], s[0]);
-    for (int k = 1; k < 3; ++k) {
+    __m256d wn[R];
+    spin_kick<R>(a.w + R * i, a.t + R * i, ii, fr, h, wn);
+    __m256d c[D], s[D], p[D];
+    transpose<D>(dn, c);
+    transpose<D>(st, s);
+    transpose<D>(xn, p);
+    __m256d d2 = _mm256_mul_pd(c[0], c[0]), s2 = _mm256_mul_pd(s[0], s[0]), xs = p[0];
+    for (int k = 1; k < D; ++k) {
       d2 = _mm256_add_pd(d2, _mm256_mul_pd(c[k], c[k]));
       s2 = _mm256_add_pd(s2, _mm256_mul_pd(s[k], s[k]));
+      xs = _mm256_add_pd(xs, p[k]);
     }
     // A NaN stays out of the maxima, as in std::max(worst, d2); frozen grains count as 0.
     wd = _mm256_max_pd(_mm256_andnot_pd(frz, d2), wd);
     ws = _mm256_max_pd(_mm256_andnot_pd(frz, s2), ws);
-    const __m256d xs = _mm256_add_pd(_mm256_add_pd(p[0], p[1]), p[2]);
     __m256d ok = _mm256_cmp_pd(_mm256_andnot_pd(sign, xs), inf, _CMP_LT_OQ);
-    for (int k = 0; k < 3; ++k) {
+    for (int k = 0; k < D; ++k) {
       ok = _mm256_and_pd(ok, _mm256_cmp_pd(p[k], lo[k], _CMP_GE_OQ));
       ok = _mm256_and_pd(ok, _mm256_cmp_pd(p[k], hi[k], _CMP_LT_OQ));
     }
@@ -131,32 +170,34 @@ SILT_AVX2_INLINE void store(double* p, int k, __m256d v) { _mm256_storeu_pd(p + 
 // redo[k] is set unless every velocity of the four grains b + 4 k .. is below 1e300 in
 // magnitude (then the sums of each grain's velocities, which the scalar code checks, are finite);
 // the caller checks the grains of those entries.
-[[gnu::target("avx2")]] inline void kick_spheres(const grain_pass::KickArgs<3> a, int64_t b, int64_t m, uint8_t* redo) {
+template <int D>
+[[gnu::target("avx2")]] inline void kick_grains(const grain_pass::KickArgs<D> a, int64_t b, int64_t m, uint8_t* redo) {
+  constexpr int R = kRotDim<D>;
   const __m256d h = _mm256_set1_pd(a.h);
-  const __m256d g[3] = {_mm256_setr_pd(a.g[0], a.g[1], a.g[2], a.g[0]), _mm256_setr_pd(a.g[1], a.g[2], a.g[0], a.g[1]),
-                        _mm256_setr_pd(a.g[2], a.g[0], a.g[1], a.g[2])};
+  __m256d g[D];
+  pattern<D>(a.g, g);
   const __m256d sign = _mm256_set1_pd(-0.0), big = _mm256_set1_pd(1e300);
   for (int64_t q = 0; q < m; ++q) {
     const int64_t i = b + 4 * q;
-    double* v = a.v + 3 * i;
-    double* w = a.w + 3 * i;
-    const double* f = a.force + 3 * i;
-    const double* t = a.torq + 3 * i;
-    __m256d im[3], ii[3], fz[3];
-    spread(_mm256_loadu_pd(a.inv_m + i), im);
-    spread(_mm256_loadu_pd(a.inv_i + i), ii);
-    spread(frozen_mask(a.frozen + i), fz);
+    double* v = a.v + D * i;
+    const double* f = a.force + D * i;
+    const __m256d frz = frozen_mask(a.frozen + i);
+    __m256d im[D], ii[R], fz[D], fr[R];
+    spread<D>(_mm256_loadu_pd(a.inv_m + i), im);
+    spread<R>(_mm256_loadu_pd(a.inv_i + i), ii);
+    spread<D>(frz, fz);
+    spread<R>(frz, fr);
     __m256d ok = _mm256_castsi256_pd(_mm256_set1_epi64x(-1));
-    for (int k = 0; k < 3; ++k) {
-      const __m256d v0 = load(v, k), w0 = load(w, k);
+    for (int k = 0; k < D; ++k) {
+      const __m256d v0 = load(v, k);
       const __m256d vk = _mm256_add_pd(v0, _mm256_mul_pd(h, _mm256_add_pd(_mm256_mul_pd(load(f, k), im[k]), g[k])));
-      const __m256d wk = _mm256_add_pd(w0, _mm256_mul_pd(_mm256_mul_pd(h, load(t, k)), ii[k]));
-      const __m256d vs = _mm256_blendv_pd(vk, v0, fz[k]), wsel = _mm256_blendv_pd(wk, w0, fz[k]);
+      const __m256d vs = _mm256_blendv_pd(vk, v0, fz[k]);
       store(v, k, vs);
-      store(w, k, wsel);
       ok = _mm256_and_pd(ok, _mm256_cmp_pd(_mm256_andnot_pd(sign, vs), big, _CMP_LT_OQ));
-      ok = _mm256_and_pd(ok, _mm256_cmp_pd(_mm256_andnot_pd(sign, wsel), big, _CMP_LT_OQ));
     }
+    __m256d wn[R];
+    spin_kick<R>(a.w + R * i, a.torq + R * i, ii, fr, h, wn);
+    for (int k = 0; k < R; ++k) ok = _mm256_and_pd(ok, _mm256_cmp_pd(_mm256_andnot_pd(sign, wn[k]), big, _CMP_LT_OQ));
     redo[q] = static_cast<uint8_t>(_mm256_movemask_pd(ok) != 0xF);
   }
 }

@@ -1,8 +1,9 @@
-// The grain passes of velocity Verlet (the half kicks and the drift) run four spheres per AVX2
+// The grain passes of velocity Verlet (the half kicks and the drift) run four grains per AVX2
 // instruction where the processor has it (grain_pass_avx2.hpp) and one at a time otherwise: both
 // give the same bits, on any number of threads, with frozen grains among the moving ones in every
 // lane, grains crossing the periodic faces, a count that leaves a tail of scalar grains, with and
-// without friction (torques), and a grain whose velocity goes to infinity names the same grain.
+// without friction (torques), in 2D and 3D; and a grain whose velocity goes to infinity names the
+// same grain.
 #include <doctest/doctest.h>
 
 #include <cmath>
@@ -19,16 +20,16 @@ using namespace silt;
 
 namespace {
 
-// 211 moving and 40 frozen spheres in a periodic box under tilted gravity: fast enough that
+// 211 moving and 40 frozen grains in a periodic box under tilted gravity: fast enough that
 // grains cross the faces every few steps.
 const char* kMixed = R"(
 [scene]
-dimension = 3
+dimension = {dim}
 seed = 11
 [domain]
-lo = [0, 0, 0]
-hi = [9, 8, 7]
-periodic = [true, true, true]
+lo = LO
+hi = HI
+periodic = PER
 [gravity]
 magnitude = 3
 angle = 30
@@ -62,12 +63,16 @@ struct Outcome {
 
 // `steps` steps; before step `blow_at` (if >= 0) the velocity of grain `blow` is set to infinity,
 // or its angular velocity (spin), which only the second half kick's check sees without friction.
-Outcome run(double mu, int threads, int steps, int64_t blow = -1, int blow_at = -1, bool spin = false) {
-  auto sim = test::simulation_from(test::fill(kMixed, {{"mu", mu}}), threads);
+Outcome run(int dim, double mu, int threads, int steps, int64_t blow = -1, int blow_at = -1, bool spin = false) {
+  const bool d3 = dim == 3;
+  const std::string scene = test::with_lists(kMixed, d3 ? "[0, 0, 0]" : "[0, 0]", d3 ? "[9, 8, 7]" : "[30, 26]",
+                                             d3 ? "[true, true, true]" : "[true, true]");
+  auto sim = test::simulation_from(test::fill(scene, {{"dim", dim}, {"mu", mu}}), threads);
+  const int64_t last_v = dim - 1, last_w = d3 ? 2 : 0;  // a grain's last velocity and spin components
   Outcome out;
   for (int k = 0; k < steps; ++k) {
     if (k == blow_at)
-      (spin ? sim->state().particle_w : sim->state().particle_v)[3 * blow + 2] =
+      (spin ? sim->state().particle_w[(d3 ? 3 : 1) * blow + last_w] : sim->state().particle_v[dim * blow + last_v]) =
           std::numeric_limits<double>::infinity();
     if (!sim->step()) {
       out.failed_step = k;
@@ -82,29 +87,31 @@ Outcome run(double mu, int threads, int steps, int64_t blow = -1, int blow_at = 
 }  // namespace
 
 TEST_CASE("the grain passes give the same bits at every vector level and thread count") {
-  for (double mu : {0.0, 0.5}) {
-    CAPTURE(mu);
-    limit_simd(SimdLevel::kBaseline);
-    const Outcome ref = run(mu, 1, 1500);
-    const Outcome ref_blow = run(mu, 1, 50, 37, 20), ref_spin = run(mu, 1, 50, 90, 20, true);
-    REQUIRE(ref_blow.failed_step == 20);
-    REQUIRE(ref_spin.failed_step == 20);
-    for (SimdLevel level : {SimdLevel::kAvx512, SimdLevel::kAvx2, SimdLevel::kBaseline}) {
-      limit_simd(level);
-      CAPTURE(simd_name(level));
-      for (int threads : {1, 2}) {
-        CAPTURE(threads);
-        CHECK(run(mu, threads, 1500).hash == ref.hash);
-        const Outcome blow = run(mu, threads, 50, 37, 20);
-        CHECK(blow.failed_step == ref_blow.failed_step);
-        CHECK(blow.particle == ref_blow.particle);
-        CHECK(blow.hash == ref_blow.hash);
-        const Outcome spin = run(mu, threads, 50, 90, 20, true);
-        CHECK(spin.failed_step == ref_spin.failed_step);
-        CHECK(spin.particle == ref_spin.particle);
-        CHECK(spin.hash == ref_spin.hash);
+  for (int dim : {2, 3})
+    for (double mu : {0.0, 0.5}) {
+      CAPTURE(dim);
+      CAPTURE(mu);
+      limit_simd(SimdLevel::kBaseline);
+      const Outcome ref = run(dim, mu, 1, 1500);
+      const Outcome ref_blow = run(dim, mu, 1, 50, 37, 20), ref_spin = run(dim, mu, 1, 50, 90, 20, true);
+      REQUIRE(ref_blow.failed_step == 20);
+      REQUIRE(ref_spin.failed_step == 20);
+      for (SimdLevel level : {SimdLevel::kAvx512, SimdLevel::kAvx2, SimdLevel::kBaseline}) {
+        limit_simd(level);
+        CAPTURE(simd_name(level));
+        for (int threads : {1, 2}) {
+          CAPTURE(threads);
+          CHECK(run(dim, mu, threads, 1500).hash == ref.hash);
+          const Outcome blow = run(dim, mu, threads, 50, 37, 20);
+          CHECK(blow.failed_step == ref_blow.failed_step);
+          CHECK(blow.particle == ref_blow.particle);
+          CHECK(blow.hash == ref_blow.hash);
+          const Outcome spin = run(dim, mu, threads, 50, 90, 20, true);
+          CHECK(spin.failed_step == ref_spin.failed_step);
+          CHECK(spin.particle == ref_spin.particle);
+          CHECK(spin.hash == ref_spin.hash);
+        }
       }
     }
-  }
   limit_simd(SimdLevel::kAvx512);
 }
