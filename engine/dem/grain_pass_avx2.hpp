@@ -9,6 +9,7 @@
 // finite is handed back to the scalar code.
 #pragma once
 
+#include <bit>
 #include <cstdint>
 #include <limits>
 
@@ -64,6 +65,17 @@ SILT_AVX2_INLINE void pattern(const double* g, __m256d* e) {
     e[k] = _mm256_setr_pd(g[(4 * k) % D], g[(4 * k + 1) % D], g[(4 * k + 2) % D], g[(4 * k + 3) % D]);
 }
 
+// All bits set in the lanes of D registers (as pattern lays them) that hold an x component.
+template <int D>
+SILT_AVX2_INLINE void x_lanes(__m256d* e) {
+  const double on = std::bit_cast<double>(~uint64_t{0});
+  for (int k = 0; k < D; ++k) {
+    double l[4];
+    for (int j = 0; j < 4; ++j) l[j] = (4 * k + j) % D == 0 ? on : 0.0;
+    e[k] = _mm256_loadu_pd(l);
+  }
+}
+
 // All bits set in the lane of each frozen grain of four.
 SILT_AVX2_INLINE __m256d frozen_mask(const uint8_t* frozen) {
   int32_t bytes;
@@ -71,6 +83,22 @@ SILT_AVX2_INLINE __m256d frozen_mask(const uint8_t* frozen) {
   const __m256i wide = _mm256_cvtepu8_epi64(_mm_cvtsi32_si128(bytes));
   return _mm256_castsi256_pd(_mm256_cmpgt_epi64(wide, _mm256_setzero_si256()));
 }
+
+// Four grains' masses, inertias and frozen flags, spread to the lanes of their components (and
+// of their rotation components).
+template <int D>
+struct GroupLanes {
+  static constexpr int R = kRotDim<D>;
+  __m256d frz, im[D], ii[R], fz[D], fr[R];
+  [[gnu::target("avx2"), gnu::always_inline]] GroupLanes(const double* inv_m, const double* inv_i,
+                                                         const uint8_t* frozen, int64_t i) {
+    frz = frozen_mask(frozen + i);
+    spread<D>(_mm256_loadu_pd(inv_m + i), im);
+    spread<R>(_mm256_loadu_pd(inv_i + i), ii);
+    spread<D>(frz, fz);
+    spread<R>(frz, fr);
+  }
+};
 
 SILT_AVX2_INLINE __m256d load(const double* p, int k) { return _mm256_loadu_pd(p + 4 * k); }
 SILT_AVX2_INLINE void store(double* p, int k, __m256d v) { _mm256_storeu_pd(p + 4 * k, v); }
@@ -93,13 +121,20 @@ SILT_AVX2_INLINE void spin_kick(double* w, const double* t, const __m256d* ii, c
 // the vector computed them, and the scalar code finishes them (raise, wrap). worst[0] and
 // worst[1] are raised to the largest squared displacement since the last build and the largest
 // squared step of the grains that are not frozen.
-template <int D>
+template <int D, bool Affine>
 [[gnu::target("avx2")]] inline void drift_grains(const grain_pass::DriftArgs<D> a, int64_t b, int64_t m, double* worst,
                                                  uint8_t* redo) {
   constexpr int R = kRotDim<D>;
   const __m256d h = _mm256_set1_pd(a.h), dt = _mm256_set1_pd(a.dt);
-  __m256d g[D];
+  __m256d g[D], lo_e[D], lam[D], xl[D];
   pattern<D>(a.g, g);
+  pattern<D>(a.lo, lo_e);
+  pattern<D>(a.lambda, lam);
+  x_lanes<D>(xl);
+  // The affine flow's terms: (h gd) c_y on the x lanes, (dt gd) (y + dt v_y / 2 - lo_y) on x.
+  const __m256d hgd = _mm256_set1_pd(a.h * a.gd), dtgd = _mm256_set1_pd(a.dt * a.gd);
+  const __m256d half_dt = _mm256_set1_pd(0.5 * a.dt), lo_y = _mm256_set1_pd(a.lo[1]);
+  const bool shear_kick = a.gd != 0.0;
   const __m256d sign = _mm256_set1_pd(-0.0), inf = _mm256_set1_pd(__builtin_inf());
   // The box test of each axis, lo <= x < hi as PeriodicImage::wrap takes it (-inf and inf on an
   // axis that is not periodic).
@@ -116,24 +151,47 @@ template <int D>
     double* v = a.v + D * i;
     double* disp = a.disp + D * i;
     const double* f = a.f + D * i;
-    const __m256d frz = frozen_mask(a.frozen + i);
-    __m256d im[D], ii[R], fz[D], fr[R];
-    spread<D>(_mm256_loadu_pd(a.inv_m + i), im);
-    spread<R>(_mm256_loadu_pd(a.inv_i + i), ii);
-    spread<D>(frz, fz);
-    spread<R>(frz, fr);
-    __m256d xn[D], dn[D], st[D];
+    const GroupLanes<D> gl(a.inv_m, a.inv_i, a.frozen, i);
+    const __m256d frz = gl.frz;
+    const __m256d *im = gl.im, *ii = gl.ii, *fz = gl.fz, *fr = gl.fr;
+    __m256d x0[D], v0[D], cy[D];
+    for (int k = 0; k < D; ++k) {
+      x0[k] = load(x, k);
+      v0[k] = load(v, k);
+    }
+    if constexpr (Affine) {
+      __m256d c[D];
+      transpose<D>(v0, c);
+      spread<D>(c[1], cy);  // each grain's c_y(t) on its lanes
+    }
+    __m256d xn[D], dn[D], st[D], vn[D];
     for (int k = 0; k < D; ++k) {
       // v + h (f / m + g); step = dt v; the new position and displacement.
-      const __m256d v0 = load(v, k), x0 = load(x, k), d0 = load(disp, k);
-      const __m256d vk = _mm256_add_pd(v0, _mm256_mul_pd(h, _mm256_add_pd(_mm256_mul_pd(load(f, k), im[k]), g[k])));
+      __m256d vk = _mm256_add_pd(v0[k], _mm256_mul_pd(h, _mm256_add_pd(_mm256_mul_pd(load(f, k), im[k]), g[k])));
+      if constexpr (Affine)
+        if (shear_kick) vk = _mm256_blendv_pd(vk, _mm256_sub_pd(vk, _mm256_mul_pd(hgd, cy[k])), xl[k]);
       st[k] = _mm256_mul_pd(dt, vk);
-      xn[k] = _mm256_add_pd(x0, st[k]);
+      if constexpr (Affine) {
+        xn[k] = _mm256_add_pd(lo_e[k], _mm256_mul_pd(lam[k], _mm256_add_pd(_mm256_sub_pd(x0[k], lo_e[k]), st[k])));
+        vn[k] = _mm256_mul_pd(vk, lam[k]);
+      } else {
+        xn[k] = _mm256_add_pd(x0[k], st[k]);
+        vn[k] = vk;
+      }
+      const __m256d d0 = load(disp, k);
       dn[k] = _mm256_add_pd(d0, st[k]);
-      store(v, k, _mm256_blendv_pd(vk, v0, fz[k]));
-      store(x, k, _mm256_blendv_pd(xn[k], x0, fz[k]));
+      store(v, k, _mm256_blendv_pd(vn[k], v0[k], fz[k]));
       store(disp, k, _mm256_blendv_pd(dn[k], d0, fz[k]));
     }
+    if constexpr (Affine) {
+      // The shear flow at the mid-step height, from y(t) and the new c_y.
+      __m256d py[D], pv[D], term[D];
+      transpose<D>(x0, py);
+      transpose<D>(vn, pv);
+      spread<D>(_mm256_mul_pd(dtgd, _mm256_sub_pd(_mm256_add_pd(py[1], _mm256_mul_pd(half_dt, pv[1])), lo_y)), term);
+      for (int k = 0; k < D; ++k) xn[k] = _mm256_blendv_pd(xn[k], _mm256_add_pd(xn[k], term[k]), xl[k]);
+    }
+    for (int k = 0; k < D; ++k) store(x, k, _mm256_blendv_pd(xn[k], x0[k], fz[k]));
     __m256d wn[R];
     spin_kick<R>(a.w + R * i, a.t + R * i, ii, fr, h, wn);
     __m256d c[D], s[D], p[D];
@@ -166,32 +224,42 @@ template <int D>
   }
 }
 
-// The second half kick of grains [b, b + 4 m), without shear and without other force sources.
-// redo[k] is set unless every velocity of the four grains b + 4 k .. is below 1e300 in
-// magnitude (then the sums of each grain's velocities, which the scalar code checks, are finite);
-// the caller checks the grains of those entries.
-template <int D>
+// The second half kick of grains [b, b + 4 m), without other force sources; under shear (Shear:
+// gd != 0), v_x -= h gd c_y as in the scalar loop. redo[k] is set unless every velocity of the four grains
+// b + 4 k .. is below 1e300 in magnitude, before and after that term (then the sums of each
+// grain's velocities, which the scalar code checks, are finite); the caller checks the grains of
+// those entries.
+template <int D, bool Shear>
 [[gnu::target("avx2")]] inline void kick_grains(const grain_pass::KickArgs<D> a, int64_t b, int64_t m, uint8_t* redo) {
   constexpr int R = kRotDim<D>;
-  const __m256d h = _mm256_set1_pd(a.h);
-  __m256d g[D];
+  const __m256d h = _mm256_set1_pd(a.h), hgd = _mm256_set1_pd(a.h * a.gd);
+  __m256d g[D], xl[D];
   pattern<D>(a.g, g);
+  x_lanes<D>(xl);
   const __m256d sign = _mm256_set1_pd(-0.0), big = _mm256_set1_pd(1e300);
   for (int64_t q = 0; q < m; ++q) {
     const int64_t i = b + 4 * q;
     double* v = a.v + D * i;
     const double* f = a.force + D * i;
-    const __m256d frz = frozen_mask(a.frozen + i);
-    __m256d im[D], ii[R], fz[D], fr[R];
-    spread<D>(_mm256_loadu_pd(a.inv_m + i), im);
-    spread<R>(_mm256_loadu_pd(a.inv_i + i), ii);
-    spread<D>(frz, fz);
-    spread<R>(frz, fr);
+    const GroupLanes<D> gl(a.inv_m, a.inv_i, a.frozen, i);
+    const __m256d *im = gl.im, *ii = gl.ii, *fz = gl.fz, *fr = gl.fr;
     __m256d ok = _mm256_castsi256_pd(_mm256_set1_epi64x(-1));
+    __m256d v0[D], vk[D];
     for (int k = 0; k < D; ++k) {
-      const __m256d v0 = load(v, k);
-      const __m256d vk = _mm256_add_pd(v0, _mm256_mul_pd(h, _mm256_add_pd(_mm256_mul_pd(load(f, k), im[k]), g[k])));
-      const __m256d vs = _mm256_blendv_pd(vk, v0, fz[k]);
+      v0[k] = load(v, k);
+      vk[k] = _mm256_add_pd(v0[k], _mm256_mul_pd(h, _mm256_add_pd(_mm256_mul_pd(load(f, k), im[k]), g[k])));
+      if constexpr (Shear) ok = _mm256_and_pd(ok, _mm256_cmp_pd(_mm256_andnot_pd(sign, vk[k]), big, _CMP_LT_OQ));
+    }
+    if constexpr (Shear) {
+      // v_x -= h gd c_y(t + dt), with the kicked c_y.
+      __m256d c[D], cy[D];
+      transpose<D>(vk, c);
+      spread<D>(c[1], cy);
+      for (int k = 0; k < D; ++k)
+        vk[k] = _mm256_blendv_pd(vk[k], _mm256_sub_pd(vk[k], _mm256_mul_pd(hgd, cy[k])), xl[k]);
+    }
+    for (int k = 0; k < D; ++k) {
+      const __m256d vs = _mm256_blendv_pd(vk[k], v0[k], fz[k]);
       store(v, k, vs);
       ok = _mm256_and_pd(ok, _mm256_cmp_pd(_mm256_andnot_pd(sign, vs), big, _CMP_LT_OQ));
     }

@@ -85,39 +85,37 @@ std::array<double, 2> drift_scalar(const DriftArgs<D> a, int64_t b, int64_t e) {
   return {worst, worst_step};
 }
 
-// The same without an affine flow, four grains at a time where the processor has AVX2
-// (grain_pass_avx2.hpp; the same bits), the last ones by the scalar loop.
+// The same, four grains at a time where the processor has AVX2 (grain_pass_avx2.hpp; the same
+// bits), the last ones by the scalar loop.
 template <int D, bool Affine>
 std::array<double, 2> drift_range(const DriftArgs<D> a, int64_t b, int64_t e) {
 #if defined(__SSE4_1__)
-  if constexpr (!Affine) {
-    if (avx2_in_use() && !a.img.lees_edwards) {
-      double worst[2] = {0, 0};
-      constexpr int64_t kChunk = 256;  // grains per call: their flags fit on the stack
-      uint8_t redo[kChunk / 4];
-      int64_t i = b;
-      for (; i + 4 <= e; i += kChunk) {
-        const int64_t m = std::min(kChunk, e - i) / 4;
-        grain_avx2::drift_grains<D>(a, i, m, worst, redo);
-        for (int64_t q = 0; q < m; ++q)
-          for (int l = 0; redo[q] >> l; ++l)
-            if (redo[q] >> l & 1) {
-              const int64_t g = i + 4 * q + l;
-              double* xg = a.x + D * g;
-              double xs = 0;
-              for (int k = 0; k < D; ++k) xs += xg[k];
-              if (!std::isfinite(xs)) a.nonfinite->raise(g, 0);
-              a.img.wrap(xg, a.box);
-            }
-        if (m < kChunk / 4) {
-          i += 4 * m;
-          break;
-        }
+  if (avx2_in_use()) {
+    double worst[2] = {0, 0};
+    constexpr int64_t kChunk = 256;  // grains per call: their flags fit on the stack
+    uint8_t redo[kChunk / 4];
+    int64_t i = b;
+    for (; i + 4 <= e; i += kChunk) {
+      const int64_t m = std::min(kChunk, e - i) / 4;
+      grain_avx2::drift_grains<D, Affine>(a, i, m, worst, redo);
+      for (int64_t q = 0; q < m; ++q)
+        for (int l = 0; redo[q] >> l; ++l)
+          if (redo[q] >> l & 1) {
+            const int64_t g = i + 4 * q + l;
+            double* xg = a.x + D * g;
+            double xs = 0;
+            for (int k = 0; k < D; ++k) xs += xg[k];
+            if (!std::isfinite(xs)) a.nonfinite->raise(g, 0);
+            a.img.wrap(xg, a.box);
+          }
+      if (m < kChunk / 4) {
+        i += 4 * m;
+        break;
       }
-      const std::array<double, 2> tail = drift_scalar<D, Affine>(a, i, e);
-      for (int k = 0; k < 2; ++k) worst[k] = std::max(worst[k], tail[k]);
-      return {worst[0], worst[1]};
     }
+    const std::array<double, 2> tail = drift_scalar<D, Affine>(a, i, e);
+    for (int k = 0; k < 2; ++k) worst[k] = std::max(worst[k], tail[k]);
+    return {worst[0], worst[1]};
   }
 #endif
   return drift_scalar<D, Affine>(a, b, e);
@@ -195,20 +193,21 @@ void kick_scalar(const KickArgs<D> a, int64_t b, int64_t e) {
   }
 }
 
-// The same, four grains at a time where the processor has AVX2 and the pass is a plain kick
-// (grain_pass_avx2.hpp; the same bits), the last ones by the scalar loop.
+// The same, four grains at a time where the processor has AVX2 and there are no other force
+// sources (grain_pass_avx2.hpp; the same bits), the last ones by the scalar loop.
 template <int D, bool Kick, bool Torque, bool Sources>
 void kick_range(const KickArgs<D> a, int64_t b, int64_t e) {
 #if defined(__SSE4_1__)
   if constexpr (Kick && !Sources) {
-    if (avx2_in_use() && a.gd == 0.0) {
+    if (avx2_in_use()) {
       if constexpr (!Torque) std::fill(a.torq + kRotDim<D> * b, a.torq + kRotDim<D> * e, 0.0);
       constexpr int64_t kChunk = 256;  // grains per call: their flags fit on the stack
       uint8_t redo[kChunk / 4];
       int64_t i = b;
       for (; i + 4 <= e; i += kChunk) {
         const int64_t m = std::min(kChunk, e - i) / 4;
-        grain_avx2::kick_grains<D>(a, i, m, redo);
+        a.gd != 0.0 ? grain_avx2::kick_grains<D, true>(a, i, m, redo)
+                    : grain_avx2::kick_grains<D, false>(a, i, m, redo);
         for (int64_t q = 0; q < m; ++q)
           if (redo[q])
             for (int64_t g = i + 4 * q; g < i + 4 * q + 4; ++g) {
