@@ -1,5 +1,5 @@
-// The grain passes of velocity Verlet (integrate.cpp) for disks and spheres without an affine
-// flow, four grains per AVX2 instruction. The arrays hold the D components of each grain side by
+// The grain passes of velocity Verlet (integrate.cpp) for disks and spheres, with or without an
+// affine flow, four grains per AVX2 instruction. The arrays hold the D components of each grain side by
 // side, so the 4 D values of four grains are D registers: the updates are done on those as they
 // lie, each grain's mass (or inertia) and frozen flag spread to its lanes, and the values that
 // need a grain's components together (its squared displacements, the sum whose finiteness is
@@ -225,10 +225,9 @@ template <int D, bool Affine>
 }
 
 // The second half kick of grains [b, b + 4 m), without other force sources; under shear (Shear:
-// gd != 0), v_x -= h gd c_y as in the scalar loop. redo[k] is set unless every velocity of the four grains
-// b + 4 k .. is below 1e300 in magnitude, before and after that term (then the sums of each
-// grain's velocities, which the scalar code checks, are finite); the caller checks the grains of
-// those entries.
+// gd != 0), v_x -= h gd c_y as in the scalar loop. redo[q] has the bits of all four grains of
+// group q set unless every velocity stored for them is below 1e300 in magnitude (then the sum of
+// each grain's velocities, which the scalar code checks, is finite); the caller checks those.
 template <int D, bool Shear>
 [[gnu::target("avx2")]] inline void kick_grains(const grain_pass::KickArgs<D> a, int64_t b, int64_t m, uint8_t* redo) {
   constexpr int R = kRotDim<D>;
@@ -248,7 +247,6 @@ template <int D, bool Shear>
     for (int k = 0; k < D; ++k) {
       v0[k] = load(v, k);
       vk[k] = _mm256_add_pd(v0[k], _mm256_mul_pd(h, _mm256_add_pd(_mm256_mul_pd(load(f, k), im[k]), g[k])));
-      if constexpr (Shear) ok = _mm256_and_pd(ok, _mm256_cmp_pd(_mm256_andnot_pd(sign, vk[k]), big, _CMP_LT_OQ));
     }
     if constexpr (Shear) {
       // v_x -= h gd c_y(t + dt), with the kicked c_y.
@@ -266,7 +264,7 @@ template <int D, bool Shear>
     __m256d wn[R];
     spin_kick<R>(a.w + R * i, a.torq + R * i, ii, fr, h, wn);
     for (int k = 0; k < R; ++k) ok = _mm256_and_pd(ok, _mm256_cmp_pd(_mm256_andnot_pd(sign, wn[k]), big, _CMP_LT_OQ));
-    redo[q] = static_cast<uint8_t>(_mm256_movemask_pd(ok) != 0xF);
+    redo[q] = _mm256_movemask_pd(ok) != 0xF ? 0xF : 0;  // the group's four grains
   }
 }
 #undef SILT_AVX2_INLINE

@@ -14,7 +14,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <limits>
 #include <type_traits>
 
 #include "core/assert.hpp"
@@ -32,6 +31,44 @@ constexpr int64_t kGrain = 1024;
 using grain_pass::DriftArgs;
 using grain_pass::KickArgs;
 using grain_pass::kMaxSources;
+
+// The end of a grain's drift, xi its new position: a position gone to NaN or infinity (from a
+// non-finite force, or a grain thrown away) stops the run at this step, as a non-finite velocity
+// does in the kick; then the position is wrapped into the box.
+template <int D>
+void finish_position(const DriftArgs<D>& a, int64_t i, double* xi) {
+  double xs = 0;
+  for (int k = 0; k < D; ++k) xs += xi[k];
+  if (!std::isfinite(xs)) a.nonfinite->raise(i, 0);
+  a.img.wrap(xi, a.box);
+}
+
+// Whether the sum of a grain's velocities (after its kick) is finite.
+template <int D>
+bool motion_finite(const KickArgs<D>& a, int64_t i) {
+  double sum = 0;
+  for (int k = 0; k < D; ++k) sum += a.v[D * i + k];
+  for (int k = 0; k < kRotDim<D>; ++k) sum += a.w[kRotDim<D> * i + k];
+  return std::isfinite(sum);
+}
+
+// The whole groups of four grains of [b, e) through a vector kernel, kernel(i, m, redo) for m
+// groups from grain i at a time, then fix(g) for each grain g whose bit the kernel set in redo
+// (bit l of entry q: grain i + 4 q + l). Returns where the grains left to the scalar loop start.
+template <class Kernel, class Fix>
+int64_t over_groups(int64_t b, int64_t e, Kernel&& kernel, Fix&& fix) {
+  constexpr int64_t kChunk = 256;  // grains per call: their flags fit on the stack
+  uint8_t redo[kChunk / 4];
+  const int64_t end = b + (e - b) / 4 * 4;
+  for (int64_t i = b; i < end; i += kChunk) {
+    const int64_t m = std::min(kChunk, end - i) / 4;
+    kernel(i, m, redo);
+    for (int64_t q = 0; q < m; ++q)
+      for (int l = 0; redo[q] >> l; ++l)
+        if (redo[q] >> l & 1) fix(i + 4 * q + l);
+  }
+  return end;
+}
 
 // Kick and drift grains [b, e); returns the largest squared displacement since the last build
 // and the largest squared displacement of this drift.
@@ -70,12 +107,7 @@ std::array<double, 2> drift_scalar(const DriftArgs<D> a, int64_t b, int64_t e) {
     }
     // Shear flow at the mid-step height (second order).
     if constexpr (Affine) xi[0] += a.dt * a.gd * (x[D * i + 1] + 0.5 * a.dt * v[D * i + 1] - a.lo[1]);
-    // A position gone to NaN or infinity (from a non-finite force, or a grain thrown away) stops
-    // the run at this step, as a non-finite velocity does in the kick.
-    double xs = 0;
-    for (int k = 0; k < D; ++k) xs += xi[k];
-    if (!std::isfinite(xs)) a.nonfinite->raise(i, 0);
-    a.img.wrap(xi, a.box);
+    finish_position(a, i, xi);
     for (int k = 0; k < D; ++k) x[D * i + k] = xi[k];
     const double ii = a.inv_i[i];
     for (int k = 0; k < R; ++k) w[R * i + k] += a.h * t[R * i + k] * ii;
@@ -92,30 +124,11 @@ std::array<double, 2> drift_range(const DriftArgs<D> a, int64_t b, int64_t e) {
 #if defined(__SSE4_1__)
   if (avx2_in_use()) {
     double worst[2] = {0, 0};
-    constexpr int64_t kChunk = 256;  // grains per call: their flags fit on the stack
-    uint8_t redo[kChunk / 4];
-    int64_t i = b;
-    for (; i + 4 <= e; i += kChunk) {
-      const int64_t m = std::min(kChunk, e - i) / 4;
-      grain_avx2::drift_grains<D, Affine>(a, i, m, worst, redo);
-      for (int64_t q = 0; q < m; ++q)
-        for (int l = 0; redo[q] >> l; ++l)
-          if (redo[q] >> l & 1) {
-            const int64_t g = i + 4 * q + l;
-            double* xg = a.x + D * g;
-            double xs = 0;
-            for (int k = 0; k < D; ++k) xs += xg[k];
-            if (!std::isfinite(xs)) a.nonfinite->raise(g, 0);
-            a.img.wrap(xg, a.box);
-          }
-      if (m < kChunk / 4) {
-        i += 4 * m;
-        break;
-      }
-    }
-    const std::array<double, 2> tail = drift_scalar<D, Affine>(a, i, e);
-    for (int k = 0; k < 2; ++k) worst[k] = std::max(worst[k], tail[k]);
-    return {worst[0], worst[1]};
+    const int64_t tail = over_groups(
+        b, e, [&](int64_t i, int64_t m, uint8_t* redo) { grain_avx2::drift_grains<D, Affine>(a, i, m, worst, redo); },
+        [&](int64_t g) { finish_position(a, g, a.x + D * g); });
+    const std::array<double, 2> rest = drift_scalar<D, Affine>(a, tail, e);
+    return {std::max(worst[0], rest[0]), std::max(worst[1], rest[1])};
   }
 #endif
   return drift_scalar<D, Affine>(a, b, e);
@@ -184,11 +197,11 @@ void kick_scalar(const KickArgs<D> a, int64_t b, int64_t e) {
     if constexpr (Kick) {
       if (a.frozen[i]) continue;
       const double im = a.inv_m[i], ii = a.inv_i[i];
-      double sum = 0;  // a NaN or Inf anywhere in the grain's motion reaches its velocities
-      for (int k = 0; k < D; ++k) sum += (v[D * i + k] += a.h * (f[k] * im + a.g[k]));
-      if (a.gd != 0.0) v[D * i] -= a.h * a.gd * v[D * i + 1];  // with c_y(t + dt), finite if c is
-      for (int k = 0; k < R; ++k) sum += (w[R * i + k] += a.h * torq[R * i + k] * ii);
-      if (!std::isfinite(sum)) a.nonfinite->raise(i, 0);
+      for (int k = 0; k < D; ++k) v[D * i + k] += a.h * (f[k] * im + a.g[k]);
+      if (a.gd != 0.0) v[D * i] -= a.h * a.gd * v[D * i + 1];  // with c_y(t + dt)
+      for (int k = 0; k < R; ++k) w[R * i + k] += a.h * torq[R * i + k] * ii;
+      // A NaN or Inf anywhere in the grain's motion reaches its velocities.
+      if (!motion_finite(a, i)) a.nonfinite->raise(i, 0);
     }
   }
 }
@@ -201,28 +214,16 @@ void kick_range(const KickArgs<D> a, int64_t b, int64_t e) {
   if constexpr (Kick && !Sources) {
     if (avx2_in_use()) {
       if constexpr (!Torque) std::fill(a.torq + kRotDim<D> * b, a.torq + kRotDim<D> * e, 0.0);
-      constexpr int64_t kChunk = 256;  // grains per call: their flags fit on the stack
-      uint8_t redo[kChunk / 4];
-      int64_t i = b;
-      for (; i + 4 <= e; i += kChunk) {
-        const int64_t m = std::min(kChunk, e - i) / 4;
-        a.gd != 0.0 ? grain_avx2::kick_grains<D, true>(a, i, m, redo)
-                    : grain_avx2::kick_grains<D, false>(a, i, m, redo);
-        for (int64_t q = 0; q < m; ++q)
-          if (redo[q])
-            for (int64_t g = i + 4 * q; g < i + 4 * q + 4; ++g) {
-              if (a.frozen[g]) continue;
-              double sum = 0;  // the scalar loop's sum, from the stored velocities
-              for (int k = 0; k < D; ++k) sum += a.v[D * g + k];
-              for (int k = 0; k < kRotDim<D>; ++k) sum += a.w[kRotDim<D> * g + k];
-              if (!std::isfinite(sum)) a.nonfinite->raise(g, 0);
-            }
-        if (m < kChunk / 4) {
-          i += 4 * m;
-          break;
-        }
-      }
-      return kick_scalar<D, Kick, true, Sources>(a, i, e);
+      const int64_t tail = over_groups(
+          b, e,
+          [&](int64_t i, int64_t m, uint8_t* redo) {
+            a.gd != 0.0 ? grain_avx2::kick_grains<D, true>(a, i, m, redo)
+                        : grain_avx2::kick_grains<D, false>(a, i, m, redo);
+          },
+          [&](int64_t g) {
+            if (!a.frozen[g] && !motion_finite(a, g)) a.nonfinite->raise(g, 0);
+          });
+      return kick_scalar<D, Kick, true, Sources>(a, tail, e);
     }
   }
 #endif
