@@ -4,7 +4,7 @@
 #include <cstdint>
 
 #include "core/buffers.hpp"
-#include "core/parallel.hpp"
+#include "core/owned.hpp"
 #include "dem/pair_schedule.hpp"
 #include "dem/touch_pass.hpp"
 
@@ -55,12 +55,12 @@ void select_dim(const Model& m, State& s, DemWorkspace& sc) {
   sc.cand_end.assign(nb, 0);
   const PeriodicImage<D> img(s.box);
   const bool all = m.contact_skin >= m.skin;
-  // Tasks of about 2,048 rows, whatever the schedule's block size.
-  parallel_for(nb, std::max<int64_t>(1, 2048 / PairSchedule::kBlock), [&](int64_t b, int64_t e) {
-    for (int64_t k = b; k < e; ++k) {
-      if (all) select_block<D, true>(s, sc, img, m.contact_skin, k);
-      else select_block<D, false>(s, sc, img, m.contact_skin, k);
-    }
+  // Each block on the thread that owns its rows (core/owned.hpp), as in the pair loop.
+  static_assert(PairSchedule::kBlock == kOwnedBlock);
+  owned_for(s.n, sc.shares, [&](int64_t b, int64_t) {
+    const int64_t k = b / kOwnedBlock;
+    if (all) select_block<D, true>(s, sc, img, m.contact_skin, k);
+    else select_block<D, false>(s, sc, img, m.contact_skin, k);
   });
   sc.candidates_valid = true;
   ++sc.cand_selections;

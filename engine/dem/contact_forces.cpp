@@ -290,10 +290,7 @@ void pair_block(const PairArgs<D> a, int64_t blk) {
 template <int D, bool Hertz, bool Friction, bool Affine, bool Mat>
 void pair_forces(const Model& m, State& s, DemWorkspace& sc) {
   constexpr int R = kRotDim<D>;
-  if (!sc.schedule_valid) {
-    sc.schedule = build_pair_schedule(s.n, s.nbr_start, s.pair_j);
-    sc.schedule_valid = true;
-  }
+  if (!sc.schedule_valid) sc.new_schedule(s.n, s.nbr_start, s.pair_j);
   if (!sc.candidates_valid) select_candidates(m, s, sc);
   PairArgs<D> a{m.contact, PeriodicImage<D>(s.box), s.dt, m.limits.max_overlap, s.shear_rate,
                 m.contact.clip_attractive ? 0.0 : -std::numeric_limits<double>::infinity(), SVec<D>::Zero(), s.n,
@@ -307,7 +304,7 @@ void pair_forces(const Model& m, State& s, DemWorkspace& sc) {
   if constexpr (Affine)
     for (int k = 0; k < D; ++k) a.grad[k] = s.box_rate[k] / s.box.len[k];
   PairSchedule& sched = sc.schedule;
-  run_pair_schedule(sched, [&a, &sched](int32_t blk) {
+  run_pair_schedule(sched, sc.shares, [&a, &sched](int32_t blk) {
     // The first block to write a grain clears its sums.
     constexpr int64_t B = PairSchedule::kBlock;
     for (int32_t k = sched.clears_start[blk]; k < sched.clears_start[blk + 1]; ++k) {

@@ -17,7 +17,7 @@
 #include <type_traits>
 
 #include "core/assert.hpp"
-#include "core/parallel.hpp"
+#include "core/owned.hpp"
 #include "core/periodic_image.hpp"
 #include "core/simd_level.hpp"
 #include "dem/grain_pass.hpp"
@@ -27,7 +27,6 @@
 namespace silt::dem {
 namespace {
 
-constexpr int64_t kGrain = 1024;
 using grain_pass::DriftArgs;
 using grain_pass::KickArgs;
 using grain_pass::kMaxSources;
@@ -135,7 +134,7 @@ std::array<double, 2> drift_range(const DriftArgs<D> a, int64_t b, int64_t e) {
 }
 
 template <int D, bool Affine>
-void kick_drift_dim(const Model& m, State& s, double kick) {
+void kick_drift_dim(const Model& m, State& s, double kick, const Shares& shares) {
   // The box lengths moved first (shear::box_drift): L(t + dt) / L(t) of each.
   const Vec3a lambda = Affine ? s.box_stretch : Vec3a{1, 1, 1};
   DriftArgs<D> a{s.dt,
@@ -161,8 +160,7 @@ void kick_drift_dim(const Model& m, State& s, double kick) {
     a.g[k] = m.gravity[k];
     a.lambda[k] = lambda[k];
   }
-  const auto max_d2 =
-      parallel_max<2>(s.n, kGrain, [a](int64_t b, int64_t e) { return drift_range<D, Affine>(a, b, e); });
+  const auto max_d2 = owned_max<2>(s.n, shares, [a](int64_t b, int64_t e) { return drift_range<D, Affine>(a, b, e); });
   s.nbr_max_disp = std::sqrt(max_d2[0]);
   s.nbr_step_disp = std::sqrt(max_d2[1]);
 }
@@ -231,7 +229,7 @@ void kick_range(const KickArgs<D> a, int64_t b, int64_t e) {
 }
 
 template <int D, bool Kick>
-void kick_dim(const Model& m, State& s, const ForceSources& sources) {
+void kick_dim(const Model& m, State& s, const ForceSources& sources, const Shares& shares) {
   KickArgs<D> a{0.5 * s.dt,
                 m.shear.on ? s.shear_rate : 0.0,
                 {},
@@ -261,7 +259,7 @@ void kick_dim(const Model& m, State& s, const ForceSources& sources) {
   // contact_forces writes no torque without friction: the sum then starts from zero. Without
   // sources (no walls, no module's force) the loop has nothing to add.
   auto sweep = [&](auto torque, auto with_sources) {
-    parallel_for(s.n, kGrain, [a](int64_t b, int64_t e) {
+    owned_for(s.n, shares, [a](int64_t b, int64_t e) {
       kick_range<D, Kick, decltype(torque)::value, decltype(with_sources)::value>(a, b, e);
     });
   };
@@ -271,26 +269,26 @@ void kick_dim(const Model& m, State& s, const ForceSources& sources) {
 }
 
 // The drift after a half kick of `kick` dt/2 (1: velocity Verlet; 0: the drift alone).
-void kick_then_drift(const Model& m, State& s, double kick) {
+void kick_then_drift(const Model& m, State& s, double kick, const Shares& shares) {
   const bool affine = m.deforming_box();
-  if (m.dim == 2) affine ? kick_drift_dim<2, true>(m, s, kick) : kick_drift_dim<2, false>(m, s, kick);
-  else affine ? kick_drift_dim<3, true>(m, s, kick) : kick_drift_dim<3, false>(m, s, kick);
+  if (m.dim == 2) affine ? kick_drift_dim<2, true>(m, s, kick, shares) : kick_drift_dim<2, false>(m, s, kick, shares);
+  else affine ? kick_drift_dim<3, true>(m, s, kick, shares) : kick_drift_dim<3, false>(m, s, kick, shares);
 }
 
 }  // namespace
 
-void kick_drift(const Model& m, State& s) { kick_then_drift(m, s, 1.0); }
+void kick_drift(const Model& m, State& s, const Shares& shares) { kick_then_drift(m, s, 1.0, shares); }
 
-void drift(const Model& m, State& s) { kick_then_drift(m, s, 0.0); }
+void drift(const Model& m, State& s) { kick_then_drift(m, s, 0.0, Shares{}); }
 
-void kick(const Model& m, State& s, const ForceSources& sources) {
-  if (m.dim == 2) kick_dim<2, true>(m, s, sources);
-  else kick_dim<3, true>(m, s, sources);
+void kick(const Model& m, State& s, const ForceSources& sources, const Shares& shares) {
+  if (m.dim == 2) kick_dim<2, true>(m, s, sources, shares);
+  else kick_dim<3, true>(m, s, sources, shares);
 }
 
 void sum_forces(const Model& m, State& s, const ForceSources& sources) {
-  if (m.dim == 2) kick_dim<2, false>(m, s, sources);
-  else kick_dim<3, false>(m, s, sources);
+  if (m.dim == 2) kick_dim<2, false>(m, s, sources, Shares{});
+  else kick_dim<3, false>(m, s, sources, Shares{});
 }
 
 void clear_springs(const Model&, State& s) {

@@ -189,8 +189,7 @@ bool rebuild(const Model& m, State& s, DemWorkspace& sc) {
   s.nbr_strain = 0;
   s.nbr_max_disp = 0;
   s.nbr_valid = true;
-  sc.schedule = build_pair_schedule(n, s.nbr_start, s.pair_j);
-  sc.schedule_valid = true;
+  sc.new_schedule(n, s.nbr_start, s.pair_j);
   ++s.nbr_builds;
   return sorted;
 }

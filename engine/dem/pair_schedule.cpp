@@ -84,4 +84,17 @@ PairSchedule build_pair_schedule(int64_t n, const std::vector<int32_t>& nbr_star
   return s;
 }
 
+void split_by_owner(PairSchedule& s, const Shares& shares) {
+  const int owners = shares.owners;
+  s.own_start.assign(owners + 1, 0);
+  for (int32_t b : s.blocks) ++s.own_start[shares.owner_of(b) + 1];
+  for (int t = 0; t < owners; ++t) s.own_start[t + 1] += s.own_start[t];
+  s.own.resize(s.blocks.size());
+  std::vector<int32_t> pos(s.own_start.begin(), s.own_start.end() - 1);
+  for (int32_t b : s.blocks) s.own[pos[shares.owner_of(b)]++] = b;
+  s.claimed.assign(s.blocks.size(), 0);
+  s.split = shares;
+  s.split.cost = nullptr;
+}
+
 }  // namespace silt::dem

@@ -22,19 +22,22 @@
 #include <tbb/task_arena.h>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
+#include <chrono>
 #include <cstdint>
 #include <vector>
 
+#include "core/owned.hpp"
 #include "silt/state.hpp"
 
 namespace silt::dem {
 
 // A conflict-free order of the pair loop's blocks of rows.
 struct PairSchedule {
-  static constexpr int64_t kBlock = 1024;  // rows per block
-  std::vector<int32_t> blocks;             // block indices, grouped by colour
-  std::vector<int32_t> colour_start;       // colour c holds blocks[colour_start[c] .. colour_start[c + 1])
+  static constexpr int64_t kBlock = kOwnedBlock;  // rows per block
+  std::vector<int32_t> blocks;                    // block indices, grouped by colour
+  std::vector<int32_t> colour_start;              // colour c holds blocks[colour_start[c] .. colour_start[c + 1])
   int colours() const { return static_cast<int>(colour_start.size()) - 1; }
   // The same order as a graph: block b may run once its n_before[b] predecessors have run (the
   // blocks of earlier colours that write a grain it writes, the nearest for each such grain); its
@@ -43,27 +46,98 @@ struct PairSchedule {
   // clears[clears_start[b] .. clears_start[b + 1]).
   std::vector<int32_t> n_before, after_start, after, roots, clears_start, clears;
   std::vector<int32_t> waiting;  // predecessors not yet run, during a pass
+  // The blocks of each owner in the schedule's order (split_by_owner) and, during a pass, which
+  // blocks a thread has taken.
+  Shares split;
+  std::vector<int32_t> own, own_start, claimed;
 };
+
+// Scans of a thread's blocks, none ready, before it takes the shares no thread has taken.
+inline constexpr int kPatience = 1024;
 
 // The schedule of a half list in CSR form (row i holds its partners j).
 PairSchedule build_pair_schedule(int64_t n, const std::vector<int32_t>& nbr_start, const std::vector<int32_t>& pair_j);
 
+// The blocks of each owner of `shares` (core/owned.hpp) in the schedule's order: owner t's are
+// own[own_start[t] .. own_start[t + 1]).
+void split_by_owner(PairSchedule& s, const Shares& shares);
+
 // body(b) for every block b of the schedule, each after the blocks before it in the schedule's
-// order that write the same grains, and in parallel with the others.
+// order that write the same grains, and in parallel with the others. Each thread takes the blocks
+// of its own share of the grains (`shares`, even ones when they do not fit) and runs them in the
+// schedule's order as they become ready, so the grains a block writes stay with the thread that
+// moves them in the grain passes (core/owned.hpp). A share whose thread has not come after
+// kPatience scans of a waiting thread is taken whole by that thread. With shares.cost, each
+// block's seconds are added to it.
 template <class F>
-void run_pair_schedule(PairSchedule& s, F&& body) {
-  if (tbb::this_task_arena::max_concurrency() == 1 || s.blocks.size() <= 1) {
+void run_pair_schedule(PairSchedule& s, const Shares& shares, F&& body) {
+  const int64_t nb = static_cast<int64_t>(s.blocks.size());
+  const int all = owner_count();
+  const int owners = static_cast<int>(std::min<int64_t>(all, nb));
+  if (all == 1 || nb <= 1) {
     for (int32_t b : s.blocks) body(b);
     return;
   }
   std::copy(s.n_before.begin(), s.n_before.end(), s.waiting.begin());
-  tbb::parallel_for_each(s.roots.begin(), s.roots.end(), [&](int32_t b, tbb::feeder<int32_t>& ready) {
+  if (all == 0) {  // more threads than owners: blocks to whichever thread is free
+    tbb::parallel_for_each(s.roots.begin(), s.roots.end(), [&](int32_t b, tbb::feeder<int32_t>& ready) {
+      body(b);
+      for (int32_t k = s.after_start[b]; k < s.after_start[b + 1]; ++k)
+        if (std::atomic_ref<int32_t>(s.waiting[s.after[k]]).fetch_sub(1, std::memory_order_acq_rel) == 1)
+          ready.add(s.after[k]);
+    });
+    return;
+  }
+  const bool fit = shares.fits(nb, owners);
+  const Shares split = fit ? shares : even_shares(nb, owners);
+  if (s.split.owners != owners || s.split.begin != split.begin) split_by_owner(s, split);
+  std::fill(s.claimed.begin(), s.claimed.end(), 0);  // the blocks run in this pass
+  ShareClaims taken(owners);
+  auto run = [&](int32_t b) {
+    if (!fit || !shares.cost) return body(b);
+    const auto t0 = std::chrono::steady_clock::now();
     body(b);
-    for (int32_t k = s.after_start[b]; k < s.after_start[b + 1]; ++k) {
-      const int32_t c = s.after[k];
-      // The last predecessor to finish hands c on; acq_rel orders every predecessor's writes
-      // before c's reads.
-      if (std::atomic_ref<int32_t>(s.waiting[c]).fetch_sub(1, std::memory_order_acq_rel) == 1) ready.add(c);
+    shares.cost[b] += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  };
+  on_owners(owners, [&](int me) {
+    // The shares this thread took, and in each the position of its first block not yet run.
+    std::array<int32_t, kMaxOwners> mine, from;
+    int n_mine = 0;
+    if (me < owners && taken.take(me)) mine[n_mine++] = me;  // more threads than blocks: me may own none
+    for (int t = 0; t < owners; ++t) from[t] = s.own_start[t];
+    int idle = 0;
+    for (;;) {
+      bool ran = false, left = false;
+      for (int q = 0; q < n_mine && !ran; ++q) {
+        const int t = mine[q];
+        for (int32_t k = from[t]; k < s.own_start[t + 1]; ++k) {
+          const int32_t b = s.own[k];
+          if (s.claimed[b]) continue;
+          left = true;
+          // The last predecessor to finish made b ready; acq_rel orders every predecessor's
+          // writes before b's reads.
+          if (std::atomic_ref<int32_t>(s.waiting[b]).load(std::memory_order_acquire) != 0) continue;
+          s.claimed[b] = 1;
+          run(b);
+          for (int32_t a = s.after_start[b]; a < s.after_start[b + 1]; ++a)
+            std::atomic_ref<int32_t>(s.waiting[s.after[a]]).fetch_sub(1, std::memory_order_acq_rel);
+          ran = true;
+          break;
+        }
+        while (from[t] < s.own_start[t + 1] && s.claimed[s.own[from[t]]]) ++from[t];
+      }
+      if (ran) {
+        idle = 0;
+        continue;
+      }
+      if (!left && taken.all_taken()) return;  // its shares are done, the others have threads
+      if (++idle < kPatience) {
+        spin_pause();
+        continue;
+      }
+      idle = 0;
+      for (int t = 0; t < owners; ++t)
+        if (taken.take(t)) mine[n_mine++] = t;
     }
   });
 }

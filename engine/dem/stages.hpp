@@ -3,6 +3,7 @@
 // engine/graph/dem_stages.cpp, which declares the same sets as field ids.
 #pragma once
 
+#include "core/owned.hpp"
 #include "core/workspace.hpp"
 #include "dem/workspace.hpp"
 #include "silt/model.hpp"
@@ -15,8 +16,9 @@ namespace silt::dem {
 //  nbr_max_disp, nbr_step_disp)
 // First half kick v += dt/2 a, drift x += dt v (plus the affine flow of a deforming or sheared
 // box, whose lengths shear::box_drift has moved), wrap into the periodic box (Lees-Edwards
-// shifted), and the largest displacement since the last neighbour build.
-void kick_drift(const Model& m, State& s);
+// shifted), and the largest displacement since the last neighbour build. Each thread moves the
+// grains of its share (core/owned.hpp; even shares by default).
+void kick_drift(const Model& m, State& s, const Shares& shares = {});
 // The same drift without the kick (velocities given by a solve: the paste).
 void drift(const Model& m, State& s);
 
@@ -45,8 +47,8 @@ void wall_forces(const Model& m, State& s);
 // (dt, particle_f, particle_t [pair sums], every force source, inv_m, inv_i, frozen, shear_rate)
 //  => (particle_f, particle_t, particle_v, particle_w, events.non_finite)
 // Add the registered force sources (walls, then the other modules', in order) to the pair sums,
-// then the second half kick.
-void kick(const Model& m, State& s, const ForceSources& sources);
+// then the second half kick, each thread on its share of the grains.
+void kick(const Model& m, State& s, const ForceSources& sources, const Shares& shares = {});
 // (particle_f, particle_t, every force source) => (particle_f, particle_t)
 // The same sum without the kick: the forces of the first state.
 void sum_forces(const Model& m, State& s, const ForceSources& sources);

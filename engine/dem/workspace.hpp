@@ -21,6 +21,10 @@ struct DemWorkspace final : Workspace {
   std::vector<std::byte> permute_buf;  // a per-grain array being renumbered by perm
   PairSchedule schedule;               // of the current pair list when schedule_valid
   bool schedule_valid = false;
+  // The threads' shares of the grains (core/owned.hpp), in the pair loop and the grain passes,
+  // balanced by block_cost: the seconds each block took in them, halved at every rebalance.
+  Shares shares;
+  std::vector<double> block_cost;
   // Contact candidates (dem/contact_candidates.hpp): the listed pairs of block b that may touch
   // are cand_p/i/j[nbr_start[b * kBlock] .. cand_end[b]) (pair index, grains).
   std::vector<int32_t> cand_p, cand_i, cand_j, cand_end;
@@ -32,7 +36,7 @@ struct DemWorkspace final : Workspace {
   size_t bytes() const override {
     auto v = [](const auto& x) { return x.capacity() * sizeof(x[0]); };
     size_t b = v(cell_of) + v(cell_start) + v(cell_items) + v(row_count) + v(old_start) + v(old_j) + v(old_hist) +
-               v(perm) + v(permute_buf) + v(cand_p) + v(cand_i) + v(cand_j) + v(cand_end);
+               v(perm) + v(permute_buf) + v(block_cost) + v(cand_p) + v(cand_i) + v(cand_j) + v(cand_end);
     for (const auto& c : chunk_j) b += v(c);
     for (const auto* s :
          {&schedule.blocks, &schedule.colour_start, &schedule.n_before, &schedule.after_start, &schedule.after,
@@ -43,6 +47,13 @@ struct DemWorkspace final : Workspace {
   void invalidate() override {
     schedule_valid = false;
     candidates_valid = false;
+    shares = {};
+  }
+  // The schedule of a new pair list, and the threads' shares rebalanced with it.
+  void new_schedule(int64_t n, const std::vector<int32_t>& nbr_start, const std::vector<int32_t>& pair_j) {
+    schedule = build_pair_schedule(n, nbr_start, pair_j);
+    schedule_valid = true;
+    rebalance(shares, block_cost, n);
   }
   void renumbered() override {}  // the renumbering rebuilds the list, its schedule and candidates
   // Contact candidates of the current selection.

@@ -4,10 +4,12 @@
 // cleared first.
 #include <doctest/doctest.h>
 
+#include <tbb/global_control.h>
 #include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <random>
 #include <set>
 
@@ -122,30 +124,95 @@ TEST_CASE("pair schedule: the list of a real packing in cell order needs few col
         (s.n + PairSchedule::kBlock - 1) / PairSchedule::kBlock);
 }
 
+// The chute after one step (its list in cell order) and the schedule of that list.
+struct ChuteList {
+  Simulation sim{compile(load_scene_file(test::scene_path("chute"))), 1};
+  PairSchedule schedule;
+  ChuteList() {
+    sim.step();
+    schedule = dem::build_pair_schedule(sim.state().n, sim.state().nbr_start, sim.state().pair_j);
+  }
+};
+
 TEST_CASE("pair schedule: the parallel pass runs each block once, after the blocks before it") {
-  Simulation sim(compile(load_scene_file(test::scene_path("chute"))), 1);
-  sim.step();
-  const State& st = sim.state();
-  PairSchedule s = dem::build_pair_schedule(st.n, st.nbr_start, st.pair_j);
+  ChuteList chute;
+  const State& st = chute.sim.state();
+  PairSchedule& s = chute.schedule;
   const int64_t nb = static_cast<int64_t>(s.blocks.size());
   REQUIRE(nb > 8);
   std::vector<std::vector<int32_t>> writers(nb);  // of each grain block, in colour order
   for (int32_t b : s.blocks)
     for (int32_t t : written_by(st.n, st.nbr_start, st.pair_j, b)) writers[t].push_back(b);
-  tbb::task_arena arena(4);
-  for (int pass = 0; pass < 20; ++pass) {
-    std::atomic<int64_t> clock{0};
-    std::vector<int64_t> begin(nb, -1), end(nb, -1);
-    std::vector<int> runs(nb, 0);
-    arena.execute([&] {
-      dem::run_pair_schedule(s, [&](int32_t b) {
-        begin[b] = clock++;
-        ++runs[b];
-        end[b] = clock++;
+  // The threads' shares: even (none given), lopsided, one of them empty, and shares made for
+  // another number of threads (which do not fit and fall back to even ones).
+  std::vector<double> skew(nb, 1.0);
+  skew[0] = 10.0 * static_cast<double>(nb);
+  const std::vector<std::pair<int, Shares>> splits = {
+      {4, Shares{}},
+      {2, balanced_shares(skew.data(), nb, 2)},
+      {3, balanced_shares(skew.data(), nb, 3)},
+      {2, even_shares(nb, 3)},
+      {4, even_shares(nb, 4)},
+  };
+  REQUIRE(splits[1].second.begin[1] == 1);                          // the first block alone is half the cost
+  REQUIRE(splits[2].second.begin[0] == splits[2].second.begin[1]);  // an empty share
+  for (const auto& [threads, shares] : splits) {
+    CAPTURE(threads);
+    tbb::task_arena arena(threads);
+    for (int pass = 0; pass < 20; ++pass) {
+      std::atomic<int64_t> clock{0};
+      std::vector<int64_t> begin(nb, -1), end(nb, -1);
+      std::vector<int> runs(nb, 0);
+      arena.execute([&] {
+        dem::run_pair_schedule(s, shares, [&](int32_t b) {
+          begin[b] = clock++;
+          ++runs[b];
+          end[b] = clock++;
+        });
       });
+      CHECK(std::count(runs.begin(), runs.end(), 1) == nb);
+      for (const std::vector<int32_t>& w : writers)
+        for (size_t k = 1; k < w.size(); ++k) CHECK(end[w[k - 1]] < begin[w[k]]);
+    }
+  }
+}
+
+TEST_CASE("pair schedule: a pass with shares adds each block's time to their costs") {
+  ChuteList chute;
+  PairSchedule& s = chute.schedule;
+  const int64_t nb = static_cast<int64_t>(s.blocks.size());
+  std::vector<double> cost(nb, 0.0);
+  Shares shares = even_shares(nb, 2);
+  shares.cost = cost.data();
+  tbb::task_arena(2).execute([&] {
+    dem::run_pair_schedule(s, shares, [&](int32_t b) {
+      const auto t0 = std::chrono::steady_clock::now();
+      while (std::chrono::steady_clock::now() - t0 < std::chrono::microseconds(50 * (b % 2 + 1))) {
+      }
     });
-    CHECK(std::count(runs.begin(), runs.end(), 1) == nb);
-    for (const std::vector<int32_t>& w : writers)
-      for (size_t k = 1; k < w.size(); ++k) CHECK(end[w[k - 1]] < begin[w[k]]);
+  });
+  for (int64_t b = 0; b < nb; ++b) CHECK(cost[b] >= 50e-6 * static_cast<double>(b % 2 + 1));
+  // Shares made for another number of threads measure nothing.
+  std::fill(cost.begin(), cost.end(), 0.0);
+  Shares three = even_shares(nb, 3);
+  three.cost = cost.data();
+  tbb::task_arena(2).execute([&] { dem::run_pair_schedule(s, three, [](int32_t) {}); });
+  CHECK(std::count(cost.begin(), cost.end(), 0.0) == nb);
+}
+
+TEST_CASE("pair schedule: more threads than blocks") {
+  // oneTBB caps its workers at the machine's cores unless told otherwise.
+  tbb::global_control allow(tbb::global_control::max_allowed_parallelism, 4);
+  const int64_t n = 2 * PairSchedule::kBlock + 5;  // three blocks
+  std::vector<int32_t> start(n + 1, 0), pj;
+  for (int64_t i = 0; i < n; ++i) {
+    if (i + 7 < n) pj.push_back(static_cast<int32_t>(i + 7));
+    start[i + 1] = static_cast<int32_t>(pj.size());
+  }
+  PairSchedule s = dem::build_pair_schedule(n, start, pj);
+  for (int pass = 0; pass < 50; ++pass) {
+    std::vector<std::atomic<int>> runs(3);
+    tbb::task_arena(4).execute([&] { dem::run_pair_schedule(s, Shares{}, [&](int32_t b) { runs[b].fetch_add(1); }); });
+    for (const auto& r : runs) CHECK(r.load() == 1);
   }
 }
