@@ -103,26 +103,62 @@ inline double largest_share(const Shares& s, const double* cost) {
   return top;
 }
 
-// New shares of the blocks of n grains among the arena's threads, balanced by what each block cost
-// since the last call (cost, kept in `shares` for the loops to add to), and taken when they
-// shorten the dearest share by more than a twentieth (a block that changes owner moves its
-// grains' data to the other core once). Costs then halve: older ones count less.
-inline void rebalance(Shares& shares, std::vector<double>& cost, int64_t n) {
+// Costs of the blocks in loops that join one after the other: cost[l][b] seconds of block b in
+// loop l (each loop waits for its dearest share).
+using LoopCosts = std::vector<std::vector<double>>;
+
+// The time of those loops under shares `s`: the sum of each loop's dearest share.
+inline double joined_time(const Shares& s, const LoopCosts& cost) {
+  double t = 0;
+  for (const std::vector<double>& c : cost) t += largest_share(s, c.data());
+  return t;
+}
+
+// Shares of nb blocks for loops that join one after the other: for two owners the boundary with
+// the least joined time (every one tried: a loop whose blocks cost unevenly, the pair loop, and
+// one whose blocks cost the same, a grain pass, want different boundaries); for more, shares
+// balanced by the summed cost. Even when nothing was measured.
+inline Shares fitted_shares(const LoopCosts& cost, int64_t nb, int owners) {
+  std::vector<double> sum(nb, 0.0);
+  for (const std::vector<double>& c : cost)
+    for (int64_t b = 0; b < nb; ++b) sum[b] += c[b];
+  Shares best = balanced_shares(sum.data(), nb, owners);
+  if (owners != 2) return best;
+  double least = joined_time(best, cost);
+  Shares s = best;
+  for (int64_t k = 0; k <= nb; ++k) {
+    s.begin[1] = k;
+    const double t = joined_time(s, cost);
+    if (t < least) {
+      least = t;
+      best = s;
+    }
+  }
+  return best;
+}
+
+// New shares of the blocks of n grains among the arena's threads, fitted to what each block cost
+// in each loop since the last call, and taken when they shorten the joined time by more than a
+// twentieth (a block that changes owner moves its grains' data to the other core once). The costs
+// then halve: older ones count less. The caller points shares.cost at its loop's costs.
+inline void rebalance(Shares& shares, LoopCosts& cost, int64_t n) {
   const int64_t nb = (n + kOwnedBlock - 1) / kOwnedBlock;
   const int owners = static_cast<int>(std::min<int64_t>(owner_count(), nb));
   if (owners <= 1) {
     shares = {};
     return;
   }
-  if (!shares.fits(nb, owners) || static_cast<int64_t>(cost.size()) != nb) {
-    cost.assign(nb, 0.0);
+  bool fits = shares.fits(nb, owners);
+  for (const std::vector<double>& c : cost) fits = fits && static_cast<int64_t>(c.size()) == nb;
+  if (!fits) {
+    for (std::vector<double>& c : cost) c.assign(nb, 0.0);
     shares = even_shares(nb, owners);
-  } else {
-    const Shares next = balanced_shares(cost.data(), nb, owners);
-    if (largest_share(next, cost.data()) < 0.95 * largest_share(shares, cost.data())) shares = next;
-    for (double& c : cost) c *= 0.5;
+    return;
   }
-  shares.cost = cost.data();
+  const Shares next = fitted_shares(cost, nb, owners);
+  if (joined_time(next, cost) < 0.95 * joined_time(shares, cost)) shares = next;
+  for (std::vector<double>& c : cost)
+    for (double& x : c) x *= 0.5;
 }
 
 // body(me) once on each of up to `owners` threads of the arena (at least on the caller), me the

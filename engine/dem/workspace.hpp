@@ -22,9 +22,17 @@ struct DemWorkspace final : Workspace {
   PairSchedule schedule;               // of the current pair list when schedule_valid
   bool schedule_valid = false;
   // The threads' shares of the grains (core/owned.hpp), in the pair loop and the grain passes,
-  // balanced by block_cost: the seconds each block took in them, halved at every rebalance.
+  // fitted to block_cost: the seconds each block took in the pair loop (kPairLoop) and in the
+  // grain passes and the candidates' selection (kGrainPasses), halved at every rebalance.
+  // shares.cost points at the grain passes' costs, pair_shares() at the pair loop's.
+  static constexpr size_t kPairLoop = 0, kGrainPasses = 1;
   Shares shares;
-  std::vector<double> block_cost;
+  LoopCosts block_cost = LoopCosts(2);
+  Shares pair_shares() {
+    Shares s = shares;
+    if (s.cost) s.cost = block_cost[kPairLoop].data();
+    return s;
+  }
   // Contact candidates (dem/contact_candidates.hpp): the listed pairs of block b that may touch
   // are cand_p/i/j[nbr_start[b * kBlock] .. cand_end[b]) (pair index, grains).
   std::vector<int32_t> cand_p, cand_i, cand_j, cand_end;
@@ -36,7 +44,8 @@ struct DemWorkspace final : Workspace {
   size_t bytes() const override {
     auto v = [](const auto& x) { return x.capacity() * sizeof(x[0]); };
     size_t b = v(cell_of) + v(cell_start) + v(cell_items) + v(row_count) + v(old_start) + v(old_j) + v(old_hist) +
-               v(perm) + v(permute_buf) + v(block_cost) + v(cand_p) + v(cand_i) + v(cand_j) + v(cand_end);
+               v(perm) + v(permute_buf) + v(block_cost[0]) + v(block_cost[1]) + v(cand_p) + v(cand_i) + v(cand_j) +
+               v(cand_end);
     for (const auto& c : chunk_j) b += v(c);
     for (const auto* s :
          {&schedule.blocks, &schedule.colour_start, &schedule.n_before, &schedule.after_start, &schedule.after,
@@ -54,6 +63,7 @@ struct DemWorkspace final : Workspace {
     schedule = build_pair_schedule(n, nbr_start, pair_j);
     schedule_valid = true;
     rebalance(shares, block_cost, n);
+    if (shares.owners > 0) shares.cost = block_cost[kGrainPasses].data();
   }
   void renumbered() override {}  // the renumbering rebuilds the list, its schedule and candidates
   // Contact candidates of the current selection.

@@ -127,32 +127,65 @@ TEST_CASE("owned maxima keep a NaN and equal the serial maximum on 1 to 4 thread
   }
 }
 
-TEST_CASE("owned shares: rebalanced when that shortens the dearest share by more than a twentieth") {
+TEST_CASE("owned shares fitted to loops that join one after the other") {
+  // A pair loop whose first half of blocks costs three times the second, and a grain pass whose
+  // blocks all cost the same: the best boundary balances the dearer loop more.
+  LoopCosts cost(2, std::vector<double>(18, 0.0));
+  for (int64_t b = 0; b < 18; ++b) {
+    cost[0][b] = b < 9 ? 3.0 : 1.0;
+    cost[1][b] = 2.0;
+  }
+  const Shares fit = fitted_shares(cost, 18, 2);
+  // Every boundary tried by hand: the least joined time.
+  double least = 1e300;
+  int64_t at = -1;
+  for (int64_t k = 0; k <= 18; ++k) {
+    Shares s = even_shares(18, 2);
+    s.begin[1] = k;
+    if (joined_time(s, cost) < least) {
+      least = joined_time(s, cost);
+      at = k;
+    }
+  }
+  CHECK(fit.begin[1] == at);
+  CHECK(joined_time(fit, cost) == least);
+  CHECK(at == 6);  // max(18, 18) + max(12, 24) = 42; at 7: max(21, 15) + max(14, 22) = 43
+  // Balanced by the summed cost instead (5 against 3 a block): the boundary at 7, dearer.
+  std::vector<double> sum(18);
+  for (int64_t b = 0; b < 18; ++b) sum[b] = cost[0][b] + cost[1][b];
+  CHECK(balanced_shares(sum.data(), 18, 2).begin[1] == 7);
+  CHECK(joined_time(balanced_shares(sum.data(), 18, 2), cost) > least);
+  // Three owners: balanced by the summed cost.
+  CHECK(fitted_shares(cost, 18, 3).begin == balanced_shares(sum.data(), 18, 3).begin);
+}
+
+TEST_CASE("owned shares: rebalanced when that shortens the joined time by more than a twentieth") {
   const int64_t n = 18 * kOwnedBlock;
   tbb::task_arena(2).execute([&] {
     Shares shares;
-    std::vector<double> cost;
+    LoopCosts cost(2);
     rebalance(shares, cost, n);  // the first: even, nothing measured yet
     REQUIRE(shares.fits(18, 2));
     CHECK(shares.begin[1] == 9);
-    CHECK(shares.cost == cost.data());
+    CHECK(cost[0].size() == 18);
+    CHECK(cost[1].size() == 18);
     // Costs within a few per cent of even: the shares stay, and the costs halve.
-    for (int64_t b = 0; b < 18; ++b) cost[b] = b < 9 ? 1.04 : 1.0;
+    for (int64_t b = 0; b < 18; ++b) cost[0][b] = b < 9 ? 1.04 : 1.0;
     rebalance(shares, cost, n);
     CHECK(shares.begin[1] == 9);
-    CHECK(cost[0] == doctest::Approx(0.52));
+    CHECK(cost[0][0] == doctest::Approx(0.52));
     // The first half three times as dear: they move.
-    for (int64_t b = 0; b < 18; ++b) cost[b] = b < 9 ? 3.0 : 1.0;
+    for (int64_t b = 0; b < 18; ++b) cost[0][b] = b < 9 ? 3.0 : 1.0;
     rebalance(shares, cost, n);
     CHECK(shares.begin[1] == 6);
-    CHECK(shares.cost == cost.data());
     // Another number of grains: even again, the costs restarted.
     rebalance(shares, cost, 20 * kOwnedBlock);
     CHECK(shares.begin[1] == 10);
-    CHECK(cost.size() == 20);
+    CHECK(cost[0].size() == 20);
+    CHECK(cost[1].size() == 20);
   });
   Shares one;
-  std::vector<double> cost;
+  LoopCosts cost(2);
   tbb::task_arena(1).execute([&] { rebalance(one, cost, n); });
   CHECK(one.owners == 0);  // one thread: no shares
 }
