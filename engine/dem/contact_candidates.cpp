@@ -49,9 +49,9 @@ template <int D>
 void select_dim(const Model& m, State& s, DemWorkspace& sc) {
   const int64_t np = s.n_pairs();
   const int64_t nb = (s.n + PairSchedule::kBlock - 1) / PairSchedule::kBlock;
-  resize_exact(sc.cand_p, np);
-  resize_exact(sc.cand_i, np);
-  resize_exact(sc.cand_j, np);
+  resize_tight(sc.cand_p, np);
+  resize_tight(sc.cand_i, np);
+  resize_tight(sc.cand_j, np);
   sc.cand_end.assign(nb, 0);
   const PeriodicImage<D> img(s.box);
   const bool all = m.contact_skin >= m.skin;

@@ -147,13 +147,13 @@ bool rebuild(const Model& m, State& s, DemWorkspace& sc) {
   s.nbr_start.assign(n + 1, 0);
   for (int64_t i = 0; i < n; ++i) s.nbr_start[i + 1] = s.nbr_start[i] + sc.row_count[i];
   const int64_t np = s.nbr_start[n];
-  resize_exact(s.pair_j, np);
-  resize_exact(s.pair_i, np);
-  s.pair_hist.assign(np * D, 0.0);
-  s.pair_f.assign(np * D, 0.0);
+  resize_tight(s.pair_j, np);
+  resize_tight(s.pair_i, np);
+  assign_tight(s.pair_hist, np * D, 0.0);
+  assign_tight(s.pair_f, np * D, 0.0);
   // A new pair holds nothing until the force pass finds it touching; a carried spring is marked
   // as held, so that the pass (or the candidate selection) clears it if the pair is apart.
-  s.pair_touch.assign(np, 0);
+  assign_tight(s.pair_touch, static_cast<size_t>(np), uint8_t{0});
   // Sort row i, name its first grain, and carry the tangential springs of pairs that were
   // already listed (old rows are sorted). With a renumbering, the pair may now be listed the
   // other way round: its elongation, measured from the first grain's side, changes sign.
