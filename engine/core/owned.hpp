@@ -9,9 +9,9 @@
 // machine's two cores are far apart (a cache line's round trip of 0.5 to 3 microseconds), a pass
 // that reads what the other core just wrote can be several times as slow as on one core.
 //
-// Shares may be even or balanced by the measured cost of each block (a Shares with a cost array
-// adds each block's seconds to it). Which thread runs a block never changes what it computes: the
-// loops write disjoint outputs, and their maxima are exact in any order.
+// Shares may be even or fitted to the measured cost of each block (a loop given a cost array adds
+// each block's seconds to it). Which thread runs a block never changes what it computes: the loops
+// write disjoint outputs, and their maxima are exact in any order.
 #pragma once
 
 #include <tbb/blocked_range.h>
@@ -23,7 +23,6 @@
 #include <array>
 #include <atomic>
 #include <chrono>
-#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -33,6 +32,9 @@ namespace silt {
 
 inline constexpr int64_t kOwnedBlock = 1024;  // grains per block
 inline constexpr int kMaxOwners = 64;         // an arena of more threads takes a plain split
+
+// The blocks of n grains.
+inline int64_t owned_blocks(int64_t n) { return (n + kOwnedBlock - 1) / kOwnedBlock; }
 
 // The threads that own blocks: the arena's (0 when there are more than kMaxOwners).
 inline int owner_count() {
@@ -55,7 +57,6 @@ struct Shares {
   int owners = 0;
   int64_t blocks = 0;
   std::array<int64_t, kMaxOwners + 1> begin{};
-  double* cost = nullptr;  // when set: seconds of each block, added to by the loops (one at a time)
   int owner_of(int64_t b) const {
     return static_cast<int>(std::upper_bound(begin.begin() + 1, begin.begin() + owners, b) - (begin.begin() + 1));
   }
@@ -115,34 +116,42 @@ inline double joined_time(const Shares& s, const LoopCosts& cost) {
 }
 
 // Shares of nb blocks for loops that join one after the other: for two owners the boundary with
-// the least joined time (every one tried: a loop whose blocks cost unevenly, the pair loop, and
-// one whose blocks cost the same, a grain pass, want different boundaries); for more, shares
-// balanced by the summed cost. Even when nothing was measured.
+// the least joined time (every one tried, from each loop's prefix sums: a loop whose blocks cost
+// unevenly, the pair loop, and one whose blocks cost the same, a grain pass, want different
+// boundaries); for more, shares balanced by the summed cost. Even when nothing was measured.
 inline Shares fitted_shares(const LoopCosts& cost, int64_t nb, int owners) {
   std::vector<double> sum(nb, 0.0);
   for (const std::vector<double>& c : cost)
     for (int64_t b = 0; b < nb; ++b) sum[b] += c[b];
   Shares best = balanced_shares(sum.data(), nb, owners);
   if (owners != 2) return best;
-  double least = joined_time(best, cost);
-  Shares s = best;
-  for (int64_t k = 0; k <= nb; ++k) {
-    s.begin[1] = k;
-    const double t = joined_time(s, cost);
-    if (t < least) {
-      least = t;
-      best = s;
+  // prefix[l * (nb + 1) + k]: loop l's cost of blocks [0, k).
+  std::vector<double> prefix(cost.size() * (nb + 1), 0.0);
+  for (size_t l = 0; l < cost.size(); ++l)
+    for (int64_t b = 0; b < nb; ++b) prefix[l * (nb + 1) + b + 1] = prefix[l * (nb + 1) + b] + cost[l][b];
+  auto joined_at = [&](int64_t k) {
+    double t = 0;
+    for (size_t l = 0; l < cost.size(); ++l) {
+      const double* p = &prefix[l * (nb + 1)];
+      t += std::max(p[k], p[nb] - p[k]);
     }
-  }
+    return t;
+  };
+  double least = joined_at(best.begin[1]);
+  for (int64_t k = 0; k <= nb; ++k)
+    if (const double t = joined_at(k); t < least) {
+      least = t;
+      best.begin[1] = k;
+    }
   return best;
 }
 
 // New shares of the blocks of n grains among the arena's threads, fitted to what each block cost
 // in each loop since the last call, and taken when they shorten the joined time by more than a
 // twentieth (a block that changes owner moves its grains' data to the other core once). The costs
-// then halve: older ones count less. The caller points shares.cost at its loop's costs.
+// then halve: older ones count less.
 inline void rebalance(Shares& shares, LoopCosts& cost, int64_t n) {
-  const int64_t nb = (n + kOwnedBlock - 1) / kOwnedBlock;
+  const int64_t nb = owned_blocks(n);
   const int owners = static_cast<int>(std::min<int64_t>(owner_count(), nb));
   if (owners <= 1) {
     shares = {};
@@ -191,13 +200,23 @@ class ShareClaims {
   std::array<Flag, kMaxOwners> flag_;
 };
 
+// f(), its seconds added to *seconds when seconds is not null.
+template <class F>
+void timed(double* seconds, F&& f) {
+  if (!seconds) return f();
+  const auto t0 = std::chrono::steady_clock::now();
+  f();
+  *seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
 // f(begin, end) for each block of kOwnedBlock grains of [0, n) (one call per block). Each thread
 // takes its own share under `shares` (even shares when they do not fit), then the shares no
 // thread has taken yet, each whole: a thread never takes blocks from a share another thread is
-// running, whose grains are in that thread's caches.
+// running, whose grains are in that thread's caches. With shares that fit and `cost` (nb
+// entries), each block's seconds are added to cost[b].
 template <class F>
-void owned_for(int64_t n, const Shares& shares, F&& f) {
-  const int64_t nb = (n + kOwnedBlock - 1) / kOwnedBlock;
+void owned_for(int64_t n, const Shares& shares, double* cost, F&& f) {
+  const int64_t nb = owned_blocks(n);
   auto block = [&](int64_t b) { f(b * kOwnedBlock, std::min(n, (b + 1) * kOwnedBlock)); };
   const int all = owner_count();
   if (all == 0) {
@@ -212,47 +231,33 @@ void owned_for(int64_t n, const Shares& shares, F&& f) {
     return;
   }
   const bool fit = shares.fits(nb, owners);
-  const Shares s = fit ? shares : even_shares(nb, owners);
+  Shares even;
+  if (!fit) even = even_shares(nb, owners);
+  const Shares& s = fit ? shares : even;
   ShareClaims taken(owners);
   on_owners(owners, [&](int me) {
     for (int k = 0; k < owners; ++k) {
       const int t = (me + k) % owners;  // its own share first
       if (!taken.take(t)) continue;
-      for (int64_t b = s.begin[t]; b < s.begin[t + 1]; ++b) {
-        if (!fit || !shares.cost) {
-          block(b);
-          continue;
-        }
-        const auto t0 = std::chrono::steady_clock::now();
-        block(b);
-        shares.cost[b] += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-      }
+      for (int64_t b = s.begin[t]; b < s.begin[t + 1]; ++b) timed(fit && cost ? cost + b : nullptr, [&] { block(b); });
     }
   });
 }
 
-template <class F>
-void owned_for(int64_t n, F&& f) {
-  owned_for(n, Shares{}, f);
-}
-
 // K maxima over [0, n) of f(begin, end) (std::array<double, K> per block; 0 for none), the blocks
-// run as owned_for runs them, each thread keeping its own maxima (a thread runs its blocks one
+// run (and timed) as owned_for runs them, each thread keeping its own maxima (a thread runs its blocks one
 // after the other). A NaN of any block stays.
 template <size_t K, class F>
-std::array<double, K> owned_max(int64_t n, const Shares& shares, F&& f) {
+std::array<double, K> owned_max(int64_t n, const Shares& shares, double* cost, F&& f) {
   using A = std::array<double, K>;
-  auto join = [](A& a, const A& b) {
-    for (size_t k = 0; k < K; ++k) a[k] = (b[k] > a[k] || std::isnan(b[k])) ? b[k] : a[k];
-  };
   if (owner_count() == 0) return parallel_max<K>(n, kOwnedBlock, f);  // slots beyond kMaxOwners
   struct alignas(64) Slot {
     A m{};
   };
   std::array<Slot, kMaxOwners> part{};
-  owned_for(n, shares, [&](int64_t b, int64_t e) { join(part[my_slot()].m, f(b, e)); });
+  owned_for(n, shares, cost, [&](int64_t b, int64_t e) { max_into(part[my_slot()].m, f(b, e)); });
   A m{};
-  for (const Slot& p : part) join(m, p.m);
+  for (const Slot& p : part) max_into(m, p.m);
   return m;
 }
 

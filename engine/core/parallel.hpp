@@ -28,13 +28,19 @@ void parallel_for(int64_t n, int64_t grain, F&& f) {
                     [&](const tbb::blocked_range<int64_t>& r) { f(r.begin(), r.end()); });
 }
 
+// a = the maxima of a and b, element by element; a NaN of b replaces, a NaN of a stays.
+template <size_t K>
+void max_into(std::array<double, K>& a, const std::array<double, K>& b) {
+  for (size_t k = 0; k < K; ++k) a[k] = (b[k] > a[k] || std::isnan(b[k])) ? b[k] : a[k];
+}
+
 // K maxima over [0, n) of f(begin, end), which returns the maxima of its block as
 // std::array<double, K> (0 for an empty range). A NaN of any block stays, whatever the split.
 template <size_t K, class F>
 std::array<double, K> parallel_max(int64_t n, int64_t grain, F&& f) {
   using A = std::array<double, K>;
   auto join = [](A a, const A& b) {
-    for (size_t k = 0; k < K; ++k) a[k] = (b[k] > a[k] || std::isnan(b[k])) ? b[k] : a[k];
+    max_into(a, b);
     return a;
   };
   if (n <= grain) return n > 0 ? f(int64_t{0}, n) : A{};

@@ -56,8 +56,7 @@ void select_dim(const Model& m, State& s, DemWorkspace& sc) {
   const PeriodicImage<D> img(s.box);
   const bool all = m.contact_skin >= m.skin;
   // Each block on the thread that owns its rows (core/owned.hpp), as in the pair loop.
-  static_assert(PairSchedule::kBlock == kOwnedBlock);
-  owned_for(s.n, sc.shares, [&](int64_t b, int64_t) {
+  owned_for(s.n, sc.shares, sc.block_cost[DemWorkspace::kGrainPasses].data(), [&](int64_t b, int64_t) {
     const int64_t k = b / kOwnedBlock;
     if (all) select_block<D, true>(s, sc, img, m.contact_skin, k);
     else select_block<D, false>(s, sc, img, m.contact_skin, k);

@@ -304,7 +304,7 @@ void pair_forces(const Model& m, State& s, DemWorkspace& sc) {
   if constexpr (Affine)
     for (int k = 0; k < D; ++k) a.grad[k] = s.box_rate[k] / s.box.len[k];
   PairSchedule& sched = sc.schedule;
-  run_pair_schedule(sched, sc.pair_shares(), [&a, &sched](int32_t blk) {
+  run_pair_schedule(sched, sc.shares, sc.block_cost[DemWorkspace::kPairLoop].data(), [&a, &sched](int32_t blk) {
     // The first block to write a grain clears its sums.
     constexpr int64_t B = PairSchedule::kBlock;
     for (int32_t k = sched.clears_start[blk]; k < sched.clears_start[blk + 1]; ++k) {

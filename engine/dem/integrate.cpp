@@ -134,7 +134,7 @@ std::array<double, 2> drift_range(const DriftArgs<D> a, int64_t b, int64_t e) {
 }
 
 template <int D, bool Affine>
-void kick_drift_dim(const Model& m, State& s, double kick, const Shares& shares) {
+void kick_drift_dim(const Model& m, State& s, double kick, const Shares& shares, double* cost) {
   // The box lengths moved first (shear::box_drift): L(t + dt) / L(t) of each.
   const Vec3a lambda = Affine ? s.box_stretch : Vec3a{1, 1, 1};
   DriftArgs<D> a{s.dt,
@@ -160,7 +160,8 @@ void kick_drift_dim(const Model& m, State& s, double kick, const Shares& shares)
     a.g[k] = m.gravity[k];
     a.lambda[k] = lambda[k];
   }
-  const auto max_d2 = owned_max<2>(s.n, shares, [a](int64_t b, int64_t e) { return drift_range<D, Affine>(a, b, e); });
+  const auto max_d2 =
+      owned_max<2>(s.n, shares, cost, [a](int64_t b, int64_t e) { return drift_range<D, Affine>(a, b, e); });
   s.nbr_max_disp = std::sqrt(max_d2[0]);
   s.nbr_step_disp = std::sqrt(max_d2[1]);
 }
@@ -229,7 +230,7 @@ void kick_range(const KickArgs<D> a, int64_t b, int64_t e) {
 }
 
 template <int D, bool Kick>
-void kick_dim(const Model& m, State& s, const ForceSources& sources, const Shares& shares) {
+void kick_dim(const Model& m, State& s, const ForceSources& sources, const Shares& shares, double* cost) {
   KickArgs<D> a{0.5 * s.dt,
                 m.shear.on ? s.shear_rate : 0.0,
                 {},
@@ -259,7 +260,7 @@ void kick_dim(const Model& m, State& s, const ForceSources& sources, const Share
   // contact_forces writes no torque without friction: the sum then starts from zero. Without
   // sources (no walls, no module's force) the loop has nothing to add.
   auto sweep = [&](auto torque, auto with_sources) {
-    owned_for(s.n, shares, [a](int64_t b, int64_t e) {
+    owned_for(s.n, shares, cost, [a](int64_t b, int64_t e) {
       kick_range<D, Kick, decltype(torque)::value, decltype(with_sources)::value>(a, b, e);
     });
   };
@@ -269,26 +270,29 @@ void kick_dim(const Model& m, State& s, const ForceSources& sources, const Share
 }
 
 // The drift after a half kick of `kick` dt/2 (1: velocity Verlet; 0: the drift alone).
-void kick_then_drift(const Model& m, State& s, double kick, const Shares& shares) {
+void kick_then_drift(const Model& m, State& s, double kick, const Shares& shares, double* cost) {
   const bool affine = m.deforming_box();
-  if (m.dim == 2) affine ? kick_drift_dim<2, true>(m, s, kick, shares) : kick_drift_dim<2, false>(m, s, kick, shares);
-  else affine ? kick_drift_dim<3, true>(m, s, kick, shares) : kick_drift_dim<3, false>(m, s, kick, shares);
+  if (m.dim == 2)
+    affine ? kick_drift_dim<2, true>(m, s, kick, shares, cost) : kick_drift_dim<2, false>(m, s, kick, shares, cost);
+  else affine ? kick_drift_dim<3, true>(m, s, kick, shares, cost) : kick_drift_dim<3, false>(m, s, kick, shares, cost);
 }
 
 }  // namespace
 
-void kick_drift(const Model& m, State& s, const Shares& shares) { kick_then_drift(m, s, 1.0, shares); }
+void kick_drift(const Model& m, State& s, const Shares& shares, double* cost) {
+  kick_then_drift(m, s, 1.0, shares, cost);
+}
 
-void drift(const Model& m, State& s) { kick_then_drift(m, s, 0.0, Shares{}); }
+void drift(const Model& m, State& s) { kick_then_drift(m, s, 0.0, Shares{}, nullptr); }
 
-void kick(const Model& m, State& s, const ForceSources& sources, const Shares& shares) {
-  if (m.dim == 2) kick_dim<2, true>(m, s, sources, shares);
-  else kick_dim<3, true>(m, s, sources, shares);
+void kick(const Model& m, State& s, const ForceSources& sources, const Shares& shares, double* cost) {
+  if (m.dim == 2) kick_dim<2, true>(m, s, sources, shares, cost);
+  else kick_dim<3, true>(m, s, sources, shares, cost);
 }
 
 void sum_forces(const Model& m, State& s, const ForceSources& sources) {
-  if (m.dim == 2) kick_dim<2, false>(m, s, sources, Shares{});
-  else kick_dim<3, false>(m, s, sources, Shares{});
+  if (m.dim == 2) kick_dim<2, false>(m, s, sources, Shares{}, nullptr);
+  else kick_dim<3, false>(m, s, sources, Shares{}, nullptr);
 }
 
 void clear_springs(const Model&, State& s) {

@@ -94,7 +94,6 @@ void split_by_owner(PairSchedule& s, const Shares& shares) {
   for (int32_t b : s.blocks) s.own[pos[shares.owner_of(b)]++] = b;
   s.claimed.assign(s.blocks.size(), 0);
   s.split = shares;
-  s.split.cost = nullptr;
 }
 
 }  // namespace silt::dem

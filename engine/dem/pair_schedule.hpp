@@ -24,7 +24,6 @@
 #include <algorithm>
 #include <array>
 #include <atomic>
-#include <chrono>
 #include <cstdint>
 #include <vector>
 
@@ -67,10 +66,10 @@ void split_by_owner(PairSchedule& s, const Shares& shares);
 // of its own share of the grains (`shares`, even ones when they do not fit) and runs them in the
 // schedule's order as they become ready, so the grains a block writes stay with the thread that
 // moves them in the grain passes (core/owned.hpp). A share whose thread has not come after
-// kPatience scans of a waiting thread is taken whole by that thread. With shares.cost, each
-// block's seconds are added to it.
+// kPatience scans of a waiting thread is taken whole by that thread. With shares that fit and
+// `cost` (a value per block), each block's seconds are added to cost[b].
 template <class F>
-void run_pair_schedule(PairSchedule& s, const Shares& shares, F&& body) {
+void run_pair_schedule(PairSchedule& s, const Shares& shares, double* cost, F&& body) {
   const int64_t nb = static_cast<int64_t>(s.blocks.size());
   const int all = owner_count();
   const int owners = static_cast<int>(std::min<int64_t>(all, nb));
@@ -89,16 +88,12 @@ void run_pair_schedule(PairSchedule& s, const Shares& shares, F&& body) {
     return;
   }
   const bool fit = shares.fits(nb, owners);
-  const Shares split = fit ? shares : even_shares(nb, owners);
+  Shares even;
+  if (!fit) even = even_shares(nb, owners);
+  const Shares& split = fit ? shares : even;
   if (s.split.owners != owners || s.split.begin != split.begin) split_by_owner(s, split);
   std::fill(s.claimed.begin(), s.claimed.end(), 0);  // the blocks run in this pass
   ShareClaims taken(owners);
-  auto run = [&](int32_t b) {
-    if (!fit || !shares.cost) return body(b);
-    const auto t0 = std::chrono::steady_clock::now();
-    body(b);
-    shares.cost[b] += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  };
   on_owners(owners, [&](int me) {
     // The shares this thread took, and in each the position of its first block not yet run.
     std::array<int32_t, kMaxOwners> mine, from;
@@ -118,7 +113,7 @@ void run_pair_schedule(PairSchedule& s, const Shares& shares, F&& body) {
           // writes before b's reads.
           if (std::atomic_ref<int32_t>(s.waiting[b]).load(std::memory_order_acquire) != 0) continue;
           s.claimed[b] = 1;
-          run(b);
+          timed(fit && cost ? cost + b : nullptr, [&] { body(b); });
           for (int32_t a = s.after_start[b]; a < s.after_start[b + 1]; ++a)
             std::atomic_ref<int32_t>(s.waiting[s.after[a]]).fetch_sub(1, std::memory_order_acq_rel);
           ran = true;

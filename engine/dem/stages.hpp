@@ -17,8 +17,8 @@ namespace silt::dem {
 // First half kick v += dt/2 a, drift x += dt v (plus the affine flow of a deforming or sheared
 // box, whose lengths shear::box_drift has moved), wrap into the periodic box (Lees-Edwards
 // shifted), and the largest displacement since the last neighbour build. Each thread moves the
-// grains of its share (core/owned.hpp; even shares by default).
-void kick_drift(const Model& m, State& s, const Shares& shares = {});
+// grains of its share (core/owned.hpp), adding each block's seconds to cost[b] (when not null).
+void kick_drift(const Model& m, State& s, const Shares& shares, double* cost);
 // The same drift without the kick (velocities given by a solve: the paste).
 void drift(const Model& m, State& s);
 
@@ -47,8 +47,8 @@ void wall_forces(const Model& m, State& s);
 // (dt, particle_f, particle_t [pair sums], every force source, inv_m, inv_i, frozen, shear_rate)
 //  => (particle_f, particle_t, particle_v, particle_w, events.non_finite)
 // Add the registered force sources (walls, then the other modules', in order) to the pair sums,
-// then the second half kick, each thread on its share of the grains.
-void kick(const Model& m, State& s, const ForceSources& sources, const Shares& shares = {});
+// then the second half kick, each thread on its share of the grains (as in kick_drift).
+void kick(const Model& m, State& s, const ForceSources& sources, const Shares& shares, double* cost);
 // (particle_f, particle_t, every force source) => (particle_f, particle_t)
 // The same sum without the kick: the forces of the first state.
 void sum_forces(const Model& m, State& s, const ForceSources& sources);

@@ -24,15 +24,9 @@ struct DemWorkspace final : Workspace {
   // The threads' shares of the grains (core/owned.hpp), in the pair loop and the grain passes,
   // fitted to block_cost: the seconds each block took in the pair loop (kPairLoop) and in the
   // grain passes and the candidates' selection (kGrainPasses), halved at every rebalance.
-  // shares.cost points at the grain passes' costs, pair_shares() at the pair loop's.
   static constexpr size_t kPairLoop = 0, kGrainPasses = 1;
   Shares shares;
   LoopCosts block_cost = LoopCosts(2);
-  Shares pair_shares() {
-    Shares s = shares;
-    if (s.cost) s.cost = block_cost[kPairLoop].data();
-    return s;
-  }
   // Contact candidates (dem/contact_candidates.hpp): the listed pairs of block b that may touch
   // are cand_p/i/j[nbr_start[b * kBlock] .. cand_end[b]) (pair index, grains).
   std::vector<int32_t> cand_p, cand_i, cand_j, cand_end;
@@ -63,7 +57,6 @@ struct DemWorkspace final : Workspace {
     schedule = build_pair_schedule(n, nbr_start, pair_j);
     schedule_valid = true;
     rebalance(shares, block_cost, n);
-    if (shares.owners > 0) shares.cost = block_cost[kGrainPasses].data();
   }
   void renumbered() override {}  // the renumbering rebuilds the list, its schedule and candidates
   // Contact candidates of the current selection.

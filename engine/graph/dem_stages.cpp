@@ -157,14 +157,20 @@ void add_dem_stages(GraphBuilder& b) {
     return;
   }
   const int drift = b.add(
-      "kick_drift", [&w](const Model& mm, State& s) { dem::kick_drift(mm, s, w.shares); }, kick_drift_reads(m),
-      drift_writes);
+      "kick_drift",
+      [&w](const Model& mm, State& s) {
+        dem::kick_drift(mm, s, w.shares, w.block_cost[dem::DemWorkspace::kGrainPasses].data());
+      },
+      kick_drift_reads(m), drift_writes);
   b.after(drift, b.find("choose_dt"), "moves the grains by this step's dt");
   // depends on: the displacement since the last build, known after the drift.
   b.after(nbr, drift, "rebuild decision needs the drifted positions");
   const int kick = b.add(
-      "kick", [forces, &w](const Model& mm, State& s) { dem::kick(mm, s, *forces, w.shares); }, kick_reads(m),
-      kKickWrites);
+      "kick",
+      [forces, &w](const Model& mm, State& s) {
+        dem::kick(mm, s, *forces, w.shares, w.block_cost[dem::DemWorkspace::kGrainPasses].data());
+      },
+      kick_reads(m), kKickWrites);
   b.after(kick, pairs, "kicks with the pair forces of this step");
   b.sums_forces(kick);
   const int energy =

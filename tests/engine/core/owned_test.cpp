@@ -57,7 +57,7 @@ TEST_CASE("owned loops: every block once, each share on one thread, on 1 to 4 th
         std::vector<std::atomic<int>> hits(static_cast<size_t>(n));
         std::vector<int> slot(nb, -1);
         tbb::task_arena(threads).execute([&] {
-          owned_for(n, shares, [&](int64_t b, int64_t e) {
+          owned_for(n, shares, nullptr, [&](int64_t b, int64_t e) {
             CHECK(b % kOwnedBlock == 0);
             CHECK(e == std::min(n, b + kOwnedBlock));
             for (int64_t i = b; i < e; ++i) hits[i].fetch_add(1);
@@ -80,7 +80,8 @@ TEST_CASE("owned loops: more threads than blocks") {
   const int64_t n = kOwnedBlock + 3;  // two blocks
   for (int pass = 0; pass < 50; ++pass) {
     std::vector<std::atomic<int>> runs(2);
-    tbb::task_arena(4).execute([&] { owned_for(n, [&](int64_t b, int64_t) { runs[b / kOwnedBlock].fetch_add(1); }); });
+    tbb::task_arena(4).execute(
+        [&] { owned_for(n, Shares{}, nullptr, [&](int64_t b, int64_t) { runs[b / kOwnedBlock].fetch_add(1); }); });
     for (const auto& r : runs) CHECK(r.load() == 1);
   }
 }
@@ -88,16 +89,15 @@ TEST_CASE("owned loops: more threads than blocks") {
 TEST_CASE("owned loops: costs are measured only with shares that fit") {
   const int64_t n = 6 * kOwnedBlock;
   std::vector<double> cost(6, 0.0);
-  Shares shares = even_shares(6, 2);
-  shares.cost = cost.data();
+  const Shares shares = even_shares(6, 2);
   auto spin = [](int64_t, int64_t) {
     volatile double x = 0;
     for (int k = 0; k < 20000; ++k) x = x + 1.0;
   };
-  tbb::task_arena(2).execute([&] { owned_for(n, shares, spin); });
+  tbb::task_arena(2).execute([&] { owned_for(n, shares, cost.data(), spin); });
   for (double c : cost) CHECK(c > 0.0);
   std::fill(cost.begin(), cost.end(), 0.0);
-  tbb::task_arena(3).execute([&] { owned_for(n, shares, spin); });  // made for 2 threads
+  tbb::task_arena(3).execute([&] { owned_for(n, shares, cost.data(), spin); });  // made for 2 threads
   for (double c : cost) CHECK(c == 0.0);
 }
 
@@ -117,11 +117,11 @@ TEST_CASE("owned maxima keep a NaN and equal the serial maximum on 1 to 4 thread
   for (int threads : {1, 2, 3, 4}) {
     CAPTURE(threads);
     std::array<double, 2> m{};
-    tbb::task_arena(threads).execute([&] { m = owned_max<2>(n, even_shares(6, threads), block_max); });
+    tbb::task_arena(threads).execute([&] { m = owned_max<2>(n, even_shares(6, threads), nullptr, block_max); });
     CHECK(m[0] == 1.5);
     CHECK(m[1] == doctest::Approx(1.0).epsilon(1e-3));
     v[n - 1] = std::numeric_limits<double>::quiet_NaN();
-    tbb::task_arena(threads).execute([&] { m = owned_max<2>(n, Shares{}, block_max); });
+    tbb::task_arena(threads).execute([&] { m = owned_max<2>(n, Shares{}, nullptr, block_max); });
     CHECK(std::isnan(m[0]));
     v[n - 1] = 0.0;
   }

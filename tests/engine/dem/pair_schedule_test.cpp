@@ -164,7 +164,7 @@ TEST_CASE("pair schedule: the parallel pass runs each block once, after the bloc
       std::vector<int64_t> begin(nb, -1), end(nb, -1);
       std::vector<int> runs(nb, 0);
       arena.execute([&] {
-        dem::run_pair_schedule(s, shares, [&](int32_t b) {
+        dem::run_pair_schedule(s, shares, nullptr, [&](int32_t b) {
           begin[b] = clock++;
           ++runs[b];
           end[b] = clock++;
@@ -182,10 +182,9 @@ TEST_CASE("pair schedule: a pass with shares adds each block's time to their cos
   PairSchedule& s = chute.schedule;
   const int64_t nb = static_cast<int64_t>(s.blocks.size());
   std::vector<double> cost(nb, 0.0);
-  Shares shares = even_shares(nb, 2);
-  shares.cost = cost.data();
+  const Shares shares = even_shares(nb, 2);
   tbb::task_arena(2).execute([&] {
-    dem::run_pair_schedule(s, shares, [&](int32_t b) {
+    dem::run_pair_schedule(s, shares, cost.data(), [&](int32_t b) {
       const auto t0 = std::chrono::steady_clock::now();
       while (std::chrono::steady_clock::now() - t0 < std::chrono::microseconds(50 * (b % 2 + 1))) {
       }
@@ -194,9 +193,8 @@ TEST_CASE("pair schedule: a pass with shares adds each block's time to their cos
   for (int64_t b = 0; b < nb; ++b) CHECK(cost[b] >= 50e-6 * static_cast<double>(b % 2 + 1));
   // Shares made for another number of threads measure nothing.
   std::fill(cost.begin(), cost.end(), 0.0);
-  Shares three = even_shares(nb, 3);
-  three.cost = cost.data();
-  tbb::task_arena(2).execute([&] { dem::run_pair_schedule(s, three, [](int32_t) {}); });
+  const Shares three = even_shares(nb, 3);
+  tbb::task_arena(2).execute([&] { dem::run_pair_schedule(s, three, cost.data(), [](int32_t) {}); });
   CHECK(std::count(cost.begin(), cost.end(), 0.0) == nb);
 }
 
@@ -212,7 +210,8 @@ TEST_CASE("pair schedule: more threads than blocks") {
   PairSchedule s = dem::build_pair_schedule(n, start, pj);
   for (int pass = 0; pass < 50; ++pass) {
     std::vector<std::atomic<int>> runs(3);
-    tbb::task_arena(4).execute([&] { dem::run_pair_schedule(s, Shares{}, [&](int32_t b) { runs[b].fetch_add(1); }); });
+    tbb::task_arena(4).execute(
+        [&] { dem::run_pair_schedule(s, Shares{}, nullptr, [&](int32_t b) { runs[b].fetch_add(1); }); });
     for (const auto& r : runs) CHECK(r.load() == 1);
   }
 }
