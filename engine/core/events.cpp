@@ -8,7 +8,7 @@ namespace silt {
 namespace {
 
 std::vector<std::string>& names() {
-  static std::vector<std::string> n = {"non_finite", "overlap", "box_collapse", "runaway"};
+  static std::vector<std::string> n = {"non_finite_late", "non_finite", "overlap", "box_collapse", "runaway"};
   return n;
 }
 

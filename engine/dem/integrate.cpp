@@ -133,8 +133,9 @@ std::array<double, 2> drift_range(const DriftArgs<D> a, int64_t b, int64_t e) {
   return drift_scalar<D, Affine>(a, b, e);
 }
 
+// The arguments of a drift after a half kick of `kick` dt/2.
 template <int D, bool Affine>
-void kick_drift_dim(const Model& m, State& s, double kick, const Shares& shares, double* cost) {
+DriftArgs<D> drift_args(const Model& m, State& s, double kick) {
   // The box lengths moved first (shear::box_drift): L(t + dt) / L(t) of each.
   const Vec3a lambda = Affine ? s.box_stretch : Vec3a{1, 1, 1};
   DriftArgs<D> a{s.dt,
@@ -160,10 +161,20 @@ void kick_drift_dim(const Model& m, State& s, double kick, const Shares& shares,
     a.g[k] = m.gravity[k];
     a.lambda[k] = lambda[k];
   }
-  const auto max_d2 =
-      owned_max<2>(s.n, shares, cost, [a](int64_t b, int64_t e) { return drift_range<D, Affine>(a, b, e); });
+  return a;
+}
+
+// The largest displacements of a drift into the neighbour list's scalars.
+void store_displacements(State& s, const std::array<double, 2>& max_d2) {
   s.nbr_max_disp = std::sqrt(max_d2[0]);
   s.nbr_step_disp = std::sqrt(max_d2[1]);
+}
+
+template <int D, bool Affine>
+void kick_drift_dim(const Model& m, State& s, double kick, const Shares& shares, double* cost) {
+  const DriftArgs<D> a = drift_args<D, Affine>(m, s, kick);
+  store_displacements(
+      s, owned_max<2>(s.n, shares, cost, [a](int64_t b, int64_t e) { return drift_range<D, Affine>(a, b, e); }));
 }
 
 // The force sources into particle_f / particle_t (contact_forces left the pair sums there;
@@ -229,9 +240,10 @@ void kick_range(const KickArgs<D> a, int64_t b, int64_t e) {
   kick_scalar<D, Kick, Torque, Sources>(a, b, e);
 }
 
-template <int D, bool Kick>
-void kick_dim(const Model& m, State& s, const ForceSources& sources, const Shares& shares, double* cost) {
-  KickArgs<D> a{0.5 * s.dt,
+// The arguments of a kick of h (0 for the sum alone) with the force sources.
+template <int D>
+KickArgs<D> kick_args(const Model& m, State& s, const ForceSources& sources, double h) {
+  KickArgs<D> a{h,
                 m.shear.on ? s.shear_rate : 0.0,
                 {},
                 0,
@@ -257,16 +269,55 @@ void kick_dim(const Model& m, State& s, const ForceSources& sources, const Share
     a.force_src[a.n_force++] = double_field(s, src.force).data();
     if (src.torque != kNoField) a.torque_src[a.n_torque++] = double_field(s, src.torque).data();
   }
-  // contact_forces writes no torque without friction: the sum then starts from zero. Without
-  // sources (no walls, no module's force) the loop has nothing to add.
-  auto sweep = [&](auto torque, auto with_sources) {
+  return a;
+}
+
+// body(torque, with_sources) with both as std::integral_constant: contact_forces writes no torque
+// without friction (the sum then starts from zero); without sources (no walls, no module's
+// force) the sum has nothing to add.
+template <class Body>
+void with_kick_flags(const Model& m, const ForceSources& sources, Body&& body) {
+  const bool any = !sources.empty();
+  if (m.pair_friction()) any ? body(std::true_type{}, std::true_type{}) : body(std::true_type{}, std::false_type{});
+  else any ? body(std::false_type{}, std::true_type{}) : body(std::false_type{}, std::false_type{});
+}
+
+template <int D, bool Kick>
+void kick_dim(const Model& m, State& s, const ForceSources& sources, const Shares& shares, double* cost) {
+  const KickArgs<D> a = kick_args<D>(m, s, sources, 0.5 * s.dt);
+  with_kick_flags(m, sources, [&](auto torque, auto with_sources) {
     owned_for(s.n, shares, cost, [a](int64_t b, int64_t e) {
       kick_range<D, Kick, decltype(torque)::value, decltype(with_sources)::value>(a, b, e);
     });
-  };
-  const bool any = !sources.empty();
-  if (m.pair_friction()) any ? sweep(std::true_type{}, std::true_type{}) : sweep(std::true_type{}, std::false_type{});
-  else any ? sweep(std::false_type{}, std::true_type{}) : sweep(std::false_type{}, std::false_type{});
+  });
+}
+
+// The second half kick of the last step (half step h_last) and this step's kick and drift, block
+// by block: each block of grains is kicked twice and moved while it is in the cache. A block whose
+// late kick meets a non-finite motion raises non_finite_late with the lowest grain id (ids, not
+// indices: update_neighbors may renumber the grains before the step is diagnosed) and is not
+// moved (the step fails; its positions stay finite for the neighbour search).
+template <int D>
+void late_kick_drift_dim(const Model& m, State& s, const ForceSources& sources, double h_last, const Shares& shares,
+                         double* cost) {
+  const KickArgs<D> k = kick_args<D>(m, s, sources, h_last);
+  const DriftArgs<D> a = drift_args<D, false>(m, s, 1.0);
+  EventSlot* late = &s.events[event::kNonFiniteLate];
+  const int32_t* id = s.particle_id.data();
+  with_kick_flags(m, sources, [&](auto torque, auto with_sources) {
+    store_displacements(s, owned_max<2>(s.n, shares, cost, [k, a, late, id](int64_t b, int64_t e) {
+                          EventSlot mine;
+                          KickArgs<D> kb = k;
+                          kb.nonfinite = &mine;
+                          kick_range<D, true, decltype(torque)::value, decltype(with_sources)::value>(kb, b, e);
+                          if (!mine.raised()) return drift_range<D, false>(a, b, e);
+                          int32_t lowest = id[mine.first()];
+                          for (int64_t i = b; i < e; ++i)
+                            if (!a.frozen[i] && !motion_finite(kb, i)) lowest = std::min(lowest, id[i]);
+                          late->raise(lowest, 0);
+                          return std::array<double, 2>{0, 0};
+                        }));
+  });
 }
 
 // The drift after a half kick of `kick` dt/2 (1: velocity Verlet; 0: the drift alone).
@@ -288,6 +339,13 @@ void drift(const Model& m, State& s) { kick_then_drift(m, s, 0.0, Shares{}, null
 void kick(const Model& m, State& s, const ForceSources& sources, const Shares& shares, double* cost) {
   if (m.dim == 2) kick_dim<2, true>(m, s, sources, shares, cost);
   else kick_dim<3, true>(m, s, sources, shares, cost);
+}
+
+void late_kick_drift(const Model& m, State& s, const ForceSources& sources, double h_last, const Shares& shares,
+                     double* cost) {
+  SILT_ASSERT(!m.deforming_box() && !m.shear.on, "a kick is left to the next step only in a fixed box");
+  if (m.dim == 2) late_kick_drift_dim<2>(m, s, sources, h_last, shares, cost);
+  else late_kick_drift_dim<3>(m, s, sources, h_last, shares, cost);
 }
 
 void sum_forces(const Model& m, State& s, const ForceSources& sources) {

@@ -49,6 +49,16 @@ void wall_forces(const Model& m, State& s);
 // Add the registered force sources (walls, then the other modules', in order) to the pair sums,
 // then the second half kick, each thread on its share of the grains (as in kick_drift).
 void kick(const Model& m, State& s, const ForceSources& sources, const Shares& shares, double* cost);
+// (dt, particle_f, particle_t [pair sums], every force source, particle_x, particle_v, particle_w,
+//  particle_disp, particle_id, inv_m, inv_i, frozen, box) => (particle_f, particle_t, particle_v,
+//  particle_w, particle_x, particle_disp, nbr_max_disp, nbr_step_disp, events.non_finite_late,
+//  events.non_finite)
+// kick of the last step (its half step h_last), left to this one because nothing saw that step's
+// end (State::boundary_seen), then kick_drift, block by block: the same operations on each grain,
+// in the same order, as the two passes (the same bits), in one pass and without a join. A fixed
+// box only.
+void late_kick_drift(const Model& m, State& s, const ForceSources& sources, double h_last, const Shares& shares,
+                     double* cost);
 // (particle_f, particle_t, every force source) => (particle_f, particle_t)
 // The same sum without the kick: the forces of the first state.
 void sum_forces(const Model& m, State& s, const ForceSources& sources);

@@ -5,6 +5,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "core/workspace.hpp"
@@ -35,6 +36,15 @@ struct DemWorkspace final : Workspace {
   double cand_strain = 0;  // nbr_strain at the selection
   int64_t cand_selections = 0;
 
+  // The step (State::step while it ran) that left its second half kick, of half step kick_h, to the
+  // next step's kick_drift (dem::late_kick_drift). Only a step whose end nothing sees leaves it
+  // (State::boundary_seen): a state that is saved, hashed, measured or restored never has a kick
+  // due. The stages only compare it with State::step, so that running one twice (the access
+  // check runs it on copies of the state) changes nothing.
+  static constexpr int64_t kNoKickLeft = std::numeric_limits<int64_t>::min();
+  int64_t kick_step = kNoKickLeft;
+  double kick_h = 0;
+
   size_t bytes() const override {
     auto v = [](const auto& x) { return x.capacity() * sizeof(x[0]); };
     size_t b = v(cell_of) + v(cell_start) + v(cell_items) + v(row_count) + v(old_start) + v(old_j) + v(old_hist) +
@@ -51,6 +61,7 @@ struct DemWorkspace final : Workspace {
     schedule_valid = false;
     candidates_valid = false;
     shares = {};
+    kick_step = kNoKickLeft;
   }
   // The schedule of a new pair list, and the threads' shares rebalanced with it.
   void new_schedule(int64_t n, const std::vector<int32_t>& nbr_start, const std::vector<int32_t>& pair_j) {

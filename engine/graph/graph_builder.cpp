@@ -76,6 +76,7 @@ void GraphBuilder::add_force(ForceSource source, int writer) {
   forces_->push_back(source);
   force_writers_.emplace_back(source, writer);
   for (int s : summers_) reads_force(s, source, writer);
+  for (int s : last_summers_) reads_force(s, source, -1);
 }
 
 void GraphBuilder::sums_forces(int stage) {
@@ -83,11 +84,16 @@ void GraphBuilder::sums_forces(int stage) {
   for (const auto& [source, writer] : force_writers_) reads_force(stage, source, writer);
 }
 
+void GraphBuilder::sums_last_forces(int stage) {
+  last_summers_.push_back(stage);
+  for (const auto& [source, writer] : force_writers_) reads_force(stage, source, -1);
+}
+
 void GraphBuilder::reads_force(int summer, const ForceSource& source, int writer) {
   Stage& st = stages_.at(summer);
   st.reads = join(std::move(st.reads), {source.force});
   if (source.torque != kNoField) st.reads = join(std::move(st.reads), {source.torque});
-  after(summer, writer, "adds the force of " + stages_.at(writer).name);
+  if (writer >= 0) after(summer, writer, "adds the force of " + stages_.at(writer).name);
 }
 
 StageList GraphBuilder::take() {

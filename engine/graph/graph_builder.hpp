@@ -88,6 +88,9 @@ class GraphBuilder {
   // with sums_forces(), which then read it and run after `writer`.
   void add_force(ForceSource source, int writer);
   void sums_forces(int stage);
+  // A stage that may add the forces of the step before (dem::late_kick_drift): it reads them, as
+  // the writers left them then; it runs before they write this step's.
+  void sums_last_forces(int stage);
   const std::shared_ptr<ForceSources>& forces() const { return forces_; }
 
   // The stages, checked (throws std::logic_error naming two stages that may race).
@@ -101,7 +104,7 @@ class GraphBuilder {
   Phase phase_;
   std::string module_;
   std::vector<Stage> stages_;
-  std::vector<int> summers_;
+  std::vector<int> summers_, last_summers_;
   void reads_force(int summer, const ForceSource& source, int writer);
   std::vector<std::pair<ForceSource, int>> force_writers_;  // source, writing stage
   std::shared_ptr<ForceSources> forces_;

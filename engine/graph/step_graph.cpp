@@ -210,7 +210,7 @@ bool StepGraph::diagnose(const Model& m, State& s) const {
     if (f.message.empty())
       f.message = "event " + event_name(e) + " raised " + std::to_string(slot.count()) + " time(s), first at index " +
                   std::to_string(slot.first()) + " (value " + format_number(slot.value()) + ")";
-    f.message = "step " + std::to_string(s.step) + (f.stage.empty() ? "" : ", stage " + f.stage) + ": " + f.message;
+    f.message = "step " + std::to_string(f.step) + (f.stage.empty() ? "" : ", stage " + f.stage) + ": " + f.message;
     return false;
   }
   return true;

@@ -22,10 +22,11 @@ using EventId = uint8_t;
 // the first); a module may register more (register_module_event).
 namespace event {
 enum : EventId {
-  kNonFinite,    // dem: a grain's velocity or position is NaN or Inf (index: grain)
-  kOverlap,      // dem: an overlap beyond limits.max_overlap (index: grain; value: overlap / radius)
-  kBoxCollapse,  // shear: a controlled box length below twice the interaction range (index: axis)
-  kRunaway,      // dem: kinetic energy beyond limits.energy_factor times the scene's (value: energy)
+  kNonFiniteLate,  // dem: the last step's second half kick, run in this step, met a NaN or Inf (index: grain id)
+  kNonFinite,      // dem: a grain's velocity or position is NaN or Inf (index: grain)
+  kOverlap,        // dem: an overlap beyond limits.max_overlap (index: grain; value: overlap / radius)
+  kBoxCollapse,    // shear: a controlled box length below twice the interaction range (index: axis)
+  kRunaway,        // dem: kinetic energy beyond limits.energy_factor times the scene's (value: energy)
   kBuiltinCount
 };
 }
