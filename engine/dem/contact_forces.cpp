@@ -15,6 +15,7 @@
 // i is also kept per pair (pair_f) for the stress and the contact network, in the steps whose
 // end is seen (State::boundary_seen).
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -22,6 +23,7 @@
 #include <vector>
 
 #include "core/assert.hpp"
+#include "core/parallel.hpp"
 #include "core/periodic_image.hpp"
 #include "core/simd_level.hpp"
 #include "core/small_vec.hpp"
@@ -288,7 +290,7 @@ void pair_block(const PairArgs<D> a, int64_t blk) {
 }
 
 template <int D, bool Hertz, bool Friction, bool Affine, bool Mat>
-void pair_forces(const Model& m, State& s, DemWorkspace& sc) {
+void pair_forces(const Model& m, State& s, DemWorkspace& sc, const GrainBlockPass* then) {
   constexpr int R = kRotDim<D>;
   if (!sc.schedule_valid) sc.new_schedule(s.n, s.nbr_start, s.pair_j);
   if (!sc.candidates_valid) select_candidates(m, s, sc);
@@ -304,7 +306,7 @@ void pair_forces(const Model& m, State& s, DemWorkspace& sc) {
   if constexpr (Affine)
     for (int k = 0; k < D; ++k) a.grad[k] = s.box_rate[k] / s.box.len[k];
   PairSchedule& sched = sc.schedule;
-  run_pair_schedule(sched, sc.shares, sc.block_cost[DemWorkspace::kPairLoop].data(), [&a, &sched](int32_t blk) {
+  auto block = [&a, &sched](int32_t blk) {
     // The first block to write a grain clears its sums.
     constexpr int64_t B = PairSchedule::kBlock;
     for (int32_t k = sched.clears_start[blk]; k < sched.clears_start[blk + 1]; ++k) {
@@ -313,19 +315,32 @@ void pair_forces(const Model& m, State& s, DemWorkspace& sc) {
       if constexpr (Friction) std::fill(a.torque + R * b, a.torque + R * e, 0.0);
     }
     pair_block<D, Hertz, Friction, Affine, Mat>(a, blk);
+  };
+  double* cost = sc.block_cost[DemWorkspace::kPairLoop].data();
+  if (!then) return run_pair_schedule(sched, sc.shares, cost, block);
+  // Each grain block's largest displacements, then their maxima (kick_drift's).
+  std::vector<std::array<double, 2>>& disp = sc.block_disp;
+  disp.assign(sched.n_before.size(), {0.0, 0.0});
+  run_pair_schedule(sched, sc.shares, cost, block, [&](int32_t g) {
+    constexpr int64_t B = PairSchedule::kBlock;
+    disp[g] = (*then)(g * B, std::min(s.n, (g + 1) * B));
   });
+  std::array<double, 2> most{0.0, 0.0};
+  for (const std::array<double, 2>& d : disp) max_into(most, d);
+  s.nbr_max_disp = std::sqrt(most[0]);
+  s.nbr_step_disp = std::sqrt(most[1]);
 }
 
 template <int D>
-void dispatch(const Model& m, State& s, DemWorkspace& w) {
+void dispatch(const Model& m, State& s, DemWorkspace& w, const GrainBlockPass* then) {
   const bool hertz = m.contact.law == NormalLaw::kHertz;
   const bool fr = m.pair_friction();
   const bool aff = m.deforming_box();
   const bool mat = !m.pair_contact.empty();
-#define SILT_CASE(H, F, A)                                  \
-  if (hertz == H && fr == F && aff == A) {                  \
-    if (mat) return pair_forces<D, H, F, A, true>(m, s, w); \
-    return pair_forces<D, H, F, A, false>(m, s, w);         \
+#define SILT_CASE(H, F, A)                                        \
+  if (hertz == H && fr == F && aff == A) {                        \
+    if (mat) return pair_forces<D, H, F, A, true>(m, s, w, then); \
+    return pair_forces<D, H, F, A, false>(m, s, w, then);         \
   }
   SILT_CASE(false, false, false)
   SILT_CASE(false, true, false)
@@ -340,12 +355,12 @@ void dispatch(const Model& m, State& s, DemWorkspace& w) {
 
 }  // namespace
 
-void contact_forces(const Model& m, State& s, DemWorkspace& w) {
+void contact_forces(const Model& m, State& s, DemWorkspace& w, const GrainBlockPass* then) {
   // Pre: update_neighbors left a valid list (its postcondition).
   SILT_ASSERT(s.nbr_valid && static_cast<int64_t>(s.nbr_start.size()) == s.n + 1,
               "contact_forces needs a valid pair list");
-  if (m.dim == 2) dispatch<2>(m, s, w);
-  else dispatch<3>(m, s, w);
+  if (m.dim == 2) dispatch<2>(m, s, w, then);
+  else dispatch<3>(m, s, w, then);
 }
 
 }  // namespace silt::dem

@@ -328,6 +328,23 @@ void kick_then_drift(const Model& m, State& s, double kick, const Shares& shares
   else affine ? kick_drift_dim<3, true>(m, s, kick, shares, cost) : kick_drift_dim<3, false>(m, s, kick, shares, cost);
 }
 
+// kick_and_next_drift for D and the torque flag of kick_dim.
+template <int D, bool Torque>
+GrainBlockPass kick_and_next_drift_dim(const Model& m, State& s, EventSlot* drift_events) {
+  const KickArgs<D> k = kick_args<D>(m, s, {}, 0.5 * s.dt);
+  DriftArgs<D> a = drift_args<D, false>(m, s, 1.0);
+  a.nonfinite = drift_events;
+  return [k, a](int64_t b, int64_t e) {
+    EventSlot mine;
+    KickArgs<D> kb = k;
+    kb.nonfinite = &mine;
+    kick_range<D, true, Torque, false>(kb, b, e);
+    if (!mine.raised()) return drift_range<D, false>(a, b, e);
+    k.nonfinite->raise(mine.first(), 0);  // this step's failure: its grains are not moved
+    return std::array<double, 2>{0, 0};
+  };
+}
+
 }  // namespace
 
 void kick_drift(const Model& m, State& s, const Shares& shares, double* cost) {
@@ -346,6 +363,16 @@ void late_kick_drift(const Model& m, State& s, const ForceSources& sources, doub
   SILT_ASSERT(!m.deforming_box() && !m.shear.on, "a kick is left to the next step only in a fixed box");
   if (m.dim == 2) late_kick_drift_dim<2>(m, s, sources, h_last, shares, cost);
   else late_kick_drift_dim<3>(m, s, sources, h_last, shares, cost);
+}
+
+GrainBlockPass kick_and_next_drift(const Model& m, State& s, EventSlot* drift_events) {
+  SILT_ASSERT(!m.deforming_box() && !m.shear.on, "the next step's drift runs early only in a fixed box");
+  GrainBlockPass out;
+  with_kick_flags(m, {}, [&](auto torque, auto) {
+    out = m.dim == 2 ? kick_and_next_drift_dim<2, decltype(torque)::value>(m, s, drift_events)
+                     : kick_and_next_drift_dim<3, decltype(torque)::value>(m, s, drift_events);
+  });
+  return out;
 }
 
 void sum_forces(const Model& m, State& s, const ForceSources& sources) {

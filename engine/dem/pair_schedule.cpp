@@ -39,6 +39,15 @@ void link_blocks(PairSchedule& s, const std::vector<std::vector<int32_t>>& targe
   for (int32_t b : s.blocks)
     if (s.n_before[b] == 0) s.roots.push_back(b);
   s.waiting.assign(nb, 0);
+  // The last writer of each grain block (every block writes its own).
+  s.finals_start.assign(nb + 1, 0);
+  for (int64_t t = 0; t < nb; ++t) ++s.finals_start[last[t] + 1];
+  for (int64_t b = 0; b < nb; ++b) s.finals_start[b + 1] += s.finals_start[b];
+  s.finals.resize(nb);
+  std::vector<int32_t> pos(s.finals_start.begin(), s.finals_start.end() - 1);
+  for (int64_t t = 0; t < nb; ++t) s.finals[pos[last[t]]++] = static_cast<int32_t>(t);
+  s.grain_ready.assign(nb, 0);
+  s.grain_done.assign(nb, 0);
 }
 
 }  // namespace

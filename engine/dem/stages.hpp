@@ -3,6 +3,9 @@
 // engine/graph/dem_stages.cpp, which declares the same sets as field ids.
 #pragma once
 
+#include <array>
+#include <functional>
+
 #include "core/owned.hpp"
 #include "core/workspace.hpp"
 #include "dem/workspace.hpp"
@@ -10,6 +13,10 @@
 #include "silt/state.hpp"
 
 namespace silt::dem {
+
+// A pass over the grains [b, e) of one block, returning its largest squared displacements
+// (kick_and_next_drift).
+using GrainBlockPass = std::function<std::array<double, 2>(int64_t b, int64_t e)>;
 
 // (dt, box, box_stretch, shear_rate, particle_v, particle_w, particle_f, particle_t, particle_x,
 //  particle_disp, inv_m, inv_i, frozen) => (particle_v, particle_w, particle_x, particle_disp,
@@ -37,8 +44,10 @@ bool update_neighbors(const Model& m, State& s, DemWorkspace& w);
 //  particle_f, particle_t [with friction], events.overlap)
 // Normal law + tangential spring for every listed pair; the force on i stored per pair (in the
 // steps whose end is seen), and the sum over all pairs of each grain in particle_f / particle_t
-// (in the order of the pair schedule).
-void contact_forces(const Model& m, State& s, DemWorkspace& w);
+// (in the order of the pair schedule). With `then`, each block of grains then goes through it as
+// soon as its sums are complete, and the largest displacements go to nbr_max_disp and
+// nbr_step_disp (kick_and_next_drift).
+void contact_forces(const Model& m, State& s, DemWorkspace& w, const GrainBlockPass* then = nullptr);
 
 // (dt, particle_x, particle_v, particle_w, particle_r, inv_m, frozen, wall_hist) => (wall_f,
 //  particle_t_wall, wall_hist, events.overlap)
@@ -59,6 +68,14 @@ void kick(const Model& m, State& s, const ForceSources& sources, const Shares& s
 // box only.
 void late_kick_drift(const Model& m, State& s, const ForceSources& sources, double h_last, const Shares& shares,
                      double* cost);
+// The grain pass that a step whose end nothing sees runs inside its pair loop, block by block as
+// each block's sums are complete (contact_forces): kick, then the next step's kick_drift (its dt
+// is this one's: a fixed step), with no force source but the pairs and a fixed box. pass(b, e)
+// returns the largest squared displacements of the grains [b, e) (as kick_drift's). A non-finite
+// motion after the kick is this step's (events.non_finite; the block is not moved); a non-finite
+// position after the drift is the next step's: it goes to drift_events, which the next step's
+// kick_drift raises.
+GrainBlockPass kick_and_next_drift(const Model& m, State& s, EventSlot* drift_events);
 // (particle_f, particle_t, every force source) => (particle_f, particle_t)
 // The same sum without the kick: the forces of the first state.
 void sum_forces(const Model& m, State& s, const ForceSources& sources);

@@ -3,6 +3,7 @@
 // invalid (after a restore or a replay: Simulation invalidates it), never hashed nor saved.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
@@ -10,6 +11,7 @@
 
 #include "core/workspace.hpp"
 #include "dem/pair_schedule.hpp"
+#include "silt/events.hpp"
 
 namespace silt::dem {
 
@@ -44,16 +46,22 @@ struct DemWorkspace final : Workspace {
   static constexpr int64_t kNoKickLeft = std::numeric_limits<int64_t>::min();
   int64_t kick_step = kNoKickLeft;
   double kick_h = 0;
+  // The step whose pair loop also kicked the grains and ran the next step's kick_drift
+  // (dem::kick_and_next_drift), the non-finite positions that drift met (for the next step to
+  // raise) and each grain block's largest displacements.
+  int64_t drift_step = kNoKickLeft;
+  EventSlot drift_events;
+  std::vector<std::array<double, 2>> block_disp;
 
   size_t bytes() const override {
     auto v = [](const auto& x) { return x.capacity() * sizeof(x[0]); };
     size_t b = v(cell_of) + v(cell_start) + v(cell_items) + v(row_count) + v(old_start) + v(old_j) + v(old_hist) +
                v(perm) + v(permute_buf) + v(block_cost[0]) + v(block_cost[1]) + v(cand_p) + v(cand_i) + v(cand_j) +
-               v(cand_end);
+               v(cand_end) + v(block_disp);
     for (const auto& c : chunk_j) b += v(c);
-    for (const auto* s :
-         {&schedule.blocks, &schedule.colour_start, &schedule.n_before, &schedule.after_start, &schedule.after,
-          &schedule.roots, &schedule.clears_start, &schedule.clears, &schedule.waiting})
+    for (const auto* s : {&schedule.blocks, &schedule.colour_start, &schedule.n_before, &schedule.after_start,
+                          &schedule.after, &schedule.roots, &schedule.clears_start, &schedule.clears, &schedule.waiting,
+                          &schedule.finals_start, &schedule.finals, &schedule.grain_ready, &schedule.grain_done})
       b += v(*s);
     return b;
   }
@@ -62,6 +70,7 @@ struct DemWorkspace final : Workspace {
     candidates_valid = false;
     shares = {};
     kick_step = kNoKickLeft;
+    drift_step = kNoKickLeft;
   }
   // The schedule of a new pair list, and the threads' shares rebalanced with it.
   void new_schedule(int64_t n, const std::vector<int32_t>& nbr_start, const std::vector<int32_t>& pair_j) {

@@ -9,6 +9,7 @@
 
 #include "dem/stages.hpp"
 #include "graph/adders.hpp"
+#include "silt/module.hpp"
 #include "silt/text.hpp"
 
 namespace silt::graph {
@@ -120,6 +121,17 @@ void diagnose_dem(GraphBuilder& b) {
   });
 }
 
+// Whether the DEM's are the only stages of the step besides the core's: the shear's box stages
+// read the velocities and the forces at the end of every step, a drag or a fluid computes forces
+// from the velocities, a module added at run time may read anything.
+bool dem_alone(const Model& m) {
+  for (const Module& mod : modules()) {
+    const std::string& name = mod.spec->name;
+    if (name != "core" && name != "dem" && name != "render" && m.module_on(name)) return false;
+  }
+  return true;
+}
+
 }  // namespace
 
 void add_dem_stages(GraphBuilder& b) {
@@ -128,6 +140,17 @@ void add_dem_stages(GraphBuilder& b) {
   const bool walls = !m.walls.empty();
   auto forces = b.forces();
   Workspaces& all = b.workspaces();
+  // A step whose end nothing sees leaves its second half kick to the next step's kick_drift
+  // (dem::late_kick_drift): one pass over the grains and one join fewer. Only the DEM's own
+  // stages may run in between (dem_alone).
+  const bool fold = b.phase() == Phase::kStep && !m.velocities_solved && !m.adaptive_dt && dem_alone(m);
+  // Without walls the pairs are the only force: such a step's pair loop kicks each block of grains
+  // and runs the next step's kick_drift on it as soon as its sums are complete
+  // (dem::kick_and_next_drift), by the thread that holds it. The kick and the drift then need no
+  // pass nor join of their own, and a block's grains are moved while they are in its cache.
+  const bool early = fold && !walls;
+  const Access drift_writes = {fid::particle_v,    fid::particle_w,   fid::particle_x,
+                               fid::particle_disp, fid::nbr_max_disp, fid::nbr_step_disp};
   const int nbr = b.add(
       "update_neighbors",
       [&w, &all](const Model& mm, State& s) {
@@ -135,8 +158,21 @@ void add_dem_stages(GraphBuilder& b) {
       },
       neighbor_reads(), neighbor_writes());
   const int pairs = b.add(
-      "contact_forces", [&w](const Model& mm, State& s) { dem::contact_forces(mm, s, w); }, contact_reads(m),
-      contact_writes());
+      "contact_forces",
+      [&w, early](const Model& mm, State& s) {
+        // One thread has no join to save, and runs the two passes a little faster (the kick is
+        // then left to the next kick_drift).
+        if (!early || s.boundary_seen || owner_count() < 2) return dem::contact_forces(mm, s, w);
+        w.drift_step = s.step;
+        w.drift_events.clear();
+        const dem::GrainBlockPass then = dem::kick_and_next_drift(mm, s, &w.drift_events);
+        dem::contact_forces(mm, s, w, &then);
+      },
+      // The drift's scalars are read too: a step that is seen leaves them as they were.
+      early ? with(contact_reads(m),
+                   with(kick_drift_reads(m), with(kick_reads(m), {fid::step, fid::nbr_max_disp, fid::nbr_step_disp})))
+            : contact_reads(m),
+      early ? with(contact_writes(), with(drift_writes, kKickWrites)) : contact_writes());
   // depends on: the list, and the grains' numbering, that update_neighbors leaves.
   b.after(pairs, nbr, "iterates the (possibly rebuilt) pair list");
   if (walls) {
@@ -155,8 +191,6 @@ void add_dem_stages(GraphBuilder& b) {
     if (walls) b.after(clear, b.find("wall_forces"), "resets the springs the first evaluation stretched");
     return;
   }
-  const Access drift_writes = {fid::particle_v,    fid::particle_w,   fid::particle_x,
-                               fid::particle_disp, fid::nbr_max_disp, fid::nbr_step_disp};
   if (m.velocities_solved) {
     // Velocities from a solve (the paste): the grains drift with them; no kick, no energy check.
     const int drift = b.add("drift", &dem::drift, kick_drift_reads(m), drift_writes);
@@ -165,11 +199,6 @@ void add_dem_stages(GraphBuilder& b) {
     diagnose_dem(b);
     return;
   }
-  // A step whose end nothing sees leaves its second half kick to the next step's kick_drift
-  // (dem::late_kick_drift): one pass over the grains and one join fewer. Only the DEM's own
-  // stages may run in between: the shear's box stages read the velocities and the forces at the
-  // end of every step, and a drag or a fluid computes forces from the velocities.
-  const bool fold = !m.module_on("shear") && !m.module_on("drag") && !m.module_on("fluid") && !m.module_on("paste");
   Access drift_reads = kick_drift_reads(m);
   Access late_writes = drift_writes;
   if (fold) {
@@ -179,6 +208,10 @@ void add_dem_stages(GraphBuilder& b) {
   const int drift = b.add(
       "kick_drift",
       [&w, forces](const Model& mm, State& s) {
+        if (w.drift_step == s.step - 1) {  // done by the last step's pair loop: raise what it met
+          if (w.drift_events.raised()) s.events[event::kNonFinite].raise(w.drift_events.first(), 0);
+          return;
+        }
         double* cost = w.block_cost[dem::DemWorkspace::kGrainPasses].data();
         if (w.kick_step != s.step - 1) return dem::kick_drift(mm, s, w.shares, cost);
         dem::late_kick_drift(mm, s, *forces, w.kick_h, w.shares, cost);
@@ -190,6 +223,7 @@ void add_dem_stages(GraphBuilder& b) {
   const int kick = b.add(
       "kick",
       [forces, &w, fold](const Model& mm, State& s) {
+        if (w.drift_step == s.step) return;  // done in the pair loop
         if (fold && !s.boundary_seen) {
           w.kick_step = s.step;
           w.kick_h = 0.5 * s.dt;

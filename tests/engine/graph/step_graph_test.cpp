@@ -294,7 +294,8 @@ TEST_CASE("the step graph is the only place where stages are called") {
       for (auto m = std::sregex_iterator(src.begin(), src.end(), call); m != std::sregex_iterator(); ++m) {
         const size_t line = src.rfind('\n', static_cast<size_t>(m->position())) + 1;
         const std::string before = src.substr(line, static_cast<size_t>(m->position()) + 1 - line);
-        const bool definition = before.rfind("void", 0) == 0 || before.rfind("bool", 0) == 0;
+        // A definition starts its line with its return type; a call is indented.
+        const bool definition = std::regex_match(before, std::regex("[A-Za-z_][A-Za-z0-9_:<>]* "));
         INFO(e.path().string() << " calls the stage " << fn << ": " << before << fn << "(");
         CHECK(definition);
       }
