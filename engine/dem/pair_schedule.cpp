@@ -7,6 +7,25 @@ namespace silt::dem {
 
 namespace {
 
+// items grouped by key(item) in [0, n_keys), each group in the items' order: group k is
+// out[start[k] .. start[k + 1]) (a counting sort).
+template <class Key>
+void group_by(const std::vector<int32_t>& items, int64_t n_keys, Key&& key, std::vector<int32_t>& start,
+              std::vector<int32_t>& out) {
+  start.assign(n_keys + 1, 0);
+  for (int32_t x : items) ++start[key(x) + 1];
+  for (int64_t k = 0; k < n_keys; ++k) start[k + 1] += start[k];
+  out.resize(items.size());
+  std::vector<int32_t> pos(start.begin(), start.end() - 1);
+  for (int32_t x : items) out[pos[key(x)]++] = x;
+}
+
+std::vector<int32_t> iota(int64_t n) {
+  std::vector<int32_t> v(n);
+  for (int64_t k = 0; k < n; ++k) v[k] = static_cast<int32_t>(k);
+  return v;
+}
+
 // The graph of the schedule: the blocks that write grain block t, taken in colour order, form a
 // chain (they conflict pairwise, so their colours differ); the union of these chains orders every
 // two blocks that write a common grain as their colours do, and no others.
@@ -39,13 +58,9 @@ void link_blocks(PairSchedule& s, const std::vector<std::vector<int32_t>>& targe
   for (int32_t b : s.blocks)
     if (s.n_before[b] == 0) s.roots.push_back(b);
   s.waiting.assign(nb, 0);
-  // The last writer of each grain block (every block writes its own).
-  s.finals_start.assign(nb + 1, 0);
-  for (int64_t t = 0; t < nb; ++t) ++s.finals_start[last[t] + 1];
-  for (int64_t b = 0; b < nb; ++b) s.finals_start[b + 1] += s.finals_start[b];
-  s.finals.resize(nb);
-  std::vector<int32_t> pos(s.finals_start.begin(), s.finals_start.end() - 1);
-  for (int64_t t = 0; t < nb; ++t) s.finals[pos[last[t]]++] = static_cast<int32_t>(t);
+  // The grain blocks by their last writer (every block writes its own).
+  group_by(
+      iota(nb), nb, [&](int32_t t) { return last[t]; }, s.finals_start, s.finals);
   s.grain_ready.assign(nb, 0);
   s.grain_done.assign(nb, 0);
 }
@@ -83,24 +98,15 @@ PairSchedule build_pair_schedule(int64_t n, const std::vector<int32_t>& nbr_star
     for (int32_t t : targets[b]) used[t * words + c / 64] |= uint64_t{1} << (c % 64);
   }
   PairSchedule s;
-  s.colour_start.assign(n_colours + 1, 0);
-  for (int64_t b = 0; b < nb; ++b) ++s.colour_start[colour[b] + 1];
-  for (int c = 0; c < n_colours; ++c) s.colour_start[c + 1] += s.colour_start[c];
-  s.blocks.resize(nb);
-  std::vector<int32_t> pos(s.colour_start.begin(), s.colour_start.end() - 1);
-  for (int64_t b = 0; b < nb; ++b) s.blocks[pos[colour[b]]++] = static_cast<int32_t>(b);
+  group_by(
+      iota(nb), n_colours, [&](int32_t b) { return colour[b]; }, s.colour_start, s.blocks);
   link_blocks(s, targets);
   return s;
 }
 
 void split_by_owner(PairSchedule& s, const Shares& shares) {
-  const int owners = shares.owners;
-  s.own_start.assign(owners + 1, 0);
-  for (int32_t b : s.blocks) ++s.own_start[shares.owner_of(b) + 1];
-  for (int t = 0; t < owners; ++t) s.own_start[t + 1] += s.own_start[t];
-  s.own.resize(s.blocks.size());
-  std::vector<int32_t> pos(s.own_start.begin(), s.own_start.end() - 1);
-  for (int32_t b : s.blocks) s.own[pos[shares.owner_of(b)]++] = b;
+  group_by(
+      s.blocks, shares.owners, [&](int32_t b) { return shares.owner_of(b); }, s.own_start, s.own);
   s.claimed.assign(s.blocks.size(), 0);
   s.split = shares;
 }

@@ -110,8 +110,11 @@ struct State {
   // Whether anything looks at the state at the end of this step. Simulation::run clears it for
   // the steps whose end nothing sees; such a step leaves pair_f as it was (scattered stores per
   // contact cost about a tenth of a step). Nothing in the dynamics reads pair_f but a
-  // controlled box, which ignores the flag: the dynamics are the same bits, and pair_f is exact
-  // at every boundary that a hook, a request, an interrupt or the caller sees.
+  // controlled box, which ignores the flag. In a step of the DEM alone it also leaves its second
+  // half kick to the next step (dem::late_kick_drift), or makes it and the next step's kick and
+  // drift inside its pair loop (dem::kick_and_next_drift): the state between two such steps is
+  // half kicked, or already moved. The dynamics are the same bits, and the state is exact at
+  // every boundary that a hook, a request, an interrupt or the caller sees.
   bool boundary_seen = true;
 
   // Numerical events raised by stages during the current step, an exception thrown by one, and
