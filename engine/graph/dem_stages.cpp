@@ -202,7 +202,10 @@ void add_dem_stages(GraphBuilder& b) {
   Access drift_reads = kick_drift_reads(m);
   Access late_writes = drift_writes;
   if (fold) {
-    drift_reads = with(drift_reads, with(kick_reads(m), {fid::particle_id, fid::step}));
+    // A step after one that moved the grains in its pair loop leaves the drift's scalars as they
+    // were: read.
+    drift_reads =
+        with(drift_reads, with(kick_reads(m), {fid::particle_id, fid::step, fid::nbr_max_disp, fid::nbr_step_disp}));
     late_writes = with(late_writes, kKickWrites);
   }
   const int drift = b.add(
