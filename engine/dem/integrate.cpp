@@ -292,6 +292,15 @@ void kick_dim(const Model& m, State& s, const ForceSources& sources, const Share
   });
 }
 
+// The kick of grains [b, e) with k, its non-finite motions raised in `slot`, the block's own (the
+// caller reports them and leaves the block unmoved: its step fails). Returns the kick's arguments.
+template <int D, bool Torque, bool Sources>
+KickArgs<D> kick_block(KickArgs<D> k, EventSlot& slot, int64_t b, int64_t e) {
+  k.nonfinite = &slot;
+  kick_range<D, true, Torque, Sources>(k, b, e);
+  return k;
+}
+
 // The second half kick of the last step (half step h_last) and this step's kick and drift, block
 // by block: each block of grains is kicked twice and moved while it is in the cache. A block whose
 // late kick meets a non-finite motion raises non_finite_late with the lowest grain id (ids, not
@@ -306,15 +315,14 @@ void late_kick_drift_dim(const Model& m, State& s, const ForceSources& sources, 
   const int32_t* id = s.particle_id.data();
   with_kick_flags(m, sources, [&](auto torque, auto with_sources) {
     store_displacements(s, owned_max<2>(s.n, shares, cost, [k, a, late, id](int64_t b, int64_t e) {
-                          EventSlot mine;
-                          KickArgs<D> kb = k;
-                          kb.nonfinite = &mine;
-                          kick_range<D, true, decltype(torque)::value, decltype(with_sources)::value>(kb, b, e);
-                          if (!mine.raised()) return drift_range<D, false>(a, b, e);
-                          int32_t lowest = id[mine.first()];
+                          EventSlot bad;
+                          const KickArgs<D> kb =
+                              kick_block<D, decltype(torque)::value, decltype(with_sources)::value>(k, bad, b, e);
+                          if (!bad.raised()) return drift_range<D, false>(a, b, e);
+                          int32_t lowest = id[bad.first()];
                           for (int64_t i = b; i < e; ++i)
                             if (!a.frozen[i] && !motion_finite(kb, i)) lowest = std::min(lowest, id[i]);
-                          late->raise(lowest, 0);
+                          late->raise(lowest, 0);  // not moved: the step fails
                           return std::array<double, 2>{0, 0};
                         }));
   });
@@ -335,12 +343,10 @@ GrainBlockPass kick_and_next_drift_dim(const Model& m, State& s, EventSlot* drif
   DriftArgs<D> a = drift_args<D, false>(m, s, 1.0);
   a.nonfinite = drift_events;
   return [k, a](int64_t b, int64_t e) {
-    EventSlot mine;
-    KickArgs<D> kb = k;
-    kb.nonfinite = &mine;
-    kick_range<D, true, Torque, false>(kb, b, e);
-    if (!mine.raised()) return drift_range<D, false>(a, b, e);
-    k.nonfinite->raise(mine.first(), 0);  // this step's failure: its grains are not moved
+    EventSlot bad;
+    kick_block<D, Torque, false>(k, bad, b, e);
+    if (!bad.raised()) return drift_range<D, false>(a, b, e);
+    k.nonfinite->raise(bad.first(), 0);  // this step's failure: its grains are not moved
     return std::array<double, 2>{0, 0};
   };
 }
