@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
 # Fuzz every target of tests/fuzz for RUNS inputs each (default 1,000,000), one after the other on
-# one core, under AddressSanitizer and UBSan (build-fuzz/, built as scripts/fuzz.sh builds it, on
+# one core, under AddressSanitizer and UBSan (build-asan/, built as scripts/fuzz.sh builds it, on
 # the corpora earlier runs left there). Prints a table and appends it to bench/results/fuzz.csv:
 # target, inputs run, seconds, exec/s, corpus size, new units, peak RSS, result (ok, or crash,
-# leak, timeout, oom with the input saved in build-fuzz/artifacts/).
+# leak, timeout, oom with the input saved in build-asan/artifacts/).
 # Usage: bench/fuzz_all.sh [RUNS [TARGET...]]; FUZZ_MAX_SECONDS=S stops each target after S seconds
 # if it has not run its RUNS inputs by then (the row then says how many it ran). FUZZ_WORKERS=W
 # runs W processes of each target at once on its corpus (which they share as libFuzzer reloads
@@ -14,7 +14,7 @@ runs=${1:-1000000}
 shift $(($# > 0 ? 1 : 0))
 targets=("$@")
 [ ${#targets[@]} -gt 0 ] || targets=(command_parser scene checkpoint session repl)
-out=build-fuzz
+out=build-asan
 csv=bench/results/fuzz.csv
 tests/fuzz/build.sh "$out" || exit 1
 [ -f "$csv" ] || echo "date,target,inputs,seconds,exec_per_s,corpus_files,corpus_kb,new_units,peak_rss_mb,result" > "$csv"

@@ -1,14 +1,15 @@
 #!/usr/bin/env bash
-# Build the libFuzzer targets of tests/fuzz (clang, AddressSanitizer, UBSan, in build-fuzz/) and
-# fuzz each for N seconds (default 20), one after the other on one core, from the shipped files
-# and what earlier runs found (build-fuzz/corpus/): the shell's command parser, scene files,
-# checkpoints, and shell sessions without and with a terminal. Prints one line per target, and
-# what went wrong; exits non-zero on any crash, leak, timeout, out-of-memory or sanitizer report
-# (the input in build-fuzz/artifacts/, the log in build-fuzz/logs/). Usage: scripts/fuzz.sh [SECONDS]
+# Build the libFuzzer targets of tests/fuzz (clang, AddressSanitizer, UBSan, in build-asan/, the
+# test script's sanitizer build) and fuzz each for N seconds (default 20), one after the other on
+# one core, from the shipped files and what earlier runs found (build-asan/corpus/): the shell's
+# command parser, scene files, checkpoints, and shell sessions without and with a terminal. Prints
+# one line per target, and what went wrong; exits non-zero on any crash, leak, timeout,
+# out-of-memory or sanitizer report (the input in build-asan/artifacts/, the log in
+# build-asan/logs/). Usage: scripts/fuzz.sh [SECONDS]
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds=${1:-20}
-out=build-fuzz
+out=build-asan
 tests/fuzz/build.sh "$out"
 failed=0
 # A failed run of target T: its log and the lines that tell what broke.

@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # Build silt (Release, warnings as errors), check the format and lint of the files the last change
 # touched, run the unit tests, fuzz every input surface for 10 s each (scripts/fuzz.sh), then run
-# the tests again under AddressSanitizer and UndefinedBehaviorSanitizer in a Debug build, where the
-# serial executor also checks every stage's access set; that build also compiles the benchmarks.
+# the tests again under AddressSanitizer and UndefinedBehaviorSanitizer in the fuzzers' Debug build
+# (clang, build-asan/: the engine compiled once for both), where the serial executor also checks
+# every stage's access set; that build also compiles the benchmarks.
 # Prints how long each part took.
 # Usage: scripts/test.sh [--no-sanitize]
 set -euo pipefail
@@ -17,9 +18,7 @@ part "release tests"
 scripts/fuzz.sh 10
 part "fuzzing"
 if [ "${1:-}" != "--no-sanitize" ]; then
-  # Warnings are the Release build's errors; this one is a unity build (half the compile time).
-  cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=Debug -DSILT_SANITIZE=ON -DSILT_BUILD_BENCH=ON -DCMAKE_UNITY_BUILD=ON \
-    > /dev/null
+  # Configured by the fuzzing above (tests/fuzz/build.sh). Warnings are the Release build's errors.
   cmake --build build-asan -j"$(nproc)"
   part "sanitizer build"
   ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \

@@ -36,7 +36,7 @@ TEST_CASE("silt check on a paste sheared at an imposed rate: its time unit, St, 
 }
 
 TEST_CASE("silt check refuses up front a paste whose factor would not fit, saying how much it needs") {
-#if defined(__SANITIZE_ADDRESS__)
+#if defined(SILT_ASAN)
   return;  // AddressSanitizer reserves terabytes of address space: no program of it starts under ulimit -v
 #endif
   // The 4,096 spheres of paste_3d_shear with the address space limited to 384 MiB (the program

@@ -156,7 +156,9 @@ TEST_CASE("pair schedule: the parallel pass runs each block once, after the bloc
   };
   REQUIRE(splits[1].second.begin[1] == 1);                          // the first block alone is half the cost
   REQUIRE(splits[2].second.begin[0] == splits[2].second.begin[1]);  // an empty share
-  for (const auto& [threads, shares] : splits) {
+  for (const auto& split : splits) {
+    const int threads = split.first;
+    const Shares& shares = split.second;  // a named reference: lambdas may not capture a binding in C++20
     CAPTURE(threads);
     tbb::task_arena arena(threads);
     for (int pass = 0; pass < 20; ++pass) {
