@@ -25,6 +25,17 @@ Model model_from(const std::string& toml, const std::string& name = "test.toml")
 // A simulation of that scene.
 std::unique_ptr<Simulation> simulation_from(const std::string& toml, int threads = 1);
 
+// The steps of a long run whose bits a test compares with another run's: all of them in the
+// Release build, a quarter in the sanitizer build, whose pass over the tests looks for memory and
+// undefined-behaviour errors along the same paths (the Release pass compares the whole length).
+constexpr int compared_steps(int steps) {
+#if defined(SILT_ASAN)
+  return steps / 4;
+#else
+  return steps;
+#endif
+}
+
 // The message of the SceneError that compiling this scene text raises ("" if it compiles).
 std::string scene_error(const std::string& toml);
 
