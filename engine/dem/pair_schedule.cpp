@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <bit>
 
+#include "core/parallel.hpp"
+
 namespace silt::dem {
 
 namespace {
@@ -72,14 +74,16 @@ PairSchedule build_pair_schedule(int64_t n, const std::vector<int32_t>& nbr_star
   const int64_t nb = (n + B - 1) / B;
   // targets[b]: the blocks that block b writes (its own and those of its partners), sorted.
   std::vector<std::vector<int32_t>> targets(nb);
-  for (int64_t b = 0; b < nb; ++b) {
-    std::vector<int32_t>& t = targets[b];
-    t.push_back(static_cast<int32_t>(b));
-    const int64_t end = std::min(n, (b + 1) * B);
-    for (int32_t p = nbr_start[b * B]; p < nbr_start[end]; ++p) t.push_back(static_cast<int32_t>(pair_j[p] / B));
-    std::sort(t.begin(), t.end());
-    t.erase(std::unique(t.begin(), t.end()), t.end());
-  }
+  parallel_for(nb, 8, [&](int64_t b0, int64_t b1) {
+    for (int64_t b = b0; b < b1; ++b) {
+      std::vector<int32_t>& t = targets[b];
+      t.push_back(static_cast<int32_t>(b));
+      const int64_t end = std::min(n, (b + 1) * B);
+      for (int32_t p = nbr_start[b * B]; p < nbr_start[end]; ++p) t.push_back(static_cast<int32_t>(pair_j[p] / B));
+      std::sort(t.begin(), t.end());
+      t.erase(std::unique(t.begin(), t.end()), t.end());
+    }
+  });
   // used[t]: the colours of the blocks already coloured that write block t (a bitset; there are
   // at most nb colours).
   const int64_t words = (nb + 63) / 64;
