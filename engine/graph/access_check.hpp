@@ -10,8 +10,8 @@
 // time. Integer arrays (grain and pair indices) are not poisoned: garbage there would crash the
 // stage rather than change its result.
 //
-// A stage that carries values in its module's workspace to the next stage of the step
-// (Stage::carries_workspace) runs once: its writes are checked, its reads are not.
+// A stage that carries values in its module's workspace to the next stage of the step, or to its
+// own next call (Stage::carries_workspace), runs once: its writes are checked, its reads are not.
 //
 // A violation is raised as the step's internal error, so the run stops and says which stage
 // touched which field.

@@ -157,6 +157,12 @@ void add_dem_stages(GraphBuilder& b) {
         if (dem::update_neighbors(mm, s, w)) all.renumbered(&w);
       },
       neighbor_reads(), neighbor_writes());
+  // Its workspace carries the travel since the contact candidates were chosen from one call to
+  // the next (dem::update_candidates adds the step's largest displacement to it): a second call
+  // on the same state may choose them again where the first did not, so the access check runs it
+  // once (its writes checked, not its reads). Found by the checkpoint fuzzer on a restored state
+  // whose candidates then changed the pairs' springs.
+  b.carries_workspace(nbr);
   const int pairs = b.add(
       "contact_forces",
       [&w, early](const Model& mm, State& s) {

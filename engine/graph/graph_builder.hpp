@@ -38,8 +38,8 @@ struct Stage {
   // nodes of the graph, where a hand-over costs more than the stage.
   bool light = false;
   // The stage carries values in its module's workspace to the next stage of the step (the
-  // fluid's substeps): it cannot run twice, so the access check checks its writes but not its
-  // reads (which it would do by a second run).
+  // fluid's substeps) or to its own next call (the DEM's candidate travel): it cannot run twice,
+  // so the access check checks its writes but not its reads (which it would do by a second run).
   bool carries_workspace = false;
   bool is_loop() const { return body != nullptr; }
 };
