@@ -3,7 +3,9 @@
 // (graph/*_stages.cpp); this file only runs them.
 #include "graph/step_graph.hpp"
 
+#include <cstdlib>
 #include <sstream>
+#include <string_view>
 
 #include "graph/access_check.hpp"
 #include "silt/text.hpp"
@@ -147,18 +149,30 @@ struct StepGraph::Runner {
   std::vector<std::unique_ptr<tbb::flow::continue_node<tbb::flow::continue_msg>>> nodes;
 };
 
+namespace {
+
+// The sanitizer build's default: the access check on, unless the environment sets
+// SILT_ACCESS_CHECK=0 (the test script's short fuzz runs, which look for memory errors: a check
+// that long runs may find, bench/fuzz_all.sh, is not theirs to stop on).
+[[maybe_unused]] bool access_check_by_default() {
+  const char* v = std::getenv("SILT_ACCESS_CHECK");
+  return v == nullptr || std::string_view(v) != "0";
+}
+
+}  // namespace
+
 StepGraph::StepGraph(const Model& m, Workspaces& ws, Phase phase) {
   StageList list = build_stage_list(m, ws, phase, &diagnoses_);
   root_ = std::make_unique<Runner>(std::move(list));
 #ifdef SILT_CHECK_ACCESS
-  set_access_check(true);
+  set_access_check(access_check_by_default());
 #endif
 }
 
 StepGraph::StepGraph(StageList list, std::vector<Diagnosis> diagnoses)
     : root_(std::make_unique<Runner>(std::move(list))), diagnoses_(std::move(diagnoses)) {
 #ifdef SILT_CHECK_ACCESS
-  set_access_check(true);
+  set_access_check(access_check_by_default());
 #endif
 }
 

@@ -37,7 +37,8 @@ class StepGraph {
   bool diagnose(const Model& m, State& s) const;
 
   // Whether the serial executor checks that each stage writes and reads only the fields it
-  // declares (graph/access_check.hpp). On by default in the sanitizer build (SILT_CHECK_ACCESS).
+  // declares (graph/access_check.hpp). On by default in the sanitizer build (SILT_CHECK_ACCESS),
+  // unless the environment sets SILT_ACCESS_CHECK=0.
   void set_access_check(bool on);
 
  private:
