@@ -87,6 +87,28 @@ inline void append_csv(const std::string& path, const std::string& header, const
   out << row << "\n";
 }
 
+// A comma-separated list of numbers ("1e-3,1e-4"); std::invalid_argument on a bad item.
+inline std::vector<double> parse_list(const std::string& text) {
+  std::vector<double> v;
+  size_t at = 0;
+  while (at <= text.size()) {
+    const size_t end = std::min(text.find(',', at), text.size());
+    const std::string item = text.substr(at, end - at);
+    size_t used = 0;
+    double x = 0;
+    try {
+      x = std::stod(item, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (item.empty() || used != item.size())
+      throw std::invalid_argument("not a number in the list '" + text + "': '" + item + "'");
+    v.push_back(x);
+    at = end + 1;
+  }
+  return v;
+}
+
 // Run a shell command, returning its standard output.
 inline std::string capture(const std::string& cmd) {
   std::string out;

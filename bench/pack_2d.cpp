@@ -30,12 +30,7 @@ int run(int argc, char** argv) {
   for (int i = 1; i + 1 < argc; i += 2) {
     if (!std::strcmp(argv[i], "--seeds")) seeds = std::atoi(argv[i + 1]);
     else if (!std::strcmp(argv[i], "--threads")) threads = std::atoi(argv[i + 1]);
-    else if (!std::strcmp(argv[i], "--mass-factors")) {
-      factors.clear();
-      std::istringstream in(argv[i + 1]);
-      std::string item;
-      while (std::getline(in, item, ',')) factors.push_back(std::stod(item));
-    }
+    else if (!std::strcmp(argv[i], "--mass-factors")) factors = bench::parse_list(argv[i + 1]);
   }
   const std::string scene = std::string(SILT_SOURCE_DIR) + "/scenes/pack_2d.toml";
   std::printf("%-6s %-8s %-22s %-16s %-16s %-7s %-8s %-10s %-8s %s\n", "mu", "M/(Nm)", "Phi mean +- sd (err)",

@@ -548,11 +548,8 @@ int main(int argc, char** argv) {
       else if (s == "--seeds" && i + 1 < argc) a.seeds = std::atoi(argv[++i]);
       else if (s == "--quick") a.quick = true;
       else if (s == "--cycles" && i + 1 < argc) a.cycles = std::atoi(argv[++i]);
-      else if (s == "--vi" && i + 1 < argc) {
-        a.vis.clear();
-        std::stringstream list(argv[++i]);
-        for (std::string x; std::getline(list, x, ',');) a.vis.push_back(std::stod(x));
-      } else if (s == "--strain" && i + 2 < argc) {
+      else if (s == "--vi" && i + 1 < argc) a.vis = bench::parse_list(argv[++i]);
+      else if (s == "--strain" && i + 2 < argc) {
         a.transient = std::atof(argv[++i]);
         a.measured = std::atof(argv[++i]);
       } else if (s == "--budget" && i + 1 < argc) a.budget = std::atof(argv[++i]);

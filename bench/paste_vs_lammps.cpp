@@ -8,7 +8,15 @@
 // per second of each, one process / thread, then silt on 2 threads; and how each one's cost grows
 // as the gaps close (silt: h_min/a; LAMMPS: cutinner).
 //
-//   build/bench/paste_vs_lammps [--steps N] [--lammps-steps N] [--no-lammps]
+//   build/bench/paste_vs_lammps [--steps N] [--lammps-steps N] [--no-lammps] [--gaps X,Y,...]
+//                               [--lammps-down-to X] [--lammps-limit S] [--silt-tolerance X]
+//
+// --gaps: the values of h_min/a (default 1e-2,1e-3,1e-4,1e-6,1e-8); LAMMPS runs those down to
+// --lammps-down-to (default 1e-4: its plain CG's cost grows as the gaps close, about as
+// (h_min/a)^(-1/2), so that 1e-8 would take hours). --silt-tolerance: silt's CG tolerance
+// (lubrication.tolerance, relative residual; default the scene's 1e-8; LAMMPS's CG stops at 1e-4).
+// --lammps-limit: seconds after which a LAMMPS run is stopped (default 1200); its row then says
+// so, with a rate of 0.
 //
 // Appends to bench/results/paste_vs_lammps.csv. Reproduce LAMMPS alone: the input and data it
 // runs are left in /tmp/silt_paste_lammps/.
@@ -42,7 +50,7 @@ const std::string kHeader =
 
 std::string num(double x) {
   char b[40];
-  std::snprintf(b, sizeof b, "%.6g", x);
+  std::snprintf(b, sizeof b, "%.12g", x);
   return b;
 }
 
@@ -73,12 +81,15 @@ void write_input(const std::string& path, double cutinner, double cutoff, double
 
 struct Lammps {
   double rate = 0;
+  bool timed_out = false;  // no result within the time limit
   std::string error;
 };
 
-Lammps run_lammps(double cutinner, int steps, double dt) {
+Lammps run_lammps(double cutinner, int steps, double dt, double limit_s) {
   write_input(kDir + "/in.paste", cutinner, 3.0, 0.01, steps, dt);
-  const std::string out = bench::capture("cd " + kDir + " && OMP_NUM_THREADS=1 lmp -in in.paste -log none 2>&1");
+  const double t0 = bench::now_s();
+  const std::string out = bench::capture("cd " + kDir + " && OMP_NUM_THREADS=1 timeout " + num(limit_s) +
+                                         " lmp -in in.paste -log none 2>&1");
   Lammps l;
   const std::regex loop(R"(Loop time of ([0-9.eE+-]+) on 1 procs for (\d+) steps with (\d+) atoms)");
   std::smatch m;
@@ -86,6 +97,7 @@ Lammps run_lammps(double cutinner, int steps, double dt) {
     const double t = std::stod(m[1]);
     l.rate = std::stod(m[3]) * std::stod(m[2]) / t;
   } else {
+    l.timed_out = bench::now_s() - t0 >= limit_s;
     l.error = out.size() > 600 ? out.substr(out.size() - 600) : out;
   }
   return l;
@@ -119,10 +131,18 @@ int main(int argc, char** argv) {
   return bench::guarded_main([&] {
     int steps = 30, lmp_steps = 30;
     bool lammps = true;
+    std::vector<double> gaps{1e-2, 1e-3, 1e-4, 1e-6, 1e-8};
+    double lammps_down_to = 1e-4;
+    std::string tolerance;  // silt's, when given
+    double lammps_limit = 1200;
     for (int i = 1; i < argc; ++i) {
       if (!std::strcmp(argv[i], "--steps") && i + 1 < argc) steps = std::atoi(argv[++i]);
       else if (!std::strcmp(argv[i], "--lammps-steps") && i + 1 < argc) lmp_steps = std::atoi(argv[++i]);
       else if (!std::strcmp(argv[i], "--no-lammps")) lammps = false;
+      else if (!std::strcmp(argv[i], "--gaps") && i + 1 < argc) gaps = bench::parse_list(argv[++i]);
+      else if (!std::strcmp(argv[i], "--lammps-down-to") && i + 1 < argc) lammps_down_to = std::atof(argv[++i]);
+      else if (!std::strcmp(argv[i], "--silt-tolerance") && i + 1 < argc) tolerance = argv[++i];
+      else if (!std::strcmp(argv[i], "--lammps-limit") && i + 1 < argc) lammps_limit = std::atof(argv[++i]);
       else throw std::invalid_argument(std::string("unknown option ") + argv[i]);
     }
     ::mkdir(kDir.c_str(), 0755);
@@ -145,17 +165,24 @@ int main(int argc, char** argv) {
       bench::append_csv(kCsv, kHeader, o.str());
     };
     // The roughness cutoff of each: silt's h_min = x a (a = 2), LAMMPS's cutinner = 2 + x a.
-    for (double x : {1e-2, 1e-3, 1e-4, 1e-6, 1e-8}) {
-      const Model m = compile(load_scene_file(scene, {parse_override("lubrication.h_min_over_a=" + num(x))}));
+    for (double x : gaps) {
+      std::vector<Override> over{parse_override("lubrication.h_min_over_a=" + num(x))};
+      if (!tolerance.empty()) over.push_back(parse_override("lubrication.tolerance=" + tolerance));
+      const Model m = compile(load_scene_file(scene, over));
       for (int threads : {1, 2}) {
         if (threads == 2 && x != 1e-3) continue;
         const Silt s = run_silt(m, packing, threads, steps);
-        row("silt", "h_min/a=" + num(x), x, threads, steps, s.rate, s.iters, s.refactor, "factor_pcg");
+        row("silt", "h_min/a=" + num(x), x, threads, steps, s.rate, s.iters, s.refactor,
+            tolerance.empty() ? "factor_pcg" : "factor_pcg to " + tolerance);
       }
-      if (lammps && x >= 1e-4) {
-        const Lammps l = run_lammps(2 + 2 * x, lmp_steps, 1e-3);
+      if (lammps && x >= lammps_down_to) {
+        const Lammps l = run_lammps(2 + 2 * x, lmp_steps, 1e-3, lammps_limit);
         if (l.rate > 0) row("lammps", "cutinner=" + num(2 + 2 * x), x, 1, lmp_steps, l.rate, 0, 0, "lubricateU");
-        else std::printf("LAMMPS did not run (cutinner %g):\n%s\n", 2 + 2 * x, l.error.c_str());
+        else if (l.timed_out)
+          row("lammps", "cutinner=" + num(2 + 2 * x), x, 1, lmp_steps, 0, 0, 0,
+              "lubricateU stopped after " + num(lammps_limit) + " s without finishing its " +
+                  std::to_string(lmp_steps) + " steps");
+        else std::printf("LAMMPS did not run (cutinner %s):\n%s\n", num(2 + 2 * x).c_str(), l.error.c_str());
       }
     }
     return 0;

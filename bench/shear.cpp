@@ -198,11 +198,8 @@ int run(int argc, char** argv) {
     else if (!std::strcmp(argv[i], "--low")) a.low = true;
     else if (!std::strcmp(argv[i], "--quick")) a.strain_scale = 0.25;
     else if (!std::strcmp(argv[i], "--only") && i + 1 < argc) a.only = argv[++i];
-    else if (!std::strcmp(argv[i], "--inertial") && i + 1 < argc) {
-      std::istringstream in(argv[++i]);
-      std::string item;
-      while (std::getline(in, item, ',')) a.inertial.push_back(std::stod(item));
-    } else if (!std::strcmp(argv[i], "--2d")) {
+    else if (!std::strcmp(argv[i], "--inertial") && i + 1 < argc) a.inertial = bench::parse_list(argv[++i]);
+    else if (!std::strcmp(argv[i], "--2d")) {
       a.two_d = true;
       a.scene = std::string(SILT_SOURCE_DIR) + "/scenes/shear2d_dry.toml";
     } else if (!std::strcmp(argv[i], "--scene") && i + 1 < argc) a.scene = argv[++i];
