@@ -180,8 +180,8 @@ int main(int argc, char** argv) {
         if (l.rate > 0) row("lammps", "cutinner=" + num(2 + 2 * x), x, 1, lmp_steps, l.rate, 0, 0, "lubricateU");
         else if (l.timed_out)
           row("lammps", "cutinner=" + num(2 + 2 * x), x, 1, lmp_steps, 0, 0, 0,
-              "lubricateU stopped after " + num(lammps_limit) + " s without finishing its " +
-                  std::to_string(lmp_steps) + " steps");
+              "lubricateU stopped after " + num(lammps_limit) + " s; its " + std::to_string(lmp_steps) +
+                  " step(s) not done");
         else std::printf("LAMMPS did not run (cutinner %s):\n%s\n", num(2 + 2 * x).c_str(), l.error.c_str());
       }
     }
