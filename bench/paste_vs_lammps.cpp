@@ -12,8 +12,8 @@
 //                               [--lammps-down-to X] [--lammps-limit S] [--silt-tolerance X]
 //
 // --gaps: the values of h_min/a (default 1e-2,1e-3,1e-4,1e-6,1e-8); LAMMPS runs those down to
-// --lammps-down-to (default 1e-4: its plain CG's cost grows as the gaps close, about as
-// (h_min/a)^(-1/2), so that 1e-8 would take hours). --silt-tolerance: silt's CG tolerance
+// --lammps-down-to (default 1e-4: its plain CG's cost grows as the gaps close, and at 1e-6 it
+// did not finish a step in 20 minutes). --silt-tolerance: silt's CG tolerance
 // (lubrication.tolerance, relative residual; default the scene's 1e-8; LAMMPS's CG stops at 1e-4).
 // --lammps-limit: seconds after which a LAMMPS run is stopped (default 1200); its row then says
 // so, with a rate of 0.
