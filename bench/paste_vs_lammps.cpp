@@ -9,12 +9,12 @@
 // as the gaps close (silt: h_min/a; LAMMPS: cutinner).
 //
 //   build/bench/paste_vs_lammps [--steps N] [--lammps-steps N] [--no-lammps] [--gaps X,Y,...]
-//                               [--lammps-down-to X] [--lammps-limit S] [--silt-tolerance X]
+//                               [--lammps-down-to X] [--lammps-limit S] [--set KEY=VALUE ...]
 //
 // --gaps: the values of h_min/a (default 1e-2,1e-3,1e-4,1e-6,1e-8); LAMMPS runs those down to
 // --lammps-down-to (default 1e-4: its plain CG's cost grows as the gaps close, and at 1e-6 it
-// did not finish a step in 20 minutes). --silt-tolerance: silt's CG tolerance
-// (lubrication.tolerance, relative residual; default the scene's 1e-8; LAMMPS's CG stops at 1e-4).
+// did not finish a step in 20 minutes). --set: a scene key for silt's runs, as `silt run --set`
+// (e.g. lubrication.tolerance=1e-4: LAMMPS's CG stops at 1e-4, silt's at the scene's 1e-8).
 // --lammps-limit: seconds after which a LAMMPS run is stopped (default 1200); its row then says
 // so, with a rate of 0.
 //
@@ -133,7 +133,8 @@ int main(int argc, char** argv) {
     bool lammps = true;
     std::vector<double> gaps{1e-2, 1e-3, 1e-4, 1e-6, 1e-8};
     double lammps_down_to = 1e-4;
-    std::string tolerance;  // silt's, when given
+    std::vector<Override> sets;  // silt's scene keys
+    std::string set_note;        // and how the rows name them
     double lammps_limit = 1200;
     for (int i = 1; i < argc; ++i) {
       if (!std::strcmp(argv[i], "--steps") && i + 1 < argc) steps = std::atoi(argv[++i]);
@@ -141,8 +142,10 @@ int main(int argc, char** argv) {
       else if (!std::strcmp(argv[i], "--no-lammps")) lammps = false;
       else if (!std::strcmp(argv[i], "--gaps") && i + 1 < argc) gaps = bench::parse_list(argv[++i]);
       else if (!std::strcmp(argv[i], "--lammps-down-to") && i + 1 < argc) lammps_down_to = std::atof(argv[++i]);
-      else if (!std::strcmp(argv[i], "--silt-tolerance") && i + 1 < argc) tolerance = argv[++i];
-      else if (!std::strcmp(argv[i], "--lammps-limit") && i + 1 < argc) lammps_limit = std::atof(argv[++i]);
+      else if (!std::strcmp(argv[i], "--set") && i + 1 < argc) {
+        sets.push_back(parse_override(argv[++i]));
+        set_note += std::string(" ") + argv[i];
+      } else if (!std::strcmp(argv[i], "--lammps-limit") && i + 1 < argc) lammps_limit = std::atof(argv[++i]);
       else throw std::invalid_argument(std::string("unknown option ") + argv[i]);
     }
     ::mkdir(kDir.c_str(), 0755);
@@ -167,13 +170,12 @@ int main(int argc, char** argv) {
     // The roughness cutoff of each: silt's h_min = x a (a = 2), LAMMPS's cutinner = 2 + x a.
     for (double x : gaps) {
       std::vector<Override> over{parse_override("lubrication.h_min_over_a=" + num(x))};
-      if (!tolerance.empty()) over.push_back(parse_override("lubrication.tolerance=" + tolerance));
+      over.insert(over.end(), sets.begin(), sets.end());
       const Model m = compile(load_scene_file(scene, over));
       for (int threads : {1, 2}) {
         if (threads == 2 && x != 1e-3) continue;
         const Silt s = run_silt(m, packing, threads, steps);
-        row("silt", "h_min/a=" + num(x), x, threads, steps, s.rate, s.iters, s.refactor,
-            tolerance.empty() ? "factor_pcg" : "factor_pcg to " + tolerance);
+        row("silt", "h_min/a=" + num(x), x, threads, steps, s.rate, s.iters, s.refactor, "factor_pcg" + set_note);
       }
       if (lammps && x >= lammps_down_to) {
         const Lammps l = run_lammps(2 + 2 * x, lmp_steps, 1e-3, lammps_limit);
