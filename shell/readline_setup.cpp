@@ -1,5 +1,6 @@
 #include "shell/readline_setup.hpp"
 
+#include <readline/history.h>
 #include <readline/readline.h>
 
 #include <algorithm>
@@ -16,6 +17,8 @@
 // that ends the count come back as the next key read, as universal-argument does in the callback
 // interface. See ends_count_accepting_line and guarded_getc.
 extern "C" int _rl_argcxt;
+// readline 8.2's copy of the line being typed while the history is walked (misc.c, not installed).
+extern "C" HIST_ENTRY* _rl_saved_line_for_history;
 
 namespace silt::cli {
 namespace {
@@ -159,6 +162,22 @@ bool ends_count_accepting_line(int c) {
   return false;
 }
 
+// readline 8.2 keeps the line being typed, with its undo list, while the user walks the history
+// (the saved line), and gives the history entry on show the undo list of its edits. A failed
+// history search (Page Up's history-search-backward) drops the saved line but leaves the walk on
+// an entry; the next history command then saves the edited entry's line with that entry's undo
+// list: two owners of one list. previous-history on the first entry (or beginning-of-history
+// there) then frees the list with the saved line, and the entry keeps the freed records, freed
+// again when the history is cleared, used when the entry is recalled and undone
+// (tests/fuzz/crashes/history_search_saved_line.keys); a saved line that lives on frees them at
+// the next line instead. A walk on an entry always has a saved line here, with no undo list of its
+// own: the entry's stays the entry's.
+void keep_saved_line() {
+  if (_rl_saved_line_for_history || where_history() >= history_length) return;
+  rl_maybe_save_line();
+  _rl_saved_line_for_history->data = nullptr;
+}
+
 // The keys as readline reads them, with two of its crashes kept away and counts bounded. In vi
 // mode, an escape sequence that bound ones begin with and that ends in a number so far ("\e[5",
 // a prefix of Page Up's "\e[5~"; "\e[1;5") makes readline 8.2's callback interface read a null
@@ -179,6 +198,7 @@ int guarded_getc(FILE* stream) {
   // The line counts as having entered command mode already: nothing is freed, and U reverts the
   // whole line.
   RL_SETSTATE(RL_STATE_VICMDONCE);
+  keep_saved_line();
   if (RL_ISSTATE(RL_STATE_READCMD)) g_operator_running = false;  // a command's first key
   const int c = rl_getc(stream);
   if (RL_ISSTATE(RL_STATE_NUMERICARG) && rl_numeric_arg > kMaxCount) rl_numeric_arg = kMaxCount;

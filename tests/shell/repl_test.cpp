@@ -270,6 +270,25 @@ TEST_CASE("vi mode on an edited history line: Escape keeps the undo records the 
   CHECK(t.wait_exit() == 0);
 }
 
+TEST_CASE(
+    "a failed history search on an edited history line, then Up at the first entry: its undo records stay its own") {
+  TempDir home;
+  Terminal t(silt::test::scene_path("collision_normal"), home.path());
+  REQUIRE(!t.read_until("silt[t=0]> ").empty());
+  t.type("3\n");
+  REQUIRE(!t.read_until("unknown command '3'").empty());
+  // Ctrl-P, `a`, Page Up (a history search that finds nothing), Up on the first entry: readline
+  // 8.2 saved the line with the entry's undo records and freed them with it while the entry kept
+  // them (tests/fuzz/crashes/history_search_saved_line.keys). Then the line entered, the first
+  // entry recalled and its edit undone (Ctrl-_), which read the freed records.
+  t.type(std::string("\x10") + "a\x1b[5~\x1b[A\n");
+  CHECK(!t.read_until("unknown command '3a'").empty());
+  t.type("\x1b[A\x1b[A\x1f\n");
+  CHECK(!t.read_until("unknown command '3'").empty());
+  t.type("quit\n");
+  CHECK(t.wait_exit() == 0);
+}
+
 TEST_CASE("a count ended by Enter enters the line at once, in emacs and in vi mode") {
   TempDir home;
   Terminal t(silt::test::scene_path("collision_normal"), home.path());
