@@ -72,19 +72,36 @@ SolveReport SpdSolver::solve(const SparseMatrix& a, const Vector& b, Vector& x, 
   };
   if (!factor_valid_)
     if (SolveReport f = refactor(); !f.ok()) return f;
-  // A stale factor gets a few times the threshold; past that, or on a failure, a fresh factor of
-  // this matrix and the solve again from where it got to. A solve that converged but took more
-  // than the threshold asks for a fresh factor next time.
-  const bool stale = solves_since_factor_ > 0;
+  // The coarse correction of the directions the factor misses first, when the caller has them
+  // and they are few: past a quarter of the unknowns, E costs about what a new factor would (and
+  // W's columns are likely dependent), so the factor serves alone.
+  const Preconditioner* m = &factor_;
+  coarse_columns_ = 0;
+  if (coarse_space) {
+    const SparseMatrix w = coarse_space();
+    if (w.cols() > 0 && 4 * w.cols() <= a.rows() && coarse_.setup(a, w, factor_).ok()) {
+      m = &coarse_;
+      coarse_columns_ = w.cols();
+    }
+  }
+  // A stale or corrected factor gets a few times the threshold; past that, or on a failure, the
+  // solve again from where it got to with a fresh factor of this matrix, alone (a coarse space
+  // whose columns are nearly dependent can spoil the correction). A solve that converged but took
+  // more than the threshold asks for a fresh factor next time.
+  const bool stale = solves_since_factor_ > 0, corrected = m == &coarse_;
   SolveOptions first = s_.options;
-  if (stale) first.max_iterations = std::min(first.max_iterations, 4 * std::max(1, s_.refactor_iterations));
-  SolveReport rep = conjugate_gradient(op, b, x, first, &factor_, &cg_);
+  if (stale || corrected)
+    first.max_iterations = std::min(first.max_iterations, 4 * std::max(1, s_.refactor_iterations));
+  SolveReport rep = conjugate_gradient(op, b, x, first, m, &cg_);
   ++solves_since_factor_;
-  if (!rep.ok() && stale && rep.status != SolveStatus::kNotFinite) {
+  if (!rep.ok() && (corrected || (stale && rep.status != SolveStatus::kNotFinite))) {
     const int spent = rep.iterations;
-    if (SolveReport f = refactor(); !f.ok()) return f;
+    if (stale)
+      if (SolveReport f = refactor(); !f.ok()) return f;
+    if (!all_finite(x)) x.setZero();
     rep = conjugate_gradient(op, b, x, s_.options, &factor_, &cg_);
     rep.iterations += spent;
+    coarse_columns_ = 0;
     ++solves_since_factor_;
   } else if (rep.iterations > s_.refactor_iterations) {
     factor_valid_ = false;

@@ -29,6 +29,9 @@ struct PasteParams {
   // factor whole, the others by their diagonal blocks only (ResistanceSystem::sparsified);
   // h_max / a or more: the whole matrix.
   double factor_gap_over_a = 0.5;
+  // factor_pcg: the rows of G along which a connection resists more than this times its xi_T
+  // form the coarse space of a linalg::CoarseCorrection around the factor (stiff_directions); 0: none.
+  double coarse_ratio = 0;
   // A Stokes drag 6 pi eta r on every grain's translation and 8 pi eta r^3 on its rotation
   // (LF_DEM's choice): makes Xi definite without pinning; off by default (the thesis has none).
   bool stokes_drag = false;

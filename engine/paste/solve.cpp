@@ -245,7 +245,7 @@ void lubrication_solve(const Model& m, State& s, PasteWorkspace& w, bool setup) 
 
   // The solver, its factor rebuilt from the state's copy after a restore.
   std::vector<double>& stats = s.module_field(f.solver);
-  if (stats.size() != kSolverStats) stats.assign(kSolverStats, 0.0);
+  if (stats.size() != kSolverStats) stats.resize(kSolverStats, 0.0);  // a checkpoint of fewer stats: the rest 0
   std::vector<double>& factor = s.module_field(f.factor);
   w.solver.set_settings(p.solver);
   // The held factor is the one the state says (its matrix, how many solves it has served):
@@ -277,9 +277,13 @@ void lubrication_solve(const Model& m, State& s, PasteWorkspace& w, bool setup) 
       }
       return w.system.sparsified(keep);
     };
+  w.solver.coarse_space = nullptr;
+  if (p.coarse_ratio > 0)
+    w.solver.coarse_space = [&cs, &s, &p, &L]() { return stiff_directions(L, cs, s.particle_r, p.coarse_ratio); };
   const linalg::SolveReport rep = w.solver.solve(A, b, x, false);
   w.solver.on_factor = nullptr;
   w.solver.factor_source = nullptr;
+  w.solver.coarse_space = nullptr;
   // The stored matrix changes only when the solver factorised (or dropped its factor).
   if (w.solver.refactorizations() != factorizations_before || factor.empty())
     w.factor_hash = factor.empty() ? 0 : field_hash(s, f.factor);
@@ -294,6 +298,7 @@ void lubrication_solve(const Model& m, State& s, PasteWorkspace& w, bool setup) 
   stats[kFactorAge] = w.solver.factor_valid() ? w.solver.solves_since_factor() : -1;
   stats[kLastStatus] = static_cast<double>(rep.status);
   stats[kConnections] = static_cast<double>(cs.size());
+  stats[kCoarseColumns] = static_cast<double>(w.solver.coarse_columns());
   if (!w.solver.factor_valid()) factor.clear();
   if (!rep.ok()) {
     // The value: the residual, or for a failed factorisation the unknown where it failed.

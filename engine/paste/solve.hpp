@@ -37,6 +37,7 @@ enum SolverStat {
   kFactorAge,         // solves the held factor has served, -1 when none is held
   kLastStatus,        // linalg::SolveStatus of the last solve
   kConnections,       // connections of the last solve
+  kCoarseColumns,     // columns of the factor's coarse correction in the last solve
   kSolverStats
 };
 

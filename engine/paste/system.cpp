@@ -320,6 +320,31 @@ linalg::SparseMatrix ResistanceSystem::sparsified(const std::vector<uint8_t>& ke
   return m;
 }
 
+linalg::SparseMatrix stiff_directions(const SystemLayout& layout, const std::vector<Connection>& cs,
+                                      const std::vector<double>& radius, double ratio) {
+  const int n = local_size(layout);
+  std::vector<Eigen::Triplet<double, int>> t;
+  int col = 0;
+  double g[3 * 16];
+  for (const Connection& c : cs) {
+    const double normal = c.xi_n + c.k_n, tangential = c.xi_t + c.k_t, soft = ratio * c.xi_t;
+    if (!(normal > soft) && !(tangential > soft)) continue;
+    local_map(layout, c, radius[c.i], radius[c.j], g);  // row 0: the normal, then the tangents
+    for (int row = 0; row < layout.dim; ++row) {
+      if (!((row == 0 ? normal : tangential) > soft)) continue;
+      const double* gr = g + row * n;
+      for (int q = 0; q < n; ++q) {
+        const int64_t k = local_to_global(layout, c, q);
+        if (k >= 0 && gr[q] != 0) t.emplace_back(static_cast<int>(k), col, gr[q]);
+      }
+      ++col;
+    }
+  }
+  linalg::SparseMatrix w(layout.size(), col);
+  w.setFromTriplets(t.begin(), t.end());
+  return w;
+}
+
 void ResistanceSystem::pin(int64_t k, double scale, linalg::Vector& rhs) {
   double* val = a_.valuePtr();
   const int* rows = a_.innerIndexPtr();

@@ -96,6 +96,13 @@ void local_map(const SystemLayout& layout, const Connection& c, double ri, doubl
 // G^T diag(normal, tangential...) G of a connection over its local unknowns (n x n, symmetric).
 void local_block(const SystemLayout& layout, const Connection& c, double ri, double rj, double normal,
                  double tangential, double* out);
+// W, for a linalg::CoarseCorrection: the rows of G (one column each over the unknowns, the imposed
+// shear's entry left out) along which a connection resists more than `ratio` times its tangential
+// lubrication xi_T: the normal of a near-contact or a contact (xi_N + k_N), and with implicit
+// contacts the tangents of a sticking one (xi_T + k_T). These are the directions that turn with
+// the grains and take an older factor furthest from the matrix.
+linalg::SparseMatrix stiff_directions(const SystemLayout& layout, const std::vector<Connection>& c,
+                                      const std::vector<double>& radius, double ratio);
 // The force on i from j of a connection (dim components) for local unknowns u (eq. 2.24).
 void connection_force(const SystemLayout& layout, const Connection& c, double ri, double rj, const double* u,
                       double* force);

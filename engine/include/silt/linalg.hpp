@@ -159,6 +159,34 @@ class CholeskyFactor final : public Preconditioner {
   int64_t analyses_ = 0, factorizations_ = 0;
 };
 
+// A two-level preconditioner around another one, M (a Cholesky factor of an earlier matrix): the
+// columns of W span the directions where A has moved away from the matrix M was made from (the
+// normals of the stiffest connections of a paste, which turn as the grains roll, and whose
+// resistance is so large that a small turn changes A by more than the rest of it); on their span
+// the solve is exact, through E = W^T A W, and M serves the rest. The balancing preconditioner
+// (Mandel 1993; in the notation of Tang, Nabben, Vuik and Erlangga 2009):
+//   P = Q + (I - Q A) M^-1 (I - A Q),  Q = W E^-1 W^T,
+// symmetric positive definite whenever M is, so plain PCG runs on it. An application costs one of
+// M, two products with A and two solves with E's factor.
+class CoarseCorrection final : public Preconditioner {
+ public:
+  // E = W^T A W, held to a relative 1e-10 above its diagonal (so that dependent columns of W, a
+  // self-stressed cluster of contacts, leave it definite), and its factor. a and m are kept by
+  // reference. Not ok when E could not be factorised: apply() then applies M alone.
+  SolveReport setup(const SparseMatrix& a, const SparseMatrix& w, const Preconditioner& m);
+  void apply(const Vector& r, Vector& z) const override;
+  int64_t columns() const { return w_.cols(); }
+  bool ready() const { return ready_; }
+
+ private:
+  const SparseMatrix* a_ = nullptr;
+  const Preconditioner* m_ = nullptr;
+  SparseMatrix w_;
+  CholeskyFactor e_;
+  bool ready_ = false;
+  mutable Vector c_, ec_, q_, y_, t_;
+};
+
 // How a system is solved: the choices whose costs the benchmarks compare.
 enum class Method {
   kCg,         // CG, Jacobi preconditioner
@@ -204,13 +232,20 @@ class SpdSolver {
   // sparser approximation of it, cheaper to factorise and to apply); null: the system's.
   std::function<SparseMatrix()> factor_source;
   SolveReport restore_factor(const SparseMatrix& source, int solves_since_factor);
+  // kFactorPcg: W of a CoarseCorrection around the factor, made for each solve (the directions
+  // where the factor goes stale first); null, no columns, or more than a quarter of the unknowns:
+  // the factor alone. A corrected solve that fails is done again with a fresh factor alone.
+  std::function<SparseMatrix()> coarse_space;
+  int64_t coarse_columns() const { return coarse_columns_; }  // of the last solve
 
  private:
   SolverSettings s_;
   CholeskyFactor factor_;
   bool factor_valid_ = false;
   int solves_since_factor_ = 0;
+  int64_t coarse_columns_ = 0;
   CgWorkspace cg_;
+  CoarseCorrection coarse_;
 };
 
 }  // namespace silt::linalg

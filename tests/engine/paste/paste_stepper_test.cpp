@@ -5,6 +5,8 @@
 
 #include <cmath>
 #include <cstdio>
+#include <fstream>
+#include <sstream>
 
 #include "paste/params.hpp"
 #include "silt/io.hpp"
@@ -196,26 +198,47 @@ velocities = [[0.5, 0.0], [-0.5, 0.0]]
 }
 
 TEST_CASE("paste: the same bits on 1, 2 and 4 threads, and a restart continues them") {
-  // Above Model::kSortMin grains the flow executor and the parallel loops are used. Sheared at
-  // an imposed rate in a fixed box.
-  std::string scene = paste_scene(1100, 38);
-  scene.replace(scene.find("[box]\npressure = 1.0\n"), 20, "[shear]\nrate = 0.1\n");
-  auto a = test::simulation_from(scene, 1);
-  for (int k = 0; k < 12; ++k) REQUIRE(step(*a));
-  const std::string path = "paste_restart_test.ckpt";
-  write_checkpoint(path, a->model(), a->state());
-  for (int k = 0; k < 12; ++k) REQUIRE(step(*a));
-  for (int threads : {2, 4}) {
-    CAPTURE(threads);
-    auto b = test::simulation_from(scene, threads);
-    for (int k = 0; k < 24; ++k) REQUIRE(step(*b));
-    CHECK(state_hash(b->state()) == state_hash(a->state()));
+  // Above Model::kSortMin grains the flow executor and the parallel loops are used. Disks sheared
+  // at an imposed rate in a fixed box; then paste_3d_shear's spheres, 512 of them, at h_min/a =
+  // 1e-6, where the factor's coarse correction (on by default in 3D) serves every solve.
+  std::string disks = paste_scene(1100, 38);
+  disks.replace(disks.find("[box]\npressure = 1.0\n"), 20, "[shear]\nrate = 0.1\n");
+  std::ifstream file(test::scene_path("paste_3d_shear"));
+  std::stringstream text;
+  text << file.rdbuf();
+  std::string spheres = text.str();
+  for (auto [from, to] : {std::pair<std::string, std::string>{"count = 4096", "count = 512"},
+                          {"hi = [38.0, 38.0, 38.0]", "hi = [19.0, 19.0, 19.0]"},
+                          {"h_min_over_a = 1e-3", "h_min_over_a = 1e-6"}}) {
+    REQUIRE(spheres.find(from) != std::string::npos);
+    spheres.replace(spheres.find(from), from.size(), to);
   }
-  auto c = test::simulation_from(scene, 2);
-  c->restore(read_checkpoint(path, c->model()));
-  for (int k = 0; k < 12; ++k) REQUIRE(step(*c));
-  CHECK(state_hash(c->state()) == state_hash(a->state()));
-  std::remove(path.c_str());
+  for (const std::string& scene : {disks, spheres}) {
+    const bool coarse = &scene == &spheres;
+    CAPTURE(coarse);
+    auto a = test::simulation_from(scene, 1);
+    int corrected = 0;  // solves the correction served
+    auto step_a = [&] {
+      REQUIRE(step(*a));
+      corrected += a->state().module_field(paste::paste_fields().solver)[paste::kCoarseColumns] > 0;
+    };
+    for (int k = 0; k < 12; ++k) step_a();
+    const std::string path = "paste_restart_test.ckpt";
+    write_checkpoint(path, a->model(), a->state());
+    for (int k = 0; k < 12; ++k) step_a();
+    CHECK(corrected == (coarse ? 24 : 0));
+    for (int threads : {2, 4}) {
+      CAPTURE(threads);
+      auto b = test::simulation_from(scene, threads);
+      for (int k = 0; k < 24; ++k) REQUIRE(step(*b));
+      CHECK(state_hash(b->state()) == state_hash(a->state()));
+    }
+    auto c = test::simulation_from(scene, 2);
+    c->restore(read_checkpoint(path, c->model()));
+    for (int k = 0; k < 12; ++k) REQUIRE(step(*c));
+    CHECK(state_hash(c->state()) == state_hash(a->state()));
+    std::remove(path.c_str());
+  }
 }
 
 TEST_CASE("paste: a box that no lubricated gap holds is a clear failure, not a NaN") {

@@ -1,0 +1,181 @@
+// The balancing preconditioner: a factor of an older matrix, corrected exactly on the directions
+// of its stiff entries that have turned since, as a paste's contacts turn as the grains roll.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <numbers>
+#include <random>
+#include <vector>
+
+#include "silt/linalg.hpp"
+#include "support/scenes.hpp"
+
+using namespace silt::linalg;
+using silt::test::gaussian_vector;
+using silt::test::rel_diff;
+
+namespace {
+
+// Points of a side x side grid, two translations each, joined to their right and upper
+// neighbours by a resistance k_n along a direction n of the link (at an angle of its own) and 1
+// across it, on the relative motion; a fifth of the links are stiff (k_n = 1e6), the others
+// 1 to 10; each point is held to the liquid by 1. `turn` rotates every link's direction by that
+// angle: the same system a step later.
+struct Links {
+  int side = 0;
+  std::vector<int> a, b;
+  std::vector<double> angle, k_n;
+};
+
+Links make_links(int side, unsigned seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(0, 1);
+  Links l;
+  l.side = side;
+  for (int i = 0; i < side; ++i)
+    for (int j = 0; j < side; ++j)
+      for (auto [di, dj] : {std::pair{1, 0}, std::pair{0, 1}}) {
+        if (i + di >= side || j + dj >= side) continue;
+        l.a.push_back(i * side + j);
+        l.b.push_back((i + di) * side + j + dj);
+        l.angle.push_back(2 * std::numbers::pi * u(rng));
+        l.k_n.push_back(u(rng) < 0.2 ? 1e6 : 1 + 9 * u(rng));
+      }
+  return l;
+}
+
+SparseMatrix matrix(const Links& l, double turn) {
+  std::vector<Eigen::Triplet<double>> t;
+  const int n = 2 * l.side * l.side;
+  for (size_t e = 0; e < l.a.size(); ++e) {
+    const double c = std::cos(l.angle[e] + turn), s = std::sin(l.angle[e] + turn);
+    const double nv[2] = {c, s}, tv[2] = {-s, c};
+    for (int p = 0; p < 2; ++p)
+      for (int q = 0; q < 2; ++q) {
+        const double v = l.k_n[e] * nv[p] * nv[q] + tv[p] * tv[q];
+        t.emplace_back(2 * l.a[e] + p, 2 * l.a[e] + q, v);
+        t.emplace_back(2 * l.b[e] + p, 2 * l.b[e] + q, v);
+        t.emplace_back(2 * l.a[e] + p, 2 * l.b[e] + q, -v);
+        t.emplace_back(2 * l.b[e] + p, 2 * l.a[e] + q, -v);
+      }
+  }
+  for (int k = 0; k < n; ++k) t.emplace_back(k, k, 1.0);
+  SparseMatrix m(n, n);
+  m.setFromTriplets(t.begin(), t.end());
+  m.makeCompressed();
+  return m;
+}
+
+// One column per stiff link, its direction (turned) on the relative motion; `twice` repeats
+// every column (dependent columns).
+SparseMatrix stiff_directions(const Links& l, double turn, bool twice = false) {
+  std::vector<Eigen::Triplet<double>> t;
+  int col = 0;
+  for (size_t e = 0; e < l.a.size(); ++e) {
+    if (l.k_n[e] < 1e3) continue;
+    for (int copy = 0; copy < (twice ? 2 : 1); ++copy, ++col) {
+      const double nv[2] = {std::cos(l.angle[e] + turn), std::sin(l.angle[e] + turn)};
+      for (int p = 0; p < 2; ++p) {
+        t.emplace_back(2 * l.a[e] + p, col, nv[p]);
+        t.emplace_back(2 * l.b[e] + p, col, -nv[p]);
+      }
+    }
+  }
+  SparseMatrix w(2 * l.side * l.side, col);
+  w.setFromTriplets(t.begin(), t.end());
+  return w;
+}
+
+}  // namespace
+
+TEST_CASE("a coarse correction on the turned stiff directions keeps an old factor good") {
+  const Links l = make_links(24, 3);
+  const SparseMatrix a0 = matrix(l, 0), a1 = matrix(l, 0.01);
+  const Vector b = gaussian_vector(a1.rows(), 4);
+  const SparseOperator op(a1);
+  const SolveOptions opt{1e-8, 5000};
+  CholeskyFactor old;
+  REQUIRE(old.factorize(a0).ok());
+  Vector exact;
+  {
+    CholeskyFactor f;
+    REQUIRE(f.factorize(a1).ok());
+    REQUIRE(f.solve(b, exact).ok());
+  }
+  // The old factor alone: a turn of 0.01 changes a stiff link by 1e4 across it, 1e4 times its
+  // resistance there.
+  Vector x_old = Vector::Zero(a1.rows());
+  const SolveReport r_old = conjugate_gradient(op, b, x_old, opt, &old);
+  CoarseCorrection cc;
+  const SparseMatrix w = stiff_directions(l, 0.01);
+  REQUIRE(w.cols() > 150);
+  REQUIRE(cc.setup(a1, w, old).ok());
+  CHECK(cc.ready());
+  CHECK(cc.columns() == w.cols());
+  Vector x_cc = Vector::Zero(a1.rows());
+  const SolveReport r_cc = conjugate_gradient(op, b, x_cc, opt, &cc);
+  CAPTURE(r_old.iterations);
+  CAPTURE(r_cc.iterations);
+  CHECK(r_cc.ok());
+  CHECK(r_cc.iterations <= 12);
+  CHECK(r_old.iterations > 4 * r_cc.iterations);
+  CHECK(rel_diff(x_cc, exact) < 1e-6);
+
+  // Symmetric (u . P v = v . P u), as PCG needs.
+  const Vector u = gaussian_vector(a1.rows(), 5), v = gaussian_vector(a1.rows(), 6);
+  Vector pu, pv;
+  cc.apply(u, pu);
+  cc.apply(v, pv);
+  CHECK(std::abs(u.dot(pv) - v.dot(pu)) <= 1e-9 * std::abs(u.dot(pv)));
+  CHECK(u.dot(pu) > 0);
+
+  // Every column twice (a self-stressed cluster of contacts makes W's columns dependent): E is
+  // held definite, and the solve converges as well.
+  CoarseCorrection twice;
+  REQUIRE(twice.setup(a1, stiff_directions(l, 0.01, true), old).ok());
+  Vector x_tw = Vector::Zero(a1.rows());
+  const SolveReport r_tw = conjugate_gradient(op, b, x_tw, opt, &twice);
+  CAPTURE(r_tw.iterations);
+  CHECK(r_tw.ok());
+  CHECK(r_tw.iterations <= r_cc.iterations + 3);
+  CHECK(rel_diff(x_tw, exact) < 1e-6);
+
+  // No columns: the factor alone, the same bits.
+  CoarseCorrection none;
+  CHECK(none.setup(a1, SparseMatrix(a1.rows(), 0), old).ok());
+  CHECK_FALSE(none.ready());
+  Vector z_none, z_old;
+  none.apply(b, z_none);
+  old.apply(b, z_old);
+  CHECK(z_none == z_old);
+}
+
+TEST_CASE("the solver corrects its factor on the caller's coarse space") {
+  const Links l = make_links(20, 9);
+  SolverSettings s;
+  s.options = {1e-8, 5000};
+  s.refactor_iterations = 15;
+  int64_t its[2] = {0, 0}, factors[2] = {0, 0};
+  for (int with = 0; with < 2; ++with) {
+    SpdSolver solver(s);
+    Vector x = Vector::Zero(2 * 20 * 20);
+    double turn = 0;
+    for (int step = 0; step < 8; ++step) {
+      CAPTURE(step);
+      turn += 0.003;  // the stiff links turn a little more each step
+      const SparseMatrix a = matrix(l, turn);
+      if (with) solver.coarse_space = [&l, turn] { return stiff_directions(l, turn); };
+      const Vector b = gaussian_vector(a.rows(), 20 + step);
+      const SolveReport r = solver.solve(a, b, x, false);
+      REQUIRE(r.ok());
+      its[with] += r.iterations;
+      CHECK(solver.coarse_columns() == (with ? stiff_directions(l, turn).cols() : 0));
+    }
+    factors[with] = solver.refactorizations();
+  }
+  CAPTURE(its[0]);
+  CAPTURE(its[1]);
+  CHECK(factors[1] == 1);  // one factor serves every step
+  CHECK(factors[0] > 2);
+  CHECK(its[1] < its[0]);
+}
