@@ -56,7 +56,7 @@ struct PasteWorkspace final : Workspace {
     solver.forget_factor();
   }
   size_t bytes() const override {
-    return system.bytes() + static_cast<size_t>(solver.factor().factor_bytes()) +
+    return system.bytes() + static_cast<size_t>(solver.factor().factor_bytes() + solver.coarse().bytes()) +
            links.c.size() * (sizeof(Connection) + sizeof(int32_t)) + scratch.capacity() * sizeof(double);
   }
 };

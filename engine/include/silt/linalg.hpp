@@ -177,6 +177,10 @@ class CoarseCorrection final : public Preconditioner {
   void apply(const Vector& r, Vector& z) const override;
   int64_t columns() const { return w_.cols(); }
   bool ready() const { return ready_; }
+  // Bytes held: W and the factor of E.
+  int64_t bytes() const {
+    return w_.nonZeros() * static_cast<int64_t>(sizeof(double) + sizeof(int)) + e_.factor_bytes();
+  }
 
  private:
   const SparseMatrix* a_ = nullptr;
@@ -237,6 +241,7 @@ class SpdSolver {
   // the factor alone. A corrected solve that fails is done again with a fresh factor alone.
   std::function<SparseMatrix()> coarse_space;
   int64_t coarse_columns() const { return coarse_columns_; }  // of the last solve
+  const CoarseCorrection& coarse() const { return coarse_; }
 
  private:
   SolverSettings s_;
