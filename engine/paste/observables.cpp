@@ -110,7 +110,7 @@ std::vector<ObservableSpec> paste_observables() {
          return n > 0 ? solver_stat(c, kIterationsTotal) / n : 0.0;
        }},
       {"solver.coarse", "",
-       "stiff normals the last lubrication solve corrected its factor on (lubrication.coarse_ratio)",
+       "stiff directions the last lubrication solve corrected its factor on (lubrication.coarse_ratio)",
        [](C c, A) { return solver_stat(c, kCoarseColumns); }},
       {"connections", "", "lubricated connections (gaps below h_max) of the last solve",
        [](C c, A) { return solver_stat(c, kConnections); }},
