@@ -172,6 +172,9 @@ std::string describe_paste(const Model& m) {
     << ", h_max/a = " << p.h_max_over_a << ", " << (p.cutoff == Cutoff::kLinear ? "linear" : "constant")
     << " cutoff (Peyneau 2009 eq. 1.28-1.29); " << stepper_name(p.stepper) << " stepper, "
     << linalg::method_name(p.solver.method) << " solver to " << p.solver.options.tolerance
+    << (p.solver.method == linalg::Method::kFactorPcg && p.coarse_ratio > 0
+            ? ", its factor corrected on the directions stiffer than " + format_number(p.coarse_ratio) + " xi_T"
+            : std::string())
     << (p.stokes_drag ? ", Stokes drag on every grain" : ", one grain pinned per cluster") << "; "
     << (p.implicit_contacts ? "implicit contacts ((Xi + dt K) V = F)" : "explicit contacts (eq. 2.19)") << "\n";
   const bool pressure = m.box_control.on;
