@@ -2,6 +2,7 @@
 // a Cholesky factor of an earlier matrix (refactorised when it no longer helps enough), or a
 // direct solve every time.
 #include <algorithm>
+#include <utility>
 
 #include "linalg/vector_ops.hpp"
 
@@ -78,10 +79,11 @@ SolveReport SpdSolver::solve(const SparseMatrix& a, const Vector& b, Vector& x, 
   const Preconditioner* m = &factor_;
   coarse_columns_ = 0;
   if (coarse_space) {
-    const SparseMatrix w = coarse_space();
-    if (w.cols() > 0 && 4 * w.cols() <= a.rows() && coarse_.setup(a, w, factor_).ok()) {
+    SparseMatrix w = coarse_space();
+    const int64_t columns = w.cols();
+    if (columns > 0 && 4 * columns <= a.rows() && coarse_.setup(a, std::move(w), factor_).ok()) {
       m = &coarse_;
-      coarse_columns_ = w.cols();
+      coarse_columns_ = columns;
     }
   }
   // A stale or corrected factor gets a few times the threshold; past that, or on a failure, the

@@ -167,28 +167,28 @@ class CholeskyFactor final : public Preconditioner {
 // (Mandel 1993; in the notation of Tang, Nabben, Vuik and Erlangga 2009):
 //   P = Q + (I - Q A) M^-1 (I - A Q),  Q = W E^-1 W^T,
 // symmetric positive definite whenever M is, so plain PCG runs on it. An application costs one of
-// M, two products with A and two solves with E's factor.
+// M, two products with A W (kept from the setup, with as many columns as W) and two solves with
+// E's factor.
 class CoarseCorrection final : public Preconditioner {
  public:
   // E = W^T A W, held to a relative 1e-10 above its diagonal (so that dependent columns of W, a
-  // self-stressed cluster of contacts, leave it definite), and its factor. a and m are kept by
+  // self-stressed cluster of contacts, leave it definite), and its factor; A W is kept, m by
   // reference. Not ok when E could not be factorised: apply() then applies M alone.
-  SolveReport setup(const SparseMatrix& a, const SparseMatrix& w, const Preconditioner& m);
+  SolveReport setup(const SparseMatrix& a, SparseMatrix w, const Preconditioner& m);
   void apply(const Vector& r, Vector& z) const override;
   int64_t columns() const { return w_.cols(); }
   bool ready() const { return ready_; }
-  // Bytes held: W and the factor of E.
+  // Bytes held: W, A W and the factor of E.
   int64_t bytes() const {
-    return w_.nonZeros() * static_cast<int64_t>(sizeof(double) + sizeof(int)) + e_.factor_bytes();
+    return (w_.nonZeros() + aw_.nonZeros()) * static_cast<int64_t>(sizeof(double) + sizeof(int)) + e_.factor_bytes();
   }
 
  private:
-  const SparseMatrix* a_ = nullptr;
   const Preconditioner* m_ = nullptr;
-  SparseMatrix w_;
+  SparseMatrix w_, aw_;
   CholeskyFactor e_;
   bool ready_ = false;
-  mutable Vector c_, ec_, q_, y_, t_;
+  mutable Vector c_, ec_, q_, y_;
 };
 
 // How a system is solved: the choices whose costs the benchmarks compare.
