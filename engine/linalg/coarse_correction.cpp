@@ -1,14 +1,12 @@
 // The balancing preconditioner: a Cholesky factor of an earlier matrix, corrected exactly on the
 // span of W (silt/linalg.hpp).
-#include <utility>
-
 #include "linalg/vector_ops.hpp"
 
 namespace silt::linalg {
 
-SolveReport CoarseCorrection::setup(const SparseMatrix& a, SparseMatrix w, const Preconditioner& m) {
+SolveReport CoarseCorrection::setup(const SparseMatrix& a, SparseMatrix& w, const Preconditioner& m) {
   m_ = &m;
-  w_ = std::move(w);
+  w_.swap(w);  // Eigen's sparse matrices have no move
   w_.makeCompressed();
   ready_ = false;
   SolveReport rep;

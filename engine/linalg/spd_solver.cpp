@@ -2,7 +2,6 @@
 // a Cholesky factor of an earlier matrix (refactorised when it no longer helps enough), or a
 // direct solve every time.
 #include <algorithm>
-#include <utility>
 
 #include "linalg/vector_ops.hpp"
 
@@ -81,7 +80,7 @@ SolveReport SpdSolver::solve(const SparseMatrix& a, const Vector& b, Vector& x, 
   if (coarse_space) {
     SparseMatrix w = coarse_space();
     const int64_t columns = w.cols();
-    if (columns > 0 && 4 * columns <= a.rows() && coarse_.setup(a, std::move(w), factor_).ok()) {
+    if (columns > 0 && 4 * columns <= a.rows() && coarse_.setup(a, w, factor_).ok()) {
       m = &coarse_;
       coarse_columns_ = columns;
     }

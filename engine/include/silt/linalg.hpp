@@ -172,9 +172,10 @@ class CholeskyFactor final : public Preconditioner {
 class CoarseCorrection final : public Preconditioner {
  public:
   // E = W^T A W, held to a relative 1e-10 above its diagonal (so that dependent columns of W, a
-  // self-stressed cluster of contacts, leave it definite), and its factor; A W is kept, m by
-  // reference. Not ok when E could not be factorised: apply() then applies M alone.
-  SolveReport setup(const SparseMatrix& a, SparseMatrix w, const Preconditioner& m);
+  // self-stressed cluster of contacts, leave it definite), and its factor; W is taken (w is left
+  // with the previous one), A W kept, m kept by reference. Not ok when E could not be factorised:
+  // apply() then applies M alone.
+  SolveReport setup(const SparseMatrix& a, SparseMatrix& w, const Preconditioner& m);
   void apply(const Vector& r, Vector& z) const override;
   int64_t columns() const { return w_.cols(); }
   bool ready() const { return ready_; }

@@ -109,7 +109,8 @@ TEST_CASE("a coarse correction on the turned stiff directions keeps an old facto
   CoarseCorrection cc;
   const SparseMatrix w = stiff_directions(l, 0.01);
   REQUIRE(w.cols() > 150);
-  REQUIRE(cc.setup(a1, w, old).ok());
+  SparseMatrix taken = w;  // setup takes its W
+  REQUIRE(cc.setup(a1, taken, old).ok());
   CHECK(cc.ready());
   CHECK(cc.columns() == w.cols());
   Vector x_cc = Vector::Zero(a1.rows());
@@ -132,7 +133,8 @@ TEST_CASE("a coarse correction on the turned stiff directions keeps an old facto
   // Every column twice (a self-stressed cluster of contacts makes W's columns dependent): E is
   // held definite, and the solve converges as well.
   CoarseCorrection twice;
-  REQUIRE(twice.setup(a1, stiff_directions(l, 0.01, true), old).ok());
+  SparseMatrix doubled = stiff_directions(l, 0.01, true);
+  REQUIRE(twice.setup(a1, doubled, old).ok());
   Vector x_tw = Vector::Zero(a1.rows());
   const SolveReport r_tw = conjugate_gradient(op, b, x_tw, opt, &twice);
   CAPTURE(r_tw.iterations);
@@ -142,7 +144,8 @@ TEST_CASE("a coarse correction on the turned stiff directions keeps an old facto
 
   // No columns: the factor alone, the same bits.
   CoarseCorrection none;
-  CHECK(none.setup(a1, SparseMatrix(a1.rows(), 0), old).ok());
+  SparseMatrix empty(a1.rows(), 0);
+  CHECK(none.setup(a1, empty, old).ok());
   CHECK_FALSE(none.ready());
   Vector z_none, z_old;
   none.apply(b, z_none);
