@@ -80,9 +80,13 @@ PasteMemory estimate_paste_memory(const Model& m) {
 
   // Xi's pattern, as ResistanceSystem builds it: every diagonal entry, the whole diagonal block
   // of a connected grain, the two blocks of every connection, and the box rows and columns of the
-  // connected grains.
-  e.entries = n_linked * pg * pg + (n - n_linked) * pg + 2 * c * pg * pg + nb;
-  if (c > 0 && nb > 0) e.entries += 2 * n_linked * pg * nb + nb * nb - nb;
+  // connected grains (for `b` unknowns a grain).
+  auto pattern_entries = [&](int64_t b) {
+    int64_t k = n_linked * b * b + (n - n_linked) * b + 2 * c * b * b + nb;
+    if (c > 0 && nb > 0) k += 2 * n_linked * b * nb + nb * nb - nb;
+    return k;
+  };
+  e.entries = pattern_entries(pg);
 
   // CHOLMOD's analysis of the grains' blocks (the box's strain rates one more block, dense).
   const int64_t nodes = n + (nb > 0 ? 1 : 0);
@@ -102,9 +106,19 @@ PasteMemory estimate_paste_memory(const Model& m) {
   linalg::SparseMatrix pattern(nodes, nodes);
   pattern.setFromTriplets(t.begin(), t.end());
   const bool factored = p.solver.method != linalg::Method::kCg;
+  // With the rotations' own blocks only (factor_pcg), the factor is the translations' (dim a
+  // grain) and a dense rot x rot block per grain, which fills nothing in.
+  const bool own = p.own_rotations && p.solver.method == linalg::Method::kFactorPcg;
+  const int64_t fb = own ? l.dim : pg;
   linalg::FactorSize f;
-  if (factored) f = linalg::block_factor_size(pattern, static_cast<int>(pg));
+  if (factored) f = linalg::block_factor_size(pattern, static_cast<int>(fb));
+  if (factored && own) {
+    f.entries += n * l.rot * l.rot;
+    f.integers += 3 * n * l.rot;
+  }
   e.factor = f.factor_bytes();
+  // The factorised matrix's entries: Xi's, or the translations' and the rotations' own blocks.
+  const int64_t factored_entries = own ? pattern_entries(fb) + n * l.rot * l.rot : e.entries;
 
   // Held between steps: the matrix (values and rows, column starts), each connection's local
   // G^T xi G and the positions it adds into (local_size^2 each, 8 and 4 bytes), the connections themselves, the
@@ -116,11 +130,12 @@ PasteMemory estimate_paste_memory(const Model& m) {
   const double grains = static_cast<double>(n);
   e.held = 12 * dnz + 4 * dn + 12 * nl * nl * dc + dc * (sizeof(Connection) + 12) + 4 * dn + 20 * 8 * dn + 24 * grains +
            4 * (2 * dc + grains);  // and the pattern's work arrays (per grain, per connection end)
-  if (p.solver.method == linalg::Method::kFactorPcg) e.held += 2 * 8 * (3 + dn + 2 * dnz);
+  if (p.solver.method == linalg::Method::kFactorPcg)
+    e.held += 2 * 8 * (3 + dn + 2 * static_cast<double>(factored_entries));
   // Within a step: the numerical factorisation's update matrix (with a sparser copy of Xi when
   // only the stiff connections are factorised); a new pattern is written in place.
   double factor_peak = factored ? f.workspace_bytes() + 8 * dn : 0;
-  if (factored && p.factor_gap_over_a < p.h_max_over_a) factor_peak += 12 * dnz;
+  if (factored && (p.factor_gap_over_a < p.h_max_over_a || own)) factor_peak += 12 * dnz;
   e.transient = factor_peak;
   return e;
 }

@@ -29,6 +29,10 @@ struct PasteParams {
   // factor whole, the others by their diagonal blocks only (ResistanceSystem::sparsified);
   // h_max / a or more: the whole matrix.
   double factor_gap_over_a = 0.5;
+  // factor_pcg: the factor leaves out every coupling of a grain's rotation (to the translations,
+  // the box and the other rotations) but its own diagonal block (ResistanceSystem::sparsified):
+  // in 3D a factor a quarter the size, for more CG iterations (lubrication.factor_rotations).
+  bool own_rotations = false;
   // factor_pcg: the rows of G along which a connection resists more than this times its xi_T
   // form the coarse space of a linalg::CoarseCorrection around the factor (stiff_directions); 0: none.
   double coarse_ratio = 0;

@@ -265,17 +265,19 @@ void lubrication_solve(const Model& m, State& s, PasteWorkspace& w, bool setup) 
   w.fresh = false;
   const int64_t factorizations_before = w.solver.refactorizations();
   w.solver.on_factor = [&factor](const linalg::SparseMatrix& a) { store_matrix(a, factor); };
-  // A factor of the stiff connections alone (gaps below factor_gap) when the others are many.
+  // A factor of the stiff connections alone (gaps below factor_gap) when the others are many,
+  // and of each grain's own rotation block only when the rotations are left out of it.
   w.solver.factor_source = nullptr;
-  if (p.factor_gap_over_a < p.h_max_over_a)
-    w.solver.factor_source = [&w, &cs, &s, &p]() {
-      std::vector<uint8_t> keep(cs.size());
-      for (size_t k = 0; k < cs.size(); ++k) {
+  const bool sparser = p.factor_gap_over_a < p.h_max_over_a;
+  if (sparser || p.own_rotations)
+    w.solver.factor_source = [&w, &cs, &s, &p, sparser]() {
+      std::vector<uint8_t> keep(cs.size(), 1);
+      for (size_t k = 0; k < cs.size() && sparser; ++k) {
         const Connection& c = cs[k];
         const double dist = std::sqrt(c.r[0] * c.r[0] + c.r[1] * c.r[1] + c.r[2] * c.r[2]);
         keep[k] = dist - s.particle_r[c.i] - s.particle_r[c.j] < p.factor_gap_over_a * p.a;
       }
-      return w.system.sparsified(keep);
+      return w.system.sparsified(keep, p.own_rotations);
     };
   w.solver.coarse_space = nullptr;
   if (p.coarse_ratio > 0)

@@ -301,7 +301,7 @@ void ResistanceSystem::add_block(const Connection& c, const double* loc, const i
   }
 }
 
-linalg::SparseMatrix ResistanceSystem::sparsified(const std::vector<uint8_t>& keep) const {
+linalg::SparseMatrix ResistanceSystem::sparsified(const std::vector<uint8_t>& keep, bool own_rotations) const {
   linalg::SparseMatrix m = a_;
   double* val = m.valuePtr();
   const int n = local_size(layout_), p = layout_.per_grain;
@@ -313,6 +313,19 @@ linalg::SparseMatrix ResistanceSystem::sparsified(const std::vector<uint8_t>& ke
       for (int q = 0; q < p; ++q) {
         val[pos[r * n + p + q]] = 0;
         val[pos[(p + q) * n + r]] = 0;
+      }
+  }
+  if (own_rotations) {
+    const int d = layout_.dim;
+    const int64_t grains = layout_.grains * p;
+    auto rotation = [&](int64_t k) { return k < grains && k % p >= d; };
+    const int* rows = m.innerIndexPtr();
+    const int* outer = m.outerIndexPtr();
+    for (int64_t col = 0; col < m.outerSize(); ++col)
+      for (int q = outer[col]; q < outer[col + 1]; ++q) {
+        const int64_t row = rows[q];
+        const bool rr = rotation(row), rc = rotation(col);
+        if ((rr || rc) && !(rr && rc && row / p == col / p)) val[q] = 0;
       }
   }
   m.prune(0.0, 0.0);

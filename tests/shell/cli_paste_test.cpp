@@ -41,7 +41,7 @@ TEST_CASE("silt check refuses up front a paste whose factor would not fit, sayin
 #endif
   // The 4,096 spheres of paste_3d_shear with the address space limited to 384 MiB (the program
   // takes about 250 MiB of it before it reads the scene, the grains 17 MiB): the paste's
-  // estimate (0.54 GiB, 0.3 of it the factor) is above what is left.
+  // estimate (0.2 GiB, 77 MiB of it the factor of the translations) is above what is left.
   const Result r = sh("ulimit -v 393216; " + silt_binary() + " check " + scene_path("paste_3d_shear"));
   CAPTURE(r.out);
   CHECK(r.code == 2);
