@@ -67,6 +67,19 @@ linalg::SparseMatrix pattern_from_triplets(const SystemLayout& l, const std::vec
   return a;
 }
 
+// The unknowns of `grains` grains with the first `boxes` box lengths controlled.
+SystemLayout test_layout(int dim, int64_t grains, int boxes, bool shear) {
+  bool controlled[3] = {false, false, false};
+  for (int a = 0; a < boxes; ++a) controlled[a] = true;
+  return make_layout(dim, grains, controlled, shear);
+}
+
+std::vector<double> test_radii(int64_t grains, std::mt19937_64& rng) {
+  std::vector<double> radius(static_cast<size_t>(grains));
+  for (auto& r : radius) r = 0.4 + 0.1 * std::uniform_real_distribution<double>()(rng);
+  return radius;
+}
+
 }  // namespace
 
 TEST_CASE("paste: the resistance pattern written by columns is the triplets' pattern, its values their sums") {
@@ -78,11 +91,8 @@ TEST_CASE("paste: the resistance pattern written by columns is the triplets' pat
         CAPTURE(boxes);
         CAPTURE(shear);
         const int64_t grains = 40;
-        bool controlled[3] = {false, false, false};
-        for (int a = 0; a < boxes; ++a) controlled[a] = true;
-        const SystemLayout l = make_layout(dim, grains, controlled, shear);
-        std::vector<double> radius(grains);
-        for (auto& r : radius) r = 0.4 + 0.1 * std::uniform_real_distribution<double>()(rng);
+        const SystemLayout l = test_layout(dim, grains, boxes, shear);
+        const std::vector<double> radius = test_radii(grains, rng);
         ResistanceSystem sys;
         // Several graphs in turn (the pattern rebuilt each time), the empty one included.
         for (int count : {0, 1, 30, 80, 30}) {
@@ -111,47 +121,47 @@ TEST_CASE(
     "paste: the factor's matrix with each grain's own rotation block keeps Xi's other entries, "
     "drops every coupling of a rotation, and its spectrum lies within Xi's") {
   std::mt19937_64 rng(23);
-  for (int dim : {2, 3})
-    for (int boxes : {0, dim})
-      for (bool shear : {false, true}) {
-        CAPTURE(dim);
-        CAPTURE(boxes);
-        CAPTURE(shear);
-        const int64_t grains = 24;
-        bool controlled[3] = {false, false, false};
-        for (int a = 0; a < boxes; ++a) controlled[a] = true;
-        const SystemLayout l = make_layout(dim, grains, controlled, shear);
-        std::vector<double> radius(grains);
-        for (auto& r : radius) r = 0.4 + 0.1 * std::uniform_real_distribution<double>()(rng);
-        ResistanceSystem sys;
-        const std::vector<Connection> cs = pattern_test_graph(dim, grains, 50, rng);
-        sys.assemble(l, cs, radius, 0.3);
-        // Definite, as a pinned or dragged Xi is: the identity added.
-        for (int64_t k = 0; k < l.size(); ++k) sys.matrix().valuePtr()[sys.diagonal_position(k)] += 1.0;
-        const Eigen::MatrixXd a(sys.matrix());
-        const Eigen::MatrixXd m(sys.sparsified(std::vector<uint8_t>(cs.size(), 1), true));
-        const int p = l.per_grain;
-        auto rotation = [&](int64_t k) { return k < grains * p && k % p >= dim; };
-        int kept = 0, dropped = 0;
-        for (int64_t r = 0; r < l.size(); ++r)
-          for (int64_t c = 0; c < l.size(); ++c) {
-            const bool coupling = (rotation(r) || rotation(c)) && !(rotation(r) && rotation(c) && r / p == c / p);
-            if (coupling) {
-              CHECK(m(r, c) == 0);
-              dropped += a(r, c) != 0;
-            } else {
-              CHECK(m(r, c) == a(r, c));
-              kept += a(r, c) != 0;
-            }
-          }
-        CHECK(kept > 0);
-        CHECK(dropped > 0);
-        // Principal submatrices of a symmetric matrix have their eigenvalues within its range.
-        const Eigen::VectorXd ea = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(a).eigenvalues();
-        const Eigen::VectorXd em = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(m).eigenvalues();
-        CHECK(em.minCoeff() >= ea.minCoeff() * (1 - 1e-12));
-        CHECK(em.maxCoeff() <= ea.maxCoeff() * (1 + 1e-12));
-        // The whole matrix when the rotations are kept and every connection too.
-        CHECK(Eigen::MatrixXd(sys.sparsified(std::vector<uint8_t>(cs.size(), 1), false)) == a);
+  struct Case {
+    int dim, boxes;
+    bool shear;
+  };
+  for (const Case& variant : {Case{2, 0, false}, Case{2, 2, true}, Case{3, 0, false}, Case{3, 0, true},
+                              Case{3, 3, false}, Case{3, 3, true}}) {
+    const int dim = variant.dim, boxes = variant.boxes;
+    const bool shear = variant.shear;
+    INFO("dim " << dim << ", " << boxes << " box strain rates, shear " << shear);
+    const int64_t grains = 24;
+    const SystemLayout l = test_layout(dim, grains, boxes, shear);
+    const std::vector<double> radius = test_radii(grains, rng);
+    ResistanceSystem sys;
+    const std::vector<Connection> cs = pattern_test_graph(dim, grains, 50, rng);
+    sys.assemble(l, cs, radius, 0.3);
+    // Definite, as a pinned or dragged Xi is: the identity added.
+    for (int64_t k = 0; k < l.size(); ++k) sys.matrix().valuePtr()[sys.diagonal_position(k)] += 1.0;
+    const Eigen::MatrixXd a(sys.matrix());
+    const Eigen::MatrixXd m(sys.sparsified(std::vector<uint8_t>(cs.size(), 1), true));
+    const int p = l.per_grain;
+    auto rotation = [&](int64_t k) { return k < grains * p && k % p >= dim; };
+    int kept = 0, dropped = 0;
+    for (int64_t r = 0; r < l.size(); ++r)
+      for (int64_t c = 0; c < l.size(); ++c) {
+        const bool coupling = (rotation(r) || rotation(c)) && !(rotation(r) && rotation(c) && r / p == c / p);
+        if (coupling) {
+          CHECK(m(r, c) == 0);
+          dropped += a(r, c) != 0;
+        } else {
+          CHECK(m(r, c) == a(r, c));
+          kept += a(r, c) != 0;
+        }
       }
+    CHECK(kept > 0);
+    CHECK(dropped > 0);
+    // Principal submatrices of a symmetric matrix have their eigenvalues within its range.
+    const Eigen::VectorXd ea = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(a).eigenvalues();
+    const Eigen::VectorXd em = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(m).eigenvalues();
+    CHECK(em.minCoeff() >= ea.minCoeff() * (1 - 1e-12));
+    CHECK(em.maxCoeff() <= ea.maxCoeff() * (1 + 1e-12));
+    // The whole matrix when the rotations are kept and every connection too.
+    CHECK(Eigen::MatrixXd(sys.sparsified(std::vector<uint8_t>(cs.size(), 1), false)) == a);
+  }
 }
