@@ -21,12 +21,15 @@
 //   cost         Time per step and per unit strain against N (224 to 57,344) at Vi = 1e-2,
 //                h_min/a = 1e-2: fitted exponent, memory per grain.
 //   cost3d       The same in 3D: paste_3d_shear's spheres, 512 to 13,824 (1e-3, Phi = 0.45).
+//   knobs3d      The 3D factor (whole or the translations'), its refactorisation threshold and
+//                the tolerance on paste_3d_shear: cost against the error in mu.
 // Every row is appended to bench/results/paste.csv. --quick shortens every run (a smoke test).
 #include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <limits>
 #include <map>
 #include <numbers>
 #include <sstream>
@@ -286,8 +289,9 @@ void knobs(const Args& a) {
 }
 
 // A sheared paste from its prepared packing: through `transient` of strain, then averaged over
-// `measured` of strain (samples every 0.002 of strain).
-Row shear_run(const Model& m, const State& packing, int threads, double transient, double measured) {
+// `measured` of strain (samples every 0.002 of strain; mu's samples also into `mu_samples`).
+Row shear_run(const Model& m, const State& packing, int threads, double transient, double measured,
+              std::vector<double>* mu_samples = nullptr) {
   Simulation sim(m, threads);
   sim.restore(packing);
   Row r;
@@ -326,6 +330,7 @@ Row shear_run(const Model& m, const State& packing, int threads, double transien
   r.z_star = measure(m, sim.state()).z_star;
   r.mob = paste::friction_mobilisation(sim.state());
   solver_counts(sim.state(), r);
+  if (mu_samples) *mu_samples = mu;
   return r;
 }
 
@@ -501,6 +506,51 @@ void cost3d(const Args& a) {
   std::printf("cost per unit strain ~ N^%.2f (target <= 1.5 in 3D; the thesis: 2.5)\n", fitted_exponent(lx, ly));
 }
 
+// The 3D factor's knobs: which factor (the whole Xi, or the translations' with each rotation's
+// own block) and when it is refactorised, and the tolerance, on paste_3d_shear at its h_min/a =
+// 1e-3: cost against the error in mu (each sample against a run of the whole factor to 1e-12).
+void knobs3d(const Args& a) {
+  const double strain = a.quick ? 0.004 : 0.07;
+  std::printf("\n3D factor knobs: paste_3d_shear (4,096 spheres, h_min/a = 1e-3), %g of strain\n", strain);
+  std::printf("%-36s %8s %9s %8s %8s %12s  %s\n", "case", "steps", "wall s", "iters", "refact", "max |dmu|", "status");
+  struct K {
+    std::string name;
+    std::vector<std::string> sets;
+  };
+  const std::string whole = "lubrication.factor_rotations=\"whole\"";
+  const std::vector<K> cases = {
+      {"reference: whole; tolerance 1e-12", {whole, "lubrication.tolerance=1e-12"}},
+      {"whole; refactor 15", {whole}},
+      {"own; refactor 20", {"lubrication.refactor_iterations=20"}},
+      {"own; refactor 25", {"lubrication.refactor_iterations=25"}},
+      {"own; refactor 30 (default)", {}},
+      {"own; refactor 40", {"lubrication.refactor_iterations=40"}},
+      {"own; refactor 60", {"lubrication.refactor_iterations=60"}},
+      {"own; tolerance 1e-6", {"lubrication.tolerance=1e-6"}},
+      {"own; tolerance 1e-4", {"lubrication.tolerance=1e-4"}},
+      {"whole; tolerance 1e-4", {whole, "lubrication.tolerance=1e-4"}},
+  };
+  const State packing = prepare_packing(model_of(scene("paste_3d_shear"), a, {}), a.threads);
+  std::vector<double> reference;
+  for (const K& k : cases) {
+    const Model m = model_of(scene("paste_3d_shear"), a, k.sets);
+    std::vector<double> mu;
+    Row r = shear_run(m, packing, a.threads, 0, strain, &mu);
+    if (reference.empty()) reference = mu;
+    double err = 0;
+    for (size_t i = 0; i < mu.size() && i < reference.size(); ++i) err = std::max(err, std::abs(mu[i] - reference[i]));
+    if (mu.size() != reference.size()) err = std::numeric_limits<double>::quiet_NaN();
+    r.section = "knobs3d";
+    r.name = k.name;
+    r.h_min = m.params.get<paste::PasteParams>().h_min_over_a;
+    r.thesis = "max |mu - mu_ref| " + num(err) + " over " + std::to_string(mu.size()) + " samples";
+    write(r);
+    std::printf("%-36s %8lld %9.1f %8.2f %8lld %12.3g  %s\n", k.name.c_str(), static_cast<long long>(r.steps), r.wall,
+                r.iters, static_cast<long long>(r.refactor), err, r.status.c_str());
+    std::fflush(stdout);
+  }
+}
+
 // Cost against N.
 void cost(const Args& a) {
   std::printf("\nCost against N: Vi = 1e-2, h_min/a = 1e-2, a packing of 224 and packings of 896 tiled k x k, %s\n",
@@ -559,9 +609,8 @@ int main(int argc, char** argv) {
     std::printf("paste bench on %s (%s), %d thread(s)%s\n", bench::host().c_str(), bench::cpu_model().c_str(),
                 a.threads, a.quick ? ", quick" : "");
     const std::vector<std::pair<std::string, void (*)(const Args&)>> sections = {
-        {"iso", iso},      {"equilibrium", equilibrium}, {"knobs", knobs},
-        {"shear", shear},  {"cyclic", cyclic},           {"cost", cost},
-        {"cost3d", cost3d}};
+        {"iso", iso},   {"equilibrium", equilibrium}, {"knobs", knobs},    {"shear", shear}, {"cyclic", cyclic},
+        {"cost", cost}, {"cost3d", cost3d},           {"knobs3d", knobs3d}};
     for (const auto& [name, fn] : sections)
       if (a.only.empty() || a.only == name) fn(a);
     return 0;
