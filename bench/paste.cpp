@@ -104,6 +104,12 @@ void write(const Row& r) {
   bench::append_csv(kCsv, kHeader, o.str());
 }
 
+// A case of a knobs section: its name and the scene values it sets.
+struct Knob {
+  std::string name;
+  std::vector<std::string> sets;
+};
+
 // The solver's counters of a state.
 void solver_counts(const State& s, Row& r) {
   const auto& v = s.module_field(paste::paste_fields().solver);
@@ -247,11 +253,7 @@ void knobs(const Args& a) {
   std::printf("\nKnobs at h_min/a = 1e-3, N = 224, one packing: cost against the equilibrium reached\n");
   std::printf("%-34s %9s %9s %9s %8s %8s %8s %8s\n", "case", "T P/eta", "steps", "wall s", "iters", "refact", "Phi",
               "z*");
-  struct K {
-    std::string name;
-    std::vector<std::string> sets;
-  };
-  const std::vector<K> cases = {
+  const std::vector<Knob> cases = {
       {"dt_change=0.003", {"lubrication.dt_change=0.003"}},
       {"dt_change=0.01 (default)", {}},
       {"dt_change=0.03", {"lubrication.dt_change=0.03"}},
@@ -266,7 +268,7 @@ void knobs(const Args& a) {
   };
   State packing;
   bool have = false;
-  for (const K& k : cases) {
+  for (const Knob& k : cases) {
     std::vector<std::string> sets = k.sets;
     sets.push_back("lubrication.h_min_over_a=1e-3");
     const Model m = model_of(scene("paste_iso"), a, sets);
@@ -513,12 +515,8 @@ void knobs3d(const Args& a) {
   const double strain = a.quick ? 0.004 : 0.07;
   std::printf("\n3D factor knobs: paste_3d_shear (4,096 spheres, h_min/a = 1e-3), %g of strain\n", strain);
   std::printf("%-36s %8s %9s %8s %8s %12s  %s\n", "case", "steps", "wall s", "iters", "refact", "max |dmu|", "status");
-  struct K {
-    std::string name;
-    std::vector<std::string> sets;
-  };
   const std::string whole = "lubrication.factor_rotations=\"whole\"";
-  const std::vector<K> cases = {
+  const std::vector<Knob> cases = {
       {"reference: whole; tolerance 1e-12", {whole, "lubrication.tolerance=1e-12"}},
       {"whole; refactor 15", {whole}},
       {"own; refactor 20", {"lubrication.refactor_iterations=20"}},
@@ -532,7 +530,7 @@ void knobs3d(const Args& a) {
   };
   const State packing = prepare_packing(model_of(scene("paste_3d_shear"), a, {}), a.threads);
   std::vector<double> reference;
-  for (const K& k : cases) {
+  for (const Knob& k : cases) {
     const Model m = model_of(scene("paste_3d_shear"), a, k.sets);
     std::vector<double> mu;
     Row r = shear_run(m, packing, a.threads, 0, strain, &mu);
