@@ -140,7 +140,9 @@ int main(int argc, char** argv) {
         std::printf("%6d %7.0e %8lld %10lld  %-26s %9.4f %9.6f %6d %9.2e %10.1f\n", n, h_min,
                     static_cast<long long>(a1.rows()), static_cast<long long>(a1.nonZeros()), method, setup, solve,
                     iters, residual, mib);
-        out << n << "," << h_min << "," << a1.rows() << "," << a1.nonZeros() << "," << method << "," << setup << ","
+        std::string name = method;  // no comma inside a CSV field
+        std::replace(name.begin(), name.end(), ',', ';');
+        out << n << "," << h_min << "," << a1.rows() << "," << a1.nonZeros() << "," << name << "," << setup << ","
             << solve << "," << iters << "," << residual << "," << mib << "\n";
       };
       // The previous step's factor.
