@@ -121,15 +121,15 @@ PasteMemory estimate_paste_memory(const Model& m) {
   const int64_t factored_entries = own ? pattern_entries(fb) + n * l.rot * l.rot : e.entries;
 
   // Held between steps: the matrix (values and rows, column starts), each connection's local
-  // G^T xi G and the positions it adds into (local_size^2 each, 8 and 4 bytes), the connections themselves, the
+  // G^T xi G (local_size^2 doubles) and its grains' slots (4 x 4 bytes), the connections themselves, the
   // diagonal's positions, a score of vectors of the unknowns (CG's, the factor's solves, the right-hand side, the
   // adaptive step's copies); with factor_pcg, the state's copy of the factorised matrix (n, nnz,
   // columns, rows, values as doubles), twice (the restart point holds the state too).
   const auto dn = static_cast<double>(size), dc = static_cast<double>(c), dnz = static_cast<double>(e.entries);
   const double nl = local_size(l);
   const double grains = static_cast<double>(n);
-  e.held = 12 * dnz + 4 * dn + 12 * nl * nl * dc + dc * (sizeof(Connection) + 12) + 4 * dn + 20 * 8 * dn + 24 * grains +
-           4 * (2 * dc + grains);  // and the pattern's work arrays (per grain, per connection end)
+  e.held = 12 * dnz + 4 * dn + 8 * nl * nl * dc + dc * (sizeof(Connection) + 12 + 16) + 4 * dn + 20 * 8 * dn +
+           24 * grains + 4 * (2 * dc + grains);  // and the pattern's work arrays (per grain, per connection end)
   if (p.solver.method == linalg::Method::kFactorPcg)
     e.held += 2 * 8 * (3 + dn + 2 * static_cast<double>(factored_entries));
   // Within a step: the numerical factorisation's update matrix (with a sparser copy of Xi when

@@ -139,7 +139,7 @@ void find_connections(const State& s, const LubricationLaw& law, Links& out) {
 // setFromTriplets on the same triplets (a test compares them).
 void ResistanceSystem::build_pattern(const std::vector<Connection>& cs) {
   const SystemLayout& l = layout_;
-  const int n = local_size(l), p = l.per_grain, nb = l.n_box;
+  const int p = l.per_grain, nb = l.n_box;
   const int64_t grains = l.grains, size = l.size();
   // Each grain's partners, itself included, sorted and unique (CSR over grains).
   std::vector<int64_t>&start = start_, &rank = rank_, &partners = partners_;
@@ -233,22 +233,15 @@ void ResistanceSystem::build_pattern(const std::vector<Connection>& cs) {
     const bool grain = k < grains * p && rank[k / p] >= 0;
     diag_pos_[k] = position(k, k, grain ? slot(k / p, k / p) : 0);
   }
-  pos_.resize(cs.size() * static_cast<size_t>(n * n));
+  // Each connection's blocks are found from its grains' slots (add_block): slots_[k][2 s + t] is
+  // the slot of side t's grain among side s's grain's partners (side 0 grain i, side 1 grain j).
+  slots_.resize(cs.size());
   for (size_t k = 0; k < cs.size(); ++k) {
-    // side 0 is grain i, side 1 grain j, side 2 the box; slots[column side][row side]
-    const int64_t gi = cs[k].i, gj = cs[k].j;
-    const int64_t slots[2][2] = {{slot(gi, gi), slot(gi, gj)}, {slot(gj, gi), slot(gj, gj)}};
-    auto side = [p](int q) { return q < p ? 0 : q < 2 * p ? 1 : 2; };
-    for (int q = 0; q < n; ++q) {
-      const int64_t gq = local_to_global(l, cs[k], q);
-      for (int r = 0; r < n; ++r) {
-        const int64_t gr = local_to_global(l, cs[k], r);
-        const int sq = side(q), sr = side(r);
-        const int64_t row_slot = sq < 2 && sr < 2 ? slots[sq][sr] : 0;
-        pos_[k * n * n + r * n + q] = gq >= 0 && gr >= 0 ? position(gr, gq, row_slot) : -1;
-      }
-    }
+    const int64_t g[2] = {cs[k].i, cs[k].j};
+    for (int a = 0; a < 2; ++a)
+      for (int b = 0; b < 2; ++b) slots_[k][2 * a + b] = static_cast<int32_t>(slot(g[a], g[b]));
   }
+  connected_ = connected;
   pairs_.resize(cs.size());
   for (size_t k = 0; k < cs.size(); ++k) pairs_[k] = {cs[k].i, cs[k].j};
 }
@@ -272,7 +265,7 @@ bool ResistanceSystem::assemble(const SystemLayout& l, const std::vector<Connect
   double* val = a_.valuePtr();
   std::fill(val, val + a_.nonZeros(), 0.0);
   shear_rhs_.setZero(l.size());
-  for (size_t k = 0; k < cs.size(); ++k) add_block(cs[k], &local_[k * n * n], &pos_[k * n * n], shear_rate, shear_rhs_);
+  for (size_t k = 0; k < cs.size(); ++k) add_block(cs[k], &local_[k * n * n], slots_[k], shear_rate, shear_rhs_);
   return !same;
 }
 
@@ -284,36 +277,58 @@ void ResistanceSystem::add_contact_stiffness(const std::vector<Connection>& cs, 
     const Connection& c = cs[k];
     if (c.k_n == 0 && c.k_t == 0) continue;
     local_block(layout_, c, radius[c.i], radius[c.j], c.k_n, c.k_t, loc.data());
-    add_block(c, loc.data(), &pos_[k * n * n], shear_rate, rhs);
+    add_block(c, loc.data(), slots_[k], shear_rate, rhs);
   }
 }
 
-void ResistanceSystem::add_block(const Connection& c, const double* loc, const int32_t* pos, double shear_rate,
-                                 linalg::Vector& rhs) {
-  const int n = local_size(layout_);
+void ResistanceSystem::add_block(const Connection& c, const double* loc, const std::array<int32_t, 4>& slot,
+                                 double shear_rate, linalg::Vector& rhs) {
+  const SystemLayout& l = layout_;
+  const int n = local_size(l), p = l.per_grain, nb = l.n_box;
   double* val = a_.valuePtr();
-  for (int r = 0; r < n; ++r) {
-    const int64_t gr = local_to_global(layout_, c, r);
-    if (gr < 0) continue;
-    for (int q = 0; q < n; ++q)
-      if (pos[r * n + q] >= 0) val[pos[r * n + q]] += loc[r * n + q];
-    if (layout_.shear) rhs[gr] -= loc[r * n + (n - 1)] * shear_rate;
+  const int* outer = a_.outerIndexPtr();
+  const int64_t g[2] = {c.i, c.j};
+  // Column a of side s's grain: the p rows of each side's grain at its slot, then the box's rows.
+  // Local entry (row r, column q) is loc[r n + q]; each entry of the matrix takes one addition.
+  for (int s = 0; s < 2; ++s)
+    for (int a = 0; a < p; ++a) {
+      const int q = s * p + a;
+      double* col = val + outer[g[s] * p + a];
+      for (int t = 0; t < 2; ++t) {
+        double* v = col + int64_t{slot[2 * s + t]} * p;
+        for (int b = 0; b < p; ++b) v[b] += loc[(t * p + b) * n + q];
+      }
+      double* vb = col + partners_[g[s]] * p;
+      for (int k = 0; k < nb; ++k) vb[k] += loc[(2 * p + k) * n + q];
+    }
+  // A strain rate's column: the p rows of each grain at its rank among the connected grains, then
+  // the box's rows.
+  for (int k = 0; k < nb; ++k) {
+    const int q = 2 * p + k;
+    double* col = val + outer[l.box_unknown(k)];
+    for (int t = 0; t < 2; ++t) {
+      double* v = col + rank_[g[t]] * p;
+      for (int b = 0; b < p; ++b) v[b] += loc[(t * p + b) * n + q];
+    }
+    double* vb = col + connected_ * p;
+    for (int m = 0; m < nb; ++m) vb[m] += loc[(2 * p + m) * n + q];
   }
+  if (l.shear)
+    for (int r = 0; r < n - 1; ++r) rhs[local_to_global(l, c, r)] -= loc[r * n + (n - 1)] * shear_rate;
 }
 
 linalg::SparseMatrix ResistanceSystem::sparsified(const std::vector<uint8_t>& keep, bool own_rotations) const {
   linalg::SparseMatrix m = a_;
   double* val = m.valuePtr();
-  const int n = local_size(layout_), p = layout_.per_grain;
+  const int p = layout_.per_grain;
   for (size_t k = 0; k < pairs_.size() && k < keep.size(); ++k) {
     if (keep[k]) continue;
-    const int32_t* pos = &pos_[k * n * n];
-    // The (i, j) and (j, i) blocks: local rows of one grain, columns of the other.
-    for (int r = 0; r < p; ++r)
-      for (int q = 0; q < p; ++q) {
-        val[pos[r * n + p + q]] = 0;
-        val[pos[(p + q) * n + r]] = 0;
-      }
+    // The (i, j) and (j, i) blocks: the rows of one grain in the columns of the other.
+    const int* outer = m.outerIndexPtr();
+    for (int a = 0; a < p; ++a) {
+      std::fill_n(val + outer[pairs_[k].first * int64_t{p} + a] + int64_t{slots_[k][1]} * p, p, 0.0);
+      std::fill_n(val + outer[pairs_[k].second * int64_t{p} + a] + int64_t{slots_[k][2]} * p, p, 0.0);
+    }
   }
   if (own_rotations) {
     const int d = layout_.dim;
@@ -377,7 +392,7 @@ void ResistanceSystem::pin(int64_t k, double scale, linalg::Vector& rhs) {
 }
 
 size_t ResistanceSystem::bytes() const {
-  return static_cast<size_t>(a_.nonZeros()) * (sizeof(double) + sizeof(int)) + pos_.size() * sizeof(int32_t) +
+  return static_cast<size_t>(a_.nonZeros()) * (sizeof(double) + sizeof(int)) + slots_.size() * sizeof(slots_[0]) +
          local_.size() * sizeof(double) + diag_pos_.size() * sizeof(int32_t) +
          pairs_.size() * sizeof(std::pair<int32_t, int32_t>);
 }

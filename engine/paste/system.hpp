@@ -1,7 +1,7 @@
 // The linear system of a lubricated paste, assembled from the connections of one configuration:
 // Xi = G^T xi G (Peyneau 2009 eq. 2.42-2.47, the per-connection algebra of paste/resistance.hpp)
-// over the unknowns of SystemLayout, stored as one sparse matrix whose pattern, and the
-// positions each connection adds into, are kept while the connected pairs stay the same.
+// over the unknowns of SystemLayout, stored as one sparse matrix whose pattern, and where each
+// connection's blocks are in it, are kept while the connected pairs stay the same.
 //
 // How the shear enters (the thesis does not say): the grains' velocities V are relative to the
 // affine flow of the box, u = epsdot . (x - lo) + gammadot (y - lo_y) e_x. The strain rates of
@@ -12,6 +12,7 @@
 // term -gammadot r_ij,y e_x added to -epsdot . r_ij.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -76,9 +77,9 @@ class ResistanceSystem {
   linalg::SparseMatrix a_;
   linalg::Vector shear_rhs_;
   std::vector<std::pair<int32_t, int32_t>> pairs_;  // the connected pairs of the pattern
-  // Per connection, per local (row, col) unknown pair: where it adds in the matrix's values, -1
-  // for none (the imposed shear's column). 32 bits, as the matrix's own indices.
-  std::vector<int32_t> pos_;
+  // Per connection, where its grains' blocks are in their columns (build_pattern).
+  std::vector<std::array<int32_t, 4>> slots_;
+  int64_t connected_ = 0;  // grains with a connection
   std::vector<int32_t> diag_pos_;
   // build_pattern's work arrays, kept: the pattern changes at nearly every step of a large
   // system, and fresh arrays would cost a page fault per page each time.
@@ -86,8 +87,10 @@ class ResistanceSystem {
   std::vector<int32_t> adj_;
   std::vector<double> local_;  // per connection, its local G^T xi G
   void build_pattern(const std::vector<Connection>& c);
-  // Add a connection's local block at its positions, its shear column times -shear_rate to rhs.
-  void add_block(const Connection& c, const double* local, const int32_t* pos, double shear_rate, linalg::Vector& rhs);
+  // Add a connection's local block into the matrix (its grains' slots from build_pattern), its
+  // shear column times -shear_rate to rhs.
+  void add_block(const Connection& c, const double* local, const std::array<int32_t, 4>& slot, double shear_rate,
+                 linalg::Vector& rhs);
 };
 
 // The local unknowns of a connection: grain i's, grain j's, the box strain rates, then the shear
