@@ -7,7 +7,7 @@ build_dir=${1:-build}
 shift $(( $# > 0 ? 1 : 0 ))
 
 packages=(build-essential cmake pkg-config libtbb-dev libeigen3-dev libsuitesparse-dev libosmesa6-dev
-          libopenblas-serial-dev libfftw3-dev libpng-dev doctest-dev libtomlplusplus-dev libcli11-dev nlohmann-json3-dev libfreetype-dev
+          libopenblas-serial-dev libfftw3-dev libxxhash-dev libpng-dev doctest-dev libtomlplusplus-dev libcli11-dev nlohmann-json3-dev libfreetype-dev
           fonts-dejavu-core libreadline-dev clang libclang-rt-14-dev clang-format clang-tidy)
 missing=()
 for p in "${packages[@]}"; do

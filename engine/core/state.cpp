@@ -1,6 +1,9 @@
 #include "silt/state.hpp"
 
+#include <new>
 #include <stdexcept>
+
+#include <xxhash.h>
 
 #include "core/rng.hpp"
 
@@ -66,21 +69,35 @@ State make_state(const Model& m) {
   return s;
 }
 
+namespace {
+
+// A field's bytes through XXH3 (64 bit): some 20 times as fast as FNV-1a, which takes a
+// multiplication a byte; the paste fingerprints its stored factor matrix (megabytes) at every
+// solve with it.
+template <class V>
+uint64_t xxh3_of(const V& v) {
+  XXH3_state_t* st = XXH3_createState();
+  if (!st) throw std::bad_alloc();
+  XXH3_64bits_reset(st);
+  field_bytes(v, [&](const void* p, size_t bytes) { XXH3_64bits_update(st, p, bytes); });
+  const uint64_t h = XXH3_64bits_digest(st);
+  XXH3_freeState(st);
+  return h;
+}
+
+}  // namespace
+
 uint64_t field_hash(const State& s, FieldId id) {
-  uint64_t h = 0xcbf29ce484222325ull;
+  uint64_t h = 0;
   for_each_field(s, [&](const FieldInfo& f, const auto& v) {
-    if (f.id == id) field_bytes(v, [&](const void* p, size_t bytes) { h = fnv1a(p, bytes, h); });
+    if (f.id == id) h = xxh3_of(v);
   });
   return h;
 }
 
 std::vector<uint64_t> field_hashes(const State& s) {
   std::vector<uint64_t> out;
-  for_each_field(s, [&](const FieldInfo&, const auto& v) {
-    uint64_t h = 0xcbf29ce484222325ull;
-    field_bytes(v, [&](const void* p, size_t bytes) { h = fnv1a(p, bytes, h); });
-    out.push_back(h);
-  });
+  for_each_field(s, [&](const FieldInfo&, const auto& v) { out.push_back(xxh3_of(v)); });
   return out;
 }
 

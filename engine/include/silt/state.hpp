@@ -182,11 +182,11 @@ void field_bytes(const std::vector<T>& v, G&& g) {
   if (n) g(v.data(), n * sizeof(T));
 }
 
-// FNV-1a hash of one field, and of every field: equal hashes mean bitwise equal states (every
-// field of the list is in it, and nothing else is state).
+// Hash of one field (XXH3), and of every field (FNV-1a, as the shell's `hash` prints it): equal
+// hashes mean bitwise equal states (every field of the list is in it, and nothing else is state).
 uint64_t field_hash(const State& s, FieldId id);
 uint64_t state_hash(const State& s);
-// Hash of every field, by id (the access check compares them around a stage).
+// Each field's field_hash, by id (the access check compares them around a stage).
 std::vector<uint64_t> field_hashes(const State& s);
 
 // A double array field by id (built-in or a module's); throws std::logic_error for another kind.
