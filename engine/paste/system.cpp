@@ -281,38 +281,66 @@ void ResistanceSystem::add_contact_stiffness(const std::vector<Connection>& cs, 
   }
 }
 
+namespace {
+
+// add_block's loops, with the unknowns a grain (P) and the box's strain rates (NB) known to the
+// compiler, which unrolls them: the same additions in the same order as with run-time sizes.
+template <int P, int NB>
+void add_local(double* val, const int* outer, const int64_t g[2], const std::array<int32_t, 4>& slot,
+               const int64_t partners[2], const int64_t rank[2], int64_t connected, int64_t box0, int n,
+               const double* loc) {
+  // Column a of side s's grain: the P rows of each side's grain at its slot, then the box's rows.
+  // Local entry (row r, column q) is loc[r n + q]; each entry of the matrix takes one addition.
+  for (int s = 0; s < 2; ++s)
+    for (int a = 0; a < P; ++a) {
+      const int q = s * P + a;
+      double* col = val + outer[g[s] * P + a];
+      for (int t = 0; t < 2; ++t) {
+        double* v = col + int64_t{slot[2 * s + t]} * P;
+        for (int b = 0; b < P; ++b) v[b] += loc[(t * P + b) * n + q];
+      }
+      double* vb = col + partners[s] * P;
+      for (int k = 0; k < NB; ++k) vb[k] += loc[(2 * P + k) * n + q];
+    }
+  // A strain rate's column: the P rows of each grain at its rank among the connected grains, then
+  // the box's rows.
+  for (int k = 0; k < NB; ++k) {
+    const int q = 2 * P + k;
+    double* col = val + outer[box0 + k];
+    for (int t = 0; t < 2; ++t) {
+      double* v = col + rank[t] * P;
+      for (int b = 0; b < P; ++b) v[b] += loc[(t * P + b) * n + q];
+    }
+    double* vb = col + connected * P;
+    for (int m = 0; m < NB; ++m) vb[m] += loc[(2 * P + m) * n + q];
+  }
+}
+
+template <int P>
+void add_local_p(int nb, double* val, const int* outer, const int64_t g[2], const std::array<int32_t, 4>& slot,
+                 const int64_t partners[2], const int64_t rank[2], int64_t connected, int64_t box0, int n,
+                 const double* loc) {
+  switch (nb) {
+    case 0: return add_local<P, 0>(val, outer, g, slot, partners, rank, connected, box0, n, loc);
+    case 1: return add_local<P, 1>(val, outer, g, slot, partners, rank, connected, box0, n, loc);
+    case 2: return add_local<P, 2>(val, outer, g, slot, partners, rank, connected, box0, n, loc);
+    default: return add_local<P, 3>(val, outer, g, slot, partners, rank, connected, box0, n, loc);
+  }
+}
+
+}  // namespace
+
 void ResistanceSystem::add_block(const Connection& c, const double* loc, const std::array<int32_t, 4>& slot,
                                  double shear_rate, linalg::Vector& rhs) {
   const SystemLayout& l = layout_;
-  const int n = local_size(l), p = l.per_grain, nb = l.n_box;
+  const int n = local_size(l);
+  const int64_t g[2] = {c.i, c.j};
+  const int64_t partners[2] = {partners_[c.i], partners_[c.j]}, rank[2] = {rank_[c.i], rank_[c.j]};
   double* val = a_.valuePtr();
   const int* outer = a_.outerIndexPtr();
-  const int64_t g[2] = {c.i, c.j};
-  // Column a of side s's grain: the p rows of each side's grain at its slot, then the box's rows.
-  // Local entry (row r, column q) is loc[r n + q]; each entry of the matrix takes one addition.
-  for (int s = 0; s < 2; ++s)
-    for (int a = 0; a < p; ++a) {
-      const int q = s * p + a;
-      double* col = val + outer[g[s] * p + a];
-      for (int t = 0; t < 2; ++t) {
-        double* v = col + int64_t{slot[2 * s + t]} * p;
-        for (int b = 0; b < p; ++b) v[b] += loc[(t * p + b) * n + q];
-      }
-      double* vb = col + partners_[g[s]] * p;
-      for (int k = 0; k < nb; ++k) vb[k] += loc[(2 * p + k) * n + q];
-    }
-  // A strain rate's column: the p rows of each grain at its rank among the connected grains, then
-  // the box's rows.
-  for (int k = 0; k < nb; ++k) {
-    const int q = 2 * p + k;
-    double* col = val + outer[l.box_unknown(k)];
-    for (int t = 0; t < 2; ++t) {
-      double* v = col + rank_[g[t]] * p;
-      for (int b = 0; b < p; ++b) v[b] += loc[(t * p + b) * n + q];
-    }
-    double* vb = col + connected_ * p;
-    for (int m = 0; m < nb; ++m) vb[m] += loc[(2 * p + m) * n + q];
-  }
+  if (l.per_grain == 3)
+    add_local_p<3>(l.n_box, val, outer, g, slot, partners, rank, connected_, l.box_unknown(0), n, loc);
+  else add_local_p<6>(l.n_box, val, outer, g, slot, partners, rank, connected_, l.box_unknown(0), n, loc);
   if (l.shear)
     for (int r = 0; r < n - 1; ++r) rhs[local_to_global(l, c, r)] -= loc[r * n + (n - 1)] * shear_rate;
 }
