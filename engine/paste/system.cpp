@@ -129,6 +129,16 @@ void find_connections(const State& s, const LubricationLaw& law, Links& out) {
   else scan.template operator()<3>();
 }
 
+namespace {
+
+// Where the p rows of a grain at `slot` of grain g's partners start in column a of g (the layout
+// build_pattern writes: a grain's column holds p rows for each partner in order, then the box's).
+inline int64_t grain_block(const int* outer, int p, int64_t g, int a, int64_t slot) {
+  return outer[g * p + a] + slot * p;
+}
+
+}  // namespace
+
 // The pattern written column by column, its rows in order, without a list of triplets to sort
 // (whose allocation and sort cost more than the assembly itself once the connections change at
 // every step). Every unknown has its diagonal entry; a connection of i and j fills the p x p
@@ -212,26 +222,15 @@ void ResistanceSystem::build_pattern(const std::vector<Connection>& cs) {
     const auto b = adj.begin() + start[g];
     return std::lower_bound(b, b + partners[g], static_cast<int32_t>(h)) - b;
   };
-  // Where row `row` of column `col` is, given the slot of the row's grain in the column's grain:
-  // in a grain's column, after the blocks of the partners before it; in a strain rate's column,
-  // after the connected grains before it.
-  auto position = [&](int64_t row, int64_t col, int64_t row_slot) -> int32_t {
-    const int64_t base = outer[col];
-    const bool row_box = row >= grains * p;
-    int64_t at = 0;
-    if (col < grains * p) {
-      const int64_t g = col / p;
-      if (rank[g] < 0) return static_cast<int32_t>(base);
-      at = row_box ? partners[g] * p + (row - grains * p) : row_slot * p + row % p;
-    } else if (any) {
-      at = row_box ? connected * p + (row - grains * p) : rank[row / p] * p + row % p;
-    }
-    return static_cast<int32_t>(base + at);
-  };
+  // The diagonal: in a connected grain's column its own block (at its slot among its partners),
+  // in a strain rate's column after the connected grains' rows; alone in any other column.
   diag_pos_.resize(static_cast<size_t>(size));
   for (int64_t k = 0; k < size; ++k) {
-    const bool grain = k < grains * p && rank[k / p] >= 0;
-    diag_pos_[k] = position(k, k, grain ? slot(k / p, k / p) : 0);
+    int64_t at = outer[k];
+    if (k < grains * p && rank[k / p] >= 0)
+      at = grain_block(outer, p, k / p, static_cast<int>(k % p), slot(k / p, k / p)) + k % p;
+    if (k >= grains * p && any) at += connected * p + (k - grains * p);
+    diag_pos_[k] = static_cast<int32_t>(at);
   }
   // Each connection's blocks are found from its grains' slots (add_block): slots_[k][2 s + t] is
   // the slot of side t's grain among side s's grain's partners (side 0 grain i, side 1 grain j).
@@ -294,12 +293,11 @@ void add_local(double* val, const int* outer, const int64_t g[2], const std::arr
   for (int s = 0; s < 2; ++s)
     for (int a = 0; a < P; ++a) {
       const int q = s * P + a;
-      double* col = val + outer[g[s] * P + a];
       for (int t = 0; t < 2; ++t) {
-        double* v = col + int64_t{slot[2 * s + t]} * P;
+        double* v = val + grain_block(outer, P, g[s], a, slot[2 * s + t]);
         for (int b = 0; b < P; ++b) v[b] += loc[(t * P + b) * n + q];
       }
-      double* vb = col + partners[s] * P;
+      double* vb = val + grain_block(outer, P, g[s], a, partners[s]);
       for (int k = 0; k < NB; ++k) vb[k] += loc[(2 * P + k) * n + q];
     }
   // A strain rate's column: the P rows of each grain at its rank among the connected grains, then
@@ -349,13 +347,13 @@ linalg::SparseMatrix ResistanceSystem::sparsified(const std::vector<uint8_t>& ke
   linalg::SparseMatrix m = a_;
   double* val = m.valuePtr();
   const int p = layout_.per_grain;
+  const int* outer = m.outerIndexPtr();  // a_'s pattern until the prune below
   for (size_t k = 0; k < pairs_.size() && k < keep.size(); ++k) {
     if (keep[k]) continue;
     // The (i, j) and (j, i) blocks: the rows of one grain in the columns of the other.
-    const int* outer = m.outerIndexPtr();
     for (int a = 0; a < p; ++a) {
-      std::fill_n(val + outer[pairs_[k].first * int64_t{p} + a] + int64_t{slots_[k][1]} * p, p, 0.0);
-      std::fill_n(val + outer[pairs_[k].second * int64_t{p} + a] + int64_t{slots_[k][2]} * p, p, 0.0);
+      std::fill_n(val + grain_block(outer, p, pairs_[k].first, a, slots_[k][1]), p, 0.0);
+      std::fill_n(val + grain_block(outer, p, pairs_[k].second, a, slots_[k][2]), p, 0.0);
     }
   }
   if (own_rotations) {
@@ -363,7 +361,6 @@ linalg::SparseMatrix ResistanceSystem::sparsified(const std::vector<uint8_t>& ke
     const int64_t grains = layout_.grains * p;
     auto rotation = [&](int64_t k) { return k < grains && k % p >= d; };
     const int* rows = m.innerIndexPtr();
-    const int* outer = m.outerIndexPtr();
     for (int64_t col = 0; col < m.outerSize(); ++col)
       for (int q = outer[col]; q < outer[col + 1]; ++q) {
         const int64_t row = rows[q];
