@@ -20,6 +20,8 @@
 #include <string>
 #include <vector>
 
+#include <tbb/task_arena.h>
+
 #include "silt/linalg.hpp"
 
 using namespace silt::linalg;
@@ -123,7 +125,7 @@ int main(int argc, char** argv) {
   const std::string csv = std::string(SILT_SOURCE_DIR) + "/bench/results/linalg.csv";
   std::ofstream out(csv);
   out << "n_spheres,h_min,unknowns,nonzeros,method,setup_s,solve_s,iterations,residual,factor_mib\n";
-  std::printf("%6s %7s %8s %10s  %-26s %9s %9s %6s %9s %10s\n", "N", "h_min", "unknowns", "nonzeros", "method",
+  std::printf("%6s %7s %8s %10s  %-34s %9s %9s %6s %9s %10s\n", "N", "h_min", "unknowns", "nonzeros", "method",
               "setup s", "solve s", "iters", "residual", "factor MiB");
   for (int n : sizes)
     for (double h_min : {1e-2, 1e-4, 1e-6, 1e-8}) {
@@ -137,7 +139,7 @@ int main(int argc, char** argv) {
       for (int64_t i = 0; i < b.size(); ++i) b[i] = g(rng);
       const SolveOptions opt{1e-8, 20000};
       auto row = [&](const char* method, double setup, double solve, int iters, double residual, double mib) {
-        std::printf("%6d %7.0e %8lld %10lld  %-26s %9.4f %9.6f %6d %9.2e %10.1f\n", n, h_min,
+        std::printf("%6d %7.0e %8lld %10lld  %-34s %9.4f %9.6f %6d %9.2e %10.1f\n", n, h_min,
                     static_cast<long long>(a1.rows()), static_cast<long long>(a1.nonZeros()), method, setup, solve,
                     iters, residual, mib);
         std::string name = method;  // no comma inside a CSV field
@@ -169,6 +171,29 @@ int main(int argc, char** argv) {
         row("direct (analyse+factor)", setup, solve, 0, res, f.factor_bytes() / 1048576.0);
         row("  of which analyse", analyze_s, 0, 0, 0, 0);
         row("  refactor (same pattern)", factor_s, 0, 0, 0, mib);
+      }
+      {
+        // One solve with the factor (PCG's main cost per iteration): CHOLMOD's triangular solves,
+        // then silt's on 1 and 2 threads (the same bits on both), best of 10 after one untimed.
+        auto best_solve = [&](int threads) {
+          tbb::task_arena arena(threads);
+          double best = 1e30;
+          arena.execute([&] {
+            Vector x;
+            for (int r = 0; r < 11; ++r) {
+              const auto s0 = std::chrono::steady_clock::now();
+              old.solve(b, x);
+              if (r > 0) best = std::min(best, seconds_since(s0));
+            }
+          });
+          return best;
+        };
+        old.use_cholmod_solve(true);
+        row("factor solve; CHOLMOD", 0, best_solve(1), 0, 0, mib);
+        old.use_cholmod_solve(false);
+        const std::string tasks = std::to_string(old.solve_tasks());
+        row(("factor solve; silt 1 thread (" + tasks + " tasks)").c_str(), 0, best_solve(1), 0, 0, mib);
+        row("factor solve; silt 2 threads", 0, best_solve(2), 0, 0, mib);
       }
       const SparseOperator op(a1);
       {

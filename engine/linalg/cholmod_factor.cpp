@@ -10,6 +10,7 @@
 
 #include <cmath>
 
+#include "linalg/supernodal_solve.hpp"
 #include "linalg/vector_ops.hpp"
 
 namespace silt::linalg {
@@ -42,6 +43,8 @@ struct CholeskyFactor::Impl {
   int64_t n = -1, nnz = -1;
   std::vector<int> outer, inner;  // the analysed pattern
   bool factored = false;
+  SupernodalSolver tree;    // silt's own solves with the supernodal factor
+  bool tree_ready = false;  // planned for the factor held
 
   Impl() {
     cholmod_start(&c);
@@ -126,6 +129,19 @@ SolveReport CholeskyFactor::factorize(const SparseMatrix& a0) {
     return rep;
   }
   im.factored = true;
+  im.tree_ready = false;
+  if (im.l->is_super && im.l->is_ll && im.l->itype == CHOLMOD_INT && im.l->xtype == CHOLMOD_REAL) {
+    SupernodalView sv;
+    sv.n = static_cast<int64_t>(im.l->n);
+    sv.nsuper = static_cast<int64_t>(im.l->nsuper);
+    sv.super = static_cast<const int*>(im.l->super);
+    sv.pi = static_cast<const int*>(im.l->pi);
+    sv.px = static_cast<const int*>(im.l->px);
+    sv.s = static_cast<const int*>(im.l->s);
+    sv.x = static_cast<const double*>(im.l->x);
+    sv.perm = static_cast<const int*>(im.l->Perm);
+    im.tree_ready = im.tree.plan(sv);
+  }
   return rep;
 }
 
@@ -144,6 +160,15 @@ SolveReport CholeskyFactor::solve(const Vector& b, Vector& x) const {
     rep.message = "the right-hand side is not finite";
     return rep;
   }
+  if (im.tree_ready && !cholmod_solve_) {
+    x.resize(b.size());
+    im.tree.solve(b.data(), x.data());
+    if (!all_finite(x)) {
+      rep.status = SolveStatus::kNotFinite;
+      rep.message = "the solution is not finite";
+    }
+    return rep;
+  }
   cholmod_dense bd{};
   bd.nrow = static_cast<size_t>(b.size());
   bd.ncol = 1;
@@ -160,6 +185,8 @@ SolveReport CholeskyFactor::solve(const Vector& b, Vector& x) const {
   }
   return rep;
 }
+
+int64_t CholeskyFactor::solve_tasks() const { return impl_->tree_ready ? impl_->tree.tasks() : 0; }
 
 void CholeskyFactor::apply(const Vector& r, Vector& z) const { (void)solve(r, z); }
 

@@ -141,8 +141,15 @@ class CholeskyFactor final : public Preconditioner {
   // kNotPositive naming the column where positivity failed, or kNotFinite.
   SolveReport factorize(const SparseMatrix& a);
   bool ready() const;  // a successful factorisation is held
-  // x = A^-1 b with the held factor; kNotFinite when b or x is not finite.
+  // x = A^-1 b with the held factor; kNotFinite when b or x is not finite. The triangular solves
+  // are silt's (linalg/supernodal_solve.hpp: the elimination tree's independent subtrees and the
+  // rows and columns of its large separators on several threads, the same bits on any number),
+  // or CHOLMOD's own on one thread after use_cholmod_solve(true), the reference they are
+  // measured against.
   SolveReport solve(const Vector& b, Vector& x) const;
+  void use_cholmod_solve(bool on) { cholmod_solve_ = on; }
+  // Parallel tasks of silt's solves for the held factor (0: CHOLMOD's solve is used).
+  int64_t solve_tasks() const;
   void apply(const Vector& r, Vector& z) const override;
   // Bytes the numerical factor takes (known after analyze()), entries of L.
   int64_t factor_bytes() const;
@@ -157,6 +164,7 @@ class CholeskyFactor final : public Preconditioner {
   struct Impl;
   std::unique_ptr<Impl> impl_;
   int64_t analyses_ = 0, factorizations_ = 0;
+  bool cholmod_solve_ = false;
 };
 
 // A two-level preconditioner around another one, M (a Cholesky factor of an earlier matrix): the
