@@ -7,8 +7,10 @@
 // neighbour, so the cutoff h_min (1e-2 to 1e-8) sets the conditioning. The matrix of the next
 // step has every gap changed by up to 5 % (the adaptive step of Peyneau's sec. 2.2.4 bounds the
 // change of Xi's entries so): what a stepper meets. Cost of each method against the others: the
-// factorisation, the direct solve, one product with the matrix, CG preconditioned by the previous
-// step's factor, Jacobi CG and plain CG, all to a relative residual of 1e-8 (at most 20,000 iterations).
+// factorisation, the direct solve, one solve with the factor (CHOLMOD's triangular solves and
+// silt's, on one thread and on two), one product with the matrix, CG preconditioned by the
+// previous step's factor, Jacobi CG and plain CG, all to a relative residual of 1e-8 (at most
+// 20,000 iterations). One thread, but for the row of silt's solve on two.
 //
 // Usage: linalg_solvers [N...]    (default: 1000 4000)        Writes bench/results/linalg.csv.
 #include <algorithm>
@@ -127,108 +129,120 @@ int main(int argc, char** argv) {
   out << "n_spheres,h_min,unknowns,nonzeros,method,setup_s,solve_s,iterations,residual,factor_mib\n";
   std::printf("%6s %7s %8s %10s  %-34s %9s %9s %6s %9s %10s\n", "N", "h_min", "unknowns", "nonzeros", "method",
               "setup s", "solve s", "iters", "residual", "factor MiB");
-  for (int n : sizes)
-    for (double h_min : {1e-2, 1e-4, 1e-6, 1e-8}) {
-      double box = 0;
-      std::vector<Sphere> p = lattice(n, 0.45, 1, box);
-      const SparseMatrix a0 = resistance(p, box, 0.5, h_min);
-      const SparseMatrix a1 = resistance(p, box, 0.5, h_min, 0.05);
-      std::mt19937_64 rng(2);
-      Vector b(a1.rows());
-      std::normal_distribution<double> g;
-      for (int64_t i = 0; i < b.size(); ++i) b[i] = g(rng);
-      const SolveOptions opt{1e-8, 20000};
-      auto row = [&](const char* method, double setup, double solve, int iters, double residual, double mib) {
-        std::printf("%6d %7.0e %8lld %10lld  %-34s %9.4f %9.6f %6d %9.2e %10.1f\n", n, h_min,
-                    static_cast<long long>(a1.rows()), static_cast<long long>(a1.nonZeros()), method, setup, solve,
-                    iters, residual, mib);
-        std::string name = method;  // no comma inside a CSV field
-        std::replace(name.begin(), name.end(), ',', ';');
-        out << n << "," << h_min << "," << a1.rows() << "," << a1.nonZeros() << "," << name << "," << setup << ","
-            << solve << "," << iters << "," << residual << "," << mib << "\n";
-      };
-      // The previous step's factor.
-      CholeskyFactor old;
-      auto t0 = std::chrono::steady_clock::now();
-      old.analyze(a0);
-      const double analyze_s = seconds_since(t0);
-      t0 = std::chrono::steady_clock::now();
-      if (!old.factorize(a0).ok()) return 1;
-      const double factor_s = seconds_since(t0);
-      const double mib = old.factor_bytes() / 1048576.0;
-      // Direct: factorise this step's matrix (analysis reused when the pattern holds) and solve.
-      {
-        CholeskyFactor f;
-        t0 = std::chrono::steady_clock::now();
-        f.analyze(a1);
-        if (!f.factorize(a1).ok()) return 1;
-        const double setup = seconds_since(t0);
-        Vector x;
-        t0 = std::chrono::steady_clock::now();
-        f.solve(b, x);
-        const double solve = seconds_since(t0);
-        const double res = (b - a1 * x).norm() / b.norm();
-        row("direct (analyse+factor)", setup, solve, 0, res, f.factor_bytes() / 1048576.0);
-        row("  of which analyse", analyze_s, 0, 0, 0, 0);
-        row("  refactor (same pattern)", factor_s, 0, 0, 0, mib);
-      }
-      {
-        // One solve with the factor (PCG's main cost per iteration): CHOLMOD's triangular solves,
-        // then silt's on 1 and 2 threads (the same bits on both), best of 10 after one untimed.
-        auto best_solve = [&](int threads) {
-          tbb::task_arena arena(threads);
-          double best = 1e30;
-          arena.execute([&] {
-            Vector x;
-            for (int r = 0; r < 11; ++r) {
-              const auto s0 = std::chrono::steady_clock::now();
-              old.solve(b, x);
-              if (r > 0) best = std::min(best, seconds_since(s0));
-            }
-          });
-          return best;
+  // One thread throughout, but for the row of silt's solve on two.
+  tbb::task_arena one(1);
+  int status = 0;
+  one.execute([&] {
+    for (int n : sizes)
+      for (double h_min : {1e-2, 1e-4, 1e-6, 1e-8}) {
+        double box = 0;
+        std::vector<Sphere> p = lattice(n, 0.45, 1, box);
+        const SparseMatrix a0 = resistance(p, box, 0.5, h_min);
+        const SparseMatrix a1 = resistance(p, box, 0.5, h_min, 0.05);
+        std::mt19937_64 rng(2);
+        Vector b(a1.rows());
+        std::normal_distribution<double> g;
+        for (int64_t i = 0; i < b.size(); ++i) b[i] = g(rng);
+        const SolveOptions opt{1e-8, 20000};
+        auto row = [&](const char* method, double setup, double solve, int iters, double residual, double mib) {
+          std::printf("%6d %7.0e %8lld %10lld  %-34s %9.4f %9.6f %6d %9.2e %10.1f\n", n, h_min,
+                      static_cast<long long>(a1.rows()), static_cast<long long>(a1.nonZeros()), method, setup, solve,
+                      iters, residual, mib);
+          std::string name = method;  // no comma inside a CSV field
+          std::replace(name.begin(), name.end(), ',', ';');
+          out << n << "," << h_min << "," << a1.rows() << "," << a1.nonZeros() << "," << name << "," << setup << ","
+              << solve << "," << iters << "," << residual << "," << mib << "\n";
         };
-        old.use_cholmod_solve(true);
-        row("factor solve; CHOLMOD", 0, best_solve(1), 0, 0, mib);
-        old.use_cholmod_solve(false);
-        const std::string tasks = std::to_string(old.solve_tasks());
-        row(("factor solve; silt 1 thread (" + tasks + " tasks)").c_str(), 0, best_solve(1), 0, 0, mib);
-        row("factor solve; silt 2 threads", 0, best_solve(2), 0, 0, mib);
-      }
-      const SparseOperator op(a1);
-      {
-        // One product with the matrix (CG's other cost per iteration): best of 50.
-        Vector x = Vector::Ones(b.size()), y;
-        double best = 1e30;
-        for (int r = 0; r < 51; ++r) {
-          t0 = std::chrono::steady_clock::now();
-          op.apply(x, y);
-          if (r > 0) best = std::min(best, seconds_since(t0));
+        // The previous step's factor.
+        CholeskyFactor old;
+        auto t0 = std::chrono::steady_clock::now();
+        old.analyze(a0);
+        const double analyze_s = seconds_since(t0);
+        t0 = std::chrono::steady_clock::now();
+        if (!old.factorize(a0).ok()) {
+          status = 1;
+          return;
         }
-        row("product with the matrix", 0, best, 0, 0, 0);
+        const double factor_s = seconds_since(t0);
+        const double mib = old.factor_bytes() / 1048576.0;
+        // Direct: factorise this step's matrix (analysis reused when the pattern holds) and solve.
+        {
+          CholeskyFactor f;
+          t0 = std::chrono::steady_clock::now();
+          f.analyze(a1);
+          if (!f.factorize(a1).ok()) {
+            status = 1;
+            return;
+          }
+          const double setup = seconds_since(t0);
+          Vector x;
+          t0 = std::chrono::steady_clock::now();
+          f.solve(b, x);
+          const double solve = seconds_since(t0);
+          const double res = (b - a1 * x).norm() / b.norm();
+          row("direct (analyse+factor)", setup, solve, 0, res, f.factor_bytes() / 1048576.0);
+          row("  of which analyse", analyze_s, 0, 0, 0, 0);
+          row("  refactor (same pattern)", factor_s, 0, 0, 0, mib);
+        }
+        {
+          // One solve with the factor (PCG's main cost per iteration): CHOLMOD's triangular solves,
+          // then silt's on 1 and 2 threads (the same bits on both), best of 10 after one untimed.
+          auto best_solve = [&](int threads) {
+            tbb::task_arena arena(threads);
+            double best = 1e30;
+            arena.execute([&] {
+              Vector x;
+              for (int r = 0; r < 11; ++r) {
+                const auto s0 = std::chrono::steady_clock::now();
+                old.solve(b, x);
+                if (r > 0) best = std::min(best, seconds_since(s0));
+              }
+            });
+            return best;
+          };
+          old.use_cholmod_solve(true);
+          row("factor solve; CHOLMOD", 0, best_solve(1), 0, 0, mib);
+          old.use_cholmod_solve(false);
+          const std::string tasks = std::to_string(old.solve_tasks());
+          row(("factor solve; silt 1 thread (" + tasks + " tasks)").c_str(), 0, best_solve(1), 0, 0, mib);
+          row("factor solve; silt 2 threads", 0, best_solve(2), 0, 0, mib);
+        }
+        const SparseOperator op(a1);
+        {
+          // One product with the matrix (CG's other cost per iteration): best of 50.
+          Vector x = Vector::Ones(b.size()), y;
+          double best = 1e30;
+          for (int r = 0; r < 51; ++r) {
+            t0 = std::chrono::steady_clock::now();
+            op.apply(x, y);
+            if (r > 0) best = std::min(best, seconds_since(t0));
+          }
+          row("product with the matrix", 0, best, 0, 0, 0);
+        }
+        {
+          Vector x = Vector::Zero(b.size());
+          t0 = std::chrono::steady_clock::now();
+          const SolveReport r = conjugate_gradient(op, b, x, opt, &old);
+          row("PCG, previous factor", 0, seconds_since(t0), r.iterations, r.residual, mib);
+        }
+        {
+          Vector x = Vector::Zero(b.size());
+          t0 = std::chrono::steady_clock::now();
+          const JacobiPreconditioner jac(a1);
+          const double setup = seconds_since(t0);
+          t0 = std::chrono::steady_clock::now();
+          const SolveReport r = conjugate_gradient(op, b, x, opt, &jac);
+          row("CG, Jacobi", setup, seconds_since(t0), r.iterations, r.residual, 0);
+        }
+        {
+          Vector x = Vector::Zero(b.size());
+          t0 = std::chrono::steady_clock::now();
+          const SolveReport r = conjugate_gradient(op, b, x, opt);
+          row("CG", 0, seconds_since(t0), r.iterations, r.residual, 0);
+        }
       }
-      {
-        Vector x = Vector::Zero(b.size());
-        t0 = std::chrono::steady_clock::now();
-        const SolveReport r = conjugate_gradient(op, b, x, opt, &old);
-        row("PCG, previous factor", 0, seconds_since(t0), r.iterations, r.residual, mib);
-      }
-      {
-        Vector x = Vector::Zero(b.size());
-        t0 = std::chrono::steady_clock::now();
-        const JacobiPreconditioner jac(a1);
-        const double setup = seconds_since(t0);
-        t0 = std::chrono::steady_clock::now();
-        const SolveReport r = conjugate_gradient(op, b, x, opt, &jac);
-        row("CG, Jacobi", setup, seconds_since(t0), r.iterations, r.residual, 0);
-      }
-      {
-        Vector x = Vector::Zero(b.size());
-        t0 = std::chrono::steady_clock::now();
-        const SolveReport r = conjugate_gradient(op, b, x, opt);
-        row("CG", 0, seconds_since(t0), r.iterations, r.residual, 0);
-      }
-    }
+  });
+  if (status != 0) return status;
   std::printf("wrote %s\n", csv.c_str());
   return 0;
 }

@@ -156,6 +156,7 @@ bool SupernodalSolver::plan(const SupernodalView& f) {
   }
   if (task_start_.back() != static_cast<int64_t>(ranges_.size()))
     task_start_.push_back(static_cast<int64_t>(ranges_.size()));
+  parallel_share_ = total > 0 ? static_cast<double>(in_tasks) / static_cast<double>(total) : 0.0;
   split_.assign(static_cast<size_t>(ns), 0);
   for (int64_t sn = 0; sn < ns; ++sn)
     if (in_top[static_cast<size_t>(sn)]) {
