@@ -169,6 +169,17 @@ bool SupernodalSolver::plan(const SupernodalView& f) {
   buffer_row_.clear();
   buffer_start_.assign(1, n);
   scratch_start_.assign(1, 0);
+  // Each subtree's rows below its diagonal blocks must be its own or the top's, and the top's
+  // its own: true of an elimination tree, checked so that a factor in another form is refused.
+  std::vector<int64_t> subtree_of(static_cast<size_t>(ns), -1);
+  for (size_t r = 0; r < ranges_.size(); ++r)
+    for (int64_t sn = ranges_[r].first; sn <= ranges_[r].second; ++sn)
+      subtree_of[static_cast<size_t>(sn)] = static_cast<int64_t>(r);
+  for (int64_t sn = 0; sn < ns; ++sn)
+    for (int64_t k = f.pi[sn] + (f.super[sn + 1] - f.super[sn]); k < f.pi[sn + 1]; ++k) {
+      const int64_t owner = subtree_of[static_cast<size_t>(col_super[static_cast<size_t>(f.s[k])])];
+      if (owner >= 0 && owner != subtree_of[static_cast<size_t>(sn)]) return false;
+    }
   std::vector<int> slot(static_cast<size_t>(n), -1);
   for (int64_t t = 0; t < tasks(); ++t) {
     const int64_t start = buffer_start_.back();
