@@ -9,11 +9,15 @@
 // The forward solve L y = P b takes the supernodes in their order (a child before its parent),
 // the backward solve L^T z = y in the reverse order. Supernodes in disjoint subtrees touch
 // disjoint unknowns, except that each adds its updates into the unknowns of its ancestors. The
-// tree is cut, from its shape alone, into subtrees of at most an eighth of the factor's entries
-// and the "top" above them; the subtrees run as parallel tasks, each adding its updates of the top
-// into buffers of its own, which are then added into the top's unknowns in the subtrees' order;
-// the top runs on one thread. Which thread runs a subtree changes no rounding. In the backward
-// solve the top runs first, and each subtree then reads its ancestors' finished values.
+// tree is cut, from its shape alone, into subtrees of at most a sixteenth of the factor's entries
+// and the "top" above them (the largest separators). The subtrees run as parallel tasks (the small
+// ones bundled), each adding its updates of the top into buffers of its own, which are then added
+// into the top's unknowns in the tasks' order. The top's supernodes run in order; a large one
+// shares each block of its columns among the threads, by rows in the forward solve (each row
+// updated by the block's columns in their order) and by columns in the backward solve (each
+// column's dot with the rows after the block, then the block's triangle on one thread). Which
+// thread runs what changes no rounding. In the backward solve the top runs first, and each
+// subtree then reads its ancestors' finished values.
 #pragma once
 
 #include <cstddef>
