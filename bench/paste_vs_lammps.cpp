@@ -5,8 +5,8 @@
 // Both solve every velocity from the lubrication resistance each step: silt with CG preconditioned
 // by a Cholesky factor of an earlier matrix (its lubrication.h_min_over_a as the roughness
 // cutoff), LAMMPS with plain CG on Ball-Melrose lubrication (cutinner the same gap). Grain-steps
-// per second of each, one process / thread, then silt on 2 threads; and how each one's cost grows
-// as the gaps close (silt: h_min/a; LAMMPS: cutinner).
+// per second of each, on one process / thread and on two (LAMMPS two MPI ranks, silt two
+// threads); and how each one's cost grows as the gaps close (silt: h_min/a; LAMMPS: cutinner).
 //
 //   build/bench/paste_vs_lammps [--steps N] [--lammps-steps N] [--no-lammps] [--gaps X,Y,...]
 //                               [--lammps-down-to X] [--lammps-limit S] [--set KEY=VALUE ...]
@@ -85,13 +85,16 @@ struct Lammps {
   std::string error;
 };
 
-Lammps run_lammps(double cutinner, int steps, double dt, double limit_s) {
+// One process, or two MPI ranks (the two cores, as silt's two threads).
+Lammps run_lammps(double cutinner, int steps, double dt, double limit_s, int ranks) {
   write_input(kDir + "/in.paste", cutinner, 3.0, 0.01, steps, dt);
   const double t0 = bench::now_s();
-  const std::string out = bench::capture("cd " + kDir + " && OMP_NUM_THREADS=1 timeout " + num(limit_s) +
-                                         " lmp -in in.paste -log none 2>&1");
+  const std::string launch = ranks > 1 ? "mpirun --allow-run-as-root -np " + std::to_string(ranks) + " lmp" : "lmp";
+  const std::string out = bench::capture("cd " + kDir + " && OMP_NUM_THREADS=1 timeout " + num(limit_s) + " " + launch +
+                                         " -in in.paste -log none 2>&1");
   Lammps l;
-  const std::regex loop(R"(Loop time of ([0-9.eE+-]+) on 1 procs for (\d+) steps with (\d+) atoms)");
+  const std::regex loop(R"(Loop time of ([0-9.eE+-]+) on )" + std::to_string(ranks) +
+                        R"( procs for (\d+) steps with (\d+) atoms)");
   std::smatch m;
   if (std::regex_search(out, m, loop)) {
     const double t = std::stod(m[1]);
@@ -173,18 +176,21 @@ int main(int argc, char** argv) {
       over.insert(over.end(), sets.begin(), sets.end());
       const Model m = compile(load_scene_file(scene, over));
       for (int threads : {1, 2}) {
-        if (threads == 2 && x != 1e-3) continue;
         const Silt s = run_silt(m, packing, threads, steps);
         row("silt", "h_min/a=" + num(x), x, threads, steps, s.rate, s.iters, s.refactor, "factor_pcg" + set_note);
       }
-      if (lammps && x >= lammps_down_to) {
-        const Lammps l = run_lammps(2 + 2 * x, lmp_steps, 1e-3, lammps_limit);
-        if (l.rate > 0) row("lammps", "cutinner=" + num(2 + 2 * x), x, 1, lmp_steps, l.rate, 0, 0, "lubricateU");
+      for (int ranks : {1, 2}) {
+        if (!lammps || x < lammps_down_to) break;
+        const Lammps l = run_lammps(2 + 2 * x, lmp_steps, 1e-3, lammps_limit, ranks);
+        const std::string name = "cutinner=" + num(2 + 2 * x);
+        if (l.rate > 0) row("lammps", name, x, ranks, lmp_steps, l.rate, 0, 0, "lubricateU");
         else if (l.timed_out)
-          row("lammps", "cutinner=" + num(2 + 2 * x), x, 1, lmp_steps, 0, 0, 0,
+          row("lammps", name, x, ranks, lmp_steps, 0, 0, 0,
               "lubricateU stopped after " + num(lammps_limit) + " s; its " + std::to_string(lmp_steps) +
                   " step(s) not done");
-        else std::printf("LAMMPS did not run (cutinner %s):\n%s\n", num(2 + 2 * x).c_str(), l.error.c_str());
+        else
+          std::printf("LAMMPS did not run (cutinner %s, %d ranks):\n%s\n", num(2 + 2 * x).c_str(), ranks,
+                      l.error.c_str());
       }
     }
     return 0;

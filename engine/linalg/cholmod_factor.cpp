@@ -207,14 +207,15 @@ int64_t CholeskyFactor::factor_bytes() const {
 namespace {
 
 // The size of a supernodal symbolic factor: its values (the supernodes' rectangles, Lx), its
-// integers (Ls, Lpi, Lpx, super, and the permutation and column counts of n entries each), and
-// the largest update matrix of a supernode (maxcsize) the numerical factorisation works in.
+// integers (Ls, and as many again for where silt's solves update each row; Lpi, Lpx, super, and
+// the permutation and column counts of n entries each), and the largest update matrix of a
+// supernode (maxcsize) the numerical factorisation works in.
 FactorSize size_of(const cholmod_factor* l, int64_t scale) {
   FactorSize f;
   if (!l) return f;
   if (l->is_super) {
     f.entries = static_cast<int64_t>(l->xsize) * scale * scale;
-    f.integers = static_cast<int64_t>(l->ssize) * scale + 3 * static_cast<int64_t>(l->nsuper + 1) +
+    f.integers = 2 * static_cast<int64_t>(l->ssize) * scale + 3 * static_cast<int64_t>(l->nsuper + 1) +
                  4 * static_cast<int64_t>(l->n) * scale;
     f.update = static_cast<int64_t>(l->maxcsize) * scale * scale;
   } else {
