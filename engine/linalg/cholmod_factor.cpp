@@ -186,7 +186,7 @@ SolveReport CholeskyFactor::solve(const Vector& b, Vector& x) const {
   return rep;
 }
 
-int64_t CholeskyFactor::solve_tasks() const { return impl_->tree_ready ? impl_->tree.tasks() : 0; }
+SolveSplit CholeskyFactor::solve_split() const { return impl_->tree_ready ? impl_->tree.split() : SolveSplit{}; }
 
 void CholeskyFactor::apply(const Vector& r, Vector& z) const { (void)solve(r, z); }
 

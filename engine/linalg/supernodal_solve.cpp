@@ -88,8 +88,7 @@ bool SupernodalSolver::plan(const SupernodalView& f) {
   // The tree: a supernode's parent holds its first row below the diagonal block.
   std::vector<int64_t> parent(static_cast<size_t>(ns), -1), entries(static_cast<size_t>(ns)),
       subtree(static_cast<size_t>(ns)), first(static_cast<size_t>(ns));
-  int64_t total = 0;
-  max_rows_ = 0;
+  int64_t total = 0, max_rows = 0;
   for (int64_t sn = 0; sn < ns; ++sn) {
     const int64_t nc = f.super[sn + 1] - f.super[sn], nr = f.pi[sn + 1] - f.pi[sn];
     if (nr < nc) return false;
@@ -99,7 +98,7 @@ bool SupernodalSolver::plan(const SupernodalView& f) {
     if (parent[static_cast<size_t>(sn)] >= 0 && parent[static_cast<size_t>(sn)] <= sn) return false;
     entries[static_cast<size_t>(sn)] = nc * nr;
     total += nc * nr;
-    max_rows_ = std::max(max_rows_, nr);
+    max_rows = std::max(max_rows, nr);
   }
   // Subtree sizes and first supernodes; each subtree must be the range [first, root].
   for (int64_t sn = 0; sn < ns; ++sn) first[static_cast<size_t>(sn)] = sn;
@@ -156,13 +155,16 @@ bool SupernodalSolver::plan(const SupernodalView& f) {
   }
   if (task_start_.back() != static_cast<int64_t>(ranges_.size()))
     task_start_.push_back(static_cast<int64_t>(ranges_.size()));
-  parallel_share_ = total > 0 ? static_cast<double>(in_tasks) / static_cast<double>(total) : 0.0;
   split_.assign(static_cast<size_t>(ns), 0);
+  int64_t shared = 0;
   for (int64_t sn = 0; sn < ns; ++sn)
     if (in_top[static_cast<size_t>(sn)]) {
       top_.push_back(sn);
       split_[static_cast<size_t>(sn)] = entries[static_cast<size_t>(sn)] > kSplitEntries;
+      if (split_[static_cast<size_t>(sn)]) shared += entries[static_cast<size_t>(sn)];
     }
+  const double all = static_cast<double>(std::max<int64_t>(total, 1));
+  split_share_ = {tasks(), static_cast<double>(in_tasks) / all, static_cast<double>(shared) / all};
   // Where each row below a diagonal block is updated: the unknown itself, or, for a task's
   // update of the top, that task's buffer entry for the unknown.
   target_.assign(f.s, f.s + f.pi[ns]);
@@ -203,7 +205,7 @@ bool SupernodalSolver::plan(const SupernodalView& f) {
     buffer_start_.push_back(n + static_cast<int64_t>(buffer_row_.size()));
     scratch_start_.push_back(scratch_start_.back() + rows);
   }
-  scratch_start_.push_back(scratch_start_.back() + max_rows_);
+  scratch_start_.push_back(scratch_start_.back() + max_rows);
   work_.assign(static_cast<size_t>(buffer_start_.back()), 0.0);
   scratch_.assign(static_cast<size_t>(scratch_start_.back()), 0.0);
   return true;

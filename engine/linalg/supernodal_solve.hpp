@@ -25,6 +25,8 @@
 #include <utility>
 #include <vector>
 
+#include "silt/linalg.hpp"
+
 namespace silt::linalg {
 
 // A view of a supernodal factor, in CHOLMOD's layout (cholmod_factor, is_super).
@@ -47,8 +49,7 @@ class SupernodalSolver {
   // holds its work arrays.
   void solve(const double* b, double* x) const;
   int64_t tasks() const { return static_cast<int64_t>(task_start_.size()) - 1; }
-  // Share of the factor's entries solved by the parallel tasks.
-  double parallel_share() const { return parallel_share_; }
+  const SolveSplit& split() const { return split_share_; }
 
  private:
   void forward(int64_t sn, double* scratch, bool split) const;
@@ -76,8 +77,7 @@ class SupernodalSolver {
   std::vector<int> buffer_row_;                      // the unknown each buffer entry adds into
   std::vector<int> target_;                          // where each row of s is updated in work_
   std::vector<int64_t> scratch_start_;               // [tasks + 2] scratch of each task, then the top
-  int64_t max_rows_ = 0;
-  double parallel_share_ = 0;
+  SolveSplit split_share_;
   mutable std::vector<double> work_, scratch_;
 };
 

@@ -125,6 +125,14 @@ struct FactorSize {
 };
 FactorSize block_factor_size(const SparseMatrix& pattern, int block);
 
+// How silt's triangular solves with a factor are shared among threads: the parallel tasks (the
+// elimination tree's subtrees), and the shares of the factor's entries in them and in the top's
+// supernodes whose blocks are shared (the rest of the top runs on one thread).
+struct SolveSplit {
+  int64_t tasks = 0;
+  double in_tasks = 0, shared = 0;
+};
+
 // A sparse Cholesky factor L L^T = A (CHOLMOD, supernodal). The symbolic analysis (fill-reducing
 // ordering and the factor's pattern) is kept and reused by factorize() while the pattern of A does
 // not change; analyze() starts over. A factor serves as a direct solver and as a preconditioner.
@@ -148,8 +156,9 @@ class CholeskyFactor final : public Preconditioner {
   // measured against.
   SolveReport solve(const Vector& b, Vector& x) const;
   void use_cholmod_solve(bool on) { cholmod_solve_ = on; }
-  // Parallel tasks of silt's solves for the held factor (0: CHOLMOD's solve is used).
-  int64_t solve_tasks() const;
+  // How silt's solves with the held factor are shared among threads (all zero: CHOLMOD's solve
+  // is used).
+  SolveSplit solve_split() const;
   void apply(const Vector& r, Vector& z) const override;
   // Bytes the numerical factor takes (known after analyze()), entries of L.
   int64_t factor_bytes() const;

@@ -246,7 +246,10 @@ TEST_CASE("silt's supernodal solves agree with CHOLMOD's and give the same bits 
   const Vector b = gaussian_vector(a.rows(), 6);
   CholeskyFactor f;
   REQUIRE(f.factorize(a).ok());
-  CHECK(f.solve_tasks() > 2);  // the subtrees below the top separators run as parallel tasks
+  const SolveSplit split = f.solve_split();
+  CHECK(split.tasks > 2);     // the subtrees below the top separators run as parallel tasks
+  CHECK(split.shared > 0.1);  // and the largest separators are shared by blocks
+  CHECK(split.in_tasks + split.shared <= 1.0);
   Vector reference;
   f.use_cholmod_solve(true);
   REQUIRE(f.solve(b, reference).ok());
