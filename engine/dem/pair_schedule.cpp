@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <limits>
 
 #include "core/parallel.hpp"
 
@@ -111,6 +112,31 @@ PairSchedule build_pair_schedule(int64_t n, const std::vector<int32_t>& nbr_star
 void split_by_owner(PairSchedule& s, const Shares& shares) {
   group_by(
       s.blocks, shares.owners, [&](int32_t b) { return shares.owner_of(b); }, s.own_start, s.own);
+  // Nearness: the fewest edges of the schedule's graph (conflicts, either way) from a block with
+  // an edge to another owner's block; a stable sort keeps the schedule's order among blocks as near.
+  const int64_t nb = static_cast<int64_t>(s.n_before.size());
+  std::vector<std::vector<int32_t>> near(nb);
+  for (int64_t b = 0; b < nb; ++b)
+    for (int32_t k = s.after_start[b]; k < s.after_start[b + 1]; ++k) {
+      near[b].push_back(s.after[k]);
+      near[s.after[k]].push_back(static_cast<int32_t>(b));
+    }
+  std::vector<int32_t> hops(nb, std::numeric_limits<int32_t>::max()), front;
+  for (int64_t b = 0; b < nb; ++b)
+    for (int32_t c : near[b])
+      if (shares.owner_of(c) != shares.owner_of(b) && hops[b] != 0) {
+        hops[b] = 0;
+        front.push_back(static_cast<int32_t>(b));
+      }
+  for (size_t q = 0; q < front.size(); ++q)  // breadth first
+    for (int32_t c : near[front[q]])
+      if (hops[c] == std::numeric_limits<int32_t>::max()) {
+        hops[c] = hops[front[q]] + 1;
+        front.push_back(c);
+      }
+  for (int t = 0; t < shares.owners; ++t)
+    std::stable_sort(s.own.begin() + s.own_start[t], s.own.begin() + s.own_start[t + 1],
+                     [&](int32_t a, int32_t b) { return hops[a] < hops[b]; });
   s.claimed.assign(s.blocks.size(), 0);
   s.split = shares;
 }

@@ -217,3 +217,32 @@ TEST_CASE("pair schedule: more threads than blocks") {
     for (const auto& r : runs) CHECK(r.load() == 1);
   }
 }
+
+TEST_CASE("pair schedule: each share lists the blocks that conflict with another share's first") {
+  ChuteList chute;
+  PairSchedule& s = chute.schedule;
+  const int64_t nb = static_cast<int64_t>(s.blocks.size());
+  for (int owners : {2, 3}) {
+    CAPTURE(owners);
+    const Shares shares = even_shares(nb, owners);
+    dem::split_by_owner(s, shares);
+    // Blocks with an edge of the graph (a conflict) to another owner's block.
+    std::vector<int> edge(nb, 0);
+    for (int64_t b = 0; b < nb; ++b)
+      for (int32_t k = s.after_start[b]; k < s.after_start[b + 1]; ++k)
+        if (shares.owner_of(b) != shares.owner_of(s.after[k])) edge[b] = edge[s.after[k]] = 1;
+    int with_edge = 0;
+    for (int t = 0; t < owners; ++t) {
+      std::vector<int32_t> own(s.own.begin() + s.own_start[t], s.own.begin() + s.own_start[t + 1]);
+      std::vector<int32_t> expected;
+      for (int64_t b = shares.begin[t]; b < shares.begin[t + 1]; ++b) expected.push_back(static_cast<int32_t>(b));
+      std::vector<int32_t> sorted = own;
+      std::sort(sorted.begin(), sorted.end());
+      CHECK(sorted == expected);
+      // Every block with such an edge before every block without.
+      CHECK(std::is_sorted(own.begin(), own.end(), [&](int32_t a, int32_t b) { return edge[a] > edge[b]; }));
+      for (int32_t b : own) with_edge += edge[b];
+    }
+    CHECK(with_edge >= 2 * (owners - 1));  // the test means something: each boundary has blocks on both sides
+  }
+}
