@@ -211,6 +211,44 @@ bool SupernodalSolver::plan(const SupernodalView& f) {
   return true;
 }
 
+namespace {
+
+// x = L^-1 x on the triangle of columns [jb, je) of a supernode (column j at l + j nr), four
+// columns at a time: their own triangle, then the rows below it in the block updated by the four
+// in their order. Each entry takes the same operations in the same order as one column at a
+// time, with a quarter of the loads and stores.
+inline void block_triangle(const double* l, int64_t nr, int64_t jb, int64_t je, double* x) {
+  int64_t j = jb;
+  for (; j + 4 <= je; j += 4) {
+    const double *c0 = l + j * nr, *c1 = c0 + nr, *c2 = c1 + nr, *c3 = c2 + nr;
+    const double x0 = x[j] / c0[j];
+    x[j] = x0;
+    x[j + 1] -= c0[j + 1] * x0;
+    x[j + 2] -= c0[j + 2] * x0;
+    x[j + 3] -= c0[j + 3] * x0;
+    const double x1 = x[j + 1] / c1[j + 1];
+    x[j + 1] = x1;
+    x[j + 2] -= c1[j + 2] * x1;
+    x[j + 3] -= c1[j + 3] * x1;
+    const double x2 = x[j + 2] / c2[j + 2];
+    x[j + 2] = x2;
+    x[j + 3] -= c2[j + 3] * x2;
+    const double x3 = x[j + 3] / c3[j + 3];
+    x[j + 3] = x3;
+    SILT_IVDEP
+    for (int64_t i = j + 4; i < je; ++i) x[i] = (((x[i] - c0[i] * x0) - c1[i] * x1) - c2[i] * x2) - c3[i] * x3;
+  }
+  for (; j < je; ++j) {
+    const double* c = l + j * nr;
+    const double xj = x[j] / c[j];
+    x[j] = xj;
+    SILT_IVDEP
+    for (int64_t i = j + 1; i < je; ++i) x[i] -= c[i] * xj;
+  }
+}
+
+}  // namespace
+
 // y_s = L_ss^-1 y_s, then the rows below: y_r -= L_rs y_s (into a buffer for a task's top rows).
 // Block by block of kCols columns: the block's triangle, then its update of the rows after it,
 // each row updated by the columns in their order whatever the split of the rows.
@@ -222,13 +260,7 @@ void SupernodalSolver::forward(int64_t sn, double* y, bool split) const {
   std::fill(y, y + m, 0.0);
   for (int64_t jb = 0; jb < nc; jb += kCols) {
     const int64_t je = std::min(nc, jb + kCols);
-    for (int64_t j = jb; j < je; ++j) {
-      const double* c = l + j * nr;
-      const double xj = xs[j] / c[j];
-      xs[j] = xj;
-      SILT_IVDEP
-      for (int64_t i = j + 1; i < je; ++i) xs[i] -= c[i] * xj;
-    }
+    run_simd([&] { block_triangle(l, nr, jb, je, xs); });
     auto rows = [&](int64_t r0, int64_t r1) {
       run_simd([&] {
         const int64_t a1 = std::min(r1, nc), b0 = std::max(r0, nc);
@@ -294,10 +326,12 @@ void SupernodalSolver::backward(int64_t sn, double* t, bool split) const {
     } else {
       columns(jb, je);
     }
-    for (int64_t j = je - 1; j >= jb; --j) {
-      const double* c = l + j * nr;
-      t[j] = (t[j] - after[j - jb] - dot(c + j + 1, t + j + 1, je - j - 1)) / c[j];
-    }
+    run_simd([&] {
+      for (int64_t j = je - 1; j >= jb; --j) {
+        const double* c = l + j * nr;
+        t[j] = (t[j] - after[j - jb] - dot(c + j + 1, t + j + 1, je - j - 1)) / c[j];
+      }
+    });
   }
   std::copy(t, t + nc, w + k0);
 }
