@@ -128,8 +128,9 @@ PasteMemory estimate_paste_memory(const Model& m) {
   const auto dn = static_cast<double>(size), dc = static_cast<double>(c), dnz = static_cast<double>(e.entries);
   const double nl = local_size(l);
   const double grains = static_cast<double>(n);
+  // And the pattern's work arrays and each grain's connections (per grain, per connection end).
   e.held = 12 * dnz + 4 * dn + 8 * nl * nl * dc + dc * (sizeof(Connection) + 12 + 16) + 4 * dn + 20 * 8 * dn +
-           24 * grains + 4 * (2 * dc + grains);  // and the pattern's work arrays (per grain, per connection end)
+           24 * grains + 2 * 4 * (2 * dc + grains);
   if (p.solver.method == linalg::Method::kFactorPcg)
     e.held += 2 * 8 * (3 + dn + 2 * static_cast<double>(factored_entries));
   // Within a step: the numerical factorisation's update matrix (with a sparser copy of Xi when

@@ -1,9 +1,12 @@
 #include "paste/system.hpp"
 
+#include <tbb/task_arena.h>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <type_traits>
 
 #include "core/parallel.hpp"
 #include "core/periodic_image.hpp"
@@ -240,6 +243,18 @@ void ResistanceSystem::build_pattern(const std::vector<Connection>& cs) {
     for (int a = 0; a < 2; ++a)
       for (int b = 0; b < 2; ++b) slots_[k][2 * a + b] = static_cast<int32_t>(slot(g[a], g[b]));
   }
+  by_grain_start_.assign(static_cast<size_t>(grains) + 1, 0);
+  for (const Connection& c : cs) {
+    ++by_grain_start_[c.i + 1];
+    ++by_grain_start_[c.j + 1];
+  }
+  for (int64_t g = 0; g < grains; ++g) by_grain_start_[g + 1] += by_grain_start_[g];
+  by_grain_.resize(2 * cs.size());
+  std::vector<int32_t> fill(by_grain_start_.begin(), by_grain_start_.end() - 1);
+  for (size_t k = 0; k < cs.size(); ++k) {
+    by_grain_[fill[cs[k].i]++] = static_cast<int32_t>(k);
+    by_grain_[fill[cs[k].j]++] = static_cast<int32_t>(k);
+  }
   connected_ = connected;
   pairs_.resize(cs.size());
   for (size_t k = 0; k < cs.size(); ++k) pairs_[k] = {cs[k].i, cs[k].j};
@@ -264,7 +279,10 @@ bool ResistanceSystem::assemble(const SystemLayout& l, const std::vector<Connect
   double* val = a_.valuePtr();
   std::fill(val, val + a_.nonZeros(), 0.0);
   shear_rhs_.setZero(l.size());
-  for (size_t k = 0; k < cs.size(); ++k) add_block(cs[k], &local_[k * n * n], slots_[k], shear_rate, shear_rhs_);
+  // On one thread connection by connection, which reads each local block once; the same sums.
+  if (tbb::this_task_arena::max_concurrency() > 1) add_blocks(cs, shear_rate);
+  else
+    for (size_t k = 0; k < cs.size(); ++k) add_block(cs[k], &local_[k * n * n], slots_[k], shear_rate, shear_rhs_);
   return !same;
 }
 
@@ -314,16 +332,20 @@ void add_local(double* val, const int* outer, const int64_t g[2], const std::arr
   }
 }
 
-template <int P>
-void add_local_p(int nb, double* val, const int* outer, const int64_t g[2], const std::array<int32_t, 4>& slot,
-                 const int64_t partners[2], const int64_t rank[2], int64_t connected, int64_t box0, int n,
-                 const double* loc) {
-  switch (nb) {
-    case 0: return add_local<P, 0>(val, outer, g, slot, partners, rank, connected, box0, n, loc);
-    case 1: return add_local<P, 1>(val, outer, g, slot, partners, rank, connected, box0, n, loc);
-    case 2: return add_local<P, 2>(val, outer, g, slot, partners, rank, connected, box0, n, loc);
-    default: return add_local<P, 3>(val, outer, g, slot, partners, rank, connected, box0, n, loc);
-  }
+// f(std::integral_constant<int, P>, std::integral_constant<int, NB>) with the unknowns of a grain
+// (3 or 6) and the box's strain rates (0 to 3) as compile-time constants.
+template <class F>
+void with_sizes(int p, int nb, F&& f) {
+  auto boxes = [&](auto pc) {
+    switch (nb) {
+      case 0: return f(pc, std::integral_constant<int, 0>{});
+      case 1: return f(pc, std::integral_constant<int, 1>{});
+      case 2: return f(pc, std::integral_constant<int, 2>{});
+      default: return f(pc, std::integral_constant<int, 3>{});
+    }
+  };
+  if (p == 3) boxes(std::integral_constant<int, 3>{});
+  else boxes(std::integral_constant<int, 6>{});
 }
 
 }  // namespace
@@ -336,11 +358,74 @@ void ResistanceSystem::add_block(const Connection& c, const double* loc, const s
   const int64_t partners[2] = {partners_[c.i], partners_[c.j]}, rank[2] = {rank_[c.i], rank_[c.j]};
   double* val = a_.valuePtr();
   const int* outer = a_.outerIndexPtr();
-  if (l.per_grain == 3)
-    add_local_p<3>(l.n_box, val, outer, g, slot, partners, rank, connected_, l.box_unknown(0), n, loc);
-  else add_local_p<6>(l.n_box, val, outer, g, slot, partners, rank, connected_, l.box_unknown(0), n, loc);
+  with_sizes(l.per_grain, l.n_box, [&](auto p, auto nb) {
+    add_local<decltype(p)::value, decltype(nb)::value>(val, outer, g, slot, partners, rank, connected_,
+                                                       l.box_unknown(0), n, loc);
+  });
   if (l.shear)
     for (int r = 0; r < n - 1; ++r) rhs[local_to_global(l, c, r)] -= loc[r * n + (n - 1)] * shear_rate;
+}
+
+namespace {
+
+// The part of add_local in grain g's columns and in its rows of the strain rates' columns, g
+// being side s of a connection: the same additions as add_local's there. The local block is
+// symmetric to the bit (local_block), so a column is read as the row it equals, in order.
+template <int P, int NB>
+void add_local_grain(double* val, const int* outer, int64_t g, int s, const std::array<int32_t, 4>& slot,
+                     int64_t partners, int64_t rank, int64_t box0, int n, const double* loc) {
+  for (int a = 0; a < P; ++a) {
+    const double* column = loc + (s * P + a) * n;
+    for (int t = 0; t < 2; ++t) {
+      double* v = val + grain_block(outer, P, g, a, slot[2 * s + t]);
+      for (int b = 0; b < P; ++b) v[b] += column[t * P + b];
+    }
+    double* vb = val + grain_block(outer, P, g, a, partners);
+    for (int k = 0; k < NB; ++k) vb[k] += column[2 * P + k];
+  }
+  for (int k = 0; k < NB; ++k) {
+    const double* column = loc + (2 * P + k) * n + s * P;
+    double* v = val + outer[box0 + k] + rank * P;
+    for (int b = 0; b < P; ++b) v[b] += column[b];
+  }
+}
+
+}  // namespace
+
+// add_block for every connection in their order, in parallel by grain: the columns of a grain,
+// its rows of the strain rates' columns and its rows of the shear's right-hand side take the
+// additions of its connections in their order, as add_block makes them, so the sums are the same
+// bits; the strain rates' own block and rows then take every connection's in their order.
+void ResistanceSystem::add_blocks(const std::vector<Connection>& cs, double shear_rate) {
+  const SystemLayout& l = layout_;
+  const int n = local_size(l), p = l.per_grain, nb = l.n_box;
+  const int64_t box0 = l.box_unknown(0);
+  double* val = a_.valuePtr();
+  const int* outer = a_.outerIndexPtr();
+  double* rhs = shear_rhs_.data();
+  parallel_for(l.grains, 256, [&](int64_t g0, int64_t g1) {
+    for (int64_t g = g0; g < g1; ++g)
+      for (int32_t e = by_grain_start_[g]; e < by_grain_start_[g + 1]; ++e) {
+        const int32_t k = by_grain_[e];
+        const int s = cs[k].i == g ? 0 : 1;
+        const double* loc = &local_[static_cast<size_t>(k) * n * n];
+        with_sizes(p, nb, [&](auto pc, auto nbc) {
+          add_local_grain<decltype(pc)::value, decltype(nbc)::value>(val, outer, g, s, slots_[k], partners_[g],
+                                                                     rank_[g], box0, n, loc);
+        });
+        if (l.shear)
+          for (int b = 0; b < p; ++b) rhs[g * p + b] -= loc[(n - 1) * n + s * p + b] * shear_rate;
+      }
+  });
+  for (size_t k = 0; k < cs.size(); ++k) {
+    const double* loc = &local_[k * n * n];
+    for (int c = 0; c < nb; ++c) {
+      double* vb = val + outer[box0 + c] + connected_ * p;
+      for (int m = 0; m < nb; ++m) vb[m] += loc[(2 * p + m) * n + 2 * p + c];
+    }
+    if (l.shear)
+      for (int r = 2 * p; r < n - 1; ++r) rhs[local_to_global(l, cs[k], r)] -= loc[r * n + (n - 1)] * shear_rate;
+  }
 }
 
 linalg::SparseMatrix ResistanceSystem::sparsified(const std::vector<uint8_t>& keep, bool own_rotations) const {
@@ -419,7 +504,8 @@ void ResistanceSystem::pin(int64_t k, double scale, linalg::Vector& rhs) {
 size_t ResistanceSystem::bytes() const {
   return static_cast<size_t>(a_.nonZeros()) * (sizeof(double) + sizeof(int)) + slots_.size() * sizeof(slots_[0]) +
          local_.size() * sizeof(double) + diag_pos_.size() * sizeof(int32_t) +
-         pairs_.size() * sizeof(std::pair<int32_t, int32_t>);
+         pairs_.size() * sizeof(std::pair<int32_t, int32_t>) +
+         (by_grain_start_.size() + by_grain_.size()) * sizeof(int32_t);
 }
 
 }  // namespace silt::paste

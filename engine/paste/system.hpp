@@ -85,12 +85,18 @@ class ResistanceSystem {
   // system, and fresh arrays would cost a page fault per page each time.
   std::vector<int64_t> start_, rank_, partners_;
   std::vector<int32_t> adj_;
+  // The connections of each grain in their order: by_grain_[by_grain_start_[g] ..
+  // by_grain_start_[g + 1]) (the assembly's columns, grain by grain).
+  std::vector<int32_t> by_grain_start_, by_grain_;
   std::vector<double> local_;  // per connection, its local G^T xi G
   void build_pattern(const std::vector<Connection>& c);
   // Add a connection's local block into the matrix (its grains' slots from build_pattern), its
   // shear column times -shear_rate to rhs.
   void add_block(const Connection& c, const double* local, const std::array<int32_t, 4>& slot, double shear_rate,
                  linalg::Vector& rhs);
+  // add_block of every connection's local_ block in their order into the matrix and shear_rhs_,
+  // the same sums, in parallel by grain.
+  void add_blocks(const std::vector<Connection>& cs, double shear_rate);
 };
 
 // The local unknowns of a connection: grain i's, grain j's, the box strain rates, then the shear

@@ -1,9 +1,11 @@
 // The resistance system's sparse pattern, written column by column, against the pattern of the
 // triplets it stands for (every local pair of unknowns of every connection, and every diagonal
-// entry), and its assembled values against the sum of the connections' local blocks: random
+// entry), and its assembled values (and the shear's right-hand side) against the sums of the
+// connections' local blocks in their order, to the bit and on one thread as on several: random
 // connection graphs in 2D and 3D with grains left out, with and without box strain rates.
 #include <doctest/doctest.h>
 
+#include <tbb/task_arena.h>
 #include <Eigen/Dense>
 #include <Eigen/SparseCore>
 #include <algorithm>
@@ -67,6 +69,21 @@ linalg::SparseMatrix pattern_from_triplets(const SystemLayout& l, const std::vec
   return a;
 }
 
+// The shear's right-hand side, -shear_rate times each local block's shear column, summed in the
+// connections' order.
+linalg::Vector shear_rhs_in_order(const SystemLayout& l, const std::vector<Connection>& cs,
+                                  const std::vector<double>& radius, double shear_rate) {
+  const int n = local_size(l);
+  linalg::Vector rhs = linalg::Vector::Zero(l.size());
+  if (!l.shear) return rhs;
+  std::vector<double> loc(static_cast<size_t>(n * n));
+  for (const Connection& c : cs) {
+    local_block(l, c, radius[c.i], radius[c.j], c.xi_n, c.xi_t, loc.data());
+    for (int r = 0; r < n - 1; ++r) rhs[local_to_global(l, c, r)] -= loc[r * n + (n - 1)] * shear_rate;
+  }
+  return rhs;
+}
+
 // The unknowns of `grains` grains with the first `boxes` box lengths controlled.
 SystemLayout test_layout(int dim, int64_t grains, int boxes, bool shear) {
   bool controlled[3] = {false, false, false};
@@ -90,29 +107,34 @@ TEST_CASE("paste: the resistance pattern written by columns is the triplets' pat
         CAPTURE(dim);
         CAPTURE(boxes);
         CAPTURE(shear);
-        const int64_t grains = 40;
-        const SystemLayout l = test_layout(dim, grains, boxes, shear);
-        const std::vector<double> radius = test_radii(grains, rng);
-        ResistanceSystem sys;
-        // Several graphs in turn (the pattern rebuilt each time), the empty one included.
-        for (int count : {0, 1, 30, 80, 30}) {
-          CAPTURE(count);
-          const std::vector<Connection> cs = pattern_test_graph(dim, grains, count, rng);
-          CHECK(sys.assemble(l, cs, radius, 0.3));
-          const linalg::SparseMatrix want = pattern_from_triplets(l, cs, radius);
-          const linalg::SparseMatrix& got = sys.matrix();
-          REQUIRE(got.nonZeros() == want.nonZeros());
-          CHECK(std::equal(got.outerIndexPtr(), got.outerIndexPtr() + l.size() + 1, want.outerIndexPtr()));
-          CHECK(std::equal(got.innerIndexPtr(), got.innerIndexPtr() + got.nonZeros(), want.innerIndexPtr()));
-          double worst = 0, largest = 0;
-          for (int64_t k = 0; k < got.nonZeros(); ++k) {
-            worst = std::max(worst, std::abs(got.valuePtr()[k] - want.valuePtr()[k]));
-            largest = std::max(largest, std::abs(want.valuePtr()[k]));
+        // 40 grains, and enough for the assembly to be shared among threads.
+        for (int64_t grains : {40, 600}) {
+          const SystemLayout l = test_layout(dim, grains, boxes, shear);
+          const std::vector<double> radius = test_radii(grains, rng);
+          ResistanceSystem sys;
+          // Several graphs in turn (the pattern rebuilt each time), the empty one included.
+          for (int count : {0, 1, 30, 80, 30}) {
+            CAPTURE(count);
+            const std::vector<Connection> cs =
+                pattern_test_graph(dim, grains, count * static_cast<int>(grains / 40), rng);
+            CHECK(sys.assemble(l, cs, radius, 0.3));
+            const linalg::SparseMatrix want = pattern_from_triplets(l, cs, radius);
+            const linalg::SparseMatrix& got = sys.matrix();
+            REQUIRE(got.nonZeros() == want.nonZeros());
+            CHECK(std::equal(got.outerIndexPtr(), got.outerIndexPtr() + l.size() + 1, want.outerIndexPtr()));
+            CHECK(std::equal(got.innerIndexPtr(), got.innerIndexPtr() + got.nonZeros(), want.innerIndexPtr()));
+            // The same bits: each entry takes its connections' additions in their order, as the
+            // triplets' sums do, whatever the threads (the assembly runs grain by grain).
+            CHECK(std::equal(got.valuePtr(), got.valuePtr() + got.nonZeros(), want.valuePtr()));
+            const linalg::Vector want_rhs = shear_rhs_in_order(l, cs, radius, 0.3);
+            CHECK(std::equal(sys.shear_rhs().data(), sys.shear_rhs().data() + l.size(), want_rhs.data()));
+            ResistanceSystem one;
+            tbb::task_arena(1).execute([&] { one.assemble(l, cs, radius, 0.3); });
+            CHECK(std::equal(got.valuePtr(), got.valuePtr() + got.nonZeros(), one.matrix().valuePtr()));
+            for (int64_t k = 0; k < l.size(); ++k) CHECK(got.innerIndexPtr()[sys.diagonal_position(k)] == k);
+            // The same connections again: the pattern is kept.
+            CHECK_FALSE(sys.assemble(l, cs, radius, 0.3));
           }
-          CHECK(worst <= 1e-14 * largest);
-          for (int64_t k = 0; k < l.size(); ++k) CHECK(got.innerIndexPtr()[sys.diagonal_position(k)] == k);
-          // The same connections again: the pattern is kept.
-          CHECK_FALSE(sys.assemble(l, cs, radius, 0.3));
         }
       }
 }
