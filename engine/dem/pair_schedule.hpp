@@ -70,8 +70,8 @@ PairSchedule build_pair_schedule(int64_t n, const std::vector<int32_t>& nbr_star
 // The blocks of each owner of `shares` (core/owned.hpp): owner t's are own[own_start[t] ..
 // own_start[t + 1]), those nearest another owner's blocks first (fewest conflicts away from a
 // block that conflicts with one), each as near in the schedule's order. The other threads wait on
-// those, so they run first: on two threads, a share taken in colour order left a tenth of the
-// second thread's time waiting on the first one's blocks.
+// those, so they run first: on two threads in a fast flow, shares taken in colour order left the
+// second thread waiting on the first one's blocks for up to a fifth of the loop.
 void split_by_owner(PairSchedule& s, const Shares& shares);
 
 // body(b) for every block b of the schedule, each after the blocks before it in the schedule's
