@@ -162,6 +162,8 @@ void ResistanceSystem::build_pattern(const std::vector<Connection>& cs) {
     ++start[c.i + 1];
     ++start[c.j + 1];
   }
+  // Each grain's connections in their order (CSR over grains; the same counts).
+  by_grain_start_.assign(start.begin(), start.end());
   rank.assign(static_cast<size_t>(grains), -1);  // among the connected grains
   int64_t connected = 0;
   for (int64_t g = 0; g < grains; ++g) {
@@ -243,18 +245,15 @@ void ResistanceSystem::build_pattern(const std::vector<Connection>& cs) {
     for (int a = 0; a < 2; ++a)
       for (int b = 0; b < 2; ++b) slots_[k][2 * a + b] = static_cast<int32_t>(slot(g[a], g[b]));
   }
-  by_grain_start_.assign(static_cast<size_t>(grains) + 1, 0);
-  for (const Connection& c : cs) {
-    ++by_grain_start_[c.i + 1];
-    ++by_grain_start_[c.j + 1];
-  }
+  // Filled with the starts as cursors (each ends at the next grain's start), then shifted back.
   for (int64_t g = 0; g < grains; ++g) by_grain_start_[g + 1] += by_grain_start_[g];
   by_grain_.resize(2 * cs.size());
-  std::vector<int32_t> fill(by_grain_start_.begin(), by_grain_start_.end() - 1);
   for (size_t k = 0; k < cs.size(); ++k) {
-    by_grain_[fill[cs[k].i]++] = static_cast<int32_t>(k);
-    by_grain_[fill[cs[k].j]++] = static_cast<int32_t>(k);
+    by_grain_[by_grain_start_[cs[k].i]++] = static_cast<int32_t>(k);
+    by_grain_[by_grain_start_[cs[k].j]++] = static_cast<int32_t>(k);
   }
+  for (int64_t g = grains; g > 0; --g) by_grain_start_[g] = by_grain_start_[g - 1];
+  by_grain_start_[0] = 0;
   connected_ = connected;
   pairs_.resize(cs.size());
   for (size_t k = 0; k < cs.size(); ++k) pairs_[k] = {cs[k].i, cs[k].j};
