@@ -121,4 +121,9 @@ inline std::string capture(const std::string& cmd) {
   return out;
 }
 
+// The command that starts Debian's LAMMPS on one process, or on `ranks` MPI ranks.
+inline std::string lammps_launch(int ranks) {
+  return ranks > 1 ? "mpirun --allow-run-as-root -np " + std::to_string(ranks) + " lmp" : "lmp";
+}
+
 }  // namespace silt::bench

@@ -71,8 +71,7 @@ int run(int argc, char** argv) {
     const std::string in = src + "/../shared/bench/lammps_chute.in";
     const std::string settle = std::to_string(std::max(0, std::atoi(steps.c_str()) - 3000));
     const std::string args = " -in " + in + " -var settle " + settle + " -var steps 3000 -log none -screen none";
-    jobs.push_back({"lammps", 1, "lmp" + args});
-    jobs.push_back({"lammps", 2, "mpirun --allow-run-as-root -np 2 lmp" + args});
+    for (int ranks : {1, 2}) jobs.push_back({"lammps", ranks, bench::lammps_launch(ranks) + args});
   }
   std::map<std::pair<std::string, int>, std::vector<double>> times;
   const std::string date = bench::today(), cpu = bench::cpu_model();

@@ -89,9 +89,8 @@ struct Lammps {
 Lammps run_lammps(double cutinner, int steps, double dt, double limit_s, int ranks) {
   write_input(kDir + "/in.paste", cutinner, 3.0, 0.01, steps, dt);
   const double t0 = bench::now_s();
-  const std::string launch = ranks > 1 ? "mpirun --allow-run-as-root -np " + std::to_string(ranks) + " lmp" : "lmp";
-  const std::string out = bench::capture("cd " + kDir + " && OMP_NUM_THREADS=1 timeout " + num(limit_s) + " " + launch +
-                                         " -in in.paste -log none 2>&1");
+  const std::string out = bench::capture("cd " + kDir + " && OMP_NUM_THREADS=1 timeout " + num(limit_s) + " " +
+                                         bench::lammps_launch(ranks) + " -in in.paste -log none 2>&1");
   Lammps l;
   const std::regex loop(R"(Loop time of ([0-9.eE+-]+) on )" + std::to_string(ranks) +
                         R"( procs for (\d+) steps with (\d+) atoms)");
