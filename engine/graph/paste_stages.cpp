@@ -38,12 +38,14 @@ Access solve_reads() {
           f.change,
           f.factor,
           f.alone,
+          f.coarse_order,
           fid::particle_id};  // names the grains alone
 }
 
 Access solve_writes() {
   const paste::PasteFields f = paste::paste_fields();
-  return {fid::particle_v, fid::particle_w, fid::box_rate, f.pair_f_lub, f.dt, f.solver, f.change, f.factor, f.alone};
+  return {fid::particle_v, fid::particle_w, fid::box_rate, f.pair_f_lub, f.dt,
+          f.solver,        f.change,        f.factor,      f.alone,      f.coarse_order};
 }
 
 void diagnose_paste(GraphBuilder& b) {

@@ -82,13 +82,23 @@ const SparseMatrix* compressed(const SparseMatrix& a, SparseMatrix& copy) {
 CholeskyFactor::CholeskyFactor() : impl_(std::make_unique<Impl>()) {}
 CholeskyFactor::~CholeskyFactor() = default;
 
-void CholeskyFactor::analyze(const SparseMatrix& a0) {
+void CholeskyFactor::analyze(const SparseMatrix& a0, const std::vector<int>* order) {
   SparseMatrix copy;
   const SparseMatrix* a = compressed(a0, copy);
   Impl& im = *impl_;
   if (im.l) cholmod_free_factor(&im.l, &im.c);
   cholmod_sparse v = view(*a);
-  im.l = cholmod_analyze(&v, &im.c);
+  if (order && static_cast<int64_t>(order->size()) == a->rows()) {
+    // The given order alone (CHOLMOD checks that it is a permutation), then the default again.
+    const int nmethods = im.c.nmethods, first = im.c.method[0].ordering;
+    im.c.nmethods = 1;
+    im.c.method[0].ordering = CHOLMOD_GIVEN;
+    im.l = cholmod_analyze_p(&v, const_cast<int*>(order->data()), nullptr, 0, &im.c);
+    im.c.nmethods = nmethods;
+    im.c.method[0].ordering = first;
+  } else {
+    im.l = cholmod_analyze(&v, &im.c);
+  }
   im.n = a->rows();
   im.nnz = a->nonZeros();
   im.outer.assign(a->outerIndexPtr(), a->outerIndexPtr() + a->cols() + 1);
@@ -146,6 +156,15 @@ SolveReport CholeskyFactor::factorize(const SparseMatrix& a0) {
 }
 
 bool CholeskyFactor::ready() const { return impl_->factored; }
+
+bool CholeskyFactor::analysed_for(const SparseMatrix& a) const { return impl_->l && impl_->same_pattern(a); }
+
+std::vector<int> CholeskyFactor::order() const {
+  const Impl& im = *impl_;
+  if (!im.l || !im.l->Perm) return {};
+  const auto* perm = static_cast<const int*>(im.l->Perm);
+  return {perm, perm + im.l->n};
+}
 
 SolveReport CholeskyFactor::solve(const Vector& b, Vector& x) const {
   SolveReport rep;

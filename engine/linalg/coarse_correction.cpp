@@ -1,10 +1,82 @@
 // The balancing preconditioner: a Cholesky factor of an earlier matrix, corrected exactly on the
 // span of W (silt/linalg.hpp).
+#include <algorithm>
+#include <limits>
+#include <tuple>
+
 #include "linalg/vector_ops.hpp"
 
 namespace silt::linalg {
+namespace {
 
-SolveReport CoarseCorrection::setup(const SparseMatrix& a, SparseMatrix& w, const Preconditioner& m) {
+// How many entries of E's lower triangle (E is stored whole, its pattern symmetric).
+double lower_entries(const SparseMatrix& e) { return static_cast<double>(e.nonZeros() + e.rows()) / 2; }
+
+// E's elimination order from the memory's: a column the memory holds keeps its place among those
+// it holds; a new one goes right after the latest of its neighbours in E that the memory holds
+// (eliminated there, it fills in about as the contact it touches did), or first when it has none.
+// Empty when fewer than half the columns are in the memory.
+std::vector<int> order_from(const CoarseCorrection::OrderMemory& memory, const std::vector<int64_t>& keys,
+                            const SparseMatrix& e) {
+  const int n = static_cast<int>(e.cols());
+  std::vector<std::pair<int64_t, int>> old(memory.keys.size());
+  for (size_t p = 0; p < old.size(); ++p) old[p] = {memory.keys[p], static_cast<int>(p)};
+  std::sort(old.begin(), old.end());
+  std::vector<int> place(static_cast<size_t>(n), -1);  // the position in the memory's order, -1 new
+  int kept = 0;
+  for (int c = 0; c < n; ++c) {
+    const auto it = std::lower_bound(old.begin(), old.end(), std::pair{keys[c], std::numeric_limits<int>::min()});
+    if (it != old.end() && it->first == keys[c]) {
+      place[c] = it->second;
+      ++kept;
+    }
+  }
+  if (2 * kept < n) return {};
+  std::vector<std::tuple<int, int, int>> rank(static_cast<size_t>(n));  // (place, new, column)
+  for (int c = 0; c < n; ++c) {
+    int at = place[c];
+    if (at < 0)
+      for (SparseMatrix::InnerIterator it(e, c); it; ++it) at = std::max(at, place[it.row()]);
+    rank[c] = {at, place[c] < 0, c};
+  }
+  std::sort(rank.begin(), rank.end());
+  std::vector<int> order(static_cast<size_t>(n));
+  for (int k = 0; k < n; ++k) order[k] = std::get<2>(rank[k]);
+  return order;
+}
+
+}  // namespace
+
+// E analysed for a new pattern: from the memory's order when it fills the factor in little more
+// than a fresh ordering did, else CHOLMOD's; the memory then holds the order analysed.
+void CoarseCorrection::analyze_e(const SparseMatrix& e, const std::vector<int64_t>* keys) {
+  const bool keyed = keys && static_cast<int64_t>(keys->size()) == e.cols();
+  bool from_memory = false;
+  if (keyed && !memory_.keys.empty() && memory_.fill > 0) {
+    const std::vector<int> order = order_from(memory_, *keys, e);
+    if (!order.empty()) {
+      e_.analyze(e, &order);
+      from_memory = static_cast<double>(e_.factor_entries()) <= kOrderFillSlack * memory_.fill * lower_entries(e);
+    }
+  }
+  if (from_memory) {
+    ++kept_;
+  } else {
+    e_.analyze(e);
+    memory_.fill = static_cast<double>(e_.factor_entries()) / lower_entries(e);
+    ++fresh_;
+  }
+  if (!keyed) {
+    memory_.keys.clear();
+    return;
+  }
+  const std::vector<int> order = e_.order();
+  memory_.keys.resize(order.size());
+  for (size_t k = 0; k < order.size(); ++k) memory_.keys[k] = (*keys)[order[k]];
+}
+
+SolveReport CoarseCorrection::setup(const SparseMatrix& a, SparseMatrix& w, const Preconditioner& m,
+                                    const std::vector<int64_t>* keys) {
   m_ = &m;
   w_.swap(w);  // Eigen's sparse matrices have no move
   w_.makeCompressed();
@@ -20,6 +92,7 @@ SolveReport CoarseCorrection::setup(const SparseMatrix& a, SparseMatrix& w, cons
   for (int64_t k = 0; k < e.outerSize(); ++k)
     for (SparseMatrix::InnerIterator it(e, k); it; ++it)
       if (it.row() == it.col()) it.valueRef() *= 1 + 1e-10;
+  if (!e_.analysed_for(e)) analyze_e(e, keys);
   rep = e_.factorize(e);
   ready_ = rep.ok();
   return rep;

@@ -78,9 +78,10 @@ SolveReport SpdSolver::solve(const SparseMatrix& a, const Vector& b, Vector& x, 
   const Preconditioner* m = &factor_;
   coarse_columns_ = 0;
   if (coarse_space) {
-    SparseMatrix w = coarse_space();
-    const int64_t columns = w.cols();
-    if (columns > 0 && 4 * columns <= a.rows() && coarse_.setup(a, w, factor_).ok()) {
+    CoarseSpace space = coarse_space();
+    const int64_t columns = space.w.cols();
+    const std::vector<int64_t>* keys = space.keys.empty() ? nullptr : &space.keys;
+    if (columns > 0 && 4 * columns <= a.rows() && coarse_.setup(a, space.w, factor_, keys).ok()) {
       m = &coarse_;
       coarse_columns_ = columns;
     }

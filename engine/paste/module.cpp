@@ -265,6 +265,13 @@ std::string check_paste_state(const Model& m, const State& s) {
           (k > 1 && !(alone[k] > alone[k - 1])))
         return "paste_alone's grain ids are out of range or out of order";
   }
+  const auto& order = s.module_field(f.coarse_order);
+  if (!order.empty()) {
+    if (!(order[0] >= 0 && order[0] < 1e12)) return "paste_coarse_order's fill-in is not a ratio";
+    for (size_t k = 1; k < order.size(); ++k)
+      if (!(order[k] >= 0 && order[k] < 0x1p53) || order[k] != std::floor(order[k]))
+        return "paste_coarse_order's keys are not whole numbers in range";
+  }
   const auto& a = s.module_field(f.factor);
   if (a.empty()) return "";
   if (a.size() < 2 || a[0] != static_cast<double>(size) || !(a[1] >= 0) || a[1] > 1e12 ||
@@ -316,6 +323,11 @@ const ModuleSpec& module() {
         {"paste_factor", Extent::kFree, "",
          "the matrix the held Cholesky factor was made from (n, nnz, columns, rows, values): a restart refactorises "
          "it; lubrication_solve"},
+        {"paste_coarse_order", Extent::kFree, "",
+         "the coarse correction's order (linalg CoarseCorrection::OrderMemory): the fill-in of its last fresh "
+         "ordering, then its columns' keys, 3 (i n + j) + d for the direction d (0 the normal, 1 and 2 the "
+         "tangents) of the connection of grains i < j, in the elimination order of its last factor, from which "
+         "the next is ordered; lubrication_solve"},
         {"paste_alone", Extent::kFree, "",
          "1 when the set changed at the last solve (else 0), then the ids of the grains with no lubricated "
          "connection, held at the affine flow, in increasing order; lubrication_solve"}};

@@ -74,9 +74,10 @@ double next_step(const PasteParams& p, double dt, double change) {
 }  // namespace
 
 PasteFields paste_fields() {
-  static const PasteFields f{find_field("pair_f_lub")->id,   find_field("paste_dt")->id,
-                             find_field("paste_solver")->id, find_field("paste_change")->id,
-                             find_field("paste_factor")->id, find_field("paste_alone")->id};
+  static const PasteFields f{find_field("pair_f_lub")->id,        find_field("paste_dt")->id,
+                             find_field("paste_solver")->id,      find_field("paste_change")->id,
+                             find_field("paste_factor")->id,      find_field("paste_alone")->id,
+                             find_field("paste_coarse_order")->id};
   return f;
 }
 
@@ -280,12 +281,29 @@ void lubrication_solve(const Model& m, State& s, PasteWorkspace& w, bool setup) 
       return w.system.sparsified(keep, p.own_rotations);
     };
   w.solver.coarse_space = nullptr;
-  if (p.coarse_ratio > 0)
+  std::vector<double>& coarse_order = s.module_field(f.coarse_order);
+  if (p.coarse_ratio > 0) {
     w.solver.coarse_space = [&cs, &s, &p, &L]() { return stiff_directions(L, cs, s.particle_r, p.coarse_ratio); };
+    // E ordered from the state's order, so that a solve depends on the state alone.
+    linalg::CoarseCorrection::OrderMemory memory;
+    if (!coarse_order.empty()) {
+      memory.fill = coarse_order[0];
+      memory.keys.assign(coarse_order.begin() + 1, coarse_order.end());
+    }
+    w.solver.set_coarse_order(std::move(memory));
+  }
   const linalg::SolveReport rep = w.solver.solve(A, b, x, false);
   w.solver.on_factor = nullptr;
   w.solver.factor_source = nullptr;
   w.solver.coarse_space = nullptr;
+  if (p.coarse_ratio > 0) {
+    const linalg::CoarseCorrection::OrderMemory& memory = w.solver.coarse().order_memory();
+    coarse_order.resize(memory.keys.empty() ? 0 : memory.keys.size() + 1);
+    if (!memory.keys.empty()) {
+      coarse_order[0] = memory.fill;
+      std::copy(memory.keys.begin(), memory.keys.end(), coarse_order.begin() + 1);
+    }
+  }
   // The stored matrix changes only when the solver factorised (or dropped its factor).
   if (w.solver.refactorizations() != factorizations_before || factor.empty())
     w.factor_hash = factor.empty() ? 0 : field_hash(s, f.factor);

@@ -22,7 +22,7 @@ namespace silt::paste {
 
 // The paste's own fields (registered by its module spec).
 struct PasteFields {
-  FieldId pair_f_lub, dt, solver, change, factor, alone;
+  FieldId pair_f_lub, dt, solver, change, factor, alone, coarse_order;
 };
 PasteFields paste_fields();
 
@@ -74,7 +74,7 @@ void paste_dt(const Model& m, State& s);
 //  particle_inv_i, nbr_start, pair_j, pair_f, pair_hist, particle_group, box, box_rate,
 //  shear_rate, dt, paste_*) =>
 // (particle_v, particle_w, box_rate, pair_f_lub, paste_dt, paste_solver, paste_change,
-//  paste_factor, paste_alone)
+//  paste_factor, paste_alone, paste_coarse_order)
 // `setup`: the velocities of the first state, the adaptive step left as it is.
 void lubrication_solve(const Model& m, State& s, PasteWorkspace& w, bool setup);
 

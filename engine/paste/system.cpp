@@ -457,10 +457,11 @@ linalg::SparseMatrix ResistanceSystem::sparsified(const std::vector<uint8_t>& ke
   return m;
 }
 
-linalg::SparseMatrix stiff_directions(const SystemLayout& layout, const std::vector<Connection>& cs,
-                                      const std::vector<double>& radius, double ratio) {
+linalg::CoarseSpace stiff_directions(const SystemLayout& layout, const std::vector<Connection>& cs,
+                                     const std::vector<double>& radius, double ratio) {
   const int n = local_size(layout);
   std::vector<Eigen::Triplet<double, int>> t;
+  std::vector<int64_t> keys;
   int col = 0;
   double g[3 * 16];
   for (const Connection& c : cs) {
@@ -474,12 +475,14 @@ linalg::SparseMatrix stiff_directions(const SystemLayout& layout, const std::vec
         const int64_t k = local_to_global(layout, c, q);
         if (k >= 0 && gr[q] != 0) t.emplace_back(static_cast<int>(k), col, gr[q]);
       }
+      keys.push_back(direction_key(layout.grains, c.i, c.j, row));
       ++col;
     }
   }
-  linalg::SparseMatrix w(layout.size(), col);
-  w.setFromTriplets(t.begin(), t.end());
-  return w;
+  linalg::CoarseSpace space({}, std::move(keys));
+  space.w.resize(layout.size(), col);
+  space.w.setFromTriplets(t.begin(), t.end());
+  return space;
 }
 
 void ResistanceSystem::pin(int64_t k, double scale, linalg::Vector& rhs) {

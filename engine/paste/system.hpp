@@ -12,12 +12,14 @@
 // term -gammadot r_ij,y e_x added to -epsdot . r_ij.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <vector>
 
 #include "paste/lubrication_laws.hpp"
 #include "paste/resistance.hpp"
+#include "silt/linalg.hpp"
 #include "silt/state.hpp"
 
 namespace silt::paste {
@@ -113,9 +115,15 @@ void local_block(const SystemLayout& layout, const Connection& c, double ri, dou
 // shear's entry left out) along which a connection resists more than `ratio` times its tangential
 // lubrication xi_T: the normal of a near-contact or a contact (xi_N + k_N), and with implicit
 // contacts the tangents of a sticking one (xi_T + k_T). These are the directions that turn with
-// the grains and take an older factor furthest from the matrix.
-linalg::SparseMatrix stiff_directions(const SystemLayout& layout, const std::vector<Connection>& c,
-                                      const std::vector<double>& radius, double ratio);
+// the grains and take an older factor furthest from the matrix. Each column keyed by its
+// connection and direction (direction_key), so that E is ordered from the last solve's order.
+linalg::CoarseSpace stiff_directions(const SystemLayout& layout, const std::vector<Connection>& c,
+                                     const std::vector<double>& radius, double ratio);
+// The key of direction d (0 the normal, 1 and 2 the tangents) of the connection of grains i and j
+// among n: 3 (lo n + hi) + d, lo and hi the smaller and larger id.
+inline int64_t direction_key(int64_t n, int64_t i, int64_t j, int d) {
+  return 3 * (std::min(i, j) * n + std::max(i, j)) + d;
+}
 // The force on i from j of a connection (dim components) for local unknowns u (eq. 2.24).
 void connection_force(const SystemLayout& layout, const Connection& c, double ri, double rj, const double* u,
                       double* force);

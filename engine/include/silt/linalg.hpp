@@ -21,6 +21,7 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <vector>
 
 namespace silt::linalg {
 
@@ -143,8 +144,13 @@ class CholeskyFactor final : public Preconditioner {
   CholeskyFactor(const CholeskyFactor&) = delete;
   CholeskyFactor& operator=(const CholeskyFactor&) = delete;
 
-  // The ordering and the pattern of the factor for the pattern of `a` (values unused).
-  void analyze(const SparseMatrix& a);
+  // The ordering and the pattern of the factor for the pattern of `a` (values unused): CHOLMOD's
+  // fill-reducing ordering, or `order` instead (order[k] the column eliminated k-th; CHOLMOD
+  // postorders it, as it does its own).
+  void analyze(const SparseMatrix& a, const std::vector<int>* order = nullptr);
+  bool analysed_for(const SparseMatrix& a) const;  // the held analysis is of a's pattern
+  // The elimination order of the held analysis (empty before one).
+  std::vector<int> order() const;
   // Numerical factorisation of `a` (analyzed first if the pattern is new). Returns kConverged, or
   // kNotPositive naming the column where positivity failed, or kNotFinite.
   SolveReport factorize(const SparseMatrix& a);
@@ -186,16 +192,37 @@ class CholeskyFactor final : public Preconditioner {
 // symmetric positive definite whenever M is, so plain PCG runs on it. An application costs one of
 // M, two products with A W (kept from the setup, with as many columns as W) and two solves with
 // E's factor.
+//
+// E's fill-reducing ordering (METIS on these patterns) costs about what its factorisation does,
+// and a paste's contacts change by a few a step. A caller that names W's columns by keys (a
+// contact's direction) has E ordered from the last setup's order instead (OrderMemory): the
+// columns it held keep their order, a new one goes after the latest of its neighbours in E, and
+// a fresh ordering is made only when that one fills the factor in more than kOrderFillSlack
+// times the last fresh ordering did, or when fewer than half the columns are old.
 class CoarseCorrection final : public Preconditioner {
  public:
+  struct OrderMemory {
+    std::vector<int64_t> keys;  // the last setup's columns by key, in E's elimination order
+    double fill = 0;            // the factor's entries over E's lower triangle's, at the last fresh ordering
+  };
+  static constexpr double kOrderFillSlack = 1.1;
+
   // E = W^T A W, held to a relative 1e-10 above its diagonal (so that dependent columns of W, a
   // self-stressed cluster of contacts, leave it definite), and its factor; W is taken (w is left
-  // with the previous one), A W kept, m kept by reference. Not ok when E could not be factorised:
-  // apply() then applies M alone.
-  SolveReport setup(const SparseMatrix& a, SparseMatrix& w, const Preconditioner& m);
+  // with the previous one), A W kept, m kept by reference. `keys`, one per column of W: order E
+  // from the memory (above); null: CHOLMOD's ordering whenever E's pattern is new. Not ok when E
+  // could not be factorised: apply() then applies M alone.
+  SolveReport setup(const SparseMatrix& a, SparseMatrix& w, const Preconditioner& m,
+                    const std::vector<int64_t>* keys = nullptr);
   void apply(const Vector& r, Vector& z) const override;
   int64_t columns() const { return w_.cols(); }
   bool ready() const { return ready_; }
+  // The order kept between setups: what a caller saves so that a restored sequence orders E, and
+  // so solves, to the same bits.
+  const OrderMemory& order_memory() const { return memory_; }
+  void set_order_memory(OrderMemory m) { memory_ = std::move(m); }
+  int64_t fresh_orderings() const { return fresh_; }  // analyses of E with CHOLMOD's own ordering
+  int64_t kept_orderings() const { return kept_; }    // analyses of E from the memory
   // Bytes held: W, A W and the factor of E.
   int64_t bytes() const {
     return (w_.nonZeros() + aw_.nonZeros()) * static_cast<int64_t>(sizeof(double) + sizeof(int)) + e_.factor_bytes();
@@ -206,6 +233,9 @@ class CoarseCorrection final : public Preconditioner {
   SparseMatrix w_, aw_;
   CholeskyFactor e_;
   bool ready_ = false;
+  OrderMemory memory_;
+  int64_t fresh_ = 0, kept_ = 0;
+  void analyze_e(const SparseMatrix& e, const std::vector<int64_t>* keys);
   mutable Vector c_, ec_, q_, y_;
 };
 
@@ -223,6 +253,16 @@ struct SolverSettings {
   SolveOptions options;
   int refactor_iterations = 20;  // kFactorPcg: refactorise after a solve that took more
   int refactor_every = 0;        // kFactorPcg: and at least every N solves (0: never forced)
+};
+
+// The columns of a CoarseCorrection's W, and a key naming each (or none): what a caller makes
+// for each solve.
+struct CoarseSpace {
+  CoarseSpace(SparseMatrix w_ = {}, std::vector<int64_t> keys_ = {}) : keys(std::move(keys_)) {
+    w.swap(w_);  // Eigen's sparse matrices have no move
+  }
+  SparseMatrix w;
+  std::vector<int64_t> keys;  // empty, or one per column of w
 };
 
 // A sequence of solves of slowly changing matrices (one per time step), warm-started from the
@@ -257,9 +297,10 @@ class SpdSolver {
   // kFactorPcg: W of a CoarseCorrection around the factor, made for each solve (the directions
   // where the factor goes stale first); null, no columns, or more than a quarter of the unknowns:
   // the factor alone. A corrected solve that fails is done again with a fresh factor alone.
-  std::function<SparseMatrix()> coarse_space;
+  std::function<CoarseSpace()> coarse_space;
   int64_t coarse_columns() const { return coarse_columns_; }  // of the last solve
   const CoarseCorrection& coarse() const { return coarse_; }
+  void set_coarse_order(CoarseCorrection::OrderMemory m) { coarse_.set_order_memory(std::move(m)); }
 
  private:
   SolverSettings s_;

@@ -2,6 +2,7 @@
 // of its stiff entries that have turned since, as a paste's contacts turn as the grains roll.
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <random>
@@ -181,4 +182,99 @@ TEST_CASE("the solver corrects its factor on the caller's coarse space") {
   CHECK(factors[1] == 1);  // one factor serves every step
   CHECK(factors[0] > 2);
   CHECK(its[1] < its[0]);
+}
+
+namespace {
+
+// The stiff links' columns with a key each (the link's index), leaving out those whose index is
+// in `skip`.
+CoarseSpace keyed_directions(const Links& l, double turn, const std::vector<int>& skip) {
+  std::vector<Eigen::Triplet<double>> t;
+  std::vector<int64_t> keys;
+  for (size_t e = 0; e < l.a.size(); ++e) {
+    if (l.k_n[e] < 1e3 || std::find(skip.begin(), skip.end(), static_cast<int>(e)) != skip.end()) continue;
+    const int col = static_cast<int>(keys.size());
+    const double nv[2] = {std::cos(l.angle[e] + turn), std::sin(l.angle[e] + turn)};
+    for (int p = 0; p < 2; ++p) {
+      t.emplace_back(2 * l.a[e] + p, col, nv[p]);
+      t.emplace_back(2 * l.b[e] + p, col, -nv[p]);
+    }
+    keys.push_back(static_cast<int64_t>(e));
+  }
+  CoarseSpace space({}, std::move(keys));
+  space.w.resize(2 * l.side * l.side, static_cast<int>(space.keys.size()));
+  space.w.setFromTriplets(t.begin(), t.end());
+  return space;
+}
+
+std::vector<int> stiff_links(const Links& l) {
+  std::vector<int> s;
+  for (size_t e = 0; e < l.a.size(); ++e)
+    if (l.k_n[e] >= 1e3) s.push_back(static_cast<int>(e));
+  return s;
+}
+
+}  // namespace
+
+TEST_CASE("E is ordered from the last setup's order while its columns are mostly the same") {
+  const Links l = make_links(24, 3);
+  const std::vector<int> stiff = stiff_links(l);
+  REQUIRE(stiff.size() > 100);
+  CholeskyFactor old;
+  REQUIRE(old.factorize(matrix(l, 0)).ok());
+  const SolveOptions opt{1e-8, 5000};
+
+  // Step 0 leaves out three stiff links; step 1 takes them in (new columns) and leaves out two
+  // others, as contacts are made and broken.
+  const std::vector<int> skip0 = {stiff[3], stiff[40], stiff[90]}, skip1 = {stiff[10], stiff[70]};
+  CoarseCorrection cc;
+  CoarseSpace s0 = keyed_directions(l, 0.005, skip0);
+  REQUIRE(cc.setup(matrix(l, 0.005), s0.w, old, &s0.keys).ok());
+  CHECK(cc.fresh_orderings() == 1);
+  CHECK(cc.kept_orderings() == 0);
+  // The memory: the columns' keys in the order E was eliminated, a permutation of them.
+  const CoarseCorrection::OrderMemory after0 = cc.order_memory();
+  std::vector<int64_t> sorted = after0.keys;
+  std::sort(sorted.begin(), sorted.end());
+  CHECK(sorted == s0.keys);
+  CHECK(after0.fill >= 1);
+
+  const SparseMatrix a1 = matrix(l, 0.01);
+  CoarseSpace s1 = keyed_directions(l, 0.01, skip1);
+  const std::vector<int64_t> keys1 = s1.keys;
+  CoarseSpace s1_copy = s1;
+  REQUIRE(cc.setup(a1, s1.w, old, &s1.keys).ok());
+  CHECK(cc.fresh_orderings() == 1);
+  CHECK(cc.kept_orderings() == 1);  // the kept order fills E's factor in within the slack
+  const Vector b = gaussian_vector(a1.rows(), 7);
+  Vector exact;
+  {
+    CholeskyFactor f;
+    REQUIRE(f.factorize(a1).ok());
+    REQUIRE(f.solve(b, exact).ok());
+  }
+  Vector x = Vector::Zero(a1.rows());
+  const SolveReport r = conjugate_gradient(SparseOperator(a1), b, x, opt, &cc);
+  CAPTURE(r.iterations);
+  CHECK(r.ok());
+  CHECK(r.iterations <= 12);
+  CHECK(rel_diff(x, exact) < 1e-6);
+
+  // A sequence restored from the memory of step 0 orders E, and so preconditions, to the bit.
+  CoarseCorrection restored;
+  restored.set_order_memory(after0);
+  REQUIRE(restored.setup(a1, s1_copy.w, old, &keys1).ok());
+  CHECK(restored.kept_orderings() == 1);
+  CHECK(restored.order_memory().keys == cc.order_memory().keys);
+  Vector z_cc, z_restored;
+  cc.apply(b, z_cc);
+  restored.apply(b, z_restored);
+  CHECK(z_cc == z_restored);
+
+  // Mostly new columns (other keys): a fresh ordering.
+  CoarseSpace s2 = keyed_directions(l, 0.01, {});
+  for (int64_t& k : s2.keys) k += 100000;
+  REQUIRE(cc.setup(a1, s2.w, old, &s2.keys).ok());
+  CHECK(cc.fresh_orderings() == 2);
+  CHECK(cc.kept_orderings() == 1);
 }

@@ -223,6 +223,10 @@ TEST_CASE("paste: the same bits on 1, 2 and 4 threads, and a restart continues t
       corrected += a->state().module_field(paste::paste_fields().solver)[paste::kCoarseColumns] > 0;
     };
     for (int k = 0; k < 12; ++k) step_a();
+    // The coarse correction's order is in the state: its fill-in, then one key per column.
+    const std::vector<double>& order = a->state().module_field(paste::paste_fields().coarse_order);
+    const double columns = a->state().module_field(paste::paste_fields().solver)[paste::kCoarseColumns];
+    CHECK(static_cast<double>(order.size()) == (coarse ? columns + 1 : 0));
     const std::string path = "paste_restart_test.ckpt";
     write_checkpoint(path, a->model(), a->state());
     for (int k = 0; k < 12; ++k) step_a();
@@ -247,6 +251,13 @@ TEST_CASE("paste: the same bits on 1, 2 and 4 threads, and a restart continues t
     d->restore(read_checkpoint(older_path, d->model()));
     for (int k = 0; k < 12; ++k) REQUIRE(step(*d));
     CHECK(state_hash(d->state()) == state_hash(a->state()));
+    // An order whose key is not a whole number is refused.
+    if (coarse) {
+      State bad = read_checkpoint(path, c->model());
+      bad.module_field(paste::paste_fields().coarse_order)[1] += 0.5;
+      write_checkpoint(older_path, c->model(), bad);
+      CHECK_THROWS_WITH(read_checkpoint(older_path, c->model()), doctest::Contains("paste_coarse_order"));
+    }
     std::remove(path.c_str());
     std::remove(older_path.c_str());
   }
