@@ -23,6 +23,8 @@
 //   cost3d       The same in 3D: paste_3d_shear's spheres, 512 to 13,824 (1e-3, Phi = 0.45).
 //   knobs3d      The 3D factor (whole or the translations'), its refactorisation threshold and
 //                the tolerance on paste_3d_shear: cost against the error in mu.
+//   coarse3d     The coarse correction at h_min/a = 1e-5 and 1e-8: off, E exact, and E's weak
+//                couplings dropped (lubrication.coarse_drop 1e-6 to 1e-2): cost against the error.
 // Every row is appended to bench/results/paste.csv. --quick shortens every run (a smoke test).
 #include <algorithm>
 #include <atomic>
@@ -508,37 +510,27 @@ void cost3d(const Args& a) {
   std::printf("cost per unit strain ~ N^%.2f (target <= 1.5 in 3D; the thesis: 2.5)\n", fitted_exponent(lx, ly));
 }
 
-// The 3D factor's knobs: which factor (the whole Xi, or the translations' with each rotation's
-// own block) and when it is refactorised, and the tolerance, on paste_3d_shear at its h_min/a =
-// 1e-3: cost against the error in mu (each sample against a run of the whole factor to 1e-12).
-void knobs3d(const Args& a) {
-  const double strain = a.quick ? 0.004 : 0.07;
-  std::printf("\n3D factor knobs: paste_3d_shear (4,096 spheres, h_min/a = 1e-3), %g of strain\n", strain);
+// Rows of cases on paste_3d_shear from one packing (`base` and each case's settings over the
+// scene's): cost against the error in mu, each sample against the first case's (the reference).
+void knob_table(const Args& a, const char* section, double strain, const std::vector<std::string>& base,
+                const std::vector<Knob>& cases) {
   std::printf("%-36s %8s %9s %8s %8s %12s  %s\n", "case", "steps", "wall s", "iters", "refact", "max |dmu|", "status");
-  const std::string whole = "lubrication.factor_rotations=\"whole\"";
-  const std::vector<Knob> cases = {
-      {"reference: whole; tolerance 1e-12", {whole, "lubrication.tolerance=1e-12"}},
-      {"whole; refactor 15", {whole}},
-      {"own; refactor 20", {"lubrication.refactor_iterations=20"}},
-      {"own; refactor 25", {"lubrication.refactor_iterations=25"}},
-      {"own; refactor 30 (default)", {}},
-      {"own; refactor 40", {"lubrication.refactor_iterations=40"}},
-      {"own; refactor 60", {"lubrication.refactor_iterations=60"}},
-      {"own; tolerance 1e-6", {"lubrication.tolerance=1e-6"}},
-      {"own; tolerance 1e-4", {"lubrication.tolerance=1e-4"}},
-      {"whole; tolerance 1e-4", {whole, "lubrication.tolerance=1e-4"}},
+  auto sets = [&](const std::vector<std::string>& own) {
+    std::vector<std::string> all = base;
+    all.insert(all.end(), own.begin(), own.end());
+    return all;
   };
-  const State packing = prepare_packing(model_of(scene("paste_3d_shear"), a, {}), a.threads);
+  const State packing = prepare_packing(model_of(scene("paste_3d_shear"), a, sets({})), a.threads);
   std::vector<double> reference;
   for (const Knob& k : cases) {
-    const Model m = model_of(scene("paste_3d_shear"), a, k.sets);
+    const Model m = model_of(scene("paste_3d_shear"), a, sets(k.sets));
     std::vector<double> mu;
     Row r = shear_run(m, packing, a.threads, 0, strain, &mu);
     if (reference.empty()) reference = mu;
     double err = 0;
     for (size_t i = 0; i < mu.size() && i < reference.size(); ++i) err = std::max(err, std::abs(mu[i] - reference[i]));
     if (mu.size() != reference.size()) err = std::numeric_limits<double>::quiet_NaN();
-    r.section = "knobs3d";
+    r.section = section;
     r.name = k.name;
     r.h_min = m.params.get<paste::PasteParams>().h_min_over_a;
     r.thesis = "max |mu - mu_ref| " + num(err) + " over " + std::to_string(mu.size()) + " samples";
@@ -546,6 +538,48 @@ void knobs3d(const Args& a) {
     std::printf("%-36s %8lld %9.1f %8.2f %8lld %12.3g  %s\n", k.name.c_str(), static_cast<long long>(r.steps), r.wall,
                 r.iters, static_cast<long long>(r.refactor), err, r.status.c_str());
     std::fflush(stdout);
+  }
+}
+
+// The 3D factor's knobs: which factor (the whole Xi, or the translations' with each rotation's
+// own block) and when it is refactorised, and the tolerance, on paste_3d_shear at its h_min/a =
+// 1e-3: cost against the error in mu (each sample against a run of the whole factor to 1e-12).
+void knobs3d(const Args& a) {
+  const double strain = a.quick ? 0.004 : 0.07;
+  std::printf("\n3D factor knobs: paste_3d_shear (4,096 spheres, h_min/a = 1e-3), %g of strain\n", strain);
+  const std::string whole = "lubrication.factor_rotations=\"whole\"";
+  knob_table(a, "knobs3d", strain, {},
+             {
+                 {"reference: whole; tolerance 1e-12", {whole, "lubrication.tolerance=1e-12"}},
+                 {"whole; refactor 15", {whole}},
+                 {"own; refactor 20", {"lubrication.refactor_iterations=20"}},
+                 {"own; refactor 25", {"lubrication.refactor_iterations=25"}},
+                 {"own; refactor 30 (default)", {}},
+                 {"own; refactor 40", {"lubrication.refactor_iterations=40"}},
+                 {"own; refactor 60", {"lubrication.refactor_iterations=60"}},
+                 {"own; tolerance 1e-6", {"lubrication.tolerance=1e-6"}},
+                 {"own; tolerance 1e-4", {"lubrication.tolerance=1e-4"}},
+                 {"whole; tolerance 1e-4", {whole, "lubrication.tolerance=1e-4"}},
+             });
+}
+
+// The coarse correction's knobs at small gaps (h_min/a = 1e-5 and 1e-8): without it, and with E
+// exact or its weak couplings dropped below 1e-6 to 1e-2 of its diagonal (coarse_drop).
+void coarse3d(const Args& a) {
+  const double strain = a.quick ? 0.002 : 0.02;
+  for (const char* gap : {"1e-5", "1e-8"}) {
+    std::printf("\nCoarse correction knobs: paste_3d_shear (4,096 spheres, h_min/a = %s), %g of strain\n", gap, strain);
+    knob_table(
+        a, "coarse3d", strain, {std::string("lubrication.h_min_over_a=") + gap},
+        {
+            {"reference: E exact; tolerance 1e-12", {"lubrication.coarse_drop=0", "lubrication.tolerance=1e-12"}},
+            {"no correction", {"lubrication.coarse_ratio=0"}},
+            {"E exact", {"lubrication.coarse_drop=0"}},
+            {"drop 1e-6", {"lubrication.coarse_drop=1e-6"}},
+            {"drop 1e-4 (default)", {}},
+            {"drop 1e-3", {"lubrication.coarse_drop=1e-3"}},
+            {"drop 1e-2", {"lubrication.coarse_drop=1e-2"}},
+        });
   }
 }
 
@@ -607,8 +641,8 @@ int main(int argc, char** argv) {
     std::printf("paste bench on %s (%s), %d thread(s)%s\n", bench::host().c_str(), bench::cpu_model().c_str(),
                 a.threads, a.quick ? ", quick" : "");
     const std::vector<std::pair<std::string, void (*)(const Args&)>> sections = {
-        {"iso", iso},   {"equilibrium", equilibrium}, {"knobs", knobs},    {"shear", shear}, {"cyclic", cyclic},
-        {"cost", cost}, {"cost3d", cost3d},           {"knobs3d", knobs3d}};
+        {"iso", iso},   {"equilibrium", equilibrium}, {"knobs", knobs},     {"shear", shear},      {"cyclic", cyclic},
+        {"cost", cost}, {"cost3d", cost3d},           {"knobs3d", knobs3d}, {"coarse3d", coarse3d}};
     for (const auto& [name, fn] : sections)
       if (a.only.empty() || a.only == name) fn(a);
     return 0;

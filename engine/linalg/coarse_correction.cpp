@@ -1,6 +1,7 @@
 // The balancing preconditioner: a Cholesky factor of an earlier matrix, corrected exactly on the
 // span of W (silt/linalg.hpp).
 #include <algorithm>
+#include <cmath>
 #include <limits>
 #include <tuple>
 
@@ -43,6 +44,35 @@ std::vector<int> order_from(const CoarseCorrection::OrderMemory& memory, const s
   std::vector<int> order(static_cast<size_t>(n));
   for (int k = 0; k < n; ++k) order[k] = std::get<2>(rank[k]);
   return order;
+}
+
+// E with its weak couplings moved onto its diagonal: each entry (c, d) of the lower triangle with
+// |E_cd| < drop sqrt(E_cc E_dd) is removed, and |E_cd| added to E_cc and E_dd, which adds a
+// positive semi-definite matrix (so the result stays definite); both triangles are made from the
+// lower one, the only one CHOLMOD reads.
+SparseMatrix drop_weak(const SparseMatrix& e, double drop) {
+  const int m = static_cast<int>(e.cols());
+  const Vector d = e.diagonal();
+  Vector add = Vector::Zero(m);
+  std::vector<Eigen::Triplet<double, int>> t;
+  t.reserve(static_cast<size_t>(e.nonZeros()));
+  for (int k = 0; k < m; ++k)
+    for (SparseMatrix::InnerIterator it(e, k); it; ++it) {
+      const int r = static_cast<int>(it.row());
+      if (r <= k) continue;
+      const double v = it.value();
+      if (std::abs(v) < drop * std::sqrt(d[r] * d[k])) {
+        add[r] += std::abs(v);
+        add[k] += std::abs(v);
+      } else {
+        t.emplace_back(r, k, v);
+        t.emplace_back(k, r, v);
+      }
+    }
+  for (int k = 0; k < m; ++k) t.emplace_back(k, k, d[k] + add[k]);
+  SparseMatrix out(m, m);
+  out.setFromTriplets(t.begin(), t.end());
+  return out;
 }
 
 }  // namespace
@@ -92,6 +122,7 @@ SolveReport CoarseCorrection::setup(const SparseMatrix& a, SparseMatrix& w, cons
   for (int64_t k = 0; k < e.outerSize(); ++k)
     for (SparseMatrix::InnerIterator it(e, k); it; ++it)
       if (it.row() == it.col()) it.valueRef() *= 1 + 1e-10;
+  if (drop_ > 0) e = drop_weak(e, drop_);
   if (!e_.analysed_for(e)) analyze_e(e, keys);
   rep = e_.factorize(e);
   ready_ = rep.ok();

@@ -81,6 +81,7 @@ SolveReport SpdSolver::solve(const SparseMatrix& a, const Vector& b, Vector& x, 
     CoarseSpace space = coarse_space();
     const int64_t columns = space.w.cols();
     const std::vector<int64_t>* keys = space.keys.empty() ? nullptr : &space.keys;
+    coarse_.set_drop(s_.coarse_drop);
     if (columns > 0 && 4 * columns <= a.rows() && coarse_.setup(a, space.w, factor_, keys).ok()) {
       m = &coarse_;
       coarse_columns_ = columns;

@@ -278,3 +278,50 @@ TEST_CASE("E is ordered from the last setup's order while its columns are mostly
   CHECK(cc.fresh_orderings() == 2);
   CHECK(cc.kept_orderings() == 1);
 }
+
+TEST_CASE("E's weak couplings dropped onto its diagonal: the correction stays definite, and nearly exact") {
+  // Two stiff links couple in E by about 1e6 through a point they share, and by 1 to 10 through
+  // a soft link between their points: the couplings a drop of 1e-4 removes.
+  const Links l = make_links(24, 3);
+  const SparseMatrix a0 = matrix(l, 0), a1 = matrix(l, 0.01);
+  CholeskyFactor old;
+  REQUIRE(old.factorize(a0).ok());
+  const Vector b = gaussian_vector(a1.rows(), 4);
+  Vector exact;
+  {
+    CholeskyFactor f;
+    REQUIRE(f.factorize(a1).ok());
+    REQUIRE(f.solve(b, exact).ok());
+  }
+  const SolveOptions opt{1e-8, 5000};
+  int its_exact = 0;
+  int64_t bytes_exact = 0;
+  for (double drop : {0.0, 1e-4, 1e-2, 1.0}) {
+    CAPTURE(drop);
+    CoarseCorrection cc;
+    cc.set_drop(drop);
+    SparseMatrix w = stiff_directions(l, 0.01);
+    REQUIRE(cc.setup(a1, w, old).ok());
+    Vector x = Vector::Zero(a1.rows());
+    const SolveReport r = conjugate_gradient(SparseOperator(a1), b, x, opt, &cc);
+    CAPTURE(r.iterations);
+    CHECK(r.ok());
+    CHECK(rel_diff(x, exact) < 1e-6);
+    // Symmetric and positive, whatever the drop.
+    for (unsigned seed : {5u, 6u, 7u}) {
+      const Vector u = gaussian_vector(a1.rows(), seed), v = gaussian_vector(a1.rows(), seed + 10);
+      Vector pu, pv;
+      cc.apply(u, pu);
+      cc.apply(v, pv);
+      CHECK(std::abs(u.dot(pv) - v.dot(pu)) <= 1e-9 * std::abs(u.dot(pv)));
+      CHECK(u.dot(pu) > 0);
+    }
+    if (drop == 0) {
+      its_exact = r.iterations;
+      bytes_exact = cc.bytes();
+    } else if (drop == 1e-4) {
+      CHECK(r.iterations <= its_exact + 1);
+      CHECK(cc.bytes() < bytes_exact);  // a smaller factor of E
+    }
+  }
+}
