@@ -113,9 +113,8 @@ SolveReport CoarseCorrection::setup(const SparseMatrix& a, SparseMatrix& w, cons
   ready_ = false;
   SolveReport rep;
   if (w_.cols() == 0) return rep;
-  aw_ = a * w_;
-  SparseMatrix e = SparseMatrix(w_.transpose()) * aw_;
-  e.makeCompressed();
+  aw_ = sparse_product(a, w_);
+  SparseMatrix e = sparse_product(SparseMatrix(w_.transpose()), aw_);
   // E is symmetric up to round-off (its (c, d) and (d, c) are summed in different orders), and
   // CHOLMOD reads its lower triangle. The diagonal raised by a relative 1e-10 keeps E definite
   // when W's columns are dependent.
@@ -137,7 +136,7 @@ void CoarseCorrection::apply(const Vector& r, Vector& z) const {
     return;
   }
   // ec = E^-1 W^T r, q = W ec = Q r
-  c_.noalias() = w_.transpose() * r;
+  transpose_times(w_, r, c_);
   (void)e_.solve(c_, ec_);
   q_.noalias() = w_ * ec_;
   // z = M^-1 (r - A q)
@@ -145,7 +144,7 @@ void CoarseCorrection::apply(const Vector& r, Vector& z) const {
   y_.noalias() -= aw_ * ec_;
   m_->apply(y_, z);
   // z += q - Q A z
-  c_.noalias() = aw_.transpose() * z;
+  transpose_times(aw_, z, c_);
   (void)e_.solve(c_, ec_);
   z += q_;
   z.noalias() -= w_ * ec_;

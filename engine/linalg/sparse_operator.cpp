@@ -1,8 +1,13 @@
-// A sparse matrix product row by row (each row by one thread, in a fixed order within the row),
-// and the Jacobi preconditioner. The matrices are symmetric: row i is column i of the compressed
-// columns, read in place.
+// Sparse products on several threads, each output entry summed by one thread in a fixed order:
+// a symmetric matrix times a vector row by row (row i is column i of the compressed columns, read
+// in place), a transposed matrix times a vector, and a matrix times a matrix column by column; and
+// the Jacobi preconditioner.
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cstdint>
+#include <vector>
 
 #include "linalg/vector_ops.hpp"
 
@@ -34,6 +39,79 @@ void SparseOperator::apply(const Vector& x, Vector& y) const {
       double s = (s0 + s1) + (s2 + s3);
       for (; k < end; ++k) s += val[k] * xv[inner[k]];
       y[i] = s;
+    }
+  });
+}
+
+SparseMatrix sparse_product(const SparseMatrix& a, const SparseMatrix& b) {
+  const int n = static_cast<int>(a.rows()), m = static_cast<int>(b.cols());
+  // Columns in blocks of 64, each block's entries in its own lists, then copied in order.
+  constexpr int kColumns = 64;
+  const int blocks = (m + kColumns - 1) / kColumns;
+  struct Part {
+    std::vector<int> rows, counts;
+    std::vector<double> values;
+  };
+  std::vector<Part> parts(static_cast<size_t>(blocks));
+  tbb::parallel_for(tbb::blocked_range<int>(0, blocks, 1), [&](const tbb::blocked_range<int>& r) {
+    std::vector<double> acc(static_cast<size_t>(n), 0.0);
+    std::vector<uint8_t> seen(static_cast<size_t>(n), 0);
+    std::vector<int> touched;
+    for (int blk = r.begin(); blk < r.end(); ++blk) {
+      Part& p = parts[blk];
+      for (int c = blk * kColumns; c < std::min(m, (blk + 1) * kColumns); ++c) {
+        touched.clear();
+        for (SparseMatrix::InnerIterator ib(b, c); ib; ++ib) {
+          const double x = ib.value();
+          for (SparseMatrix::InnerIterator ia(a, ib.row()); ia; ++ia) {
+            const auto i = static_cast<int>(ia.row());
+            if (!seen[i]) {
+              seen[i] = 1;
+              touched.push_back(i);
+            }
+            acc[i] += ia.value() * x;
+          }
+        }
+        std::sort(touched.begin(), touched.end());
+        for (int i : touched) {
+          p.rows.push_back(i);
+          p.values.push_back(acc[i]);
+          acc[i] = 0;
+          seen[i] = 0;
+        }
+        p.counts.push_back(static_cast<int>(touched.size()));
+      }
+    }
+  });
+  SparseMatrix out(n, m);
+  int* outer = out.outerIndexPtr();
+  outer[0] = 0;
+  std::vector<int> first(static_cast<size_t>(blocks) + 1, 0);
+  for (int blk = 0, c = 0; blk < blocks; ++blk) {
+    first[blk + 1] = first[blk] + static_cast<int>(parts[blk].rows.size());
+    for (int count : parts[blk].counts) {
+      outer[c + 1] = outer[c] + count;
+      ++c;
+    }
+  }
+  out.resizeNonZeros(first[blocks]);
+  tbb::parallel_for(tbb::blocked_range<int>(0, blocks, 1), [&](const tbb::blocked_range<int>& r) {
+    for (int blk = r.begin(); blk < r.end(); ++blk) {
+      std::copy(parts[blk].rows.begin(), parts[blk].rows.end(), out.innerIndexPtr() + first[blk]);
+      std::copy(parts[blk].values.begin(), parts[blk].values.end(), out.valuePtr() + first[blk]);
+    }
+  });
+  return out;
+}
+
+void transpose_times(const SparseMatrix& a, const Vector& x, Vector& y) {
+  const int64_t m = a.cols();
+  y.resize(m);
+  tbb::parallel_for(tbb::blocked_range<int64_t>(0, m, 256), [&](const tbb::blocked_range<int64_t>& r) {
+    for (int64_t c = r.begin(); c < r.end(); ++c) {
+      double s = 0;
+      for (SparseMatrix::InnerIterator it(a, c); it; ++it) s += it.value() * x[it.row()];
+      y[c] = s;
     }
   });
 }

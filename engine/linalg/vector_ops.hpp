@@ -15,5 +15,11 @@ void axpy(double alpha, const Vector& x, Vector& y);
 // p = z + beta p
 void xpby(const Vector& z, double beta, Vector& p);
 bool all_finite(const Vector& v);
+// A B of two sparse matrices, the columns of the product on several threads: column c sums, for
+// each entry of B's column c in its order, A's column times it, as Eigen's product does, so the
+// bits are Eigen's and the same on any number of threads.
+SparseMatrix sparse_product(const SparseMatrix& a, const SparseMatrix& b);
+// y = A^T x, each entry a column's dot product in its order (Eigen's bits), on several threads.
+void transpose_times(const SparseMatrix& a, const Vector& x, Vector& y);
 
 }  // namespace silt::linalg

@@ -1,13 +1,16 @@
 // The balancing preconditioner: a factor of an older matrix, corrected exactly on the directions
 // of its stiff entries that have turned since, as a paste's contacts turn as the grains roll.
 #include <doctest/doctest.h>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <numbers>
 #include <random>
 #include <vector>
 
+#include "linalg/vector_ops.hpp"
 #include "silt/linalg.hpp"
 #include "support/scenes.hpp"
 
@@ -323,5 +326,35 @@ TEST_CASE("E's weak couplings dropped onto its diagonal: the correction stays de
       CHECK(r.iterations <= its_exact + 1);
       CHECK(cc.bytes() < bytes_exact);  // a smaller factor of E
     }
+  }
+}
+
+TEST_CASE("the coarse correction's products on several threads give Eigen's bits") {
+  const Links l = make_links(40, 5);
+  const SparseMatrix a = matrix(l, 0.02), w = stiff_directions(l, 0.02);
+  const SparseMatrix wt = w.transpose();
+  const Vector x = gaussian_vector(a.rows(), 3);
+  SparseMatrix aw_eigen = a * w;
+  aw_eigen.makeCompressed();
+  SparseMatrix e_eigen = wt * aw_eigen;
+  e_eigen.makeCompressed();
+  const Vector wx_eigen = w.transpose() * x;
+  auto same = [](const SparseMatrix& p, const SparseMatrix& q) {
+    return p.rows() == q.rows() && p.cols() == q.cols() && p.nonZeros() == q.nonZeros() &&
+           std::equal(p.outerIndexPtr(), p.outerIndexPtr() + p.cols() + 1, q.outerIndexPtr()) &&
+           std::equal(p.innerIndexPtr(), p.innerIndexPtr() + p.nonZeros(), q.innerIndexPtr()) &&
+           std::memcmp(p.valuePtr(), q.valuePtr(), sizeof(double) * static_cast<size_t>(p.nonZeros())) == 0;
+  };
+  for (int threads : {1, 2, 4}) {
+    CAPTURE(threads);
+    tbb::task_arena arena(threads);
+    arena.execute([&] {
+      const SparseMatrix aw = sparse_product(a, w);
+      CHECK(same(aw, aw_eigen));
+      CHECK(same(sparse_product(wt, aw), e_eigen));
+      Vector wx;
+      transpose_times(w, x, wx);
+      CHECK(std::memcmp(wx.data(), wx_eigen.data(), sizeof(double) * static_cast<size_t>(wx.size())) == 0);
+    });
   }
 }
