@@ -86,7 +86,8 @@ void CoarseCorrection::analyze_e(const SparseMatrix& e, const std::vector<int64_
     const std::vector<int> order = order_from(memory_, *keys, e);
     if (!order.empty()) {
       e_.analyze(e, &order);
-      from_memory = static_cast<double>(e_.factor_entries()) <= kOrderFillSlack * memory_.fill * lower_entries(e);
+      const auto entries = static_cast<double>(e_.factor_entries());  // 0 when CHOLMOD failed
+      from_memory = entries > 0 && entries <= kOrderFillSlack * memory_.fill * lower_entries(e);
     }
   }
   if (from_memory) {
