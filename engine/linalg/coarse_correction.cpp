@@ -77,6 +77,11 @@ SparseMatrix drop_weak(const SparseMatrix& e, double drop) {
 
 }  // namespace
 
+void CoarseCorrection::set_order_memory(OrderMemory m) {
+  if (m.keys != memory_.keys || m.fill != memory_.fill) memory_replaced_ = true;
+  memory_ = std::move(m);
+}
+
 // E analysed for a new pattern: from the memory's order when it fills the factor in little more
 // than a fresh ordering did, else CHOLMOD's; the memory then holds the order analysed.
 void CoarseCorrection::analyze_e(const SparseMatrix& e, const std::vector<int64_t>* keys) {
@@ -123,7 +128,8 @@ SolveReport CoarseCorrection::setup(const SparseMatrix& a, SparseMatrix& w, cons
     for (SparseMatrix::InnerIterator it(e, k); it; ++it)
       if (it.row() == it.col()) it.valueRef() *= 1 + 1e-10;
   if (drop_ > 0) e = drop_weak(e, drop_);
-  if (!e_.analysed_for(e)) analyze_e(e, keys);
+  if (!e_.analysed_for(e) || memory_replaced_) analyze_e(e, keys);
+  memory_replaced_ = false;
   rep = e_.factorize(e);
   ready_ = rep.ok();
   return rep;

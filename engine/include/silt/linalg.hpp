@@ -226,9 +226,10 @@ class CoarseCorrection final : public Preconditioner {
   bool ready() const { return ready_; }
   void set_drop(double drop) { drop_ = drop; }  // 0: E exact
   // The order kept between setups: what a caller saves so that a restored sequence orders E, and
-  // so solves, to the same bits.
+  // so solves, to the same bits. A memory other than the one held (a restored or replayed state)
+  // has the next setup analyse E from it, even for the pattern analysed last.
   const OrderMemory& order_memory() const { return memory_; }
-  void set_order_memory(OrderMemory m) { memory_ = std::move(m); }
+  void set_order_memory(OrderMemory m);
   int64_t fresh_orderings() const { return fresh_; }  // analyses of E with CHOLMOD's own ordering
   int64_t kept_orderings() const { return kept_; }    // analyses of E from the memory
   // Bytes held: W, A W and the factor of E.
@@ -242,6 +243,7 @@ class CoarseCorrection final : public Preconditioner {
   CholeskyFactor e_;
   bool ready_ = false;
   OrderMemory memory_;
+  bool memory_replaced_ = false;  // E's held analysis is not the memory's
   int64_t fresh_ = 0, kept_ = 0;
   double drop_ = 0;
   void analyze_e(const SparseMatrix& e, const std::vector<int64_t>* keys);
@@ -268,8 +270,8 @@ struct SolverSettings {
 // The columns of a CoarseCorrection's W, and a key naming each (or none): what a caller makes
 // for each solve.
 struct CoarseSpace {
-  CoarseSpace(SparseMatrix w_ = {}, std::vector<int64_t> keys_ = {}) : keys(std::move(keys_)) {
-    w.swap(w_);  // Eigen's sparse matrices have no move
+  CoarseSpace(SparseMatrix columns = {}, std::vector<int64_t> names = {}) : keys(std::move(names)) {
+    w.swap(columns);  // Eigen's sparse matrices have no move
   }
   SparseMatrix w;
   std::vector<int64_t> keys;  // empty, or one per column of w
