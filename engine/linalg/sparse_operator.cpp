@@ -54,9 +54,15 @@ SparseMatrix sparse_product(const SparseMatrix& a, const SparseMatrix& b) {
   };
   std::vector<Part> parts(static_cast<size_t>(blocks));
   tbb::parallel_for(tbb::blocked_range<int>(0, blocks, 1), [&](const tbb::blocked_range<int>& r) {
-    std::vector<double> acc(static_cast<size_t>(n), 0.0);
-    std::vector<uint8_t> seen(static_cast<size_t>(n), 0);
-    std::vector<int> touched;
+    // A thread's dense column, kept from call to call (a product per solve): all zero and unseen
+    // between columns, as each column clears what it touched.
+    thread_local std::vector<double> acc;
+    thread_local std::vector<uint8_t> seen;
+    thread_local std::vector<int> touched;
+    if (acc.size() < static_cast<size_t>(n)) {
+      acc.resize(static_cast<size_t>(n), 0.0);
+      seen.resize(static_cast<size_t>(n), 0);
+    }
     for (int blk = r.begin(); blk < r.end(); ++blk) {
       Part& p = parts[blk];
       for (int c = blk * kColumns; c < std::min(m, (blk + 1) * kColumns); ++c) {

@@ -402,19 +402,19 @@ void ResistanceSystem::add_blocks(const std::vector<Connection>& cs, double shea
   double* val = a_.valuePtr();
   const int* outer = a_.outerIndexPtr();
   double* rhs = shear_rhs_.data();
-  parallel_for(l.grains, 256, [&](int64_t g0, int64_t g1) {
-    for (int64_t g = g0; g < g1; ++g)
-      for (int32_t e = by_grain_start_[g]; e < by_grain_start_[g + 1]; ++e) {
-        const int32_t k = by_grain_[e];
-        const int s = cs[k].i == g ? 0 : 1;
-        const double* loc = &local_[static_cast<size_t>(k) * n * n];
-        with_sizes(p, nb, [&](auto pc, auto nbc) {
+  with_sizes(p, nb, [&](auto pc, auto nbc) {
+    parallel_for(l.grains, 256, [&](int64_t g0, int64_t g1) {
+      for (int64_t g = g0; g < g1; ++g)
+        for (int32_t e = by_grain_start_[g]; e < by_grain_start_[g + 1]; ++e) {
+          const int32_t k = by_grain_[e];
+          const int s = cs[k].i == g ? 0 : 1;
+          const double* loc = &local_[static_cast<size_t>(k) * n * n];
           add_local_grain<decltype(pc)::value, decltype(nbc)::value>(val, outer, g, s, slots_[k], partners_[g],
                                                                      rank_[g], box0, n, loc);
-        });
-        if (l.shear)
-          for (int b = 0; b < p; ++b) rhs[g * p + b] -= loc[(n - 1) * n + s * p + b] * shear_rate;
-      }
+          if (l.shear)
+            for (int b = 0; b < p; ++b) rhs[g * p + b] -= loc[(n - 1) * n + s * p + b] * shear_rate;
+        }
+    });
   });
   for (size_t k = 0; k < cs.size(); ++k) {
     const double* loc = &local_[k * n * n];
