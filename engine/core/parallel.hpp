@@ -8,6 +8,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
+#include <tbb/partitioner.h>
 
 #include <algorithm>
 #include <array>
@@ -26,6 +27,20 @@ void parallel_for(int64_t n, int64_t grain, F&& f) {
   }
   tbb::parallel_for(tbb::blocked_range<int64_t>(0, n, grain),
                     [&](const tbb::blocked_range<int64_t>& r) { f(r.begin(), r.end()); });
+}
+
+// The same, each thread of the arena taking the same contiguous share of [0, n) at every call
+// (TBB's static partitioner): no share moves between threads, so a thread finds its rows in its
+// own caches from one pass to the next, but a thread slowed by the host is not relieved either.
+template <class F>
+void parallel_for_pinned(int64_t n, int64_t grain, F&& f) {
+  if (n <= grain) {
+    if (n > 0) f(int64_t{0}, n);
+    return;
+  }
+  tbb::parallel_for(
+      tbb::blocked_range<int64_t>(0, n, grain), [&](const tbb::blocked_range<int64_t>& r) { f(r.begin(), r.end()); },
+      tbb::static_partitioner{});
 }
 
 // a = the maxima of a and b, element by element; a NaN of b replaces, a NaN of a stays.

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "core/parallel.hpp"
+#include "fluid/sweep_for.hpp"
 
 namespace silt::fluid {
 namespace {
@@ -18,7 +19,7 @@ void for_each_line(const Layout& L, int b, F&& f) {
   const int o1 = b == 0 ? 1 : 0, o2 = b == 2 ? 1 : 2;
   const int64_t n1 = L.n[o1] + 3, n2 = L.dim == 3 ? L.n[o2] + 3 : 1;
   const int64_t off2 = L.dim == 3 ? 1 : 0;
-  parallel_for(n1 * n2, kLinesPerTask, [&](int64_t l0, int64_t l1) {
+  sweep_for(L.cells(), n1 * n2, kLinesPerTask, [&](int64_t l0, int64_t l1) {
     for (int64_t l = l0; l < l1; ++l) {
       std::array<int64_t, 3> idx{0, 0, 0};
       idx[o1] = l % n1 - 1;
@@ -42,7 +43,7 @@ void wrap_periodic_axis(const Layout& L, int b, const std::array<double*, K>& f)
     std::copy_n(u + base + sb, len, u + base + (n + 1) * sb);
   };
   if (b == 0) {
-    parallel_for(p1 * p2, kLinesPerTask, [&](int64_t r0, int64_t r1) {
+    sweep_for(L.cells(), p1 * p2, kLinesPerTask, [&](int64_t r0, int64_t r1) {
       for (double* u : f)
         for (int64_t r = r0; r < r1; ++r) {
           double* row = u + L.at(0, r % p1 - 1, L.dim == 3 ? r / p1 - 1 : 0);
@@ -55,7 +56,7 @@ void wrap_periodic_axis(const Layout& L, int b, const std::array<double*, K>& f)
     const int64_t base = b == 2 ? L.at(-1, -1, 0) : L.at(-1, 0);
     for (double* u : f) wrap_block(u, base, sb);
   } else {
-    parallel_for(p2, std::max<int64_t>(1, kLinesPerTask / 3), [&](int64_t k0, int64_t k1) {
+    sweep_for(L.cells(), p2, std::max<int64_t>(1, kLinesPerTask / 3), [&](int64_t k0, int64_t k1) {
       for (double* u : f)
         for (int64_t k = k0; k < k1; ++k) wrap_block(u, L.at(-1, 0, k - 1), L.s[1]);
     });

@@ -11,6 +11,7 @@
 #include "core/simd_level.hpp"
 #include "fluid/fast_solver_plans.hpp"
 #include "fluid/half_length_fft.hpp"
+#include "fluid/sweep_for.hpp"
 
 namespace silt::fluid {
 namespace {
@@ -228,7 +229,7 @@ void FastSolver::tridiagonal(double* data, double sigma) {
   const auto ends = end_diagonals(axes_[t].kind);
   const bool neumann_both = ends[0] == 1 && ends[1] == 1;
   const int64_t chunks = (inner + kChunk - 1) / kChunk;
-  parallel_for(outer * chunks, 1, [&](int64_t c0, int64_t c1) {
+  sweep_for(m_[0] * m_[1] * m_[2], outer * chunks, 1, [&](int64_t c0, int64_t c1) {
     double* up_diag = plans_->scratch_of(kChunk * nk);
     for (int64_t c = c0; c < c1; ++c) {
       const int64_t o = c / chunks, i0 = (c % chunks) * kChunk, n = std::min(inner, i0 + kChunk) - i0;

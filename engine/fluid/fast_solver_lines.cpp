@@ -9,6 +9,7 @@
 #include "fluid/fast_solver.hpp"
 #include "fluid/fast_solver_plans.hpp"
 #include "fluid/half_length_fft.hpp"
+#include "fluid/sweep_for.hpp"
 
 namespace silt::fluid {
 namespace {
@@ -106,7 +107,7 @@ void FastSolver::transform(double* data, int axis, bool forward, std::optional<d
     // moves no point).
     const int align = fftw_alignment_of(plans_->buffer());
     const bool in_place = ns == n && !reorder_in && !reorder_out;
-    parallel_for(blocks, 1, [&](int64_t b0, int64_t b1) {
+    sweep_for(m_[0] * m_[1] * m_[2], blocks, 1, [&](int64_t b0, int64_t b1) {
       double* buf = plans_->buffer();
       for (int64_t blk = b0; blk < b1; ++blk) {
         const int64_t first = blk * B, count = std::min<int64_t>(B, lines - first);
@@ -146,7 +147,7 @@ void FastSolver::transform(double* data, int axis, bool forward, std::optional<d
   // one further; other interleaved lines' place r at r B + b; transposed, at b ls + r.
   const int shift = il && packed ? 1 : 0;
   const int64_t row = il ? (packed ? 2 * B : B) : 1, lane = il ? (packed ? 2 : 1) : ls, odd = il && packed ? 1 : 0;
-  parallel_for(blocks, 2, [&](int64_t b0, int64_t b1) {
+  sweep_for(m_[0] * m_[1] * m_[2], blocks, 2, [&](int64_t b0, int64_t b1) {
     double* buf = plans_->buffer();
     for (int64_t blk = b0; blk < b1; ++blk) {
       const int64_t i0 = (blk % xb) * B, o = blk / xb, count = std::min<int64_t>(B, m0 - i0);

@@ -26,6 +26,7 @@ struct Layout {
     size = p0 * p1 * p2;
   }
   Layout() = default;
+  int64_t cells() const { return n[0] * n[1] * (dim == 3 ? n[2] : 1); }
   int64_t at(int64_t i, int64_t j, int64_t k = 0) const { return origin + i + j * s[1] + k * s[2]; }
 };
 

@@ -10,6 +10,7 @@
 #include "fluid/operators.hpp"
 #include "fluid/stencil_kernels.hpp"
 #include "fluid/step.hpp"
+#include "fluid/sweep_for.hpp"
 
 namespace silt::fluid {
 namespace {
@@ -30,7 +31,7 @@ PaddedState padded(const FluidParams& fp, const State& s, bool with_pressure = t
   const FluidFields f = fluid_fields();
   const auto copy_rows = [&](const std::vector<double>& src, std::vector<double>& to, const std::array<int64_t, 3>& d) {
     to.resize(static_cast<size_t>(ps.L.size));
-    parallel_for(d[1] * d[2], 16, [&](int64_t b, int64_t e) {
+    sweep_for(g.cells(), d[1] * d[2], 16, [&](int64_t b, int64_t e) {
       for (int64_t row = b; row < e; ++row)
         std::copy_n(src.data() + d[0] * row, d[0], to.data() + ps.L.at(0, row % d[1], row / d[1]));
     });
@@ -65,7 +66,7 @@ void cell_vorticity(const Grid& g, const PaddedState& ps, std::vector<double>& o
   const double inv_h[3] = {1 / g.h[0], 1 / g.h[1], 1 / g.h[2]};
   const PaddedConst c = ps.cptr();
   out.resize(static_cast<size_t>(g.cells() * nc));
-  parallel_for(g.n[1] * g.n[2], 16, [&](int64_t b, int64_t e) {
+  sweep_for(g.cells(), g.n[1] * g.n[2], 16, [&](int64_t b, int64_t e) {
     for_each_cell_row(g, ps.L, b, e, [&](int64_t row, int64_t i, int64_t q) {
       cell_vorticity_kernel<D>(c.data(), q, ps.L.s.data(), inv_h, &out[nc * (row * g.n[0] + i)]);
     });

@@ -8,6 +8,7 @@
 #include "core/parallel.hpp"
 #include "core/simd_level.hpp"
 #include "fluid/stencil_kernels.hpp"
+#include "fluid/sweep_for.hpp"
 
 namespace silt::fluid {
 namespace {
@@ -25,7 +26,7 @@ Range3 range_of(const Grid& g, int a) {
 template <class F>
 void sweep_rows(const Layout& L, const Range3& r, F&& f) {
   const int64_t nj = r[1][1] - r[1][0], nk = r[2][1] - r[2][0], ni = r[0][1] - r[0][0];
-  parallel_for(nj * nk, 8, [&](int64_t b, int64_t e) {
+  sweep_for(L.cells(), nj * nk, 8, [&](int64_t b, int64_t e) {
     for (int64_t row = b; row < e; ++row) {
       const int64_t j = r[1][0] + row % nj, k = r[2][0] + row / nj;
       f(L.at(r[0][0], j, k), ni, row);
@@ -56,7 +57,7 @@ void sweep_fused(const Layout& L, const std::array<Range3, K>& r, F&& f) {
     rk = {std::min(rk[0], r[a][2][0]), std::max(rk[1], r[a][2][1])};
   }
   const int64_t nj = rj[1] - rj[0], nk = rk[1] - rk[0];
-  parallel_for(nj * nk, 8, [&](int64_t b, int64_t e) {
+  sweep_for(L.cells(), nj * nk, 8, [&](int64_t b, int64_t e) {
     for (int64_t row = b; row < e; ++row) {
       const int64_t j = rj[0] + row % nj, k = rk[0] + row / nj;
       int mask = 0;

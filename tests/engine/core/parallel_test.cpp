@@ -1,8 +1,9 @@
 // The parallel reductions: a maximum keeps a NaN of any block, whichever block it is in and
-// however many threads share the range.
+// however many threads share the range. And the pinned loop covers its range once.
 #include <doctest/doctest.h>
 #include <tbb/global_control.h>
 
+#include <atomic>
 #include <cmath>
 #include <vector>
 
@@ -30,5 +31,24 @@ TEST_CASE("parallel_max keeps a NaN whichever block holds it, on 1 and 2 threads
       CAPTURE(at);
       CHECK(std::isnan(m[0]));
       CHECK(m[1] == 5.0);
+    }
+}
+
+TEST_CASE("parallel_for_pinned visits every index once, in blocks of at least the grain, on 1 to 4 threads") {
+  for (int threads : {1, 2, 4})
+    for (int64_t n : {int64_t{0}, int64_t{1}, int64_t{7}, int64_t{64}, int64_t{1000}}) {
+      tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+      const int64_t grain = 8;
+      std::vector<int> seen(static_cast<size_t>(n), 0);
+      std::atomic<int> short_blocks{0};
+      parallel_for_pinned(n, grain, [&](int64_t b, int64_t e) {
+        for (int64_t i = b; i < e; ++i) ++seen[static_cast<size_t>(i)];
+        // A block shorter than the grain only when the whole range is.
+        if (e - b < grain && n >= grain) ++short_blocks;
+      });
+      CAPTURE(threads);
+      CAPTURE(n);
+      for (int64_t i = 0; i < n; ++i) CHECK(seen[static_cast<size_t>(i)] == 1);
+      CHECK(short_blocks.load() == 0);
     }
 }
