@@ -386,9 +386,16 @@ void sum_forces(const Model& m, State& s, const ForceSources& sources) {
   else kick_dim<3, false>(m, s, sources, Shares{}, nullptr);
 }
 
-void clear_springs(const Model&, State& s) {
-  std::fill(s.pair_hist.begin(), s.pair_hist.end(), 0.0);
-  std::fill(s.wall_hist.begin(), s.wall_hist.end(), 0.0);
+void keep_springs(const State& s, DemWorkspace& w) {
+  w.kept_pair_hist.assign(s.pair_hist.begin(), s.pair_hist.end());
+  w.kept_wall_hist.assign(s.wall_hist.begin(), s.wall_hist.end());
+}
+
+void restore_springs(State& s, const DemWorkspace& w) {
+  SILT_ASSERT(w.kept_pair_hist.size() == s.pair_hist.size() && w.kept_wall_hist.size() == s.wall_hist.size(),
+              "the springs were kept for another pair list");
+  std::copy(w.kept_pair_hist.begin(), w.kept_pair_hist.end(), s.pair_hist.begin());
+  std::copy(w.kept_wall_hist.begin(), w.kept_wall_hist.end(), s.wall_hist.begin());
 }
 
 }  // namespace silt::dem

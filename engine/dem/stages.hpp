@@ -81,9 +81,12 @@ GrainBlockPass kick_and_next_drift(const Model& m, State& s, EventSlot* drift_ev
 void sum_forces(const Model& m, State& s, const ForceSources& sources);
 
 // (pair_hist, wall_hist) => (pair_hist, wall_hist)
-// No tangential history exists before the first step: the springs that the first force
-// evaluation stretched are reset.
-void clear_springs(const Model& m, State& s);
+// The first state's force evaluation stretches the springs by a step it does not take: the
+// springs are kept before it and put back after it. A new state's are then zero (no tangential
+// history exists before the first step), and a packing made by another run (prepare.compress)
+// keeps the springs that hold it.
+void keep_springs(const State& s, DemWorkspace& w);
+void restore_springs(State& s, const DemWorkspace& w);
 
 // (step, particle_v, particle_w, inv_m, inv_i, frozen) => (events.runaway)
 // Every limits.check_every steps (at the step that makes the count a multiple of it): the

@@ -20,6 +20,8 @@ struct DemWorkspace final : Workspace {
   std::vector<std::vector<int32_t>> chunk_j;  // partners found per chunk of rows
   std::vector<int32_t> old_start, old_j;
   std::vector<double> old_hist;
+  // The springs before the first state's force evaluation (dem::keep_springs), put back after it.
+  std::vector<double> kept_pair_hist, kept_wall_hist;
   std::vector<int32_t> perm;           // new index -> old index of the last spatial sort
   std::vector<std::byte> permute_buf;  // a per-grain array being renumbered by perm
   PairSchedule schedule;               // of the current pair list when schedule_valid

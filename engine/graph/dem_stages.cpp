@@ -3,8 +3,8 @@
 //   choose_dt -> kick_drift -> update_neighbors -> contact_forces --> kick -> energy_check
 //                                      \------> wall_forces ---/
 //
-// and for the forces of the first state: update_neighbors -> (contact_forces | wall_forces) ->
-// sum_forces, then clear_springs.
+// and for the forces of the first state: update_neighbors -> keep_springs -> (contact_forces |
+// wall_forces) -> sum_forces, then restore_springs.
 #include <memory>
 
 #include "dem/stages.hpp"
@@ -192,9 +192,15 @@ void add_dem_stages(GraphBuilder& b) {
                           with({fid::particle_f, fid::particle_t}, {}), {fid::particle_f, fid::particle_t});
     b.after(sum, pairs, "adds the pair forces of the first state");
     b.sums_forces(sum);
-    const int clear = b.add("clear_springs", &dem::clear_springs, {}, {fid::pair_hist, fid::wall_hist});
-    b.after(clear, pairs, "resets the springs the first evaluation stretched");
-    if (walls) b.after(clear, b.find("wall_forces"), "resets the springs the first evaluation stretched");
+    const int keep = b.add("keep_springs", [&w](const Model&, State& s) { dem::keep_springs(s, w); },
+                           {fid::pair_hist, fid::wall_hist}, {});
+    b.after(keep, nbr, "the springs of the (possibly rebuilt) pair list");
+    b.after(pairs, keep, "stretches the springs kept");
+    if (walls) b.after(b.find("wall_forces"), keep, "stretches the springs kept");
+    const int restore = b.add("restore_springs", [&w](const Model&, State& s) { dem::restore_springs(s, w); }, {},
+                              {fid::pair_hist, fid::wall_hist});
+    b.after(restore, pairs, "puts back the springs the first evaluation stretched");
+    if (walls) b.after(restore, b.find("wall_forces"), "puts back the springs the first evaluation stretched");
     return;
   }
   if (m.velocities_solved) {

@@ -109,7 +109,7 @@ void add_paste_stages(GraphBuilder& b) {
         "lubrication_solve", [&w](const Model& m, State& s) { paste::lubrication_solve(m, s, w, true); }, solve_reads(),
         solve_writes());
     b.after(solve, b.find("sum_forces"), "solves with the contact forces of the first state");
-    b.after(solve, b.find("clear_springs"), "implicit contacts: the springs as the first step starts them");
+    b.after(solve, b.find("restore_springs"), "implicit contacts: the springs as the first step starts them");
     return;
   }
   const paste::PasteFields f = paste::paste_fields();

@@ -115,6 +115,8 @@ void Simulation::restore(State s) {
   impl_->workspaces.invalidate();
   impl_->restart.take(state_);
   impl_->primed = true;
+  for (const Module& mod : modules())
+    if (mod.spec->unstarted && model_.module_on(mod.spec->name) && mod.spec->unstarted(state_)) impl_->primed = false;
 }
 
 bool Simulation::step() {

@@ -357,6 +357,12 @@ const ModuleSpec& module() {
               {"coarse_columns", v[kCoarseColumns]}};
     };
     s.prepare_dry = paste_to_dry;
+    // No solve yet: a packing compressed dry (prepare.compress, or one given by --restore), whose
+    // velocities and box rates are the compression's. The first drift needs the paste's own.
+    s.unstarted = [](const State& st) {
+      const auto& v = st.module_field(paste_fields().solver);
+      return v.size() <= kSolves || v[kSolves] == 0;  // (an older checkpoint may hold fewer stats)
+    };
     return s;
   }();
   return spec;

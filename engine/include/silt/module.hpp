@@ -74,6 +74,11 @@ struct ModuleSpec {
   // Turn the module off in a copy of the model that compresses the grains dry before the run
   // (procedure O, prepare.compress), restoring what it changed in the DEM's parts.
   std::function<void(Model& dry)> prepare_dry;
+  // Whether a state given to a simulation (a packing compressed dry, a checkpoint of a run
+  // without this module) has not been started by the module: the stages of the first state then
+  // run before its first step, as for a new state (a paste solves the velocities the first drift
+  // moves the grains with). A state the module has stepped is continued as it is. Empty: never.
+  std::function<bool(const State& s)> unstarted;
 };
 
 // The stages of a module, added to a step graph (or to the graph that computes the forces of the
