@@ -21,7 +21,7 @@ std::vector<KeySpec> fluid_keys() {
       {"fluid.velocity_scale", K::kReal, std::nullopt, Range::positive(), "m/s", false, {}, "U of the Reynolds number (default: the fastest wall or inflow, else the Taylor-Green amplitude, else 1)."},
       {"fluid.length_scale", K::kReal, std::nullopt, Range::positive(), "m", false, {}, "L of the Reynolds number (default: the domain's length along x)."},
       {"fluid.dt", K::kReal, std::nullopt, Range::positive(), "s", true, {}, "A fixed fluid time step (in units of L / U with fluid.reynolds); default: adaptive from fluid.cfl."},
-      {"fluid.cfl", K::kReal, Value(0.5), Range::open_closed(0, 1.5), "", true, {}, "Adaptive step: the target CFL number dt sum_a max|u_a| / h_a (RK3 is stable below sqrt(3); runs stop above 1.6)."},
+      {"fluid.cfl", K::kReal, Value(0.5), Range::open_closed(0, 1.5), "", true, {}, "Adaptive step: the target CFL number dt sum_a max|u_a| / h_a, the walls' and inflows' velocities included (RK3 is stable below sqrt(3); runs stop above 1.6)."},
       {"fluid.dt_max", K::kReal, std::nullopt, Range::positive(), "s", true, {}, "Adaptive step: the largest (default: L / U / 10 in a fluid at rest, or one viscous time h^2 / nu)."},
       {"fluid.viscous", K::kString, Value(std::string("crank_nicolson")), Range::any(), "", false, S{"crank_nicolson", "explicit"}, "Viscous term: Crank-Nicolson (implicit, no viscous step limit; Helmholtz equations solved by transforms) or explicit (RK3, nu dt sum 1/h^2 <= 0.6)."},
       {"fluid.projection", K::kString, Value(std::string("fft")), Range::any(), "", false, S{"fft", "multigrid_cg"}, "Pressure Poisson solver: fast transforms (FFTW, direct) or CG preconditioned by a multigrid V-cycle (the reference)."},

@@ -167,6 +167,13 @@ size_t FluidWorkspace::bytes() const {
   return b * sizeof(double) + pressure_solver_bytes(*this);
 }
 
+double boundary_speed(const Grid& g, int a) {
+  double v = 0;
+  for (int b = 0; b < g.dim; ++b)
+    for (int side = 0; side < 2; ++side) v = std::max(v, std::abs(g.bc[b][side].velocity[a]));
+  return v;
+}
+
 double cfl_number(const FluidParams& p, const State& s, double dt) {
   const Grid& g = p.grid;
   const FluidFields f = fluid_fields();
@@ -181,7 +188,7 @@ double cfl_number(const FluidParams& p, const State& s, double dt) {
       }
       return std::array<double, 1>{m};
     });
-    rate += mx[0] / g.h[a];
+    rate += std::max(mx[0], boundary_speed(g, a)) / g.h[a];  // a NaN of the field stays
   }
   return dt * rate;
 }
@@ -204,7 +211,11 @@ double next_dt(const Model& m, const State& s) {
   // (kDtNext still 0) takes the model's first step.
   const auto& stat = s.module_field(fluid_fields().stat);
   const bool stored = stat.size() > kRate && stat[kDtNext] > 0;
-  const double dt = stored ? adaptive_dt(p, stat[kRate]) : p.dt;
+  // The walls' and inflows' velocities as the parameters give them now (steered since the state's
+  // rate was taken): a lid moving over a fluid still at rest limits the step as its flow will.
+  double walls = 0;
+  for (int a = 0; a < p.grid.dim; ++a) walls += boundary_speed(p.grid, a) / p.grid.h[a];
+  const double dt = stored ? adaptive_dt(p, std::max(stat[kRate], walls)) : p.dt;
   return m.n_grains > 0 ? std::min(dt, m.dt) : dt;  // grains in the same step keep theirs
 }
 
@@ -389,13 +400,13 @@ void fluid_store(const Model& m, State& s, FluidWorkspace& w) {
   fill_velocity_ghosts(g, w.L, u);
   double div_max = 0;
   if (s.boundary_seen) div_max = divergence_max(g, w.L, {u[0], u[1], u[2]}, w.cells.data());
-  // sum_a max |u_a| / h_a from the values stored, and how much they changed: max |u^(n+1) - u^n|
-  // over max(max |u^(n+1)|, max |u^n|), 0 for a fluid at rest throughout. Every step, so that the
-  // last state of any run has it: the old values are read in the pass that overwrites them.
+  // sum_a max |u_a| / h_a from the values stored (and the boundaries' velocities), and how much they changed: max
+  // |u^(n+1) - u^n| over max(max |u^(n+1)|, max |u^n|), 0 for a fluid at rest throughout. Every step, so that the last
+  // state of any run has it: the old values are read in the pass that overwrites them.
   double rate = 0, speed = 0, change = 0;
   for (int a = 0; a < g.dim; ++a) {
     const auto r = copy_state<false, true>(g, w.L, a, s.module_field(f.u[a]), u[a]);
-    rate += r[0] / g.h[a];
+    rate += std::max(r[0], boundary_speed(g, a)) / g.h[a];  // as cfl_number(): a NaN stays
     speed = std::max({speed, r[0], r[1]});
     change = std::max(change, r[2]);
   }
