@@ -101,7 +101,12 @@ void diagnose_dem(GraphBuilder& b) {
         "% of the smaller radius, beyond limits.max_overlap = " + format_number(m.limits.max_overlap, 4);
     f.stage = s.n_walls ? "contact_forces/wall_forces" : "contact_forces";
     f.particle = id;
-    if (s.dt > m.dt_stable) {
+    if (m.velocities_solved) {
+      // The step moved the grains with solved velocities: the DEM's inertial limit is not theirs.
+      f.parameter = m.dt_key;
+      f.message =
+          what + ": the step of " + format_number(s.dt, 4) + " s moved the grains into each other; lower " + m.dt_key;
+    } else if (s.dt > m.dt_stable) {
       f.parameter = "run.dt";
       f.message = what + ": the time step " + format_number(s.dt, 4) + " s exceeds the stability limit " +
                   format_number(m.dt_stable, 4) + " s; reduce run.dt";

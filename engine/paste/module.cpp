@@ -128,6 +128,7 @@ void compile_paste(const SceneDesc& d, Model& m) {
   p.stepper = d.string("lubrication.stepper") == "inertial" ? Stepper::kInertial : Stepper::kQuasiStatic;
   p.stokes_drag = d.boolean("lubrication.stokes_drag");
   compile_time_step(d, m, p);
+  m.dt_key = p.fixed_dt ? "lubrication.dt" : "lubrication.dt_max";
   // The DEM's part: contacts without dashpots (the liquid dissipates; the dry ones are kept for
   // the preparation), pairs listed out to h_max, grains never renumbered (the stored factor
   // follows the unknowns' numbering).

@@ -274,6 +274,9 @@ struct Model {
   // The time step is chosen every step by a module (the paste's adaptive step): runs of a given
   // time end at the first step boundary at or past it, not after a step count.
   bool adaptive_dt = false;
+  // The key that sets the step the DEM's failure reports advise lowering: run.dt, or that of the
+  // module choosing the step (a paste's lubrication.dt_max).
+  std::string dt_key = "run.dt";
   // Per-pair force arrays of modules (P*D, the layout of pair_f: force on i from j) that count
   // in the grains' stress besides the contact forces: the lubrication forces of a paste.
   std::vector<uint16_t> pair_stress_fields;

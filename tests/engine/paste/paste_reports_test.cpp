@@ -46,6 +46,36 @@ std::string lonely_scene(const std::string& extra = "") {
   return s;
 }
 
+// 60 disks placed at random in a periodic 9 x 9 box under a pressure P = 1: a loose paste.
+const char* kLoosePaste = R"(
+[scene]
+dimension = 2
+seed = 7
+[domain]
+lo = [0, 0]
+hi = [9, 9]
+periodic = [true, true]
+[box]
+pressure = 1.0
+[contact]
+model = "linear"
+k_n = 1e4
+[lubrication]
+viscosity = 1.0
+{extra}
+[[grains]]
+count = 60
+radius_min = 0.35
+radius_max = 0.5
+placement = "random"
+)";
+
+std::string loose_scene(const std::string& extra) {
+  std::string s = kLoosePaste;
+  s.replace(s.find("{extra}"), 7, extra);
+  return s;
+}
+
 // The ids of the grains farther than h_max from every other (their nearest images), from the
 // positions alone.
 std::set<int> alone_by_geometry(const State& s, double h_max) {
@@ -123,30 +153,7 @@ TEST_CASE("paste: with a Stokes drag or inertia no grain is held, and none is na
 
 TEST_CASE("paste: a solve that does not converge stops the run naming the step, the residual and the key") {
   // Jacobi CG allowed 3 iterations on a loose paste under pressure: far from the tolerance.
-  auto sim = test::simulation_from(R"(
-[scene]
-dimension = 2
-seed = 7
-[domain]
-lo = [0, 0]
-hi = [9, 9]
-periodic = [true, true]
-[box]
-pressure = 1.0
-[contact]
-model = "linear"
-k_n = 1e4
-[lubrication]
-viscosity = 1.0
-solver = "cg"
-max_iterations = 3
-[[grains]]
-count = 60
-radius_min = 0.35
-radius_max = 0.5
-placement = "random"
-)",
-                                   1);
+  auto sim = test::simulation_from(loose_scene("solver = \"cg\"\nmax_iterations = 3"), 1);
   CHECK_FALSE(sim->step());
   const StepFailure& f = sim->state().failure;
   CHECK(f.step == 1);
@@ -167,4 +174,21 @@ placement = "random"
   const State good = sim->last_good_state();
   CHECK(good.step == 0);
   for (double v : good.particle_v) CHECK(std::isfinite(v));
+}
+
+TEST_CASE("paste: a step that moves the grains into each other names the paste's step key, not run.dt") {
+  // The loose paste with a step of 100 eta / P: its grains pass through each other. The DEM's
+  // inertial limit does not apply to solved velocities; the key to lower is the paste's.
+  for (const auto& [extra, key] : {std::pair<std::string, std::string>{"dt = 100.0", "lubrication.dt"},
+                                   {"dt_initial = 100.0\ndt_max = 1000.0", "lubrication.dt_max"}}) {
+    CAPTURE(extra);
+    auto sim = test::simulation_from(loose_scene(extra), 1);
+    bool failed = false;
+    for (int k = 0; k < 5 && !failed; ++k) failed = !sim->step();
+    REQUIRE(failed);
+    const StepFailure& f = sim->state().failure;
+    CAPTURE(f.message);
+    CHECK(f.parameter == key);
+    CHECK(f.message.find("moved the grains into each other; lower " + key) != std::string::npos);
+  }
 }
