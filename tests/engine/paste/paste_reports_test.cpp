@@ -179,8 +179,10 @@ TEST_CASE("paste: a solve that does not converge stops the run naming the step, 
 TEST_CASE("paste: a step that moves the grains into each other names the paste's step key, not run.dt") {
   // The loose paste with a step of 100 eta / P: its grains pass through each other. The DEM's
   // inertial limit does not apply to solved velocities; the key to lower is the paste's.
-  for (const auto& [extra, key] : {std::pair<std::string, std::string>{"dt = 100.0", "lubrication.dt"},
-                                   {"dt_initial = 100.0\ndt_max = 1000.0", "lubrication.dt_max"}}) {
+  for (const auto& c : {std::pair<std::string, std::string>{"dt = 100.0", "lubrication.dt"},
+                        {"dt_initial = 100.0\ndt_max = 1000.0", "lubrication.dt_max"}}) {
+    const std::string& extra = c.first;  // (not a structured binding: clang's CAPTURE cannot take one)
+    const std::string& key = c.second;
     CAPTURE(extra);
     auto sim = test::simulation_from(loose_scene(extra), 1);
     bool failed = false;
