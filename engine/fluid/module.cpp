@@ -79,9 +79,7 @@ void compile_grid(const SceneDesc& d, const Model& m, Grid& g) {
 // The velocity scale U of the dimensionless form: the fastest wall or inflow, else U0.
 double default_velocity_scale(const FluidParams& p) {
   double u = 0;
-  for (int a = 0; a < p.grid.dim; ++a)
-    for (int side = 0; side < 2; ++side)
-      for (int c = 0; c < p.grid.dim; ++c) u = std::max(u, std::abs(p.grid.bc[a][side].velocity[c]));
+  for (int a = 0; a < p.grid.dim; ++a) u = std::max(u, boundary_speed(p.grid, a));
   if (u == 0 && p.initial == Initial::kTaylorGreen) u = p.initial_velocity;
   if (u == 0) u = std::abs(p.bulk_velocity);
   return u > 0 ? u : 1.0;

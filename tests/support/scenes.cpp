@@ -100,6 +100,46 @@ std::string fill(std::string text, std::initializer_list<std::pair<const char*, 
   return text;
 }
 
+std::string paste_disks(const PasteDisks& p) {
+  const char* text = R"([scene]
+dimension = 2
+seed = {seed}
+[domain]
+lo = [0, 0]
+hi = [{L}, {L}]
+periodic = [true, true]
+[box]
+pressure = 1.0
+{prepare}[contact]
+model = "linear"
+k_n = 1e4
+friction = 0.3
+kt_over_kn = 0.5
+damping = 0.9
+tangential_damping = 0.5
+[run]
+dt_over_tc = 0.05
+[lubrication]
+viscosity = {eta}
+h_min_over_a = {hmin}
+{lubrication}
+[[grains]]
+count = {n}
+radius_min = 0.35
+radius_max = 0.5
+density = {rho}
+placement = "random"
+)";
+  std::string s = text;
+  const std::string prepare = p.dilation > 0 ? "[prepare]\ncompress = true\ndilation = {dilation}\n" : "";
+  s.replace(s.find("{prepare}"), 9, prepare);
+  s.replace(s.find("{lubrication}"), 13, p.lubrication);
+  s.replace(s.find("{seed}"), 6, std::to_string(p.seed));
+  return fill(
+      s,
+      {{"n", p.n}, {"L", p.L}, {"hmin", p.h_min}, {"eta", p.viscosity}, {"rho", p.density}, {"dilation", p.dilation}});
+}
+
 Collision head_on_collision(Simulation& sim, double v_rel) {
   Collision c;
   const State& s = sim.state();

@@ -86,6 +86,22 @@ inline double rel_diff(const Eigen::VectorXd& a, const Eigen::VectorXd& b) { ret
 // The value of one observable of the state, as silt run's stats would sample it.
 double observe(const Model& m, const State& s, const std::string& name);
 
+// A lubricated paste of frictional disks (radii 0.35 to 0.5, linear contacts k_n = 1e4, friction
+// 0.3) placed at random in a periodic L x L box at an imposed pressure P = 1. With a dilation,
+// compressed dry to a static packing first and then dilated by it (a paste's initial state,
+// Peyneau 2009 sec. 2.3.1). `lubrication` holds more lines of the [lubrication] table.
+struct PasteDisks {
+  double n = 60;
+  double L = 9;
+  double h_min = 1e-2;
+  double viscosity = 1;
+  double density = 1;
+  double dilation = 0;  // 0: no dry compression first
+  unsigned seed = 7;
+  std::string lubrication = "";
+};
+std::string paste_disks(const PasteDisks& p);
+
 // A lubricated paste of five disks of radius 0.5 (h_max = 0.5) in a fixed periodic box, a fixed
 // step: 0-1 and 1-2 touch (overlaps 0.02 and 0.005), 1-3, 2-3, 0-4 and 1-4 are lubricated gaps
 // only (0.011 to 0.22). With no external force, one solve gives the contacts' own lubrication

@@ -47,34 +47,7 @@ std::string lonely_scene(const std::string& extra = "") {
 }
 
 // 60 disks placed at random in a periodic 9 x 9 box under a pressure P = 1: a loose paste.
-const char* kLoosePaste = R"(
-[scene]
-dimension = 2
-seed = 7
-[domain]
-lo = [0, 0]
-hi = [9, 9]
-periodic = [true, true]
-[box]
-pressure = 1.0
-[contact]
-model = "linear"
-k_n = 1e4
-[lubrication]
-viscosity = 1.0
-{extra}
-[[grains]]
-count = 60
-radius_min = 0.35
-radius_max = 0.5
-placement = "random"
-)";
-
-std::string loose_scene(const std::string& extra) {
-  std::string s = kLoosePaste;
-  s.replace(s.find("{extra}"), 7, extra);
-  return s;
-}
+std::string loose_scene(const std::string& extra) { return test::paste_disks({.lubrication = extra}); }
 
 // The ids of the grains farther than h_max from every other (their nearest images), from the
 // positions alone.

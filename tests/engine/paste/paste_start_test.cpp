@@ -15,41 +15,11 @@ using namespace silt;
 
 namespace {
 
-// Frictional disks at an imposed pressure P = 1, compressed dry first, then dilated by
-// {dilation} (1: the static packing, its contacts held by their springs); viscosity {eta}.
-const char* kPrepared = R"(
-[scene]
-dimension = 2
-seed = 11
-[domain]
-lo = [0, 0]
-hi = [10, 10]
-periodic = [true, true]
-[box]
-pressure = 1.0
-[prepare]
-compress = true
-dilation = {dilation}
-[contact]
-model = "linear"
-k_n = 1e4
-friction = 0.3
-kt_over_kn = 0.5
-damping = 0.9
-[run]
-dt_over_tc = 0.05
-[lubrication]
-viscosity = {eta}
-h_min_over_a = 1e-3
-[[grains]]
-count = 80
-radius_min = 0.35
-radius_max = 0.5
-placement = "random"
-)";
-
+// 80 frictional disks at an imposed pressure P = 1, compressed dry first, then dilated by
+// `dilation` (1: the static packing, its contacts held by their springs); viscosity eta.
 Model prepared(double eta, double dilation = 1.05) {
-  return test::model_from(test::fill(kPrepared, {{"eta", eta}, {"dilation", dilation}}));
+  return test::model_from(
+      test::paste_disks({.n = 80, .L = 10, .h_min = 1e-3, .viscosity = eta, .dilation = dilation, .seed = 11}));
 }
 
 std::vector<double> sorted_magnitudes(const std::vector<double>& v) {

@@ -17,47 +17,13 @@ using namespace silt;
 
 namespace {
 
-// Disks in a periodic box with lubrication: {n} grains in {L} x {L}, at an imposed pressure P = 1.
-const char* kPaste = R"(
-[scene]
-dimension = 2
-seed = 7
-[domain]
-lo = [0, 0]
-hi = [{L}, {L}]
-periodic = [true, true]
-[box]
-pressure = 1.0
-[contact]
-model = "linear"
-k_n = 1e4
-friction = 0.3
-kt_over_kn = 0.5
-damping = 0.9
-tangential_damping = 0.5
-[run]
-dt_over_tc = 0.05
-[lubrication]
-viscosity = 1.0
-h_min_over_a = {hmin}
-[[grains]]
-count = {n}
-radius_min = 0.35
-radius_max = 0.5
-density = {rho}
-placement = "random"
-)";
-
 std::string paste_scene(double n, double L, double hmin = 1e-2, double rho = 1) {
-  return test::fill(kPaste, {{"n", n}, {"L", L}, {"hmin", hmin}, {"rho", rho}});
+  return test::paste_disks({.n = n, .L = L, .h_min = hmin, .density = rho});
 }
 
-// The same grains compressed dry to a static packing first, then dilated by 1.05 (a paste's
-// initial state, Peyneau 2009 sec. 2.3.1): a network of lubricated gaps that spans the box.
+// The same grains compressed dry to a static packing first, then dilated by 1.05.
 std::string packed(double n, double L, double rho = 1) {
-  std::string s = paste_scene(n, L, 1e-2, rho);
-  s.replace(s.find("[run]\n"), 6, "[prepare]\ncompress = true\ndilation = 1.05\n[run]\n");
-  return s;
+  return test::paste_disks({.n = n, .L = L, .density = rho, .dilation = 1.05});
 }
 
 // A step, its failure shown when there is one.
