@@ -116,12 +116,11 @@ void compile_steerable(const SceneDesc& d, const Model& m, FluidParams& p) {
   // The first step of an adaptive run: from the target CFL at the velocity scale.
   p.dt = p.dt_fixed ? d.real("fluid.dt") * time_unit
                     : std::min(p.dt_max, p.cfl_target * h_min / (m.dim * p.velocity_scale));
-  p.viscous = d.string("fluid.viscous") == "explicit" ? Viscous::kExplicit : Viscous::kCrankNicolson;
-  if (!p.dt_fixed && p.viscous == Viscous::kExplicit && p.nu() > 0) {
-    double inv = 0;
-    for (int a = 0; a < m.dim; ++a) inv += 1 / (p.grid.h[a] * p.grid.h[a]);
-    p.dt = std::min(p.dt, 0.9 * FluidParams::kViscousLimit / (p.nu() * inv));
-  }
+  const std::string viscous = d.string("fluid.viscous");
+  p.viscous = viscous == "explicit"         ? Viscous::kExplicit
+              : viscous == "backward_euler" ? Viscous::kBackwardEuler
+                                            : Viscous::kCrankNicolson;
+  if (!p.dt_fixed) p.dt = std::min(p.dt, viscous_dt_limit(p));
   p.stop_when_steady = d.boolean("run.stop_when_steady");
   p.steady_tol = d.real("run.steady_tol");
   p.tolerance = d.real("fluid.tolerance");
@@ -192,6 +191,13 @@ void finish_fluid(const SceneDesc& d, Model& m) {
                " exceeds " + format_number(FluidParams::kViscousLimit, 4) + "; reduce fluid.dt below " +
                format_number(FluidParams::kViscousLimit / (p.nu() * inv), 4) +
                " s or use fluid.viscous = \"crank_nicolson\"");
+  const double mode = p.dt * slowest_viscous_rate(p);
+  if (p.dt_fixed && p.viscous == Viscous::kCrankNicolson && mode > FluidParams::kCnModeLimit)
+    d.fail("fluid.dt", "Crank-Nicolson damps the box's slowest viscous mode too little at this step: nu dt k^2 = " +
+                           format_number(mode, 4) + " exceeds " + format_number(FluidParams::kCnModeLimit, 4) +
+                           " (beyond 3.75 it turns over instead of decaying); reduce fluid.dt below " +
+                           format_number(FluidParams::kCnModeLimit / slowest_viscous_rate(p), 4) +
+                           " s or use fluid.viscous = \"backward_euler\"");
   const double need = estimated_memory_bytes(m), have = available_memory_bytes();
   if (need > 0.9 * have)
     d.fail("fluid.cells", "the fluid needs about " + format_number(need / (1 << 30), 3) + " GiB (" +

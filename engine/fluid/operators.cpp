@@ -92,9 +92,9 @@ std::array<Range3, D> component_ranges(const Grid& g) {
   return r;
 }
 
-// The momentum update of component A at face q (operators.hpp), with Crank-Nicolson's explicit
-// half (CN) or the explicit viscous term.
-template <int D, int A, bool CN>
+// The momentum update of component A at face q (operators.hpp): with the explicit viscous term,
+// Crank-Nicolson's explicit half, or backward Euler's boundary values alone.
+template <int D, int A, Viscous V>
 struct MomentumPoint {
   const double* const* c;
   UnitXStrides s;
@@ -107,10 +107,14 @@ struct MomentumPoint {
   void operator()(int64_t q) const {
     const double* ua = c[A];
     const double* pr = k.p;
-    if constexpr (CN) {
+    if constexpr (V == Viscous::kCrankNicolson) {
       const double adv = advection_kernel<D, A>(c, q, s, inv_h) + k.force[A];
       const double lap = laplacian_kernel<D>(ua, q, s, inv_h2);
       us[q] = ua[q] + k.gdt * adv + k.zdt * np[q] - gp * (pr[q] - pr[q - s[A]]) + k.beta * (lap + lb[q]);
+      np[q] = adv;
+    } else if constexpr (V == Viscous::kBackwardEuler) {
+      const double adv = advection_kernel<D, A>(c, q, s, inv_h) + k.force[A];
+      us[q] = ua[q] + k.gdt * adv + k.zdt * np[q] - gp * (pr[q] - pr[q - s[A]]) + k.beta * lb[q];
       np[q] = adv;
     } else {
       const double rhs =
@@ -121,7 +125,7 @@ struct MomentumPoint {
   }
 };
 
-template <int D, bool CN>
+template <int D, Viscous V>
 void momentum_substep_d(const Grid& g, const Layout& L, const PaddedConst& u, const Padded& u_star,
                         const Padded& n_prev, const PaddedConst& bc_lap, const SubstepCoefficients& k) {
   const double inv_h[3] = {1 / g.h[0], 1 / g.h[1], 1 / g.h[2]};
@@ -129,7 +133,7 @@ void momentum_substep_d(const Grid& g, const Layout& L, const PaddedConst& u, co
   SILT_ASSERT(L.s[0] == 1, "the padded rows are contiguous along x");
   const UnitXStrides s{L.s[1], L.s[2]};
   auto point = [&]<int A>() {
-    return MomentumPoint<D, A, CN>{u.data(), s, inv_h, inv_h2, k, u_star[A], n_prev[A], bc_lap[A], k.adt * inv_h[A]};
+    return MomentumPoint<D, A, V>{u.data(), s, inv_h, inv_h2, k, u_star[A], n_prev[A], bc_lap[A], k.adt * inv_h[A]};
   };
   const auto p0 = point.template operator()<0>();
   const auto p1 = point.template operator()<1>();
@@ -212,9 +216,15 @@ std::array<int64_t, 3> unknown_dims(const Grid& g, int a) {
 
 void momentum_substep(const Grid& g, const Layout& L, const PaddedConst& u, const Padded& u_star, const Padded& n_prev,
                       const PaddedConst& bc_lap, const SubstepCoefficients& c) {
-  const bool cn = c.beta > 0;
-  if (g.dim == 2) (cn ? momentum_substep_d<2, true> : momentum_substep_d<2, false>)(g, L, u, u_star, n_prev, bc_lap, c);
-  else (cn ? momentum_substep_d<3, true> : momentum_substep_d<3, false>)(g, L, u, u_star, n_prev, bc_lap, c);
+  auto run = [&]<int D>() {
+    if (c.viscous == Viscous::kCrankNicolson)
+      momentum_substep_d<D, Viscous::kCrankNicolson>(g, L, u, u_star, n_prev, bc_lap, c);
+    else if (c.viscous == Viscous::kBackwardEuler)
+      momentum_substep_d<D, Viscous::kBackwardEuler>(g, L, u, u_star, n_prev, bc_lap, c);
+    else momentum_substep_d<D, Viscous::kExplicit>(g, L, u, u_star, n_prev, bc_lap, c);
+  };
+  if (g.dim == 2) run.template operator()<2>();
+  else run.template operator()<3>();
 }
 
 void component_laplacian(const Grid& g, const Layout& L, int a, const double* u, double* out) {

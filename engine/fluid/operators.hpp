@@ -11,6 +11,7 @@
 
 #include "fluid/grid.hpp"
 #include "fluid/layout.hpp"
+#include "fluid/params.hpp"
 
 namespace silt::fluid {
 
@@ -20,13 +21,15 @@ using PaddedConst = std::array<const double*, 3>;
 // One Runge-Kutta substep of the momentum equation, on the faces each component updates
 // (update_range), in one sweep:
 //   N = advection of u_a + nu Lap u_a + force[a]                 (nu = 0: no explicit viscosity)
-//   u*_a = u_a + gdt N + zdt n_prev_a - adt grad_a p + beta (Lap u_a + bc_lap_a)
+//   u*_a = u_a + gdt N + zdt n_prev_a - adt grad_a p + beta (Lap u_a + bc_lap_a)   (Crank-Nicolson)
+//   u*_a = u_a + gdt N + zdt n_prev_a - adt grad_a p + beta bc_lap_a                (backward Euler)
 //                                                                 (p: the pressure / rho so far,
-//                                                                  ghosts filled; beta > 0: Crank-Nicolson's
-//                                                                  explicit half, bc_lap its
-//                                                                  boundary values)
+//                                                                  ghosts filled; beta: the
+//                                                                  implicit solve's coefficient,
+//                                                                  bc_lap its boundary values)
 //   n_prev_a = N                                                  (for the next substep)
 struct SubstepCoefficients {
+  Viscous viscous = Viscous::kExplicit;
   double nu = 0, gdt = 0, zdt = 0, adt = 0, beta = 0;
   const double* p = nullptr;  // padded
   std::array<double, 3> force{0, 0, 0};

@@ -9,8 +9,10 @@
 
 namespace silt::fluid {
 
-// How the viscous term is advanced: explicitly with the advection (RK3), or Crank-Nicolson.
-enum class Viscous : uint8_t { kExplicit, kCrankNicolson };
+// How the viscous term is advanced: explicitly with the advection (RK3), or implicitly in each
+// substep, by Crank-Nicolson (second order; damps the fastest modes little) or backward Euler
+// (first order; damps every mode, as the exact decay does).
+enum class Viscous : uint8_t { kExplicit, kCrankNicolson, kBackwardEuler };
 // How the pressure Poisson equation is solved: fast transforms (FFTW), or CG preconditioned by a
 // multigrid V-cycle (the reference).
 enum class Projection : uint8_t { kFft, kMultigridCg };
@@ -42,6 +44,12 @@ struct FluidParams {
   double dt_max = 0;                            // adaptive step at most this [s]
   static constexpr double kCflLimit = 1.6;      // RK3 on the imaginary axis: sqrt(3) = 1.73
   static constexpr double kViscousLimit = 0.6;  // RK3 on the real axis: nu dt sum 1/h^2 <= 2.51 / 4
+  // Crank-Nicolson: nu dt k^2 at most this for the box's longest wavelength (slowest_viscous_rate).
+  // Each substep multiplies a mode by (1 - z/2) / (1 + z/2), z = alpha_k dt nu k^2, which tends to
+  // -1 as z grows: a step of nu dt k^2 = 1 decays the mode by 0.362 against exp(-1) = 0.368, one
+  // of 3.75 turns it over in its first substep, and one of 1e6 leaves it as it was, its sign
+  // flipped three times (a Taylor-Green vortex at Re = 1e-12 kept its kinetic energy).
+  static constexpr double kCnModeLimit = 1.0;
   // Dimensionless form: velocity and length scales (Re = U L / nu, times in L / U).
   double velocity_scale = 1, length_scale = 1;
   bool dimensionless = false;

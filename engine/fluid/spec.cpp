@@ -61,8 +61,11 @@ std::string describe_fluid(const Model& m) {
   double inv = 0;
   for (int a = 0; a < m.dim; ++a) inv += 1 / (g.h[a] * g.h[a]);
   const double dt = p.dt;
-  o << "             RK3 (Wray), viscous " << (p.viscous == Viscous::kExplicit ? "explicit" : "Crank-Nicolson")
-    << ", projection " << (p.projection == Projection::kFft ? "by fast transforms (FFTW)" : "by multigrid CG to ")
+  const char* scheme = p.viscous == Viscous::kExplicit        ? "explicit"
+                       : p.viscous == Viscous::kCrankNicolson ? "Crank-Nicolson"
+                                                              : "backward Euler";
+  o << "             RK3 (Wray), viscous " << scheme << ", projection "
+    << (p.projection == Projection::kFft ? "by fast transforms (FFTW)" : "by multigrid CG to ")
     << (p.projection == Projection::kFft ? std::string() : format_number(p.tolerance, 3)) << "\n";
   o << "             time step " << (p.dt_fixed ? "fixed " : "adaptive from ") << dt << " s"
     << (p.dt_fixed
@@ -72,6 +75,10 @@ std::string describe_fluid(const Model& m) {
     << "); viscous number nu dt sum 1/h^2 = " << p.nu() * dt * inv
     << (p.viscous == Viscous::kExplicit ? " (limit " + format_number(FluidParams::kViscousLimit, 2) + ")"
                                         : std::string(" (implicit: no limit)"))
+    << "; nu dt k^2 at the box's longest wavelength = " << dt * slowest_viscous_rate(p)
+    << (p.viscous == Viscous::kCrankNicolson
+            ? " (Crank-Nicolson: at most " + format_number(FluidParams::kCnModeLimit, 2) + ")"
+            : std::string())
     << "\n";
   if (p.drive == Drive::kPressure)
     o << "             driven by -dp/d"

@@ -91,7 +91,7 @@ void prepare(const FluidParams& p, FluidWorkspace& w) {
   }
   w.unknowns.assign(static_cast<size_t>(most), 0);
   make_pressure_solver(p, w);
-  if (p.viscous == Viscous::kCrankNicolson)
+  if (p.viscous != Viscous::kExplicit)
     for (int a = 0; a < g.dim; ++a) w.helmholtz[a] = make_helmholtz_solver(g, a);
   w.ready = true;
 }
@@ -193,14 +193,31 @@ double cfl_number(const FluidParams& p, const State& s, double dt) {
   return dt * rate;
 }
 
-double adaptive_dt(const FluidParams& p, double rate) {
-  double dt = rate > 0 ? p.cfl_target / rate : p.dt_max;
+double slowest_viscous_rate(const FluidParams& p) {
+  const Grid& g = p.grid;
+  double k2 = HUGE_VAL;
+  for (int a = 0; a < g.dim; ++a) {
+    const bool periodic = g.bc[a][0].type == BcType::kPeriodic;
+    const double k = (periodic ? 2 : 1) * std::numbers::pi / (g.n[a] * g.h[a]);
+    k2 = std::min(k2, k * k);
+  }
+  return p.nu() * k2;
+}
+
+double viscous_dt_limit(const FluidParams& p) {
+  if (!(p.nu() > 0)) return HUGE_VAL;
   if (p.viscous == Viscous::kExplicit) {
     double inv = 0;
     for (int a = 0; a < p.grid.dim; ++a) inv += 1 / (p.grid.h[a] * p.grid.h[a]);
-    if (p.nu() > 0) dt = std::min(dt, 0.9 * FluidParams::kViscousLimit / (p.nu() * inv));
+    return 0.9 * FluidParams::kViscousLimit / (p.nu() * inv);
   }
-  return std::min(dt, p.dt_max);
+  if (p.viscous == Viscous::kCrankNicolson) return FluidParams::kCnModeLimit / slowest_viscous_rate(p);
+  return HUGE_VAL;
+}
+
+double adaptive_dt(const FluidParams& p, double rate) {
+  const double dt = rate > 0 ? p.cfl_target / rate : p.dt_max;
+  return std::min({dt, viscous_dt_limit(p), p.dt_max});
 }
 
 double next_dt(const Model& m, const State& s) {
@@ -267,6 +284,12 @@ Padded pointers(const Grid& g, std::array<std::vector<double>, 3>& v) {
 
 double alpha_of(int k) { return kGamma[k] + kZeta[k]; }
 
+// The implicit viscous solve's coefficient in substep k: (1 - beta Lap) u* = rhs.
+double implicit_beta(const FluidParams& p, int k, double dt) {
+  const double theta = p.viscous == Viscous::kCrankNicolson ? 0.5 : 1.0;
+  return theta * alpha_of(k) * dt * p.nu();
+}
+
 }  // namespace
 
 void fluid_load(const Model& m, State& s, FluidWorkspace& w) {
@@ -301,7 +324,7 @@ void fluid_load(const Model& m, State& s, FluidWorkspace& w) {
     }
   }
   for (int a = 0; a < g.dim; ++a) copy_state<true>(g, w.L, a, s.module_field(f.u[a]), w.u[a].data());
-  if (p.viscous == Viscous::kCrankNicolson && (!w.bc_lap_ready || w.bc_velocities != boundary_velocities(g))) {
+  if (p.viscous != Viscous::kExplicit && (!w.bc_lap_ready || w.bc_velocities != boundary_velocities(g))) {
     boundary_laplacian(g, w);
     w.bc_velocities = boundary_velocities(g);
     w.bc_lap_ready = true;
@@ -317,23 +340,25 @@ void fluid_momentum(const Model& m, State&, FluidWorkspace& w) {
   const FluidParams& p = m.params.get<FluidParams>();
   const Grid& g = p.grid;
   const int k = w.substep;
-  const bool cn = p.viscous == Viscous::kCrankNicolson;
+  const bool implicit = p.viscous != Viscous::kExplicit;
   SubstepCoefficients sc;
   if (p.drive == Drive::kPressure) sc.force[p.drive_axis] = p.pressure_gradient / p.density;
-  sc.nu = cn ? 0.0 : p.nu();
+  sc.viscous = p.viscous;
+  sc.nu = implicit ? 0.0 : p.nu();
   sc.gdt = kGamma[k] * w.dt;
   sc.zdt = kZeta[k] * w.dt;
   sc.adt = alpha_of(k) * w.dt;
   sc.p = w.p_kin.data();
   fill_pressure_ghosts(g, w.L, w.p_kin.data());
   // Crank-Nicolson: (1 - beta Lap) u* = u + dt (gamma N + zeta N') + beta Lap u + beta Lap_bc,
-  // beta = alpha dt nu / 2; fluid_viscous solves it.
-  sc.beta = cn ? 0.5 * alpha_of(k) * w.dt * p.nu() : 0.0;
+  // beta = alpha dt nu / 2; backward Euler: (1 - beta Lap) u* = u + dt (gamma N + zeta N') +
+  // beta Lap_bc, beta = alpha dt nu. fluid_viscous solves it.
+  sc.beta = implicit ? implicit_beta(p, k, w.dt) : 0.0;
   const Padded u = pointers(g, w.u);
   fill_velocity_ghosts(g, w.L, u);
   momentum_substep(g, w.L, {u[0], u[1], u[2]}, pointers(g, w.u_star), pointers(g, w.n_prev),
                    {w.bc_lap[0].data(), w.bc_lap[1].data(), w.bc_lap[2].data()}, sc);
-  if (!cn)
+  if (!implicit)
     for (int a = 0; a < g.dim; ++a) std::swap(w.u[a], w.u_star[a]);
 }
 
@@ -341,7 +366,7 @@ void fluid_viscous(const Model& m, State&, FluidWorkspace& w) {
   if (w.failed) return;
   const FluidParams& p = m.params.get<FluidParams>();
   const Grid& g = p.grid;
-  const double beta = 0.5 * alpha_of(w.substep) * w.dt * p.nu();
+  const double beta = implicit_beta(p, w.substep, w.dt);
   // (1/beta - Lap) u* = rhs / beta, per component on its own faces.
   if (beta > 0) {
     const double inv_beta = 1 / beta;

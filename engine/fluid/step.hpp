@@ -5,7 +5,7 @@
 // substeps (van Kan 1986; Brown, Cortez & Minion 2001), p the pressure / rho so far:
 //   u* = u^k + dt (gamma_k N(u^k) + zeta_k N(u^(k-1))) - alpha_k dt grad p
 //        + alpha_k dt nu Lap (u^k + u*) / 2                                   (Crank-Nicolson)
-//      (or + alpha_k dt nu Lap u^k, explicit),
+//      (or + alpha_k dt nu Lap u*, backward Euler; or + alpha_k dt nu Lap u^k, explicit),
 //   Lap phi = div u* / (alpha_k dt),   u^(k+1) = u* - alpha_k dt grad phi,   p += phi,
 // gamma = (8/15, 5/12, 3/4), zeta = (0, -17/60, -5/12), alpha = gamma + zeta = (8/15, 2/15, 1/3).
 // The increment phi is O(dt): the splitting error of the projection is O(dt^2), where a
@@ -90,7 +90,7 @@ struct FluidWorkspace final : Workspace {
 };
 
 // The stages of a step of dt (graph/fluid_stages.cpp): fluid_load, then three times fluid_momentum,
-// fluid_viscous (Crank-Nicolson only), fluid_pressure and fluid_project, then fluid_store. They
+// fluid_viscous (an implicit viscous term only), fluid_pressure and fluid_project, then fluid_store. They
 // share the workspace's padded arrays; the State is read by fluid_load and written by
 // fluid_store. After an event (a CFL number beyond the limit, a solve that failed) the others
 // return at once.
@@ -113,8 +113,14 @@ double next_dt(const Model& m, const State& s);
 // The initial velocity (at rest, or a Taylor-Green vortex) into a fresh state.
 void initial_velocity(const Model& m, State& s);
 
+// nu k^2 for the box's longest wavelength: k = 2 pi / L along a periodic axis, pi / L between
+// walls (at most the decay rate of the slowest viscous mode), the smallest over the axes.
+double slowest_viscous_rate(const FluidParams& p);
+// The largest step the viscous scheme allows: the explicit scheme's stability (0.9 of it), Crank-
+// Nicolson's damping of the slowest mode (kCnModeLimit); infinite for backward Euler or nu = 0.
+double viscous_dt_limit(const FluidParams& p);
 // The adaptive step for a velocity field of rate = sum_a max|u_a| / h_a: cfl_target / rate,
-// within the viscous limit of the explicit scheme and dt_max.
+// within viscous_dt_limit and dt_max.
 double adaptive_dt(const FluidParams& p, double rate);
 // dt sum_a max|u_a| / h_a, max|u_a| over the grid's faces and the velocities its boundaries
 // impose (a lid's, an inflow's): a lid over a fluid at rest is the flow's speed to come. (Without

@@ -66,7 +66,7 @@ void add_fluid_stages(GraphBuilder& b) {
     return;
   }
   auto& w = b.workspaces().get<fluid::FluidWorkspace>();
-  const bool cn = b.model().params.get<fluid::FluidParams>().viscous == fluid::Viscous::kCrankNicolson;
+  const bool implicit = b.model().params.get<fluid::FluidParams>().viscous != fluid::Viscous::kExplicit;
   const int dt = b.add("fluid_dt", &fluid::fluid_dt, {fid::dt, f.stat}, {fid::dt});
   b.light(dt);
   b.after(dt, b.find("choose_dt"), "replaces the scene's step by the fluid's");
@@ -76,7 +76,7 @@ void add_fluid_stages(GraphBuilder& b) {
   b.after(load, dt, "advances by this step's dt");
   // The three Runge-Kutta substeps: the stages share the workspace's padded velocity, so each
   // waits for the one before it.
-  const int loop = b.loop("fluid_substep", 3, [&w, cn, f](GraphBuilder& lb) {
+  const int loop = b.loop("fluid_substep", 3, [&w, implicit, f](GraphBuilder& lb) {
     auto stage = [&](const char* name, void (*fn)(const Model&, State&, fluid::FluidWorkspace&), Access writes) {
       const int i = lb.add(
           name, [&w, fn](const Model& m, State& s) { fn(m, s, w); }, {}, std::move(writes));
@@ -85,7 +85,7 @@ void add_fluid_stages(GraphBuilder& b) {
     };
     const int momentum = stage("fluid_momentum", &fluid::fluid_momentum, {});
     int before = momentum;
-    if (cn) {
+    if (implicit) {
       const int viscous = stage("fluid_viscous", &fluid::fluid_viscous, {});
       lb.after(viscous, momentum, "solves for the u* the momentum stage predicted");
       before = viscous;

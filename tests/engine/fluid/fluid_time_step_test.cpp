@@ -3,6 +3,7 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <numbers>
 
 #include "fluid/module.hpp"
 #include "fluid/step.hpp"
@@ -118,4 +119,55 @@ TEST_CASE("fluid: the dimensionless form takes fluid.dt and fluid.dt_max in unit
   // The adaptive step's cap in units of L / U too.
   const Model capped = test::model_from(lid_cavity(2.0, 0.5, "dt_max = 0.005"));
   CHECK(capped.params.get<FluidParams>().dt_max == doctest::Approx(0.02).epsilon(1e-14));
+}
+
+TEST_CASE("fluid: at Re << 1 backward Euler damps the vortex and Crank-Nicolson's step is held where it damps it") {
+  // A Taylor-Green vortex of U0 = 1 in a periodic unit square, nu = 1e6: the exact decay over one
+  // step of the CFL target (dt = 0.5 h / 2) is exp(-2 nu k^2 dt) = 0. Crank-Nicolson multiplies
+  // the mode by (1 - z/2) / (1 + z/2) per substep, which tends to -1: without a limit its velocity
+  // changed sign three times a step and kept its size (its energy stayed 0.25).
+  const std::string box =
+      "[scene]\ndimension = 2\n[domain]\nlo = [0.0, 0.0]\nhi = [1.0, 1.0]\nperiodic = [true, true]\n"
+      "[fluid]\ncells = [16, 16]\ninitial = \"taylor_green\"\n";
+  const std::string tg = box + "viscosity = 1e6\n";
+  const double k2 = 4 * std::numbers::pi * std::numbers::pi;  // the box's longest wavelength, and nu k^2
+  const double rate = 1e6 * k2;
+  // u on the x face at (1/4, 3 h / 2), whose initial value is sin(pi / 2) cos(3 pi / 16) = 0.83.
+  auto u_at = [](const Simulation& sim) {
+    const auto d = sim.model().params.get<FluidParams>().grid.face_dims(0);
+    return sim.state().module_field(fluid_fields().u[0])[d[0] + d[0] / 4];
+  };
+  const double u0 = std::cos(3 * std::numbers::pi / 16);
+  SUBCASE("backward Euler: one step of the CFL target leaves nothing") {
+    auto sim = test::simulation_from(tg + "viscous = \"backward_euler\"\n");
+    REQUIRE(sim->step());
+    CHECK(sim->state().dt > 1e-3);
+    CHECK(test::observe(sim->model(), sim->state(), "fluid.ke") < 1e-20);
+  }
+  SUBCASE("Crank-Nicolson, adaptive: the step keeps nu dt k^2 <= 1 and the vortex decays without turning over") {
+    auto sim = test::simulation_from(tg);
+    double u = u0;
+    for (int s = 0; s < 5; ++s) {
+      REQUIRE(sim->step());
+      CHECK(sim->state().dt * rate <= FluidParams::kCnModeLimit * (1 + 1e-12));
+      const double next = u_at(*sim);
+      CHECK(next * u > 0);                        // the same sign
+      CHECK(std::abs(next) < 0.2 * std::abs(u));  // exp(-2) = 0.135 a step at the limit; CN 0.116
+      u = next;
+    }
+  }
+  SUBCASE("Crank-Nicolson, fixed step beyond the limit: refused, naming backward Euler") {
+    const std::string err = test::scene_error(tg + "dt = 1e-3\n");
+    CHECK(err.find("fluid.dt") != std::string::npos);
+    CHECK(err.find("backward_euler") != std::string::npos);
+    CHECK(test::scene_error(tg + "dt = 1e-8\n") == "");
+  }
+  SUBCASE("Crank-Nicolson: a viscosity steered up holds the next step") {
+    auto sim = test::simulation_from(box + "viscosity = 1e-3\n");
+    REQUIRE(sim->step());
+    CHECK(sim->state().dt * 1e-3 * k2 < 1e-3);
+    REQUIRE(steer(sim->model_for_steering(), parse_override("fluid.viscosity=1e6")) == "");
+    REQUIRE(sim->step());
+    CHECK(sim->state().dt * rate <= FluidParams::kCnModeLimit * (1 + 1e-12));
+  }
 }

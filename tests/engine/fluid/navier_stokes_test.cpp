@@ -108,9 +108,11 @@ TEST_CASE("fluid: the 3D Taylor-Green vortex is second order in space") {
   CHECK(std::abs(amp[1] - amp[2]) < 1e-2 * amp[2]);  // and the grids resolve it
 }
 
-TEST_CASE("fluid: the time order is three (explicit RK3) and two (Crank-Nicolson) on Taylor-Green vortices") {
+TEST_CASE(
+    "fluid: the time order is three (explicit RK3), two (Crank-Nicolson) and one (backward Euler) on Taylor-Green "
+    "vortices") {
   for (int dim : {2, 3})
-    for (const char* viscous : {"explicit", "crank_nicolson"}) {
+    for (const char* viscous : {"explicit", "crank_nicolson", "backward_euler"}) {
       auto state_at = [&](double dt) {
         auto sim = test::simulation_from(taylor_green(dim, 16, 0.02, dt, viscous));
         run_to(*sim, 0.4);
@@ -120,9 +122,10 @@ TEST_CASE("fluid: the time order is three (explicit RK3) and two (Crank-Nicolson
       const double ratio = max_diff(a, ref) / max_diff(b, ref);
       INFO(dim << "D, " << viscous << ": error ratio " << ratio);
       // Against a reference at dt/8 and dt/4 the ratios of pure order q are (1 - 8^-q)/(1/2^q - 8^-q)...
-      // about 2^q within 5 % for q = 2, 3.
+      // about 2^q within 5 % for q = 2, 3; for q = 1, 0.875 / 0.375 = 2.33.
       if (std::string(viscous) == "explicit") CHECK(ratio > 7.0);
-      else CHECK((ratio > 3.6 && ratio < 4.8));
+      else if (std::string(viscous) == "crank_nicolson") CHECK((ratio > 3.6 && ratio < 4.8));
+      else CHECK((ratio > 2.0 && ratio < 2.6));
     }
 }
 
