@@ -16,6 +16,7 @@
 #include "silt/render.hpp"
 #include "silt/run_job.hpp"
 #include "silt/simulation.hpp"
+#include "silt/text.hpp"
 
 namespace silt::cli {
 namespace {
@@ -57,8 +58,13 @@ int prepare(Simulation& sim, const RunArgs& a, RunJob& job, std::string& warning
   if (!a.quiet)
     std::fprintf(stderr, "silt: prepared in %lld steps (%.1f s): phi = %.5f%s\n", static_cast<long long>(prep.steps),
                  prep.wall_s, measure(model, sim.state()).phi, prep.end == RunEnd::kStatic ? ", static" : "");
-  if (prep.end != RunEnd::kStatic && !prep.reached_phi)
-    warning = "prepare.max_steps: the compression did not reach equilibrium";
+  if (prep.end != RunEnd::kStatic && !prep.reached_phi) {
+    // Said now as well as in the summary: what follows starts from a packing still moving.
+    warning = "prepare.max_steps: the compression did not reach equilibrium in " + std::to_string(prep.steps) +
+              " steps (phi = " + format_number(measure(model, sim.state()).phi, 5) +
+              "); the run starts from a packing still in motion";
+    std::cerr << "silt: warning: " << warning << "\n";
+  }
   return 0;
 }
 

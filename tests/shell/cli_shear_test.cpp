@@ -120,3 +120,20 @@ TEST_CASE("silt run: prepare, save, restore and shear with a linear mean velocit
   // A checkpoint of these grains under another scene's run parameters restores; another system does not.
   CHECK(run("run " + silt::test::scene_path("pack_2d") + " --steps 1 --restore cli_shear_prep.ckpt", &out) == 4);
 }
+
+TEST_CASE("silt run: a preparation cut short by prepare.max_steps is said on stderr and in the summary") {
+  std::string out;
+  std::string scene = kShear;
+  scene.replace(scene.find("compress = true\n"), 16, "compress = true\nmax_steps = 50\n");
+  std::ofstream("cli_shear_short.toml") << scene;
+  REQUIRE(run("run cli_shear_short.toml --quiet --steps 2 --summary cli_shear_short.json", &out) == 0);
+  CHECK(out.find("warning: prepare.max_steps: the compression did not reach equilibrium in 50 steps (phi = ") !=
+        std::string::npos);
+  std::ifstream in("cli_shear_short.json");
+  const auto j = nlohmann::json::parse(in);
+  bool named = false;
+  for (const auto& w : j["warnings"]) named |= w.get<std::string>().find("prepare.max_steps") == 0;
+  CHECK(named);
+  std::remove("cli_shear_short.toml");
+  std::remove("cli_shear_short.json");
+}

@@ -5,8 +5,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 #include <vector>
 
+#include "paste/params.hpp"
 #include "silt/io.hpp"
 #include "silt/observables.hpp"
 #include "support/scenes.hpp"
@@ -71,4 +73,23 @@ TEST_CASE(
   again.restore(mid);
   for (int k = 0; k < 4; ++k) REQUIRE(again.step());
   CHECK(state_hash(again.state()) == state_hash(sim.state()));
+}
+
+TEST_CASE("paste: sheared faster than its pressure (Vi > 1), the first step is 1e-3 of the shear time") {
+  // At Vi = 1e3 the default first step was 1e-3 eta / P, a strain of 1 in one step: the grains
+  // passed through each other at step 1 (an overlap of 67 % in paste_shear). Now it is 1e-3 /
+  // gammadot, and the adaptive step grows from there.
+  const State packing = prepare_packing(prepared(1), 1, nullptr, nullptr);
+  for (double vi : {1e-2, 1e3}) {
+    CAPTURE(vi);
+    const Model m =
+        test::model_from(test::paste_disks({.n = 80, .L = 10, .h_min = 1e-3, .dilation = 1.05, .seed = 11}) +
+                         "[shear]\nviscous_number = " + std::to_string(vi) + "\n");
+    const double rate = vi;  // gammadot = Vi P / eta, P = eta = 1
+    CHECK(m.params.get<paste::PasteParams>().dt_initial == doctest::Approx(1e-3 * std::min(1.0, 1 / rate)));
+    Simulation sim(m, 1);
+    sim.restore(packing);
+    for (int k = 0; k < 30; ++k) REQUIRE(sim.step());
+    CHECK(sim.state().shear_strain > 0);
+  }
 }
