@@ -102,6 +102,9 @@ const ModuleSpec& module() {
     s.name = "fluid";
     s.doc = "incompressible Navier-Stokes on a staggered grid (RK3, projection by fast transforms)";
     s.keys = fluid_keys();
+    // One drive: a flow rate given over a scene's pressure gradient replaces it (before, the
+    // pressure gradient kept driving while the bulk velocity set the velocity scale).
+    s.rules = {KeyRule::one_of({{"fluid.pressure_gradient"}, {"fluid.bulk_velocity"}})};
     s.fields = {{"fluid_u", Extent::kFaceX, "m/s", "x velocity on the x faces; fluid_store"},
                 {"fluid_v", Extent::kFaceY, "m/s", "y velocity on the y faces; fluid_store"},
                 {"fluid_w", Extent::kFaceZ, "m/s", "z velocity on the z faces (3D); fluid_store"},

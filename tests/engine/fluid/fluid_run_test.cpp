@@ -153,4 +153,14 @@ TEST_CASE("fluid: scene errors are located at their key") {
   const std::string big = test::scene_error(cavity(3, 4000));
   INFO(big);
   CHECK(big.find("GiB") != std::string::npos);
+  // One drive: both in a scene is an error; a flow rate set over a pressure-driven scene drives it
+  // (before, the pressure gradient kept driving and the bulk velocity only set the velocity scale).
+  const std::string channel =
+      "[scene]\ndimension = 2\n[domain]\nlo = [0.0, 0.0]\nhi = [2.0, 1.0]\nperiodic = [true, false]\n"
+      "[fluid]\ncells = [8, 4]\nviscosity = 0.1\npressure_gradient = 1.0\n";
+  CHECK(test::scene_error(channel + "bulk_velocity = 1.0\n").find("not both") != std::string::npos);
+  const Model m = compile(parse_scene(channel, "channel.toml", {parse_override("fluid.bulk_velocity=2.0")}));
+  const FluidParams& p = m.params.get<FluidParams>();
+  CHECK(p.drive == Drive::kFlowRate);
+  CHECK(p.bulk_velocity == 2.0);
 }
