@@ -41,7 +41,7 @@ std::vector<KeySpec> paste_keys() {
       {"lubrication.contacts", K::kString, Value(std::string("explicit")), Range::any(), "", true, S{"explicit", "implicit"}, "explicit: the contact forces of the configuration on the right-hand side (eq. 2.19, the thesis), stable while dt < 2 xi / k for every contact; implicit: also dt times the contacts' stiffnesses in the matrix (normal, and tangential while sticking), a linearised backward Euler with no such limit: the same equilibria, reached in far fewer steps at small h_min."},
       {"lubrication.stokes_drag", K::kBool, Value(false), Range::any(), "", false, {}, "Add a Stokes drag 6 pi eta r on every grain's translation and 8 pi eta r^3 on its rotation (LF_DEM's choice): Xi definite without pinning a grain per cluster. Off: the thesis' model."},
       {"lubrication.dt", K::kReal, std::nullopt, Range::positive(), "s", true, {}, "A fixed time step instead of the adaptive one (the inertial stepper, a convergence study)."},
-      {"lubrication.dt_initial", K::kReal, std::nullopt, Range::positive(), "s", false, {}, "First time step (default 1e-3 eta/P, or 1e-3 / gammadot without a pressure or where the shear is faster, Vi > 1; at most dt_max)."},
+      {"lubrication.dt_initial", K::kReal, std::nullopt, Range::positive(), "s", false, {}, "First time step (default 1e-3 eta/P, or 1e-3 / gammadot without a pressure; 1e-3 / gammadot or 1e-3 / w of the cycles where they are faster, Vi > 1; at most dt_max)."},
       {"lubrication.dt_max", K::kReal, std::nullopt, Range::positive(), "s", true, {}, "Largest time step (default 10 eta/P, or 0.01 / gammadot under shear)."},
       {"lubrication.dt_min", K::kReal, std::nullopt, Range::positive(), "s", true, {}, "Smallest time step: an adaptive step that wants less stops the run (default 1e-12 eta/P)."},
       {"lubrication.dt_growth", K::kReal, Value(1.2), Range::closed(1, 1.5), "", true, {}, "Factor of the time step each step while nothing changes by more than dt_change (sec. 2.2.4: 1.1 to 1.5; 1 keeps it fixed)."},
@@ -107,12 +107,14 @@ void compile_time_step(const SceneDesc& d, const Model& m, PasteParams& p) {
   }
   const double unit = p.time_unit;
   p.dt_max = d.has("lubrication.dt_max") ? d.real("lubrication.dt_max") : (m.box_control.on ? 10 : 0.01) * unit;
-  // The first step: 1e-3 of the time unit, and of the shear time 1 / gammadot where the shear is
-  // the faster (Vi > 1 under a pressure: 1e-3 eta / P would shear the grains by Vi / 1000 in the
-  // first step, a whole strain at Vi = 1e3, whose grains then passed through each other); within
-  // dt_max.
+  // The first step: 1e-3 of the time unit, and of the shear time 1 / gammadot or the cycles' 1 / w
+  // where they are the faster (Vi > 1 under a pressure: 1e-3 eta / P would shear the grains by
+  // Vi / 1000 in the first step, a whole strain at Vi = 1e3, whose grains then passed through each
+  // other); within dt_max.
   double first = 1e-3 * unit;
   if (m.shear.on && m.shear.rate != 0) first = std::min(first, 1e-3 / std::abs(m.shear.rate));
+  if (m.box_control.on && m.box_control.cycle != StressCycle::kNone && m.box_control.cycle_omega > 0)
+    first = std::min(first, 1e-3 / m.box_control.cycle_omega);
   p.dt_initial = d.has("lubrication.dt_initial") ? d.real("lubrication.dt_initial") : std::min(first, p.dt_max);
   p.dt_min = d.has("lubrication.dt_min") ? d.real("lubrication.dt_min") : 1e-12 * (unit > 0 ? unit : p.dt_initial);
   if (p.dt_min > p.dt_initial || p.dt_initial > p.dt_max)

@@ -75,7 +75,8 @@ TEST_CASE(
   CHECK(state_hash(again.state()) == state_hash(sim.state()));
 }
 
-TEST_CASE("paste: sheared faster than its pressure (Vi > 1), the first step is 1e-3 of the shear time") {
+TEST_CASE(
+    "paste: sheared or cycled faster than its pressure (Vi > 1), the first step is 1e-3 of the shear or cycle time") {
   // At Vi = 1e3 the default first step was 1e-3 eta / P, a strain of 1 in one step: the grains
   // passed through each other at step 1 (an overlap of 67 % in paste_shear). Now it is 1e-3 /
   // gammadot, and the adaptive step grows from there.
@@ -92,4 +93,10 @@ TEST_CASE("paste: sheared faster than its pressure (Vi > 1), the first step is 1
     for (int k = 0; k < 30; ++k) REQUIRE(sim.step());
     CHECK(sim.state().shear_strain > 0);
   }
+  // Stress cycles of w = Vi P / eta = 1e3: the first step is 1e-3 / w.
+  std::string cycles = test::paste_disks({.n = 80, .L = 10, .h_min = 1e-3, .seed = 11});
+  cycles.replace(cycles.find("pressure = 1.0\n"), 15,
+                 "pressure = 1.0\ncycle = \"alternating\"\ncycle_amplitude = 0.1\ncycle_viscous_number = 1e3\n");
+  const Model cyc = test::model_from(cycles);
+  CHECK(cyc.params.get<paste::PasteParams>().dt_initial == doctest::Approx(1e-6));
 }
