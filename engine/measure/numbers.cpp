@@ -1,4 +1,4 @@
-// Dimensionless numbers of a flow: the inertial number and the stiffness number.
+// Dimensionless numbers of a flow: the inertial, stiffness and viscous numbers.
 #include <cmath>
 
 #include "silt/observables.hpp"
@@ -14,6 +14,15 @@ double stiffness_number(const Model& m, double pressure) {
   if (!(pressure > 0)) return 0;
   if (m.contact.law == NormalLaw::kHertz) return std::pow(m.contact.e_tilde / pressure, 2.0 / 3.0);
   return m.k_max / (pressure * std::pow(m.a_max, m.dim - 2));
+}
+
+double viscous_time(const Model& m, double eta, double pressure) {
+  if (!(pressure > 0)) return 0;
+  return eta * std::pow(m.a_max, 3 - m.dim) / pressure;
+}
+
+double viscous_number(const Model& m, double eta, double rate, double pressure) {
+  return std::abs(rate) * viscous_time(m, eta, pressure);
 }
 
 }  // namespace silt

@@ -41,9 +41,9 @@ std::vector<KeySpec> paste_keys() {
       {"lubrication.contacts", K::kString, Value(std::string("explicit")), Range::any(), "", true, S{"explicit", "implicit"}, "explicit: the contact forces of the configuration on the right-hand side (eq. 2.19, the thesis), stable while dt < 2 xi / k for every contact; implicit: also dt times the contacts' stiffnesses in the matrix (normal, and tangential while sticking), a linearised backward Euler with no such limit: the same equilibria, reached in far fewer steps at small h_min."},
       {"lubrication.stokes_drag", K::kBool, Value(false), Range::any(), "", false, {}, "Add a Stokes drag 6 pi eta r on every grain's translation and 8 pi eta r^3 on its rotation (LF_DEM's choice): Xi definite without pinning a grain per cluster. Off: the thesis' model."},
       {"lubrication.dt", K::kReal, std::nullopt, Range::positive(), "s", true, {}, "A fixed time step instead of the adaptive one (the inertial stepper, a convergence study)."},
-      {"lubrication.dt_initial", K::kReal, std::nullopt, Range::positive(), "s", false, {}, "First time step (default 1e-3 eta/P, or 1e-3 / gammadot without a pressure; 1e-3 / gammadot or 1e-3 / w of the cycles where they are faster, Vi > 1; at most dt_max)."},
-      {"lubrication.dt_max", K::kReal, std::nullopt, Range::positive(), "s", true, {}, "Largest time step (default 10 eta/P, or 0.01 / gammadot under shear)."},
-      {"lubrication.dt_min", K::kReal, std::nullopt, Range::positive(), "s", true, {}, "Smallest time step: an adaptive step that wants less stops the run (default 1e-12 eta/P)."},
+      {"lubrication.dt_initial", K::kReal, std::nullopt, Range::positive(), "s", false, {}, "First time step (default 1e-3 of the viscous time eta/P, eta a/P in 2D; or 1e-3 / gammadot without a pressure; 1e-3 / gammadot or 1e-3 / w of the cycles where they are faster, Vi > 1; at most dt_max)."},
+      {"lubrication.dt_max", K::kReal, std::nullopt, Range::positive(), "s", true, {}, "Largest time step (default 10 viscous times eta/P, eta a/P in 2D; 0.01 / gammadot under shear without a pressure)."},
+      {"lubrication.dt_min", K::kReal, std::nullopt, Range::positive(), "s", true, {}, "Smallest time step: an adaptive step that wants less stops the run (default 1e-12 of the time unit)."},
       {"lubrication.dt_growth", K::kReal, Value(1.2), Range::closed(1, 1.5), "", true, {}, "Factor of the time step each step while nothing changes by more than dt_change (sec. 2.2.4: 1.1 to 1.5; 1 keeps it fixed)."},
       {"lubrication.dt_change", K::kReal, Value(0.01), Range::open_closed(0, 1), "", true, {}, "Largest change of a diagonal entry of Xi or of a right-hand side entry in one step, relative to the largest entry, before the step shrinks."},
   };
@@ -90,9 +90,9 @@ void no_dashpots(ContactParams& c) {
 }
 
 // The time step: fixed (lubrication.dt), or adaptive from dt_initial within [dt_min, dt_max], in
-// units of eta / P (or of the shear time) by default.
+// units of the viscous time eta a^(3-d) / P (or of the shear time) by default.
 void compile_time_step(const SceneDesc& d, const Model& m, PasteParams& p) {
-  if (m.box_control.on) p.time_unit = p.eta / m.box_control.pressure;
+  if (m.box_control.on) p.time_unit = viscous_time(m, p.eta, m.box_control.pressure);
   else if (m.shear.on && m.shear.rate != 0) p.time_unit = 1 / std::abs(m.shear.rate);
   else if (!d.has("lubrication.dt") && (!d.has("lubrication.dt_initial") || !d.has("lubrication.dt_max")))
     d.fail("lubrication.viscosity",
@@ -108,7 +108,7 @@ void compile_time_step(const SceneDesc& d, const Model& m, PasteParams& p) {
   const double unit = p.time_unit;
   p.dt_max = d.has("lubrication.dt_max") ? d.real("lubrication.dt_max") : (m.box_control.on ? 10 : 0.01) * unit;
   // The first step: 1e-3 of the time unit, and of the shear time 1 / gammadot or the cycles' 1 / w
-  // where they are the faster (Vi > 1 under a pressure: 1e-3 eta / P would shear the grains by
+  // where they are the faster (Vi > 1 under a pressure: 1e-3 of the viscous time would shear the grains by
   // Vi / 1000 in the first step, a whole strain at Vi = 1e3, whose grains then passed through each
   // other); within dt_max.
   double first = 1e-3 * unit;
@@ -199,8 +199,9 @@ std::string describe_paste(const Model& m) {
     << (p.implicit_contacts ? "implicit contacts ((Xi + dt K) V = F)" : "explicit contacts (eq. 2.19)") << "\n";
   const bool pressure = m.box_control.on;
   const double rate = m.shear.on && !m.shear.stress_controlled ? std::abs(m.shear.rate) : 0.0;
-  // The time unit compile_time_step chose: eta / P, else the shear time 1 / |gammadot|, else none.
-  const char* unit = pressure ? "eta/P" : (m.shear.on && m.shear.rate != 0 ? "1/gammadot" : nullptr);
+  // The time unit compile_time_step chose: the viscous time, else the shear time 1 / |gammadot|.
+  const char* unit =
+      pressure ? (m.dim == 2 ? "eta a/P" : "eta/P") : (m.shear.on && m.shear.rate != 0 ? "1/gammadot" : nullptr);
   if (p.fixed_dt) o << "             time step fixed at " << p.dt_initial << " s\n";
   else {
     o << "             time step adaptive (sec. 2.2.4) from " << p.dt_initial << " s, in [" << p.dt_min << ", "
@@ -213,23 +214,25 @@ std::string describe_paste(const Model& m) {
   // (Peyneau eq. 1.34, 4.1, 5.7), and the Stokes number St = m gammadot / (eta a) of a grain of
   // diameter a at the loading's rate (whether the inertial stepper's mass matters).
   auto stokes = [&](double r) { return m.m_a * r / (p.eta * p.a); };
+  const char* vi = m.dim == 2 ? "Vi = eta gammadot a / P = " : "Vi = eta gammadot / P = ";
   if (pressure) {
     const double P = m.box_control.pressure;
     o << "             kappa = " << stiffness_number(m, P) << "; ";
     if (rate > 0) {
-      o << "Vi = eta gammadot / P = " << p.eta * rate / P << "; St = m gammadot / (eta a) = " << stokes(rate);
+      o << vi << viscous_number(m, p.eta, rate, P) << "; St = m gammadot / (eta a) = " << stokes(rate);
     } else if (m.box_control.cycle != StressCycle::kNone) {
       const double w = m.box_control.cycle_omega;
-      o << "cycles Vi = eta w / P = " << p.eta * w / P << "; St = m w / (eta a) = " << stokes(w);
+      o << "cycles Vi = eta w" << (m.dim == 2 ? " a" : "") << " / P = " << viscous_number(m, p.eta, w, P)
+        << "; St = m w / (eta a) = " << stokes(w);
     } else if (m.shear.stress_controlled) {
-      o << "imposed shear stress: Vi is measured (observable Vi); St at the time unit = m P / (eta^2 a) = "
-        << stokes(P / p.eta);
+      o << "imposed shear stress: Vi is measured (observable Vi); St at the time unit tau = m / (eta a tau) = "
+        << stokes(1 / p.time_unit);
     } else {
-      o << "St at the time unit = m P / (eta^2 a) = " << stokes(P / p.eta);
+      o << "St at the time unit tau = m / (eta a tau) = " << stokes(1 / p.time_unit);
     }
     o << "\n";
   } else if (rate > 0) {
-    const double viscous = p.eta * rate;
+    const double viscous = p.eta * rate * std::pow(p.a, 3 - m.dim);  // a force per length in 2D
     o << "             kappa at the viscous stress eta gammadot = " << stiffness_number(m, viscous)
       << "; St = m gammadot / (eta a) = " << stokes(rate) << " (no imposed pressure: no Vi)\n";
   }

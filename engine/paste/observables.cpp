@@ -81,8 +81,8 @@ std::vector<ObservableSpec> paste_observables() {
   using C = const ObservableContext&;
   using A = const ObservableArgs&;
   std::vector<ObservableSpec> o = {
-      {"Vi", "", "viscous number eta gammadot / P (Peyneau 2009 eq. 1.34)",
-       [](C c, A) { return params(c.m).eta * std::abs(c.s.shear_rate) / imposed_pressure(c.m); }},
+      {"Vi", "", "viscous number eta gammadot / P (Peyneau 2009 eq. 1.34; eta gammadot a / P in 2D)",
+       [](C c, A) { return viscous_number(c.m, params(c.m).eta, c.s.shear_rate, imposed_pressure(c.m)); }},
       {"mobilisation", "", "friction mobilisation <|F_T| / F_N> over the contacts",
        [](C c, A) { return friction_mobilisation(c.s); }},
       {"p_cont_ratio", "",
@@ -96,8 +96,13 @@ std::vector<ObservableSpec> paste_observables() {
       {"p_lub_ratio", "",
        "pressure carried by the lubrication between grains apart / P (p_cont_ratio + p_lub_ratio = 1)",
        [](C c, A) { return lubrication_pressures(c.s)[1] / imposed_pressure(c.m); }},
-      {"eta_eff", "", "effective viscosity |stress.xy| / (eta gammadot), in units of eta: mu / Vi",
-       [](C c, A) { return std::abs(c.meas().stress[0][1]) / (params(c.m).eta * std::abs(c.s.shear_rate)); }},
+      {"eta_eff", "",
+       "effective viscosity |stress.xy| / (eta gammadot), in units of eta (|stress.xy| / (eta gammadot a) in 2D): "
+       "mu / Vi",
+       [](C c, A) {
+         return std::abs(c.meas().stress[0][1]) /
+                (params(c.m).eta * std::abs(c.s.shear_rate) * std::pow(c.m.a_max, 3 - c.m.dim));
+       }},
       {"solver.iters", "", "iterations of the last lubrication solve (0 for a direct solve)",
        [](C c, A) { return solver_stat(c, kLastIterations); }},
       {"solver.residual", "", "relative residual |F - Xi V| / |F| of the last lubrication solve",

@@ -39,6 +39,49 @@ linalg::SparseMatrix load_matrix(const std::vector<double>& in) {
 }
 
 // Largest change of an entry between two vectors, relative to the largest entry of the newer.
+// The unknowns' units, as the solve sees them: Xi's translation entries grow as eta a and its
+// rotation and box entries as eta a^3 (a torque or a virial over an angular velocity or a strain
+// rate), so a residual norm and the step's change criterion weigh equations of different units
+// alike, and the paste depended on its unit of length (2D disks of 1e-4 m under 100 N/m took 3 CG
+// iterations where the same grains in units of a took 2, and the run parted from theirs at the
+// fourth step). Each rotation and box strain rate is solved for times ell (a velocity: ell omega
+// is the speed of a grain's surface) and its equation divided by ell (a force): ell is the largest
+// radius a / 2 rounded to a power of two, exact in floating point (and 1 for spheres of radius 1,
+// whose bits it leaves as they were), so that grains scaled by a power of two take the same steps
+// to the bit.
+struct UnknownScale {
+  double inv_ell = 1;  // 1 / ell
+  int64_t translations_end = 0;
+  int per_grain = 1, dim = 2;
+  bool identity() const { return inv_ell == 1; }
+  // The factor s_k of unknown k: the system solved is S Xi S (S^-1 V) = S F.
+  double of(int64_t k) const { return k >= translations_end || k % per_grain >= dim ? inv_ell : 1.0; }
+};
+
+UnknownScale unknown_scale(const SystemLayout& L, double a) {
+  UnknownScale u;
+  u.inv_ell = 1 / std::exp2(std::round(std::log2(a / 2)));
+  u.translations_end = L.grains * L.per_grain;
+  u.per_grain = L.per_grain;
+  u.dim = L.dim;
+  return u;
+}
+
+// Xi <- S Xi S and b <- S b in place.
+void scale_system(const UnknownScale& u, linalg::SparseMatrix& a, linalg::Vector& b) {
+  if (u.identity()) return;
+  double* val = a.valuePtr();
+  const int* rows = a.innerIndexPtr();
+  const int* outer = a.outerIndexPtr();
+  parallel_for(a.outerSize(), 1024, [&](int64_t lo, int64_t hi) {
+    for (int64_t col = lo; col < hi; ++col) {
+      const double sc = u.of(col);
+      for (int q = outer[col]; q < outer[col + 1]; ++q) val[q] *= sc * u.of(rows[q]);
+      b[col] *= sc;
+    }
+  });
+}
+
 double relative_change(const double* now, const double* before, int64_t n) {
   double top = 0, diff = 0;
   for (int64_t k = 0; k < n; ++k) {
@@ -126,6 +169,7 @@ void lubrication_solve(const Model& m, State& s, PasteWorkspace& w, bool setup) 
   if (m.box_control.on)
     for (int a = 0; a < D; ++a) controlled[a] = m.box_control.controlled[a];
   const SystemLayout L = make_layout(D, n, controlled, m.shear.on);
+  const UnknownScale units = unknown_scale(L, p.a);
   const int pg = L.per_grain;
   const int64_t size = L.size();
   w.system.assemble(L, cs, s.particle_r, s.shear_rate);
@@ -157,8 +201,9 @@ void lubrication_solve(const Model& m, State& s, PasteWorkspace& w, bool setup) 
     std::vector<double>& now = w.scratch;  // kept between steps: no allocation per step
     now.resize(static_cast<size_t>(2 * size));
     for (int64_t k = 0; k < size; ++k) {
-      now[k] = val[w.system.diagonal_position(k)];
-      now[size + k] = b[k];
+      const double sk = units.of(k);  // in the units of the solve
+      now[k] = val[w.system.diagonal_position(k)] * sk * sk;
+      now[size + k] = b[k] * sk;
     }
     if (change.size() == now.size())
       step_change = std::max(relative_change(now.data(), change.data(), size),
@@ -192,6 +237,8 @@ void lubrication_solve(const Model& m, State& s, PasteWorkspace& w, bool setup) 
     for (int a = 0; a < D; ++a) val[w.system.diagonal_position(i * pg + a)] += ct;
     for (int a = 0; a < R; ++a) val[w.system.diagonal_position(i * pg + D + a)] += cr;
   }
+
+  scale_system(units, A, b);
 
   // Without inertia or drag, Xi is singular by the translation of every connected cluster and by
   // every degree of freedom of a grain with no connection: each cluster's first grain has its
@@ -243,6 +290,8 @@ void lubrication_solve(const Model& m, State& s, PasteWorkspace& w, bool setup) 
     for (int a = 0; a < R; ++a) x[i * pg + D + a] = s.particle_w[R * i + a];
   }
   for (int k = 0; k < L.n_box; ++k) x[L.box_unknown(k)] = s.box_rate[L.box_axis[k]] / s.box.len[L.box_axis[k]];
+  if (!units.identity())
+    for (int64_t k = 0; k < size; ++k) x[k] /= units.of(k);
 
   // The solver, its factor rebuilt from the state's copy after a restore.
   std::vector<double>& stats = s.module_field(f.solver);
@@ -283,7 +332,15 @@ void lubrication_solve(const Model& m, State& s, PasteWorkspace& w, bool setup) 
   w.solver.coarse_space = nullptr;
   std::vector<double>& coarse_order = s.module_field(f.coarse_order);
   if (p.coarse_ratio > 0) {
-    w.solver.coarse_space = [&cs, &s, &p, &L]() { return stiff_directions(L, cs, s.particle_r, p.coarse_ratio); };
+    w.solver.coarse_space = [&cs, &s, &p, &L, units]() {
+      linalg::CoarseSpace space = stiff_directions(L, cs, s.particle_r, p.coarse_ratio);
+      if (!units.identity()) {  // the directions of G S, in the unknowns solved for
+        linalg::Vector sk(L.size());
+        for (int64_t k = 0; k < L.size(); ++k) sk[k] = units.of(k);
+        space.w = sk.asDiagonal() * space.w;
+      }
+      return space;
+    };
     // E ordered from the state's order, so that a solve depends on the state alone.
     linalg::CoarseCorrection::OrderMemory memory;
     if (!coarse_order.empty()) {
@@ -328,6 +385,8 @@ void lubrication_solve(const Model& m, State& s, PasteWorkspace& w, bool setup) 
     return;
   }
 
+  if (!units.identity())
+    for (int64_t k = 0; k < size; ++k) x[k] *= units.of(k);
   // Each cluster's mean velocity relative to the affine flow is zero (the pinned grain's choice
   // of the translation undone).
   if (pinning) {

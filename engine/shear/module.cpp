@@ -22,12 +22,12 @@ std::vector<KeySpec> shear_keys() {
       {"box.cycle", K::kString, Value(std::string("none")), Range::any(), "", false, S{"none", "alternating", "biaxial"}, "Cyclic imposed stresses (Peyneau 2009 ch. 5): alternating, Sigma_xx = P (1 + d sin wt), Sigma_yy = P (1 - d sin wt); biaxial, Sigma_xx = P, Sigma_yy = P (1 + d (1 - cos wt))."},
       {"box.cycle_amplitude", K::kReal, Value(0.1), Range::open_closed(0, 1), "", true, {}, "d = delta P / P of the cyclic stresses."},
       {"box.cycle_period", K::kReal, std::nullopt, Range::positive(), "s", true, {}, "Period 2 pi / w of the cyclic stresses."},
-      {"box.cycle_viscous_number", K::kReal, std::nullopt, Range::positive(), "", true, {}, "Or the viscous number Vi = eta w / P of the cycles (Peyneau eq. 5.7), with eta = lubrication.viscosity."},
+      {"box.cycle_viscous_number", K::kReal, std::nullopt, Range::positive(), "", true, {}, "Or the viscous number Vi = eta w / P of the cycles (Peyneau eq. 5.7; eta w a / P in 2D, a the largest diameter), with eta = lubrication.viscosity."},
       {"box.mass_factor", K::kReal, Value(1.0), Range::positive(), "", true, {}, "Box mass M in units of the total grain mass N m (Peyneau: M = N m), for the box lengths and a stress-controlled shear."},
       // ---- shear
       {"shear.rate", K::kReal, std::nullopt, Range::any(), "1/s", true, {}, "Imposed shear rate gammadot of the flow v_x = gammadot y (liquid regime)."},
       {"shear.inertial_number", K::kReal, std::nullopt, Range::positive(), "", true, {}, "Imposed inertial number I = gammadot sqrt(m / (a^(d-2) P)) (Peyneau eq. 1.30), with P = box.pressure."},
-      {"shear.viscous_number", K::kReal, std::nullopt, Range::positive(), "", true, {}, "Imposed viscous number Vi = eta gammadot / P of a lubricated paste (Peyneau eq. 1.34), with eta = lubrication.viscosity and P = box.pressure."},
+      {"shear.viscous_number", K::kReal, std::nullopt, Range::positive(), "", true, {}, "Imposed viscous number Vi = eta gammadot / P of a lubricated paste (Peyneau eq. 1.34; eta gammadot a / P in 2D, where P is a force per length and the resistances grow as eta a; a the largest diameter), with eta = lubrication.viscosity and P = box.pressure."},
       {"shear.stress", K::kReal, std::nullopt, Range::any(), "Pa", true, {}, "Imposed shear stress tau = -sigma_xy (solid regime, Peyneau eq. 3.12): gammadot follows it."},
       // ---- prepare
       {"prepare.compress", K::kBool, Value(false), Range::any(), "", false, {}, "Before the run, compress the grains isotropically at box.pressure (every periodic length controlled, no shear) until static: Peyneau's procedure O."},
@@ -103,8 +103,9 @@ void setup_cycle(const SceneDesc& d, Model& m) {
   if (m.dim != 2 && kind == "alternating") d.fail("box.cycle", "the alternating cycle is defined in 2D (x and y)");
   b.cycle = kind == "alternating" ? StressCycle::kAlternating : StressCycle::kBiaxial;
   b.cycle_amplitude = d.real("box.cycle_amplitude");
-  b.cycle_omega = period ? 2 * std::numbers::pi / d.real("box.cycle_period")
-                         : d.real("box.cycle_viscous_number") * b.pressure / d.real("lubrication.viscosity");
+  b.cycle_omega =
+      period ? 2 * std::numbers::pi / d.real("box.cycle_period")
+             : d.real("box.cycle_viscous_number") / viscous_time(m, d.real("lubrication.viscosity"), b.pressure);
   for (int k = 0; k < 2; ++k)
     if (!m.box.periodic[k]) d.fail("box.cycle", "cyclic stresses act on the x and y lengths: both must be periodic");
 }
@@ -155,7 +156,7 @@ void setup_shear(const SceneDesc& d, Model& m) {
     // I is linear in gammadot (Peyneau eq. 1.30): the rate of I = 1, scaled.
     sh.rate = d.real("shear.inertial_number") / inertial_number(m, 1.0, m.box_control.pressure);
   } else if (d.has("shear.viscous_number")) {
-    sh.rate = d.real("shear.viscous_number") * m.box_control.pressure / d.real("lubrication.viscosity");
+    sh.rate = d.real("shear.viscous_number") / viscous_time(m, d.real("lubrication.viscosity"), m.box_control.pressure);
   } else {
     sh.stress_controlled = true;
     sh.stress = d.real("shear.stress");

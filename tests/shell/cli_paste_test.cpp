@@ -27,12 +27,13 @@ TEST_CASE("silt check on a paste sheared at an imposed rate: its time unit, St, 
   CHECK(has(r.out, "kappa at the viscous stress eta gammadot = "));
   CHECK(has(r.out, "memory beyond the grains about "));
   CHECK(has(r.out, "connections, the initial grains at Phi = 0.45"));
-  // With a pressure: kappa, Vi and St of the shear.
+  // With a pressure: kappa, Vi and St of the shear; in 2D the viscous time is eta a / P (P a
+  // force per length).
   const Result s = silt_cli("check " + scene_path("paste_shear"));
   REQUIRE(s.code == 0);
-  CHECK(has(s.out, "Vi = eta gammadot / P = "));
+  CHECK(has(s.out, "Vi = eta gammadot a / P = 0.01;"));
   CHECK(has(s.out, "St = m gammadot / (eta a) = "));
-  CHECK(has(s.out, "time unit eta/P = "));
+  CHECK(has(s.out, "time unit eta a/P = "));
 }
 
 TEST_CASE("silt check refuses up front a paste whose factor would not fit, saying how much it needs") {

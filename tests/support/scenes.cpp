@@ -106,7 +106,7 @@ dimension = 2
 seed = {seed}
 [domain]
 lo = [0, 0]
-hi = [{L}, {L}]
+hi = [{Lx}, {Lx}]
 periodic = [true, true]
 [box]
 pressure = 1.0
@@ -125,8 +125,8 @@ h_min_over_a = {hmin}
 {lubrication}
 [[grains]]
 count = {n}
-radius_min = 0.35
-radius_max = 0.5
+radius_min = {rmin}
+radius_max = {rmax}
 density = {rho}
 placement = "random"
 )";
@@ -135,9 +135,14 @@ placement = "random"
   s.replace(s.find("{prepare}"), 9, prepare);
   s.replace(s.find("{lubrication}"), 13, p.lubrication);
   s.replace(s.find("{seed}"), 6, std::to_string(p.seed));
-  return fill(
-      s,
-      {{"n", p.n}, {"L", p.L}, {"hmin", p.h_min}, {"eta", p.viscosity}, {"rho", p.density}, {"dilation", p.dilation}});
+  return fill(s, {{"n", p.n},
+                  {"Lx", p.L * p.length},
+                  {"hmin", p.h_min},
+                  {"eta", p.viscosity},
+                  {"rho", p.density},
+                  {"dilation", p.dilation},
+                  {"rmin", 0.35 * p.length},
+                  {"rmax", 0.5 * p.length}});
 }
 
 Collision head_on_collision(Simulation& sim, double v_rel) {

@@ -98,6 +98,7 @@ struct PasteDisks {
   double density = 1;
   double dilation = 0;  // 0: no dry compression first
   unsigned seed = 7;
+  double length = 1;  // the unit of length: the radii and the box times it
   std::string lubrication = "";
 };
 std::string paste_disks(const PasteDisks& p);

@@ -53,6 +53,14 @@ double inertial_number(const Model& m, double shear_rate, double pressure);
 // Stiffness number kappa: (E~/P)^(2/3) for Hertz contacts (Peyneau eq. 1.31), k_n / (a^(d-2) P)
 // for the linear laws (eq. 1.33; k_n of the lightest pair for the damping-ratio laws); 0 when P <= 0.
 double stiffness_number(const Model& m, double pressure);
+// The viscous time eta a^(3-d) / P of lubricated grains: the time unit of a paste (Peyneau 2009
+// Table 2.2 reports T P / eta). The resistances are the spheres' in 2D too (the thesis applies
+// them to disks), of order eta a, while P is a force per length in 2D: there it is eta a / P, and
+// eta / P in 3D; a the largest diameter. 0 when P <= 0.
+double viscous_time(const Model& m, double eta, double pressure);
+// Viscous number Vi = |rate| times the viscous time: eta gammadot / P (Peyneau 2009 eq. 1.34) in
+// 3D, eta gammadot a / P in 2D (the thesis, in units of a, writes eta gammadot / P for both).
+double viscous_number(const Model& m, double eta, double rate, double pressure);
 
 // Observables are declared by the modules (ModuleSpec::observables), one spec per name or per
 // family of names. A pattern names a family with placeholders: {a} and {b} an axis below the
