@@ -38,7 +38,6 @@ linalg::SparseMatrix load_matrix(const std::vector<double>& in) {
   return a;
 }
 
-// Largest change of an entry between two vectors, relative to the largest entry of the newer.
 // The unknowns' units, as the solve sees them: Xi's translation entries grow as eta a and its
 // rotation and box entries as eta a^3 (a torque or a virial over an angular velocity or a strain
 // rate), so a residual norm and the step's change criterion weigh equations of different units
@@ -82,6 +81,7 @@ void scale_system(const UnknownScale& u, linalg::SparseMatrix& a, linalg::Vector
   });
 }
 
+// Largest change of an entry between two vectors, relative to the largest entry of the newer.
 double relative_change(const double* now, const double* before, int64_t n) {
   double top = 0, diff = 0;
   for (int64_t k = 0; k < n; ++k) {
