@@ -16,9 +16,13 @@ double stiffness_number(const Model& m, double pressure) {
   return m.k_max / (pressure * std::pow(m.a_max, m.dim - 2));
 }
 
+double viscous_stress(const Model& m, double eta, double rate) {
+  return eta * std::abs(rate) * std::pow(m.a_max, 3 - m.dim);
+}
+
 double viscous_time(const Model& m, double eta, double pressure) {
   if (!(pressure > 0)) return 0;
-  return eta * std::pow(m.a_max, 3 - m.dim) / pressure;
+  return viscous_stress(m, eta, 1.0) / pressure;
 }
 
 double viscous_number(const Model& m, double eta, double rate, double pressure) {

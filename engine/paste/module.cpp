@@ -232,7 +232,7 @@ std::string describe_paste(const Model& m) {
     }
     o << "\n";
   } else if (rate > 0) {
-    const double viscous = p.eta * rate * std::pow(p.a, 3 - m.dim);  // a force per length in 2D
+    const double viscous = viscous_stress(m, p.eta, rate);
     o << "             kappa at the viscous stress eta gammadot = " << stiffness_number(m, viscous)
       << "; St = m gammadot / (eta a) = " << stokes(rate) << " (no imposed pressure: no Vi)\n";
   }

@@ -99,10 +99,7 @@ std::vector<ObservableSpec> paste_observables() {
       {"eta_eff", "",
        "effective viscosity |stress.xy| / (eta gammadot), in units of eta (|stress.xy| / (eta gammadot a) in 2D): "
        "mu / Vi",
-       [](C c, A) {
-         return std::abs(c.meas().stress[0][1]) /
-                (params(c.m).eta * std::abs(c.s.shear_rate) * std::pow(c.m.a_max, 3 - c.m.dim));
-       }},
+       [](C c, A) { return std::abs(c.meas().stress[0][1]) / viscous_stress(c.m, params(c.m).eta, c.s.shear_rate); }},
       {"solver.iters", "", "iterations of the last lubrication solve (0 for a direct solve)",
        [](C c, A) { return solver_stat(c, kLastIterations); }},
       {"solver.residual", "", "relative residual |F - Xi V| / |F| of the last lubrication solve",

@@ -334,11 +334,9 @@ void lubrication_solve(const Model& m, State& s, PasteWorkspace& w, bool setup) 
   if (p.coarse_ratio > 0) {
     w.solver.coarse_space = [&cs, &s, &p, &L, units]() {
       linalg::CoarseSpace space = stiff_directions(L, cs, s.particle_r, p.coarse_ratio);
-      if (!units.identity()) {  // the directions of G S, in the unknowns solved for
-        linalg::Vector sk(L.size());
-        for (int64_t k = 0; k < L.size(); ++k) sk[k] = units.of(k);
-        space.w = sk.asDiagonal() * space.w;
-      }
+      if (!units.identity())  // the directions of G S, in the unknowns solved for: W's rows scaled in place
+        for (int64_t col = 0; col < space.w.outerSize(); ++col)
+          for (linalg::SparseMatrix::InnerIterator it(space.w, col); it; ++it) it.valueRef() *= units.of(it.row());
       return space;
     };
     // E ordered from the state's order, so that a solve depends on the state alone.

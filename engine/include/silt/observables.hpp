@@ -58,6 +58,9 @@ double stiffness_number(const Model& m, double pressure);
 // them to disks), of order eta a, while P is a force per length in 2D: there it is eta a / P, and
 // eta / P in 3D; a the largest diameter. 0 when P <= 0.
 double viscous_time(const Model& m, double eta, double pressure);
+// The viscous stress eta |rate| a^(3-d) of lubricated grains (a force per length in 2D), the
+// stress scale of an imposed rate: viscous_number times P.
+double viscous_stress(const Model& m, double eta, double rate);
 // Viscous number Vi = |rate| times the viscous time: eta gammadot / P (Peyneau 2009 eq. 1.34) in
 // 3D, eta gammadot a / P in 2D (the thesis, in units of a, writes eta gammadot / P for both).
 double viscous_number(const Model& m, double eta, double rate, double pressure);
