@@ -77,6 +77,12 @@ struct Grid {
   int64_t cell(int64_t i, int64_t j, int64_t k = 0) const { return i + n[0] * (j + n[1] * k); }
   PressureBc pbc(int a, int side) const { return pressure_bc(bc[a][side].type); }
   double cell_volume() const { return h[0] * h[1] * (dim == 3 ? h[2] : 1.0); }
+  // sum_a 1 / h_a^2: the explicit viscous number is nu dt times it.
+  double inv_h2_sum() const {
+    double inv = 0;
+    for (int a = 0; a < dim; ++a) inv += 1 / (h[a] * h[a]);
+    return inv;
+  }
 };
 
 }  // namespace silt::fluid

@@ -183,8 +183,7 @@ void compile_fluid(const SceneDesc& d, Model& m) {
 
 void finish_fluid(const SceneDesc& d, Model& m) {
   const FluidParams& p = m.params.get<FluidParams>();
-  double inv = 0;
-  for (int a = 0; a < m.dim; ++a) inv += 1 / (p.grid.h[a] * p.grid.h[a]);
+  const double inv = p.grid.inv_h2_sum();
   if (p.dt_fixed && p.viscous == Viscous::kExplicit && p.nu() * p.dt * inv > FluidParams::kViscousLimit)
     d.fail("fluid.dt",
            "the explicit viscous term is unstable: nu dt sum 1/h^2 = " + format_number(p.nu() * p.dt * inv, 4) +

@@ -58,8 +58,7 @@ std::string describe_fluid(const Model& m) {
       }
     }
   o << "\n";
-  double inv = 0;
-  for (int a = 0; a < m.dim; ++a) inv += 1 / (g.h[a] * g.h[a]);
+  const double inv = g.inv_h2_sum();
   const double dt = p.dt;
   const char* scheme = p.viscous == Viscous::kExplicit        ? "explicit"
                        : p.viscous == Viscous::kCrankNicolson ? "Crank-Nicolson"

@@ -197,8 +197,7 @@ double slowest_viscous_rate(const FluidParams& p) {
   const Grid& g = p.grid;
   double k2 = HUGE_VAL;
   for (int a = 0; a < g.dim; ++a) {
-    const bool periodic = g.bc[a][0].type == BcType::kPeriodic;
-    const double k = (periodic ? 2 : 1) * std::numbers::pi / (g.n[a] * g.h[a]);
+    const double k = (g.periodic(a) ? 2 : 1) * std::numbers::pi / (g.n[a] * g.h[a]);
     k2 = std::min(k2, k * k);
   }
   return p.nu() * k2;
@@ -206,11 +205,7 @@ double slowest_viscous_rate(const FluidParams& p) {
 
 double viscous_dt_limit(const FluidParams& p) {
   if (!(p.nu() > 0)) return HUGE_VAL;
-  if (p.viscous == Viscous::kExplicit) {
-    double inv = 0;
-    for (int a = 0; a < p.grid.dim; ++a) inv += 1 / (p.grid.h[a] * p.grid.h[a]);
-    return 0.9 * FluidParams::kViscousLimit / (p.nu() * inv);
-  }
+  if (p.viscous == Viscous::kExplicit) return 0.9 * FluidParams::kViscousLimit / (p.nu() * p.grid.inv_h2_sum());
   if (p.viscous == Viscous::kCrankNicolson) return FluidParams::kCnModeLimit / slowest_viscous_rate(p);
   return HUGE_VAL;
 }
@@ -316,8 +311,7 @@ void fluid_load(const Model& m, State& s, FluidWorkspace& w) {
     return;
   }
   if (p.viscous == Viscous::kExplicit) {
-    double inv = 0;
-    for (int a = 0; a < g.dim; ++a) inv += 1 / (g.h[a] * g.h[a]);
+    const double inv = g.inv_h2_sum();
     if (nu * dt * inv > FluidParams::kViscousLimit) {
       s.events.slot[cfl_event()].raise(1, nu * dt * inv);
       return;
