@@ -34,13 +34,18 @@ std::string suggest_key(std::string_view bad_path) {
   const auto dot = norm.rfind('.');
   const std::string leaf = dot == std::string::npos ? norm : norm.substr(dot + 1);
   std::string best;
-  size_t best_d = std::max<size_t>(2, norm.size() / 3) + 1;
+  // Edits are counted against the last name, the one mistyped: a path's length would let "contact.nope"
+  // suggest "contact.model".
+  size_t best_d = std::max<size_t>(2, leaf.size() / 3) + 1;
   for (const KeySpec& k : scene_schema()) {
     // Compare whole paths, and leaves alone so that a key in the wrong table is found too.
     const auto kdot = k.path.rfind('.');
     const std::string kleaf = kdot == std::string::npos ? k.path : k.path.substr(kdot + 1);
+    // A leaf alone is short: two edits turn "nope" into "name". Take it only within a third of its length.
+    const size_t leaf_d = edit_distance(leaf, kleaf, best_d);
     const size_t d =
-        std::min(edit_distance(norm, k.path, best_d), edit_distance(leaf, kleaf, best_d) + (norm == leaf ? 0 : 1));
+        std::min(edit_distance(norm, k.path, best_d),
+                 leaf_d <= std::max<size_t>(1, leaf.size() / 3) ? leaf_d + (norm == leaf ? 0 : 1) : SIZE_MAX);
     if (d < best_d) {
       best_d = d;
       best = k.path;
