@@ -119,6 +119,11 @@ void Simulation::restore(State s) {
     if (mod.spec->unstarted && model_.module_on(mod.spec->name) && mod.spec->unstarted(state_)) impl_->primed = false;
 }
 
+Model& Simulation::model_for_steering() {
+  if (impl_->primed && !state_.failure.failed) impl_->restart.take(state_);
+  return model_;
+}
+
 bool Simulation::step() {
   if (state_.failure.failed) return false;
   prepare();

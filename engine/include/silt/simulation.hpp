@@ -65,8 +65,10 @@ class Simulation {
   Simulation& operator=(const Simulation&) = delete;
 
   const Model& model() const { return model_; }
-  // Between steps only: steerable parameters may be changed here.
-  Model& model_for_steering() { return model_; }
+  // Between steps only: steerable parameters may be changed through the model returned. The
+  // restart point moves to the current state first, so that a replay to the last good state
+  // takes the steps before the change with the parameters they were taken with.
+  Model& model_for_steering();
   const State& state() const { return state_; }
   State& state() { return state_; }
   int threads() const { return threads_; }

@@ -95,6 +95,25 @@ TEST_CASE("a time step beyond the stability limit is caught, and the last good s
   CHECK(state_hash(again->state()) == state_hash(good));
 }
 
+TEST_CASE("a parameter steered after the restart point: the last good state is the one the steps made") {
+  // The restart point is at step 0 (no other before the failure); 40 steps at a stable step, then
+  // a step steered past the limit. The replay must take the first 40 steps with the old step.
+  auto sim = test::simulation_from(kResting);
+  sim->model_for_steering().limits.check_every = 1000000;
+  for (int k = 0; k < 40; ++k) REQUIRE(sim->step());
+  REQUIRE(sim->restart_step() == 0);
+  std::vector<uint64_t> hashes;
+  hashes.push_back(state_hash(sim->state()));
+  sim->model_for_steering().dt = 1.5 * sim->model().dt_stable;
+  while (sim->step()) hashes.push_back(state_hash(sim->state()));
+  const StepFailure& f = sim->state().failure;
+  REQUIRE(f.failed);
+  const State good = sim->last_good_state();
+  REQUIRE(good.step == f.step - 1);
+  REQUIRE(good.step - 40 < static_cast<int64_t>(hashes.size()));
+  CHECK(state_hash(good) == hashes[static_cast<size_t>(good.step - 40)]);
+}
+
 TEST_CASE("runaway kinetic energy stops the run at the next check") {
   auto sim = test::simulation_from(test::fill(kSoft, {{"k", 1e5}, {"v", 0.5}}));
   sim->model_for_steering().limits.energy_scale = 1e-9;
