@@ -296,7 +296,8 @@ State read_checkpoint(const std::string& path, const Model& m, std::vector<std::
     key = r.str();
     value = r.str();
   }
-  if (differences) *differences = parameter_differences(params, scene_parameters(m.desc));
+  std::vector<std::string> changed = parameter_differences(params, scene_parameters(m.desc));
+  if (differences) *differences = changed;
   State s = make_state(m);
   const auto n_fields = r.get<uint32_t>();
   if (n_fields < fid::kBuiltinCount || n_fields > 65535)
@@ -346,8 +347,16 @@ State read_checkpoint(const std::string& path, const Model& m, std::vector<std::
     v.resize(count);
     if (count) r.bytes(v.data(), count * sizeof(double));
   }
-  if (const std::string bad = check_state(s, m); !bad.empty())
-    throw IoError("checkpoint '" + path + "' is corrupt: " + bad);
+  if (const std::string bad = check_state(s, m); !bad.empty()) {
+    // The same grains under other parameters (another fluid grid, a module switched on) give
+    // fields of other lengths: say which parameters differ rather than call the file corrupt.
+    if (changed.empty()) throw IoError("checkpoint '" + path + "' is corrupt: " + bad);
+    std::string why = "checkpoint '" + path + "' does not fit this scene (" + bad + "); the scene differs from it in ";
+    constexpr size_t kShown = 3;
+    for (size_t k = 0; k < std::min(changed.size(), kShown); ++k) why += (k ? "; " : "") + changed[k];
+    if (changed.size() > kShown) why += "; and " + std::to_string(changed.size() - kShown) + " more";
+    throw IoError(why);
+  }
   return s;
 }
 

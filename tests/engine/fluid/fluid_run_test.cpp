@@ -106,6 +106,23 @@ TEST_CASE("fluid: a restart from a checkpoint continues bitwise") {
   }
 }
 
+TEST_CASE("fluid: a checkpoint of another grid is refused naming the cells, not as corrupt") {
+  const std::string path = (std::filesystem::temp_directory_path() / "silt_fluid_other_grid.ckpt").string();
+  auto a = test::simulation_from(cavity(2, 8));
+  REQUIRE(a->step());
+  write_checkpoint(path, a->model(), a->state());
+  auto b = test::simulation_from(cavity(2, 16));
+  CHECK_THROWS_WITH_AS(read_checkpoint(path, b->model()),
+                       doctest::Contains("does not fit this scene (fluid_u has 72 entries where 272 are expected"),
+                       IoError);
+  CHECK_THROWS_WITH_AS(
+      read_checkpoint(path, b->model()),
+      doctest::Contains("the scene differs from it in fluid.cells = [8, 8] in the checkpoint, [16, 16] "
+                        "in the scene"),
+      IoError);
+  std::filesystem::remove(path);
+}
+
 TEST_CASE("fluid: steering the viscosity mid-run changes the decay rate from then on") {
   // Taylor-Green: the energy decays as exp(-4 nu k^2 t); nu 0.01 for t in [0, 0.3], then 0.03.
   const std::string scene =
