@@ -39,13 +39,14 @@ Access solve_reads() {
           f.factor,
           f.alone,
           f.coarse_order,
+          f.dt_scale,
           fid::particle_id};  // names the grains alone
 }
 
 Access solve_writes() {
   const paste::PasteFields f = paste::paste_fields();
-  return {fid::particle_v, fid::particle_w, fid::box_rate, f.pair_f_lub, f.dt,
-          f.solver,        f.change,        f.factor,      f.alone,      f.coarse_order};
+  return {fid::particle_v, fid::particle_w, fid::box_rate, f.pair_f_lub,   f.dt,      f.solver,
+          f.change,        f.factor,        f.alone,       f.coarse_order, f.dt_scale};
 }
 
 void diagnose_paste(GraphBuilder& b) {
@@ -113,7 +114,9 @@ void add_paste_stages(GraphBuilder& b) {
     return;
   }
   const paste::PasteFields f = paste::paste_fields();
-  const int dt = b.add("paste_dt", &paste::paste_dt, {fid::dt, f.dt}, {fid::dt});
+  const int dt =
+      b.add("paste_dt", &paste::paste_dt, {fid::dt, fid::particle_v, fid::particle_w, fid::box_rate, f.dt, f.dt_scale},
+            {fid::dt, fid::particle_v, fid::particle_w, fid::box_rate});
   b.light(dt);
   b.after(dt, b.find("choose_dt"), "replaces the fixed step by the adaptive one");
   b.after(b.find("drift"), dt, "moves the grains by this step's dt");

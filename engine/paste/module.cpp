@@ -106,6 +106,11 @@ void compile_time_step(const SceneDesc& d, const Model& m, PasteParams& p) {
     return;
   }
   const double unit = p.time_unit;
+  p.step_scale = unit;
+  if (m.shear.on && m.shear.rate != 0)
+    p.step_scale = std::min(p.step_scale > 0 ? p.step_scale : HUGE_VAL, 1 / std::abs(m.shear.rate));
+  if (m.box_control.on && m.box_control.cycle != StressCycle::kNone && m.box_control.cycle_omega > 0)
+    p.step_scale = std::min(p.step_scale > 0 ? p.step_scale : HUGE_VAL, 1 / m.box_control.cycle_omega);
   p.dt_max = d.has("lubrication.dt_max") ? d.real("lubrication.dt_max") : (m.box_control.on ? 10 : 0.01) * unit;
   // The first step: 1e-3 of the time unit, and of the shear time 1 / gammadot or the cycles' 1 / w
   // where they are the faster (Vi > 1 under a pressure: 1e-3 of the viscous time would shear the grains by
@@ -331,6 +336,9 @@ const ModuleSpec& module() {
         {"pair_f_lub", Extent::kPairVec, "N",
          "lubrication force on i from j (eq. 2.24), 0 beyond h_max; lubrication_solve"},
         {"paste_dt", Extent::kScalar, "s", "adaptive time step of the next step (sec. 2.2.4); lubrication_solve"},
+        {"paste_dt_scale", Extent::kScalar, "s",
+         "the time scale paste_dt was chosen under (PasteParams::step_scale; 0 before the first step): a steered "
+         "viscosity, pressure or rate rescales the step by the new scale over it; lubrication_solve"},
         {"paste_solver", Extent::kFree, "", "solver counts (paste/solve.hpp SolverStat); lubrication_solve"},
         {"paste_change", Extent::kFree, "",
          "Xi's diagonal and the right-hand side of the last solve, for the adaptive step; lubrication_solve"},

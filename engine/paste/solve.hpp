@@ -22,7 +22,7 @@ namespace silt::paste {
 
 // The paste's own fields (registered by its module spec).
 struct PasteFields {
-  FieldId pair_f_lub, dt, solver, change, factor, alone, coarse_order;
+  FieldId pair_f_lub, dt, solver, change, factor, alone, coarse_order, dt_scale;
 };
 PasteFields paste_fields();
 
@@ -67,14 +67,16 @@ EventId solve_event();
 // The event of an adaptive step below lubrication.dt_min: value the step wanted.
 EventId step_event();
 
-// (dt, paste_dt) => (dt)
+// (dt, particle_v, particle_w, box_rate, paste_dt, paste_dt_scale) => (dt, particle_v, particle_w,
+// box_rate): the adaptive step; when the model's time scale is not the one it was chosen under, the
+// step rescaled, and the quasi-static velocities with it.
 void paste_dt(const Model& m, State& s);
 
 // (particle_x, particle_r, particle_v, particle_w, particle_f, particle_t, particle_inv_m,
 //  particle_inv_i, nbr_start, pair_j, pair_f, pair_hist, particle_group, box, box_rate,
 //  shear_rate, dt, paste_*) =>
 // (particle_v, particle_w, box_rate, pair_f_lub, paste_dt, paste_solver, paste_change,
-//  paste_factor, paste_alone, paste_coarse_order)
+//  paste_factor, paste_alone, paste_coarse_order, paste_dt_scale)
 // `setup`: the velocities of the first state, the adaptive step left as it is.
 void lubrication_solve(const Model& m, State& s, PasteWorkspace& w, bool setup);
 

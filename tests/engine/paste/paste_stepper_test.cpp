@@ -298,3 +298,29 @@ TEST_CASE("paste: the roughness, the solver and the viscous number are steered b
   // What changes the system solved is refused while running.
   CHECK(steer(m, parse_override("lubrication.stepper=\"inertial\"")) != "");
 }
+
+TEST_CASE("paste: a steered viscosity rescales the adaptive step and the strain a step goes on") {
+  // At an imposed Vi the shear rate follows the viscosity (gammadot = Vi P / (eta a)) and so do the
+  // velocities: in units of the viscous time eta a / P the paste is the same. The step kept from the
+  // old viscosity sheared it 1,024 times too far a step once the viscosity fell 1,024 times, and
+  // the step after a rise moved the grains by 1,024 old steps. Now the step and the velocities it
+  // moves by are rescaled with the viscous time: the steered paste follows the unsteered one.
+  std::string scene = packed(80, 10);
+  scene.replace(scene.find("[box]\npressure = 1.0\n"), 20,
+                "[box]\npressure = 1.0\ncontrolled = [false, true]\n[shear]\nviscous_number = 0.01\n");
+  auto plain = test::simulation_from(scene, 1);
+  for (int k = 0; k < 80; ++k) REQUIRE(step(*plain));
+  const double phi_plain = measure(plain->model(), plain->state()).phi;
+  for (const std::string factor : {"0.0009765625", "1024.0"}) {  // 2^-10 and 2^10
+    CAPTURE(factor);
+    auto sim = test::simulation_from(scene, 1);
+    for (int k = 0; k < 40; ++k) REQUIRE(step(*sim));
+    const double dt_next = sim->state().module_field(paste::paste_fields().dt)[0];
+    REQUIRE(steer(sim->model_for_steering(), parse_override("lubrication.viscosity=" + factor)) == "");
+    REQUIRE(step(*sim));
+    CHECK(sim->state().dt == dt_next * std::stod(factor));
+    for (int k = 0; k < 39; ++k) REQUIRE(step(*sim));
+    CHECK(sim->state().shear_strain == doctest::Approx(plain->state().shear_strain).epsilon(0.02));
+    CHECK(measure(sim->model(), sim->state()).phi == doctest::Approx(phi_plain).epsilon(1e-3));
+  }
+}
