@@ -338,7 +338,7 @@ const ModuleSpec& module() {
         {"paste_dt", Extent::kScalar, "s", "adaptive time step of the next step (sec. 2.2.4); lubrication_solve"},
         {"paste_dt_scale", Extent::kScalar, "s",
          "the time scale paste_dt was chosen under (PasteParams::step_scale; 0 before the first step): a steered "
-         "viscosity, pressure or rate rescales the step by the new scale over it; lubrication_solve"},
+         "viscosity, pressure or rate that lowers it cuts the step by the new scale over it; lubrication_solve"},
         {"paste_solver", Extent::kFree, "", "solver counts (paste/solve.hpp SolverStat); lubrication_solve"},
         {"paste_change", Extent::kFree, "",
          "Xi's diagonal and the right-hand side of the last solve, for the adaptive step; lubrication_solve"},

@@ -48,8 +48,8 @@ struct PasteParams {
   // 1/10); always within [dt_min, dt_max].
   double time_unit = 0;  // eta / P, or 1 / |gammadot| without a pressure [s]
   // The fastest of the time unit, 1 / |gammadot| and the cycles' 1 / w [s] (0 without any): the
-  // adaptive step is chosen under it, and a steered viscosity, pressure or rate that changes it
-  // rescales the step in proportion (paste_dt).
+  // adaptive step is chosen under it, and a steered viscosity, pressure or rate that lowers it cuts
+  // the step in proportion (paste_dt).
   double step_scale = 0;
   double dt_initial = 0, dt_min = 0, dt_max = 0, dt_growth = 1.2, dt_change = 0.01;
   bool fixed_dt = false;  // lubrication.dt: dt_initial always

@@ -166,20 +166,22 @@ double step_rescale(const PasteParams& p, const State& s) {
 void paste_dt(const Model& m, State& s) {
   const PasteParams& p = m.params.get<PasteParams>();
   const double dt = s.module_field(paste_fields().dt)[0];
-  const double r = step_rescale(p, s);
-  if (dt <= 0 || r == 1.0) {
-    s.dt = dt > 0 ? dt : p.dt_initial;
+  if (dt <= 0) {
+    s.dt = p.dt_initial;
     return;
   }
-  // The time scale was steered (a viscosity, pressure or rate changed by the factor 1 / r): the step
-  // chosen under the old one, kept, moved the grains by the old strain a step with velocities that
-  // now scale as 1 / r (a viscosity lowered 1,000 times dilated a sheared paste by 5 % in 50 steps,
-  // no failure reported). The step is rescaled, and the quasi-static velocities of the old
-  // parameters with it, by 1 / r, which is what the new solve gives when only the viscosity or the
-  // pressure changed (Xi ~ eta, F ~ P, gammadot = Vi P / (eta a)): this step moves the grains as the
-  // last one did. The inertial stepper's velocities are the grains' own and stay.
-  s.dt = std::clamp(dt * r, p.dt_min, p.dt_max);
-  if (p.stepper != Stepper::kQuasiStatic) return;
+  // A steered time scale (a viscosity, pressure or rate changed): when it fell by r, the step of the
+  // old scale would shear and move the grains 1 / r times too far a step once the velocities follow
+  // (a viscosity lowered 1,000 times dilated a sheared paste by 5 % in 50 steps, no failure
+  // reported): the step falls with it. When it rose, the velocities follow only as the contact
+  // forces do (a pressure lowered leaves the grains pressed at the old one): the step stays, grows
+  // as the adaptive step lets it, and comes within the new bounds.
+  const double r = step_rescale(p, s);
+  s.dt = std::clamp(r < 1 ? dt * r : dt, p.dt_min, p.dt_max);
+  if (s.dt == dt || p.stepper != Stepper::kQuasiStatic) return;
+  // This step then moves the grains as the last one did: the quasi-static velocities of the old
+  // parameters rescaled with the step (what the new solve gives when only the viscosity changed:
+  // Xi ~ eta, gammadot = Vi P / (eta a)). The inertial stepper's velocities are the grains' own.
   const double to_new = dt / s.dt;
   for (double& v : s.particle_v) v *= to_new;
   for (double& w : s.particle_w) w *= to_new;
@@ -233,8 +235,8 @@ void lubrication_solve(const Model& m, State& s, PasteWorkspace& w, bool setup) 
       now[k] = val[w.system.diagonal_position(k)] * sk * sk;
       now[size + k] = b[k] * sk;
     }
-    // Not against a configuration solved under other parameters (a steered time scale): the step
-    // was rescaled for them (paste_dt).
+    // Not against a configuration solved under another time scale than the model's (steered): Xi
+    // and the right-hand side changed with the parameters, not the configuration.
     if (change.size() == now.size() && step_rescale(p, s) == 1.0)
       step_change = std::max(relative_change(now.data(), change.data(), size),
                              relative_change(now.data() + size, change.data() + size, size));

@@ -68,8 +68,8 @@ EventId solve_event();
 EventId step_event();
 
 // (dt, particle_v, particle_w, box_rate, paste_dt, paste_dt_scale) => (dt, particle_v, particle_w,
-// box_rate): the adaptive step; when the model's time scale is not the one it was chosen under, the
-// step rescaled, and the quasi-static velocities with it.
+// box_rate): the adaptive step; when the model's time scale fell below the one it was chosen under
+// (steered), the step cut in proportion, and the quasi-static velocities raised with it.
 void paste_dt(const Model& m, State& s);
 
 // (particle_x, particle_r, particle_v, particle_w, particle_f, particle_t, particle_inv_m,
