@@ -145,8 +145,8 @@ double deterministic_mean(const double* v, int64_t n) {
 // periodic axes, so the velocity stays divergence-free). A uniform shift instead holds the rate
 // too, but after an implicit solve its steady state is not the steady discrete profile: the wall
 // rows get a forcing that the solve did not see, and the pressure gradient that holds the flow
-// (and the profile) depended on the step (0.44 % low at dt = 0.01 in channel.toml with
-// Crank-Nicolson, 0.69 % with backward Euler). Returns f alpha dt.
+// (and the profile) depended on the step (0.25 % low at dt = 0.01 in channel.toml with
+// Crank-Nicolson, 0.49 % with backward Euler). Returns f alpha dt.
 double hold_flow_rate(const FluidParams& p, FluidWorkspace& w) {
   const Grid& g = p.grid;
   const int a = p.drive_axis;

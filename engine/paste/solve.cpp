@@ -178,10 +178,12 @@ void paste_dt(const Model& m, State& s) {
   // as the adaptive step lets it, and comes within the new bounds.
   const double r = step_rescale(p, s);
   s.dt = std::clamp(r < 1 ? dt * r : dt, p.dt_min, p.dt_max);
-  if (s.dt == dt || p.stepper != Stepper::kQuasiStatic) return;
-  // This step then moves the grains as the last one did: the quasi-static velocities of the old
-  // parameters rescaled with the step (what the new solve gives when only the viscosity changed:
-  // Xi ~ eta, gammadot = Vi P / (eta a)). The inertial stepper's velocities are the grains' own.
+  if (r == 1.0 || s.dt == dt || p.stepper != Stepper::kQuasiStatic) return;
+  // This step then moves the grains as the step of the old scale would have: the quasi-static
+  // velocities of the old parameters rescaled with the step (what the new solve gives when only the
+  // viscosity changed: Xi ~ eta, gammadot = Vi P / (eta a)). Not when only the bounds moved (a
+  // dt_max lowered after an overlap must shorten the step that failed). The inertial stepper's
+  // velocities are the grains' own.
   const double to_new = dt / s.dt;
   for (double& v : s.particle_v) v *= to_new;
   for (double& w : s.particle_w) w *= to_new;

@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "paste/params.hpp"
+#include "paste/solve.hpp"
 #include "silt/io.hpp"
 #include "silt/observables.hpp"
 #include "support/scenes.hpp"
@@ -331,4 +332,26 @@ TEST_CASE("paste: a steered viscosity rescales the adaptive step and the strain 
       CHECK(sim->state().dt > 10 * dt_next);  // grown toward the new time scale
     }
   }
+}
+
+TEST_CASE("paste: a lowered dt_max shortens the next step without touching the velocities") {
+  // After an overlap the advice is to lower lubrication.dt_max: the step is then cut to it, and the
+  // grains move by the solved velocities over the shorter step (a rescale of the velocities is for
+  // a steered time scale only, which moves with the viscosity, pressure or rate).
+  std::string scene = packed(80, 10);
+  auto sim = test::simulation_from(scene, 1);
+  for (int k = 0; k < 40; ++k) REQUIRE(step(*sim));
+  const double dt_next = sim->state().module_field(paste::paste_fields().dt)[0];
+  REQUIRE(steer(sim->model_for_steering(), parse_override("lubrication.dt_max=" + std::to_string(dt_next / 4))) == "");
+  State s = sim->state();
+  paste::paste_dt(sim->model(), s);
+  CHECK(s.dt == sim->model().params.get<paste::PasteParams>().dt_max);
+  CHECK(s.particle_v == sim->state().particle_v);
+  // A viscosity halved: the step halved, the velocities doubled.
+  REQUIRE(steer(sim->model_for_steering(), parse_override("lubrication.viscosity=0.5")) == "");
+  State h = sim->state();
+  paste::paste_dt(sim->model(), h);
+  CHECK(h.dt == std::min(dt_next / 2, sim->model().params.get<paste::PasteParams>().dt_max));
+  for (size_t k = 0; k < h.particle_v.size(); ++k)
+    CHECK(h.particle_v[k] == sim->state().particle_v[k] * (dt_next / h.dt));
 }
