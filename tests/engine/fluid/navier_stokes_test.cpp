@@ -177,11 +177,11 @@ TEST_CASE("fluid: plane Poiseuille flow is the discrete parabola to round-off, p
   std::ostringstream drive;
   drive.precision(17);
   drive << "bulk_velocity = " << bulk;
-  for (const auto& c :
+  for (const auto& scheme :
        {std::pair<std::string, double>{"explicit", 1e-3}, {"crank_nicolson", 0.05}, {"backward_euler", 0.05}}) {
-    const std::string& viscous = c.first;  // (not a structured binding: clang's CAPTURE cannot take one)
+    const std::string& viscous = scheme.first;  // (not a structured binding: clang's CAPTURE cannot take one)
     CAPTURE(viscous);
-    auto sim = test::simulation_from(channel(drive.str(), viscous, c.second));
+    auto sim = test::simulation_from(channel(drive.str(), viscous, scheme.second));
     run_to(*sim, 4.0);
     const auto& stat = sim->state().module_field(fluid_fields().stat);
     CHECK(stat[kDriveGradient] == doctest::Approx(G).epsilon(1e-10));
