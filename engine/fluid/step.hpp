@@ -72,11 +72,14 @@ struct FluidWorkspace final : Workspace {
   std::array<std::vector<double>, 3> u, u_star, n_prev, bc_lap;  // padded
   std::array<double, 18> bc_velocities{};                        // the face velocities bc_lap was made for
   bool bc_lap_ready = false;
-  std::vector<double> phi;          // padded: the pressure increment of the substep
-  std::vector<double> p_kin;        // padded: the pressure / rho so far (incremental projection)
-  std::vector<double> cells;        // one value per cell (solver)
-  std::vector<double> unknowns;     // one component's unknowns (Helmholtz)
-  std::vector<double> drive_shape;  // flow-rate drive, implicit viscous term: (1 - beta Lap)^-1 1
+  std::vector<double> phi;       // padded: the pressure increment of the substep
+  std::vector<double> p_kin;     // padded: the pressure / rho so far (incremental projection)
+  std::vector<double> cells;     // one value per cell (solver)
+  std::vector<double> unknowns;  // one component's unknowns (Helmholtz)
+  // Flow-rate drive with an implicit viscous term: (1 - beta Lap)^-1 1 of each substep, its mean, and
+  // the beta it was solved for (made again only when beta changes: a new step size or viscosity).
+  std::array<std::vector<double>, 3> drive_shape;
+  std::array<double, 3> drive_beta{}, drive_mean{};
   std::unique_ptr<FastSolver> poisson;
   std::array<std::unique_ptr<FastSolver>, 3> helmholtz;
   // The step under way: its dt, the substep (0 .. 2), the flow-rate drive's sum, and whether an
