@@ -101,9 +101,7 @@ void Session::cmd_set(const Command& c) {
   const Override change{canonical_key(c.args[0].text), c.args[1].text};
   const KeySpec* spec = find_key_spec(normalise_key(change.key));
   if (!spec) {
-    std::string msg = "unknown key '" + change.key + "'";
-    if (const std::string hint = suggest_key(change.key); !hint.empty()) msg += "; did you mean '" + hint + "'?";
-    throw std::runtime_error(msg);
+    throw std::runtime_error(unknown_key_message(change.key));
   }
   // The changes typed so far, with this one last (replacing an earlier value of its key).
   std::vector<Override> next = overrides_;
@@ -147,9 +145,7 @@ void Session::cmd_get(const Command& c) {
   const std::string key = canonical_key(c.args[0].text);
   const KeySpec* spec = find_key_spec(normalise_key(key));
   if (!spec) {
-    std::string msg = "unknown key '" + key + "'";
-    if (const std::string hint = suggest_key(key); !hint.empty()) msg += "; did you mean '" + hint + "'?";
-    throw std::runtime_error(msg);
+    throw std::runtime_error(unknown_key_message(key));
   }
   std::string value = "(not set)";
   if (auto it = d.entries.find(key); it != d.entries.end()) value = value_to_string(it->second.value);

@@ -15,27 +15,6 @@ FileLoc loc_of(const toml::source_region& r, const std::string& file) {
   return FileLoc{file, static_cast<int>(r.begin.line), static_cast<int>(r.begin.column)};
 }
 
-bool is_group(std::string_view name) {
-  const std::string prefix = std::string(name) + "[]";
-  for (const KeySpec& k : scene_schema())
-    if (k.path.rfind(prefix, 0) == 0) return true;
-  return false;
-}
-
-bool is_table_prefix(std::string_view normalised) {
-  const std::string prefix = std::string(normalised) + ".";
-  for (const KeySpec& k : scene_schema())
-    if (k.path.rfind(prefix, 0) == 0) return true;
-  return false;
-}
-
-std::string unknown_key_message(const std::string& path) {
-  std::string msg = "unknown key '" + path + "'";
-  const std::string hint = suggest_key(path);
-  if (!hint.empty()) msg += "; did you mean '" + hint + "'?";
-  return msg;
-}
-
 std::optional<double> as_number(const toml::node& n) {
   if (n.is_integer()) return static_cast<double>(*n.value<int64_t>());
   if (n.is_floating_point()) return *n.value<double>();

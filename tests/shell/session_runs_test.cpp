@@ -139,6 +139,15 @@ TEST_CASE("set replaces the keys a value is an alternative to, and errors name w
   CHECK(contains(err, "set run.dt: "));
   CHECK(contains(err, "stability limit"));
   CHECK_FALSE(contains(err, "--set"));
+  // A table where a key is wanted: its keys, not itself as the nearest name.
+  CHECK_FALSE(f.run("set gravity [0,0,0]"));
+  err = f.take_err();
+  CHECK(contains(err, "'gravity' is a table, not a key: its keys are gravity.vector, gravity.magnitude"));
+  CHECK_FALSE(contains(err, "did you mean"));
+  CHECK_FALSE(f.run("get grains"));
+  CHECK(contains(f.take_err(), "'grains' is a list of tables, not a key: its keys are grains[K].name, grains[K].count"));
+  CHECK_FALSE(f.run("set gravty.vector [0,0,0]"));
+  CHECK(contains(f.take_err(), "did you mean 'gravity.vector'?"));
 }
 
 TEST_CASE("print, watch and stats show units and sensible digits") {

@@ -97,6 +97,11 @@ const KeySpec* find_key_spec(std::string_view path);
 std::string normalise_key(std::string_view path);
 // The closest known key to a misspelt one, or "" when nothing is close.
 std::string suggest_key(std::string_view bad_path);
+// Whether a normalised path names a list of tables ("grains") or a table ("contact").
+bool is_group(std::string_view normalised);
+bool is_table_prefix(std::string_view normalised);
+// The error for a path that names no key: the nearest key, or the keys of the table it names.
+std::string unknown_key_message(std::string_view path);
 std::string value_to_string(const Value& v);
 
 struct SceneEntry {
