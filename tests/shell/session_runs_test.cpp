@@ -145,7 +145,8 @@ TEST_CASE("set replaces the keys a value is an alternative to, and errors name w
   CHECK(contains(err, "'gravity' is a table, not a key: its keys are gravity.vector, gravity.magnitude"));
   CHECK_FALSE(contains(err, "did you mean"));
   CHECK_FALSE(f.run("get grains"));
-  CHECK(contains(f.take_err(), "'grains' is a list of tables, not a key: its keys are grains[K].name, grains[K].count"));
+  CHECK(
+      contains(f.take_err(), "'grains' is a list of tables, not a key: its keys are grains[K].name, grains[K].count"));
   CHECK_FALSE(f.run("set gravty.vector [0,0,0]"));
   CHECK(contains(f.take_err(), "did you mean 'gravity.vector'?"));
 }
