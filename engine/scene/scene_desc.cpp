@@ -65,26 +65,26 @@ std::string suggest_key(std::string_view bad_path) {
   return best;
 }
 
-bool is_group(std::string_view normalised) {
-  const std::string prefix = std::string(normalised) + "[]";
+namespace {
+bool any_key_under(std::string_view normalised, std::string_view suffix) {
+  const std::string prefix = std::string(normalised) + std::string(suffix);
   for (const KeySpec& k : scene_schema())
     if (k.path.rfind(prefix, 0) == 0) return true;
   return false;
 }
+}  // namespace
 
-bool is_table_prefix(std::string_view normalised) {
-  const std::string prefix = std::string(normalised) + ".";
-  for (const KeySpec& k : scene_schema())
-    if (k.path.rfind(prefix, 0) == 0) return true;
-  return false;
-}
+bool is_group(std::string_view normalised) { return any_key_under(normalised, "[]"); }
+
+bool is_table_prefix(std::string_view normalised) { return any_key_under(normalised, "."); }
 
 std::string unknown_key_message(std::string_view path) {
   const std::string norm = normalise_key(path);
-  if (is_group(norm) || is_table_prefix(norm)) {
-    // A table named where a key is wanted ("set gravity ..."): list its keys, not a near name,
-    // which would be the table itself.
-    const std::string prefix = norm + (is_group(norm) ? "[]." : ".");
+  const bool group = is_group(norm);
+  if (group || is_table_prefix(norm)) {
+    // A table named where a key is wanted ("set gravity ...", "gravity = 1"): list its keys, not
+    // a near name, which would be the table itself.
+    const std::string prefix = norm + (group ? "[]." : ".");
     std::string keys;
     int listed = 0, more = 0;
     for (const KeySpec& k : scene_schema()) {
@@ -98,8 +98,8 @@ std::string unknown_key_message(std::string_view path) {
       keys += (listed++ ? ", " : "") + key;
     }
     if (more) keys += " and " + std::to_string(more) + " more";
-    return "'" + std::string(path) + "' is " + (is_group(norm) ? "a list of tables" : "a table") +
-           ", not a key: its keys are " + keys;
+    return "'" + std::string(path) + "' is " + (group ? "a list of tables" : "a table") + ", not a key: its keys are " +
+           keys;
   }
   std::string msg = "unknown key '" + std::string(path) + "'";
   if (const std::string hint = suggest_key(path); !hint.empty()) msg += "; did you mean '" + hint + "'?";

@@ -154,10 +154,7 @@ class Reader {
 
   void leaf(const std::string& path, const std::string& norm, const toml::node& node, const FileLoc& key_loc) {
     const KeySpec* spec = find_key_spec(norm);
-    if (!spec) {
-      if (is_group(norm) || is_table_prefix(norm)) throw SceneError(key_loc, "'" + path + "' is a table, not a value");
-      throw SceneError(key_loc, unknown_key_message(path));
-    }
+    if (!spec) throw SceneError(key_loc, unknown_key_message(path));
     SceneEntry e;
     e.spec = spec;
     e.loc = loc_of(node.source(), file_);

@@ -114,6 +114,9 @@ TEST_CASE("--set overrides: typed, located, and checked like the file") {
   CHECK_THROWS_WITH_AS(parse_scene(kGood, "bad.toml", {parse_override("contact.friction=-1")}),
                        doctest::Contains("--set:1:"), SceneError);
   CHECK_THROWS_AS(parse_scene(kGood, "bad.toml", {parse_override("grains.3.count=2")}), SceneError);
+  CHECK_THROWS_WITH_AS(parse_scene(std::string("gravity = 1\n") + kGood, "bad.toml"),
+                       doctest::Contains("bad.toml:1:1: 'gravity' is a table, not a key: its keys are gravity."),
+                       SceneError);
   CHECK_THROWS_WITH_AS(parse_scene(kGood, "bad.toml", {parse_override("contact=1")}),
                        doctest::Contains("'contact' is a table, not a key: its keys are contact."), SceneError);
   SceneDesc s = parse_scene(kGood, "bad.toml", {parse_override("contact.model=hertz")});
