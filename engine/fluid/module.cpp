@@ -156,6 +156,13 @@ void compile_lines(const SceneDesc& d, const Model& m, FluidParams& p) {
 
 void compile_fluid(const SceneDesc& d, Model& m) {
   FluidParams& p = m.params.get<FluidParams>();
+  // The grains' DEM step and the fluid's step would share one dt (the CFL's, far beyond a contact
+  // time) with neither force felt by the other: refused until the grains are coupled to the grid.
+  if (m.n_grains > 0)
+    d.fail("fluid.cells",
+           "grains and a resolved [fluid] in one scene are not coupled yet (neither would feel the "
+           "other); run the fluid alone, or grains in a liquid with [drag] (a drag on each grain) or "
+           "[lubrication] (a paste)");
   compile_grid(d, m, p.grid);
   p.initial = d.string("fluid.initial") == "taylor_green" ? Initial::kTaylorGreen : Initial::kRest;
   p.initial_velocity = d.real("fluid.initial_velocity");

@@ -170,6 +170,15 @@ TEST_CASE("fluid: scene errors are located at their key") {
   const std::string big = test::scene_error(cavity(3, 4000));
   INFO(big);
   CHECK(big.find("GiB") != std::string::npos);
+  // Grains in a fluid scene: refused at [fluid] (the step graph found two stages writing dt and
+  // reported an internal error, after `silt check` had printed the scene).
+  const std::string grains = test::scene_error(cavity(2, 8) +
+                                               "[contact]\nmodel = \"spring_dashpot\"\nrestitution = 0.9\n"
+                                               "contact_time = 1e-3\n[[grains]]\nradius = 0.1\ndensity = 1.0\n"
+                                               "placement = \"explicit\"\npositions = [[0.5, 0.5]]\n");
+  INFO(grains);
+  CHECK(grains.find("bad.toml:7:9") != std::string::npos);
+  CHECK(grains.find("not coupled yet") != std::string::npos);
   // One drive: both in a scene is an error; a flow rate set over a pressure-driven scene drives it
   // (before, the pressure gradient kept driving and the bulk velocity only set the velocity scale).
   const std::string channel =
