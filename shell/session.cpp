@@ -169,6 +169,10 @@ void Session::install(Model m, const std::optional<State>& keep) {
          << "\n";
     interrupt_ = false;
   }
+  // The state a run would start from (the forces of t = 0, the fluid's initial velocity, a paste's
+  // connections and velocities): what `print`, `save` and `hash` show before the first step, as
+  // `silt run --steps 0` shows it.
+  next->prepare();
   sim_ = std::move(next);
   // A new model starts a new series: a file the old one went to is closed as it is, not overwritten.
   if (!stats_file_.empty()) {

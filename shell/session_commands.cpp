@@ -294,6 +294,7 @@ void Session::cmd_restore(const Command& c) {
   std::vector<std::string> differences;  // run parameters other than the checkpoint's: allowed, shown
   State st = read_checkpoint(input_path(c.args[0].text), s.model(), &differences);
   s.restore(std::move(st));
+  s.prepare();  // a checkpoint of a state never stepped (a fresh paste's): as install() does
   out_ << "restored step " << s.state().step << " (t = " << format_number(s.state().t) << " s)\n";
   for (const std::string& d : differences) out_ << "warning: " << d << "\n";
 }
