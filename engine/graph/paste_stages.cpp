@@ -1,7 +1,7 @@
 // The paste's stages (paste/solve.hpp). In a step:
 //
-//   choose_dt -> paste_dt -> (box_drift ->) drift -> update_neighbors -> contact_forces
-//                                                                      -> lubrication_solve
+//   choose_dt -> paste_dt -> lubrication_resolve -> (box_drift ->) drift -> update_neighbors
+//                                                -> contact_forces -> lubrication_solve
 //
 // and for the first state, lubrication_solve after the DEM's sum_forces: the velocities the first
 // drift moves the grains with.
@@ -40,13 +40,14 @@ Access solve_reads() {
           f.alone,
           f.coarse_order,
           f.dt_scale,
+          f.solved_under,
           fid::particle_id};  // names the grains alone
 }
 
 Access solve_writes() {
   const paste::PasteFields f = paste::paste_fields();
-  return {fid::particle_v, fid::particle_w, fid::box_rate, f.pair_f_lub,   f.dt,      f.solver,
-          f.change,        f.factor,        f.alone,       f.coarse_order, f.dt_scale};
+  return {fid::particle_v, fid::particle_w, fid::box_rate, f.pair_f_lub,   f.dt,       f.solver,
+          f.change,        f.factor,        f.alone,       f.coarse_order, f.dt_scale, f.solved_under};
 }
 
 void diagnose_paste(GraphBuilder& b) {
@@ -107,23 +108,26 @@ void add_paste_stages(GraphBuilder& b) {
   auto& w = b.workspaces().get<paste::PasteWorkspace>();
   if (b.phase() == Phase::kSetup) {
     const int solve = b.add(
-        "lubrication_solve", [&w](const Model& m, State& s) { paste::lubrication_solve(m, s, w, true); }, solve_reads(),
+        "lubrication_solve",
+        [&w](const Model& m, State& s) { paste::lubrication_solve(m, s, w, paste::SolveAt::kFirst); }, solve_reads(),
         solve_writes());
     b.after(solve, b.find("sum_forces"), "solves with the contact forces of the first state");
     b.after(solve, b.find("restore_springs"), "implicit contacts: the springs as the first step starts them");
     return;
   }
   const paste::PasteFields f = paste::paste_fields();
-  const int dt =
-      b.add("paste_dt", &paste::paste_dt, {fid::dt, fid::particle_v, fid::particle_w, fid::box_rate, f.dt, f.dt_scale},
-            {fid::dt, fid::particle_v, fid::particle_w, fid::box_rate});
+  const int dt = b.add("paste_dt", &paste::paste_dt, {fid::dt, f.dt, f.dt_scale}, {fid::dt});
   b.light(dt);
   b.after(dt, b.find("choose_dt"), "replaces the fixed step by the adaptive one");
-  b.after(b.find("drift"), dt, "moves the grains by this step's dt");
-  if (const int box = b.find("box_drift"); box >= 0) b.after(box, dt, "moves the box by this step's dt");
-  const int solve = b.add(
-      "lubrication_solve", [&w](const Model& m, State& s) { paste::lubrication_solve(m, s, w, false); }, solve_reads(),
+  const int again = b.add(
+      "lubrication_resolve", [&w](const Model& m, State& s) { paste::lubrication_resolve(m, s, w); }, solve_reads(),
       solve_writes());
+  b.after(again, dt, "solves with this step's dt");
+  b.after(b.find("drift"), again, "moves the grains by this step's dt and velocities");
+  if (const int box = b.find("box_drift"); box >= 0) b.after(box, again, "moves the box by this step's dt and rates");
+  const int solve = b.add(
+      "lubrication_solve", [&w](const Model& m, State& s) { paste::lubrication_solve(m, s, w, paste::SolveAt::kStep); },
+      solve_reads(), solve_writes());
   b.after(solve, b.find("contact_forces"), "solves with this step's contact forces");
   diagnose_paste(b);
 }

@@ -117,10 +117,10 @@ double next_step(const PasteParams& p, double dt, double change) {
 }  // namespace
 
 PasteFields paste_fields() {
-  static const PasteFields f{find_field("pair_f_lub")->id,         find_field("paste_dt")->id,
-                             find_field("paste_solver")->id,       find_field("paste_change")->id,
-                             find_field("paste_factor")->id,       find_field("paste_alone")->id,
-                             find_field("paste_coarse_order")->id, find_field("paste_dt_scale")->id};
+  static const PasteFields f{
+      find_field("pair_f_lub")->id,         find_field("paste_dt")->id,       find_field("paste_solver")->id,
+      find_field("paste_change")->id,       find_field("paste_factor")->id,   find_field("paste_alone")->id,
+      find_field("paste_coarse_order")->id, find_field("paste_dt_scale")->id, find_field("paste_solved_under")->id};
   return f;
 }
 
@@ -171,26 +171,38 @@ void paste_dt(const Model& m, State& s) {
     return;
   }
   // A steered time scale (a viscosity, pressure or rate changed): when it fell by r, the step of the
-  // old scale would shear and move the grains 1 / r times too far a step once the velocities follow
-  // (a viscosity lowered 1,000 times dilated a sheared paste by 5 % in 50 steps, no failure
-  // reported): the step falls with it. When it rose, the velocities follow only as the contact
-  // forces do (a pressure lowered leaves the grains pressed at the old one): the step stays, grows
-  // as the adaptive step lets it, and comes within the new bounds.
+  // old scale would shear and move the grains 1 / r times too far a step (a viscosity lowered 1,000
+  // times dilated a sheared paste by 5 % in 50 steps, no failure reported): the step falls with it.
+  // When it rose, the velocities follow only as the contact forces do (a pressure lowered leaves the
+  // grains pressed at the old one): the step stays, grows as the adaptive step lets it, and comes
+  // within the new bounds. The velocities are solved again under the new parameters
+  // (lubrication_resolve).
   const double r = step_rescale(p, s);
   s.dt = std::clamp(r < 1 ? dt * r : dt, p.dt_min, p.dt_max);
-  if (r == 1.0 || s.dt == dt || p.stepper != Stepper::kQuasiStatic) return;
-  // This step then moves the grains as the step of the old scale would have: the quasi-static
-  // velocities of the old parameters rescaled with the step (what the new solve gives when only the
-  // viscosity changed: Xi ~ eta, gammadot = Vi P / (eta a)). Not when only the bounds moved (a
-  // dt_max lowered after an overlap must shorten the step that failed). The inertial stepper's
-  // velocities are the grains' own.
-  const double to_new = dt / s.dt;
-  for (double& v : s.particle_v) v *= to_new;
-  for (double& w : s.particle_w) w *= to_new;
-  for (double& b : s.box_rate) b *= to_new;
 }
 
-void lubrication_solve(const Model& m, State& s, PasteWorkspace& w, bool setup) {
+namespace {
+
+// The parameters a quasi-static solve's velocities follow from besides the configuration: the
+// liquid, the roughness, the imposed stresses and rate.
+std::vector<double> solve_parameters(const Model& m) {
+  const PasteParams& p = m.params.get<PasteParams>();
+  const BoxControl& b = m.box_control;
+  return {p.eta,        p.h_min_over_a, static_cast<double>(p.cutoff), b.pressure, b.cycle_amplitude, b.cycle_omega,
+          m.shear.rate, m.shear.stress};
+}
+
+}  // namespace
+
+void lubrication_resolve(const Model& m, State& s, PasteWorkspace& w) {
+  const PasteParams& p = m.params.get<PasteParams>();
+  const std::vector<double>& under = s.module_field(paste_fields().solved_under);
+  // Empty: a checkpoint written before the parameters were kept, continued as it was.
+  if (p.stepper != Stepper::kQuasiStatic || under.empty() || under == solve_parameters(m)) return;
+  lubrication_solve(m, s, w, SolveAt::kAgain);
+}
+
+void lubrication_solve(const Model& m, State& s, PasteWorkspace& w, SolveAt at) {
   const PasteParams& p = m.params.get<PasteParams>();
   const PasteFields f = paste_fields();
   const int D = s.dim, R = s.rot;
@@ -222,7 +234,7 @@ void lubrication_solve(const Model& m, State& s, PasteWorkspace& w, bool setup) 
     for (int k = 0; k < L.n_box; ++k) {
       const int a = L.box_axis[k];
       // The imposed stress at the time of this configuration (the clock advances after the solve).
-      b[L.box_unknown(k)] += vir[4 * a] - vol * m.box_control.stress(a, setup ? s.t : s.t + s.dt);
+      b[L.box_unknown(k)] += vir[4 * a] - vol * m.box_control.stress(a, at == SolveAt::kStep ? s.t + s.dt : s.t);
     }
   }
 
@@ -248,8 +260,8 @@ void lubrication_solve(const Model& m, State& s, PasteWorkspace& w, bool setup) 
   // The step these velocities will move the grains by: the next one.
   const bool inertial = p.stepper == Stepper::kInertial;
   const double dt_field = s.module_field(f.dt)[0];
-  const double dt = setup ? (dt_field > 0 ? dt_field : p.dt_initial) : s.dt;
-  const bool adapt = !setup && !p.fixed_dt;
+  const double dt = at == SolveAt::kFirst ? (dt_field > 0 ? dt_field : p.dt_initial) : s.dt;
+  const bool adapt = at == SolveAt::kStep && !p.fixed_dt;
   const double dt_next = adapt ? next_step(p, dt, step_change) : dt;
   if (p.implicit_contacts) {
     set_contact_stiffness(m, s, dt_next, w.links);
@@ -452,6 +464,7 @@ void lubrication_solve(const Model& m, State& s, PasteWorkspace& w, bool setup) 
     }
   });
 
+  s.module_field(f.solved_under) = solve_parameters(m);
   if (!adapt) return;
   if (step_change > p.dt_change && dt <= p.dt_min) s.events[step_event()].raise(0, dt * p.dt_change / step_change);
   s.module_field(f.dt)[0] = dt_next;

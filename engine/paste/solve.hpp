@@ -1,8 +1,11 @@
 // The paste's stages (engine/graph/paste_stages.cpp puts them in the step):
 //
-//   choose_dt -> paste_dt -> drift -> update_neighbors -> contact_forces -> lubrication_solve
+//   choose_dt -> paste_dt -> lubrication_resolve -> drift -> update_neighbors -> contact_forces
+//   -> lubrication_solve
 //
-// paste_dt sets the step's dt from the adaptive step (sec. 2.2.4); the DEM's drift moves the
+// paste_dt sets the step's dt from the adaptive step (sec. 2.2.4); lubrication_resolve solves the
+// velocities again when they were solved under other parameters (steered, or a checkpoint
+// restored under other ones: a viscosity, a pressure, a rate, the roughness); the DEM's drift moves the
 // grains by dt V with the velocities of the last solve (explicit Euler, eq. 2.19 of Peyneau
 // 2009: contact forces and Xi at the start of the step); lubrication_solve finds the
 // connections, assembles Xi, solves for every grain's velocity and angular velocity (and the
@@ -22,7 +25,7 @@ namespace silt::paste {
 
 // The paste's own fields (registered by its module spec).
 struct PasteFields {
-  FieldId pair_f_lub, dt, solver, change, factor, alone, coarse_order, dt_scale;
+  FieldId pair_f_lub, dt, solver, change, factor, alone, coarse_order, dt_scale, solved_under;
 };
 PasteFields paste_fields();
 
@@ -67,18 +70,26 @@ EventId solve_event();
 // The event of an adaptive step below lubrication.dt_min: value the step wanted.
 EventId step_event();
 
-// (dt, particle_v, particle_w, box_rate, paste_dt, paste_dt_scale) => (dt, particle_v, particle_w,
-// box_rate): the adaptive step; when the model's time scale fell below the one it was chosen under
-// (steered), the step cut in proportion, and the quasi-static velocities raised with it.
+// (dt, paste_dt, paste_dt_scale) => (dt): the adaptive step; when the model's time scale fell below
+// the one it was chosen under (steered), the step cut in proportion.
 void paste_dt(const Model& m, State& s);
+
+// When a solve runs: at the end of a step (the velocities of the next one, which also chooses its
+// step), for the first state, or again at the start of a step whose velocities were solved under
+// other parameters (at the state's time and this step's dt; the adaptive step left as it is).
+enum class SolveAt { kStep, kFirst, kAgain };
 
 // (particle_x, particle_r, particle_v, particle_w, particle_f, particle_t, particle_inv_m,
 //  particle_inv_i, nbr_start, pair_j, pair_f, pair_hist, particle_group, box, box_rate,
 //  shear_rate, dt, paste_*) =>
 // (particle_v, particle_w, box_rate, pair_f_lub, paste_dt, paste_solver, paste_change,
-//  paste_factor, paste_alone, paste_coarse_order, paste_dt_scale)
-// `setup`: the velocities of the first state, the adaptive step left as it is.
-void lubrication_solve(const Model& m, State& s, PasteWorkspace& w, bool setup);
+//  paste_factor, paste_alone, paste_coarse_order, paste_dt_scale, paste_solved_under)
+void lubrication_solve(const Model& m, State& s, PasteWorkspace& w, SolveAt at);
+
+// The same access: lubrication_solve(kAgain) when the quasi-static velocities in the state were
+// solved under parameters other than the model's (paste_solved_under), else nothing. The inertial
+// stepper's velocities are the grains' own and carry over a change.
+void lubrication_resolve(const Model& m, State& s, PasteWorkspace& w);
 
 // The stepper's name, for reports.
 const char* stepper_name(Stepper s);
