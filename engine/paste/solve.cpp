@@ -194,15 +194,9 @@ std::vector<double> solve_parameters(const Model& m) {
 
 }  // namespace
 
-void lubrication_resolve(const Model& m, State& s, PasteWorkspace& w) {
-  const PasteParams& p = m.params.get<PasteParams>();
-  const std::vector<double>& under = s.module_field(paste_fields().solved_under);
-  // Empty: a checkpoint written before the parameters were kept, continued as it was.
-  if (p.stepper != Stepper::kQuasiStatic || under.empty() || under == solve_parameters(m)) return;
-  lubrication_solve(m, s, w, SolveAt::kAgain);
-}
+namespace {
 
-void lubrication_solve(const Model& m, State& s, PasteWorkspace& w, SolveAt at) {
+void solve_paste(const Model& m, State& s, PasteWorkspace& w, SolveAt at) {
   const PasteParams& p = m.params.get<PasteParams>();
   const PasteFields f = paste_fields();
   const int D = s.dim, R = s.rot;
@@ -469,6 +463,18 @@ void lubrication_solve(const Model& m, State& s, PasteWorkspace& w, SolveAt at) 
   if (step_change > p.dt_change && dt <= p.dt_min) s.events[step_event()].raise(0, dt * p.dt_change / step_change);
   s.module_field(f.dt)[0] = dt_next;
   s.module_field(f.dt_scale)[0] = p.step_scale;
+}
+
+}  // namespace
+
+void lubrication_solve(const Model& m, State& s, PasteWorkspace& w, SolveAt at) { solve_paste(m, s, w, at); }
+
+void lubrication_resolve(const Model& m, State& s, PasteWorkspace& w) {
+  const PasteParams& p = m.params.get<PasteParams>();
+  const std::vector<double>& under = s.module_field(paste_fields().solved_under);
+  // Empty: a checkpoint written before the parameters were kept, continued as it was.
+  if (p.stepper != Stepper::kQuasiStatic || under.empty() || under == solve_parameters(m)) return;
+  solve_paste(m, s, w, SolveAt::kAgain);
 }
 
 }  // namespace silt::paste
