@@ -121,6 +121,7 @@ void Simulation::restore(State s) {
 
 Model& Simulation::model_for_steering() {
   if (impl_->primed && !state_.failure.failed) impl_->restart.take(state_);
+  model_.steered_at = state_.t;
   return model_;
 }
 

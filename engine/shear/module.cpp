@@ -43,6 +43,7 @@ std::vector<KeySpec> shear_keys() {
 std::vector<KeyRule> shear_rules() {
   return {
       KeyRule::one_of({{"shear.rate"}, {"shear.inertial_number"}, {"shear.viscous_number"}, {"shear.stress"}}),
+      KeyRule::one_of({{"box.cycle_period"}, {"box.cycle_viscous_number"}}),
       KeyRule::requires_any("box.controlled", {"box.pressure"}, "only a pressure moves the box lengths"),
       KeyRule::requires_any("box.mass_factor", {"box.pressure", "shear.stress"},
                             "it is the inertia of the controlled lengths and of a stress-controlled shear"),
@@ -77,9 +78,9 @@ std::vector<ObservableSpec> shear_observables() {
                                 c.m.box_control.on ? c.m.box_control.pressure : c.meas().stress[1][1]);
        }},
   };
-  o.push_back({"cycle", "", "cycles of the imposed stresses done, w t / (2 pi)",
+  o.push_back({"cycle", "", "cycles of the imposed stresses done, w t / (2 pi) (the phase, through steered w's)",
                [](const ObservableContext& c, const ObservableArgs&) {
-                 return c.m.box_control.cycle_omega * c.s.t / (2 * std::numbers::pi);
+                 return c.m.box_control.phase(c.s.t) / (2 * std::numbers::pi);
                }});
   o.back().check = [](const Model& m, const ObservableArgs&) {
     return m.box_control.cycle != StressCycle::kNone ? "" : "observable 'cycle' applies where box.cycle is set";
@@ -227,7 +228,14 @@ std::string steer_shear(Model& m, const Model& fresh) {
   m.box_control.mass_factor = fresh.box_control.mass_factor;
   m.box_control.mass = fresh.box_control.mass;
   m.box_control.cycle_amplitude = fresh.box_control.cycle_amplitude;
-  m.box_control.cycle_omega = fresh.box_control.cycle_omega;
+  // A new w (a period, a viscous number, or the pressure or viscosity it is relative to) goes on
+  // from the phase reached: w_new t would jump the imposed stresses and could run the cycles back.
+  BoxControl& b = m.box_control;
+  if (fresh.box_control.cycle_omega != b.cycle_omega) {
+    b.cycle_phase0 = b.phase(m.steered_at);
+    b.cycle_t0 = m.steered_at;
+    b.cycle_omega = fresh.box_control.cycle_omega;
+  }
   m.shear.rate = fresh.shear.rate;
   m.shear.stress = fresh.shear.stress;
   return "";

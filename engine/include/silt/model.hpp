@@ -102,9 +102,13 @@ struct BoxControl {
   StressCycle cycle = StressCycle::kNone;
   double cycle_amplitude = 0;  // d = delta P / P
   double cycle_omega = 0;      // w [1/s]
+  // The cycles' phase is cycle_phase0 + w (t - cycle_t0): w t from the start, and continuous
+  // through a steered w (a period or a viscous number changed mid-run starts from the phase reached).
+  double cycle_t0 = 0, cycle_phase0 = 0;
+  double phase(double t) const { return cycle_phase0 + cycle_omega * (t - cycle_t0); }
   // The imposed sigma_aa at time t.
   double stress(int axis, double t) const {
-    const double w = cycle_omega * t;
+    const double w = phase(t);
     switch (cycle) {
       case StressCycle::kAlternating:
         return axis == 0 ? pressure * (1 + cycle_amplitude * std::sin(w))
@@ -207,6 +211,9 @@ struct Model {
   bool reduced_units = false;  // scene.units = "reduced": labels carry no SI units
   uint64_t scene_hash = 0;     // of the grains, walls and periodicity: checkpoints refuse other systems
   SceneDesc desc;              // what the file said (for `check`, `params`, `get`)
+  // The time of the state when the model was last handed out for steering
+  // (Simulation::model_for_steering): where a steered cycle frequency takes over the phase.
+  double steered_at = 0;
 
   // The modules the scene turns on (silt/module.hpp), in the order of the module list; core and
   // dem are always on. Parameters of modules Model does not name are in `params`.

@@ -126,3 +126,27 @@ TEST_CASE("paste: the biaxial cycle imposes Sigma_xx = P and Sigma_yy = P (1 + d
   // y always pressed harder: the box gets narrower along y than along x.
   CHECK(r.strain_half > 0);
 }
+
+TEST_CASE("paste: a cycle period steered mid-run goes on from the phase reached, and replaces a viscous number") {
+  // The phase was recomputed as w_new t: a period doubled at t = 1 (a quarter cycle) put the cycles
+  // back to an eighth, a jump of the imposed stresses, and `cycle` ran backwards.
+  std::string scene = kCyclicPaste;
+  scene.replace(scene.find("{kind}"), 6, "alternating");
+  auto sim = test::simulation_from(scene, 1);
+  while (sim->state().t < 1.0) REQUIRE(sim->step());
+  const double t1 = sim->state().t;
+  const Observer obs(sim->model(), {"cycle"});
+  const double before = obs.sample(sim->model(), sim->state())[0];
+  const double sxx = sim->model().box_control.stress(0, t1);
+  Model& m = sim->model_for_steering();
+  REQUIRE(steer(m, parse_override("box.cycle_period=8.0")) == "");
+  CHECK(obs.sample(sim->model(), sim->state())[0] == doctest::Approx(before).epsilon(1e-14));
+  CHECK(sim->model().box_control.stress(0, t1) == doctest::Approx(sxx).epsilon(1e-14));
+  for (int k = 0; k < 5; ++k) REQUIRE(sim->step());
+  const double dt = sim->state().t - t1;
+  CHECK(obs.sample(sim->model(), sim->state())[0] == doctest::Approx(before + dt / 8.0).epsilon(1e-12));
+  // Given as a viscous number w eta / P instead: it replaces the period (both were refused).
+  REQUIRE(steer(sim->model_for_steering(), parse_override("box.cycle_viscous_number=0.5")) == "");
+  CHECK(sim->model().box_control.cycle_omega == doctest::Approx(0.5 / sim->model().a_max));  // Vi P / (eta a), 2D
+  CHECK(sim->model().desc.has("box.cycle_period") == false);
+}
