@@ -16,15 +16,6 @@ ObservableSpec measured(const char* pattern, const char* unit, const char* doc, 
   return {pattern, unit, doc, [f](const Ctx& c, const Args& a) { return f(c.meas(), a); }};
 }
 
-// A grain's value, by id.
-template <class F>
-ObservableSpec grain(const char* pattern, const char* unit, const char* doc, F f) {
-  ObservableSpec o{pattern, unit, doc, [f](const Ctx& c, const Args& a) { return f(c, c.index_of(a.k), a); }};
-  o.k_count = [](const Model& m) { return m.n_grains; };
-  o.k_what = "grain";
-  return o;
-}
-
 }  // namespace
 
 std::vector<ObservableSpec> dem_observables() {
@@ -68,23 +59,23 @@ std::vector<ObservableSpec> dem_observables() {
          return stiffness_number(c.m, c.m.box_control.on ? c.m.box_control.pressure : c.meas().pressure);
        }},
       {"zeta", "", "damping ratio of the lightest pair", [](const Ctx& c, const Args&) { return c.m.zeta_max; }},
-      grain("p[{k}].{a}", "m", "position of grain K",
-            [](const Ctx& c, int64_t i, const Args& a) { return c.s.particle_x[c.s.dim * i + a.a]; }),
-      grain("p[{k}].v{a}", "m/s", "velocity of grain K (relative to the affine flow)",
-            [](const Ctx& c, int64_t i, const Args& a) { return c.s.particle_v[c.s.dim * i + a.a]; }),
-      grain("p[{k}].w{w}", "rad/s", "angular velocity of grain K",
-            [](const Ctx& c, int64_t i, const Args& a) { return c.s.particle_w[c.s.rot * i + a.w]; }),
-      grain("p[{k}].f{a}", "N", "total force on grain K, gravity included",
-            [](const Ctx& c, int64_t i, const Args& a) {
-              const double g = c.s.particle_frozen[i] ? 0 : c.m.gravity[a.a] / c.s.particle_inv_m[i];
-              return c.s.particle_f[c.s.dim * i + a.a] + g;
-            }),
-      grain("p[{k}].r", "m", "radius of grain K",
-            [](const Ctx& c, int64_t i, const Args&) { return c.s.particle_r[i]; }),
-      grain("p[{k}].m", "kg", "mass of grain K (0 for a frozen grain: it has no finite mass)",
-            [](const Ctx& c, int64_t i, const Args&) {
-              return c.s.particle_frozen[i] ? 0.0 : 1.0 / c.s.particle_inv_m[i];
-            }),
+      grain_observable("p[{k}].{a}", "m", "position of grain K",
+                       [](const Ctx& c, int64_t i, const Args& a) { return c.s.particle_x[c.s.dim * i + a.a]; }),
+      grain_observable("p[{k}].v{a}", "m/s", "velocity of grain K (relative to the affine flow)",
+                       [](const Ctx& c, int64_t i, const Args& a) { return c.s.particle_v[c.s.dim * i + a.a]; }),
+      grain_observable("p[{k}].w{w}", "rad/s", "angular velocity of grain K",
+                       [](const Ctx& c, int64_t i, const Args& a) { return c.s.particle_w[c.s.rot * i + a.w]; }),
+      grain_observable("p[{k}].f{a}", "N", "total force on grain K, gravity included",
+                       [](const Ctx& c, int64_t i, const Args& a) {
+                         const double g = c.s.particle_frozen[i] ? 0 : c.m.gravity[a.a] / c.s.particle_inv_m[i];
+                         return c.s.particle_f[c.s.dim * i + a.a] + g;
+                       }),
+      grain_observable("p[{k}].r", "m", "radius of grain K",
+                       [](const Ctx& c, int64_t i, const Args&) { return c.s.particle_r[i]; }),
+      grain_observable("p[{k}].m", "kg", "mass of grain K (0 for a frozen grain: it has no finite mass)",
+                       [](const Ctx& c, int64_t i, const Args&) {
+                         return c.s.particle_frozen[i] ? 0.0 : 1.0 / c.s.particle_inv_m[i];
+                       }),
   };
   // pn.K: the fraction of grains with exactly K contacts (Peyneau 2009 Table 3.14).
   ObservableSpec pn = measured(

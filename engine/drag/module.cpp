@@ -67,7 +67,17 @@ const ModuleSpec& module() {
                            for (size_t k = 0; k < t.size(); ++k) p += t[k] * c.s.particle_w[k];
                            return p;
                          }};
-    s.observables = {power};
+    // (p[K].hA is the paste's too: the words for a scene with neither, where this one is met first.)
+    ObservableSpec hydro = grain_observable("p[{k}].h{a}", "N", "hydrodynamic force on grain K: its Stokes drag",
+                                            [](const ObservableContext& c, int64_t i, const ObservableArgs& a) {
+                                              const auto f = double_field(c.s, find_field("particle_f_drag")->id);
+                                              return f.empty() ? 0.0 : f[c.s.dim * i + a.a];
+                                            });
+    hydro.check = [](const Model& m, const ObservableArgs&) -> std::string {
+      if (m.module_on("drag") || m.module_on("paste")) return "";
+      return "the hydrodynamic force p[K].hA applies where a liquid acts on the grains ([drag] or [lubrication])";
+    };
+    s.observables = {power, hydro};
     s.enabled = [](const SceneDesc& d) { return d.has("drag.viscosity"); };
     s.compile = compile_drag;
     s.finish = finish_drag;

@@ -1,6 +1,7 @@
 #include "paste/observables.hpp"
 
 #include <cmath>
+#include <numbers>
 
 #include "paste/params.hpp"
 #include "paste/solve.hpp"
@@ -51,6 +52,24 @@ std::array<double, 2> lubrication_pressures(const State& s) {
       p[touching ? 0 : 1] += fd / (D * vol);
     }
   return p;
+}
+
+// The hydrodynamic force on grain i along a: the lubrication of its connections (stored at each
+// pair as the force on its first grain) and the Stokes drag where lubrication.stokes_drag is on
+// (particle_v is relative to the affine flow, which is the liquid's velocity there).
+double hydrodynamic_force(const Model& m, const State& s, int64_t i, int a) {
+  const auto& f = s.module_field(paste_fields().pair_f_lub);
+  const int D = s.dim;
+  double h = 0;
+  if (f.size() == static_cast<size_t>(D * s.n_pairs()))
+    for (int64_t p = 0; p < s.n; ++p)
+      for (int32_t k = s.nbr_start[p]; k < s.nbr_start[p + 1]; ++k) {
+        if (p == i) h += f[D * k + a];
+        else if (s.pair_j[k] == i) h -= f[D * k + a];
+      }
+  const PasteParams& pp = params(m);
+  if (pp.stokes_drag) h -= 6 * std::numbers::pi * pp.eta * s.particle_r[i] * s.particle_v[D * i + a];
+  return h;
 }
 
 double trace(const std::array<std::array<double, 3>, 3>& t, int d) {
@@ -116,6 +135,10 @@ std::vector<ObservableSpec> paste_observables() {
        [](C c, A) { return solver_stat(c, kCoarseColumns); }},
       {"connections", "", "lubricated connections (gaps below h_max) of the last solve",
        [](C c, A) { return solver_stat(c, kConnections); }},
+      grain_observable("p[{k}].h{a}", "N",
+                       "hydrodynamic force on grain K: the lubrication of its connections (and its Stokes drag "
+                       "where lubrication.stokes_drag is on)",
+                       [](C c, int64_t i, A a) { return hydrodynamic_force(c.m, c.s, i, a.a); }),
   };
   o[0].check = needs_shear;
   o[2].check = needs_pressure;

@@ -110,6 +110,16 @@ struct ObservableSpec {
   std::string module;  // set when the table is assembled
 };
 
+// A value of grain K, by id (p[K]...): f(context, the grain's index, args).
+template <class F>
+ObservableSpec grain_observable(std::string pattern, std::string unit, std::string doc, F f) {
+  ObservableSpec o{std::move(pattern), std::move(unit), std::move(doc),
+                   [f](const ObservableContext& c, const ObservableArgs& a) { return f(c, c.index_of(a.k), a); }};
+  o.k_count = [](const Model& m) { return m.n_grains; };
+  o.k_what = "grain";
+  return o;
+}
+
 // Returns "" when `name` is an observable of this model, else the reason (with a suggestion).
 std::string check_observable(const std::string& name, const Model& m);
 // Every observable name that applies to this model (families listed with their first indices),

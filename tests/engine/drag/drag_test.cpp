@@ -45,7 +45,7 @@ TEST_CASE("drag: a sphere reaches Stokes' terminal velocity m g / (6 pi eta r), 
   for (double dt_over_tau : {0.1, 0.01}) {
     CAPTURE(dt_over_tau);
     auto sim = test::simulation_from(test::fill(kFall, {{"eta", eta}, {"dt", dt_over_tau * tau}}));
-    const Observer v(sim->model(), {"p[0].vz", "drag.power", "p[0].fz"});
+    const Observer v(sim->model(), {"p[0].vz", "drag.power", "p[0].fz", "p[0].hz"});
     // After one Stokes time: 1 - e^-1 of the terminal velocity, to first order in dt / tau.
     const int64_t n = std::lround(1.0 / dt_over_tau);
     for (int64_t k = 0; k < n; ++k) REQUIRE(sim->step());
@@ -56,6 +56,7 @@ TEST_CASE("drag: a sphere reaches Stokes' terminal velocity m g / (6 pi eta r), 
     CHECK(-x[0] == doctest::Approx(vt).epsilon(1e-12));            // the scheme's fixed point is exact
     CHECK(x[1] == doctest::Approx(-m * 9.81 * vt).epsilon(1e-9));  // power: the weight's work, dissipated
     CHECK(std::abs(x[2]) < 1e-9 * m * 9.81);                       // at terminal velocity the net force vanishes
+    CHECK(x[3] == doctest::Approx(m * 9.81).epsilon(1e-9));        // the hydrodynamic force holds the weight
   }
 }
 

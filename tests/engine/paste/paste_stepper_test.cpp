@@ -279,6 +279,29 @@ positions = [)" + positions +
   CHECK(sim->state().box_rate[0] < 0);
 }
 
+TEST_CASE("paste: the hydrodynamic force on each grain balances its contact force (p[K].hA)") {
+  // Quasi-static: Xi V = F_cont (eq. 2.19), so the lubrication -Xi V on every grain is minus the
+  // contacts' force on it, to the solve's tolerance. A dry scene has no such force.
+  auto sim = test::simulation_from(packed(80, 10), 1);
+  for (int k = 0; k < 10; ++k) REQUIRE(step(*sim));
+  std::vector<std::string> names;
+  for (int k = 0; k < 80; ++k)
+    for (const char* a : {"x", "y"}) {
+      names.push_back("p[" + std::to_string(k) + "].h" + a);
+      names.push_back("p[" + std::to_string(k) + "].f" + a);
+    }
+  const auto v = Observer(sim->model(), names).sample(sim->model(), sim->state());
+  double sum = 0, f2 = 0;
+  for (size_t k = 0; k < v.size(); k += 2) {
+    sum += (v[k] + v[k + 1]) * (v[k] + v[k + 1]);
+    f2 += v[k + 1] * v[k + 1];
+  }
+  CHECK(f2 > 0);
+  CHECK(std::sqrt(sum) < 1e-6 * std::sqrt(f2));
+  const Model dry = compile(load_scene_file(test::scene_path("collision_normal")));
+  CHECK(check_observable("p[0].hx", dry).find("[drag] or [lubrication]") != std::string::npos);
+}
+
 TEST_CASE("paste: the roughness, the solver and the viscous number are steered between steps") {
   std::string scene = paste_scene(60, 9);
   scene.replace(scene.find("[box]\npressure = 1.0\n"), 20,
