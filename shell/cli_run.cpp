@@ -193,7 +193,7 @@ int run_command(const RunArgs& a) {
     rate += buf;
   }
   std::printf("%s: %lld steps (t = %.6g s) in %.3f s, %s on %d thread(s); status %s\n", a.scene.c_str(),
-              static_cast<long long>(rep.steps_done), sim.state().t, rep.wall_s, rate.c_str(), sim.threads(),
+              static_cast<long long>(rep.steps_done), job->kept_state().t, rep.wall_s, rate.c_str(), sim.threads(),
               RunJob::status(rep.end));
   return code;
 }

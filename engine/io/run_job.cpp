@@ -169,7 +169,8 @@ int RunJob::finish(const RunReport& rep, int interrupted) {
   // The checkpoints first: the summary records whether they could be written.
   if (rep.end == RunEnd::kFailed) {
     const std::string path = last_good_path_for(o_);
-    if (write_last_good(path, m, sim_.last_good_state(), *this)) last_good_ = path;
+    kept_ = sim_.last_good_state();
+    if (write_last_good(path, m, *kept_, *this)) last_good_ = path;
   }
   if (!o_.save.empty() && rep.end != RunEnd::kFailed) {
     try {
@@ -186,6 +187,7 @@ int RunJob::finish(const RunReport& rep, int interrupted) {
   sum.steps_run = steps_;
   sum.average_from = o_.average_from;
   sum.profiles = profiles_;
+  if (kept_) sum.kept = &*kept_;
   if (m.until_static.on && rep.end == RunEnd::kDone)
     sum.warnings.push_back("run.stop_when_static: no equilibrium within the run length");
   if (m.stop_when_steady && rep.end == RunEnd::kDone)

@@ -10,7 +10,8 @@ namespace silt {
 void write_summary(const std::string& path, const SummaryInput& in, const Simulation& sim, const StatsWriter& stats) {
   using nlohmann::json;
   const Model& m = sim.model();
-  const State& s = sim.state();
+  const State& now = sim.state();
+  const State& s = in.kept ? *in.kept : now;
   json j;
   j["scene"] = in.scene;
   j["status"] = in.status;
@@ -33,7 +34,7 @@ void write_summary(const std::string& path, const SummaryInput& in, const Simula
   j["neighbor_builds"] = s.nbr_builds;
   j["memory_bytes"] = state_bytes(s);
   json stages = json::object();
-  for (const auto& [name, st] : s.profile) stages[name] = st.seconds();
+  for (const auto& [name, st] : now.profile) stages[name] = st.seconds();
   j["stages"] = stages;
   for (const Module& mod : modules())
     if (mod.spec->summary && m.module_on(mod.spec->name)) {
@@ -93,7 +94,7 @@ void write_summary(const std::string& path, const SummaryInput& in, const Simula
     }
     j["lines"] = out;
   }
-  const StepFailure& failure = in.failure.failed ? in.failure : s.failure;
+  const StepFailure& failure = in.failure.failed ? in.failure : now.failure;
   if (failure.failed) {
     json f;
     f["step"] = failure.step;

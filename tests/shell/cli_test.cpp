@@ -98,6 +98,16 @@ TEST_CASE("silt run: a numerical failure exits 3 and keeps the last good state")
   CHECK(j["status"] == "failed");
   CHECK(j["exit_code"] == 3);
   CHECK(j["failure"]["parameter"] == "contact.k_n");
+  // The summary's step and time are the kept state's, the one before the failed step (they were
+  // the failed step's while the state kept was the one before it).
+  const int64_t failed = j["failure"]["step"];
+  CHECK(j["steps"] == failed - 1);
+  CHECK(j["steps_run"] == failed - 1);
+  const silt::Model m = silt::compile(silt::load_scene_file(scene));
+  CHECK(j["sim_time"].get<double>() == doctest::Approx((failed - 1) * m.dt).epsilon(1e-12));
+  char t[64];
+  std::snprintf(t, sizeof t, "(t = %.6g s)", j["sim_time"].get<double>());
+  CHECK(r.out.find(t) != std::string::npos);
 }
 
 TEST_CASE("silt run draws a progress line on a terminal, and none with --quiet or without one") {

@@ -73,6 +73,9 @@ struct SummaryInput {
   std::vector<std::string> warnings;
   std::vector<ProfileSeries> profiles;
   StepFailure failure;  // a failure that is not the simulation's state's (the preparation's)
+  // A failed run: the last good state, whose step, time and fields the summary reports (the
+  // failure and the stage timings are the simulation's state's).
+  const State* kept = nullptr;
 };
 // Summary JSON of INTERFACE.md. Throws IoError.
 void write_summary(const std::string& path, const SummaryInput& in, const Simulation& sim, const StatsWriter& stats);

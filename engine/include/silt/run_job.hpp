@@ -67,6 +67,9 @@ class RunJob {
   static const char* status(RunEnd end);
   // Where finish() wrote the last good state, "" when it did not.
   const std::string& last_good_path() const { return last_good_; }
+  // The state the run ends with as the user keeps it: after a failure the last good one (the
+  // failed step's state is no result), else the simulation's.
+  const State& kept_state() const { return kept_ ? *kept_ : sim_.state(); }
 
  private:
   Simulation& sim_;
@@ -80,6 +83,7 @@ class RunJob {
   std::vector<PeriodicHook> extra_;
   std::vector<std::string> warnings_, output_errors_;
   std::string last_good_;
+  std::optional<State> kept_;  // after a failure: the last good state
   void sample(const State& s);
   int write_outputs(SummaryInput& sum, int code);
   double wall_s_ = 0;
