@@ -23,7 +23,7 @@ const ModuleSpec& module() {
     s.keys = dem_keys();
     s.observables = dem_observables();
     // Grains make the DEM; a scene of a fluid alone has none.
-    s.enabled = [](const SceneDesc& d) { return d.group_count("grains") > 0 || !d.has("fluid.cells"); };
+    s.enabled = [](const SceneDesc& d) { return d.group_count("grains") > 0 || !d.has_table("fluid"); };
     s.compile = compile_dem;
     s.finish = finish_dem;
     s.describe = describe_dem;

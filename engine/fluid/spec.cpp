@@ -103,7 +103,8 @@ const ModuleSpec& module() {
     s.keys = fluid_keys();
     // One drive: a flow rate given over a scene's pressure gradient replaces it (before, the
     // pressure gradient kept driving while the bulk velocity set the velocity scale).
-    s.rules = {KeyRule::one_of({{"fluid.pressure_gradient"}, {"fluid.bulk_velocity"}})};
+    s.rules = {KeyRule::one_of({{"fluid.pressure_gradient"}, {"fluid.bulk_velocity"}}),
+               KeyRule::one_of({{"fluid.reynolds"}, {"fluid.viscosity"}})};
     s.fields = {{"fluid_u", Extent::kFaceX, "m/s", "x velocity on the x faces; fluid_store"},
                 {"fluid_v", Extent::kFaceY, "m/s", "y velocity on the y faces; fluid_store"},
                 {"fluid_w", Extent::kFaceZ, "m/s", "z velocity on the z faces (3D); fluid_store"},
@@ -113,7 +114,7 @@ const ModuleSpec& module() {
                  "fluid_store"}};
     s.events = {"fluid_cfl", "fluid_nonfinite", "fluid_solve"};
     s.observables = fluid_observables();
-    s.enabled = [](const SceneDesc& d) { return d.has("fluid.cells"); };
+    s.enabled = [](const SceneDesc& d) { return d.has_table("fluid"); };
     s.compile = compile_fluid;
     s.finish = finish_fluid;
     s.describe = describe_fluid;

@@ -140,6 +140,13 @@ std::string value_to_string(const Value& v) {
 
 bool SceneDesc::has(std::string_view path) const { return entries.count(std::string(path)) > 0; }
 
+bool SceneDesc::has_table(std::string_view table) const {
+  if (tables.count(std::string(table))) return true;
+  const std::string prefix = std::string(table) + ".";
+  const auto it = entries.lower_bound(prefix);
+  return it != entries.end() && it->first.compare(0, prefix.size(), prefix) == 0;
+}
+
 int SceneDesc::group_count(std::string_view group) const {
   auto it = group_counts.find(std::string(group));
   return it == group_counts.end() ? 0 : it->second;

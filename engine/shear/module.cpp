@@ -241,11 +241,7 @@ std::string steer_shear(Model& m, const Model& fresh) {
   return "";
 }
 
-bool shear_enabled(const SceneDesc& d) {
-  for (const auto& [path, entry] : d.entries)
-    if (path.rfind("box.", 0) == 0 || path.rfind("shear.", 0) == 0 || path.rfind("prepare.", 0) == 0) return true;
-  return false;
-}
+bool shear_enabled(const SceneDesc& d) { return d.has_table("box") || d.has_table("shear") || d.has_table("prepare"); }
 
 }  // namespace
 

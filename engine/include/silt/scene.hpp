@@ -120,6 +120,8 @@ class SceneDesc {
 
   bool has(std::string_view path) const;
   int group_count(std::string_view group) const;
+  // Whether the scene gives the table or a key in it ([fluid], or fluid.cells by --set).
+  bool has_table(std::string_view table) const;
   // The value's location; for a key not given, where its table starts (the innermost one the
   // file has), else the start of the file: a missing key is reported where it belongs.
   FileLoc loc(std::string_view path) const;

@@ -179,6 +179,16 @@ TEST_CASE("fluid: scene errors are located at their key") {
   INFO(grains);
   CHECK(grains.find("bad.toml:7:9") != std::string::npos);
   CHECK(grains.find("not coupled yet") != std::string::npos);
+  // A [fluid] without its cells is a fluid missing them (it was taken for grains missing a
+  // contact law).
+  std::string no_cells = cavity(2, 8);
+  no_cells.erase(no_cells.find("cells = [8, 8]\n"), 15);
+  CHECK(test::scene_error(no_cells).find("missing required key 'fluid.cells'") != std::string::npos);
+  // The viscosity and the Reynolds number are alternatives: one given replaces the other (a
+  // viscosity set over the cavity's Re was refused as "not used"), both in a file are refused.
+  const Model viscous = compile(parse_scene(cavity(2, 8), "cavity.toml", {parse_override("fluid.viscosity=0.05")}));
+  CHECK(viscous.params.get<FluidParams>().viscosity == 0.05);
+  CHECK(test::scene_error(cavity(2, 8, "viscosity = 0.05")).find("fluid.viscosity") != std::string::npos);
   // One drive: both in a scene is an error; a flow rate set over a pressure-driven scene drives it
   // (before, the pressure gradient kept driving and the bulk velocity only set the velocity scale).
   const std::string channel =
