@@ -63,7 +63,8 @@ void compile_grid(const SceneDesc& d, const Model& m, Grid& g) {
       } else if (bc.type == BcType::kInflow) {
         d.fail(key, "an inflow needs " + key + "_velocity");
       }
-      bc.parabolic = d.string(key + "_profile") == "parabolic";
+      // (Read for an inflow only: a profile given to another face is refused as unused.)
+      if (bc.type == BcType::kInflow) bc.parabolic = d.string(key + "_profile") == "parabolic";
     }
   }
   bool inflow = false, outflow = false;
@@ -123,8 +124,11 @@ void compile_steerable(const SceneDesc& d, const Model& m, FluidParams& p) {
   if (!p.dt_fixed) p.dt = std::min(p.dt, viscous_dt_limit(p));
   p.stop_when_steady = d.boolean("run.stop_when_steady");
   p.steady_tol = d.real("run.steady_tol");
-  p.tolerance = d.real("fluid.tolerance");
-  p.max_iterations = static_cast<int>(d.integer("fluid.max_iterations"));
+  // The CG's knobs where there is a CG (read otherwise, they would be accepted and do nothing).
+  if (p.projection == Projection::kMultigridCg) {
+    p.tolerance = d.real("fluid.tolerance");
+    p.max_iterations = static_cast<int>(d.integer("fluid.max_iterations"));
+  }
 }
 
 void compile_lines(const SceneDesc& d, const Model& m, FluidParams& p) {
@@ -156,6 +160,9 @@ void compile_lines(const SceneDesc& d, const Model& m, FluidParams& p) {
 
 void compile_fluid(const SceneDesc& d, Model& m) {
   FluidParams& p = m.params.get<FluidParams>();
+  for (const char* k : {"run.dt", "run.dt_over_tc"})
+    if (d.has(k))
+      d.fail(k, "a fluid's step is fluid.dt, or adaptive from fluid.cfl: " + std::string(k) + " does not apply");
   // The grains' DEM step and the fluid's step would share one dt (the CFL's, far beyond a contact
   // time) with neither force felt by the other: refused until the grains are coupled to the grid.
   if (m.n_grains > 0)
@@ -165,13 +172,13 @@ void compile_fluid(const SceneDesc& d, Model& m) {
            "[lubrication] (a paste)");
   compile_grid(d, m, p.grid);
   p.initial = d.string("fluid.initial") == "taylor_green" ? Initial::kTaylorGreen : Initial::kRest;
-  p.initial_velocity = d.real("fluid.initial_velocity");
+  if (p.initial == Initial::kTaylorGreen) p.initial_velocity = d.real("fluid.initial_velocity");
   if (p.initial == Initial::kTaylorGreen)
     for (int a = 0; a < m.dim; ++a)
       if (!m.box.periodic[a]) d.fail("fluid.initial", "the Taylor-Green vortex needs a periodic box");
-  const std::string axis = d.string("fluid.drive_axis");
-  p.drive_axis = axis[0] - 'x';
   if (d.has("fluid.pressure_gradient") || d.has("fluid.bulk_velocity")) {
+    const std::string axis = d.string("fluid.drive_axis");
+    p.drive_axis = axis[0] - 'x';
     const std::string key = d.has("fluid.pressure_gradient") ? "fluid.pressure_gradient" : "fluid.bulk_velocity";
     p.drive = d.has("fluid.pressure_gradient") ? Drive::kPressure : Drive::kFlowRate;
     if (p.drive_axis >= m.dim || !m.box.periodic[p.drive_axis])

@@ -189,6 +189,16 @@ TEST_CASE("fluid: scene errors are located at their key") {
   const Model viscous = compile(parse_scene(cavity(2, 8), "cavity.toml", {parse_override("fluid.viscosity=0.05")}));
   CHECK(viscous.params.get<FluidParams>().viscosity == 0.05);
   CHECK(test::scene_error(cavity(2, 8, "viscosity = 0.05")).find("fluid.viscosity") != std::string::npos);
+  // Keys that do nothing in this scene are refused, not accepted and ignored.
+  for (const std::string ignored :
+       {"tolerance = 1e-6", "max_iterations = 50", "initial_velocity = 2.0", "drive_axis = \"y\""}) {
+    CAPTURE(ignored);
+    const std::string key = "fluid." + ignored.substr(0, ignored.find(' '));
+    CHECK(test::scene_error(cavity(2, 8, ignored)).find("'" + key + "' is set but not used") != std::string::npos);
+  }
+  CHECK(test::scene_error(cavity(2, 8) + "x_lo_profile = \"parabolic\"\n")  // the last table: [fluid.boundary]
+            .find("'fluid.boundary.x_lo_profile' is set but not used") != std::string::npos);
+  CHECK(test::scene_error(cavity(2, 8) + "[run]\ndt = 0.001\n").find("run.dt does not apply") != std::string::npos);
   // One drive: both in a scene is an error; a flow rate set over a pressure-driven scene drives it
   // (before, the pressure gradient kept driving and the bulk velocity only set the velocity scale).
   const std::string channel =
