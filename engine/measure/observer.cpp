@@ -91,6 +91,12 @@ struct Found {
   std::string error;
 };
 
+// An observable's own words for why it does not apply, with its name when they do not say it.
+std::string named(const std::string& name, const std::string& why) {
+  if (why.empty() || why.find("'" + name + "'") != std::string::npos) return why;
+  return "observable '" + name + "': " + why;
+}
+
 Found find(const std::string& name, const Model& m) {
   Found f;
   std::string off_error;  // the first match in a module the scene does not enable
@@ -102,7 +108,7 @@ Found find(const std::string& name, const Model& m) {
         // Another module may provide the same name (solver.iters: the paste's or the fluid's);
         // else the observable's own words when it has them ("applies where the scene shears").
         if (!off_error.empty()) continue;
-        off_error = o.check ? o.check(m, args) : std::string();
+        off_error = o.check ? named(name, o.check(m, args)) : std::string();
         if (off_error.empty())
           off_error = "observable '" + name + "' does not apply to this scene (it needs the " + mod.spec->name +
                       " module, which the scene does not enable)";
@@ -115,7 +121,7 @@ Found find(const std::string& name, const Model& m) {
       }
       if (o.check)
         if (std::string why = o.check(m, args); !why.empty()) {
-          f.error = why;
+          f.error = named(name, why);
           return f;
         }
       f.spec = &o;

@@ -300,6 +300,13 @@ TEST_CASE("paste: the hydrodynamic force on each grain balances its contact forc
   CHECK(std::sqrt(sum) < 1e-6 * std::sqrt(f2));
   const Model dry = compile(load_scene_file(test::scene_path("collision_normal")));
   CHECK(check_observable("p[0].hx", dry).find("[drag] or [lubrication]") != std::string::npos);
+  // An observable's reason for not applying names it (Vi and eta_eff said only "it applies where
+  // the paste is sheared", with several observables asked at once).
+  for (const char* name : {"Vi", "eta_eff"}) {  // (this paste is not sheared)
+    CAPTURE(name);
+    CHECK(check_observable(name, sim->model()).find(std::string("observable '") + name + "'") != std::string::npos);
+  }
+  CHECK(check_observable("p[0].hx", dry).find("observable 'p[0].hx'") != std::string::npos);
 }
 
 TEST_CASE("paste: the roughness, the solver and the viscous number are steered between steps") {
