@@ -58,13 +58,17 @@ void diagnose_paste(GraphBuilder& b) {
     const double iters = stats.size() == paste::kSolverStats ? stats[paste::kLastIterations] : 0;
     f.stage = "lubrication_solve";
     switch (status) {
-      case linalg::SolveStatus::kMaxIterations:
-        f.parameter = "lubrication.max_iterations";
+      case linalg::SolveStatus::kMaxIterations: {
+        // A residual that reached round-off (1e-12 and below) stalled there: the tolerance is the knob.
+        const bool stalled = e.value() < 1e-12;
+        f.parameter = stalled ? "lubrication.tolerance" : "lubrication.max_iterations";
         f.message = "the lubrication solve did not converge: relative residual " + format_number(e.value(), 4) +
                     " after " + format_number(iters, 4) +
                     " iterations, above lubrication.tolerance = " + format_number(p.solver.options.tolerance, 4) +
-                    "; raise lubrication.max_iterations, or use lubrication.solver = \"direct\"";
+                    (stalled ? "; the residual stalls at round-off there: raise lubrication.tolerance"
+                             : "; raise lubrication.max_iterations, or use lubrication.solver = \"direct\"");
         break;
+      }
       case linalg::SolveStatus::kNotPositive: {
         // Which unknown: a grain's (by its id) or a box length's.
         const int pg = m.dim == 2 ? 3 : 6;

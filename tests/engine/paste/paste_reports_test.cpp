@@ -147,6 +147,9 @@ TEST_CASE("paste: a solve that does not converge stops the run naming the step, 
   const State good = sim->last_good_state();
   CHECK(good.step == 0);
   for (double v : good.particle_v) CHECK(std::isfinite(v));
+  // A tolerance below round-off is refused up front (1e-16 ran until max_iterations, which the
+  // failure then named).
+  CHECK(test::scene_error(loose_scene("tolerance = 1e-16")).find("out of range [1e-15") != std::string::npos);
 }
 
 TEST_CASE("paste: a step that moves the grains into each other names the paste's step key, not run.dt") {
