@@ -10,12 +10,17 @@
 namespace silt::fluid {
 namespace {
 
-// Bytes per cell: the state's velocity and pressure; the step's padded velocity, two right-hand
-// sides, the boundary Laplacian and the pressure; the solvers' cell vectors.
+// Bytes per (padded) cell a run holds at its peak, as measured after steps (the memory estimate
+// test): the state's velocity and pressure and the restart point's copy of them; the step's
+// padded velocity, predictor, previous advection and boundary Laplacian, the increment and the
+// kinetic pressure, two cell vectors; the solvers' (the transforms' line buffers: about 3 doubles a
+// cell in 2D on two threads, more on more, under 1 in 3D; CG's vectors and multigrid hierarchy); and a sample's padded
+// copy of the velocity and pressure with the vorticity (frames, enstrophy), made while all that is held.
 double bytes_per_cell(const FluidParams& p) {
   const int D = p.grid.dim;
-  double doubles = (D + 1) + 4 * D + 1 + 2;
-  if (p.projection == Projection::kMultigridCg) doubles += 8;  // CG vectors and the hierarchy
+  double doubles = 2 * (D + 1) + 4 * D + 2 + 2;
+  doubles += p.projection == Projection::kMultigridCg ? 8 : (D == 2 ? 4 : 1);
+  doubles += (D + 1) + (D == 3 ? 3 : 1);
   return 8 * doubles;
 }
 
