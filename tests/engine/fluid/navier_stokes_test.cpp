@@ -1,6 +1,6 @@
 // The fluid step against closed forms: the Taylor-Green vortex (order in space and in time, in 2D
 // and 3D), the inviscid conservation of kinetic energy, plane Poiseuille flow (pressure- and
-// flow-driven).
+// flow-driven); and the values at points (line probes) against the same closed forms.
 #include <doctest/doctest.h>
 
 #include <cmath>
@@ -55,6 +55,30 @@ std::string channel(const std::string& drive, const std::string& viscous = "expl
   return "[scene]\ndimension = 2\n[domain]\nlo = [0.0, 0.0]\nhi = [0.25, 1.0]\nperiodic = [true, false]\n"
          "[fluid]\ncells = [4, 16]\nviscosity = 1.0\ndt = " +
          std::to_string(dt) + "\nviscous = \"" + viscous + "\"\n" + drive + "\n";
+}
+
+// Largest error of the vorticity probe against the initial Taylor-Green vorticity, over points
+// along a line that crosses cells at every fraction (and the box's edges), relative to max |omega|.
+double vorticity_probe_error(int dim, int n) {
+  auto sim = test::simulation_from(taylor_green(dim, n, 0.01, 0.001, "explicit"));
+  sim->prepare();
+  const FluidParams& p = sim->model().params.get<FluidParams>();
+  const double k = 2 * std::numbers::pi;
+  double err = 0;
+  for (int m = 0; m <= 100; ++m) {
+    const double t = m / 100.0;
+    const std::array<double, 3> x{t, 0.13 + 0.61 * t, dim == 3 ? 0.9 - 0.7 * t : 0.0};
+    const double sx = std::sin(k * x[0]), cx = std::cos(k * x[0]), sy = std::sin(k * x[1]), cy = std::cos(k * x[1]);
+    double exact;
+    if (dim == 2) {
+      exact = 2 * k * sx * sy;  // dv/dx - du/dy of sin cos, -cos sin
+    } else {
+      const double sz = std::sin(k * x[2]), cz = std::cos(k * x[2]);
+      exact = k * std::hypot(cx * sy * sz, sx * cy * sz, 2 * sx * sy * cz);
+    }
+    err = std::max(err, std::abs(sample(p, sim->state(), "vorticity", x) - exact));
+  }
+  return err / (2 * k);
 }
 
 }  // namespace
@@ -191,4 +215,36 @@ TEST_CASE("fluid: plane Poiseuille flow is the discrete parabola to round-off, p
       for (int64_t i = 0; i < 5; ++i) err = std::max(err, std::abs(u[i + 5 * j] - exact(j)));
     CHECK(err < 1e-12);
   }
+}
+
+TEST_CASE("fluid probes: the vorticity at a point is second order, in 2D and in 3D") {
+  // The value of the cell holding the point was off by h |grad omega| (10 % of max |omega| at 32
+  // cells); from the edges it is the centred difference's and the interpolation's O(h^2).
+  for (int dim : {2, 3}) {
+    CAPTURE(dim);
+    const int n0 = dim == 2 ? 32 : 16;
+    const double coarse = vorticity_probe_error(dim, n0), fine = vorticity_probe_error(dim, 2 * n0);
+    INFO("relative errors " << coarse << " " << fine);
+    CHECK(coarse < (dim == 2 ? 0.015 : 0.06));  // (k h)^2 / 4: 0.0096 at 32 cells, 0.038 at 16
+    CHECK(coarse / fine > 3.5);                 // second order: 4
+  }
+}
+
+TEST_CASE("fluid probes: across a Poiseuille channel the vorticity is exact, walls and centreline included") {
+  // The steady discrete profile is the parabola c (y (1 - y) + h^2 / 4) with wall ghosts -u_0: the
+  // edge differences are -u'(y) exactly, at the walls too, and omega = -c (1 - 2 y) is linear.
+  auto sim = test::simulation_from(channel("pressure_gradient = 2.0"));
+  run_to(*sim, 4.0);
+  const FluidParams& p = sim->model().params.get<FluidParams>();
+  const double c = 1.0;  // G / (2 mu)
+  double err = 0;
+  for (int m = 0; m <= 40; ++m) {
+    const double y = m / 40.0;
+    err = std::max(err, std::abs(sample(p, sim->state(), "vorticity", {0.07, y, 0}) + c * (1 - 2 * y)));
+  }
+  CHECK(err < 1e-12);
+  CHECK(std::abs(sample(p, sim->state(), "vorticity", {0.2, 0.5, 0})) < 1e-12);
+  // The velocity on the walls is the wall's.
+  CHECK(std::abs(sample(p, sim->state(), "u", {0.1, 0.0, 0})) < 1e-13);
+  CHECK(std::abs(sample(p, sim->state(), "u", {0.1, 1.0, 0})) < 1e-13);
 }
