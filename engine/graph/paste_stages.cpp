@@ -123,9 +123,11 @@ void add_paste_stages(GraphBuilder& b) {
   const int dt = b.add("paste_dt", &paste::paste_dt, {fid::dt, f.dt, f.dt_scale}, {fid::dt});
   b.light(dt);
   b.after(dt, b.find("choose_dt"), "replaces the fixed step by the adaptive one");
+  Access again_writes = solve_writes();
+  again_writes.push_back(fid::shear_rate);  // an imposed rate changed: the solve's, before box_drift's
   const int again = b.add(
       "lubrication_resolve", [&w](const Model& m, State& s) { paste::lubrication_resolve(m, s, w); }, solve_reads(),
-      solve_writes());
+      again_writes);
   b.after(again, dt, "solves with this step's dt");
   b.after(b.find("drift"), again, "moves the grains by this step's dt and velocities");
   if (const int box = b.find("box_drift"); box >= 0) b.after(box, again, "moves the box by this step's dt and rates");

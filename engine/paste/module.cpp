@@ -340,9 +340,9 @@ const ModuleSpec& module() {
          "the time scale paste_dt was chosen under (PasteParams::step_scale; 0 before the first step): a steered "
          "viscosity, pressure or rate that lowers it cuts the step by the new scale over it; lubrication_solve"},
         {"paste_solved_under", Extent::kFree, "",
-         "the parameters the velocities were solved under (viscosity, h_min / a, cutoff, pressure, cycle amplitude "
-         "and w, shear rate and stress): others in the model solve them again before the step moves the grains "
-         "(lubrication_resolve); lubrication_solve"},
+         "the parameters the velocities were solved under (viscosity, h_min / a, h_max / a, cutoff, Stokes drag, "
+         "implicit contacts, pressure, cycle amplitude and w, shear rate and stress): others in the model solve them "
+         "again before the step moves the grains (lubrication_resolve); lubrication_solve"},
         {"paste_solver", Extent::kFree, "", "solver counts (paste/solve.hpp SolverStat); lubrication_solve"},
         {"paste_change", Extent::kFree, "",
          "Xi's diagonal and the right-hand side of the last solve, for the adaptive step; lubrication_solve"},

@@ -161,6 +161,24 @@ double step_rescale(const PasteParams& p, const State& s) {
   return !p.fixed_dt && was > 0 && p.step_scale > 0 && was != p.step_scale ? p.step_scale / was : 1.0;
 }
 
+// The parameters a quasi-static solve's velocities follow from besides the configuration: the
+// liquid, the roughness, the imposed stresses and rate.
+std::vector<double> solve_parameters(const Model& m) {
+  const PasteParams& p = m.params.get<PasteParams>();
+  const BoxControl& b = m.box_control;
+  return {p.eta,
+          p.h_min_over_a,
+          p.h_max_over_a,
+          static_cast<double>(p.cutoff),
+          p.stokes_drag ? 1.0 : 0.0,
+          p.implicit_contacts ? 1.0 : 0.0,
+          b.pressure,
+          b.cycle_amplitude,
+          b.cycle_omega,
+          m.shear.rate,
+          m.shear.stress};
+}
+
 }  // namespace
 
 void paste_dt(const Model& m, State& s) {
@@ -180,19 +198,6 @@ void paste_dt(const Model& m, State& s) {
   const double r = step_rescale(p, s);
   s.dt = std::clamp(r < 1 ? dt * r : dt, p.dt_min, p.dt_max);
 }
-
-namespace {
-
-// The parameters a quasi-static solve's velocities follow from besides the configuration: the
-// liquid, the roughness, the imposed stresses and rate.
-std::vector<double> solve_parameters(const Model& m) {
-  const PasteParams& p = m.params.get<PasteParams>();
-  const BoxControl& b = m.box_control;
-  return {p.eta,        p.h_min_over_a, static_cast<double>(p.cutoff), b.pressure, b.cycle_amplitude, b.cycle_omega,
-          m.shear.rate, m.shear.stress};
-}
-
-}  // namespace
 
 namespace {
 
@@ -471,9 +476,13 @@ void lubrication_solve(const Model& m, State& s, PasteWorkspace& w, SolveAt at) 
 
 void lubrication_resolve(const Model& m, State& s, PasteWorkspace& w) {
   const PasteParams& p = m.params.get<PasteParams>();
+  if (p.stepper != Stepper::kQuasiStatic) return;
   const std::vector<double>& under = s.module_field(paste_fields().solved_under);
-  // Empty: a checkpoint written before the parameters were kept, continued as it was.
-  if (p.stepper != Stepper::kQuasiStatic || under.empty() || under == solve_parameters(m)) return;
+  // Empty: a checkpoint written before the parameters were kept; solved again only when its time
+  // scale differs from the model's (what it records).
+  if (under.empty() ? step_rescale(p, s) == 1.0 : under == solve_parameters(m)) return;
+  // An imposed rate enters the solve through the state's rate, which box_drift sets later in the step.
+  if (m.shear.on && !m.shear.stress_controlled) s.shear_rate = m.shear.rate;
   solve_paste(m, s, w, SolveAt::kAgain);
 }
 

@@ -79,14 +79,15 @@ void paste_dt(const Model& m, State& s);
 // other parameters (at the state's time and this step's dt; the adaptive step left as it is).
 enum class SolveAt { kStep, kFirst, kAgain };
 
-// (particle_x, particle_r, particle_v, particle_w, particle_f, particle_t, particle_inv_m,
-//  particle_inv_i, nbr_start, pair_j, pair_f, pair_hist, particle_group, box, box_rate,
-//  shear_rate, dt, paste_*) =>
+// (t, dt, particle_x, particle_r, particle_v, particle_w, particle_f, particle_t, particle_inv_m,
+//  particle_inv_i, particle_id, nbr_start, pair_j, pair_f, pair_hist, particle_group, box,
+//  box_rate, shear_rate, paste_*) =>
 // (particle_v, particle_w, box_rate, pair_f_lub, paste_dt, paste_solver, paste_change,
 //  paste_factor, paste_alone, paste_coarse_order, paste_dt_scale, paste_solved_under)
 void lubrication_solve(const Model& m, State& s, PasteWorkspace& w, SolveAt at);
 
-// The same access: lubrication_solve(kAgain) when the quasi-static velocities in the state were
+// The same access, and shear_rate written (an imposed rate changed: the model's, which box_drift
+// sets later in the step): lubrication_solve(kAgain) when the quasi-static velocities in the state were
 // solved under parameters other than the model's (paste_solved_under), else nothing. The inertial
 // stepper's velocities are the grains' own and carry over a change.
 void lubrication_resolve(const Model& m, State& s, PasteWorkspace& w);

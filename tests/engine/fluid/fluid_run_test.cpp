@@ -212,7 +212,7 @@ TEST_CASE("fluid: scene errors are located at their key") {
 }
 
 TEST_CASE("fluid: the memory estimate covers what a run holds, and not much more") {
-  // The estimate was 40 to 60 % low beside a run's resident memory (it left out the restart
+  // The estimate was 30 to 45 % under a run's resident memory (it left out the restart
   // point's copy of the state, the transforms' buffers and a sample's copies): a grid it let
   // through could end in an allocation failure.
   for (const std::string& scene : {cavity(3, 48), cavity(2, 256), cavity(3, 32, "projection = \"multigrid_cg\""),
