@@ -111,6 +111,7 @@ void Session::cmd_set(const Command& c) {
   if (spec->steerable) {
     std::string error;
     at_boundary([&] { error = steer(s.model_for_steering(), change); });
+    if (!running()) s.prepare();  // before the first step: the setup again, under the change if made
     if (error.empty()) {
       overrides_ = std::move(next);
       out_ << change.key << " = " << c.args[1].text << (running() ? " (from the next step)" : "") << "\n";
@@ -128,7 +129,10 @@ void Session::cmd_set(const Command& c) {
   const bool same_grains = m.scene_hash == s.model().scene_hash && m.walls.size() == s.model().walls.size();
   const bool same = same_grains && m.cells == s.model().cells;
   std::optional<State> keep;
-  if (same) keep = s.state();
+  if (same) {
+    keep = s.state();
+    m.box_control.continue_phase(s.model().box_control, keep->t);  // cycles go on from their phase
+  }
   const State& was = s.state();
   std::string discarded = std::string(" (the ") + (same_grains ? "fluid's grid" : "grains") + " changed: back to t = 0";
   if (was.step > 0 || stats_->rows().size() > 1)
@@ -302,6 +306,7 @@ void Session::cmd_restore(const Command& c) {
 void Session::cmd_reset(const Command&) {
   require_stopped("cannot reset");
   Model m = sim().model();
+  m.box_control.cycle_t0 = m.box_control.cycle_phase0 = 0;  // the cycles start again too
   install(std::move(m), std::nullopt);
   out_ << "back to t = 0\n";
 }

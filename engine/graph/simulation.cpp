@@ -7,6 +7,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <optional>
 #include <sstream>
 
 #include "dem/module.hpp"
@@ -26,6 +27,10 @@ struct Simulation::Impl {
   std::unique_ptr<graph::StepGraph> setup;  // the forces of the first state
   graph::RestartPoint restart;              // last restart point
   bool primed = false;
+  // A new state before its setup stages ran, until its first step: a change of parameters before
+  // that step goes back to it, so the setup runs under the new parameters (a run loaded, changed
+  // and started is the run compiled with the change, bit for bit).
+  std::optional<State> unprepared;
   std::vector<std::string> notices;  // the modules' notes not yet taken
 };
 
@@ -82,6 +87,7 @@ void Simulation::execute(graph::StepGraph& g, State& s) {
 // of the modules' stages. Events it raises (an overlap present from the start) are not failures.
 void Simulation::prepare() {
   if (impl_->primed) return;
+  if (state_.step == 0 && !impl_->unprepared) impl_->unprepared = state_;
   execute(*impl_->setup, state_);
   state_.events.clear();
   state_.internal.clear();
@@ -108,6 +114,7 @@ std::vector<std::string> Simulation::take_notices() {
 }
 
 void Simulation::restore(State s) {
+  impl_->unprepared.reset();
   state_ = adopt_state(model_, std::move(s));
   state_.failure = StepFailure{};
   state_.events.clear();
@@ -120,6 +127,14 @@ void Simulation::restore(State s) {
 }
 
 Model& Simulation::model_for_steering() {
+  if (impl_->unprepared) {
+    // Not stepped yet: back to the state before the setup, which the next step (or prepare())
+    // runs again under the parameters changed.
+    state_ = std::move(*impl_->unprepared);
+    impl_->unprepared.reset();
+    impl_->workspaces.invalidate();
+    impl_->primed = false;
+  }
   if (impl_->primed && !state_.failure.failed) impl_->restart.take(state_);
   model_.steered_at = state_.t;
   return model_;
@@ -130,6 +145,7 @@ bool Simulation::step() {
   prepare();
   state_.events.clear();
   execute(*impl_->step, state_);
+  impl_->unprepared.reset();
   if (!impl_->step->diagnose(model_, state_)) return false;
   if (state_.step % model_.limits.check_every == 0) impl_->restart.take(state_);
   collect_notices();

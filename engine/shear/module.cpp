@@ -230,12 +230,9 @@ std::string steer_shear(Model& m, const Model& fresh) {
   m.box_control.cycle_amplitude = fresh.box_control.cycle_amplitude;
   // A new w (a period, a viscous number, or the pressure or viscosity it is relative to) goes on
   // from the phase reached: w_new t would jump the imposed stresses and could run the cycles back.
-  BoxControl& b = m.box_control;
-  if (fresh.box_control.cycle_omega != b.cycle_omega) {
-    b.cycle_phase0 = b.phase(m.steered_at);
-    b.cycle_t0 = m.steered_at;
-    b.cycle_omega = fresh.box_control.cycle_omega;
-  }
+  const BoxControl was = m.box_control;
+  m.box_control.cycle_omega = fresh.box_control.cycle_omega;
+  m.box_control.continue_phase(was, m.steered_at);
   m.shear.rate = fresh.shear.rate;
   m.shear.stress = fresh.shear.stress;
   return "";

@@ -4,6 +4,7 @@
 #include <doctest/doctest.h>
 
 #include <chrono>
+#include <cstdio>
 #include <fstream>
 #include <thread>
 
@@ -91,4 +92,33 @@ TEST_CASE("the shell steers a running paste: h_min, the viscous number and the p
   // Stopped, the stepper can change: the scene is compiled again, the state kept.
   REQUIRE(f.run("set lubrication.stepper inertial"));
   CHECK(contains(f.take_out(), "(state kept)"));
+}
+
+TEST_CASE("a change before the first step is made before the setup, bit for bit; reset starts the cycles again") {
+  // load prepared the state (the velocities of the first solve) under the scene's viscosity; a
+  // viscosity set before `run` was then solved again from those, to the tolerance only. Now the
+  // state goes back to before the setup, which runs under the change: as a simulation steered
+  // before it was ever prepared.
+  test::TempDir dir;
+  const std::string scene = dir / "steered_paste.toml";
+  std::ofstream(scene) << kSteeredPaste;
+  Simulation direct(compile(load_scene_file(scene)), 1);
+  REQUIRE(steer(direct.model_for_steering(), parse_override("lubrication.viscosity=2.5")) == "");
+  for (int k = 0; k < 5; ++k) REQUIRE(direct.step());
+  char expected[17];
+  std::snprintf(expected, sizeof expected, "%016llx", static_cast<unsigned long long>(state_hash(direct.state())));
+  Fixture f;
+  REQUIRE(f.run("load " + scene));
+  REQUIRE(f.run("set lubrication.viscosity 2.5"));
+  REQUIRE(f.run("run 5"));
+  CHECK(f.hash() == expected);
+  // The cycles: a period changed mid-run goes on from the phase reached; reset starts them at 0.
+  Fixture c;
+  REQUIRE(c.run("load " + test::scene_path("paste_cyclic_alternating")));
+  REQUIRE(c.run("run 20"));
+  const double before = c.value("cycle");
+  REQUIRE(c.run("set box.cycle_period 1000"));
+  CHECK(c.value("cycle") == doctest::Approx(before).epsilon(1e-12));
+  REQUIRE(c.run("reset"));
+  CHECK(c.value("cycle") == 0);
 }

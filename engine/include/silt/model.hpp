@@ -106,6 +106,13 @@ struct BoxControl {
   // through a steered w (a period or a viscous number changed mid-run starts from the phase reached).
   double cycle_t0 = 0, cycle_phase0 = 0;
   double phase(double t) const { return cycle_phase0 + cycle_omega * (t - cycle_t0); }
+  // From time t on, the cycles of this w go on from the phase `was` had reached (a steered w, or a
+  // model compiled again over a state kept); nothing changes where neither w nor the origin did.
+  void continue_phase(const BoxControl& was, double t) {
+    if (cycle_omega == was.cycle_omega && was.cycle_t0 == 0 && was.cycle_phase0 == 0) return;
+    cycle_phase0 = was.phase(t);
+    cycle_t0 = t;
+  }
   // The imposed sigma_aa at time t.
   double stress(int axis, double t) const {
     const double w = phase(t);
@@ -212,7 +219,8 @@ struct Model {
   uint64_t scene_hash = 0;     // of the grains, walls and periodicity: checkpoints refuse other systems
   SceneDesc desc;              // what the file said (for `check`, `params`, `get`)
   // The time of the state when the model was last handed out for steering
-  // (Simulation::model_for_steering): where a steered cycle frequency takes over the phase.
+  // (Simulation::model_for_steering): where a steered cycle frequency takes over the phase (a
+  // model steered otherwise is taken at t = 0).
   double steered_at = 0;
 
   // The modules the scene turns on (silt/module.hpp), in the order of the module list; core and

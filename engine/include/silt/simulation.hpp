@@ -67,7 +67,9 @@ class Simulation {
   const Model& model() const { return model_; }
   // Between steps only: steerable parameters may be changed through the model returned. The
   // restart point moves to the current state first, so that a replay to the last good state
-  // takes the steps before the change with the parameters they were taken with.
+  // takes the steps before the change with the parameters they were taken with. Before the first
+  // step the state goes back to what it was before prepare(), whose setup stages then run again
+  // under the changed parameters.
   Model& model_for_steering();
   const State& state() const { return state_; }
   State& state() { return state_; }
