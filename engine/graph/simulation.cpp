@@ -143,9 +143,9 @@ Model& Simulation::model_for_steering() {
 bool Simulation::step() {
   if (state_.failure.failed) return false;
   prepare();
+  impl_->unprepared.reset();  // (before the step's workspaces are made: never held beside them)
   state_.events.clear();
   execute(*impl_->step, state_);
-  impl_->unprepared.reset();
   if (!impl_->step->diagnose(model_, state_)) return false;
   if (state_.step % model_.limits.check_every == 0) impl_->restart.take(state_);
   collect_notices();
