@@ -94,7 +94,7 @@ TEST_CASE("the shell steers a running paste: h_min, the viscous number and the p
   CHECK(contains(f.take_out(), "(state kept)"));
 }
 
-TEST_CASE("a change before the first step is made before the setup, bit for bit; reset starts the cycles again") {
+TEST_CASE("a change before the first step is made before the setup, bit for bit, and reset starts the cycles again") {
   // load prepared the state (the velocities of the first solve) under the scene's viscosity; a
   // viscosity set before `run` was then solved again from those, to the tolerance only. Now the
   // state goes back to before the setup, which runs under the change: as a simulation steered
