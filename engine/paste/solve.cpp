@@ -1,6 +1,7 @@
 #include "paste/solve.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numbers>
 #include <string>
@@ -162,8 +163,9 @@ double step_rescale(const PasteParams& p, const State& s) {
 }
 
 // The parameters a quasi-static solve's velocities follow from besides the configuration: the
-// liquid, the roughness, the imposed stresses and rate.
-std::vector<double> solve_parameters(const Model& m) {
+// liquid, the roughness, the imposed stresses and rate. (An array: compared at every step, kept at
+// every solve, without allocating.)
+std::array<double, 11> solve_parameters(const Model& m) {
   const PasteParams& p = m.params.get<PasteParams>();
   const BoxControl& b = m.box_control;
   return {p.eta,
@@ -463,7 +465,8 @@ void solve_paste(const Model& m, State& s, PasteWorkspace& w, SolveAt at) {
     }
   });
 
-  s.module_field(f.solved_under) = solve_parameters(m);
+  const auto under = solve_parameters(m);
+  s.module_field(f.solved_under).assign(under.begin(), under.end());
   if (!adapt) return;
   if (step_change > p.dt_change && dt <= p.dt_min) s.events[step_event()].raise(0, dt * p.dt_change / step_change);
   s.module_field(f.dt)[0] = dt_next;
@@ -480,7 +483,9 @@ void lubrication_resolve(const Model& m, State& s, PasteWorkspace& w) {
   const std::vector<double>& under = s.module_field(paste_fields().solved_under);
   // Empty: a checkpoint written before the parameters were kept; solved again only when its time
   // scale differs from the model's (what it records).
-  if (under.empty() ? step_rescale(p, s) == 1.0 : under == solve_parameters(m)) return;
+  const auto now = solve_parameters(m);
+  if (under.empty() ? step_rescale(p, s) == 1.0 : std::equal(under.begin(), under.end(), now.begin(), now.end()))
+    return;
   // An imposed rate enters the solve through the state's rate, which box_drift sets later in the step.
   if (m.shear.on && !m.shear.stress_controlled) s.shear_rate = m.shear.rate;
   solve_paste(m, s, w, SolveAt::kAgain);
