@@ -96,6 +96,19 @@ void Session::cmd_stop(const Command&) {
   if (ended) out_ << "the run had already ended at step " << background_end_step_ << "\n";
 }
 
+namespace {
+
+// Whether a steerable key can change the dry compression that prepares a packing
+// (prepare.compress): not the keys of what the compression leaves out (the liquid, the shear, the
+// cycles) nor those of the output.
+bool enters_preparation(const std::string& key) {
+  for (const char* p : {"lubrication.", "shear.", "box.cycle", "output.", "render."})
+    if (key.rfind(p, 0) == 0) return false;
+  return true;
+}
+
+}  // namespace
+
 void Session::cmd_set(const Command& c) {
   Simulation& s = sim();
   const Override change{canonical_key(c.args[0].text), c.args[1].text};
@@ -115,6 +128,9 @@ void Session::cmd_set(const Command& c) {
     if (error.empty()) {
       overrides_ = std::move(next);
       out_ << change.key << " = " << c.args[1].text << (running() ? " (from the next step)" : "") << "\n";
+      if (s.state().step == 0 && s.model().prepare.compress && enters_preparation(change.key))
+        out_ << "note: the packing compressed at load is kept; `reset` compresses it again under this value, as "
+                "`silt run --set` does\n";
       return;
     }
     // Not a change a running model can take (a shear mode switched on or off, ...): when stopped,
@@ -129,10 +145,7 @@ void Session::cmd_set(const Command& c) {
   const bool same_grains = m.scene_hash == s.model().scene_hash && m.walls.size() == s.model().walls.size();
   const bool same = same_grains && m.cells == s.model().cells;
   std::optional<State> keep;
-  if (same) {
-    keep = s.state();
-    m.box_control.continue_phase(s.model().box_control, keep->t);  // cycles go on from their phase
-  }
+  if (same) keep = s.state();  // (the cycles go on from their phase: the state holds its origin)
   const State& was = s.state();
   std::string discarded = std::string(" (the ") + (same_grains ? "fluid's grid" : "grains") + " changed: back to t = 0";
   if (was.step > 0 || stats_->rows().size() > 1)
@@ -305,9 +318,7 @@ void Session::cmd_restore(const Command& c) {
 
 void Session::cmd_reset(const Command&) {
   require_stopped("cannot reset");
-  Model m = sim().model();
-  m.box_control.cycle_t0 = m.box_control.cycle_phase0 = 0;  // the cycles start again too
-  install(std::move(m), std::nullopt);
+  install(sim().model(), std::nullopt);  // (a new state: the cycles start again too)
   out_ << "back to t = 0\n";
 }
 

@@ -7,6 +7,7 @@
 // drift moves the grains with.
 #include "graph/adders.hpp"
 #include "paste/solve.hpp"
+#include "shear/cycle_origin.hpp"
 #include "silt/text.hpp"
 
 namespace silt::graph {
@@ -41,7 +42,8 @@ Access solve_reads() {
           f.coarse_order,
           f.dt_scale,
           f.solved_under,
-          fid::particle_id};  // names the grains alone
+          shear::cycle_origin_field(),  // the cycles' phase, for the imposed stresses
+          fid::particle_id};            // names the grains alone
 }
 
 Access solve_writes() {
@@ -51,50 +53,55 @@ Access solve_writes() {
 }
 
 void diagnose_paste(GraphBuilder& b) {
-  b.diagnose(paste::solve_event(), [](const Model& m, const State& s, const EventSlot& e, StepFailure& f) {
-    const auto& p = m.params.get<paste::PasteParams>();
-    const auto& stats = s.module_field(paste::paste_fields().solver);
-    const auto status = static_cast<linalg::SolveStatus>(e.first());
-    const double iters = stats.size() == paste::kSolverStats ? stats[paste::kLastIterations] : 0;
-    f.stage = "lubrication_solve";
-    switch (status) {
-      case linalg::SolveStatus::kMaxIterations: {
-        // A residual that reached round-off (1e-12 and below) stalled there: the tolerance is the knob.
-        const bool stalled = e.value() < 1e-12;
-        f.parameter = stalled ? "lubrication.tolerance" : "lubrication.max_iterations";
-        f.message = "the lubrication solve did not converge: relative residual " + format_number(e.value(), 4) +
-                    " after " + format_number(iters, 4) +
-                    " iterations, above lubrication.tolerance = " + format_number(p.solver.options.tolerance, 4) +
-                    (stalled ? "; the residual stalls at round-off there: raise lubrication.tolerance"
-                             : "; raise lubrication.max_iterations, or use lubrication.solver = \"direct\"");
-        break;
-      }
-      case linalg::SolveStatus::kNotPositive: {
-        // Which unknown: a grain's (by its id) or a box length's.
-        const int pg = m.dim == 2 ? 3 : 6;
-        const auto col = static_cast<int64_t>(e.value());
-        const bool factor = p.solver.method != linalg::Method::kCg && col >= 0 && col < s.n * pg + m.dim;
-        if (factor && col >= s.n * pg) {
-          f.parameter = "box.pressure";
-          f.message =
-              "no lubricated gap resists the box's pressure (Xi is singular at a box strain rate): the "
-              "grains are too far apart for h_max; compress them first (prepare.compress) or raise "
-              "lubrication.h_max_over_a";
+  // A failed solve, in the step's solve or in the one again under changed parameters.
+  for (const auto& solve : {std::pair{paste::solve_event(), "lubrication_solve"},
+                            std::pair{paste::resolve_event(), "lubrication_resolve"}}) {
+    const char* stage = solve.second;
+    b.diagnose(solve.first, [stage](const Model& m, const State& s, const EventSlot& e, StepFailure& f) {
+      const auto& p = m.params.get<paste::PasteParams>();
+      const auto& stats = s.module_field(paste::paste_fields().solver);
+      const auto status = static_cast<linalg::SolveStatus>(e.first());
+      const double iters = stats.size() == paste::kSolverStats ? stats[paste::kLastIterations] : 0;
+      f.stage = stage;
+      switch (status) {
+        case linalg::SolveStatus::kMaxIterations: {
+          // A residual that reached round-off (1e-12 and below) stalled there: the tolerance is the knob.
+          const bool stalled = e.value() < 1e-12;
+          f.parameter = stalled ? "lubrication.tolerance" : "lubrication.max_iterations";
+          f.message = "the lubrication solve did not converge: relative residual " + format_number(e.value(), 4) +
+                      " after " + format_number(iters, 4) +
+                      " iterations, above lubrication.tolerance = " + format_number(p.solver.options.tolerance, 4) +
+                      (stalled ? "; the residual stalls at round-off there: raise lubrication.tolerance"
+                               : "; raise lubrication.max_iterations, or use lubrication.solver = \"direct\"");
           break;
         }
-        if (factor) f.particle = s.particle_id[col / pg];
-        f.parameter = "lubrication.stokes_drag";
-        f.message = std::string("the resistance matrix is not positive definite") +
-                    (factor ? " at grain " + std::to_string(f.particle) : std::string()) +
-                    ": something moves without any lubricated gap changing; set lubrication.stokes_drag = true";
-        break;
+        case linalg::SolveStatus::kNotPositive: {
+          // Which unknown: a grain's (by its id) or a box length's.
+          const int pg = m.dim == 2 ? 3 : 6;
+          const auto col = static_cast<int64_t>(e.value());
+          const bool factor = p.solver.method != linalg::Method::kCg && col >= 0 && col < s.n * pg + m.dim;
+          if (factor && col >= s.n * pg) {
+            f.parameter = "box.pressure";
+            f.message =
+                "no lubricated gap resists the box's pressure (Xi is singular at a box strain rate): the "
+                "grains are too far apart for h_max; compress them first (prepare.compress) or raise "
+                "lubrication.h_max_over_a";
+            break;
+          }
+          if (factor) f.particle = s.particle_id[col / pg];
+          f.parameter = "lubrication.stokes_drag";
+          f.message = std::string("the resistance matrix is not positive definite") +
+                      (factor ? " at grain " + std::to_string(f.particle) : std::string()) +
+                      ": something moves without any lubricated gap changing; set lubrication.stokes_drag = true";
+          break;
+        }
+        default:
+          f.parameter = "lubrication.h_min_over_a";
+          f.message = "the lubrication solve met a non-finite value (residual " + format_number(e.value(), 4) +
+                      "): the forces or the resistances overflowed; raise lubrication.h_min_over_a or lower the loads";
       }
-      default:
-        f.parameter = "lubrication.h_min_over_a";
-        f.message = "the lubrication solve met a non-finite value (residual " + format_number(e.value(), 4) +
-                    "): the forces or the resistances overflowed; raise lubrication.h_min_over_a or lower the loads";
-    }
-  });
+    });
+  }
   b.diagnose(paste::step_event(), [](const Model& m, const State& s, const EventSlot& e, StepFailure& f) {
     const auto& p = m.params.get<paste::PasteParams>();
     f.stage = "lubrication_solve";
@@ -129,12 +136,15 @@ void add_paste_stages(GraphBuilder& b) {
       "lubrication_resolve", [&w](const Model& m, State& s) { paste::lubrication_resolve(m, s, w); }, solve_reads(),
       again_writes);
   b.after(again, dt, "solves with this step's dt");
+  const int origin = b.find("cycle_origin");
+  if (origin >= 0) b.after(again, origin, "imposes the stresses of the cycles' phase under this step's w");
   b.after(b.find("drift"), again, "moves the grains by this step's dt and velocities");
   if (const int box = b.find("box_drift"); box >= 0) b.after(box, again, "moves the box by this step's dt and rates");
   const int solve = b.add(
       "lubrication_solve", [&w](const Model& m, State& s) { paste::lubrication_solve(m, s, w, paste::SolveAt::kStep); },
       solve_reads(), solve_writes());
   b.after(solve, b.find("contact_forces"), "solves with this step's contact forces");
+  if (origin >= 0) b.after(solve, origin, "imposes the stresses of the cycles' phase under this step's w");
   diagnose_paste(b);
 }
 

@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "graph/adders.hpp"
+#include "shear/cycle_origin.hpp"
 #include "shear/stages.hpp"
 #include "silt/text.hpp"
 
@@ -29,12 +30,20 @@ void add_shear_stages(GraphBuilder& b) {
     b.after(st, b.find("contact_forces"), "the contact stress of the first state's pair forces");
     return;
   }
+  // The cycles' phase under a new w goes on from where it was, before anything imposes it.
+  const FieldId origin_field = shear::cycle_origin_field();
+  int origin = -1;
+  if (m.box_control.on && m.box_control.cycle != StressCycle::kNone) {
+    origin = b.add("cycle_origin", &shear::cycle_origin_stage, {fid::t, origin_field}, {origin_field});
+    b.light(origin);
+  }
   const int drift = b.add("box_drift", &shear::box_drift,
                           {fid::t, fid::dt, fid::box, fid::box_rate, fid::box_stress, fid::shear_stress,
-                           fid::shear_rate, fid::le_displacement, fid::shear_strain, fid::nbr_strain},
+                           fid::shear_rate, fid::le_displacement, fid::shear_strain, fid::nbr_strain, origin_field},
                           {fid::box, fid::box_rate, fid::shear_rate, fid::box_stretch, fid::le_displacement,
                            fid::shear_strain, fid::nbr_strain});
   b.after(drift, b.find("choose_dt"), "moves the box by this step's dt");
+  if (origin >= 0) b.after(drift, origin, "its half kick imposes the stresses of the cycles' phase");
   // depends on: the new lengths (box_stretch) and shear rate, which the grains follow.
   const int grains = b.find(m.velocities_solved ? "drift" : "kick_drift");
   b.after(grains, drift, "the grains follow the affine flow of the box's drift");
@@ -59,12 +68,14 @@ void add_shear_stages(GraphBuilder& b) {
       b.add("box_kick", &shear::box_kick,
             [&] {
               Access r = kStressReads;
-              for (FieldId f : {fid::t, fid::dt, fid::box_rate, fid::shear_rate, fid::box_stress, fid::shear_stress})
+              for (FieldId f : std::initializer_list<FieldId>{fid::t, fid::dt, fid::box_rate, fid::shear_rate,
+                                                              fid::box_stress, fid::shear_stress, origin_field})
                 r.push_back(f);
               return r;
             }(),
             {fid::box_stress, fid::shear_stress, fid::box_rate, fid::shear_rate});
   b.after(kick, b.find("kick"), "kinetic stress uses the full-step velocities; contact stress the new pair forces");
+  if (origin >= 0) b.after(kick, origin, "its half kick imposes the stresses of the cycles' phase");
 }
 
 }  // namespace silt::graph

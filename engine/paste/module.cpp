@@ -357,7 +357,7 @@ const ModuleSpec& module() {
         {"paste_alone", Extent::kFree, "",
          "1 when the set changed at the last solve (else 0), then the ids of the grains with no lubricated "
          "connection, held at the affine flow, in increasing order; lubrication_solve"}};
-    s.events = {"paste_solve", "paste_step"};
+    s.events = {"paste_resolve", "paste_solve", "paste_step"};  // (in order of precedence: the resolve runs first)
     s.observables = paste_observables();
     s.enabled = [](const SceneDesc& d) { return d.has("lubrication.viscosity"); };
     s.compile = compile_paste;

@@ -9,6 +9,7 @@
 #include "core/parallel.hpp"
 #include "dem/stress.hpp"
 #include "paste/contact_stiffness.hpp"
+#include "shear/cycle_origin.hpp"
 
 namespace silt::paste {
 namespace {
@@ -130,6 +131,11 @@ EventId solve_event() {
   return e;
 }
 
+EventId resolve_event() {
+  static const EventId e = register_module_event("paste_resolve");
+  return e;
+}
+
 EventId step_event() {
   static const EventId e = register_module_event("paste_step");
   return e;
@@ -232,10 +238,12 @@ void solve_paste(const Model& m, State& s, PasteWorkspace& w, SolveAt at) {
     double vol = 1;
     for (int a = 0; a < D; ++a) vol *= s.box.len[a];
     const std::array<double, 9> vir = dem::pair_virial_sums(s, s.pair_f.data());
+    const CycleOrigin origin = shear::cycle_origin(m, s);
     for (int k = 0; k < L.n_box; ++k) {
       const int a = L.box_axis[k];
       // The imposed stress at the time of this configuration (the clock advances after the solve).
-      b[L.box_unknown(k)] += vir[4 * a] - vol * m.box_control.stress(a, at == SolveAt::kStep ? s.t + s.dt : s.t);
+      b[L.box_unknown(k)] +=
+          vir[4 * a] - vol * m.box_control.stress(a, origin, at == SolveAt::kStep ? s.t + s.dt : s.t);
     }
   }
 
@@ -425,8 +433,8 @@ void solve_paste(const Model& m, State& s, PasteWorkspace& w, SolveAt at) {
   if (!rep.ok()) {
     // The value: the residual, or for a failed factorisation the unknown where it failed.
     const bool at_column = rep.status == linalg::SolveStatus::kNotPositive && rep.column >= 0;
-    s.events[solve_event()].raise(static_cast<int64_t>(rep.status),
-                                  at_column ? static_cast<double>(rep.column) : rep.residual);
+    s.events[at == SolveAt::kAgain ? resolve_event() : solve_event()].raise(
+        static_cast<int64_t>(rep.status), at_column ? static_cast<double>(rep.column) : rep.residual);
     return;
   }
 

@@ -67,6 +67,8 @@ struct PasteWorkspace final : Workspace {
 // The event a failed solve raises: index the linalg::SolveStatus, value the residual (or, when a
 // factorisation found Xi not positive definite, the unknown where it did).
 EventId solve_event();
+// The same, raised by the solve again under parameters changed between steps (lubrication_resolve).
+EventId resolve_event();
 // The event of an adaptive step below lubrication.dt_min: value the step wanted.
 EventId step_event();
 

@@ -12,6 +12,7 @@
 #include <cmath>
 
 #include "dem/stress.hpp"
+#include "shear/cycle_origin.hpp"
 #include "shear/stages.hpp"
 
 namespace silt::shear {
@@ -37,11 +38,12 @@ void half_kick(const Model& m, State& s) {
   double vol = 1;
   for (int k = 0; k < m.dim; ++k) vol *= s.box.len[k];
   const double h = 0.5 * s.dt;
+  const CycleOrigin origin = cycle_origin(m, s);
   if (m.box_control.on)
     for (int a = 0; a < m.dim; ++a)
       if (m.box_control.controlled[a])
         s.box_rate[a] +=
-            h * (vol / s.box.len[a]) * (s.box_stress[a] - m.box_control.stress(a, s.t)) / m.box_control.mass;
+            h * (vol / s.box.len[a]) * (s.box_stress[a] - m.box_control.stress(a, origin, s.t)) / m.box_control.mass;
   if (m.shear.stress_controlled)
     s.shear_rate += h * vol * (m.shear.stress - s.shear_stress) / (m.box_control.mass * s.box.len[0] * s.box.len[1]);
 }

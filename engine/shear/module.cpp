@@ -5,6 +5,7 @@
 #include <numbers>
 #include <sstream>
 
+#include "shear/cycle_origin.hpp"
 #include "shear/module.hpp"
 #include "shear/stages.hpp"
 
@@ -80,7 +81,7 @@ std::vector<ObservableSpec> shear_observables() {
   };
   o.push_back({"cycle", "", "cycles of the imposed stresses done, w t / (2 pi) (the phase, through steered w's)",
                [](const ObservableContext& c, const ObservableArgs&) {
-                 return c.m.box_control.phase(c.s.t) / (2 * std::numbers::pi);
+                 return cycle_origin(c.m, c.s).phase(c.s.t) / (2 * std::numbers::pi);
                }});
   o.back().check = [](const Model& m, const ObservableArgs&) {
     return m.box_control.cycle != StressCycle::kNone ? "" : "observable 'cycle' applies where box.cycle is set";
@@ -229,10 +230,8 @@ std::string steer_shear(Model& m, const Model& fresh) {
   m.box_control.mass = fresh.box_control.mass;
   m.box_control.cycle_amplitude = fresh.box_control.cycle_amplitude;
   // A new w (a period, a viscous number, or the pressure or viscosity it is relative to) goes on
-  // from the phase reached: w_new t would jump the imposed stresses and could run the cycles back.
-  const BoxControl was = m.box_control;
+  // from the phase reached, at the next step (cycle_origin_stage).
   m.box_control.cycle_omega = fresh.box_control.cycle_omega;
-  m.box_control.continue_phase(was, m.steered_at);
   m.shear.rate = fresh.shear.rate;
   m.shear.stress = fresh.shear.stress;
   return "";
@@ -254,6 +253,13 @@ const ModuleSpec& module() {
     s.compile = compile_shear;
     s.describe = describe_shear;
     s.steer = steer_shear;
+    s.fields = {{"box_cycle_origin", Extent::kFree, "",
+                 "where the cycles' phase is counted from: empty (w t), or t0, the phase at t0 and the w since "
+                 "(silt::CycleOrigin); cycle_origin"}};
+    s.check_state = [](const Model&, const State& st) -> std::string {
+      const size_t n = st.module_field(cycle_origin_field()).size();
+      return n == 0 || n == 3 ? "" : "box_cycle_origin has " + std::to_string(n) + " entries, not 0 or 3";
+    };
     return s;
   }();
   return spec;

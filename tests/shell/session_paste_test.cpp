@@ -112,6 +112,19 @@ TEST_CASE("a change before the first step is made before the setup, bit for bit,
   REQUIRE(f.run("set lubrication.viscosity 2.5"));
   REQUIRE(f.run("run 5"));
   CHECK(f.hash() == expected);
+  // And as the scene compiled with the change (`silt run --set`). The imposed rate Vi P / eta
+  // changed with the viscosity, and the first solve took the rate the state was made with.
+  Simulation compiled(compile(load_scene_file(scene, {parse_override("lubrication.viscosity=2.5")})), 1);
+  for (int k = 0; k < 5; ++k) REQUIRE(compiled.step());
+  CHECK(state_hash(compiled.state()) == state_hash(direct.state()));
+  // A change the packing's compression depends on is not made to it: the shell says so.
+  Fixture p;
+  REQUIRE(p.run("load " + test::scene_path("paste_iso")));
+  p.take_out();
+  REQUIRE(p.run("set box.pressure 2"));
+  CHECK(contains(p.take_out(), "`reset` compresses it again under this value"));
+  REQUIRE(p.run("set lubrication.viscosity 2"));
+  CHECK_FALSE(contains(p.take_out(), "reset"));
   // The cycles: a period changed mid-run goes on from the phase reached; reset starts them at 0.
   Fixture c;
   REQUIRE(c.run("load " + test::scene_path("paste_cyclic_alternating")));

@@ -93,6 +93,15 @@ struct Box {
 // swapping); biaxial, Sigma_11 = P and Sigma_22 = P (1 + d (1 - cos wt)) (eq. 5.15-5.16). Other
 // axes stay at P.
 enum class StressCycle : uint8_t { kNone, kAlternating, kBiaxial };
+// Where the cycles' phase is counted from: phase0 at t0, then w (t - t0), w the cycles' angular
+// frequency then. From the start, (0, 0, w): w t. A new w (a steered period or viscous number, a
+// scene compiled again over the state, a checkpoint restored under another period) takes over
+// at the phase reached, so the imposed stresses never jump and the cycles never run back. The
+// origin is part of the state (shear/cycle_origin.hpp), which checkpoints carry.
+struct CycleOrigin {
+  double t0 = 0, phase0 = 0, omega = 0;
+  double phase(double t) const { return phase0 + omega * (t - t0); }
+};
 struct BoxControl {
   bool on = false;
   std::array<bool, 3> controlled{false, false, false};
@@ -102,20 +111,9 @@ struct BoxControl {
   StressCycle cycle = StressCycle::kNone;
   double cycle_amplitude = 0;  // d = delta P / P
   double cycle_omega = 0;      // w [1/s]
-  // The cycles' phase is cycle_phase0 + w (t - cycle_t0): w t from the start, and continuous
-  // through a steered w (a period or a viscous number changed mid-run starts from the phase reached).
-  double cycle_t0 = 0, cycle_phase0 = 0;
-  double phase(double t) const { return cycle_phase0 + cycle_omega * (t - cycle_t0); }
-  // From time t on, the cycles of this w go on from the phase `was` had reached (a steered w, or a
-  // model compiled again over a state kept); nothing changes where neither w nor the origin did.
-  void continue_phase(const BoxControl& was, double t) {
-    if (cycle_omega == was.cycle_omega && was.cycle_t0 == 0 && was.cycle_phase0 == 0) return;
-    cycle_phase0 = was.phase(t);
-    cycle_t0 = t;
-  }
-  // The imposed sigma_aa at time t.
-  double stress(int axis, double t) const {
-    const double w = phase(t);
+  // The imposed sigma_aa at time t, the cycles' phase counted from `origin` (CycleOrigin).
+  double stress(int axis, const CycleOrigin& origin, double t) const {
+    const double w = origin.phase(t);
     switch (cycle) {
       case StressCycle::kAlternating:
         return axis == 0 ? pressure * (1 + cycle_amplitude * std::sin(w))
@@ -218,10 +216,6 @@ struct Model {
   bool reduced_units = false;  // scene.units = "reduced": labels carry no SI units
   uint64_t scene_hash = 0;     // of the grains, walls and periodicity: checkpoints refuse other systems
   SceneDesc desc;              // what the file said (for `check`, `params`, `get`)
-  // The time of the state when the model was last handed out for steering
-  // (Simulation::model_for_steering): where a steered cycle frequency takes over the phase (a
-  // model steered otherwise is taken at t = 0).
-  double steered_at = 0;
 
   // The modules the scene turns on (silt/module.hpp), in the order of the module list; core and
   // dem are always on. Parameters of modules Model does not name are in `params`.

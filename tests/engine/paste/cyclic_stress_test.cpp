@@ -5,9 +5,12 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 #include <string>
 
+#include "shear/cycle_origin.hpp"
+#include "silt/io.hpp"
 #include "silt/observables.hpp"
 #include "support/scenes.hpp"
 
@@ -137,11 +140,14 @@ TEST_CASE("paste: a cycle period steered mid-run goes on from the phase reached,
   const double t1 = sim->state().t;
   const Observer obs(sim->model(), {"cycle"});
   const double before = obs.sample(sim->model(), sim->state())[0];
-  const double sxx = sim->model().box_control.stress(0, t1);
+  auto imposed_xx = [&] {
+    return sim->model().box_control.stress(0, shear::cycle_origin(sim->model(), sim->state()), t1);
+  };
+  const double sxx = imposed_xx();
   Model& m = sim->model_for_steering();
   REQUIRE(steer(m, parse_override("box.cycle_period=8.0")) == "");
   CHECK(obs.sample(sim->model(), sim->state())[0] == doctest::Approx(before).epsilon(1e-14));
-  CHECK(sim->model().box_control.stress(0, t1) == doctest::Approx(sxx).epsilon(1e-14));
+  CHECK(imposed_xx() == doctest::Approx(sxx).epsilon(1e-14));
   for (int k = 0; k < 5; ++k) REQUIRE(sim->step());
   const double dt = sim->state().t - t1;
   CHECK(obs.sample(sim->model(), sim->state())[0] == doctest::Approx(before + dt / 8.0).epsilon(1e-12));
@@ -149,4 +155,36 @@ TEST_CASE("paste: a cycle period steered mid-run goes on from the phase reached,
   REQUIRE(steer(sim->model_for_steering(), parse_override("box.cycle_viscous_number=0.5")) == "");
   CHECK(sim->model().box_control.cycle_omega == doctest::Approx(0.5 / sim->model().a_max));  // Vi P / (eta a), 2D
   CHECK(sim->model().desc.has("box.cycle_period") == false);
+}
+
+TEST_CASE("paste: a checkpoint restored under another cycle period goes on from the phase it holds") {
+  // The phase's origin was in the model: restored under a period of 8, the cycles started again
+  // from w t, a jump of the imposed stresses from where the checkpoint's run had them.
+  std::string scene = kCyclicPaste;
+  scene.replace(scene.find("{kind}"), 6, "alternating");
+  auto a = test::simulation_from(scene, 1);
+  while (a->state().t < 1.0) REQUIRE(a->step());
+  const std::string path = "cyclic_origin_test.ckpt";
+  write_checkpoint(path, a->model(), a->state());
+  const double t1 = a->state().t;
+  const Observer obs(a->model(), {"cycle"});
+  const double before = obs.sample(a->model(), a->state())[0];
+  REQUIRE(steer(a->model_for_steering(), parse_override("box.cycle_period=8.0")) == "");
+  for (int k = 0; k < 5; ++k) REQUIRE(a->step());
+
+  std::string slower = scene;
+  slower.replace(slower.find("cycle_period = 4.0"), 18, "cycle_period = 8.0");
+  auto b = test::simulation_from(slower, 1);
+  b->restore(read_checkpoint(path, b->model()));
+  std::remove(path.c_str());
+  CHECK(obs.sample(b->model(), b->state())[0] == doctest::Approx(before).epsilon(1e-14));
+  for (int k = 0; k < 5; ++k) REQUIRE(b->step());
+  const double dt = b->state().t - t1;
+  CHECK(obs.sample(b->model(), b->state())[0] == doctest::Approx(before + dt / 8.0).epsilon(1e-12));
+  // The same run as the one steered at that time, to the bit.
+  CHECK(state_hash(b->state()) == state_hash(a->state()));
+  // A new state starts the cycles at phase 0 again.
+  auto c = test::simulation_from(slower, 1);
+  REQUIRE(c->step());
+  CHECK(obs.sample(c->model(), c->state())[0] == doctest::Approx(c->state().t / 8.0).epsilon(1e-14));
 }

@@ -170,3 +170,20 @@ TEST_CASE("paste: a step that moves the grains into each other names the paste's
     CHECK(f.message.find("moved the grains into each other; lower " + key) != std::string::npos);
   }
 }
+
+TEST_CASE("paste: a solve again under a steered viscosity that does not converge names lubrication_resolve") {
+  // It was reported as lubrication_solve, a stage that had not run yet in that step.
+  auto sim = test::simulation_from(loose_scene("solver = \"cg\""), 1);
+  for (int k = 0; k < 2; ++k) REQUIRE(sim->step());
+  Model& m = sim->model_for_steering();
+  REQUIRE(steer(m, parse_override("lubrication.viscosity=2.0")) == "");
+  REQUIRE(steer(m, parse_override("lubrication.max_iterations=2")) == "");
+  CHECK_FALSE(sim->step());
+  const StepFailure& f = sim->state().failure;
+  CHECK(f.step == 3);
+  CHECK(f.stage == "lubrication_resolve");
+  CHECK(f.parameter == "lubrication.max_iterations");
+  CAPTURE(f.message);
+  CHECK(f.message.rfind("step 3, stage lubrication_resolve: the lubrication solve did not converge", 0) == 0);
+  CHECK(sim->last_good_state().step == 2);
+}
