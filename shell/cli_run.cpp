@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <csignal>
+#include <filesystem>
 #include <iostream>
 #include <sstream>
 
@@ -68,9 +69,32 @@ int prepare(Simulation& sim, const RunArgs& a, RunJob& job, std::string& warning
   return 0;
 }
 
+// Two outputs written to one file would leave only the last: the two options, or "" when every
+// output file is its own (a device such as /dev/stdout may take several).
+std::string shared_output(const RunArgs& a) {
+  std::vector<std::pair<std::string, std::filesystem::path>> files;
+  for (const auto& [option, path] : {std::pair<std::string, const std::string*>{"--stats", &a.stats},
+                                     {"--summary", &a.summary},
+                                     {"--save", &a.save}}) {
+    if (path->empty()) continue;
+    std::error_code ec;
+    const auto st = std::filesystem::status(*path, ec);
+    if (std::filesystem::exists(st) && !std::filesystem::is_regular_file(st)) continue;
+    const std::filesystem::path abs = std::filesystem::absolute(*path, ec).lexically_normal();
+    std::filesystem::path p = std::filesystem::weakly_canonical(abs, ec);
+    if (ec) p = abs;
+    for (const auto& [other, q] : files)
+      if (q == p) return other + " and " + option + " name the same file, " + *path;
+    files.emplace_back(option, p);
+  }
+  return "";
+}
+
 }  // namespace
 
 int run_command(const RunArgs& a) {
+  if (const std::string shared = shared_output(a); !shared.empty())
+    return report_error(shared + ": each would overwrite the other", 1);
   int code = 0;
   auto loaded = load_model(a.scene, a.sets, code);
   if (!loaded) return code;
@@ -99,6 +123,9 @@ int run_command(const RunArgs& a) {
   jo.vtk = a.vtk;
   jo.vtk_every = a.vtk_every;
   jo.average_from = a.average_from;
+  // A failed run keeps its last good state (INTERFACE.md) even without an output file to put it
+  // beside: then in the current directory, named after the scene.
+  jo.last_good_fallback = std::filesystem::path(a.scene).stem().string() + ".last_good.ckpt";
   // The observables are checked before anything is prepared or written.
   try {
     Observer check(m, jo.observe.empty() ? m.observe : jo.observe);
@@ -152,7 +179,8 @@ int run_command(const RunArgs& a) {
 
   g_interrupt = false;
   StopSignals stop(&g_interrupt);
-  Progress progress(!a.quiet && ::isatty(2), sim.state().step, sim.steps_for(opt), model.n_grains);
+  const int64_t n_cells = model.cells[0] * model.cells[1] * (model.dim == 3 ? model.cells[2] : 1);
+  Progress progress(!a.quiet && ::isatty(2), sim.state().step, sim.steps_for(opt), model.n_grains, n_cells);
   opt.interrupt = &g_interrupt;
   opt.stop_when_static = model.until_static.on;
   opt.stop_when_steady = model.stop_when_steady;
@@ -180,7 +208,7 @@ int run_command(const RunArgs& a) {
     std::cerr << "silt: last good state (step " << sim.state().failure.step - 1 << ") written to "
               << job->last_good_path() << "\n";
   // Throughput: grain-steps, and cell-steps of a grid (a fluid's).
-  const double cells = static_cast<double>(model.cells[0] * model.cells[1] * (model.dim == 3 ? model.cells[2] : 1));
+  const auto cells = static_cast<double>(n_cells);
   const double per_s = rep.wall_s > 0 ? static_cast<double>(rep.steps_done) / rep.wall_s : 0;
   std::string rate;
   char buf[64];

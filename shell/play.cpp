@@ -1,6 +1,7 @@
 // `silt play SCRIPT`: the shell's commands from a file, each echoed with its line number.
-// Stops at the first error with "SCRIPT:LINE: message" and exit code 2, or 3 when a run failed
-// numerically (INTERFACE.md); --keep-going goes on and exits with that code at the end.
+// Stops at the first error with "SCRIPT:LINE:COL: message" and exit code 2, 3 when a run failed
+// numerically, 4 when a file could not be read or written (INTERFACE.md); --keep-going goes on
+// and exits with the highest code at the end.
 // SIGINT, SIGTERM or SIGHUP pauses the run going on at a step boundary, as in `silt run`; the
 // script then stops, its outputs are written (`quit`), and the exit code is the signal's (130,
 // 143, 129).

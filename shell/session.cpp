@@ -72,7 +72,7 @@ std::string Session::input_path(const std::string& file) const {
     const std::string beside = (std::filesystem::path(script_dir_) / p).string();
     if (std::filesystem::exists(beside, ec)) return beside;
   }
-  if (const std::string problem = input_file_problem(file); !problem.empty()) throw std::runtime_error(problem);
+  if (const std::string problem = input_file_problem(file); !problem.empty()) throw IoError(problem);
   return file;
 }
 
@@ -112,19 +112,29 @@ bool Session::execute(const std::string& line, const std::string& where) {
     script_interrupted_ = false;
     last_error_code_ = 0;
   }
-  const std::string at = where.empty() ? std::string("error") : where;
+  // A script's errors are "FILE:LINE:COL: message" (INTERFACE.md), the column the parser's or
+  // the command's; the shell's own, "error: message" (with the parser's column).
+  int col = 0;
+  if (const auto first = line.find_first_not_of(" \t"); first != std::string::npos) col = static_cast<int>(first) + 1;
+  auto at = [&](int parse_col) {
+    if (where.empty())
+      return std::string("error: ") + (parse_col > 0 ? "column " + std::to_string(parse_col) + ": " : "");
+    return where + ":" + std::to_string(std::max(1, parse_col > 0 ? parse_col : col)) + ": ";
+  };
   int code = 2;
   try {
     if (const std::optional<Command> c = parse_line(line)) dispatch(*c);
     code = 0;
   } catch (const ParseError& e) {
-    err_ << at << ": " << (e.col > 0 && where.empty() ? "column " + std::to_string(e.col) + ": " : std::string())
-         << e.what() << "\n";
+    err_ << at(e.col) << e.what() << "\n";
   } catch (const RunFailure& e) {
-    err_ << at << ": " << e.what() << "\n";
+    err_ << at(0) << e.what() << "\n";
     code = static_cast<int>(ExitCode::kNumerical);
-  } catch (const std::exception& e) {  // SceneError, IoError, and the commands' own errors
-    err_ << at << ": " << e.what() << "\n";
+  } catch (const IoError& e) {  // a file that cannot be read or written: exit 4, as `silt run`'s
+    err_ << at(0) << e.what() << "\n";
+    code = static_cast<int>(ExitCode::kIo);
+  } catch (const std::exception& e) {  // SceneError and the commands' own errors
+    err_ << at(0) << e.what() << "\n";
   }
   if (sim_ && !running()) shown_t_ = sim_->state().t;  // a running simulation publishes it itself
   if (code == 0) return true;

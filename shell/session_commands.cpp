@@ -118,7 +118,13 @@ void Session::cmd_set(const Command& c) {
   }
   // The changes typed so far, with this one last (replacing an earlier value of its key).
   std::vector<Override> next = overrides_;
-  next.erase(std::remove_if(next.begin(), next.end(), [&](const Override& o) { return o.key == change.key; }),
+  // (and the values of the keys it is an alternative to: fluid.reynolds replaces fluid.viscosity)
+  const std::vector<std::string> replaced = alternatives_of(change.key);
+  next.erase(std::remove_if(next.begin(), next.end(),
+                            [&](const Override& o) {
+                              return o.key == change.key ||
+                                     std::find(replaced.begin(), replaced.end(), o.key) != replaced.end();
+                            }),
              next.end());
   next.push_back(change);
   if (spec->steerable) {

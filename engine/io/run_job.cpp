@@ -17,16 +17,17 @@ std::string stem_of(const std::string& path) {
 }
 
 // Where the last good state goes after a failure: NAME.last_good.ckpt beside the summary, else
-// beside the stats; "" when neither is a file (a device such as /dev/stdout is not).
+// beside the stats, else beside the final checkpoint (devices such as /dev/stdout do not count),
+// else the fallback.
 std::string last_good_path_for(const RunJobOptions& o) {
-  for (const std::string* p : {&o.summary, &o.stats}) {
+  for (const std::string* p : {&o.summary, &o.stats, &o.save}) {
     std::error_code ec;
     if (p->empty()) continue;
     const auto st = std::filesystem::status(*p, ec);
     if (std::filesystem::exists(st) && !std::filesystem::is_regular_file(st)) continue;
     return stem_of(*p) + ".last_good.ckpt";
   }
-  return "";
+  return o.last_good_fallback;
 }
 
 // Writes the last good state to `path`; returns whether it could.

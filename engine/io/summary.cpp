@@ -27,8 +27,9 @@ void write_summary(const std::string& path, const SummaryInput& in, const Simula
   j["dt"] = s.dt;
   j["particle_steps_per_s"] = in.wall_s > 0 ? static_cast<double>(m.n_grains) * in.steps_run / in.wall_s : 0.0;
   if (m.cells[0] > 0) {
-    const double cells = static_cast<double>(m.cells[0] * m.cells[1] * (m.dim == 3 ? m.cells[2] : 1));
-    j["cells"] = cells;
+    const int64_t n_cells = m.cells[0] * m.cells[1] * (m.dim == 3 ? m.cells[2] : 1);
+    const auto cells = static_cast<double>(n_cells);
+    j["cells"] = n_cells;
     j["fluid_cell_steps_per_s"] = in.wall_s > 0 ? cells * static_cast<double>(in.steps_run) / in.wall_s : 0.0;
   }
   j["neighbor_builds"] = s.nbr_builds;
@@ -39,7 +40,9 @@ void write_summary(const std::string& path, const SummaryInput& in, const Simula
   for (const Module& mod : modules())
     if (mod.spec->summary && m.module_on(mod.spec->name)) {
       json g = json::object();
-      for (const auto& [key, value] : mod.spec->summary(m, s)) g[key] = value;
+      // Counts (solves, iterations, factorisations) as the integers they are.
+      for (const auto& [key, value] : mod.spec->summary(m, s))
+        g[key] = std::abs(value) < 9e15 && value == std::floor(value) ? json(static_cast<int64_t>(value)) : json(value);
       j[mod.spec->summary_group] = g;
     }
   json obs = json::object();

@@ -246,15 +246,20 @@ void SceneDesc::check_rules() const {
 }
 
 void SceneDesc::erase_alternatives_of(const std::string& key) {
+  for (const std::string& k : alternatives_of(key)) entries.erase(k);
+}
+
+std::vector<std::string> alternatives_of(const std::string& key) {
+  std::vector<std::string> out;
   for (const KeyRule& r : scene_rules()) {
     if (r.kind != KeyRule::Kind::kOneOf) continue;
     for (const auto& side : r.sides) {
       if (std::find(side.begin(), side.end(), key) == side.end()) continue;
       for (const auto& other : r.sides)
-        if (&other != &side)
-          for (const std::string& k : other) entries.erase(k);
+        if (&other != &side) out.insert(out.end(), other.begin(), other.end());
     }
   }
+  return out;
 }
 
 void SceneDesc::check_all_used() const {

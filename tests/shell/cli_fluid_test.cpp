@@ -29,6 +29,10 @@ TEST_CASE("silt run: the cavity's summary holds its probes, frames draw vorticit
   CHECK(u["value"][64].get<double>() < 0);                                  // the return flow
   CHECK(j["lines"]["v_centreline"]["x"][0].size() == 2);
   CHECK(j["solver"]["solves"].get<double>() > 0);
+  // Counts as integers (INTERFACE.md's N), as the number of cells.
+  CHECK(j["cells"].is_number_integer());
+  CHECK(j["solver"]["solves"].is_number_integer());
+  CHECK(j["solver"]["iters_max"].is_number_integer());
   CHECK(std::filesystem::exists(dir + "_frames/frame_000000.png"));
   CHECK(std::filesystem::exists(dir + "_vtk/fields_000000.vti"));
   CHECK(read_file(dir + "_vtk/fields_000000.vti").find("Name=\"vorticity\"") != std::string::npos);

@@ -110,6 +110,44 @@ TEST_CASE("silt run: a numerical failure exits 3 and keeps the last good state")
   CHECK(r.out.find(t) != std::string::npos);
 }
 
+TEST_CASE("silt run: the last good state is kept without a summary or stats, beside --save or the scene's name") {
+  // It was written only beside a summary or stats file: a run with --save alone, or with no
+  // output at all, lost it.
+  const std::string scene =
+      write_file("cli_soft_kept.toml", std::string(silt::test::kSoftCollision) + "steps = 1000\n");
+  std::remove("cli_soft_kept.last_good.ckpt");
+  CHECK(silt_cli("run " + scene + " --quiet").code == 3);
+  CHECK(std::ifstream("cli_soft_kept.last_good.ckpt").good());
+  std::remove("cli_kept_save.last_good.ckpt");
+  const Result r = silt_cli("run " + scene + " --quiet --save cli_kept_save.ckpt");
+  CHECK(r.code == 3);
+  CHECK(r.out.find("written to cli_kept_save.last_good.ckpt") != std::string::npos);
+  CHECK(std::ifstream("cli_kept_save.last_good.ckpt").good());
+  CHECK_FALSE(std::ifstream("cli_kept_save.ckpt").good());  // no final state: the run failed
+  // It continues: the last good state restores.
+  CHECK(silt_cli("run " + scene + " --quiet --steps 1 --restore cli_kept_save.last_good.ckpt").code == 3);
+}
+
+TEST_CASE("silt run: two outputs to one file, or two alternative keys set together, are refused up front") {
+  const std::string scene = silt::test::scene_path("collision_normal");
+  const Result same = silt_cli("run " + scene + " --steps 5 --stats cli_same.out --summary ./cli_same.out");
+  CHECK(same.code == 1);
+  CHECK(same.out.find("--stats and --summary name the same file") != std::string::npos);
+  CHECK(silt_cli("run " + scene + " --steps 5 --stats cli_same.ckpt --save cli_same.ckpt").code == 1);
+  CHECK_FALSE(std::ifstream("cli_same.ckpt").good());
+  // A device may take several.
+  CHECK(silt_cli("run " + scene + " --quiet --steps 5 --stats /dev/null --summary /dev/null").code == 0);
+  // The last of two alternatives won without a word (channel.toml: a flow rate over a pressure
+  // gradient); one --set over the file's alternative still replaces it.
+  const std::string channel = silt::test::scene_path("channel");
+  const Result both =
+      silt_cli("run " + channel + " --steps 2 --set fluid.bulk_velocity=2 --set fluid.pressure_gradient=0");
+  CHECK(both.code == 2);
+  CHECK(both.out.find("--set:2:") != std::string::npos);
+  CHECK(both.out.find("are alternatives") != std::string::npos);
+  CHECK(silt_cli("run " + channel + " --quiet --steps 2 --set fluid.pressure_gradient=1").code == 0);
+}
+
 TEST_CASE("silt run draws a progress line on a terminal, and none with --quiet or without one") {
   // `script` gives the run a pseudo-terminal; the line is redrawn (\r) a few times per second.
   // 60,000 steps: half a second or more in any build (a redraw comes every 0.2 s at most).
@@ -129,6 +167,16 @@ TEST_CASE("silt run draws a progress line on a terminal, and none with --quiet o
   CHECK(lines >= 2);  // at least one redraw during the run and the final one
   CHECK(complete);
   CHECK(redraws("2000", "--quiet").first <= 0);
+  // A fluid without grains counts cell-steps (it showed 0 grain-steps/s).
+  const std::string fluid = "script -qec '" + silt::test::silt_binary() + " run " +
+                            silt::test::scene_path("taylor_green_2d") + " --steps 20' /dev/null";
+  std::FILE* p = popen(fluid.c_str(), "r");
+  std::string shown;
+  char buf[4096];
+  for (size_t n; (n = std::fread(buf, 1, sizeof buf, p)) > 0;) shown.append(buf, n);
+  pclose(p);
+  CHECK(shown.find("cell-steps/s  eta") != std::string::npos);
+  CHECK(shown.find("grain-steps/s") == std::string::npos);
   CHECK(silt_cli("run " + silt::test::scene_path("collision_normal") + " --steps 100").out.find("\r") ==
         std::string::npos);
 }

@@ -68,7 +68,7 @@ std::vector<std::string> hashes(const std::string& out) {
 
 }  // namespace
 
-TEST_CASE("silt play: echoes each command with its line, stops at the first error with SCRIPT:LINE") {
+TEST_CASE("silt play: echoes each command with its line, stops at the first error with SCRIPT:LINE:COL") {
   TempDir dir;
   int code = -1;
   const std::string script =
@@ -77,7 +77,7 @@ TEST_CASE("silt play: echoes each command with its line, stops at the first erro
   CHECK(code == 2);
   CHECK(contains(out, "play.silt:3> run 100"));
   CHECK(contains(out, "step = 100"));
-  CHECK(contains(out, "play.silt:5: unknown command 'prnt'; did you mean 'print'?"));
+  CHECK(contains(out, "play.silt:5:1: unknown command 'prnt'; did you mean 'print'?"));
   CHECK_FALSE(contains(out, "play.silt:6>"));
   out = play(dir, script, "--keep-going", &code);
   CHECK(code == 2);
@@ -86,12 +86,25 @@ TEST_CASE("silt play: echoes each command with its line, stops at the first erro
   CHECK(code == 0);
   play(dir, "", "", &code);
   CHECK(code == 0);
+  // The column is the parser's, else the command's (INTERFACE.md: FILE:LINE:COL).
+  out = play(dir, "  print \"t\n", "", &code);
+  CHECK(code == 2);
+  CHECK(contains(out, "play.silt:1:9: "));
+  out = play(dir, "load " + silt::test::scene_path("collision_normal") + "\n   set contact.k_n fast\n", "", &code);
+  CHECK(code == 2);
+  CHECK(contains(out, "play.silt:2:4: "));
+  // A file that cannot be written or read is an I/O error, 4, as for `silt run`.
+  out = play(dir, "load " + silt::test::scene_path("collision_normal") + "\nsave nodir/x.ckpt\n", "", &code);
+  CHECK(code == 4);
+  CHECK(contains(out, "play.silt:2:1: cannot write checkpoint"));
+  play(dir, "load " + silt::test::scene_path("collision_normal") + "\nrestore nothere.ckpt\n", "", &code);
+  CHECK(code == 4);
   // A directory is not a script.
   const std::string cmd = silt::test::silt_binary() + " play " + dir.path() + " 2>&1";
   CHECK(WEXITSTATUS(std::system((cmd + " > /dev/null").c_str())) == 4);
 }
 
-TEST_CASE("silt play: a run that fails numerically stops the script with SCRIPT:LINE and exit code 3") {
+TEST_CASE("silt play: a run that fails numerically stops the script with SCRIPT:LINE:COL and exit code 3") {
   TempDir dir;
   std::ofstream(dir / "soft.toml") << silt::test::kSoftCollision;
   // The scene beside the script is found from another working directory too.
@@ -99,7 +112,7 @@ TEST_CASE("silt play: a run that fails numerically stops the script with SCRIPT:
   int code = -1;
   std::string out = play(dir, script, "", &code);
   CHECK(code == 3);
-  const auto error = lines_after(out, "play.silt:2: step ");  // the step, the stage, what to change
+  const auto error = lines_after(out, "play.silt:2:1: step ");  // the step, the stage, what to change
   REQUIRE(error.size() == 1);
   CHECK(contains(error[0], "contact.k_n"));
   CHECK_FALSE(contains(out, "play.silt:3>"));

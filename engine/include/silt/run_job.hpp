@@ -25,6 +25,9 @@ struct RunJobOptions {
   std::string vtk;                   // VTK directory ("" none)
   int64_t vtk_every = 0;             // (0: output.every)
   double average_from = 0;           // means and errors over samples with t >= this [s]
+  // Where a failed run's last good state goes when there is no summary, stats or checkpoint file
+  // to put it beside ("" none: the shell keeps it in memory).
+  std::string last_good_fallback;
   // Samples go into this series instead of a new one (the shell's, kept since the scene was
   // loaded); `observe` and `stats` are then its own.
   StatsWriter* series = nullptr;

@@ -92,6 +92,8 @@ struct KeyRule {
 // pointers to keys stay valid when a module registers later.
 const std::deque<KeySpec>& scene_schema();
 const std::vector<KeyRule>& scene_rules();
+// The keys `key` is an alternative to (KeyRule::one_of): fluid.reynolds for fluid.viscosity.
+std::vector<std::string> alternatives_of(const std::string& key);
 // The spec of a key path, with array indices normalised ("grains[3].radius" -> "grains[]...").
 const KeySpec* find_key_spec(std::string_view path);
 std::string normalise_key(std::string_view path);
