@@ -20,7 +20,9 @@ ObservableSpec measured(const char* pattern, const char* unit, const char* doc, 
 
 std::vector<ObservableSpec> dem_observables() {
   std::vector<ObservableSpec> o = {
-      measured("ke", "J", "kinetic energy of the free grains (translation + rotation)",
+      measured("ke", "J",
+               "kinetic energy of the free grains (translation + rotation; in a deforming box, of the velocities "
+               "relative to the affine flow, as the state holds them)",
                [](const Measurements& x, const Args&) { return x.ke; }),
       measured("ke_rot", "J", "rotational kinetic energy", [](const Measurements& x, const Args&) { return x.ke_rot; }),
       measured("ke_fluct", "J", "translational kinetic energy per grain, relative to the affine flow",
