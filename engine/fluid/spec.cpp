@@ -136,6 +136,7 @@ const ModuleSpec& module() {
     };
     // The pressure solves, as INTERFACE.md's "solver" group (transforms: no iterations).
     s.summary_group = "solver";
+    s.summary_counts = {"solves", "iters_max", "refactorisations"};
     s.summary = [](const Model&, const State& st) {
       const auto& v = st.module_field(fluid_fields().stat);
       std::vector<std::pair<std::string, double>> out;

@@ -42,14 +42,15 @@ Access solve_reads() {
           f.coarse_order,
           f.dt_scale,
           f.solved_under,
+          f.pair_f_implicit,
           shear::cycle_origin_field(),  // the cycles' phase, for the imposed stresses
           fid::particle_id};            // names the grains alone
 }
 
 Access solve_writes() {
   const paste::PasteFields f = paste::paste_fields();
-  return {fid::particle_v, fid::particle_w, fid::box_rate, f.pair_f_lub,   f.dt,       f.solver,
-          f.change,        f.factor,        f.alone,       f.coarse_order, f.dt_scale, f.solved_under};
+  return {fid::particle_v, fid::particle_w, fid::box_rate,  f.pair_f_lub, f.dt,           f.solver,         f.change,
+          f.factor,        f.alone,         f.coarse_order, f.dt_scale,   f.solved_under, f.pair_f_implicit};
 }
 
 void diagnose_paste(GraphBuilder& b) {

@@ -39,6 +39,7 @@ Simulation::Simulation(Model model, int threads)
       state_(make_state(model_)),
       threads_(threads > 0 ? threads : tbb::info::default_concurrency()),
       impl_(std::make_unique<Impl>(threads_)) {
+  adopt_modules();
   impl_->arena.execute([&] {
     impl_->step = std::make_unique<graph::StepGraph>(model_, impl_->workspaces, graph::Phase::kStep);
     impl_->setup = std::make_unique<graph::StepGraph>(model_, impl_->workspaces, graph::Phase::kSetup);
@@ -46,6 +47,11 @@ Simulation::Simulation(Model model, int threads)
 }
 
 Simulation::~Simulation() = default;
+
+void Simulation::adopt_modules() {
+  for (const Module& mod : modules())
+    if (mod.spec->adopt && model_.module_on(mod.spec->name)) mod.spec->adopt(model_, state_);
+}
 
 std::vector<std::string> Simulation::stage_names() const {
   std::vector<std::string> out;
@@ -120,6 +126,7 @@ std::vector<std::string> Simulation::take_notices() {
 void Simulation::restore(State s) {
   impl_->unprepared.reset();
   state_ = adopt_state(model_, std::move(s));
+  adopt_modules();
   state_.failure = StepFailure{};
   state_.events.clear();
   state_.internal.clear();
@@ -127,7 +134,8 @@ void Simulation::restore(State s) {
   impl_->restart.take(state_);
   impl_->primed = true;
   for (const Module& mod : modules())
-    if (mod.spec->unstarted && model_.module_on(mod.spec->name) && mod.spec->unstarted(state_)) impl_->primed = false;
+    if (mod.spec->unstarted && model_.module_on(mod.spec->name) && mod.spec->unstarted(model_, state_))
+      impl_->primed = false;
 }
 
 Model& Simulation::model_for_steering() {

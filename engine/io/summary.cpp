@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -41,8 +42,11 @@ void write_summary(const std::string& path, const SummaryInput& in, const Simula
     if (mod.spec->summary && m.module_on(mod.spec->name)) {
       json g = json::object();
       // Counts (solves, iterations, factorisations) as the integers they are.
+      const auto& counts = mod.spec->summary_counts;
       for (const auto& [key, value] : mod.spec->summary(m, s))
-        g[key] = std::abs(value) < 9e15 && value == std::floor(value) ? json(static_cast<int64_t>(value)) : json(value);
+        g[key] = std::find(counts.begin(), counts.end(), key) != counts.end() && std::abs(value) < 9e15
+                     ? json(static_cast<int64_t>(value))
+                     : json(value);
       j[mod.spec->summary_group] = g;
     }
   json obs = json::object();

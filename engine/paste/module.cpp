@@ -164,6 +164,7 @@ void compile_paste(const SceneDesc& d, Model& m) {
   m.adaptive_dt = true;
   m.pair_forces_every_step = true;
   m.pair_stress_fields.push_back(paste_fields().pair_f_lub);
+  m.pair_stress_fields.push_back(paste_fields().pair_f_implicit);  // (empty with explicit contacts)
   m.kinetic_stress = p.stepper == Stepper::kInertial;
 }
 
@@ -258,6 +259,7 @@ std::string steer_paste(Model& m, const Model& fresh) {
   const double unit = p.time_unit;
   p = PasteParams(f);
   p.time_unit = unit;
+  m.dt_key = fresh.dt_key;  // a fixed step set or unset: the key an overlap's report names
   return "";
 }
 
@@ -269,6 +271,9 @@ std::string check_paste_state(const Model& m, const State& s) {
     return "paste_solver has the wrong length";
   const auto& dt = s.module_field(f.dt);
   if (dt.size() != 1 || !(dt[0] >= 0)) return "paste_dt is not a time step";
+  if (const size_t k = s.module_field(f.pair_f_implicit).size();
+      k != 0 && k != static_cast<size_t>(m.dim * s.n_pairs()))
+    return "pair_f_implicit has the wrong length";
   const int pg = m.dim == 2 ? 3 : 6;
   int n_box = 0;
   if (m.box_control.on)
@@ -344,6 +349,9 @@ const ModuleSpec& module() {
          "implicit contacts, pressure, cycle amplitude and w, shear rate and stress): others in the model solve them "
          "again before the step moves the grains (lubrication_resolve); lubrication_solve"},
         {"paste_solver", Extent::kFree, "", "solver counts (paste/solve.hpp SolverStat); lubrication_solve"},
+        {"pair_f_implicit", Extent::kFree, "N",
+         "with implicit contacts (else empty), the increment dt K G V of each contact's force over the step, on i "
+         "from j, which the solve counted with the contact forces; lubrication_solve"},
         {"paste_change", Extent::kFree, "",
          "Xi's diagonal and the right-hand side of the last solve, for the adaptive step; lubrication_solve"},
         {"paste_factor", Extent::kFree, "",
@@ -368,6 +376,7 @@ const ModuleSpec& module() {
     s.check_state = check_paste_state;
     s.notice = [](const Model&, const State& st) { return alone_notice(st); };
     s.summary_group = "solver";
+    s.summary_counts = {"solves", "iters_max", "refactorisations", "connections", "coarse_columns"};
     s.summary = [](const Model&, const State& st) -> std::vector<std::pair<std::string, double>> {
       const auto& v = st.module_field(paste_fields().solver);
       if (v.size() != kSolverStats) return {};
@@ -383,9 +392,10 @@ const ModuleSpec& module() {
     s.prepare_dry = paste_to_dry;
     // No solve yet: a packing compressed dry (prepare.compress, or one given by --restore), whose
     // velocities and box rates are the compression's. The first drift needs the paste's own.
-    s.unstarted = [](const State& st) {
+    s.unstarted = [](const Model& m, const State& st) {
       const auto& v = st.module_field(paste_fields().solver);
-      return v.size() <= kSolves || v[kSolves] == 0;  // (an older checkpoint may hold fewer stats)
+      // (an older checkpoint may hold fewer stats)
+      return v.size() <= kSolves || v[kSolves] == 0 || solved_under_other(m, st);
     };
     return s;
   }();

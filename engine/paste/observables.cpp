@@ -29,10 +29,11 @@ double solver_stat(const ObservableContext& c, SolverStat k) {
   return v.size() == kSolverStats ? v[k] : 0.0;
 }
 
-// The lubrication's pressure, split between the pairs in contact and those apart: the thesis
-// counts the lubrication of touching grains in the contact pressure (Peyneau 2009 sec. 4.2.3).
-std::array<double, 2> lubrication_pressures(const State& s) {
-  const auto& f = s.module_field(paste_fields().pair_f_lub);
+// The pressure of a pair force field (the lubrication's, or the implicit contacts' increments),
+// split between the pairs in contact and those apart: the thesis counts the lubrication of
+// touching grains in the contact pressure (Peyneau 2009 sec. 4.2.3).
+std::array<double, 2> pair_pressures(const State& s, FieldId field) {
+  const auto& f = s.module_field(field);
   const int D = s.dim;
   std::array<double, 2> p{0, 0};
   if (f.size() != static_cast<size_t>(D * s.n_pairs())) return p;
@@ -109,12 +110,15 @@ std::vector<ObservableSpec> paste_observables() {
        "touching grains (Peyneau 2009 sec. 4.2.3)",
        [](C c, A) {
          const Measurements& x = c.meas();
+         // (the pressure less that of the pair fields: the contacts' own forces and the kinetic part)
          const double elastic = x.pressure - trace(x.stress_pairs, c.m.dim);
-         return (elastic + lubrication_pressures(c.s)[0]) / imposed_pressure(c.m);
+         const auto implicit = pair_pressures(c.s, paste_fields().pair_f_implicit);
+         return (elastic + pair_pressures(c.s, paste_fields().pair_f_lub)[0] + implicit[0] + implicit[1]) /
+                imposed_pressure(c.m);
        }},
       {"p_lub_ratio", "",
        "pressure carried by the lubrication between grains apart / P (p_cont_ratio + p_lub_ratio = 1)",
-       [](C c, A) { return lubrication_pressures(c.s)[1] / imposed_pressure(c.m); }},
+       [](C c, A) { return pair_pressures(c.s, paste_fields().pair_f_lub)[1] / imposed_pressure(c.m); }},
       {"eta_eff", "",
        "effective viscosity |stress.xy| / (eta gammadot), in units of eta (|stress.xy| / (eta gammadot a) in 2D): "
        "mu / Vi",

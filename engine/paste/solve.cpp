@@ -119,10 +119,11 @@ double next_step(const PasteParams& p, double dt, double change) {
 }  // namespace
 
 PasteFields paste_fields() {
-  static const PasteFields f{
-      find_field("pair_f_lub")->id,         find_field("paste_dt")->id,       find_field("paste_solver")->id,
-      find_field("paste_change")->id,       find_field("paste_factor")->id,   find_field("paste_alone")->id,
-      find_field("paste_coarse_order")->id, find_field("paste_dt_scale")->id, find_field("paste_solved_under")->id};
+  static const PasteFields f{find_field("pair_f_lub")->id,         find_field("paste_dt")->id,
+                             find_field("paste_solver")->id,       find_field("paste_change")->id,
+                             find_field("paste_factor")->id,       find_field("paste_alone")->id,
+                             find_field("paste_coarse_order")->id, find_field("paste_dt_scale")->id,
+                             find_field("paste_solved_under")->id, find_field("pair_f_implicit")->id};
   return f;
 }
 
@@ -187,15 +188,11 @@ std::array<double, 11> solve_parameters(const Model& m) {
           m.shear.stress};
 }
 
-}  // namespace
-
-void paste_dt(const Model& m, State& s) {
-  const PasteParams& p = m.params.get<PasteParams>();
+// The step of the state (paste_dt), under the model's time scale (paste_dt, below); dt_initial in a
+// state without one.
+double state_step(const PasteParams& p, const State& s) {
   const double dt = s.module_field(paste_fields().dt)[0];
-  if (dt <= 0) {
-    s.dt = p.dt_initial;
-    return;
-  }
+  if (dt <= 0) return p.dt_initial;
   // A steered time scale (a viscosity, pressure or rate changed): when it fell by r, the step of the
   // old scale would shear and move the grains 1 / r times too far a step (a viscosity lowered 1,000
   // times dilated a sheared paste by 5 % in 50 steps, no failure reported): the step falls with it.
@@ -204,7 +201,21 @@ void paste_dt(const Model& m, State& s) {
   // within the new bounds. The velocities are solved again under the new parameters
   // (lubrication_resolve).
   const double r = step_rescale(p, s);
-  s.dt = std::clamp(r < 1 ? dt * r : dt, p.dt_min, p.dt_max);
+  return std::clamp(r < 1 ? dt * r : dt, p.dt_min, p.dt_max);
+}
+
+}  // namespace
+
+void paste_dt(const Model& m, State& s) { s.dt = state_step(m.params.get<PasteParams>(), s); }
+
+bool solved_under_other(const Model& m, const State& s) {
+  const PasteParams& p = m.params.get<PasteParams>();
+  if (p.stepper != Stepper::kQuasiStatic) return false;  // the inertial stepper's carry over
+  const std::vector<double>& under = s.module_field(paste_fields().solved_under);
+  // Empty: a checkpoint written before the parameters were kept; solved again only when its time
+  // scale differs from the model's (what it records).
+  const auto now = solve_parameters(m);
+  return under.empty() ? step_rescale(p, s) != 1.0 : !std::equal(under.begin(), under.end(), now.begin(), now.end());
 }
 
 namespace {
@@ -269,7 +280,8 @@ void solve_paste(const Model& m, State& s, PasteWorkspace& w, SolveAt at) {
   // The step these velocities will move the grains by: the next one.
   const bool inertial = p.stepper == Stepper::kInertial;
   const double dt_field = s.module_field(f.dt)[0];
-  const double dt = at == SolveAt::kFirst ? (dt_field > 0 ? dt_field : p.dt_initial) : s.dt;
+  // (the first solve of a state solved under another time scale: its step rescaled, as paste_dt would)
+  const double dt = at == SolveAt::kFirst ? (dt_field > 0 ? state_step(p, s) : p.dt_initial) : s.dt;
   const bool adapt = at == SolveAt::kStep && !p.fixed_dt;
   const double dt_next = adapt ? next_step(p, dt, step_change) : dt;
   if (p.implicit_contacts) {
@@ -460,6 +472,11 @@ void solve_paste(const Model& m, State& s, PasteWorkspace& w, SolveAt at) {
   // The lubrication force of every connection, on i from j, stored at its pair.
   std::vector<double>& f_lub = s.module_field(f.pair_f_lub);
   f_lub.assign(static_cast<size_t>(D * s.n_pairs()), 0.0);
+  // And with implicit contacts, their increment over the step: a part of the contact forces the
+  // box rows held at the imposed stresses (the stress measured without it missed them).
+  std::vector<double>& f_impl = s.module_field(f.pair_f_implicit);
+  if (p.implicit_contacts) f_impl.assign(static_cast<size_t>(D * s.n_pairs()), 0.0);
+  else f_impl.clear();
   const int nl = local_size(L);
   parallel_for(static_cast<int64_t>(cs.size()), 1024, [&](int64_t lo, int64_t hi) {
     double u[16];
@@ -470,6 +487,8 @@ void solve_paste(const Model& m, State& s, PasteWorkspace& w, SolveAt at) {
         u[q] = g >= 0 ? x[g] : s.shear_rate;
       }
       connection_force(L, c, s.particle_r[c.i], s.particle_r[c.j], u, &f_lub[D * w.links.pair[k]]);
+      if (p.implicit_contacts && (c.k_n > 0 || c.k_t > 0))
+        connection_force(L, c, s.particle_r[c.i], s.particle_r[c.j], u, &f_impl[D * w.links.pair[k]], true);
     }
   });
 
@@ -486,14 +505,7 @@ void solve_paste(const Model& m, State& s, PasteWorkspace& w, SolveAt at) {
 void lubrication_solve(const Model& m, State& s, PasteWorkspace& w, SolveAt at) { solve_paste(m, s, w, at); }
 
 void lubrication_resolve(const Model& m, State& s, PasteWorkspace& w) {
-  const PasteParams& p = m.params.get<PasteParams>();
-  if (p.stepper != Stepper::kQuasiStatic) return;
-  const std::vector<double>& under = s.module_field(paste_fields().solved_under);
-  // Empty: a checkpoint written before the parameters were kept; solved again only when its time
-  // scale differs from the model's (what it records).
-  const auto now = solve_parameters(m);
-  if (under.empty() ? step_rescale(p, s) == 1.0 : std::equal(under.begin(), under.end(), now.begin(), now.end()))
-    return;
+  if (!solved_under_other(m, s)) return;
   // An imposed rate enters the solve through the state's rate, which box_drift sets later in the step.
   if (m.shear.on && !m.shear.stress_controlled) s.shear_rate = m.shear.rate;
   solve_paste(m, s, w, SolveAt::kAgain);

@@ -25,7 +25,7 @@ namespace silt::paste {
 
 // The paste's own fields (registered by its module spec).
 struct PasteFields {
-  FieldId pair_f_lub, dt, solver, change, factor, alone, coarse_order, dt_scale, solved_under;
+  FieldId pair_f_lub, dt, solver, change, factor, alone, coarse_order, dt_scale, solved_under, pair_f_implicit;
 };
 PasteFields paste_fields();
 
@@ -93,6 +93,10 @@ void lubrication_solve(const Model& m, State& s, PasteWorkspace& w, SolveAt at);
 // solved under parameters other than the model's (paste_solved_under), else nothing. The inertial
 // stepper's velocities are the grains' own and carry over a change.
 void lubrication_resolve(const Model& m, State& s, PasteWorkspace& w);
+// Whether the state's quasi-static velocities were solved under other parameters than the model's
+// (lubrication_resolve solves them again; a state restored so is solved again before its first
+// sample, ModuleSpec::unstarted).
+bool solved_under_other(const Model& m, const State& s);
 
 // The stepper's name, for reports.
 const char* stepper_name(Stepper s);

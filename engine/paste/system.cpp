@@ -82,8 +82,8 @@ void local_block(const SystemLayout& l, const Connection& c, double ri, double r
     }
 }
 
-void connection_force(const SystemLayout& l, const Connection& c, double ri, double rj, const double* u,
-                      double* force) {
+void connection_force(const SystemLayout& l, const Connection& c, double ri, double rj, const double* u, double* force,
+                      bool contact_part) {
   const int d = l.dim, n = local_size(l);
   double g[3 * 16];
   local_map(l, c, ri, rj, g);
@@ -93,7 +93,8 @@ void connection_force(const SystemLayout& l, const Connection& c, double ri, dou
   for (int row = 0; row < d; ++row) {
     double v = 0;
     for (int q = 0; q < n; ++q) v += g[row * n + q] * u[q];
-    const double f = -(row == 0 ? c.xi_n : c.xi_t) * v;
+    const double coef = contact_part ? (row == 0 ? c.k_n : c.k_t) : (row == 0 ? c.xi_n : c.xi_t);
+    const double f = -coef * v;
     const double* e = row == 0 ? c.n : tan[row - 1];
     for (int a = 0; a < d; ++a) force[a] += f * e[a];
   }

@@ -124,8 +124,10 @@ linalg::CoarseSpace stiff_directions(const SystemLayout& layout, const std::vect
 inline int64_t direction_key(int64_t n, int64_t i, int64_t j, int d) {
   return 3 * (std::min(i, j) * n + std::max(i, j)) + d;
 }
-// The force on i from j of a connection (dim components) for local unknowns u (eq. 2.24).
+// The force on i from j of a connection (dim components) for local unknowns u (eq. 2.24): its
+// lubrication, -xi G u; with `contact_part`, its implicit contact's increment over the step,
+// -dt K G u (Connection::k_n, k_t), which the solve counted in the same way.
 void connection_force(const SystemLayout& layout, const Connection& c, double ri, double rj, const double* u,
-                      double* force);
+                      double* force, bool contact_part = false);
 
 }  // namespace silt::paste

@@ -182,7 +182,8 @@ std::string canonical_override_key(const std::string& key) {
   return out;
 }
 
-void apply_override_at(SceneDesc& desc, const Override& o, int ordinal) {
+// `batch`: one of the command line's --set list, which may not hold two alternatives.
+void apply_override_at(SceneDesc& desc, const Override& o, int ordinal, bool batch) {
   const FileLoc where{"--set", ordinal, static_cast<int>(o.key.size()) + 2};
   const std::string path = canonical_override_key(o.key);
   const std::string norm = normalise_key(path);
@@ -218,7 +219,7 @@ void apply_override_at(SceneDesc& desc, const Override& o, int ordinal) {
   if (!err.empty()) throw SceneError(where, err);
   // As the shell's `set`: a key replaces the keys of the file it is an alternative to (run.dt
   // run.dt_over_tc); two of them on the command line would leave the last alone, unsaid.
-  for (const std::string& other : alternatives_of(path))
+  for (const std::string& other : batch ? alternatives_of(path) : std::vector<std::string>{})
     if (const auto it = desc.entries.find(other); it != desc.entries.end() && it->second.loc.file == "--set")
       throw SceneError(where, "'" + path + "' and '" + other + "' (--set " + std::to_string(it->second.loc.line) +
                                   ") are alternatives: give one of them");
@@ -228,7 +229,7 @@ void apply_override_at(SceneDesc& desc, const Override& o, int ordinal) {
 
 }  // namespace
 
-void apply_override(SceneDesc& desc, const Override& o) { apply_override_at(desc, o, 1); }
+void apply_override(SceneDesc& desc, const Override& o) { apply_override_at(desc, o, 1, false); }
 
 Override parse_override(const std::string& key_eq_value) {
   const auto eq = key_eq_value.find('=');
@@ -249,7 +250,7 @@ SceneDesc parse_scene(const std::string& text, const std::string& name, const st
   }
   Reader(desc, name).table(root, "");
   int ordinal = 1;
-  for (const Override& o : overrides) apply_override_at(desc, o, ordinal++);
+  for (const Override& o : overrides) apply_override_at(desc, o, ordinal++, true);
   return desc;
 }
 

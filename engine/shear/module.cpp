@@ -256,6 +256,13 @@ const ModuleSpec& module() {
     s.fields = {{"box_cycle_origin", Extent::kFree, "",
                  "where the cycles' phase is counted from: empty (w t), or t0, the phase at t0 and the w since "
                  "(silt::CycleOrigin); cycle_origin"}};
+    // The origin from the start (w t), or the restored state's own: a w steered before the first
+    // step then goes on from the phase reached, not from w_new t.
+    s.adopt = [](const Model& m, State& st) {
+      if (m.box_control.on && m.box_control.cycle != StressCycle::kNone &&
+          st.module_field(cycle_origin_field()).empty())
+        st.module_field(cycle_origin_field()) = {0.0, 0.0, m.box_control.cycle_omega};
+    };
     s.check_state = [](const Model&, const State& st) -> std::string {
       const size_t n = st.module_field(cycle_origin_field()).size();
       return n == 0 || n == 3 ? "" : "box_cycle_origin has " + std::to_string(n) + " entries, not 0 or 3";

@@ -33,6 +33,7 @@ TEST_CASE("silt run: the cavity's summary holds its probes, frames draw vorticit
   CHECK(j["cells"].is_number_integer());
   CHECK(j["solver"]["solves"].is_number_integer());
   CHECK(j["solver"]["iters_max"].is_number_integer());
+  CHECK(j["solver"]["iters_mean"].is_number_float());  // a mean, whole or not
   CHECK(std::filesystem::exists(dir + "_frames/frame_000000.png"));
   CHECK(std::filesystem::exists(dir + "_vtk/fields_000000.vti"));
   CHECK(read_file(dir + "_vtk/fields_000000.vti").find("Name=\"vorticity\"") != std::string::npos);

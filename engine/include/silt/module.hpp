@@ -61,6 +61,7 @@ struct ModuleSpec {
   // What the module adds to a run's summary (--summary): one JSON object of numbers under
   // summary_group ("solver" for the paste's linear solves).
   std::string summary_group;
+  std::vector<std::string> summary_counts;  // the keys of `summary` that count (written as integers)
   std::function<std::vector<std::pair<std::string, double>>(const Model& m, const State& s)> summary;
   // Its fields on grids (a fluid's velocity, pressure, vorticity at the cell centres), for frames
   // and VTK files: all of them, or (`only` not empty) just the one of that name, which a frame
@@ -77,8 +78,13 @@ struct ModuleSpec {
   // Whether a state given to a simulation (a packing compressed dry, a checkpoint of a run
   // without this module) has not been started by the module: the stages of the first state then
   // run before its first step, as for a new state (a paste solves the velocities the first drift
-  // moves the grains with). A state the module has stepped is continued as it is. Empty: never.
-  std::function<bool(const State& s)> unstarted;
+  // moves the grains with), or one the module cannot continue as it is under this model (a paste's
+  // velocities solved under another viscosity or rate: solved again before anything is sampled).
+  // A state the module has stepped under the same parameters is continued as it is. Empty: never.
+  std::function<bool(const Model& m, const State& s)> unstarted;
+  // Fills the module's fields of a state made or given (restored) for this model with what a later
+  // change must not lose (the cycles' phase origin under the w of this model). Empty: nothing.
+  std::function<void(const Model& m, State& s)> adopt;
 };
 
 // The stages of a module, added to a step graph (or to the graph that computes the forces of the

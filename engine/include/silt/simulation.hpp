@@ -123,6 +123,8 @@ class Simulation {
   struct Impl;
   void execute(graph::StepGraph& g, State& s);
   void collect_notices();
+  // ModuleSpec::adopt of every module the model enables, on the state made or restored.
+  void adopt_modules();
   Model model_;
   State state_;
   int threads_;

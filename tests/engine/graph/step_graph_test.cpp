@@ -158,7 +158,8 @@ TEST_CASE("a broken invariant stops the step with an internal error on both exec
 }
 
 TEST_CASE("every stage of the shipped scenes touches only what it declares") {
-  for (std::string name : {"collision_normal", "bounce_dry", "pack_2d", "silo", "shear2d_dry"}) {
+  for (std::string name :
+       {"collision_normal", "bounce_dry", "pack_2d", "silo", "shear2d_dry", "paste_cyclic_alternating"}) {
     CAPTURE(name);
     Model m = compile(load_scene_file(test::scene_path(name)));
     Simulation sim(std::move(m), 1);

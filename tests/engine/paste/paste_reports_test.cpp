@@ -169,6 +169,15 @@ TEST_CASE("paste: a step that moves the grains into each other names the paste's
     CHECK(f.parameter == key);
     CHECK(f.message.find("moved the grains into each other; lower " + key) != std::string::npos);
   }
+  // The same step steered (the shell's `set lubrication.dt 100`): it named lubrication.dt_max,
+  // which a fixed step then refuses.
+  auto sim = test::simulation_from(loose_scene(""), 1);
+  REQUIRE(sim->step());
+  REQUIRE(steer(sim->model_for_steering(), parse_override("lubrication.dt=100.0")) == "");
+  bool failed = false;
+  for (int k = 0; k < 5 && !failed; ++k) failed = !sim->step();
+  REQUIRE(failed);
+  CHECK(sim->state().failure.parameter == "lubrication.dt");
 }
 
 TEST_CASE("paste: a solve again under a steered viscosity that does not converge names lubrication_resolve") {
