@@ -122,7 +122,11 @@ void add_paste_stages(GraphBuilder& b) {
     const int solve = b.add(
         "lubrication_solve",
         [&w](const Model& m, State& s) { paste::lubrication_solve(m, s, w, paste::SolveAt::kFirst); }, solve_reads(),
-        solve_writes());
+        [] {
+          Access a = solve_writes();
+          a.push_back(fid::dt);  // the first step's, which the state shows before it
+          return a;
+        }());
     b.after(solve, b.find("sum_forces"), "solves with the contact forces of the first state");
     b.after(solve, b.find("restore_springs"), "implicit contacts: the springs as the first step starts them");
     return;

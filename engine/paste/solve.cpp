@@ -283,6 +283,8 @@ void solve_paste(const Model& m, State& s, PasteWorkspace& w, SolveAt at) {
   // (the first solve of a state solved under another time scale: its step rescaled, as paste_dt would)
   const double dt = at == SolveAt::kFirst ? (dt_field > 0 ? state_step(p, s) : p.dt_initial) : s.dt;
   const bool adapt = at == SolveAt::kStep && !p.fixed_dt;
+  // The state's step before the first is the paste's (it showed the DEM's contact-time step).
+  if (at == SolveAt::kFirst) s.dt = dt;
   const double dt_next = adapt ? next_step(p, dt, step_change) : dt;
   if (p.implicit_contacts) {
     set_contact_stiffness(m, s, dt_next, w.links);

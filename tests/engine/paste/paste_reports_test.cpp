@@ -7,6 +7,7 @@
 #include <set>
 #include <string>
 
+#include "paste/params.hpp"
 #include "paste/solve.hpp"
 #include "silt/text.hpp"
 #include "support/scenes.hpp"
@@ -195,4 +196,15 @@ TEST_CASE("paste: a solve again under a steered viscosity that does not converge
   CAPTURE(f.message);
   CHECK(f.message.rfind("step 3, stage lubrication_resolve: the lubrication solve did not converge", 0) == 0);
   CHECK(sim->last_good_state().step == 2);
+}
+
+TEST_CASE("paste: the state before the first step shows the paste's first step, not the contacts' dt") {
+  auto sim = test::simulation_from(loose_scene(""), 1);
+  const double dem_dt = sim->state().dt;
+  sim->prepare();
+  const auto& p = sim->model().params.get<paste::PasteParams>();
+  CHECK(p.dt_initial != dem_dt);
+  CHECK(sim->state().dt == p.dt_initial);
+  REQUIRE(sim->step());
+  CHECK(sim->state().t == doctest::Approx(p.dt_initial).epsilon(1e-15));  // the step it showed
 }
