@@ -279,8 +279,8 @@ std::string check_paste_state(const Model& m, const State& s) {
   if (m.box_control.on)
     for (int a = 0; a < m.dim; ++a) n_box += m.box_control.controlled[a];
   const int64_t size = s.n * pg + n_box;
-  const auto& change = s.module_field(f.change);
-  if (!change.empty() && static_cast<int64_t>(change.size()) != 2 * size) return "paste_change has the wrong length";
+  // (The change watched and the stored factor of other unknowns, a checkpoint of a box under
+  // pressure restored into a fixed one: dropped when the state is adopted, paste_adopt.)
   const auto& alone = s.module_field(f.alone);
   if (!alone.empty()) {
     if (alone[0] != 0 && alone[0] != 1) return "paste_alone's flag is neither 0 nor 1";
@@ -297,9 +297,8 @@ std::string check_paste_state(const Model& m, const State& s) {
         return "paste_coarse_order's keys are not whole numbers in range";
   }
   const auto& a = s.module_field(f.factor);
-  if (a.empty()) return "";
-  if (a.size() < 2 || a[0] != static_cast<double>(size) || !(a[1] >= 0) || a[1] > 1e12 ||
-      a.size() != static_cast<size_t>(2 + (size + 1) + 2 * a[1]))
+  if (a.empty() || a[0] != static_cast<double>(size)) return "";
+  if (a.size() < 2 || !(a[1] >= 0) || a[1] > 1e12 || a.size() != static_cast<size_t>(2 + (size + 1) + 2 * a[1]))
     return "paste_factor is not a matrix of the paste's unknowns";
   const auto nnz = static_cast<int64_t>(a[1]);
   const double* col = a.data() + 2;
@@ -312,6 +311,21 @@ std::string check_paste_state(const Model& m, const State& s) {
         return "paste_factor's rows are out of range or out of order";
   }
   return "";
+}
+
+// A state given to a paste of other unknowns (a box's lengths controlled in one and fixed in the
+// other) keeps its velocities but not the change its adaptive step watched nor its stored factor:
+// both are made again at the next solve.
+void paste_adopt(const Model& m, State& s) {
+  const PasteFields f = paste_fields();
+  int n_box = 0;
+  if (m.box_control.on)
+    for (int a = 0; a < m.dim; ++a) n_box += m.box_control.controlled[a];
+  const int64_t size = s.n * (m.dim == 2 ? 3 : 6) + n_box;
+  auto& change = s.module_field(f.change);
+  if (!change.empty() && static_cast<int64_t>(change.size()) != 2 * size) change.clear();
+  auto& factor = s.module_field(f.factor);
+  if (!factor.empty() && factor[0] != static_cast<double>(size)) factor.clear();
 }
 
 void paste_to_dry(Model& c) {
@@ -392,6 +406,7 @@ const ModuleSpec& module() {
     s.prepare_dry = paste_to_dry;
     // No solve yet: a packing compressed dry (prepare.compress, or one given by --restore), whose
     // velocities and box rates are the compression's. The first drift needs the paste's own.
+    s.adopt = paste_adopt;
     s.unstarted = [](const Model& m, const State& st) {
       const auto& v = st.module_field(paste_fields().solver);
       // (an older checkpoint may hold fewer stats)
