@@ -27,7 +27,7 @@ bool flush_background(shell::Session& session, const std::string& where) {
   std::cout << std::flush;
   const std::string failure = session.take_background_failure();
   if (failure.empty()) return true;
-  std::cerr << where << ": the background run failed: " << failure << "\n" << std::flush;
+  std::cerr << where << ":1: the background run failed: " << failure << "\n" << std::flush;
   return false;
 }
 

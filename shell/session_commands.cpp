@@ -101,6 +101,10 @@ namespace {
 // Whether a steerable key can change the dry compression that prepares a packing
 // (prepare.compress): not the keys of what the compression leaves out (the liquid, the shear, the
 // cycles) nor those of the output.
+const char* const kPreparationKept =
+    "note: the packing compressed at load is kept; `reset` compresses it again under this value, as `silt run "
+    "--set` does\n";
+
 bool enters_preparation(const std::string& key) {
   for (const char* p : {"lubrication.", "shear.", "box.cycle", "output.", "render."})
     if (key.rfind(p, 0) == 0) return false;
@@ -134,9 +138,7 @@ void Session::cmd_set(const Command& c) {
     if (error.empty()) {
       overrides_ = std::move(next);
       out_ << change.key << " = " << c.args[1].text << (running() ? " (from the next step)" : "") << "\n";
-      if (s.state().step == 0 && s.model().prepare.compress && enters_preparation(change.key))
-        out_ << "note: the packing compressed at load is kept; `reset` compresses it again under this value, as "
-                "`silt run --set` does\n";
+      if (s.state().step == 0 && s.model().prepare.compress && enters_preparation(change.key)) out_ << kPreparationKept;
       return;
     }
     // Not a change a running model can take (a shear mode switched on or off, ...): when stopped,
@@ -161,6 +163,8 @@ void Session::cmd_set(const Command& c) {
   install(std::move(m), keep);
   overrides_ = std::move(next);
   out_ << change.key << " = " << c.args[1].text << (same ? " (state kept)" : discarded) << "\n";
+  if (same && keep->step == 0 && sim().model().prepare.compress && enters_preparation(change.key))
+    out_ << kPreparationKept;
 }
 
 void Session::cmd_get(const Command& c) {

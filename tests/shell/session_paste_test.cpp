@@ -125,6 +125,8 @@ TEST_CASE("a change before the first step is made before the setup, bit for bit,
   CHECK(contains(p.take_out(), "`reset` compresses it again under this value"));
   REQUIRE(p.run("set lubrication.viscosity 2"));
   CHECK_FALSE(contains(p.take_out(), "reset"));
+  REQUIRE(p.run("set prepare.dilation 1.2"));  // not live: compiled again, the state kept
+  CHECK(contains(p.take_out(), "`reset` compresses it again under this value"));
   // The cycles: a period changed mid-run goes on from the phase reached; reset starts them at 0.
   Fixture c;
   REQUIRE(c.run("load " + test::scene_path("paste_cyclic_alternating")));
