@@ -158,6 +158,22 @@ void compile_lines(const SceneDesc& d, const Model& m, FluidParams& p) {
 
 }  // namespace
 
+// A step below 1e-12 of the flow's time L / U: the projection divides by it, and far below it
+// overflows (a CFL or a Reynolds number of 1e-300 ended in a NaN, whose report then advised a
+// smaller step). Named by what set it; before the run length is counted in steps of it.
+void check_tiny_step(const SceneDesc& d, const FluidParams& p) {
+  if (const double flow_time = p.length_scale / p.velocity_scale; p.dt < 1e-12 * flow_time) {
+    const bool viscous = !p.dt_fixed && viscous_dt_limit(p) <= p.dt;
+    const std::string key =
+        p.dt_fixed ? "fluid.dt" : (viscous ? (p.dimensionless ? "fluid.reynolds" : "fluid.viscosity") : "fluid.cfl");
+    d.fail(key, key + " gives the fluid a step of " + format_number(p.dt, 4) +
+                    " s, below 1e-12 of the flow's time L / U = " + format_number(flow_time, 4) + " s" +
+                    (viscous ? ": the viscous limit of so viscous a fluid; use fluid.viscous = \"backward_euler\", "
+                               "which has none, or a lower viscosity"
+                             : ""));
+  }
+}
+
 void compile_fluid(const SceneDesc& d, Model& m) {
   FluidParams& p = m.params.get<FluidParams>();
   for (const char* k : {"run.dt", "run.dt_over_tc"})
@@ -186,6 +202,7 @@ void compile_fluid(const SceneDesc& d, Model& m) {
   }
   p.projection = d.string("fluid.projection") == "multigrid_cg" ? Projection::kMultigridCg : Projection::kFft;
   compile_steerable(d, m, p);
+  check_tiny_step(d, p);
   compile_lines(d, m, p);
   m.cells = p.grid.n;
   if (m.dim == 2) m.cells[2] = 1;

@@ -171,3 +171,29 @@ TEST_CASE("fluid: at Re << 1 backward Euler damps the vortex and Crank-Nicolson'
     CHECK(sim->state().dt * rate <= FluidParams::kCnModeLimit * (1 + 1e-12));
   }
 }
+
+TEST_CASE("fluid: a step below 1e-12 of L / U is refused, naming what set it") {
+  // A target CFL or a Reynolds number of 1e-300 gave a step of 1e-303 s, whose projection
+  // overflowed: a NaN at step 1, reported with the advice to reduce fluid.cfl.
+  const std::string cavity = lid_cavity(1.0, 1.0, "");
+  auto with = [&](const std::string& key_value) {
+    std::string s = cavity;
+    s.replace(s.find("reynolds = 100.0\n"), 17, key_value + "\n");
+    return s;
+  };
+  std::string err = test::scene_error(with("reynolds = 100.0\ncfl = 1e-300"));
+  CHECK(err.find("fluid.cfl") != std::string::npos);
+  CHECK(err.find("below 1e-12 of the flow's time") != std::string::npos);
+  err = test::scene_error(with("reynolds = 1e-300\nviscous = \"explicit\""));
+  CHECK(err.find("fluid.reynolds") != std::string::npos);
+  CHECK(err.find("backward_euler") != std::string::npos);
+  err = test::scene_error(with("reynolds = 100.0\ndt = 1e-300"));
+  CHECK(err.find("fluid.dt") != std::string::npos);
+  // Small but sane: a Stokes flow at Re = 1e-6 with the explicit viscous term.
+  CHECK(test::scene_error(with("reynolds = 1e-6\nviscous = \"explicit\"")) == "");
+  CHECK(test::scene_error(with("reynolds = 100.0\ncfl = 1e-3")) == "");
+  // Steered, the same refusal: the model stays as it was.
+  auto sim = test::simulation_from(cavity);
+  CHECK(steer(sim->model_for_steering(), parse_override("fluid.cfl=1e-300")).find("fluid.cfl") != std::string::npos);
+  REQUIRE(sim->step());
+}
