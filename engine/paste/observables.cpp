@@ -5,6 +5,7 @@
 
 #include "paste/params.hpp"
 #include "paste/solve.hpp"
+#include "shear/cycle_origin.hpp"
 #include "silt/contacts.hpp"
 
 namespace silt::paste {
@@ -14,6 +15,16 @@ const PasteParams& params(const Model& m) { return m.params.get<PasteParams>(); 
 
 // The imposed pressure: the stresses are relative to it.
 double imposed_pressure(const Model& m) { return m.box_control.on ? m.box_control.pressure : 0; }
+
+// The mean of the imposed stresses at the state's time, which the pressure's shares add up to: P,
+// or under cycles their mean then (biaxial cycles raise it to P (1 + d (1 - cos wt) / D)).
+double imposed_mean_stress(const Model& m, const State& s) {
+  if (!m.box_control.on || m.box_control.cycle == StressCycle::kNone) return imposed_pressure(m);
+  const CycleOrigin origin = shear::cycle_origin(m, s);
+  double sum = 0;
+  for (int a = 0; a < m.dim; ++a) sum += m.box_control.stress(a, origin, s.t);
+  return sum / m.dim;
+}
 
 std::string needs_pressure(const Model& m, const ObservableArgs&) {
   return m.box_control.on ? "" : "it is relative to the imposed pressure, and this paste has no box.pressure";
@@ -106,19 +117,20 @@ std::vector<ObservableSpec> paste_observables() {
       {"mobilisation", "", "friction mobilisation <|F_T| / F_N> over the contacts",
        [](C c, A) { return friction_mobilisation(c.s); }},
       {"p_cont_ratio", "",
-       "pressure carried by the contacts / P: their elastic and frictional forces and the lubrication between "
-       "touching grains (Peyneau 2009 sec. 4.2.3)",
+       "pressure carried by the contacts / P (under cycles, / the imposed stresses' mean then): their elastic "
+       "and frictional forces and the lubrication between touching grains (Peyneau 2009 sec. 4.2.3)",
        [](C c, A) {
          const Measurements& x = c.meas();
          // (the pressure less that of the pair fields: the contacts' own forces and the kinetic part)
          const double elastic = x.pressure - trace(x.stress_pairs, c.m.dim);
          const auto implicit = pair_pressures(c.s, paste_fields().pair_f_implicit);
          return (elastic + pair_pressures(c.s, paste_fields().pair_f_lub)[0] + implicit[0] + implicit[1]) /
-                imposed_pressure(c.m);
+                imposed_mean_stress(c.m, c.s);
        }},
       {"p_lub_ratio", "",
-       "pressure carried by the lubrication between grains apart / P (p_cont_ratio + p_lub_ratio = 1)",
-       [](C c, A) { return pair_pressures(c.s, paste_fields().pair_f_lub)[1] / imposed_pressure(c.m); }},
+       "pressure carried by the lubrication between grains apart / P, as p_cont_ratio (p_cont_ratio + p_lub_ratio "
+       "= 1)",
+       [](C c, A) { return pair_pressures(c.s, paste_fields().pair_f_lub)[1] / imposed_mean_stress(c.m, c.s); }},
       {"eta_eff", "",
        "effective viscosity |stress.xy| / (eta gammadot), in units of eta (|stress.xy| / (eta gammadot a) in 2D): "
        "mu / Vi",

@@ -57,6 +57,7 @@ struct CycleRecord {
   double highest = -1e300;
   double strain_half = 0;  // ln(L_x/L_x0) - ln(L_y/L_y0) at the first step past half a cycle
   double cycle_error = 0;  // largest |cycle - t / period|
+  double shares = 0;       // largest |p_cont_ratio + p_lub_ratio - 1|
   int64_t steps = 0;
 };
 
@@ -69,7 +70,7 @@ CycleRecord run_cycle(const std::string& kind, Imposed imposed) {
   const Model& m = sim->model();
   const double P = 1.0, period = 4.0;
   const double lx0 = sim->state().box.len[0], ly0 = sim->state().box.len[1];
-  const Observer obs(m, {"stress.xx", "stress.yy", "cycle"});
+  const Observer obs(m, {"stress.xx", "stress.yy", "cycle", "p_cont_ratio", "p_lub_ratio"});
   CycleRecord rec;
   bool half = false;
   RunOptions opt;
@@ -81,6 +82,7 @@ CycleRecord run_cycle(const std::string& kind, Imposed imposed) {
                          rec.lowest = std::min(rec.lowest, (sxx - syy) / P);
                          rec.highest = std::max(rec.highest, (sxx - syy) / P);
                          rec.cycle_error = std::max(rec.cycle_error, std::abs(v[2] - s.t / period));
+                         rec.shares = std::max(rec.shares, std::abs(v[3] + v[4] - 1));
                          if (!half && s.t >= period / 2) {
                            half = true;
                            rec.strain_half = std::log(s.box.len[0] / lx0) - std::log(s.box.len[1] / ly0);
@@ -111,6 +113,8 @@ TEST_CASE("paste: the alternating cycle imposes Sigma_xx = P (1 + d sin wt) and 
   CHECK(r.highest == doctest::Approx(2 * d).epsilon(3e-3));
   CHECK(r.lowest == doctest::Approx(-2 * d).epsilon(3e-3));
   CHECK(r.cycle_error < 1e-12);
+  // The shares of the imposed stresses' mean at that time (biaxial cycles raise it above P).
+  CHECK(r.shares < 1e-7);
   // The first half cycle presses harder along x: the box gets narrower along x than along y.
   CHECK(r.strain_half < 0);
 }
@@ -127,6 +131,8 @@ TEST_CASE("paste: the biaxial cycle imposes Sigma_xx = P and Sigma_yy = P (1 + d
   CHECK(r.highest <= 1e-12);
   CHECK(r.lowest == doctest::Approx(-2 * d).epsilon(3e-3));
   CHECK(r.cycle_error < 1e-12);
+  // The shares of the imposed stresses' mean at that time (biaxial cycles raise it above P).
+  CHECK(r.shares < 1e-7);
   // y always pressed harder: the box gets narrower along y than along x.
   CHECK(r.strain_half > 0);
 }
