@@ -179,7 +179,7 @@ int run_command(const RunArgs& a) {
 
   g_interrupt = false;
   StopSignals stop(&g_interrupt);
-  const int64_t n_cells = model.cells[0] * model.cells[1] * (model.dim == 3 ? model.cells[2] : 1);
+  const int64_t n_cells = model.n_cells();
   Progress progress(!a.quiet && ::isatty(2), sim.state().step, sim.steps_for(opt), model.n_grains, n_cells);
   opt.interrupt = &g_interrupt;
   opt.stop_when_static = model.until_static.on;

@@ -389,9 +389,8 @@ void Session::run_for(const RunLength& len, bool background) {
   if (!background) {
     std::optional<cli::Progress> bar;
     if (progress_) {
-      const auto& c = s.model().cells;
       bar.emplace(true, s.state().step, opt.steps < std::numeric_limits<int64_t>::max() / 8 ? opt.steps : 0,
-                  s.model().n_grains, c[0] * c[1] * (s.model().dim == 3 ? c[2] : 1));
+                  s.model().n_grains, s.model().n_cells());
       opt.on_progress = [&bar](const State& st) { bar->update(st); };
     }
     RunJobOptions jo;

@@ -28,7 +28,7 @@ void write_summary(const std::string& path, const SummaryInput& in, const Simula
   j["dt"] = s.dt;
   j["particle_steps_per_s"] = in.wall_s > 0 ? static_cast<double>(m.n_grains) * in.steps_run / in.wall_s : 0.0;
   if (m.cells[0] > 0) {
-    const int64_t n_cells = m.cells[0] * m.cells[1] * (m.dim == 3 ? m.cells[2] : 1);
+    const int64_t n_cells = m.n_cells();
     const auto cells = static_cast<double>(n_cells);
     j["cells"] = n_cells;
     j["fluid_cell_steps_per_s"] = in.wall_s > 0 ? cells * static_cast<double>(in.steps_run) / in.wall_s : 0.0;

@@ -69,10 +69,7 @@ PasteMemory estimate_paste_memory(const Model& m) {
   const auto c = static_cast<int64_t>(pairs.size());
   e.connections = c;
 
-  bool controlled[3] = {false, false, false};
-  if (m.box_control.on)
-    for (int a = 0; a < m.dim; ++a) controlled[a] = m.box_control.controlled[a];
-  const SystemLayout l = make_layout(m.dim, n, controlled, m.shear.on);
+  const SystemLayout l = make_layout(m, n);
   const int64_t pg = l.per_grain, nb = l.n_box, size = l.size();
   std::vector<uint8_t> linked(static_cast<size_t>(n), 0);
   for (const auto& [i, j] : pairs) linked[i] = linked[j] = 1;

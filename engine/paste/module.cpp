@@ -274,11 +274,7 @@ std::string check_paste_state(const Model& m, const State& s) {
   if (const size_t k = s.module_field(f.pair_f_implicit).size();
       k != 0 && k != static_cast<size_t>(m.dim * s.n_pairs()))
     return "pair_f_implicit has the wrong length";
-  const int pg = m.dim == 2 ? 3 : 6;
-  int n_box = 0;
-  if (m.box_control.on)
-    for (int a = 0; a < m.dim; ++a) n_box += m.box_control.controlled[a];
-  const int64_t size = s.n * pg + n_box;
+  const int64_t size = make_layout(m, s.n).size();
   // (The change watched and the stored factor of other unknowns, a checkpoint of a box under
   // pressure restored into a fixed one: dropped when the state is adopted, paste_adopt.)
   const auto& alone = s.module_field(f.alone);
@@ -318,10 +314,7 @@ std::string check_paste_state(const Model& m, const State& s) {
 // both are made again at the next solve.
 void paste_adopt(const Model& m, State& s) {
   const PasteFields f = paste_fields();
-  int n_box = 0;
-  if (m.box_control.on)
-    for (int a = 0; a < m.dim; ++a) n_box += m.box_control.controlled[a];
-  const int64_t size = s.n * (m.dim == 2 ? 3 : 6) + n_box;
+  const int64_t size = make_layout(m, s.n).size();
   auto& change = s.module_field(f.change);
   if (!change.empty() && static_cast<int64_t>(change.size()) != 2 * size) change.clear();
   auto& factor = s.module_field(f.factor);

@@ -227,10 +227,7 @@ void solve_paste(const Model& m, State& s, PasteWorkspace& w, SolveAt at) {
   const int64_t n = s.n;
   find_connections(s, p.law(), w.links);
   const std::vector<Connection>& cs = w.links.c;
-  bool controlled[3] = {false, false, false};
-  if (m.box_control.on)
-    for (int a = 0; a < D; ++a) controlled[a] = m.box_control.controlled[a];
-  const SystemLayout L = make_layout(D, n, controlled, m.shear.on);
+  const SystemLayout L = make_layout(m, n);
   const UnknownScale units = unknown_scale(L, p.a);
   const int pg = L.per_grain;
   const int64_t size = L.size();
@@ -488,9 +485,9 @@ void solve_paste(const Model& m, State& s, PasteWorkspace& w, SolveAt at) {
         const int64_t g = local_to_global(L, c, q);
         u[q] = g >= 0 ? x[g] : s.shear_rate;
       }
-      connection_force(L, c, s.particle_r[c.i], s.particle_r[c.j], u, &f_lub[D * w.links.pair[k]]);
-      if (p.implicit_contacts && (c.k_n > 0 || c.k_t > 0))
-        connection_force(L, c, s.particle_r[c.i], s.particle_r[c.j], u, &f_impl[D * w.links.pair[k]], true);
+      const bool stiff = p.implicit_contacts && (c.k_n > 0 || c.k_t > 0);
+      connection_force(L, c, s.particle_r[c.i], s.particle_r[c.j], u, &f_lub[D * w.links.pair[k]],
+                       stiff ? &f_impl[D * w.links.pair[k]] : nullptr);
     }
   });
 

@@ -82,21 +82,32 @@ void local_block(const SystemLayout& l, const Connection& c, double ri, double r
     }
 }
 
+SystemLayout make_layout(const Model& m, int64_t grains) {
+  bool controlled[3] = {false, false, false};
+  if (m.box_control.on)
+    for (int a = 0; a < m.dim; ++a) controlled[a] = m.box_control.controlled[a];
+  return make_layout(m.dim, grains, controlled, m.shear.on);
+}
+
 void connection_force(const SystemLayout& l, const Connection& c, double ri, double rj, const double* u, double* force,
-                      bool contact_part) {
+                      double* contact) {
   const int d = l.dim, n = local_size(l);
   double g[3 * 16];
   local_map(l, c, ri, rj, g);
   double tan[2][3];
   tangents(d, c.n, tan);
   for (int a = 0; a < d; ++a) force[a] = 0;
+  if (contact)
+    for (int a = 0; a < d; ++a) contact[a] = 0;
   for (int row = 0; row < d; ++row) {
     double v = 0;
     for (int q = 0; q < n; ++q) v += g[row * n + q] * u[q];
-    const double coef = contact_part ? (row == 0 ? c.k_n : c.k_t) : (row == 0 ? c.xi_n : c.xi_t);
-    const double f = -coef * v;
     const double* e = row == 0 ? c.n : tan[row - 1];
+    const double f = -(row == 0 ? c.xi_n : c.xi_t) * v;
     for (int a = 0; a < d; ++a) force[a] += f * e[a];
+    if (!contact) continue;
+    const double k = -(row == 0 ? c.k_n : c.k_t) * v;
+    for (int a = 0; a < d; ++a) contact[a] += k * e[a];
   }
 }
 

@@ -20,6 +20,7 @@
 #include "paste/lubrication_laws.hpp"
 #include "paste/resistance.hpp"
 #include "silt/linalg.hpp"
+#include "silt/model.hpp"
 #include "silt/state.hpp"
 
 namespace silt::paste {
@@ -34,6 +35,8 @@ struct SystemLayout {
   int64_t box_unknown(int k) const { return grains * per_grain + k; }
 };
 SystemLayout make_layout(int dim, int64_t grains, const bool* controlled_axes, bool shear);
+// The layout of a model's paste of `grains` grains: its controlled box lengths and its shear.
+SystemLayout make_layout(const Model& m, int64_t grains);
 
 // Every listed pair whose gap is at most law.h_max, in the order of the pair list, and the index
 // of its pair (for the per-pair force arrays).
@@ -125,9 +128,9 @@ inline int64_t direction_key(int64_t n, int64_t i, int64_t j, int d) {
   return 3 * (std::min(i, j) * n + std::max(i, j)) + d;
 }
 // The force on i from j of a connection (dim components) for local unknowns u (eq. 2.24): its
-// lubrication, -xi G u; with `contact_part`, its implicit contact's increment over the step,
-// -dt K G u (Connection::k_n, k_t), which the solve counted in the same way.
+// lubrication, -xi G u; and where `contact` is given, its implicit contact's increment over the
+// step, -dt K G u (Connection::k_n, k_t), which the solve counted in the same way.
 void connection_force(const SystemLayout& layout, const Connection& c, double ri, double rj, const double* u,
-                      double* force, bool contact_part = false);
+                      double* force, double* contact = nullptr);
 
 }  // namespace silt::paste

@@ -235,6 +235,7 @@ struct Model {
 
   Box box;
   std::array<int64_t, 3> cells{0, 0, 0};  // cells of a grid per axis (a fluid's; 0: no grid)
+  int64_t n_cells() const { return cells[0] * cells[1] * (dim == 3 ? cells[2] : 1); }  // 0: no grid
   // Whether a stage reads the pair forces at the end of every step (a controlled box does), so
   // that contact_forces stores them even in the steps whose end nothing sees.
   bool pair_forces_every_step = false;
