@@ -129,6 +129,8 @@ void add_paste_stages(GraphBuilder& b) {
         }());
     b.after(solve, b.find("sum_forces"), "solves with the contact forces of the first state");
     b.after(solve, b.find("restore_springs"), "implicit contacts: the springs as the first step starts them");
+    if (const int rate = b.find("impose_shear_rate"); rate >= 0)
+      b.after(solve, rate, "solves under the imposed rate as the model has it now");
     return;
   }
   const paste::PasteFields f = paste::paste_fields();

@@ -3,7 +3,8 @@
 //
 //   choose_dt -> box_drift -> kick_drift ... kick -> box_kick
 //
-// and for the forces of the first state, box_stress after the pair forces.
+// and for the forces of the first state, impose_shear_rate before the pair forces (a rate-controlled
+// shear) and box_stress after them.
 #include <cmath>
 
 #include "graph/adders.hpp"
@@ -25,6 +26,11 @@ void add_shear_stages(GraphBuilder& b) {
   // With solved velocities (a paste), the box's strain rates are solved too: no box kick.
   const bool box_stage = shear::box_stage_on(m) && !m.velocities_solved;
   if (b.phase() == Phase::kSetup) {
+    if (m.shear.on && !m.shear.stress_controlled) {
+      const int rate = b.add("impose_shear_rate", &shear::impose_shear_rate, {}, {fid::shear_rate});
+      b.light(rate);
+      b.after(b.find("contact_forces"), rate, "the relative velocities at contact under the imposed rate");
+    }
     if (!box_stage) return;
     const int st = b.add("box_stress", &shear::box_stress, kStressReads, {fid::box_stress, fid::shear_stress});
     b.after(st, b.find("contact_forces"), "the contact stress of the first state's pair forces");

@@ -94,10 +94,6 @@ void Simulation::execute(graph::StepGraph& g, State& s) {
 void Simulation::prepare() {
   if (impl_->primed) return;
   if (state_.step == 0 && !impl_->unprepared) impl_->unprepared = state_;
-  // An imposed shear rate as the model has it now: a state made before a change to it (the rate,
-  // or the viscosity or pressure of a viscous number) still holds the rate it was made with, which
-  // the first forces (and a paste's first solve) would otherwise use.
-  if (model_.shear.on && !model_.shear.stress_controlled) state_.shear_rate = model_.shear.rate;
   execute(*impl_->setup, state_);
   state_.events.clear();
   state_.internal.clear();

@@ -86,6 +86,10 @@ void box_drift(const Model& m, State& s) {
 
 void box_stress(const Model& m, State& s) { set_box_stresses(m, s); }
 
+void impose_shear_rate(const Model& m, State& s) {
+  if (m.shear.on && !m.shear.stress_controlled) s.shear_rate = m.shear.rate;
+}
+
 void box_kick(const Model& m, State& s) {
   set_box_stresses(m, s);
   half_kick(m, s);

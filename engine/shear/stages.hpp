@@ -29,4 +29,10 @@ void box_kick(const Model& m, State& s);
 // Same stresses without the kick (the forces of the first state).
 void box_stress(const Model& m, State& s);
 
+// () => (shear_rate)
+// The imposed shear rate as the model has it now, before the first forces: a state made before a
+// change to it (the rate, or the viscosity or pressure of a viscous number) still holds the rate
+// it was made with, which the first forces (and a paste's first solve) would otherwise use.
+void impose_shear_rate(const Model& m, State& s);
+
 }  // namespace silt::shear
