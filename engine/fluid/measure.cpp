@@ -140,27 +140,42 @@ double interpolate(const Grid& g, const Layout& L, Value&& value, const std::arr
   return sum;
 }
 
+// The sum over the faces of component a of face_weight (by the face's index along a) times f of
+// its value, in fixed blocks of rows (the same bits on any number of threads).
+template <class F>
+double weighted_face_sum(const Grid& g, int a, const std::vector<double>& u, F&& f) {
+  const auto d = g.face_dims(a);
+  const auto sums = deterministic_sums<1>(d[1] * d[2], 64, [&](int64_t b, int64_t end) {
+    double acc = 0;
+    for (int64_t row = b; row < end; ++row) {
+      const double* v = u.data() + row * d[0];
+      if (a == 0) {
+        for (int64_t i = 0; i < d[0]; ++i) acc += face_weight(g, 0, i) * f(v[i]);
+        continue;
+      }
+      // rows are (j, k) with j fastest: the index along y is row % d[1], along z row / d[1]
+      const double w = face_weight(g, a, a == 1 ? row % d[1] : row / d[1]);
+      if (w == 0) continue;
+      for (int64_t i = 0; i < d[0]; ++i) acc += w * f(v[i]);
+    }
+    return std::array<double, 1>{acc};
+  });
+  return sums[0];
+}
+
 }  // namespace
 
 double kinetic_energy(const FluidParams& p, const State& s) {
   const Grid& g = p.grid;
   const FluidFields f = fluid_fields();
   double e = 0;
-  for (int a = 0; a < g.dim; ++a) {
-    const auto d = g.face_dims(a);
-    const auto& u = s.module_field(f.u[a]);
-    const auto sums = deterministic_sums<1>(d[1] * d[2], 64, [&](int64_t b, int64_t end) {
-      double acc = 0;
-      for (int64_t row = b; row < end; ++row)
-        for (int64_t i = 0; i < d[0]; ++i) {
-          const double v = u[row * d[0] + i];
-          acc += face_weight(g, a, i) * v * v;
-        }
-      return std::array<double, 1>{acc};
-    });
-    e += sums[0];
-  }
+  for (int a = 0; a < g.dim; ++a) e += weighted_face_sum(g, a, s.module_field(f.u[a]), [](double v) { return v * v; });
   return 0.5 * p.density * e * g.cell_volume();
+}
+
+double mean_velocity(const FluidParams& p, const State& s, int a) {
+  const double sum = weighted_face_sum(p.grid, a, s.module_field(fluid_fields().u[a]), [](double v) { return v; });
+  return sum / static_cast<double>(p.grid.cells());
 }
 
 double enstrophy(const FluidParams& p, const State& s) {

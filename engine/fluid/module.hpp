@@ -23,6 +23,8 @@ std::string steer_fluid(Model& m, const Model& fresh);
 
 // Measurements of the velocity field of a state (fluid/measure.cpp).
 double kinetic_energy(const FluidParams& p, const State& s);  // (rho / 2) integral |u|^2 [J, J/m in 2D]
+// The mean of velocity component a over the domain [m/s]: its faces weighted as kinetic_energy's.
+double mean_velocity(const FluidParams& p, const State& s, int a);
 double enstrophy(const FluidParams& p, const State& s);       // (1/2) integral |omega|^2 [m^3/s^2, m^2/s^2 in 2D]
 double max_divergence(const FluidParams& p, const State& s);  // max |div u| [1/s]
 // The velocity (3 components), pressure and vorticity (1 component in 2D, 3 in 3D) at the cell

@@ -35,15 +35,7 @@ std::vector<ObservableSpec> fluid_observables() {
       {"fluid.bulk_velocity", "m/s", "mean velocity along the drive axis over the domain",
        [](const ObservableContext& c, const ObservableArgs&) {
          const FluidParams& p = params(c);
-         const int a = p.drive_axis < p.grid.dim ? p.drive_axis : 0;
-         const auto& u = c.s.module_field(fluid_fields().u[a]);
-         const auto d = p.grid.face_dims(a);
-         double sum = 0;
-         for (int64_t row = 0; row < d[1] * d[2]; ++row)
-           for (int64_t i = 0; i < d[0]; ++i)
-             sum += (p.grid.periodic(a) ? (i < p.grid.n[a] ? 1.0 : 0.0) : (i == 0 || i == d[0] - 1 ? 0.5 : 1.0)) *
-                    u[row * d[0] + i];
-         return sum / static_cast<double>(p.grid.cells());
+         return mean_velocity(p, c.s, p.drive_axis < p.grid.dim ? p.drive_axis : 0);
        }},
       {"solver.iters", "", "iterations of the last pressure solve (0 for the fast transforms)",
        [](const ObservableContext& c, const ObservableArgs&) { return stat(c, kIters); }},

@@ -288,10 +288,16 @@ void initial_velocity(const Model& m, State& s) {
   auto& stat = s.module_field(f.stat);
   stat.assign(kStatCount, 0.0);
   if (p.initial != Initial::kTaylorGreen) return;
-  // u = U0 sin(kx x) cos(ky y) cos(kz z), v = -U0 cos sin cos, w = 0, with k = 2 pi / L per axis:
-  // divergence-free on the grid too (the discrete divergence of the sampled field is zero).
-  std::array<double, 3> k{};
-  for (int a = 0; a < g.dim; ++a) k[a] = 2 * std::numbers::pi / (g.n[a] * g.h[a]);
+  // u = U0 sin(kx x) cos(ky y) cos(kz z), v = -c U0 cos sin cos, w = 0, with k = 2 pi / L per axis
+  // and c = kx / ky (1 in a square box) as the grid has it: c = D_x / D_y, D_a = 2 sin(k_a h_a / 2) / h_a
+  // the grid's derivative of sin(k_a x_a), so that the sampled field is divergence-free on the grid
+  // (in a box with Lx != Ly too).
+  std::array<double, 3> k{}, grid_k{};
+  for (int a = 0; a < g.dim; ++a) {
+    k[a] = 2 * std::numbers::pi / (g.n[a] * g.h[a]);
+    grid_k[a] = 2 * std::sin(k[a] * g.h[a] / 2) / g.h[a];
+  }
+  const double c = grid_k[0] / grid_k[1];
   for (int a = 0; a < 2; ++a) {
     auto& u = s.module_field(f.u[a]);
     const auto d = g.face_dims(a);
@@ -302,8 +308,8 @@ void initial_velocity(const Model& m, State& s) {
           std::array<double, 3> x{};
           for (int b = 0; b < g.dim; ++b) x[b] = (static_cast<double>(idx[b]) + (b == a ? 0.0 : 0.5)) * g.h[b];
           const double cz = g.dim == 3 ? std::cos(k[2] * x[2]) : 1.0;
-          const double v =
-              a == 0 ? std::sin(k[0] * x[0]) * std::cos(k[1] * x[1]) : -std::cos(k[0] * x[0]) * std::sin(k[1] * x[1]);
+          const double v = a == 0 ? std::sin(k[0] * x[0]) * std::cos(k[1] * x[1])
+                                  : -c * std::cos(k[0] * x[0]) * std::sin(k[1] * x[1]);
           u[i + d[0] * (j + d[1] * kk)] = p.initial_velocity * v * cz;
         }
   }

@@ -35,20 +35,29 @@ void diagnose_fluid(GraphBuilder& b) {
           "; reduce fluid.dt or the viscosity, or use fluid.viscous = \"crank_nicolson\"";
     }
   });
-  b.diagnose(fluid::nonfinite_event(), [](const Model&, const State& s, const EventSlot&, StepFailure& f) {
+  b.diagnose(fluid::nonfinite_event(), [](const Model& m, const State& s, const EventSlot&, StepFailure& f) {
+    const auto& p = m.params.get<fluid::FluidParams>();
+    // The knob of the step is the key that sets it; a pressure-gradient drive may be what overflowed.
+    const std::string step_key = p.dt_fixed ? "fluid.dt" : "fluid.cfl";
+    const bool driven = p.drive == fluid::Drive::kPressure;
     f.stage = "fluid_store";
-    f.parameter = "fluid.cfl";
-    f.message = "the fluid velocity is no longer finite at step " + std::to_string(s.step) +
-                ": the flow is under-resolved or the step too large; reduce fluid.cfl (or fluid.dt), or use more "
-                "fluid.cells";
+    f.parameter = step_key;
+    f.message =
+        "the fluid velocity is no longer finite at step " + std::to_string(s.step) +
+        ": the flow is under-resolved or the step too large; reduce " + step_key + ", or use more fluid.cells" +
+        (driven ? ", or a lower fluid.pressure_gradient (" + format_number(p.pressure_gradient, 4) + " Pa/m)" : "");
   });
   b.diagnose(fluid::solve_event(), [](const Model& m, const State&, const EventSlot& e, StepFailure& f) {
     const auto& p = m.params.get<fluid::FluidParams>();
     f.stage = "fluid_pressure";
-    f.parameter = "fluid.max_iterations";
+    // A residual that reached round-off (1e-12 and below, which grows with the grid) stalled there:
+    // more iterations do not lower it, the tolerance is the knob.
+    const bool stalled = e.value() < 1e-12;
+    f.parameter = stalled ? "fluid.tolerance" : "fluid.max_iterations";
     f.message = "the pressure solve (multigrid CG) did not converge: relative residual " + format_number(e.value(), 4) +
                 " above fluid.tolerance = " + format_number(p.tolerance, 4) +
-                "; raise fluid.max_iterations or fluid.tolerance, or use fluid.projection = \"fft\"";
+                (stalled ? "; the residual stalls at round-off there on this grid: raise fluid.tolerance"
+                         : "; raise fluid.max_iterations or fluid.tolerance, or use fluid.projection = \"fft\"");
   });
 }
 
