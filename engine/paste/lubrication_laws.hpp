@@ -13,7 +13,10 @@
 // and changes sign beyond, which h_max = a/2 exceeds for every pair smaller than two grains of
 // diameter a (the thesis does not say what it did there). silt holds it at its value at h = R_eq,
 // pi eta R_eq ln 2, for larger gaps: positive (a gap with no tangential resistance would let a
-// grain slide along it for free, making Xi singular), continuous, and unchanged below R_eq.
+// grain slide along it for free, making Xi singular), continuous, and unchanged below R_eq. A
+// cutoff h_min beyond R_eq (h_min/a up to 0.5 is allowed, R_eq of two small grains is below) meets
+// the law where it is held: the linear cutoff's tangent is flat, xi_T = pi eta R_eq ln 2 down to
+// contact (the tangent of ln(2 R_eq / h) went negative beyond h_min = 2 R_eq).
 #pragma once
 
 #include <algorithm>
@@ -47,6 +50,8 @@ inline double xi_tangential(double h, double r_eq, const LubricationLaw& law) {
   const double c = std::numbers::pi * law.eta * r_eq;
   if (h >= law.h_min) return c * std::log(2 * r_eq / std::min(h, r_eq));
   if (law.cutoff == Cutoff::kConstant) return c * std::log(2 * r_eq / std::min(law.h_min, r_eq));
+  // At an h_min beyond R_eq the law is held flat there, and so is its tangent.
+  if (law.h_min >= r_eq) return c * std::numbers::ln2;
   const double hc = std::max(h, 0.0);
   return c * (1 + std::log(2 * r_eq / law.h_min) - hc / law.h_min);
 }

@@ -68,3 +68,20 @@ TEST_CASE("the constant cutoff holds the value at h_min from h_min down") {
   }
   CHECK(xi_normal(-1, r, c) < xi_normal(-1, r, law(1e-3)));  // half the linear cutoff's in contact
 }
+
+TEST_CASE("a cutoff beyond R_eq: xi_T stays positive and continuous (held at pi eta R_eq ln 2)") {
+  // h_min/a up to 0.5 is allowed; a pair of small grains has R_eq below it (0.0875 for two disks
+  // of radius 0.175). The linear branch was the tangent of ln(2 R_eq / h) at h_min, which went
+  // negative beyond h_min = 2 R_eq and jumped at h_min: lubrication drove the shear it resists.
+  const double r = 0.0875;
+  for (double h_min : {0.05, 0.0875, 0.1, 0.2, 0.3, 0.49}) {
+    CAPTURE(h_min);
+    for (Cutoff c : {Cutoff::kLinear, Cutoff::kConstant}) {
+      const LubricationLaw l{1.0, h_min, 0.5, c};
+      const double d = h_min * 1e-9;
+      for (double h : {-0.1, 0.0, h_min / 2, h_min - d, h_min, h_min + d, 0.45}) CHECK(xi_tangential(h, r, l) > 0);
+      CHECK(xi_tangential(h_min - d, r, l) == doctest::Approx(xi_tangential(h_min + d, r, l)).epsilon(1e-6));
+      CHECK(xi_tangential(-0.1, r, l) >= xi_tangential(h_min, r, l));
+    }
+  }
+}
