@@ -1,6 +1,7 @@
 #include "paste/observables.hpp"
 
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include "paste/params.hpp"
@@ -30,8 +31,12 @@ std::string needs_pressure(const Model& m, const ObservableArgs&) {
   return m.box_control.on ? "" : "it is relative to the imposed pressure, and this paste has no box.pressure";
 }
 
+std::string needs_sheared(const Model& m, const ObservableArgs&) {
+  return m.shear.on ? "" : "it applies where the paste is sheared (shear.viscous_number or shear.rate)";
+}
+
 std::string needs_shear(const Model& m, const ObservableArgs&) {
-  if (!m.shear.on) return "it applies where the paste is sheared (shear.viscous_number or shear.rate)";
+  if (std::string why = needs_sheared(m, {}); !why.empty()) return why;
   return needs_pressure(m, {});
 }
 
@@ -134,7 +139,11 @@ std::vector<ObservableSpec> paste_observables() {
       {"eta_eff", "",
        "effective viscosity |stress.xy| / (eta gammadot), in units of eta (|stress.xy| / (eta gammadot a) in 2D): "
        "mu / Vi",
-       [](C c, A) { return std::abs(c.meas().stress[0][1]) / viscous_stress(c.m, params(c.m).eta, c.s.shear_rate); }},
+       [](C c, A) {
+         // (at fixed volume too: it needs a rate, not a pressure; none at a rate of 0)
+         const double scale = viscous_stress(c.m, params(c.m).eta, c.s.shear_rate);
+         return scale > 0 ? std::abs(c.meas().stress[0][1]) / scale : std::numeric_limits<double>::quiet_NaN();
+       }},
       {"solver.iters", "", "iterations of the last lubrication solve (0 for a direct solve)",
        [](C c, A) { return solver_stat(c, kLastIterations); }},
       {"solver.residual", "", "relative residual |F - Xi V| / |F| of the last lubrication solve",
@@ -159,7 +168,7 @@ std::vector<ObservableSpec> paste_observables() {
   o[0].check = needs_shear;
   o[2].check = needs_pressure;
   o[3].check = needs_pressure;
-  o[4].check = needs_shear;
+  o[4].check = needs_sheared;  // eta_eff: a rate, at an imposed pressure or a fixed volume
   return o;
 }
 

@@ -11,6 +11,7 @@
 
 #include "paste/params.hpp"
 #include "paste/system.hpp"
+#include "silt/observables.hpp"
 #include "support/scenes.hpp"
 
 using namespace silt;
@@ -214,4 +215,22 @@ TEST_CASE("paste: the box strain rates' columns of Xi and the shear's drive are 
 
 TEST_CASE("paste: the box strain rates' columns of Xi and the shear's drive are the direct lubrication loads (3D)") {
   check_shear_drive(3);
+}
+
+TEST_CASE("paste: eta_eff at a fixed volume is |stress.xy| / (eta gammadot a_max), no pressure needed") {
+  // It was refused there ("relative to the imposed pressure"), though it needs only the rate.
+  std::string scene = drive_scene(2);
+  const std::string box = "[box]\npressure = 1.0\ncontrolled = [false, true]\n";
+  REQUIRE(scene.find(box) != std::string::npos);
+  scene.replace(scene.find(box), box.size(), "");
+  scene.replace(scene.find("[lubrication]\n"), 14, "[lubrication]\nstokes_drag = true\n");
+  auto sim = test::simulation_from(scene, 1);
+  for (int k = 0; k < 3; ++k) REQUIRE(sim->step());
+  const Model& m = sim->model();
+  CHECK(check_observable("eta_eff", m).empty());
+  CHECK(check_observable("Vi", m).find("box.pressure") != std::string::npos);  // Vi is relative to P
+  const double sxy = test::observe(m, sim->state(), "stress.xy");
+  REQUIRE(std::abs(sxy) > 0);
+  CHECK(test::observe(m, sim->state(), "eta_eff") ==
+        doctest::Approx(std::abs(sxy) / (1.3 * 0.3 * m.a_max)).epsilon(1e-12));
 }
