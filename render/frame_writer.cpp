@@ -11,6 +11,7 @@
 #include <thread>
 
 #include "silt/errors.hpp"
+#include "silt/io.hpp"
 #include "silt/render.hpp"
 
 namespace silt::render {
@@ -73,10 +74,7 @@ struct FrameWriter::Impl {
 };
 
 FrameWriter::FrameWriter(std::string dir, int threads) : impl_(std::make_unique<Impl>()) {
-  if (::mkdir(dir.c_str(), 0755) != 0 && errno != EEXIST)
-    throw IoError("cannot create the frame directory '" + dir + "': " + std::strerror(errno));
-  struct stat st {};
-  if (::stat(dir.c_str(), &st) != 0 || !S_ISDIR(st.st_mode)) throw IoError("'" + dir + "' is not a directory");
+  make_output_directory(dir, "frame");
   // An earlier run's frames in the directory would mix with this run's in a film: remove them
   // (only silt's own names, frame_NNNNNN.png).
   std::error_code ec;

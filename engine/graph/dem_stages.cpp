@@ -112,8 +112,10 @@ void diagnose_dem(GraphBuilder& b) {
                   format_number(m.dt_stable, 4) + " s; reduce run.dt";
     } else {
       f.parameter = stiffness_key(m);
-      f.message = what + ": the contacts are too soft for the loads or the impacts; increase " + stiffness_key(m) +
-                  " (stiffer contacts) or reduce the loads";
+      // A shorter contact time is a stiffer spring (k ~ 1 / t_c^2); a larger modulus or k_n is.
+      const bool by_time = m.contact.law == NormalLaw::kSpringDashpot;
+      f.message = what + ": the contacts are too soft for the loads or the impacts; " +
+                  (by_time ? "decrease " : "increase ") + stiffness_key(m) + " (stiffer contacts) or reduce the loads";
     }
   });
   b.diagnose(event::kRunaway, [](const Model& m, const State&, const EventSlot& e, StepFailure& f) {

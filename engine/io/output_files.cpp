@@ -1,6 +1,7 @@
 // Output files: a path checked before a run starts, and a text file written whole (a temporary
 // file renamed over a regular file; a device or a pipe written directly), every write checked.
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -29,6 +30,16 @@ void check_output_path(const std::string& path, const std::string& what, bool re
   if (!fs::is_directory(dir, ec)) throw IoError("cannot write " + what + " '" + path + "': no directory '" + dir + "'");
   if (::access(dir.c_str(), W_OK) != 0)
     throw IoError("cannot write " + what + " '" + path + "': " + std::strerror(errno) + " (its directory)");
+}
+
+void make_output_directory(const std::string& dir, const std::string& what) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (!fs::exists(fs::symlink_status(dir, ec)) && ::mkdir(dir.c_str(), 0755) != 0 && errno != EEXIST)
+    throw IoError("cannot create the " + what + " directory '" + dir + "': " + std::strerror(errno));
+  if (!fs::is_directory(dir, ec)) throw IoError("cannot write " + what + " files in '" + dir + "': not a directory");
+  if (::access(dir.c_str(), W_OK | X_OK) != 0)
+    throw IoError("cannot write " + what + " files in '" + dir + "': " + std::strerror(errno));
 }
 
 void write_text_file(const std::string& path, const std::string& text, const std::string& what) {

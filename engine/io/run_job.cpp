@@ -52,8 +52,10 @@ RunJob::RunJob(Simulation& sim, RunJobOptions options) : sim_(sim), o_(std::move
   observer_.emplace(m, o_.observe);  // throws std::invalid_argument naming a bad observable
   check_output_path(o_.summary, "summary");
   check_output_path(o_.save, "checkpoint", true);
-  if (!o_.series) stats_.emplace(o_.stats, o_.observe);
+  // The VTK directory before the stats file, which opening truncates: a refused run keeps it.
   if (!o_.vtk.empty()) vtk_ = std::make_unique<VtkWriter>(o_.vtk);
+  // A batch run's samples are streamed into their block averages (its memory does not grow).
+  if (!o_.series) stats_.emplace(o_.stats, o_.observe, o_.average_from);
 }
 
 RunJob::~RunJob() = default;
@@ -78,7 +80,7 @@ const char* RunJob::status(RunEnd end) {
 // last run is the start of its next).
 void RunJob::sample(const State& s) {
   StatsWriter& series = o_.series ? *o_.series : *stats_;
-  if (series.last_step() == s.step && !series.rows().empty()) return;
+  if (series.last_step() == s.step && series.samples() > 0) return;
   series.add(observer_->sample(sim_.model(), s), s.t, s.step);
 }
 
@@ -119,7 +121,7 @@ RunReport RunJob::run(RunOptions opt) {
                            VelocityProfile p =
                                velocity_profile(sim_.model(), s, profile_slabs_, profile_axis_, profile_component_);
                            if (profiles_[0].x.empty()) profiles_[0].x = std::move(p.y);
-                           profiles_[0].samples.push_back(std::move(p.vx));
+                           profiles_[0].add(p.vx);
                          }});
   for (const PeriodicHook& h : extra_) opt.hooks.push_back(h);
   // The modules' notes go into the summary's warnings too.

@@ -1,14 +1,16 @@
 #include <cerrno>
 #include <cstring>
 
+#include <stdexcept>
 #include <utility>
 
 #include "silt/io.hpp"
 
 namespace silt {
 
-StatsWriter::StatsWriter(const std::string& path, std::vector<std::string> names)
-    : path_(path), names_(std::move(names)) {
+StatsWriter::StatsWriter(const std::string& path, std::vector<std::string> names, std::optional<double> stream_from)
+    : path_(path), names_(std::move(names)), stream_from_(stream_from) {
+  if (stream_from_) streamed_.resize(names_.size());
   if (path.empty()) return;
   file_ = std::fopen(path.c_str(), "w");
   if (!file_) throw IoError("cannot write stats file '" + path + "': " + std::strerror(errno));
@@ -26,6 +28,10 @@ StatsWriter::StatsWriter(StatsWriter&& other) noexcept
       names_(std::move(other.names_)),
       rows_(std::move(other.rows_)),
       times_(std::move(other.times_)),
+      stream_from_(other.stream_from_),
+      streamed_(std::move(other.streamed_)),
+      last_row_(std::move(other.last_row_)),
+      samples_(other.samples_),
       last_step_(other.last_step_),
       error_(std::move(other.error_)) {}
 
@@ -37,6 +43,10 @@ StatsWriter& StatsWriter::operator=(StatsWriter&& other) noexcept {
     names_ = std::move(other.names_);
     rows_ = std::move(other.rows_);
     times_ = std::move(other.times_);
+    stream_from_ = other.stream_from_;
+    streamed_ = std::move(other.streamed_);
+    last_row_ = std::move(other.last_row_);
+    samples_ = other.samples_;
     last_step_ = other.last_step_;
     error_ = std::move(other.error_);
   }
@@ -44,13 +54,30 @@ StatsWriter& StatsWriter::operator=(StatsWriter&& other) noexcept {
 }
 
 void StatsWriter::add(const std::vector<double>& row, double t, int64_t step) {
-  rows_.push_back(row);
-  times_.push_back(t);
+  if (!stream_from_) {
+    rows_.push_back(row);
+    times_.push_back(t);
+  } else if (t >= *stream_from_) {
+    for (size_t k = 0; k < row.size() && k < streamed_.size(); ++k) streamed_[k].add(row[k]);
+  }
+  last_row_ = row;
+  ++samples_;
   last_step_ = step;
   if (!file_ || !error_.empty()) return;
   for (size_t k = 0; k < row.size(); ++k) std::fprintf(file_, "%s%.17g", k ? "," : "", row[k]);
   std::fprintf(file_, "\n");
   if (std::fflush(file_) != 0) error_ = std::strerror(errno);
+}
+
+BlockAverage StatsWriter::average(size_t k, double since) const {
+  if (stream_from_) {
+    if (since != *stream_from_) throw std::logic_error("stats streamed from another time than asked");
+    return streamed_.at(k).result();
+  }
+  std::vector<double> series;
+  for (size_t r = 0; r < rows_.size(); ++r)
+    if (times_[r] >= since) series.push_back(rows_[r][k]);
+  return block_average(series);
 }
 
 void StatsWriter::flush() {

@@ -51,17 +51,13 @@ void write_summary(const std::string& path, const SummaryInput& in, const Simula
     }
   json obs = json::object();
   const auto& names = stats.names();
-  const auto& rows = stats.rows();
   j["average_from"] = in.average_from;
   for (size_t k = 0; k < names.size(); ++k) {
-    std::vector<double> series;
-    for (size_t r = 0; r < rows.size(); ++r)
-      if (stats.times()[r] >= in.average_from) series.push_back(rows[r][k]);
-    const BlockAverage b = block_average(series);
+    const BlockAverage b = stats.average(k, in.average_from);
     json o;
     o["mean"] = b.n ? json(b.mean) : json(nullptr);
     o["err"] = b.n > 1 ? json(b.err) : json(nullptr);
-    o["last"] = stats.rows().empty() ? json(nullptr) : json(stats.rows().back()[k]);
+    o["last"] = stats.last_row().size() > k ? json(stats.last_row()[k]) : json(nullptr);
     o["n"] = b.n;
     o["block"] = b.block;
     o["converged"] = b.converged;
@@ -73,9 +69,7 @@ void write_summary(const std::string& path, const SummaryInput& in, const Simula
     for (const ProfileSeries& p : in.profiles) {
       json o, mean = json::array(), err = json::array();
       for (size_t k = 0; k < p.x.size(); ++k) {
-        std::vector<double> series;
-        for (const auto& row : p.samples) series.push_back(row[k]);
-        const BlockAverage b = block_average(series);
+        const BlockAverage b = k < p.bins.size() ? p.bins[k].result() : BlockAverage{};
         mean.push_back(b.n ? json(b.mean) : json(nullptr));
         err.push_back(b.n > 1 ? json(b.err) : json(nullptr));
       }
@@ -83,7 +77,7 @@ void write_summary(const std::string& path, const SummaryInput& in, const Simula
       o["x"] = p.x;
       o["mean"] = mean;
       o["err"] = err;
-      o["n"] = p.samples.size();
+      o["n"] = p.samples;
       profiles[p.name] = o;
     }
     j["profiles"] = profiles;

@@ -67,10 +67,7 @@ void write_vti(const std::string& path, const std::vector<GridField>& fields) {
   if (!o) throw IoError("cannot write '" + path + "'");
 }
 
-VtkWriter::VtkWriter(std::string dir) : dir_(std::move(dir)) {
-  if (::mkdir(dir_.c_str(), 0755) != 0 && errno != EEXIST)
-    throw IoError("cannot create the VTK directory '" + dir_ + "': " + std::strerror(errno));
-}
+VtkWriter::VtkWriter(std::string dir) : dir_(std::move(dir)) { make_output_directory(dir_, "VTK"); }
 
 void VtkWriter::write(const Model& m, const State& s, const std::vector<GridField>& fields) {
   const int D = m.dim, R = m.rot;

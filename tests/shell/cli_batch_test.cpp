@@ -17,6 +17,7 @@ using silt::test::Result;
 using silt::test::scene_path;
 using silt::test::sh;
 using silt::test::silt_cli;
+using silt::test::write_file;
 
 namespace {
 
@@ -172,6 +173,27 @@ TEST_CASE("every output is checked before the first step, and a failed write is 
   CHECK(j["exit_code"] == 4);
   CHECK(j["status"] == "ok");
   CHECK(j["warnings"].dump().find("/dev/full") != std::string::npos);
+}
+
+TEST_CASE("a run refused for its --vtk or --frames directory keeps the stats file it would have written") {
+  silt::test::TempDir dir;
+  const std::string stats = dir / "keep.csv", file = dir / "plain";
+  write_file(file, "not a directory\n");
+  for (const std::string& opt :
+       {"--vtk " + file, "--frames " + file, std::string("--vtk /proc/none"), std::string("--frames /proc/none")}) {
+    CAPTURE(opt);
+    write_file(stats, "earlier,rows\n1,2\n");
+    // (paste_iso: a refused --frames came after its whole preparation)
+    const Result r = silt_cli("run " + scene_path("paste_iso") + " --steps 5 --quiet --stats " + stats + " " + opt);
+    CHECK(r.code == 4);
+    CHECK_FALSE(contains(r.out, "prepared"));
+    CHECK(read_file(stats) == "earlier,rows\n1,2\n");
+  }
+  // A plain file named as the VTK directory was taken, and the run went on to lose every file.
+  const Result r = silt_cli("run " + scene_path("pack_2d") + " --steps 5 --quiet --vtk " + file);
+  CHECK(r.code == 4);
+  CHECK(contains(r.out, "not a directory"));
+  CHECK_FALSE(contains(r.out, "status"));
 }
 
 TEST_CASE("a checkpoint that cannot be written at the end of a run: exit 4, in the summary as for the process") {

@@ -4,6 +4,7 @@
 #include <array>
 #include <cstdio>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -13,11 +14,16 @@
 
 namespace silt {
 
-// Time series of observables in memory, written to CSV as samples arrive.
+// Time series of observables, written to CSV as samples arrive and kept for their means and
+// errors: every sample in memory (the shell: `stats since T` chooses T later), or, streamed,
+// only the block averages of the samples with t >= a time given up front (a batch run: its
+// memory does not grow with its length).
 class StatsWriter {
  public:
-  // Opens `path` ("" = no file). Throws IoError.
-  StatsWriter(const std::string& path, std::vector<std::string> names);
+  // Opens `path` ("" = no file). Throws IoError. With `stream_from`, keeps no rows: only the
+  // block averages of the samples with t >= *stream_from.
+  StatsWriter(const std::string& path, std::vector<std::string> names,
+              std::optional<double> stream_from = std::nullopt);
   ~StatsWriter();
   StatsWriter(StatsWriter&& other) noexcept;
   StatsWriter& operator=(StatsWriter&& other) noexcept;
@@ -31,8 +37,15 @@ class StatsWriter {
   // The step of the last sample, -1 when none.
   int64_t last_step() const { return last_step_; }
   const std::vector<std::string>& names() const { return names_; }
+  // The samples kept (none when streamed).
   const std::vector<std::vector<double>>& rows() const { return rows_; }
   const std::vector<double>& times() const { return times_; }
+  // Samples added so far, and the last one (empty before the first).
+  int64_t samples() const { return samples_; }
+  const std::vector<double>& last_row() const { return last_row_; }
+  // Mean and error of observable k over the samples with t >= since (streamed: the time given to
+  // the constructor, or std::logic_error).
+  BlockAverage average(size_t k, double since) const;
   void flush();
 
  private:
@@ -41,17 +54,27 @@ class StatsWriter {
   std::vector<std::string> names_;
   std::vector<std::vector<double>> rows_;
   std::vector<double> times_;
+  std::optional<double> stream_from_;
+  std::vector<BlockAccumulator> streamed_;
+  std::vector<double> last_row_;
+  int64_t samples_ = 0;
   int64_t last_step_ = -1;
   std::string error_;
 };
 
 // A profile sampled during a run (one value per bin and sample); the summary gives each bin's
-// time average and its block-averaging error.
+// time average and its block-averaging error (streamed: its memory does not grow with the run).
 struct ProfileSeries {
   std::string name;        // e.g. "vx(y)"
   std::string coordinate;  // meaning of x, e.g. "y / L_y"
   std::vector<double> x;
-  std::vector<std::vector<double>> samples;
+  std::vector<BlockAccumulator> bins;
+  int64_t samples = 0;
+  void add(const std::vector<double>& values) {
+    if (bins.size() < values.size()) bins.resize(values.size());
+    for (size_t k = 0; k < values.size(); ++k) bins[k].add(values[k]);
+    ++samples;
+  }
 };
 
 // Before a run: whether `path` can be written (its directory exists and is writable, or the file
@@ -59,6 +82,10 @@ struct ProfileSeries {
 // `regular_only`, an existing path must be a regular file (a checkpoint is renamed over it: never
 // over a device).
 void check_output_path(const std::string& path, const std::string& what, bool regular_only = false);
+// Before a run: the directory `dir` of a series of files (frames, VTK), made if it is not there;
+// IoError when it cannot be, is not a directory, or cannot be written in, `what` naming the
+// files ("frame", "VTK").
+void make_output_directory(const std::string& dir, const std::string& what);
 // A text file written whole: to PATH.tmp renamed over PATH (a device or a pipe is written in
 // place); IoError on any failed write.
 void write_text_file(const std::string& path, const std::string& text, const std::string& what);

@@ -18,4 +18,27 @@ struct BlockAverage {
 };
 BlockAverage block_average(const std::vector<double>& x);
 
+// The same block averaging of a series given one value at a time, in memory that grows as the
+// logarithm of its length (a run sampled at every step for 1e9 steps): per blocking level, the
+// count of its values and their sums and sums of squares (relative to the first value of the
+// series, in long double), and its half-formed pair. Its levels hold the same values as
+// block_average's (pairs of the level below, an odd last one left out); the mean and the errors
+// differ from its two-pass sums by rounding.
+class BlockAccumulator {
+ public:
+  void add(double x);
+  int64_t count() const { return levels_.empty() ? 0 : levels_[0].m; }
+  BlockAverage result() const;
+
+ private:
+  struct Level {
+    int64_t m = 0;
+    long double s1 = 0, s2 = 0;  // sums of (v - x0) and (v - x0)^2
+    bool pending = false;
+    double half = 0;  // the first of a pair not yet complete
+  };
+  std::vector<Level> levels_;
+  double x0_ = 0;
+};
+
 }  // namespace silt

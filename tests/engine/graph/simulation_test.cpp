@@ -3,6 +3,7 @@
 #include <doctest/doctest.h>
 
 #include "silt/observables.hpp"
+#include "silt/scene.hpp"
 #include "support/scenes.hpp"
 
 using namespace silt;
@@ -40,6 +41,7 @@ TEST_CASE("an overlap beyond limits.max_overlap stops the run and names the stif
   CHECK(f.failed);
   CHECK(f.stage == "contact_forces");
   CHECK(f.parameter == "contact.k_n");
+  CHECK(f.message.find("increase contact.k_n") != std::string::npos);
   CHECK(f.particle == 0);
   CHECK(f.message.find("step " + std::to_string(f.step)) == 0);
   CHECK(f.message.find("limits.max_overlap") != std::string::npos);
@@ -201,4 +203,19 @@ TEST_CASE("observables: a grain's radius and mass, p[K].r and p[K].m") {
     CHECK(test::observe(disks, sim.state(), "p[" + std::to_string(k) + "].m") == doctest::Approx(pi * r * r));
   }
   CHECK(disks.init.radius[0] != disks.init.radius[7]);
+}
+
+TEST_CASE("a contact too soft under a spring-dashpot law asks for a shorter contact time") {
+  // k ~ 1 / t_c^2: stiffer contacts are a shorter contact.contact_time (it said "increase").
+  const Model m =
+      compile(load_scene_file(test::scene_path("collision_normal"),
+                              {parse_override("run.dt_over_tc=0.5"), parse_override("limits.max_overlap=0.01")}));
+  REQUIRE(m.contact.law == NormalLaw::kSpringDashpot);
+  Simulation sim(m, 1);
+  bool ok = true;
+  for (int k = 0; k < 1000 && ok; ++k) ok = sim.step();
+  REQUIRE_FALSE(ok);
+  const StepFailure& f = sim.state().failure;
+  CHECK(f.parameter == "contact.contact_time");
+  CHECK(f.message.find("decrease contact.contact_time") != std::string::npos);
 }

@@ -2,6 +2,7 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <stdexcept>
 
 #include "core/rng.hpp"
 #include "silt/io.hpp"
@@ -45,4 +46,57 @@ TEST_CASE("block averaging of short and constant series") {
   std::vector<double> ramp(32);
   for (int i = 0; i < 32; ++i) ramp[i] = i;
   CHECK_FALSE(block_average(ramp).converged);
+}
+
+TEST_CASE("block averaging one sample at a time gives block_average's mean, error and block") {
+  // The streamed form keeps the sums of each level instead of the series: the same levels, so the
+  // same chosen block; the mean and errors to rounding, also for a series far from zero whose
+  // fluctuations are 1e-9 of its value (sums relative to the first sample).
+  for (const auto& [n, rho, offset, scale] :
+       {std::tuple{0, 0.0, 0.0, 1.0}, std::tuple{1, 0.0, 3.0, 1.0}, std::tuple{2, 0.0, 0.0, 1.0},
+        std::tuple{3, 0.5, 0.0, 1.0}, std::tuple{1000, 0.9, 0.0, 1.0}, std::tuple{4097, 0.98, 0.0, 1.0},
+        std::tuple{1 << 16, 0.9, 0.8, 1e-9}, std::tuple{777, 0.0, 5.0, 0.0}}) {
+    CAPTURE(n);
+    CAPTURE(rho);
+    CAPTURE(offset);
+    Rng rng(7, static_cast<uint64_t>(n));
+    std::vector<double> x(static_cast<size_t>(n));
+    double prev = 0;
+    BlockAccumulator acc;
+    for (int64_t t = 0; t < n; ++t) {
+      prev = rho * prev + rng.normal();
+      x[t] = offset + scale * prev;
+      acc.add(x[t]);
+    }
+    const BlockAverage a = block_average(x), b = acc.result();
+    CHECK(b.n == a.n);
+    CHECK(acc.count() == n);
+    CHECK(b.block == a.block);
+    CHECK(b.converged == a.converged);
+    CHECK(b.mean == doctest::Approx(a.mean).epsilon(1e-14));
+    CHECK(std::abs(b.err - a.err) <= 1e-9 * a.err);
+    if (scale == 0) CHECK(b.err == 0);
+  }
+}
+
+TEST_CASE("a streamed stats series keeps no rows: its averages from the time given up front") {
+  // A batch run sampled at every step for 1e8 steps held every row (115 bytes a sample) until it
+  // was killed for memory, writing nothing.
+  StatsWriter kept("", {"x"}), streamed("", {"x"}, 2.0);
+  Rng rng(3, 0);
+  for (int k = 0; k < 5000; ++k) {
+    const std::vector<double> row{rng.normal()};
+    kept.add(row, 0.001 * k, k);
+    streamed.add(row, 0.001 * k, k);
+  }
+  CHECK(streamed.rows().empty());
+  CHECK(streamed.samples() == 5000);
+  CHECK(streamed.last_row() == kept.last_row());
+  const BlockAverage a = kept.average(0, 2.0), b = streamed.average(0, 2.0);
+  CHECK(b.n == 3000);
+  CHECK(b.n == a.n);
+  CHECK(b.block == a.block);
+  CHECK(b.mean == doctest::Approx(a.mean).epsilon(1e-13));
+  CHECK(b.err == doctest::Approx(a.err).epsilon(1e-9));
+  CHECK_THROWS_AS(streamed.average(0, 1.0), std::logic_error);
 }
