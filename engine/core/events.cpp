@@ -8,7 +8,8 @@ namespace silt {
 namespace {
 
 std::vector<std::string>& names() {
-  static std::vector<std::string> n = {"non_finite_late", "non_finite", "overlap", "box_collapse", "runaway"};
+  static std::vector<std::string> n = {"non_finite_late", "non_finite", "overlap",
+                                       "box_collapse",    "runaway",    "clock_stalled"};
   return n;
 }
 

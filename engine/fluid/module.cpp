@@ -209,6 +209,7 @@ void compile_fluid(const SceneDesc& d, Model& m) {
   // The fluid's step is the step's (the grains, if any, sub-cycle in a later version).
   m.propose_dt(p.dt);
   m.adaptive_dt = m.adaptive_dt || !p.dt_fixed;
+  m.dt_key = p.dt_fixed ? "fluid.dt" : "fluid.cfl";
   m.stop_when_steady = p.stop_when_steady;
 }
 

@@ -97,6 +97,7 @@ std::string describe_fluid(const Model& m) {
 // the step in its dt (the core's steer); what lies outside them: whether the step adapts.
 std::string steer_fluid(Model& m, const Model& fresh) {
   m.adaptive_dt = fresh.adaptive_dt;
+  m.dt_key = fresh.dt_key;
   return "";
 }
 

@@ -78,20 +78,24 @@ const Access kKickWrites = {fid::particle_f, fid::particle_t, fid::particle_v, f
 
 void diagnose_dem(GraphBuilder& b) {
   // A grain id in a step's kick or drift: a time step too large for the contacts it meets.
-  auto non_finite = [](const State& s, int64_t id, StepFailure& f) {
+  // The key that sets the step: run.dt, or the module's that chooses it (a paste's).
+  auto step_advice = [](const Model& m) {
+    return "reduce " + m.dt_key + (m.dt_key == "run.dt" ? " (or run.dt_over_tc)" : "");
+  };
+  auto non_finite = [step_advice](const Model& m, const State& s, int64_t id, StepFailure& f) {
     f.stage = "kick";
     f.particle = id;
-    f.parameter = "run.dt";
+    f.parameter = m.dt_key;
     f.message = "grain " + std::to_string(id) + " has a non-finite velocity or position; the time step " +
-                format_number(s.dt, 4) + " s is too large for the contacts it meets: reduce run.dt (or run.dt_over_tc)";
+                format_number(s.dt, 4) + " s is too large for the contacts it meets: " + step_advice(m);
   };
-  b.diagnose(event::kNonFinite, [non_finite](const Model&, const State& s, const EventSlot& e, StepFailure& f) {
-    non_finite(s, s.particle_id[e.first()], f);
+  b.diagnose(event::kNonFinite, [non_finite](const Model& m, const State& s, const EventSlot& e, StepFailure& f) {
+    non_finite(m, s, s.particle_id[e.first()], f);
   });
-  b.diagnose(event::kNonFiniteLate, [non_finite](const Model&, const State& s, const EventSlot& e, StepFailure& f) {
+  b.diagnose(event::kNonFiniteLate, [non_finite](const Model& m, const State& s, const EventSlot& e, StepFailure& f) {
     // The second half kick of the step before, left to this one (dem::late_kick_drift): that
     // step failed. The index is the grain's id.
-    non_finite(s, e.first(), f);
+    non_finite(m, s, e.first(), f);
     f.step = s.step - 1;
   });
   b.diagnose(event::kOverlap, [](const Model& m, const State& s, const EventSlot& e, StepFailure& f) {
@@ -118,13 +122,12 @@ void diagnose_dem(GraphBuilder& b) {
                   (by_time ? "decrease " : "increase ") + stiffness_key(m) + " (stiffer contacts) or reduce the loads";
     }
   });
-  b.diagnose(event::kRunaway, [](const Model& m, const State&, const EventSlot& e, StepFailure& f) {
+  b.diagnose(event::kRunaway, [step_advice](const Model& m, const State&, const EventSlot& e, StepFailure& f) {
     f.stage = "energy_check";
-    f.parameter = "run.dt";
+    f.parameter = m.dt_key;
     f.message = "kinetic energy " + format_number(e.value(), 4) + " J exceeds " +
                 format_number(m.limits.energy_factor, 4) + " times the energy the scene can supply (" +
-                format_number(m.limits.energy_scale, 4) +
-                " J): the integration is unstable; reduce run.dt (or run.dt_over_tc)";
+                format_number(m.limits.energy_scale, 4) + " J): the integration is unstable; " + step_advice(m);
   });
 }
 

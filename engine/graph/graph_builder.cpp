@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include "silt/module.hpp"
+#include "silt/text.hpp"
 
 namespace silt::graph {
 
@@ -186,12 +187,22 @@ StageList build_stage_list(const Model& m, Workspaces& ws, Phase phase, std::vec
     b.set_module("core");
     const int clock = b.add_last("advance_clock",
                                  [](const Model&, State& s) {
-                                   // (dt, t, step) => (t, step)
+                                   // (dt, t, step) => (t, step, events.clock_stalled)
+                                   if (s.dt > 0 && s.t + s.dt == s.t) s.events[event::kClockStalled].raise(0, s.dt);
                                    s.t += s.dt;
                                    ++s.step;
                                  },
                                  {fid::dt, fid::t, fid::step}, {fid::t, fid::step});
     b.light(clock);
+    b.diagnose(event::kClockStalled, [](const Model& mm, const State& s, const EventSlot& e, StepFailure& f) {
+      f.stage = "advance_clock";
+      f.parameter = mm.dt_key;
+      f.message = "the time step " + format_number(e.value(), 4) +
+                  " s is lost in the rounding of the time t = " + format_number(s.t, 6) +
+                  " s: the clock no longer advances; the step is set by " + mm.dt_key +
+                  " and the scene's time scales (a viscosity, a velocity or a stiffness many orders of magnitude " +
+                  "from the others)";
+    });
   }
   StageList list = b.take();
   if (diagnoses) *diagnoses = b.take_diagnoses();

@@ -41,11 +41,12 @@ std::string suggest_key(std::string_view bad_path) {
     // Compare whole paths, and leaves alone so that a key in the wrong table is found too.
     const auto kdot = k.path.rfind('.');
     const std::string kleaf = kdot == std::string::npos ? k.path : k.path.substr(kdot + 1);
-    // A leaf alone is short: two edits turn "nope" into "name". Take it only within a third of its length.
+    // A leaf alone is short: two edits turn "nope" into "name". Take it only within a third of its length,
+    // and not below 4 letters in another table ("lubrication.foo" is not "render.camera.fov").
     const size_t leaf_d = edit_distance(leaf, kleaf, best_d);
+    const bool leaf_counts = leaf_d <= std::max<size_t>(1, leaf.size() / 3) && (norm == leaf || leaf.size() >= 4);
     const size_t d =
-        std::min(edit_distance(norm, k.path, best_d),
-                 leaf_d <= std::max<size_t>(1, leaf.size() / 3) ? leaf_d + (norm == leaf ? 0 : 1) : SIZE_MAX);
+        std::min(edit_distance(norm, k.path, best_d), leaf_counts ? leaf_d + (norm == leaf ? 0 : 1) : SIZE_MAX);
     if (d < best_d) {
       best_d = d;
       best = k.path;

@@ -27,6 +27,7 @@ enum : EventId {
   kOverlap,        // dem: an overlap beyond limits.max_overlap (index: grain; value: overlap / radius)
   kBoxCollapse,    // shear: a controlled box length below twice the interaction range (index: axis)
   kRunaway,        // dem: kinetic energy beyond limits.energy_factor times the scene's (value: energy)
+  kClockStalled,   // core: t + dt == t, the step lost in the rounding of the time (value: dt)
   kBuiltinCount
 };
 }

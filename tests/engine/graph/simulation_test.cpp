@@ -219,3 +219,16 @@ TEST_CASE("a contact too soft under a spring-dashpot law asks for a shorter cont
   CHECK(f.parameter == "contact.contact_time");
   CHECK(f.message.find("decrease contact.contact_time") != std::string::npos);
 }
+
+TEST_CASE("a step lost in the rounding of the time stops the run at advance_clock") {
+  // A paste at a viscosity of 1e-300 ran with t frozen, status ok; here the DEM's 1e-3 s step at
+  // t = 1e16 s, below the spacing of doubles there (2 s).
+  auto sim = test::simulation_from(test::fill(kSoft, {{"k", 1e6}, {"v", 0.0}}));
+  REQUIRE(sim->step());
+  sim->state().t = 1e16;
+  REQUIRE_FALSE(sim->step());
+  const StepFailure& f = sim->state().failure;
+  CHECK(f.stage == "advance_clock");
+  CHECK(f.parameter == "run.dt");
+  CHECK(f.message.find("lost in the rounding of the time") != std::string::npos);
+}

@@ -51,6 +51,10 @@ TEST_CASE("unknown key: location and suggestion") {
   const std::string far = test::scene_error(with("k_n = 1e5", "k_n = 1e5\nnope = 1"));
   CHECK(far.find("unknown key 'contact.nope'") != std::string::npos);
   CHECK(far.find("did you mean") == std::string::npos);
+  // Nor one edit from a 3-letter key of another table (it suggested 'render.camera.fov').
+  const std::string foo = test::scene_error(with("k_n = 1e5", "k_n = 1e5\nfoo = 1"));
+  CHECK(foo.find("unknown key 'contact.foo'") != std::string::npos);
+  CHECK(foo.find("did you mean") == std::string::npos);
   CHECK(test::scene_error(with("k_n = 1e5", "k_n = 1e5\nmodle = 1")).find("did you mean 'contact.model'") !=
         std::string::npos);
 }
