@@ -179,6 +179,7 @@ StageList build_stage_list(const Model& m, Workspaces& ws, Phase phase, std::vec
   GraphBuilder b(m, ws, phase);
   for (const Module& mod : modules()) {
     if (!mod.add_stages || !m.module_on(mod.spec->name)) continue;
+    if (phase == Phase::kResolve && !mod.spec->stale) continue;
     b.set_module(mod.spec->name);
     mod.add_stages(b);
   }

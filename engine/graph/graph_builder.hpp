@@ -16,8 +16,10 @@
 namespace silt::graph {
 
 // kStep: one time step. kSetup: the forces of the first state, so that the first half kick uses
-// them (LAMMPS `setup`).
-enum class Phase { kStep, kSetup };
+// them (LAMMPS `setup`). kResolve: what a module solved again for a state given to a simulation
+// under changed parameters (ModuleSpec::stale), the stages a step runs first when they are
+// steered between steps; only the adders of modules with a `stale` test are called.
+enum class Phase { kStep, kSetup, kResolve };
 
 using StageFn = std::function<void(const Model&, State&)>;
 using Access = std::vector<FieldId>;

@@ -136,13 +136,19 @@ void add_paste_stages(GraphBuilder& b) {
   const paste::PasteFields f = paste::paste_fields();
   const int dt = b.add("paste_dt", &paste::paste_dt, {fid::dt, f.dt, f.dt_scale}, {fid::dt});
   b.light(dt);
-  b.after(dt, b.find("choose_dt"), "replaces the fixed step by the adaptive one");
+  if (const int choose = b.find("choose_dt"); choose >= 0)
+    b.after(dt, choose, "replaces the fixed step by the adaptive one");
   Access again_writes = solve_writes();
   again_writes.push_back(fid::shear_rate);  // an imposed rate changed: the solve's, before box_drift's
   const int again = b.add(
       "lubrication_resolve", [&w](const Model& m, State& s) { paste::lubrication_resolve(m, s, w); }, solve_reads(),
       again_writes);
   b.after(again, dt, "solves with this step's dt");
+  // A state given under changed parameters: its step, and its velocities solved again (and no more).
+  if (b.phase() == Phase::kResolve) {
+    diagnose_paste(b);
+    return;
+  }
   const int origin = b.find("cycle_origin");
   if (origin >= 0) b.after(again, origin, "imposes the stresses of the cycles' phase under this step's w");
   b.after(b.find("drift"), again, "moves the grains by this step's dt and velocities");

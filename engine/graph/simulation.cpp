@@ -25,7 +25,10 @@ struct Simulation::Impl {
   Workspaces workspaces;                    // the modules' (graph/graph_builder.hpp)
   std::unique_ptr<graph::StepGraph> step;   // one time step
   std::unique_ptr<graph::StepGraph> setup;  // the forces of the first state
-  graph::RestartPoint restart;              // last restart point
+  // What modules solve again for a state given under changed parameters (ModuleSpec::stale).
+  std::unique_ptr<graph::StepGraph> resolve;
+  bool resolve_pending = false;
+  graph::RestartPoint restart;  // last restart point
   bool primed = false;
   // A new state before its setup stages ran, until its first step: a change of parameters before
   // that step goes back to it, so the setup runs under the new parameters (a run loaded, changed
@@ -43,6 +46,7 @@ Simulation::Simulation(Model model, int threads)
   impl_->arena.execute([&] {
     impl_->step = std::make_unique<graph::StepGraph>(model_, impl_->workspaces, graph::Phase::kStep);
     impl_->setup = std::make_unique<graph::StepGraph>(model_, impl_->workspaces, graph::Phase::kSetup);
+    impl_->resolve = std::make_unique<graph::StepGraph>(model_, impl_->workspaces, graph::Phase::kResolve);
   });
 }
 
@@ -77,6 +81,7 @@ double estimated_memory_bytes(const Model& m) {
 void Simulation::set_access_check(bool on) {
   impl_->step->set_access_check(on);
   impl_->setup->set_access_check(on);
+  impl_->resolve->set_access_check(on);
 }
 
 // Up to kSortMin grains every stage is a single block of work (grains are not renumbered in cell
@@ -92,7 +97,10 @@ void Simulation::execute(graph::StepGraph& g, State& s) {
 // The forces of t = 0, so that the first half kick uses them (LAMMPS `setup`): the setup graph
 // of the modules' stages. Events it raises (an overlap present from the start) are not failures.
 void Simulation::prepare() {
-  if (impl_->primed) return;
+  if (impl_->primed) {
+    resolve_stale();
+    return;
+  }
   if (state_.step == 0 && !impl_->unprepared) impl_->unprepared = state_;
   execute(*impl_->setup, state_);
   state_.events.clear();
@@ -100,6 +108,16 @@ void Simulation::prepare() {
   impl_->restart.take(state_);
   impl_->primed = true;
   collect_notices();
+}
+
+// A state given under changed parameters: the modules' Phase::kResolve stages, once, before it is
+// sampled or stepped; a failure they report is the state's (the next step returns it).
+void Simulation::resolve_stale() {
+  if (!impl_->resolve_pending) return;
+  impl_->resolve_pending = false;
+  state_.events.clear();
+  execute(*impl_->resolve, state_);
+  if (impl_->resolve->diagnose(model_, state_)) impl_->restart.take(state_);
 }
 
 void Simulation::collect_notices() {
@@ -129,9 +147,13 @@ void Simulation::restore(State s) {
   impl_->workspaces.invalidate();
   impl_->restart.take(state_);
   impl_->primed = true;
-  for (const Module& mod : modules())
-    if (mod.spec->unstarted && model_.module_on(mod.spec->name) && mod.spec->unstarted(model_, state_))
-      impl_->primed = false;
+  impl_->resolve_pending = false;
+  for (const Module& mod : modules()) {
+    if (!model_.module_on(mod.spec->name)) continue;
+    if (mod.spec->unstarted && mod.spec->unstarted(model_, state_)) impl_->primed = false;
+    if (mod.spec->stale && mod.spec->stale(model_, state_)) impl_->resolve_pending = true;
+  }
+  if (!impl_->primed) impl_->resolve_pending = false;  // the setup solves it as a first state
 }
 
 Model& Simulation::model_for_steering() {

@@ -400,11 +400,14 @@ const ModuleSpec& module() {
     // No solve yet: a packing compressed dry (prepare.compress, or one given by --restore), whose
     // velocities and box rates are the compression's. The first drift needs the paste's own.
     s.adopt = paste_adopt;
-    s.unstarted = [](const Model& m, const State& st) {
+    s.unstarted = [](const Model&, const State& st) {
       const auto& v = st.module_field(paste_fields().solver);
       // (an older checkpoint may hold fewer stats)
-      return v.size() <= kSolves || v[kSolves] == 0 || solved_under_other(m, st);
+      return v.size() <= kSolves || v[kSolves] == 0;
     };
+    // Its velocities solved under other parameters: solved again (lubrication_resolve), with the
+    // contact forces it holds (the setup's would stretch the tangential springs a second time).
+    s.stale = [](const Model& m, const State& st) { return solved_under_other(m, st); };
     return s;
   }();
   return spec;

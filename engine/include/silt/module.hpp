@@ -79,9 +79,15 @@ struct ModuleSpec {
   // without this module) has not been started by the module: the stages of the first state then
   // run before its first step, as for a new state (a paste solves the velocities the first drift
   // moves the grains with), or one the module cannot continue as it is under this model (a paste's
-  // velocities solved under another viscosity or rate: solved again before anything is sampled).
   // A state the module has stepped under the same parameters is continued as it is. Empty: never.
   std::function<bool(const Model& m, const State& s)> unstarted;
+  // Whether a state the module has started is stale under this model: what the module solved
+  // for it depends on parameters changed since (a paste's velocities solved under another
+  // viscosity or rate). Such a state, given to a simulation, runs the module's stages of
+  // graph::Phase::kResolve before anything is sampled (the same stages a step runs first when the
+  // parameters are steered between steps), not the stages of a first state: its forces stay as
+  // they are. Empty: never.
+  std::function<bool(const Model& m, const State& s)> stale;
   // Fills the module's fields of a state made or given (restored) for this model with what a later
   // change must not lose (the cycles' phase origin under the w of this model). Empty: nothing.
   std::function<void(const Model& m, State& s)> adopt;

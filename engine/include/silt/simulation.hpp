@@ -123,6 +123,7 @@ class Simulation {
   struct Impl;
   void execute(graph::StepGraph& g, State& s);
   void collect_notices();
+  void resolve_stale();
   // ModuleSpec::adopt of every module the model enables, on the state made or restored.
   void adopt_modules();
   Model model_;

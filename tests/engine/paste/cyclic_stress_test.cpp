@@ -188,8 +188,6 @@ TEST_CASE("paste: a checkpoint restored under another cycle period goes on from 
   for (int k = 0; k < 5; ++k) REQUIRE(b->step());
   const double dt = b->state().t - t1;
   CHECK(obs.sample(b->model(), b->state())[0] == doctest::Approx(before + dt / 8.0).epsilon(1e-12));
-  // (Not bitwise the run steered at that time: the restored velocities are solved again before the
-  // first step, with a new factor, the steered ones in it.)
   // A checkpoint without an origin (of a scene without cycles, or older): w t, and a period steered
   // before its first step goes on from there (it went back to w_new t).
   auto d = test::simulation_from(scene, 1);
