@@ -23,7 +23,11 @@ void setup_time(const SceneDesc& d, Model& m) {
   if (d.has("run.time")) {
     m.run_time = d.real("run.time");
     m.run_steps = steps_in(d.real("run.time"), m.dt);
-    if (m.run_steps < 0) d.fail("run.time", "run.time is more than 9e18 time steps of " + format_number(m.dt) + " s");
+    // A module's step (a fluid's from its CFL number and velocity scale) names its key: the cause
+    // may be there (a lid of 1e300 m/s), not in the run's length.
+    if (m.run_steps < 0)
+      d.fail("run.time", "run.time is more than 9e18 time steps of " + format_number(m.dt) + " s" +
+                             (m.dt_key != "run.dt" ? " (the step set by " + m.dt_key + " and the scene's speeds)" : ""));
   }
   m.until_static.on = d.boolean("run.stop_when_static");
   m.until_static.force_tol = d.real("run.static_force_tol");
