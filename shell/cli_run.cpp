@@ -145,18 +145,25 @@ int run_command(const RunArgs& a) {
   }
   // Every output is opened or checked before the first step (of the preparation too), the frame
   // directory before the stats file, which opening truncates: a refused run keeps it.
+  // (The frame writer itself, which removes an earlier run's frames, once the preparation is done.)
   std::optional<RunJob> job;
-  std::unique_ptr<render::FrameWriter> frames;
   try {
     if (!a.frames.empty()) make_output_directory(a.frames, "frame");
     job.emplace(sim, jo);
-    if (!a.frames.empty()) frames = std::make_unique<render::FrameWriter>(a.frames);
   } catch (const IoError& e) {
     return report_error(e.what(), 4);
   }
   std::string prep_warning;
   if (a.restore.empty() && model.prepare.compress) {
     if (const int prep_code = prepare(sim, a, *job, prep_warning); prep_code != 0) return prep_code;
+  }
+  std::unique_ptr<render::FrameWriter> frames;
+  if (!a.frames.empty()) {
+    try {
+      frames = std::make_unique<render::FrameWriter>(a.frames);
+    } catch (const IoError& e) {
+      return report_error(e.what(), 4);
+    }
   }
   const int64_t frame_every =
       a.frame_every > 0 ? a.frame_every : (model.render.every > 0 ? model.render.every : model.sample_every);

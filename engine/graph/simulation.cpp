@@ -111,13 +111,21 @@ void Simulation::prepare() {
 }
 
 // A state given under changed parameters: the modules' Phase::kResolve stages, once, before it is
-// sampled or stepped; a failure they report is the state's (the next step returns it).
+// sampled or stepped. A failure they report is the first step's, as when the same change is
+// steered between steps (the state's last good one is the state given).
 void Simulation::resolve_stale() {
   if (!impl_->resolve_pending) return;
   impl_->resolve_pending = false;
+  const State given = state_;
   state_.events.clear();
   execute(*impl_->resolve, state_);
-  if (impl_->resolve->diagnose(model_, state_)) impl_->restart.take(state_);
+  if (impl_->resolve->diagnose(model_, state_, state_.step + 1)) {
+    impl_->restart.take(state_);
+    return;
+  }
+  const StepFailure failure = state_.failure;
+  state_ = given;  // what the failed solve left is not a state to sample
+  state_.failure = failure;
 }
 
 void Simulation::collect_notices() {
@@ -172,7 +180,8 @@ Model& Simulation::model_for_steering() {
 bool Simulation::step() {
   if (state_.failure.failed) return false;
   prepare();
-  impl_->unprepared.reset();  // (before the step's workspaces are made: never held beside them)
+  if (state_.failure.failed) return false;  // (the re-solve of a state given under changed parameters)
+  impl_->unprepared.reset();                // (before the step's workspaces are made: never held beside them)
   state_.events.clear();
   execute(*impl_->step, state_);
   if (!impl_->step->diagnose(model_, state_)) return false;
@@ -250,6 +259,11 @@ RunReport Simulation::run(const RunOptions& options) {
   const auto t0 = std::chrono::steady_clock::now();
   auto last_progress = t0;
   prepare();
+  if (state_.failure.failed) {  // a state given under changed parameters whose re-solve failed: no sample
+    rep.end = RunEnd::kFailed;
+    rep.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return rep;
+  }
   auto tell = [&] {
     if (impl_->notices.empty()) return;
     for (const std::string& n : take_notices())

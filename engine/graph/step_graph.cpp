@@ -198,16 +198,17 @@ std::string StepGraph::describe() const {
   return o.str();
 }
 
-bool StepGraph::diagnose(const Model& m, State& s) const {
+bool StepGraph::diagnose(const Model& m, State& s, int64_t step) const {
   StepFailure& f = s.failure;
+  if (step < 0) step = s.step;
   if (s.internal.raised()) {
     f.failed = true;
     f.internal = true;
-    f.step = s.step;
+    f.step = step;
     f.stage = s.internal.stage();
     f.particle = -1;
     f.parameter.clear();
-    f.message = "step " + std::to_string(s.step) + ": " + s.internal.message();
+    f.message = "step " + std::to_string(step) + ": " + s.internal.message();
     return false;
   }
   if (!s.events.any()) return true;
@@ -218,7 +219,7 @@ bool StepGraph::diagnose(const Model& m, State& s) const {
     f = StepFailure{};
     f.failed = true;
     f.event = e;
-    f.step = s.step;
+    f.step = step;
     for (const Diagnosis& d : diagnoses_)
       if (d.event == e) d.fn(m, s, slot, f);
     if (f.message.empty())

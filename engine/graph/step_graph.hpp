@@ -34,7 +34,9 @@ class StepGraph {
   std::string describe() const;
   // After a step: the failure the events it raised make (the modules' diagnoses), an internal
   // error first. Fills s.failure; false when the step failed.
-  bool diagnose(const Model& m, State& s) const;
+  // `step`: the step the failure is reported at (default: the state's, which the step's clock has
+  // advanced; a graph run before a step, the resolve graph, reports the step it runs for).
+  bool diagnose(const Model& m, State& s, int64_t step = -1) const;
 
   // Whether the serial executor checks that each stage writes and reads only the fields it
   // declares (graph/access_check.hpp). On by default in the sanitizer build (SILT_CHECK_ACCESS),

@@ -1,5 +1,6 @@
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "silt/statistics.hpp"
 
@@ -61,6 +62,7 @@ BlockAverage block_average(const std::vector<double>& x) {
 
 void BlockAccumulator::add(double x) {
   if (levels_.empty()) x0_ = x;
+  sum_ += x;
   double v = x;
   for (size_t k = 0;; ++k) {
     if (k == levels_.size()) levels_.emplace_back();
@@ -83,14 +85,18 @@ BlockAverage BlockAccumulator::result() const {
   BlockAverage out;
   out.n = count();
   if (out.n == 0) return out;
-  const long double shift = levels_[0].s1 / static_cast<long double>(out.n);
-  out.mean = static_cast<double>(x0_ + shift);
+  // The mean from the plain sum (an infinite or NaN sample makes it so, as block_average's);
+  // the spreads from the sums relative to the first sample.
+  out.mean = static_cast<double>(sum_ / static_cast<long double>(out.n));
   if (out.n < 2) return out;
+  const long double shift = std::isfinite(out.mean) ? static_cast<long double>(out.mean) - x0_
+                                                    : std::numeric_limits<long double>::quiet_NaN();
   std::vector<double> err;
   for (const Level& l : levels_) {
     if (l.m < 2) break;
     const long double m = static_cast<long double>(l.m);
-    const long double c0 = std::max<long double>(0, (l.s2 - 2 * shift * l.s1 + m * shift * shift) / m);
+    long double c0 = (l.s2 - 2 * shift * l.s1 + m * shift * shift) / m;
+    if (c0 < 0) c0 = 0;  // rounding (a NaN stays one: no error to report, as block_average's)
     err.push_back(static_cast<double>(std::sqrt(c0 / (m - 1))));
   }
   choose_block(out, err);

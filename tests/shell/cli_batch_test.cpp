@@ -183,8 +183,8 @@ TEST_CASE("a run refused for its --vtk or --frames directory keeps the stats fil
        {"--vtk " + file, "--frames " + file, std::string("--vtk /proc/none"), std::string("--frames /proc/none")}) {
     CAPTURE(opt);
     write_file(stats, "earlier,rows\n1,2\n");
-    // (paste_iso: a refused --frames came after its whole preparation)
-    const Result r = silt_cli("run " + scene_path("paste_iso") + " --steps 5 --quiet --stats " + stats + " " + opt);
+    // (paste_iso: a refused --frames came after its whole preparation, which prints "prepared")
+    const Result r = silt_cli("run " + scene_path("paste_iso") + " --steps 5 --stats " + stats + " " + opt);
     CHECK(r.code == 4);
     CHECK_FALSE(contains(r.out, "prepared"));
     CHECK(read_file(stats) == "earlier,rows\n1,2\n");

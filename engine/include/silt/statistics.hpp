@@ -39,6 +39,7 @@ class BlockAccumulator {
   };
   std::vector<Level> levels_;
   double x0_ = 0;
+  long double sum_ = 0;  // of the values themselves
 };
 
 }  // namespace silt

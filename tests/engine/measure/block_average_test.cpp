@@ -2,6 +2,7 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include "core/rng.hpp"
@@ -76,6 +77,26 @@ TEST_CASE("block averaging one sample at a time gives block_average's mean, erro
     CHECK(b.mean == doctest::Approx(a.mean).epsilon(1e-14));
     CHECK(std::abs(b.err - a.err) <= 1e-9 * a.err);
     if (scale == 0) CHECK(b.err == 0);
+  }
+}
+
+TEST_CASE("block averaging one sample at a time: NaN and infinite samples as block_average has them") {
+  // A NaN sample gave an error of 0, "converged" (the rounding clamp took the NaN for 0), and a
+  // first sample of inf a NaN mean.
+  const double inf = std::numeric_limits<double>::infinity(), nan = std::numeric_limits<double>::quiet_NaN();
+  for (const std::vector<double>& x : {std::vector<double>{1, 2, nan, 4, 5, 6, 7, 8}, std::vector<double>{inf, 1, 2, 3},
+                                       std::vector<double>{1, 2, 3, inf}, std::vector<double>(16, nan)}) {
+    BlockAccumulator acc;
+    for (double v : x) acc.add(v);
+    const BlockAverage a = block_average(x), b = acc.result();
+    CAPTURE(a.mean);
+    CAPTURE(b.mean);
+    CHECK(std::isnan(b.mean) == std::isnan(a.mean));
+    if (!std::isnan(a.mean)) CHECK(b.mean == a.mean);
+    CHECK(std::isnan(b.err) == std::isnan(a.err));
+    CHECK(std::isnan(b.err));
+    CHECK(b.converged == a.converged);
+    CHECK_FALSE(b.converged);
   }
 }
 

@@ -506,3 +506,31 @@ TEST_CASE("paste: a state restored under changed parameters steps as the same ch
     CHECK(restored->state().t == steered->state().t);
   }
 }
+
+TEST_CASE("paste: a failed re-solve of a state restored under changed parameters is the first step's failure") {
+  // It was sampled (the stats got a row of stale velocities), reported at the restored step, and
+  // the last good state said one step earlier than the state it held.
+  std::string scene = paste_scene(60, 9);
+  auto sim = test::simulation_from(scene, 1);
+  for (int k = 0; k < 30; ++k) REQUIRE(step(*sim));
+  const State saved = sim->state();
+  auto failing = test::simulation_from(scene, 1);
+  Model& m = failing->model_for_steering();
+  for (const char* change : {"lubrication.viscosity=3", "lubrication.solver=\"cg\"", "lubrication.max_iterations=1"})
+    CHECK(steer(m, parse_override(change)) == "");
+  failing->restore(saved);
+  int samples = 0;
+  RunOptions opt;
+  opt.steps = 5;
+  opt.hooks.push_back({1, [&samples](const State&) { ++samples; }});
+  const RunReport rep = failing->run(opt);
+  CHECK(rep.end == RunEnd::kFailed);
+  CHECK(samples == 0);
+  const StepFailure& f = failing->state().failure;
+  CHECK(f.failed);
+  CHECK(f.step == saved.step + 1);
+  CHECK(f.stage == "lubrication_resolve");
+  const State good = failing->last_good_state();
+  CHECK(good.step == f.step - 1);
+  CHECK(state_hash(good) == state_hash(saved));
+}
