@@ -25,13 +25,14 @@ KineticEnergy kinetic_energy_dim(const State& s) {
   return e;
 }
 
-// Normal and tangential springs of every grain-grain and grain-wall contact.
+// Normal and tangential springs of every grain-grain and grain-wall contact, each under the law
+// its force has (dem/materials.hpp: the pair's groups, the wall and the grain's group).
 template <int D>
 double contact_energy_dim(const Model& m, const State& s) {
-  const ContactParams& cp = m.contact;
   const PeriodicImage<D> img(s.box);
+  const int64_t groups = static_cast<int64_t>(m.materials.size());
   double e = 0;
-  auto spring = [&](double kn, const double* xi) {
+  auto spring = [&](const ContactParams& cp, double kn, const double* xi) {
     double x2 = 0;
     for (int k = 0; k < D; ++k) x2 += xi[k] * xi[k];
     return 0.5 * cp.kt_ratio * kn * x2;
@@ -44,18 +45,21 @@ double contact_energy_dim(const Model& m, const State& s) {
       img.apply(d);
       const double overlap = ri + s.particle_r[j] - d.norm();
       if (!(overlap > 0)) continue;
+      const ContactParams& cp =
+          m.pair_contact.empty() ? m.contact : m.pair_contact[s.particle_group[i] * groups + s.particle_group[j]];
       const double m_eff = 1.0 / (s.particle_inv_m[i] + s.particle_inv_m[j]);
       const double r_eq = reduced_radius(ri, s.particle_r[j]);
       e += normal_elastic_energy(cp, m_eff, r_eq, overlap);
-      e += spring(normal_stiffness(cp, m_eff, r_eq, overlap), &s.pair_hist[D * p]);
+      e += spring(cp, normal_stiffness(cp, m_eff, r_eq, overlap), &s.pair_hist[D * p]);
     }
     if (s.particle_frozen[i]) continue;
     for (int w = 0; w < s.n_walls; ++w) {
       const double overlap = -m.walls[w].gap<D>(at<D>(s.particle_x.data(), i), ri);
       if (!(overlap > 0)) continue;
+      const ContactParams& cp = m.wall_contact[w * groups + s.particle_group[i]];
       const double m_eff = 1.0 / s.particle_inv_m[i];
       e += normal_elastic_energy(cp, m_eff, 2.0 * ri, overlap);
-      e += spring(normal_stiffness(cp, m_eff, 2.0 * ri, overlap), &s.wall_hist[D * (i * s.n_walls + w)]);
+      e += spring(cp, normal_stiffness(cp, m_eff, 2.0 * ri, overlap), &s.wall_hist[D * (i * s.n_walls + w)]);
     }
   }
   return e;

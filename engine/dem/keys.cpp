@@ -30,7 +30,7 @@ std::vector<KeySpec> dem_keys() {
       {"walls[].friction", K::kReal, std::nullopt, Range::closed(0, 10), "", true, {}, "Grain-wall friction (default: contact.friction)."},
       {"walls[].young_modulus", K::kReal, std::nullopt, Range::positive(), "Pa", false, {}, "hertz: the wall's Young modulus (default: the grains'); the pair's E~ is 2 / ((1 - nu_g^2)/E_g + (1 - nu_w^2)/E_w)."},
       {"walls[].poisson_ratio", K::kReal, std::nullopt, Range::closed_open(-1, 0.5), "", false, {}, "hertz: the wall's Poisson ratio (default: contact.poisson_ratio)."},
-      {"walls[].rigid", K::kBool, Value(false), Range::any(), "", false, {}, "hertz, hooke, linear: a wall that does not deform (Hertz: E~ doubles against it; springs: the grain's alone)."},
+      {"walls[].rigid", K::kBool, Value(false), Range::any(), "", false, {}, "hertz, hooke, linear: a wall that does not deform (Hertz: E~ doubles against it; springs: twice the grain's k_n, the series rule's limit)."},
       {"walls[].k_n", K::kReal, std::nullopt, Range::positive(), "N/m", false, {}, "hooke, linear: the wall's spring, in series with the grain's (default: contact.k_n)."},
       // ---- grains
       {"grains[].name", K::kString, Value(std::string()), Range::any(), "", false, {}, "Name of the group."},

@@ -36,7 +36,7 @@ Material material_of(const SceneDesc& d, const Model& m, const std::string& pref
     if (d.has(prefix + "young_modulus") || d.has(prefix + "k_n"))
       d.fail(prefix + "rigid", "a rigid wall has no modulus or stiffness of its own");
     mat.compliance = 0;
-    mat.k_n = 0;  // springs in series with a rigid one: the grain's spring alone (below)
+    mat.k_n = 0;  // springs in series with a rigid one: the limit of the series rule (below)
   }
   if (springs && d.has(prefix + "k_n")) mat.k_n = d.real(prefix + "k_n");
   if (d.has(prefix + "friction")) mat.friction = d.real(prefix + "friction");
@@ -48,9 +48,11 @@ Material material_of(const SceneDesc& d, const Model& m, const std::string& pref
 ContactParams mix(const ContactParams& scene, const Material& a, const Material& b) {
   ContactParams c = scene;
   if (c.law == NormalLaw::kHertz) c.e_tilde = hertz_pair_modulus(a.compliance, b.compliance);
-  // A rigid wall (k = 0 marks it) leaves the grain's spring alone: k_ij = k_grain.
+  // A rigid wall (k = 0 marks it): the series rule's limit as the wall stiffens, k_ij = 2 k_grain
+  // (the grain's half of a contact of two like grains, as E~ doubles for Hertz; it was k_grain,
+  // softer than a wall of k_n = 1e12).
   if (c.law == NormalLaw::kHooke || c.law == NormalLaw::kLinear)
-    c.k0 = (a.k_n == 0 || b.k_n == 0) ? std::max(a.k_n, b.k_n) : series_stiffness(a.k_n, b.k_n);
+    c.k0 = (a.k_n == 0 || b.k_n == 0) ? 2 * std::max(a.k_n, b.k_n) : series_stiffness(a.k_n, b.k_n);
   c.friction = pair_friction(a.friction, b.friction);
   return c;
 }

@@ -101,7 +101,9 @@ void diagnose_dem(GraphBuilder& b) {
   b.diagnose(event::kOverlap, [](const Model& m, const State& s, const EventSlot& e, StepFailure& f) {
     const int64_t id = s.particle_id[e.first()];
     const std::string what =
-        "grain " + std::to_string(id) + " overlaps a neighbour by " + format_number(100 * e.value(), 4) +
+        "grain " + std::to_string(id) +
+        (s.n_walls ? " overlaps a neighbour or a wall by " : " overlaps a neighbour by ") +
+        format_number(100 * e.value(), 4) +
         "% of the smaller radius, beyond limits.max_overlap = " + format_number(m.limits.max_overlap, 4);
     f.stage = s.n_walls ? "contact_forces/wall_forces" : "contact_forces";
     f.particle = id;

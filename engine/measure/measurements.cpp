@@ -139,9 +139,9 @@ Measurements measure_dim(const Model& m, const State& s) {
   if (!touching.empty())
     for (int a = 0; a < D; ++a)
       for (int b = 0; b < D; ++b) out.fabric[a][b] /= static_cast<double>(touching.size());
-  // Grain-wall contacts count for coordination.
+  // Grain-wall contacts count for coordination (not a frozen grain's: the walls exert no force on it).
   for (int64_t i = 0; i < n; ++i)
-    for (int w = 0; w < s.n_walls; ++w)
+    for (int w = 0; w < s.n_walls && !s.particle_frozen[i]; ++w)
       if (m.walls[w].gap<D>(at<D>(s.particle_x.data(), i), s.particle_r[i]) < 0) {
         ++out.n_contacts;
         ++contacts[i];
