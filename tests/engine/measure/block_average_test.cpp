@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <tuple>
 
 #include "core/rng.hpp"
 #include "silt/io.hpp"
@@ -53,10 +54,13 @@ TEST_CASE("block averaging one sample at a time gives block_average's mean, erro
   // The streamed form keeps the sums of each level instead of the series: the same levels, so the
   // same chosen block; the mean and errors to rounding, also for a series far from zero whose
   // fluctuations are 1e-9 of its value (sums relative to the first sample).
-  for (const auto& [n, rho, offset, scale] :
+  // (no structured bindings: clang's CAPTURE cannot take one)
+  for (const auto& series :
        {std::tuple{0, 0.0, 0.0, 1.0}, std::tuple{1, 0.0, 3.0, 1.0}, std::tuple{2, 0.0, 0.0, 1.0},
         std::tuple{3, 0.5, 0.0, 1.0}, std::tuple{1000, 0.9, 0.0, 1.0}, std::tuple{4097, 0.98, 0.0, 1.0},
         std::tuple{1 << 16, 0.9, 0.8, 1e-9}, std::tuple{777, 0.0, 5.0, 0.0}}) {
+    const int n = std::get<0>(series);
+    const double rho = std::get<1>(series), offset = std::get<2>(series), scale = std::get<3>(series);
     CAPTURE(n);
     CAPTURE(rho);
     CAPTURE(offset);
