@@ -2,11 +2,13 @@
 #include <toml++/toml.h>
 
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <sstream>
 
 #include "silt/input_files.hpp"
 #include "silt/scene.hpp"
+#include "silt/text.hpp"
 
 namespace silt {
 namespace {
@@ -243,6 +245,18 @@ SceneDesc parse_scene(const std::string& text, const std::string& name, const st
   desc.file = name;
   desc.text = text;
   toml::table root;
+  // A byte that is no UTF-8 at its own line and column (the parser's report pointed before it).
+  if (const size_t bad = first_invalid_utf8(text); bad != std::string::npos) {
+    int line = 1, col = 1;  // the column in characters, as the parser counts
+    for (size_t k = 0; k < bad; ++k) {
+      if (text[k] == '\n') line += 1, col = 1;
+      else if ((static_cast<unsigned char>(text[k]) & 0xC0) != 0x80) ++col;
+    }
+    char hex[8];
+    std::snprintf(hex, sizeof hex, "0x%02X", static_cast<unsigned char>(text[bad]));
+    throw SceneError(FileLoc{name, line, col},
+                     std::string("invalid UTF-8 (byte ") + hex + "): a scene file is UTF-8 text");
+  }
   try {
     root = toml::parse(text, name);
   } catch (const toml::parse_error& e) {

@@ -15,4 +15,8 @@ std::string format_number(double x, int digits = 6);
 // that: a search for the closest name stops early on names that cannot beat the best so far.
 size_t edit_distance(std::string_view a, std::string_view b, size_t limit = SIZE_MAX);
 
+// The offset of the first byte of `text` that is not part of a well-formed UTF-8 character
+// (overlong forms, surrogates and code points beyond U+10FFFF included), or npos.
+size_t first_invalid_utf8(std::string_view text);
+
 }  // namespace silt

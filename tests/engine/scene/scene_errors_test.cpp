@@ -2,6 +2,7 @@
 #include <doctest/doctest.h>
 
 #include "silt/scene.hpp"
+#include "silt/text.hpp"
 #include "support/scenes.hpp"
 
 using namespace silt;
@@ -57,6 +58,24 @@ TEST_CASE("unknown key: location and suggestion") {
   CHECK(foo.find("did you mean") == std::string::npos);
   CHECK(test::scene_error(with("k_n = 1e5", "k_n = 1e5\nmodle = 1")).find("did you mean 'contact.model'") !=
         std::string::npos);
+}
+
+TEST_CASE("a byte that is no UTF-8 is located at its own line and column") {
+  // The parser's location was the end of the line before (34:10 for a bad byte at 35:1).
+  const std::string at_line_start = test::scene_error(with("[run]", "\xff\xfe = 1\n[run]"));
+  CHECK(at_line_start.rfind("bad.toml:12:1: ", 0) == 0);
+  CHECK(at_line_start.find("invalid UTF-8 (byte 0xFF)") != std::string::npos);
+  // In a comment after a character of two bytes: columns count characters.
+  const std::string in_comment = test::scene_error(with("k_n = 1e5", "k_n = 1e5 # \xc3\xa9t\xe9"));
+  CHECK(in_comment.rfind("bad.toml:8:15: ", 0) == 0);
+  // Overlong forms and surrogates are not UTF-8 either; well-formed text of 2 to 4 bytes is.
+  CHECK(first_invalid_utf8("a\xc0\xaf"
+                           "b") == 1);
+  CHECK(first_invalid_utf8("\xed\xa0\x80") == 0);
+  CHECK(first_invalid_utf8("\xf4\x90\x80\x80") == 0);
+  CHECK(first_invalid_utf8("\xc3\xa9\xe2\x82\xac\xf0\x9f\x98\x80") == std::string::npos);
+  CHECK(first_invalid_utf8("ok\xe2\x82") == 2);  // cut short
+  CHECK(test::scene_error(with("k_n = 1e5", "k_n = 1e5 # \xc3\xa9\xe2\x82\xac")).empty());
 }
 
 TEST_CASE("wrong type: location of the value") {
