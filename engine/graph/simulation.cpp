@@ -116,15 +116,16 @@ void Simulation::prepare() {
 void Simulation::resolve_stale() {
   if (!impl_->resolve_pending) return;
   impl_->resolve_pending = false;
-  const State given = state_;
   state_.events.clear();
   execute(*impl_->resolve, state_);
   if (impl_->resolve->diagnose(model_, state_, state_.step + 1)) {
     impl_->restart.take(state_);
     return;
   }
+  // What the failed solve left is not a state to sample: back to the state given, the restart
+  // point restore() took of it.
   const StepFailure failure = state_.failure;
-  state_ = given;  // what the failed solve left is not a state to sample
+  state_ = impl_->restart.give();
   state_.failure = failure;
 }
 

@@ -57,10 +57,11 @@ void StatsWriter::add(const std::vector<double>& row, double t, int64_t step) {
   if (!stream_from_) {
     rows_.push_back(row);
     times_.push_back(t);
-  } else if (t >= *stream_from_) {
-    for (size_t k = 0; k < row.size() && k < streamed_.size(); ++k) streamed_[k].add(row[k]);
+  } else {
+    if (t >= *stream_from_)
+      for (size_t k = 0; k < row.size() && k < streamed_.size(); ++k) streamed_[k].add(row[k]);
+    last_row_ = row;  // (kept rows have it last)
   }
-  last_row_ = row;
   ++samples_;
   last_step_ = step;
   if (!file_ || !error_.empty()) return;

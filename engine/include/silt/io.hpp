@@ -42,7 +42,7 @@ class StatsWriter {
   const std::vector<double>& times() const { return times_; }
   // Samples added so far, and the last one (empty before the first).
   int64_t samples() const { return samples_; }
-  const std::vector<double>& last_row() const { return last_row_; }
+  const std::vector<double>& last_row() const { return rows_.empty() ? last_row_ : rows_.back(); }
   // Mean and error of observable k over the samples with t >= since (streamed: the time given to
   // the constructor, or std::logic_error).
   BlockAverage average(size_t k, double since) const;
@@ -56,7 +56,7 @@ class StatsWriter {
   std::vector<double> times_;
   std::optional<double> stream_from_;
   std::vector<BlockAccumulator> streamed_;
-  std::vector<double> last_row_;
+  std::vector<double> last_row_;  // streamed: the last sample
   int64_t samples_ = 0;
   int64_t last_step_ = -1;
   std::string error_;
