@@ -36,28 +36,9 @@ void choose_block(BlockAverage& out, const std::vector<double>& err) {
 }  // namespace
 
 BlockAverage block_average(const std::vector<double>& x) {
-  BlockAverage out;
-  out.n = static_cast<int64_t>(x.size());
-  if (x.empty()) return out;
-  double sum = 0;
-  for (double v : x) sum += v;
-  out.mean = sum / out.n;
-  if (out.n < 2) return out;
-  // Naive standard error at each blocking level.
-  std::vector<double> data = x;
-  std::vector<double> err;
-  while (data.size() >= 2) {
-    const double m = static_cast<double>(data.size());
-    double c0 = 0;
-    for (double v : data) c0 += (v - out.mean) * (v - out.mean);
-    c0 /= m;
-    err.push_back(std::sqrt(c0 / (m - 1)));
-    std::vector<double> next(data.size() / 2);
-    for (size_t i = 0; i < next.size(); ++i) next[i] = 0.5 * (data[2 * i] + data[2 * i + 1]);
-    data.swap(next);
-  }
-  choose_block(out, err);
-  return out;
+  BlockAccumulator acc;
+  for (double v : x) acc.add(v);
+  return acc.result();
 }
 
 void BlockAccumulator::add(double x) {

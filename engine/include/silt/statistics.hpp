@@ -18,12 +18,12 @@ struct BlockAverage {
 };
 BlockAverage block_average(const std::vector<double>& x);
 
-// The same block averaging of a series given one value at a time, in memory that grows as the
-// logarithm of its length (a run sampled at every step for 1e9 steps): per blocking level, the
-// count of its values and their sums and sums of squares (relative to the first value of the
-// series, in long double), and its half-formed pair. Its levels hold the same values as
-// block_average's (pairs of the level below, an odd last one left out); the mean and the errors
-// differ from its two-pass sums by rounding.
+// The same block averaging of a series given one value at a time (block_average feeds it the
+// series), in memory that grows as the logarithm of its length (a run sampled at every step for
+// 1e9 steps): per blocking level, the count of its values and their sums and sums of squares
+// (relative to the first value of the series, in long double: a constant series has an error of
+// exactly 0, and one far from zero keeps its fluctuations), and its half-formed pair. Level k
+// holds the means of pairs of level k - 1 (an odd last one left out).
 class BlockAccumulator {
  public:
   void add(double x);
