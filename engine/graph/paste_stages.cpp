@@ -138,12 +138,12 @@ void add_paste_stages(GraphBuilder& b) {
   b.light(dt);
   if (const int choose = b.find("choose_dt"); choose >= 0)
     b.after(dt, choose, "replaces the fixed step by the adaptive one");
-  Access again_writes = solve_writes();
-  again_writes.push_back(fid::shear_rate);  // an imposed rate changed: the solve's, before box_drift's
   const int again = b.add(
       "lubrication_resolve", [&w](const Model& m, State& s) { paste::lubrication_resolve(m, s, w); }, solve_reads(),
-      again_writes);
+      solve_writes());
   b.after(again, dt, "solves with this step's dt");
+  if (const int rate = b.find("impose_shear_rate"); rate >= 0)
+    b.after(again, rate, "solves under the imposed rate as the model has it now");
   // A state given under changed parameters: its step, and its velocities solved again (and no more).
   if (b.phase() == Phase::kResolve) {
     diagnose_paste(b);

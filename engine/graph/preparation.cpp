@@ -1,6 +1,7 @@
 // Procedure O of Peyneau (2009) sec. 3.1.2: the initial grains are compressed isotropically at
 // the imposed pressure (every periodic length controlled by eq. 3.11, no shear) until they form
 // a static packing; the scene's run then starts from it.
+#include "shear/stages.hpp"
 #include "silt/module.hpp"
 #include "silt/observables.hpp"
 #include "silt/simulation.hpp"
@@ -32,7 +33,7 @@ State adopt_state(const Model& m, State s) {
     s.nbr_valid = false;  // the cell stencil depends on the boundary conditions
   }
   if (!m.shear.on) s.shear_rate = 0;
-  else if (!m.shear.stress_controlled) s.shear_rate = m.shear.rate;
+  else shear::impose_shear_rate(m, s);
   for (int k = 0; k < 3; ++k)
     if (!m.box_control.on || !m.box_control.controlled[k]) s.box_rate[k] = 0;
   // The fields of modules the state was made without (a dry compression before a paste).

@@ -3,8 +3,9 @@
 //
 //   choose_dt -> box_drift -> kick_drift ... kick -> box_kick
 //
-// and for the forces of the first state, impose_shear_rate before the pair forces (a rate-controlled
-// shear) and box_stress after them.
+// and for the forces of the first state, box_stress after the pair forces. Under an imposed rate
+// (steerable), impose_shear_rate writes it into the state at the start of both, before anything
+// reads it: the one place the model's rate becomes the state's while stepping.
 #include <cmath>
 
 #include "graph/adders.hpp"
@@ -25,12 +26,13 @@ void add_shear_stages(GraphBuilder& b) {
   const Model& m = b.model();
   // With solved velocities (a paste), the box's strain rates are solved too: no box kick.
   const bool box_stage = shear::box_stage_on(m) && !m.velocities_solved;
+  int rate = -1;
+  if (m.shear.on && !m.shear.stress_controlled) {
+    rate = b.add("impose_shear_rate", &shear::impose_shear_rate, {}, {fid::shear_rate});
+    b.light(rate);
+  }
   if (b.phase() == Phase::kSetup) {
-    if (m.shear.on && !m.shear.stress_controlled) {
-      const int rate = b.add("impose_shear_rate", &shear::impose_shear_rate, {}, {fid::shear_rate});
-      b.light(rate);
-      b.after(b.find("contact_forces"), rate, "the relative velocities at contact under the imposed rate");
-    }
+    if (rate >= 0) b.after(b.find("contact_forces"), rate, "the relative velocities at contact under the imposed rate");
     if (!box_stage) return;
     const int st = b.add("box_stress", &shear::box_stress, kStressReads, {fid::box_stress, fid::shear_stress});
     b.after(st, b.find("contact_forces"), "the contact stress of the first state's pair forces");
@@ -49,6 +51,7 @@ void add_shear_stages(GraphBuilder& b) {
                           {fid::box, fid::box_rate, fid::shear_rate, fid::box_stretch, fid::le_displacement,
                            fid::shear_strain, fid::nbr_strain});
   b.after(drift, b.find("choose_dt"), "moves the box by this step's dt");
+  if (rate >= 0) b.after(drift, rate, "shears the box at the imposed rate");
   if (origin >= 0) b.after(drift, origin, "its half kick imposes the stresses of the cycles' phase");
   // depends on: the new lengths (box_stretch) and shear rate, which the grains follow.
   const int grains = b.find(m.velocities_solved ? "drift" : "kick_drift");

@@ -259,12 +259,14 @@ RunReport Simulation::run(const RunOptions& options) {
   }
   const auto t0 = std::chrono::steady_clock::now();
   auto last_progress = t0;
-  prepare();
-  if (state_.failure.failed) {  // a state given under changed parameters whose re-solve failed: no sample
-    rep.end = RunEnd::kFailed;
+  auto done = [&](RunEnd end) {
+    rep.end = end;
     rep.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     return rep;
-  }
+  };
+  prepare();
+  // A state given under changed parameters whose re-solve failed: no sample.
+  if (state_.failure.failed) return done(RunEnd::kFailed);
   auto tell = [&] {
     if (impl_->notices.empty()) return;
     for (const std::string& n : take_notices())
@@ -276,6 +278,11 @@ RunReport Simulation::run(const RunOptions& options) {
       if (h.every > 0 && h.fn && (force || state_.step % h.every == 0)) h.fn(state_);
   };
   periodic(true);
+  // The hooks of the run's last state, which its length did not set (an end in time, at rest).
+  auto last_sample = [&] {
+    for (const PeriodicHook& h : opt.hooks)
+      if (h.every > 0 && h.fn && state_.step % h.every != 0) h.fn(state_);
+  };
   // A step stores its pair forces (State::boundary_seen) only when something sees its end: a
   // hook, a request, a restart point or the static and steady tests (every check_every steps),
   // the end of the run.
@@ -294,38 +301,28 @@ RunReport Simulation::run(const RunOptions& options) {
     if (opt.between_steps && complete) opt.between_steps();
     // An interrupt stops at the next complete boundary: at once, or after one more step.
     const bool stop = opt.interrupt && opt.interrupt->load();
-    if (stop && complete) {
-      rep.end = RunEnd::kInterrupted;
-      break;
-    }
+    if (stop && complete) return done(RunEnd::kInterrupted);
     state_.boundary_seen = stop || observed(k);
     const bool ok = step();
     complete = state_.boundary_seen;
     state_.boundary_seen = true;
-    if (!ok) {
-      rep.end = RunEnd::kFailed;
-      break;
-    }
+    if (!ok) return done(RunEnd::kFailed);
     ++rep.steps_done;
     tell();
     periodic(false);
     if (t_end >= 0 && state_.t >= t_end) {
-      for (const PeriodicHook& h : opt.hooks)
-        if (h.every > 0 && h.fn && state_.step % h.every != 0) h.fn(state_);
+      last_sample();
       break;
     }
-    if (stop) {
-      rep.end = RunEnd::kInterrupted;
-      break;
-    }
+    if (stop) return done(RunEnd::kInterrupted);
     // Equilibrium and steady states are tested at the boundaries `observed` makes complete.
     if ((opt.stop_when_static || opt.stop_when_steady) && state_.step % model_.limits.check_every == 0) {
-      if (opt.stop_when_static && is_static()) rep.end = RunEnd::kStatic;
-      else if (opt.stop_when_steady && is_steady()) rep.end = RunEnd::kSteady;
-      if (rep.end != RunEnd::kDone) {
-        for (const PeriodicHook& h : opt.hooks)
-          if (h.every > 0 && h.fn && state_.step % h.every != 0) h.fn(state_);
-        break;
+      const RunEnd end = opt.stop_when_static && is_static()   ? RunEnd::kStatic
+                         : opt.stop_when_steady && is_steady() ? RunEnd::kSteady
+                                                               : RunEnd::kDone;
+      if (end != RunEnd::kDone) {
+        last_sample();
+        return done(end);
       }
     }
     if (opt.on_progress && (k & 63) == 0) {
@@ -336,8 +333,7 @@ RunReport Simulation::run(const RunOptions& options) {
       }
     }
   }
-  rep.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  return rep;
+  return done(RunEnd::kDone);
 }
 
 }  // namespace silt

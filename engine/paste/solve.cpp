@@ -505,8 +505,8 @@ void lubrication_solve(const Model& m, State& s, PasteWorkspace& w, SolveAt at) 
 
 void lubrication_resolve(const Model& m, State& s, PasteWorkspace& w) {
   if (!solved_under_other(m, s)) return;
-  // An imposed rate enters the solve through the state's rate, which box_drift sets later in the step.
-  if (m.shear.on && !m.shear.stress_controlled) s.shear_rate = m.shear.rate;
+  // An imposed rate enters the solve through the state's rate: impose_shear_rate (a step), or
+  // adopt_state (a state given) has set it.
   solve_paste(m, s, w, SolveAt::kAgain);
 }
 

@@ -69,7 +69,6 @@ void box_drift(const Model& m, State& s) {
       if (!(next >= 2 * m.interaction_range() && std::isfinite(next))) s.events[event::kBoxCollapse].raise(k, next);
     }
   if (m.shear.on) {
-    if (!m.shear.stress_controlled) s.shear_rate = m.shear.rate;  // imposed (and steerable)
     // The image above moves along x at gammadot L_y, and is carried by the stretch of L_x like
     // the grains (x -> lo + lambda (x - lo)): the image lattice deforms with them.
     s.le_displacement = lambda[0] * s.le_displacement + dt * s.shear_rate * s.box.len[1];
