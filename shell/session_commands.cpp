@@ -148,14 +148,22 @@ void Session::cmd_set(const Command& c) {
   if (running())
     throw std::runtime_error("'" + change.key +
                              "' cannot change while a run goes on (it is not steerable): stop first");
-  // Recompile with the new value; keep the state when the grains and the grid are the same.
+  // Recompile with the new value; keep the state when the grains and the grid are the same: a
+  // fluid's grid in the same box, and before the first step, made from the same initial field (the
+  // state at t = 0 is that field).
   Model m = compile(scene_with(next));
-  const bool same_grains = m.scene_hash == s.model().scene_hash && m.walls.size() == s.model().walls.size();
-  const bool same = same_grains && m.cells == s.model().cells;
+  const Model& old = s.model();
+  const bool same_grains = m.scene_hash == old.scene_hash && m.walls.size() == old.walls.size();
+  const bool same_grid = m.cells == old.cells &&
+                         (!m.module_on("fluid") ||
+                          (m.box.lo == old.box.lo && m.box.len == old.box.len && m.box.periodic == old.box.periodic));
+  const bool same_start = s.state().step > 0 || change.key.rfind("fluid.initial", 0) != 0;
+  const bool same = same_grains && same_grid && same_start;
   std::optional<State> keep;
   if (same) keep = s.state();  // (the cycles go on from their phase: the state holds its origin)
   const State& was = s.state();
-  std::string discarded = std::string(" (the ") + (same_grains ? "fluid's grid" : "grains") + " changed: back to t = 0";
+  const char* what = !same_grains ? "grains" : !same_grid ? "fluid's grid" : "fluid's initial field";
+  std::string discarded = std::string(" (the ") + what + " changed: back to t = 0";
   if (was.step > 0 || stats_->rows().size() > 1)
     discarded += "; discarded: the run to t = " + format_number(was.t) + " s (step " + std::to_string(was.step) +
                  ") and its " + std::to_string(stats_->rows().size()) + " sample(s)";

@@ -67,14 +67,15 @@ void compile_grid(const SceneDesc& d, const Model& m, Grid& g) {
       if (bc.type == BcType::kInflow) bc.parabolic = d.string(key + "_profile") == "parabolic";
     }
   }
-  bool inflow = false, outflow = false;
+  std::string inflow;  // the key of the first inflow face
+  bool outflow = false;
   for (int a = 0; a < m.dim; ++a)
     for (int side = 0; side < 2; ++side) {
-      inflow |= g.bc[a][side].type == BcType::kInflow;
+      if (g.bc[a][side].type == BcType::kInflow && inflow.empty())
+        inflow = std::string("fluid.boundary.") + face_names()[2 * a + side];
       outflow |= g.bc[a][side].type == BcType::kOutflow;
     }
-  if (inflow && !outflow)
-    d.fail("fluid.boundary.x_lo", "an inflow needs an outflow somewhere: the fluid is incompressible");
+  if (!inflow.empty() && !outflow) d.fail(inflow, "an inflow needs an outflow somewhere: the fluid is incompressible");
 }
 
 // The velocity scale U of the dimensionless form: the fastest wall or inflow, else U0.
@@ -107,16 +108,19 @@ void compile_steerable(const SceneDesc& d, const Model& m, FluidParams& p) {
                                 : d.real("fluid.viscosity");
   const double time_unit = p.dimensionless ? p.length_scale / p.velocity_scale : 1.0;
   p.dt_fixed = d.has("fluid.dt");
-  p.cfl_target = d.real("fluid.cfl");
   double h_min = p.grid.h[0];
   for (int a = 1; a < m.dim; ++a) h_min = std::min(h_min, p.grid.h[a]);
-  if (d.has("fluid.dt_max")) p.dt_max = d.real("fluid.dt_max") * time_unit;
+  // The adaptive step's keys are read for an adaptive step only: beside fluid.dt they would be
+  // accepted and do nothing.
+  if (!p.dt_fixed) p.cfl_target = d.real("fluid.cfl");
+  if (!p.dt_fixed && d.has("fluid.dt_max")) p.dt_max = d.real("fluid.dt_max") * time_unit;
   else
     p.dt_max = p.nu() > 0 ? std::max(h_min * h_min / p.nu(), 0.1 * p.length_scale / p.velocity_scale)
                           : 0.1 * p.length_scale / p.velocity_scale;
-  // The first step of an adaptive run: from the target CFL at the velocity scale.
-  p.dt = p.dt_fixed ? d.real("fluid.dt") * time_unit
-                    : std::min(p.dt_max, p.cfl_target * h_min / (m.dim * p.velocity_scale));
+  // The first step of an adaptive run: from the target CFL at the velocity scale, or at the walls'
+  // and inflows' speeds where they are faster (a fluid.velocity_scale below the lid's).
+  const double first_rate = std::max(m.dim * p.velocity_scale / h_min, boundary_rate(p.grid));
+  p.dt = p.dt_fixed ? d.real("fluid.dt") * time_unit : std::min(p.dt_max, p.cfl_target / first_rate);
   const std::string viscous = d.string("fluid.viscous");
   p.viscous = viscous == "explicit"         ? Viscous::kExplicit
               : viscous == "backward_euler" ? Viscous::kBackwardEuler
@@ -164,8 +168,11 @@ void compile_lines(const SceneDesc& d, const Model& m, FluidParams& p) {
 void check_tiny_step(const SceneDesc& d, const FluidParams& p) {
   if (const double flow_time = p.length_scale / p.velocity_scale; p.dt < 1e-12 * flow_time) {
     const bool viscous = !p.dt_fixed && viscous_dt_limit(p) <= p.dt;
-    const std::string key =
-        p.dt_fixed ? "fluid.dt" : (viscous ? (p.dimensionless ? "fluid.reynolds" : "fluid.viscosity") : "fluid.cfl");
+    const bool capped = !p.dt_fixed && !viscous && p.dt_max <= p.dt && d.has("fluid.dt_max");
+    const std::string key = p.dt_fixed ? "fluid.dt"
+                            : viscous  ? (p.dimensionless ? "fluid.reynolds" : "fluid.viscosity")
+                            : capped   ? "fluid.dt_max"
+                                       : "fluid.cfl";
     d.fail(key, key + " gives the fluid a step of " + format_number(p.dt, 4) +
                     " s, below 1e-12 of the flow's time L / U = " + format_number(flow_time, 4) + " s" +
                     (viscous ? ": the viscous limit of so viscous a fluid; use fluid.viscous = \"backward_euler\", "
@@ -186,6 +193,14 @@ void compile_fluid(const SceneDesc& d, Model& m) {
            "grains and a resolved [fluid] in one scene are not coupled yet (neither would feel the "
            "other); run the fluid alone, or grains in a liquid with [drag] (a drag on each grain) or "
            "[lubrication] (a paste)");
+  // A uniform body force on a fluid of one density adds the hydrostatic pressure rho g.x and moves
+  // nothing between walls; along a periodic axis it is the drive fluid.pressure_gradient gives.
+  // Accepted, it would be listed by `silt check` and do nothing.
+  for (const char* k : {"gravity.vector", "gravity.magnitude", "gravity.angle"})
+    if (d.has(k))
+      d.fail(k,
+             "gravity does not act on a fluid alone (it would only add the hydrostatic pressure rho g.x); drive "
+             "a flow along a periodic axis with fluid.pressure_gradient, or remove [gravity]");
   compile_grid(d, m, p.grid);
   p.initial = d.string("fluid.initial") == "taylor_green" ? Initial::kTaylorGreen : Initial::kRest;
   if (p.initial == Initial::kTaylorGreen) p.initial_velocity = d.real("fluid.initial_velocity");

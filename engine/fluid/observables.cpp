@@ -30,8 +30,13 @@ std::vector<ObservableSpec> fluid_observables() {
        "max |u(t + dt) - u(t)| / (max |u| dt) of the last step, in units of U / L: the relative change of the "
        "velocity per unit time L / U (run.stop_when_steady)",
        [](const ObservableContext& c, const ObservableArgs&) { return change_rate(params(c), c.s); }},
-      {"fluid.pressure_gradient", "Pa/m", "mean -dp/dx along the drive axis (imposed, or holding the flow rate)",
-       [](const ObservableContext& c, const ObservableArgs&) { return stat(c, kDriveGradient); }},
+      {"fluid.pressure_gradient", "Pa/m",
+       "mean -dp/dx along the drive axis: the one imposed (from the state given, as the parameters have it now), or "
+       "the one that held the flow rate over the last step",
+       [](const ObservableContext& c, const ObservableArgs&) {
+         const FluidParams& p = params(c);
+         return p.drive == Drive::kPressure ? p.pressure_gradient : stat(c, kDriveGradient);
+       }},
       {"fluid.bulk_velocity", "m/s", "mean velocity along the drive axis over the domain",
        [](const ObservableContext& c, const ObservableArgs&) {
          const FluidParams& p = params(c);

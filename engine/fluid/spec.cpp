@@ -109,8 +109,12 @@ const ModuleSpec& module() {
     s.keys = fluid_keys();
     // One drive: a flow rate given over a scene's pressure gradient replaces it (before, the
     // pressure gradient kept driving while the bulk velocity set the velocity scale).
+    // A fixed step or the adaptive one's target and cap: fluid.dt given over a scene's fluid.cfl
+    // replaces it (before, the target was kept and did nothing), and fluid.cfl steered over a
+    // fixed step makes it adaptive again.
     s.rules = {KeyRule::one_of({{"fluid.pressure_gradient"}, {"fluid.bulk_velocity"}}),
-               KeyRule::one_of({{"fluid.reynolds"}, {"fluid.viscosity"}})};
+               KeyRule::one_of({{"fluid.reynolds"}, {"fluid.viscosity"}}),
+               KeyRule::one_of({{"fluid.dt"}, {"fluid.cfl", "fluid.dt_max"}})};
     s.fields = {{"fluid_u", Extent::kFaceX, "m/s", "x velocity on the x faces; fluid_store"},
                 {"fluid_v", Extent::kFaceY, "m/s", "y velocity on the y faces; fluid_store"},
                 {"fluid_w", Extent::kFaceZ, "m/s", "z velocity on the z faces (3D); fluid_store"},

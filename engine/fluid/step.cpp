@@ -264,15 +264,22 @@ double next_dt(const Model& m, const State& s) {
   // (kDtNext still 0) takes the model's first step.
   const auto& stat = s.module_field(fluid_fields().stat);
   const bool stored = stat.size() > kRate && stat[kDtNext] > 0;
-  // The walls' and inflows' velocities as the parameters give them now (steered since the state's
-  // rate was taken): a lid moving over a fluid still at rest limits the step as its flow will.
-  double walls = 0;
-  for (int a = 0; a < p.grid.dim; ++a) walls += boundary_speed(p.grid, a) / p.grid.h[a];
-  const double dt = stored ? adaptive_dt(p, std::max(stat[kRate], walls)) : p.dt;
+  const double dt = stored ? adaptive_dt(p, step_rate(p, s)) : p.dt;
   return m.n_grains > 0 ? std::min(dt, m.dt) : dt;  // grains in the same step keep theirs
 }
 
 void fluid_dt(const Model& m, State& s) { s.dt = next_dt(m, s); }
+
+double boundary_rate(const Grid& g) {
+  double r = 0;
+  for (int a = 0; a < g.dim; ++a) r += boundary_speed(g, a) / g.h[a];
+  return r;
+}
+
+double step_rate(const FluidParams& p, const State& s) {
+  const auto& stat = s.module_field(fluid_fields().stat);
+  return std::max(stat.size() > kRate ? stat[kRate] : 0.0, boundary_rate(p.grid));
+}
 
 double change_rate(const FluidParams& p, const State& s) {
   const auto& stat = s.module_field(fluid_fields().stat);
@@ -287,6 +294,9 @@ void initial_velocity(const Model& m, State& s) {
   const Grid& g = p.grid;
   auto& stat = s.module_field(f.stat);
   stat.assign(kStatCount, 0.0);
+  // The rate of the state (a fluid at rest: its walls' and inflows', which the first step's CFL
+  // number is). Taken again below with the vortex.
+  stat[kRate] = cfl_number(p, s, 1.0);
   if (p.initial != Initial::kTaylorGreen) return;
   // u = U0 sin(kx x) cos(ky y) cos(kz z), v = -c U0 cos sin cos, w = 0, with k = 2 pi / L per axis
   // and c = kx / ky (1 in a square box) as the grid has it: c = D_x / D_y, D_a = 2 sin(k_a h_a / 2) / h_a
@@ -306,7 +316,8 @@ void initial_velocity(const Model& m, State& s) {
         for (int64_t i = 0; i < d[0]; ++i) {
           const std::array<int64_t, 3> idx{i, j, kk};
           std::array<double, 3> x{};
-          for (int b = 0; b < g.dim; ++b) x[b] = (static_cast<double>(idx[b]) + (b == a ? 0.0 : 0.5)) * g.h[b];
+          for (int b = 0; b < g.dim; ++b)
+            x[b] = g.lo[b] + (static_cast<double>(idx[b]) + (b == a ? 0.0 : 0.5)) * g.h[b];
           const double cz = g.dim == 3 ? std::cos(k[2] * x[2]) : 1.0;
           const double v = a == 0 ? std::sin(k[0] * x[0]) * std::cos(k[1] * x[1])
                                   : -c * std::cos(k[0] * x[0]) * std::sin(k[1] * x[1]);
@@ -342,8 +353,9 @@ void fluid_load(const Model& m, State& s, FluidWorkspace& w) {
     stat[kRate] = cfl_number(p, s, 1.0);
   }
   const double dt = s.dt, nu = p.nu();
-  // Stability of the scheme with this step (an adaptive step is within it by construction).
-  const double cfl = dt * stat[kRate];
+  // Stability of the scheme with this step (an adaptive step is within it by construction), with
+  // the walls' and inflows' velocities as they are now (a lid steered faster since the last step).
+  const double cfl = dt * step_rate(p, s);
   stat[kCfl] = cfl;
   if (!(cfl <= FluidParams::kCflLimit)) {
     s.events.slot[cfl_event()].raise(0, cfl);

@@ -89,7 +89,11 @@ struct FluidWorkspace final : Workspace {
   bool failed = false;
   std::shared_ptr<PoissonSolver> multigrid;  // fluid/multigrid.hpp, for projection = multigrid_cg
   linalg::Vector mg_x;                       // its solution
-  void invalidate() override {}              // nothing held depends on the grains
+  // A state replaced (a restore, the replay of a failed step): the arrays it held are not that
+  // state's (a failed step's NaN stayed in n_prev, which the first substep multiplies by 0): made
+  // anew. Nothing held depends on the grains' numbering.
+  void invalidate() override { ready = false; }
+  void renumbered() override {}
   size_t bytes() const override;
 };
 
@@ -133,6 +137,12 @@ double adaptive_dt(const FluidParams& p, double rate);
 double cfl_number(const FluidParams& p, const State& s, double dt);
 // max |velocity_a| imposed on the box's faces (walls' and inflows' velocities; 0 for periodic).
 double boundary_speed(const Grid& g, int a);
+// sum_a boundary_speed(a) / h_a: the rate of a fluid at rest between its walls, lids and inflows.
+double boundary_rate(const Grid& g);
+// The rate a step from this state is held to: the state's own (kRate, stored by the last step or
+// the initial field) or its boundaries' as the parameters give them now (steered since), the
+// larger: a lid moving over a fluid still at rest limits the step as its flow will.
+double step_rate(const FluidParams& p, const State& s);
 // The relative change of the velocity per unit time L / U of the last observed step
 // (kChangeRate times fluid.length_scale / fluid.velocity_scale), and whether it is below
 // run.steady_tol: the steady state of run.stop_when_steady.

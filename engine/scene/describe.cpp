@@ -11,6 +11,8 @@ std::string describe(const Model& m) {
   for (const Module& mod : modules())
     if (mod.spec->describe && m.module_on(mod.spec->name)) o << mod.spec->describe(m);
   if (m.adaptive_dt && m.run_time >= 0) o << "run          until t = " << m.run_time << " s (adaptive time step)";
+  else if (m.adaptive_dt)
+    o << "run          " << m.run_steps << " steps (adaptive time step: the first " << m.dt << " s)";
   else o << "run          " << m.run_steps << " steps = " << m.run_steps * m.dt << " s";
   o << (m.until_static.on ? ", or until static" : "") << (m.stop_when_steady ? ", or until steady" : "") << "\n";
   o << "observe      ";

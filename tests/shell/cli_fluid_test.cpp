@@ -53,9 +53,27 @@ TEST_CASE("silt check: a fluid scene's cells, bytes per cell and dimensionless g
   CHECK(ok.out.find("128 x 128 cells") != std::string::npos);
   CHECK(ok.out.find("bytes per cell") != std::string::npos);
   CHECK(ok.out.find("Re = U L / nu = 100") != std::string::npos);
+  // A run in steps of an adaptive step: its time is not steps x the first step (it said 0.195 s).
+  const Result steps = silt_cli("check " + scene_path("cavity_2d") + " --set run.steps=100");
+  CHECK(steps.out.find("100 steps (adaptive time step: the first 0.0019531 s)") != std::string::npos);
   const Result big = silt_cli("check " + scene_path("cavity_3d") + " --set fluid.cells=[4000,4000,4000]");
   CHECK(big.code == 2);
   CHECK(big.out.find("GiB") != std::string::npos);
+}
+
+TEST_CASE("silt play: a fluid's initial field changed before the first step makes the state again") {
+  // The state at t = 0 was kept whenever the grid was the same: the vortex stayed at U0 = 1 while
+  // the model (its step, its viscosity from Re) took U0 = 2.
+  const std::string script =
+      write_file("cli_fluid_initial.silt", "load " + scene_path("taylor_green_2d") +
+                                               "\nprint fluid.ke\nset fluid.initial_velocity 2\nprint fluid.ke\nrun 2\n"
+                                               "set fluid.initial_velocity 0.5\n");
+  const Result r = silt_cli("play " + script);
+  CHECK(r.code == 0);
+  CHECK(r.out.find("fluid.ke = 0.25 J") != std::string::npos);
+  CHECK(r.out.find("the fluid's initial field changed: back to t = 0") != std::string::npos);
+  CHECK(r.out.find("fluid.ke = 1 J") != std::string::npos);
+  CHECK(r.out.find("fluid.initial_velocity = 0.5 (state kept)") != std::string::npos);  // once stepped
 }
 
 TEST_CASE("silt play: the shell steers the cavity's Reynolds number while it runs") {

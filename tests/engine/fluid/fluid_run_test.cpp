@@ -146,14 +146,50 @@ TEST_CASE("fluid: steering the viscosity mid-run changes the decay rate from the
   CHECK(steer(cav->model_for_steering(), parse_override("fluid.cells=[8, 8]")) != "");
 }
 
-TEST_CASE("fluid: a step beyond the CFL limit stops the run naming fluid.dt") {
-  // The fluid starts at rest: the step passes until the flow under the lid is fast enough.
+TEST_CASE("fluid: a step beyond the CFL limit stops the run naming fluid.dt, the lid's speed counted") {
+  // The fluid starts at rest, but the lid moves at once: a CFL number of 6.4 at the lid. The rate
+  // of a state at rest was 0 and its first step ran, reported as CFL 0 and kept as the last good
+  // state; so did the step after a lid steered ten times faster.
   auto sim = test::simulation_from(cavity(2, 32, "dt = 0.2"));
-  bool failed = false;
-  for (int k = 0; k < 10 && !failed; ++k) failed = !sim->step();
-  CHECK(failed);
+  CHECK_FALSE(sim->step());
+  CHECK(sim->state().failure.step == 1);
   CHECK(sim->state().failure.parameter == "fluid.dt");
-  CHECK(sim->state().failure.message.find("CFL") != std::string::npos);
+  CHECK(sim->state().failure.message.find("6.4") != std::string::npos);
+  auto slow = test::simulation_from(cavity(2, 16, "dt = 0.01\nvelocity_scale = 1.0"));
+  REQUIRE(slow->step());
+  CHECK(test::observe(slow->model(), slow->state(), "fluid.cfl") == doctest::Approx(0.16));
+  REQUIRE(steer(slow->model_for_steering(), parse_override("fluid.boundary.y_hi_velocity=[20.0, 0.0]")) == "");
+  CHECK_FALSE(slow->step());
+  CHECK(slow->state().failure.step == 2);
+  // An adaptive first step with a velocity scale below the lid's speed: held to the lid's.
+  auto scaled = test::simulation_from(cavity(2, 16, "velocity_scale = 0.1"));
+  CHECK(scaled->model().params.get<FluidParams>().dt <= 0.5 / 16 * (1 + 1e-12));
+  REQUIRE(scaled->step());
+  CHECK(test::observe(scaled->model(), scaled->state(), "fluid.cfl") <= 0.5 + 1e-12);
+}
+
+TEST_CASE("fluid: after a failed step, the state restored steps as it would have") {
+  // The failed step's NaN stayed in the workspace's arrays (the last substep's advection, which
+  // the first substep multiplies by 0): a good checkpoint restored failed again at once, in the
+  // shell until the scene was loaded again.
+  const std::string channel =
+      "[scene]\ndimension = 2\n[domain]\nlo = [0.0, 0.0]\nhi = [2.0, 1.0]\nperiodic = [true, false]\n"
+      "[fluid]\ncells = [16, 8]\nviscosity = 0.1\npressure_gradient = 1.2\ndt = 0.01\n";
+  auto sim = test::simulation_from(channel);
+  // (The imposed gradient is the observable's from the start: it read 0 until a step stored it.)
+  CHECK(test::observe(sim->model(), sim->state(), "fluid.pressure_gradient") == 1.2);
+  for (int k = 0; k < 10; ++k) REQUIRE(sim->step());
+  const State good = sim->state();
+  auto straight = test::simulation_from(channel);
+  for (int k = 0; k < 15; ++k) REQUIRE(straight->step());
+  REQUIRE(steer(sim->model_for_steering(), parse_override("fluid.pressure_gradient=1e300")) == "");
+  bool failed = false;
+  for (int k = 0; k < 5 && !failed; ++k) failed = !sim->step();
+  REQUIRE(failed);
+  REQUIRE(steer(sim->model_for_steering(), parse_override("fluid.pressure_gradient=1.2")) == "");
+  sim->restore(good);
+  for (int k = 0; k < 5; ++k) REQUIRE(sim->step());
+  CHECK(state_hash(sim->state()) == state_hash(straight->state()));
 }
 
 TEST_CASE("fluid: scene errors are located at their key") {
@@ -165,8 +201,26 @@ TEST_CASE("fluid: scene errors are located at their key") {
   CHECK(err.find("spacing") != std::string::npos);
   const std::string inflow_only =
       "[scene]\ndimension = 2\n[domain]\nlo = [0.0, 0.0]\nhi = [1.0, 1.0]\n[fluid]\ncells = [8, 8]\n"
-      "viscosity = 0.1\n[fluid.boundary]\nx_lo = \"inflow\"\nx_lo_velocity = [1.0, 0.0]\n";
-  CHECK(test::scene_error(inflow_only).find("outflow") != std::string::npos);
+      "viscosity = 0.1\n[fluid.boundary]\nx_lo = \"no_slip\"\ny_lo = \"inflow\"\ny_lo_velocity = [0.0, 1.0]\n";
+  const std::string no_outflow = test::scene_error(inflow_only);
+  INFO(no_outflow);
+  CHECK(no_outflow.find("outflow") != std::string::npos);
+  CHECK(no_outflow.find("bad.toml:11:") != std::string::npos);  // at the inflow face (it was x_lo's line)
+  // Gravity on a fluid alone was accepted, listed by `silt check`, and did nothing.
+  const std::string gravity = test::scene_error(cavity(2, 8) + "[gravity]\nvector = [0.0, -9.81]\n");
+  INFO(gravity);
+  CHECK(gravity.find("bad.toml:13:") != std::string::npos);
+  CHECK(gravity.find("pressure_gradient") != std::string::npos);
+  // A fixed step and the adaptive step's keys are alternatives: fluid.dt given over a scene's
+  // fluid.cfl replaces it, both in a file are refused (fluid.cfl and fluid.dt_max beside fluid.dt
+  // were accepted and did nothing).
+  const Model fixed = compile(parse_scene(cavity(2, 8, "cfl = 0.3"), "cavity.toml", {parse_override("fluid.dt=0.01")}));
+  CHECK(fixed.params.get<FluidParams>().dt_fixed);
+  CHECK_FALSE(fixed.adaptive_dt);
+  for (const std::string both : {"dt = 0.01\ncfl = 0.3", "dt = 0.01\ndt_max = 0.5"}) {
+    CAPTURE(both);
+    CHECK(test::scene_error(cavity(2, 8, both)).find("not both") != std::string::npos);
+  }
   const std::string big = test::scene_error(cavity(3, 4000));
   INFO(big);
   CHECK(big.find("GiB") != std::string::npos);

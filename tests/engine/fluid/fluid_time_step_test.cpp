@@ -189,6 +189,8 @@ TEST_CASE("fluid: a step below 1e-12 of L / U is refused, naming what set it") {
   CHECK(err.find("backward_euler") != std::string::npos);
   err = test::scene_error(with("reynolds = 100.0\ndt = 1e-300"));
   CHECK(err.find("fluid.dt") != std::string::npos);
+  err = test::scene_error(with("reynolds = 100.0\ndt_max = 1e-300"));  // it named fluid.cfl
+  CHECK(err.find("fluid.dt_max gives the fluid a step") != std::string::npos);
   // Small but sane: a Stokes flow at Re = 1e-6 with the explicit viscous term.
   CHECK(test::scene_error(with("reynolds = 1e-6\nviscous = \"explicit\"")) == "");
   CHECK(test::scene_error(with("reynolds = 100.0\ncfl = 1e-3")) == "");
