@@ -53,9 +53,19 @@ M4 look_at(const Vec3& eye, const Vec3& target, const Vec3& up_hint) {
   return m;
 }
 
+// The margins, or none along an axis where they would leave the domain no room (a frame too
+// small for its overlays, which then lie over it): a negative room gave a negative scale, and the
+// frame was drawn turned half a turn.
+Margins fitting(Margins mg, int width, int height) {
+  if (width - mg.left - mg.right < 1) mg.left = mg.right = 0;
+  if (height - mg.top - mg.bottom < 1) mg.top = mg.bottom = 0;
+  return mg;
+}
+
 }  // namespace
 
-Camera frame_2d(const Box& state_box, const Margins& mg, int width, int height, double depth) {
+Camera frame_2d(const Box& state_box, const Margins& given, int width, int height, double depth) {
+  const Margins mg = fitting(given, width, height);
   Camera c;
   c.ortho = true;
   const double w = width - mg.left - mg.right, h = height - mg.top - mg.bottom;
@@ -85,7 +95,8 @@ Camera frame_2d(const Box& state_box, const Margins& mg, int width, int height, 
 }
 
 Camera orbit_3d(const Vec3& target, const std::vector<Vec3>& points, double azimuth_deg, double elevation_deg,
-                double distance, double fov_deg, int width, int height, const Margins& mg) {
+                double distance, double fov_deg, int width, int height, const Margins& given) {
+  const Margins mg = fitting(given, width, height);
   Camera c;
   c.ortho = false;
   const double deg = std::numbers::pi / 180.0;

@@ -78,6 +78,7 @@ ColorScale add_grains(RenderScene& rs, const Model& m, const State& s, const Vie
       scale.lo = std::min(scale.lo, x);
       scale.hi = std::max(scale.hi, x);
     }
+    if (scale.lo > scale.hi) scale.lo = 0, scale.hi = 1;  // no grain coloured (it read 1e308 to 1e308)
     if (color_by == "speed") scale.lo = 0;
     if (!(scale.hi > scale.lo)) scale.hi = scale.lo + 1;
   }

@@ -21,14 +21,21 @@ namespace silt::cli {
 namespace {
 
 // What a background run printed (watch lines, its end) goes out after each command, in order
-// with the commands' own output; a run that failed on its own is an error of the script.
-bool flush_background(shell::Session& session, const std::string& where) {
+// with the commands' own output; a run that failed on its own is an error of the script (3), and
+// so is an output it could no longer write (4). Returns the exit code it asks for, 0 for none.
+int flush_background(shell::Session& session, const std::string& where) {
   for (const std::string& m : session.take_messages()) std::cout << m << "\n";
   std::cout << std::flush;
-  const std::string failure = session.take_background_failure();
-  if (failure.empty()) return true;
-  std::cerr << where << ":1: the background run failed: " << failure << "\n" << std::flush;
-  return false;
+  int code = 0;
+  if (const std::string failure = session.take_background_failure(); !failure.empty()) {
+    std::cerr << where << ":1: the background run failed: " << failure << "\n" << std::flush;
+    code = static_cast<int>(ExitCode::kNumerical);
+  }
+  if (const std::string lost = session.take_output_error(); !lost.empty()) {
+    std::cerr << where << ":1: the background run's output: " << lost << "\n" << std::flush;
+    code = std::max(code, static_cast<int>(ExitCode::kIo));
+  }
+  return code;
 }
 
 shell::Session* g_played = nullptr;
@@ -63,7 +70,7 @@ int play_command(const std::string& script, bool keep_going, int threads) {
     std::cout << script << ":" << n << "> " << line.substr(start) << "\n" << std::flush;
     const std::string where = script + ":" + std::to_string(n);
     if (!session.execute(line, where)) failed(session.last_error_code());
-    if (!flush_background(session, where)) failed(static_cast<int>(ExitCode::kNumerical));
+    if (const int c = flush_background(session, where); c != 0) failed(c);
     if (g_stop) {
       std::cerr << where << ": " << StopSignals::describe() << ": the script stops here\n";
       break;
@@ -71,7 +78,7 @@ int play_command(const std::string& script, bool keep_going, int threads) {
     if ((code != 0 && !keep_going) || session.quit_requested()) break;
   }
   session.execute("quit");
-  if (!flush_background(session, script + ":" + std::to_string(n))) failed(static_cast<int>(ExitCode::kNumerical));
+  if (const int c = flush_background(session, script + ":" + std::to_string(n)); c != 0) failed(c);
   g_played = nullptr;
   return g_stop ? StopSignals::exit_code() : code;
 }

@@ -65,6 +65,30 @@ std::string Session::take_background_failure() {
   return std::exchange(background_failure_, std::string());
 }
 
+std::string Session::take_output_error() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return std::exchange(output_error_, std::string());
+}
+
+void Session::note_output_errors() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  auto add = [&](const std::string& what) { output_error_ += (output_error_.empty() ? "" : "; ") + what; };
+  if (frames_ && !frames_error_noted_)
+    if (const std::string e = frames_->error(); !e.empty()) {
+      add("frames stopped (the run went on): " + e);
+      frames_error_noted_ = true;
+    }
+  if (!vtk_error_.empty() && !vtk_error_noted_) {
+    add("vtk stopped (the run went on): " + vtk_error_);
+    vtk_error_noted_ = true;
+  }
+}
+
+void Session::report_output_errors() {
+  note_output_errors();
+  if (std::string e = take_output_error(); !e.empty()) throw IoError(e);
+}
+
 std::string Session::input_path(const std::string& file) const {
   std::error_code ec;
   const std::filesystem::path p(file);
@@ -183,19 +207,31 @@ void Session::install(Model m, const std::optional<State>& keep) {
   // connections and velocities): what `print`, `save` and `hash` show before the first step, as
   // `silt run --steps 0` shows it.
   next->prepare();
+  const bool same_series = keep && sim_ && next->model().observe == sim_->model().observe;
   sim_ = std::move(next);
-  // A new model starts a new series: a file the old one went to is closed as it is, not overwritten.
+  // The state kept with the same observables: its series goes on (samples, file and interval).
+  // Else a new model starts a new series: a file the old one went to is closed as it is, not
+  // overwritten.
+  if (same_series) {
+    rewatch();
+    return;
+  }
   if (!stats_file_.empty()) {
     out_ << "stats file " << stats_file_ << " closed with " << stats_->rows().size() << " sample(s)\n";
     stats_file_.clear();
     stats_every_ = 0;
   }
   stats_.emplace("", sim_->model().observe);
+  rewatch();
+}
+
+void Session::rewatch() {
   watch_.observer.reset();
   if (!watch_.names.empty()) {
     try {
       watch_.observer.emplace(sim_->model(), watch_.names);
-    } catch (const std::exception&) {
+    } catch (const std::exception& e) {
+      out_ << "watch off: " << e.what() << "\n";
       watch_ = Watch{};
     }
   }
@@ -305,8 +341,19 @@ RunOptions Session::run_options(const RunLength& len, bool background) {
     shown_t_ = sim_->state().t;
     if (has_requests_) serve_requests(false);
   };
+  // A run calls every hook at its start (and at an end its length did not set): across runs an
+  // output every N steps takes the state at its start only when it has none yet, and each step
+  // once (twenty `run 1` wrote twenty-two frames, two of them the same step's).
+  auto due = [](const State& st, int64_t every, int64_t& last) {
+    const bool first = last < 0;
+    if (st.step == last || (!first && st.step % every != 0)) return false;
+    last = st.step;
+    return true;
+  };
   if (watch_.every > 0 && watch_.observer) {
-    opt.hooks.push_back({watch_.every, [this, background](const State& st) {
+    opt.hooks.push_back({watch_.every, [this, background, due](const State& st) {
+                           if (!watch_.observer) return;  // `watch off` during the run (at a boundary)
+                           if (!due(st, watch_.every, watch_.last_step)) return;
                            const auto v = watch_.observer->sample(sim_->model(), st);
                            std::string line = "step " + std::to_string(st.step) + ":";
                            for (size_t k = 0; k < v.size(); ++k)
@@ -315,18 +362,20 @@ RunOptions Session::run_options(const RunLength& len, bool background) {
                          }});
   }
   if (frames_ && frames_every_ > 0) {
-    opt.hooks.push_back({frames_every_, [this](const State& st) {
+    opt.hooks.push_back({frames_every_, [this, due](const State& st) {
+                           if (!due(st, frames_every_, frames_last_step_)) return;
                            frames_->submit(render::build_render_scene(sim_->model(), st, sim_->model().render));
                          }});
   }
   if (vtk_ && vtk_every_ > 0) {
-    opt.hooks.push_back({vtk_every_, [this, background](const State& st) {
-                           if (!vtk_error_.empty()) return;
+    opt.hooks.push_back({vtk_every_, [this, background, due](const State& st) {
+                           if (!vtk_error_.empty() || !due(st, vtk_every_, vtk_last_step_)) return;
                            try {
                              vtk_->write(sim_->model(), st, module_grid_fields(sim_->model(), st));
                            } catch (const IoError& e) {
                              vtk_error_ = e.what();
-                             say("vtk stopped (the run goes on): " + vtk_error_, background);
+                             // (A foreground run's is the command's error when it ends.)
+                             if (background) say("vtk stopped (the run goes on): " + vtk_error_, true);
                            }
                          }});
   }
@@ -401,6 +450,7 @@ void Session::run_for(const RunLength& len, bool background) {
     if (bar) bar->finish();
     if (frames_) frames_->finish();
     if (const std::string failure = report(r, false); !failure.empty()) throw RunFailure(failure);
+    report_output_errors();
     return;
   }
   bg_done_ = false;
@@ -415,6 +465,9 @@ void Session::run_for(const RunLength& len, bool background) {
       std::lock_guard<std::mutex> lock(mutex_);
       background_failure_ = failure;
     }
+    if (frames_) frames_->finish();
+    note_output_errors();  // (the VTK's was said when it happened)
+    if (frames_ && frames_error_noted_) say("frames stopped (the run went on): " + frames_->error(), true);
     shown_t_ = sim_->state().t;
     background_end_step_ = sim_->state().step;  // read after the join
     serve_requests(true);                       // the requests that came after the last step; no more after these

@@ -44,6 +44,9 @@ class Session {
   int last_error_code() const { return last_error_code_; }
   // The failure of a background run that ended on it since the last call, "" when none.
   std::string take_background_failure();
+  // An output (frames, VTK files) that a background run could no longer write and no command has
+  // reported yet, "" when none: `silt play` exits 4 on it, as `silt run` does.
+  std::string take_output_error();
   // Relative input files (load, source, restore) not found in the current directory are looked
   // for in this one: `silt play` gives the script's directory.
   void set_script_dir(const std::string& dir) { script_dir_ = dir; }
@@ -97,6 +100,8 @@ class Session {
   Simulation& sim();  // throws when no scene is loaded
   void require_stopped(const std::string& what) const;
   void install(Model m, const std::optional<State>& keep);
+  // The watched observables under the model installed (off, saying why, when it has them not).
+  void rewatch();
   // The scene file read again with the changes typed since it was loaded.
   SceneDesc scene_with(const std::vector<Override>& changes) const;
   // An input file: as given, else relative to the script's directory; throws when unreadable.
@@ -128,13 +133,23 @@ class Session {
     std::vector<std::string> names;
     int64_t every = 0;
     std::optional<Observer> observer;
+    int64_t last_step = -1;  // of the last line (-1: none yet)
   };
   Watch watch_;
   std::unique_ptr<render::FrameWriter> frames_;
   int64_t frames_every_ = 0;
+  int64_t frames_last_step_ = -1;  // of the last frame submitted (-1: none yet)
   std::unique_ptr<VtkWriter> vtk_;
   int64_t vtk_every_ = 0;
-  std::string vtk_error_;  // the VTK output stopped on it
+  int64_t vtk_last_step_ = -1;  // of the last files written (-1: none yet)
+  std::string vtk_error_;       // the VTK output stopped on it
+  // The outputs' errors not yet reported (guarded by mutex_), and which of them were noted.
+  std::string output_error_;
+  bool frames_error_noted_ = false, vtk_error_noted_ = false;
+  // Notes the frames' and VTK's errors not noted yet into output_error_ (any thread).
+  void note_output_errors();
+  // Throws IoError with the errors noted and not reported (a command's error: exit 4 in play).
+  void report_output_errors();
   std::unique_ptr<render::Rasterizer> raster_;
 
   // Background run and step-boundary requests.

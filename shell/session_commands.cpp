@@ -148,22 +148,24 @@ void Session::cmd_set(const Command& c) {
   if (running())
     throw std::runtime_error("'" + change.key +
                              "' cannot change while a run goes on (it is not steerable): stop first");
-  // Recompile with the new value; keep the state when the grains and the grid are the same: a
-  // fluid's grid in the same box, and before the first step, made from the same initial field (the
-  // state at t = 0 is that field).
+  // Recompile with the new value; keep the state of a run under way when the grains, the domain
+  // and the fluid's grid are the same. Before the first step the state is made again from the
+  // scene as changed (its positions, velocities, seed, a fluid's initial field), unless it is a
+  // prepared packing (kPreparationKept).
   Model m = compile(scene_with(next));
   const Model& old = s.model();
   const bool same_grains = m.scene_hash == old.scene_hash && m.walls.size() == old.walls.size();
-  const bool same_grid = m.cells == old.cells &&
-                         (!m.module_on("fluid") ||
-                          (m.box.lo == old.box.lo && m.box.len == old.box.len && m.box.periodic == old.box.periodic));
-  const bool same_start = s.state().step > 0 || change.key.rfind("fluid.initial", 0) != 0;
+  const bool same_grid =
+      m.cells == old.cells && m.box.lo == old.box.lo && m.box.len == old.box.len && m.box.periodic == old.box.periodic;
+  const bool same_start = s.state().step > 0 || old.prepare.compress;
   const bool same = same_grains && same_grid && same_start;
   std::optional<State> keep;
   if (same) keep = s.state();  // (the cycles go on from their phase: the state holds its origin)
   const State& was = s.state();
-  const char* what = !same_grains ? "grains" : !same_grid ? "fluid's grid" : "fluid's initial field";
-  std::string discarded = std::string(" (the ") + what + " changed: back to t = 0";
+  const char* what = !same_grains ? "the grains changed: back to t = 0"
+                     : !same_grid ? "the domain or the fluid's grid changed: back to t = 0"
+                                  : "the state at t = 0 made again";
+  std::string discarded = std::string(" (") + what;
   if (was.step > 0 || stats_->rows().size() > 1)
     discarded += "; discarded: the run to t = " + format_number(was.t) + " s (step " + std::to_string(was.step) +
                  ") and its " + std::to_string(stats_->rows().size()) + " sample(s)";
@@ -234,7 +236,7 @@ void Session::cmd_print(const Command& c) {
 
 void Session::cmd_watch(const Command& c) {
   if (c.args.size() == 1 && c.args[0].text == "off") {
-    watch_ = Watch{};
+    at_boundary([&] { watch_ = Watch{}; });  // a background run's hook reads it at its boundaries
     out_ << "watch off\n";
     return;
   }

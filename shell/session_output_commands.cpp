@@ -22,12 +22,18 @@ void Session::cmd_stats(const Command& c) {
   sim();
   const auto& a = c.args;
   if (a.size() == 1 && a[0].text == "reset") {
+    // The samples in memory go; a file they went to is closed as it is (it was opened again,
+    // emptied, for the new series).
     size_t n = 0;
     at_boundary([&] {
       n = stats_->rows().size();
-      stats_.emplace(reseries(StatsWriter("", stats_->names()), stats_file_));
+      std::vector<std::string> names = stats_->names();  // (emplace destroys the series first)
+      stats_.emplace("", std::move(names));
     });
-    out_ << "stats reset: " << n << " sample(s) discarded\n";
+    out_ << "stats reset: " << n << " sample(s) discarded";
+    if (!stats_file_.empty()) out_ << "; " << stats_file_ << " closed as it is (stats FILE.csv writes the new series)";
+    out_ << "\n";
+    stats_file_.clear();
     return;
   }
   if (a.size() == 1 && a[0].text == "off") {
@@ -99,8 +105,10 @@ void Session::cmd_frames(const Command& c) {
     require_stopped("cannot change frames");
     if (frames_) frames_->finish();
     const int64_t n = frames_ ? frames_->written() : 0;
+    note_output_errors();
     frames_.reset();
     out_ << "frames off (" << n << " written)\n";
+    report_output_errors();
     return;
   }
   if (c.args.size() != 3 || c.args[1].text != "every")
@@ -108,8 +116,11 @@ void Session::cmd_frames(const Command& c) {
   const auto every = parse_count(c.args[2].text, 1);
   if (!every) throw ParseError(c.args[2].col, "every needs a positive number of steps");
   require_stopped("cannot change frames");
+  note_output_errors();  // the writer replaced: its error stays to be reported
   frames_ = std::make_unique<render::FrameWriter>(c.args[0].text);
+  frames_error_noted_ = false;
   frames_every_ = *every;
+  frames_last_step_ = -1;
   out_ << "frames to " << c.args[0].text << " every " << frames_every_ << " steps";
   if (frames_->removed() > 0) out_ << " (" << frames_->removed() << " frame(s) of an earlier run removed)";
   out_ << "\n";
@@ -122,15 +133,19 @@ void Session::cmd_vtk(const Command& c) {
     const int64_t n = vtk_ ? vtk_->count() : 0;
     vtk_.reset();
     out_ << "vtk off (" << n << " written)\n";
+    report_output_errors();
     return;
   }
   if (c.args.size() != 3 || c.args[1].text != "every") throw ParseError(c.name_col, "usage: vtk DIR every N | vtk off");
   const auto every = parse_count(c.args[2].text, 1);
   if (!every) throw ParseError(c.args[2].col, "every needs a positive number of steps");
   require_stopped("cannot change the VTK output");
+  note_output_errors();  // the writer replaced: its error stays to be reported
   vtk_ = std::make_unique<VtkWriter>(c.args[0].text);
   vtk_every_ = *every;
   vtk_error_.clear();
+  vtk_error_noted_ = false;
+  vtk_last_step_ = -1;
   out_ << "vtk to " << c.args[0].text << " every " << vtk_every_ << " steps\n";
 }
 

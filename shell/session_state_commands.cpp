@@ -87,7 +87,7 @@ void Session::cmd_field(const Command& c) {
             if (at >= s.n) throw std::runtime_error("there is no grain " + std::to_string(at));
             at = index_of_ids(s)[at];
           }
-          if ((at + 1) * per > static_cast<int64_t>(v.size()))
+          if (at >= static_cast<int64_t>(v.size()) / std::max<int64_t>(per, 1))  // ((at + 1) per overflowed)
             throw std::runtime_error(f.name + " has " + std::to_string(v.size() / std::max<int64_t>(per, 1)) +
                                      " entries");
           line = f.name + "[" + std::to_string(*k) + "] =";

@@ -408,3 +408,30 @@ TEST_CASE("a frame of a failed state (NaN box and positions) is drawn without co
     CHECK(img.height == 120);
   }
 }
+
+// A frame too short for its overlays' margins: the room left for the domain was negative, so was
+// the scale, and the grains were drawn half a turn round (the left one on the right).
+TEST_CASE("a frame too small for its overlays draws the grains where they are, the margins dropped") {
+  auto sim = test::simulation_from(kRow);
+  const View v = plain(400, 30, {"grains", "time", "scalebar"});
+  const RenderScene rs = build_render_scene(sim->model(), sim->state(), v);
+  CHECK(rs.camera.pixels_per_unit > 0);
+  const auto left = test::pixel_of(rs, 1.5, 2), right = test::pixel_of(rs, 5.45, 2);
+  CHECK(left[0] < right[0]);
+  CHECK(left[0] >= 0);
+  CHECK(right[0] < 400);
+}
+
+// No grain to colour (all frozen): the colour bar's range read 1e308 to 1e308.
+TEST_CASE("a colour bar with no grain to colour keeps a finite range") {
+  auto sim = test::simulation_from(std::string(kRow) + "");
+  State s = sim->state();
+  for (auto& f : s.particle_frozen) f = 1;
+  View v = plain(400, 200, {"grains", "colorbar"});
+  v.color_by = "height";
+  const RenderScene rs = build_render_scene(sim->model(), s, v);
+  REQUIRE(rs.colorbar.on);
+  CHECK(std::abs(rs.colorbar.lo) < 1e300);
+  CHECK(std::abs(rs.colorbar.hi) < 1e300);
+  CHECK(rs.colorbar.hi > rs.colorbar.lo);
+}

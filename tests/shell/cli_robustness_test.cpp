@@ -247,3 +247,16 @@ TEST_CASE("inputs the fuzzers found end in a clear message and the contract's ex
     CHECK_FALSE(contains(r.out, "internal error"));
   }
 }
+
+TEST_CASE("silt play: frames that cannot be written fail the script with exit 4, as silt run does") {
+  // A frame's path taken by a directory: the writer stopped, the shell said nothing, play exited 0.
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / "silt_play_frames_fail";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir / "fd" / "frame_000001.png");
+  const std::string script = write_file("cli_frames_fail.silt", "load " + scene_path("pack_2d") + "\nframes " +
+                                                                    (dir / "fd").string() + " every 10\nrun 50\n");
+  const Result r = silt_cli("play " + script);
+  CHECK(r.code == 4);
+  CHECK(r.out.find("frames stopped (the run went on)") != std::string::npos);
+  std::filesystem::remove_all(dir);
+}

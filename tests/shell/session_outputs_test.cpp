@@ -42,11 +42,14 @@ TEST_CASE("stats reset, stats since T, and stats FILE every N writing as the run
   REQUIRE(f.run("stats since 1.2e-5"));
   CHECK(contains(f.take_out(), "      5\n"));  // steps 12 .. 20
   REQUIRE(f.run("stats reset"));
-  CHECK(contains(f.take_out(), "stats reset: 16 sample(s) discarded"));
+  CHECK(contains(f.take_out(), "stats reset: 16 sample(s) discarded; " + (dir / "s.csv") + " closed as it is"));
   CHECK_FALSE(f.run("stats"));
   CHECK(contains(f.take_err(), "no samples yet"));
   CHECK_FALSE(f.run("stats since 1e9"));
-  REQUIRE(f.run("stats off"));
+  // The file keeps its rows (it was opened again and emptied for the new series).
+  REQUIRE(f.run("run 4"));
+  CHECK(test::read_file(dir / "s.csv") == csv);
+  CHECK_FALSE(f.run("stats off"));  // it goes to no file now
   CHECK_FALSE(f.run("stats a.csv every 0"));
 }
 
@@ -81,4 +84,47 @@ TEST_CASE("help lists the observables with their units, reduced units label none
   CHECK_FALSE(contains(ke, "J"));
   REQUIRE(f.run("get domain.hi"));
   CHECK_FALSE(contains(f.take_out(), " m\n"));
+}
+
+TEST_CASE("watch off during a background run, a field's index past its end, outputs every N across runs") {
+  test::TempDir dir;
+  Fixture f;
+  REQUIRE(f.run("load " + test::scene_path("pack_2d")));
+  // The run's watch hook read the observer `watch off` had emptied: a segmentation fault.
+  REQUIRE(f.run("watch t every 10"));
+  REQUIRE(f.run("start 100000"));
+  REQUIRE(f.run("watch off"));
+  REQUIRE(f.run("stop"));
+  // (at + 1) * 2 overflowed and passed the bounds check: a read far out of the array.
+  CHECK_FALSE(f.run("field pair_f 5000000000000000000"));
+  CHECK(contains(f.take_err(), "pair_f has"));
+  // Twenty `run 1` with frames every 10 wrote a frame at the start of each run: 22 frames.
+  REQUIRE(f.run("reset"));
+  REQUIRE(f.run("frames " + (dir / "fr") + " every 10"));
+  for (int k = 0; k < 20; ++k) REQUIRE(f.run("run 1"));
+  REQUIRE(f.run("frames off"));
+  CHECK(contains(f.take_out(), "frames off (3 written)"));  // steps 0, 10 and 20
+}
+
+TEST_CASE("set: a kept state keeps its samples, and before the first step the state is made again from the scene") {
+  test::TempDir dir;
+  Fixture f;
+  REQUIRE(f.run("load " + test::scene_path("pack_2d")));
+  REQUIRE(f.run("stats " + (dir / "st.csv") + " every 10"));
+  REQUIRE(f.run("run 100"));
+  // A change that keeps the state closed the stats file and discarded the samples, saying only
+  // "(state kept)".
+  REQUIRE(f.run("set render.width 500"));
+  CHECK(contains(f.take_out(), "(state kept)"));
+  REQUIRE(f.run("run 10"));
+  REQUIRE(f.run("stats"));
+  CHECK(contains(f.take_out(), "     12\n"));  // steps 0, 10, ..., 110
+  const std::string csv = test::read_file(dir / "st.csv");
+  CHECK(std::count(csv.begin(), csv.end(), '\n') == 1 + 12);
+  // Initial positions changed before the first step were kept as "(state kept)" and did nothing.
+  Fixture g;
+  REQUIRE(g.run("load " + test::scene_path("collision_normal")));
+  REQUIRE(g.run("set grains[0].positions [[-5e-3, 0, 0], [5e-3, 0, 0]]"));
+  CHECK(contains(g.take_out(), "the state at t = 0 made again"));
+  CHECK(g.value("p[0].x") == doctest::Approx(-5e-3));
 }
