@@ -351,4 +351,19 @@ RunLength parse_run_length(const std::vector<Token>& all) {
   return r;
 }
 
+std::string quoted_word(std::string_view text) {
+  std::string out = "\"";
+  for (char c : text) {
+    if (c == '"' || c == '\\') out += '\\';
+    out += c;
+  }
+  return out + "\"";
+}
+
+std::string_view without_bom(std::string_view line) {
+  constexpr std::string_view kBom = "\xEF\xBB\xBF";
+  if (line.substr(0, kBom.size()) == kBom) line.remove_prefix(kBom.size());
+  return line;
+}
+
 }  // namespace silt::shell

@@ -32,6 +32,12 @@ class ParseError : public std::runtime_error {
 
 // Words of a line; nullopt for a blank or comment-only line. Throws ParseError.
 std::optional<Command> parse_line(std::string_view line);
+// `text` as one word of a command line: in quotes, with its quotes and backslashes escaped (a
+// scene path given to `silt shell`, which the shell loads as `load WORD`).
+std::string quoted_word(std::string_view text);
+// A script's line without the byte order mark an editor may put at the start of a file (the
+// first command was then unknown).
+std::string_view without_bom(std::string_view line);
 
 // The commands, with their arguments and documentation (help, completion).
 enum class ArgKind { kNone, kFile, kKey, kObservable, kCommand, kWord };

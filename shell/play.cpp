@@ -12,6 +12,7 @@
 #include <fstream>
 #include <iostream>
 
+#include "shell/command_parser.hpp"
 #include "shell/commands.hpp"
 #include "shell/session.hpp"
 #include "shell/stop_signals.hpp"
@@ -65,6 +66,7 @@ int play_command(const std::string& script, bool keep_going, int threads) {
   auto failed = [&](int c) { code = std::max(code, c); };
   while (std::getline(in, line)) {
     ++n;
+    if (n == 1) line = std::string(shell::without_bom(line));
     const auto start = line.find_first_not_of(" \t");
     if (start == std::string::npos || line[start] == '#') continue;
     std::cout << script << ":" << n << "> " << line.substr(start) << "\n" << std::flush;

@@ -209,7 +209,7 @@ int shell_command(const std::string& scene, int threads) {
   // characters (AddressSanitizer: heap-buffer-overflow in rl_redisplay from _rl_arg_dispatch).
   const char* up = terminal ? rl_get_termcap("up") : nullptr;
   if (!up || !*up) {
-    if (!scene.empty()) session.execute("load \"" + scene + "\"");
+    if (!scene.empty()) session.execute("load " + shell::quoted_word(scene));
     if (terminal) using_history();
     const int code = plain_lines(session, terminal);
     g_session = nullptr;
@@ -226,7 +226,7 @@ int shell_command(const std::string& scene, int threads) {
   if (!gnu_readline())
     std::cout << "warning: the rl_* functions resolve to another library than GNU readline; history and completion may "
                  "not work\n";
-  if (!scene.empty()) session.execute("load \"" + scene + "\"");
+  if (!scene.empty()) session.execute("load " + shell::quoted_word(scene));
   std::string prompt = session.prompt();
   rl_callback_handler_install(prompt.c_str(), on_line);
   while (!session.quit_requested()) {

@@ -299,6 +299,7 @@ void Session::cmd_render(const Command& c) {
   if (!raster_) raster_ = std::make_unique<render::Rasterizer>();
   render::Image img = raster_->draw(rs);
   render::compose_overlays(rs, img);
+  check_not_input(c.args[0].text, scene_file_, "image");
   render::write_png(c.args[0].text, img);
   out_ << "wrote " << c.args[0].text << " (" << img.width << " x " << img.height << ")\n";
   for (const std::string& w : rs.warnings) out_ << "warning: " << w << "\n";
@@ -307,6 +308,7 @@ void Session::cmd_render(const Command& c) {
 void Session::cmd_save(const Command& c) {
   Simulation& s = sim();
   State copy;
+  check_not_input(c.args[0].text, scene_file_, "checkpoint");
   at_boundary([&] { copy = s.state(); });
   write_checkpoint(c.args[0].text, s.model(), copy);
   out_ << "saved step " << copy.step << " (t = " << format_number(copy.t) << " s) to " << c.args[0].text << "\n";
@@ -357,7 +359,7 @@ void Session::cmd_source(const Command& c) {
   // Ctrl-C pauses the run in progress and abandons the script (and those that sourced it).
   while (ok && !quit_ && !script_interrupted_ && std::getline(in, line)) {
     ++n;
-    ok = execute(line, file + ":" + std::to_string(n));
+    ok = execute(n == 1 ? std::string(without_bom(line)) : line, file + ":" + std::to_string(n));
   }
   --source_depth_;
   script_dir_ = outer_dir;

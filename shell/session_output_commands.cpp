@@ -63,6 +63,7 @@ void Session::cmd_stats(const Command& c) {
       every = *n;
     }
     require_stopped("cannot change where the samples go");
+    check_not_input(a[0].text, scene_file_, "stats");
     stats_.emplace(reseries(*stats_, a[0].text));
     stats_file_ = a[0].text;
     stats_every_ = every;

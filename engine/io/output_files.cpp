@@ -32,6 +32,13 @@ void check_output_path(const std::string& path, const std::string& what, bool re
     throw IoError("cannot write " + what + " '" + path + "': " + std::strerror(errno) + " (its directory)");
 }
 
+void check_not_input(const std::string& path, const std::string& input, const std::string& what) {
+  if (path.empty() || input.empty()) return;
+  std::error_code ec;
+  if (std::filesystem::equivalent(path, input, ec))
+    throw IoError("cannot write " + what + " '" + path + "': it is the scene file, which it would overwrite");
+}
+
 void make_output_directory(const std::string& dir, const std::string& what) {
   namespace fs = std::filesystem;
   std::error_code ec;

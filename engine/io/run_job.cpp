@@ -52,6 +52,9 @@ RunJob::RunJob(Simulation& sim, RunJobOptions options) : sim_(sim), o_(std::move
   observer_.emplace(m, o_.observe);  // throws std::invalid_argument naming a bad observable
   check_output_path(o_.summary, "summary");
   check_output_path(o_.save, "checkpoint", true);
+  check_not_input(o_.summary, o_.scene, "summary");
+  check_not_input(o_.save, o_.scene, "checkpoint");
+  check_not_input(o_.stats, o_.scene, "stats");
   // The VTK directory before the stats file, which opening truncates: a refused run keeps it.
   if (!o_.vtk.empty()) vtk_ = std::make_unique<VtkWriter>(o_.vtk);
   // A batch run's samples are streamed into their block averages (its memory does not grow).

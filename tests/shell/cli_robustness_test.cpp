@@ -260,3 +260,25 @@ TEST_CASE("silt play: frames that cannot be written fail the script with exit 4,
   CHECK(r.out.find("frames stopped (the run went on)") != std::string::npos);
   std::filesystem::remove_all(dir);
 }
+
+TEST_CASE(
+    "an output given the scene's own name is refused, the scene left whole, and a script's byte order mark is "
+    "skipped") {
+  // `--stats scene.toml` opened the scene for writing and emptied it; so did the shell's stats,
+  // save and render.
+  const std::string scene = write_file("cli_own_name.toml", test::read_file(scene_path("pack_2d")));
+  const std::string before = test::read_file(scene);
+  for (const std::string opt : {"--stats ", "--summary ", "--save "}) {
+    CAPTURE(opt);
+    const Result r = silt_cli("run " + scene + " --steps 2 --quiet " + opt + scene);
+    CHECK(r.code == 4);
+    CHECK(contains(r.out, "it is the scene file"));
+    CHECK(test::read_file(scene) == before);
+  }
+  const std::string script = write_file("cli_own_name.silt", "\xEF\xBB\xBFload " + scene + "\nsave " + scene +
+                                                                 "\nstats " + scene + "\nrender " + scene + "\n");
+  const Result r = silt_cli("play --keep-going " + script);
+  CHECK(r.code == 4);
+  CHECK_FALSE(contains(r.out, "unknown command"));
+  CHECK(test::read_file(scene) == before);
+}

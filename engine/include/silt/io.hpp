@@ -82,6 +82,9 @@ struct ProfileSeries {
 // `regular_only`, an existing path must be a regular file (a checkpoint is renamed over it: never
 // over a device).
 void check_output_path(const std::string& path, const std::string& what, bool regular_only = false);
+// IoError when `path` is the input file `input` (the same file by another name too): an output
+// given the scene's own name would overwrite it.
+void check_not_input(const std::string& path, const std::string& input, const std::string& what);
 // Before a run: the directory `dir` of a series of files (frames, VTK), made if it is not there;
 // IoError when it cannot be, is not a directory, or cannot be written in, `what` naming the
 // files ("frame", "VTK").
