@@ -125,8 +125,8 @@ const std::vector<CommandSpec>& command_specs() {
       {"profile", "profile", "time per stage", "Wall time spent in each stage of the step graph.", 0, 0,
        ArgKind::kNone},
       {"render", "render FILE.png [ITEM...]", "draw the current state",
-       "Writes a PNG of the current state with the scene's [render] settings; ITEMs (grains chains field colorbar time "
-       "scalebar box) replace render.draw.",
+       "Writes a PNG of the current state with the scene's [render] settings; ITEMs (grains chains lubrication field "
+       "colorbar time scalebar box) replace render.draw.",
        1, -1, ArgKind::kFile},
       {"frames", "frames DIR every N | frames off", "write frames during runs",
        "Writes DIR/frame_000000.png, ... every N steps while running; frames off stops.", 1, 3, ArgKind::kFile},

@@ -288,9 +288,11 @@ void Session::cmd_render(const Command& c) {
     const KeySpec* spec = find_key_spec("render.draw");
     for (size_t k = 1; k < args.size(); ++k) {
       const std::string& item = args[k].text;
-      if (std::find(spec->choices.begin(), spec->choices.end(), item) == spec->choices.end())
-        throw ParseError(args[k].col,
-                         "'" + item + "' is not something to draw (grains chains field colorbar time scalebar box)");
+      if (std::find(spec->choices.begin(), spec->choices.end(), item) == spec->choices.end()) {
+        std::string all;  // the key's own list
+        for (const std::string& choice : spec->choices) all += (all.empty() ? "" : " ") + choice;
+        throw ParseError(args[k].col, "'" + item + "' is not something to draw (" + all + ")");
+      }
       v.draw.push_back(item);
     }
   }
@@ -334,7 +336,11 @@ void Session::cmd_restore(const Command& c) {
   State st = read_checkpoint(input_path(c.args[0].text), s.model(), &differences);
   s.restore(std::move(st));
   s.prepare();  // a checkpoint of a state never stepped (a fresh paste's): as install() does
-  out_ << "restored step " << s.state().step << " (t = " << format_number(s.state().t) << " s)\n";
+  out_ << "restored step " << s.state().step << " (t = " << format_number(s.state().t) << " s)";
+  if (const size_t n = stats_->drop_after(s.state().t, s.state().step); n > 0)
+    out_ << "; " << n << " sample(s) after it dropped from the stats"
+         << (stats_file_.empty() ? "" : " (the file keeps them)");
+  out_ << "\n";
   for (const std::string& d : differences) out_ << "warning: " << d << "\n";
 }
 

@@ -81,6 +81,22 @@ BlockAverage StatsWriter::average(size_t k, double since) const {
   return block_average(series);
 }
 
+size_t StatsWriter::drop_after(double t, int64_t step) {
+  size_t kept = 0;
+  bool at_t = false;
+  for (size_t r = 0; r < rows_.size(); ++r) {
+    if (times_[r] > t) continue;
+    at_t = times_[r] == t;
+    if (kept != r) rows_[kept] = std::move(rows_[r]);  // (a vector moved onto itself is emptied)
+    times_[kept++] = times_[r];
+  }
+  const size_t dropped = rows_.size() - kept;
+  rows_.resize(kept);
+  times_.resize(kept);
+  last_step_ = at_t ? step : -1;
+  return dropped;
+}
+
 void StatsWriter::flush() {
   if (file_ && error_.empty() && std::fflush(file_) != 0) error_ = std::strerror(errno);
   if (!error_.empty()) throw IoError("cannot write stats file '" + path_ + "': " + error_);

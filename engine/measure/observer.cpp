@@ -184,6 +184,20 @@ std::vector<ObservableDoc> observable_docs(const Model* m) {
   for (const Module& mod : modules()) {
     if (m && !m->module_on(mod.spec->name)) continue;
     for (const ObservableSpec& o : mod.spec->observables) {
+      // For a model, not those it refuses (gamma without a shear): none of their names passes.
+      if (m && o.check) {
+        bool given = false, passes = false;
+        for (const std::string& n : expand(o, *m)) {
+          given = true;
+          ObservableArgs args;
+          match(o.pattern, n, m->dim, args);
+          if (o.check(*m, args).empty()) {
+            passes = true;
+            break;
+          }
+        }
+        if (given && !passes) continue;
+      }
       std::string name = o.pattern;
       for (const auto& [from, to] :
            {std::pair<std::string, std::string>{"{a}", "A"}, {"{b}", "B"}, {"{k}", "K"}, {"{w}", "W"}})

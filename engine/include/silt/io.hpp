@@ -46,6 +46,10 @@ class StatsWriter {
   // Mean and error of observable k over the samples with t >= since (streamed: the time given to
   // the constructor, or std::logic_error).
   BlockAverage average(size_t k, double since) const;
+  // A state restored to time t at step `step`: the kept samples after t belong to a branch no
+  // longer run and go (the file keeps its rows); the next sample of that step is not taken twice.
+  // Returns how many went.
+  size_t drop_after(double t, int64_t step);
   void flush();
 
  private:

@@ -160,3 +160,16 @@ TEST_CASE("a streamed stats series keeps no rows: its averages from the time giv
   CHECK(b.err == doctest::Approx(a.err).epsilon(1e-9));
   CHECK_THROWS_AS(streamed.average(0, 1.0), std::logic_error);
 }
+
+TEST_CASE("a stats series given a state restored to an earlier time drops the samples of the abandoned branch") {
+  // After `restore`, the shell's stats averaged the samples after the restored time with those
+  // the run took again over the same times.
+  StatsWriter s("", {"x"});
+  for (int k = 0; k <= 20; ++k) s.add({static_cast<double>(k)}, 0.1 * k, 10 * k);
+  CHECK(s.drop_after(0.1 * 10, 100) == 10);
+  CHECK(s.rows().size() == 11);
+  CHECK(s.last_step() == 100);  // the restored step's sample is kept: not taken again
+  CHECK(s.average(0, 0.0).mean == doctest::Approx(5.0));
+  CHECK(s.drop_after(0.55, 55) == 5);
+  CHECK(s.last_step() == -1);  // no sample at that time: the next one is taken
+}
