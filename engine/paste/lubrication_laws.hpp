@@ -1,5 +1,7 @@
 // The lubrication resistances between two grains at gap h, Peyneau (2009) sec. 1.5.2: pure
-// functions of the gap, the equivalent radius R_eq = R_i R_j / (R_i + R_j) and the law.
+// functions of the gap, the equivalent radius R_eq (2 / R_eq = 1 / R_i + 1 / R_j: R for two grains
+// of radius R; dem::reduced_radius) and the law. With it xi_N = 6 pi eta (R_i R_j / (R_i + R_j))^2 / h,
+// the leading term of the exact two-sphere resistance (Jeffrey & Onishi 1984).
 //
 // Smooth spheres (eq. 1.26, 1.27):  xi_N = (3/2) pi eta R_eq^2 / h,  xi_T = pi eta R_eq ln(2 R_eq / h),
 // forces F_N = -xi_N V_N and F_T = -xi_T V_T (resisting the relative velocity; the thesis's sign

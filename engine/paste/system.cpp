@@ -10,6 +10,7 @@
 
 #include "core/parallel.hpp"
 #include "core/periodic_image.hpp"
+#include "dem/contact_laws.hpp"
 
 namespace silt::paste {
 
@@ -133,7 +134,9 @@ void find_connections(const State& s, const LubricationLaw& law, Links& out) {
           c.r[a] = r[a];
           c.n[a] = r[a] / dist;
         }
-        const double r_eq = ri * rj / (ri + rj);
+        // 2 / R_eq = 1 / R_i + 1 / R_j (R for two grains of radius R), as the thesis and the DEM's
+        // contacts have it: R_i R_j / (R_i + R_j) made every resistance 4 times too weak normally.
+        const double r_eq = dem::reduced_radius(ri, rj);
         c.xi_n = xi_normal(h, r_eq, law);
         c.xi_t = xi_tangential(h, r_eq, law);
         out.c.push_back(c);

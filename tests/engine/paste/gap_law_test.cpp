@@ -23,8 +23,8 @@ double approach_speed(double h, double r, double force, const LubricationLaw& la
   c.j = 1;
   c.n[0] = 1;
   c.r[0] = 2 * r + h;
-  c.xi_n = xi_normal(h, r / 2, law);
-  c.xi_t = xi_tangential(h, r / 2, law);
+  c.xi_n = xi_normal(h, r, law);  // R_eq = R for two grains of radius R
+  c.xi_t = xi_tangential(h, r, law);
   const SystemLayout l = make_layout(2, 2, nullptr, false);
   ResistanceSystem sys;
   sys.assemble(l, {c}, {r, r}, 0);
@@ -44,7 +44,7 @@ double approach_speed(double h, double r, double force, const LubricationLaw& la
 TEST_CASE("two disks under a constant force close their gap by the lubrication law, through the cutoff") {
   const double r = 0.5, force = 2.0, eta = 1.5;
   const LubricationLaw law{eta, 1e-3, 0.25, Cutoff::kLinear};
-  const double r_eq = r / 2, c = 1.5 * std::numbers::pi * eta * r_eq * r_eq;
+  const double r_eq = r, c = 1.5 * std::numbers::pi * eta * r_eq * r_eq;
   // The solve gives dh/dt = -F / xi_N(h) at every gap.
   for (double h : {0.2, 1e-2, 1e-3, 5e-4, 1e-5, -1e-3})
     CHECK(approach_speed(h, r, force, law) == doctest::Approx(-force / xi_normal(h, r_eq, law)).epsilon(1e-12));

@@ -50,10 +50,12 @@ double overlap(const State& s) { return 1.0 - std::abs(s.particle_x[2] - s.parti
 }  // namespace
 
 TEST_CASE("implicit contacts: a spring under lubrication relaxes by the backward Euler factor, at any step") {
-  // In contact xi_N = 2 c / h_min, c = (3/2) pi eta R_eq^2; the spring k_n. Per step the overlap
-  // is multiplied by 1 - dt k / xi (explicit: unstable past dt = 2 xi / k) or by xi / (xi + dt k)
-  // (implicit: the same fixed point, stable at every step). dt = 5 xi / k: -4 against 1/6.
-  const double c = 1.5 * std::numbers::pi * 0.25 * 0.25, xi = 2 * c / 1e-2, k = 1e4, dt = 5 * xi / k;
+  // In contact xi_N = 2 c / h_min, c = (3/2) pi eta R_eq^2 with R_eq = R = 0.5 for two equal grains
+  // (2 / R_eq = 1 / R_i + 1 / R_j; the solve had R / 2, a resistance 4 times too weak); the spring
+  // k_n. Per step the overlap is multiplied by 1 - dt k / xi (explicit: unstable past dt = 2 xi / k)
+  // or by xi / (xi + dt k) (implicit: the same fixed point, stable at every step). dt = 5 xi / k: -4
+  // against 1/6.
+  const double c = 1.5 * std::numbers::pi * 0.5 * 0.5, xi = 2 * c / 1e-2, k = 1e4, dt = 5 * xi / k;
   char step[64];
   std::snprintf(step, sizeof step, "%.17g", dt);
   for (const std::string contacts : {"explicit", "implicit"}) {
@@ -90,6 +92,8 @@ TEST_CASE("implicit contacts: a sticking spring adds dt k_t, one at the Coulomb 
   paste::Links links;
   paste::find_connections(s, m.params.get<paste::PasteParams>().law(), links);
   REQUIRE(links.c.size() == 1);
+  // The connection's resistance with R_eq = R = 0.5 (in contact: 3 pi eta R^2 / h_min).
+  CHECK(links.c[0].xi_n == doctest::Approx(3 * std::numbers::pi * 0.25 / 1e-2).epsilon(1e-12));
   const double dt = 0.01, kn = 1e4, kt = 0.5 * kn, fn = kn * 0.01, limit = 0.3 * fn / kt;  // spring length at the limit
   double* hist = &s.pair_hist[2 * links.pair[0]];
   for (const double length : {0.0, 0.5 * limit, limit}) {
