@@ -1,6 +1,8 @@
 // Procedure O of Peyneau (2009) sec. 3.1.2: the initial grains are compressed isotropically at
 // the imposed pressure (every periodic length controlled by eq. 3.11, no shear) until they form
 // a static packing; the scene's run then starts from it.
+#include <algorithm>
+
 #include "shear/stages.hpp"
 #include "silt/module.hpp"
 #include "silt/observables.hpp"
@@ -60,18 +62,29 @@ State prepare_packing(const Model& m, int threads, PreparationReport* report, co
   RunReport rep;
   bool reached = false;
   if (m.prepare.phi > 0) {
-    // In chunks, until the solid fraction is reached (or equilibrium first).
-    opt.steps = c.limits.check_every;
+    // In chunks, until the solid fraction is reached (or equilibrium first). A chunk ends short of
+    // the target at the last one's rate, so that the chunks shorten to single steps as it nears:
+    // the overshoot is one step's compaction (chunks of limits.check_every steps took 200 spheres
+    // from below 0.45 to 0.564).
+    int64_t chunk_steps = c.limits.check_every;
+    double phi = measure(c, sim.state()).phi;
     while (rep.steps_done < m.prepare.max_steps) {
+      opt.steps = std::min(chunk_steps, m.prepare.max_steps - rep.steps_done);
       const RunReport chunk = sim.run(opt);
       rep.steps_done += chunk.steps_done;
       rep.wall_s += chunk.wall_s;
       rep.end = chunk.end;
       if (chunk.end != RunEnd::kDone) break;
-      if (measure(c, sim.state()).phi >= m.prepare.phi) {
+      const double now = measure(c, sim.state()).phi;
+      if (now >= m.prepare.phi) {
         reached = true;
         break;
       }
+      const double per_step = chunk.steps_done > 0 ? (now - phi) / static_cast<double>(chunk.steps_done) : 0.0;
+      if (per_step > 0)
+        chunk_steps =
+            std::clamp<int64_t>(static_cast<int64_t>(0.5 * (m.prepare.phi - now) / per_step), 1, c.limits.check_every);
+      phi = now;
     }
   } else {
     rep = sim.run(opt);

@@ -122,8 +122,15 @@ void compile_time_step(const SceneDesc& d, const Model& m, PasteParams& p) {
     first = std::min(first, 1e-3 / m.box_control.cycle_omega);
   p.dt_initial = d.has("lubrication.dt_initial") ? d.real("lubrication.dt_initial") : std::min(first, p.dt_max);
   p.dt_min = d.has("lubrication.dt_min") ? d.real("lubrication.dt_min") : 1e-12 * (unit > 0 ? unit : p.dt_initial);
-  if (p.dt_min > p.dt_initial || p.dt_initial > p.dt_max)
-    d.fail("lubrication.dt_initial", "the time steps must satisfy dt_min <= dt_initial <= dt_max");
+  if (p.dt_min > p.dt_initial || p.dt_initial > p.dt_max) {
+    // At the key given (a default's bound broken by another key's value), with the three values.
+    std::string at = "lubrication.dt_initial";
+    for (const char* k : {"lubrication.dt_min", "lubrication.dt_max", "lubrication.dt_initial"})
+      if (d.has(k)) at = k;
+    d.fail(at, "the time steps must satisfy dt_min <= dt_initial <= dt_max: here dt_min = " +
+                   format_number(p.dt_min, 4) + ", dt_initial = " + format_number(p.dt_initial, 4) +
+                   ", dt_max = " + format_number(p.dt_max, 4) + " (those not given are defaults)");
+  }
 }
 
 void compile_paste(const SceneDesc& d, Model& m) {
@@ -131,7 +138,19 @@ void compile_paste(const SceneDesc& d, Model& m) {
   const std::string key = "lubrication.viscosity";
   if (!m.walls.empty()) d.fail(key, "a paste is periodic: walls are not supported with [lubrication]");
   if (m.n_frozen > 0) d.fail(key, "a paste cannot hold frozen grains (every grain's velocity is solved)");
-  if (m.gravity.norm() > 0) d.fail(key, "a paste has no gravity (its grains are neutrally buoyant); remove [gravity]");
+  if (m.gravity.norm() > 0) {
+    std::string at = key;
+    for (const char* k : {"gravity.angle", "gravity.magnitude", "gravity.vector"})
+      if (d.has(k)) at = k;
+    d.fail(at, "a paste has no gravity (its grains are neutrally buoyant); remove [gravity]");
+  }
+  // The paste solves for the box's strain rates at imposed stresses, and for the grains under an
+  // imposed shear rate (or viscous number): a shear stress imposed was accepted and the paste
+  // stood still (its solve took the rate as given, and 0).
+  if (m.shear.on && m.shear.stress_controlled)
+    d.fail("shear.stress",
+           "a paste is sheared at an imposed viscous number (shear.viscous_number) or rate "
+           "(shear.rate); an imposed shear stress is not solved for");
   if (m.module_on("drag")) d.fail(key, "[drag] and [lubrication] both act on the grains; use lubrication.stokes_drag");
   compile_steerable(d, p);
   p.h_max_over_a = d.real("lubrication.h_max_over_a");

@@ -134,11 +134,12 @@ std::vector<ObservableSpec> paste_observables() {
        }},
       {"p_lub_ratio", "",
        "pressure carried by the lubrication between grains apart / P, as p_cont_ratio (p_cont_ratio + p_lub_ratio "
-       "= 1)",
+       "= 1 when every axis's stress is imposed at P; the measured pressure / P otherwise)",
        [](C c, A) { return pair_pressures(c.s, paste_fields().pair_f_lub)[1] / imposed_mean_stress(c.m, c.s); }},
       {"eta_eff", "",
        "effective viscosity |stress.xy| / (eta gammadot), in units of eta (|stress.xy| / (eta gammadot a) in 2D): "
-       "mu / Vi",
+       "mu / Vi, the grains' part (their contacts and lubrication; the liquid's own eta gammadot between them is "
+       "not in the model, so a dilute paste reads near 0, not 1)",
        [](C c, A) {
          // (at fixed volume too: it needs a rate, not a pressure; none at a rate of 0)
          const double scale = viscous_stress(c.m, params(c.m).eta, c.s.shear_rate);

@@ -338,11 +338,15 @@ void solve_paste(const Model& m, State& s, PasteWorkspace& w, SolveAt at) {
       // Where the connections form no rigid network (a chain, a tree, a cycle of even length),
       // grains may roll on each other, or turn as gears, with no gap sliding: Xi is singular
       // along such motions, though never inconsistent (the contact forces act through the same
-      // connections). A resistance of kRollRegularisation times the grain's own rotational
-      // resistance on every rotation holds them at rest and changes the other velocities by
-      // about as little.
-      if (comp_size[c] > 1)
-        for (int a = 0; a < R; ++a) val[w.system.diagonal_position(i * pg + D + a)] *= 1 + kRollRegularisation;
+      // connections). A resistance of kRollRegularisation times the grain's largest rotational
+      // resistance on each of its rotations holds them at rest and changes the other velocities by
+      // about as little. (The largest: a sphere's spin about the line of centres of its only
+      // connection has none, and a fraction of it left a pair along an axis singular.)
+      if (comp_size[c] > 1) {
+        double largest = 0;
+        for (int a = 0; a < R; ++a) largest = std::max(largest, val[w.system.diagonal_position(i * pg + D + a)]);
+        for (int a = 0; a < R; ++a) val[w.system.diagonal_position(i * pg + D + a)] += kRollRegularisation * largest;
+      }
     }
   } else {
     // Inertia or the drag moves a grain alone: none is held.
