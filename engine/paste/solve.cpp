@@ -14,7 +14,7 @@
 namespace silt::paste {
 namespace {
 
-constexpr double kRollRegularisation = 1e-12;
+constexpr double kRollRegularisation = 1e-8;
 
 // The matrix a factor was made from, kept in the state (paste_factor): n, nnz, the column
 // starts, the rows and the values, as doubles.
