@@ -70,9 +70,13 @@ std::string Session::take_output_error() {
   return std::exchange(output_error_, std::string());
 }
 
-void Session::note_output_errors() {
+std::string Session::note_output_errors() {
   std::lock_guard<std::mutex> lock(mutex_);
-  auto add = [&](const std::string& what) { output_error_ += (output_error_.empty() ? "" : "; ") + what; };
+  std::string fresh;
+  auto add = [&](const std::string& what) {
+    output_error_ += (output_error_.empty() ? "" : "; ") + what;
+    fresh += (fresh.empty() ? "" : "; ") + what;
+  };
   if (frames_ && !frames_error_noted_)
     if (const std::string e = frames_->error(); !e.empty()) {
       add("frames stopped (the run went on): " + e);
@@ -82,6 +86,7 @@ void Session::note_output_errors() {
     add("vtk stopped (the run went on): " + vtk_error_);
     vtk_error_noted_ = true;
   }
+  return fresh;
 }
 
 void Session::report_output_errors() {
@@ -368,14 +373,12 @@ RunOptions Session::run_options(const RunLength& len, bool background) {
                          }});
   }
   if (vtk_ && vtk_every_ > 0) {
-    opt.hooks.push_back({vtk_every_, [this, background, due](const State& st) {
+    opt.hooks.push_back({vtk_every_, [this, due](const State& st) {
                            if (!vtk_error_.empty() || !due(st, vtk_every_, vtk_last_step_)) return;
                            try {
                              vtk_->write(sim_->model(), st, module_grid_fields(sim_->model(), st));
                            } catch (const IoError& e) {
-                             vtk_error_ = e.what();
-                             // (A foreground run's is the command's error when it ends.)
-                             if (background) say("vtk stopped (the run goes on): " + vtk_error_, true);
+                             vtk_error_ = e.what();  // reported when the run ends
                            }
                          }});
   }
@@ -466,8 +469,7 @@ void Session::run_for(const RunLength& len, bool background) {
       background_failure_ = failure;
     }
     if (frames_) frames_->finish();
-    note_output_errors();  // (the VTK's was said when it happened)
-    if (frames_ && frames_error_noted_) say("frames stopped (the run went on): " + frames_->error(), true);
+    if (const std::string fresh = note_output_errors(); !fresh.empty()) say(fresh, true);
     shown_t_ = sim_->state().t;
     background_end_step_ = sim_->state().step;  // read after the join
     serve_requests(true);                       // the requests that came after the last step; no more after these

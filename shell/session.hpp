@@ -146,8 +146,8 @@ class Session {
   // The outputs' errors not yet reported (guarded by mutex_), and which of them were noted.
   std::string output_error_;
   bool frames_error_noted_ = false, vtk_error_noted_ = false;
-  // Notes the frames' and VTK's errors not noted yet into output_error_ (any thread).
-  void note_output_errors();
+  // Notes the frames' and VTK's errors not noted yet into output_error_ (any thread); returns them.
+  std::string note_output_errors();
   // Throws IoError with the errors noted and not reported (a command's error: exit 4 in play).
   void report_output_errors();
   std::unique_ptr<render::Rasterizer> raster_;
