@@ -77,15 +77,7 @@ FrameWriter::FrameWriter(std::string dir, int threads) : impl_(std::make_unique<
   make_output_directory(dir, "frame");
   // An earlier run's frames in the directory would mix with this run's in a film: remove them
   // (only silt's own names, frame_NNNNNN.png).
-  std::error_code ec;
-  for (const auto& e : std::filesystem::directory_iterator(dir, ec)) {
-    const std::string name = e.path().filename().string();
-    if (name.size() == 16 && name.rfind("frame_", 0) == 0 && name.compare(12, 4, ".png") == 0 &&
-        name.find_first_not_of("0123456789", 6) == 12 && e.is_regular_file(ec)) {
-      std::filesystem::remove(e.path(), ec);
-      ++removed_;
-    }
-  }
+  removed_ = remove_numbered_files(dir, {{"frame_", ".png"}});
   impl_->dir = std::move(dir);
   impl_->threads = threads;
   impl_->worker = std::thread([this] { impl_->run(); });

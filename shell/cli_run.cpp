@@ -155,6 +155,8 @@ int run_command(const RunArgs& a) {
   } catch (const IoError& e) {
     return report_error(e.what(), 4);
   }
+  if (job->vtk_removed() > 0)
+    std::cerr << "silt: " << job->vtk_removed() << " VTK file(s) of an earlier run removed from " << a.vtk << "\n";
   std::string prep_warning;
   if (a.restore.empty() && model.prepare.compress) {
     if (const int prep_code = prepare(sim, a, *job, prep_warning); prep_code != 0) return prep_code;

@@ -147,7 +147,9 @@ void Session::cmd_vtk(const Command& c) {
   vtk_error_.clear();
   vtk_error_noted_ = false;
   vtk_last_step_ = -1;
-  out_ << "vtk to " << c.args[0].text << " every " << vtk_every_ << " steps\n";
+  out_ << "vtk to " << c.args[0].text << " every " << vtk_every_ << " steps";
+  if (vtk_->removed() > 0) out_ << " (" << vtk_->removed() << " file(s) of an earlier run removed)";
+  out_ << "\n";
 }
 
 }  // namespace silt::shell

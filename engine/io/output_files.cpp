@@ -39,6 +39,24 @@ void check_not_input(const std::string& path, const std::string& input, const st
     throw IoError("cannot write " + what + " '" + path + "': it is the scene file, which it would overwrite");
 }
 
+int64_t remove_numbered_files(const std::string& dir, const std::vector<std::pair<std::string, std::string>>& series) {
+  int64_t removed = 0;
+  std::error_code ec;
+  for (const auto& e : std::filesystem::directory_iterator(dir, ec)) {
+    const std::string name = e.path().filename().string();
+    for (const auto& [prefix, ext] : series) {
+      const size_t digits = prefix.size();
+      if (name.size() != digits + 6 + ext.size() || name.rfind(prefix, 0) != 0 ||
+          name.compare(digits + 6, ext.size(), ext) != 0 ||
+          name.find_first_not_of("0123456789", digits) != digits + 6 || !e.is_regular_file(ec))
+        continue;
+      if (std::filesystem::remove(e.path(), ec)) ++removed;
+      break;
+    }
+  }
+  return removed;
+}
+
 void make_output_directory(const std::string& dir, const std::string& what) {
   namespace fs = std::filesystem;
   std::error_code ec;

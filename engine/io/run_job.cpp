@@ -63,6 +63,8 @@ RunJob::RunJob(Simulation& sim, RunJobOptions options) : sim_(sim), o_(std::move
 
 RunJob::~RunJob() = default;
 
+int64_t RunJob::vtk_removed() const { return vtk_ ? vtk_->removed() : 0; }
+
 void RunJob::add_output_error(std::string e) {
   std::cerr << "silt: " << e << "\n";
   output_errors_.push_back(std::move(e));

@@ -67,7 +67,12 @@ void write_vti(const std::string& path, const std::vector<GridField>& fields) {
   if (!o) throw IoError("cannot write '" + path + "'");
 }
 
-VtkWriter::VtkWriter(std::string dir) : dir_(std::move(dir)) { make_output_directory(dir_, "VTK"); }
+VtkWriter::VtkWriter(std::string dir) : dir_(std::move(dir)) {
+  make_output_directory(dir_, "VTK");
+  // An earlier run's files would mix with this run's in a series opened by their names (the new
+  // index.pvd lists only its own): removed, as frames are.
+  removed_ = remove_numbered_files(dir_, {{"grains_", ".vtu"}, {"contacts_", ".vtp"}, {"fields_", ".vti"}});
+}
 
 void VtkWriter::write(const Model& m, const State& s, const std::vector<GridField>& fields) {
   const int D = m.dim, R = m.rot;

@@ -65,6 +65,13 @@ TEST_CASE("vtk DIR every N writes during runs, a change that discards the run sa
   CHECK(std::filesystem::exists(dir / "v/grains_000002.vtu"));
   REQUIRE(f.run("set grains.0.count 100"));
   CHECK(contains(f.take_out(), "discarded: the run to t = "));
+  // The same directory again: the earlier run's numbered files go (they mixed with the new ones in
+  // a series opened by name), as frames' do; others stay.
+  test::write_file(dir / "v/notes.txt", "mine");
+  REQUIRE(f.run("vtk " + (dir / "v") + " every 5"));
+  CHECK(contains(f.take_out(), "(6 file(s) of an earlier run removed)"));  // 3 of grains, 3 of contacts
+  CHECK_FALSE(std::filesystem::exists(dir / "v/grains_000002.vtu"));
+  CHECK(std::filesystem::exists(dir / "v/notes.txt"));
 }
 
 TEST_CASE("help lists the observables with their units, reduced units label none") {

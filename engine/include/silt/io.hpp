@@ -6,6 +6,7 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "silt/grid_field.hpp"
@@ -93,6 +94,9 @@ void check_not_input(const std::string& path, const std::string& input, const st
 // IoError when it cannot be, is not a directory, or cannot be written in, `what` naming the
 // files ("frame", "VTK").
 void make_output_directory(const std::string& dir, const std::string& what);
+// Removes from `dir` the regular files named PREFIX + six digits + EXT for each (PREFIX, EXT) of
+// `series` (an earlier run's numbered files, which would mix with a new run's); returns how many.
+int64_t remove_numbered_files(const std::string& dir, const std::vector<std::pair<std::string, std::string>>& series);
 // A text file written whole: to PATH.tmp renamed over PATH (a device or a pipe is written in
 // place); IoError on any failed write.
 void write_text_file(const std::string& path, const std::string& text, const std::string& what);
@@ -125,9 +129,11 @@ void write_vti(const std::string& path, const std::vector<GridField>& fields);
 // a fluid module provides them; none today) and DIR/index.pvd (the time series).
 class VtkWriter {
  public:
-  explicit VtkWriter(std::string dir);  // creates dir; throws IoError
+  // Creates dir (an earlier run's numbered files in it removed); throws IoError.
+  explicit VtkWriter(std::string dir);
   void write(const Model& m, const State& s, const std::vector<GridField>& fields = {});
   int64_t count() const { return count_; }
+  int64_t removed() const { return removed_; }  // an earlier run's files removed from dir
 
  private:
   struct Entry {
@@ -136,6 +142,7 @@ class VtkWriter {
   };
   std::string dir_;
   int64_t count_ = 0;
+  int64_t removed_ = 0;
   std::vector<Entry> entries_;
 };
 

@@ -65,6 +65,8 @@ class RunJob {
   int finish_preparation(const PreparationReport& prep, int interrupted = 130);
 
   const StatsWriter& stats() const { return o_.series ? *o_.series : *stats_; }
+  // An earlier run's VTK files removed from the directory (0 without VTK output).
+  int64_t vtk_removed() const;
   const Observer& observer() const { return *observer_; }
   // What the summary calls the end of the run: ok, static, interrupted, failed.
   static const char* status(RunEnd end);
