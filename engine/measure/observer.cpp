@@ -150,6 +150,14 @@ Found find(const std::string& name, const Model& m) {
   return f;
 }
 
+// Whether the model takes `name`, one of o's expanded names (its check passes).
+bool accepts(const ObservableSpec& o, const Model& m, const std::string& name) {
+  if (!o.check) return true;
+  ObservableArgs args;
+  match(o.pattern, name, m.dim, args);
+  return o.check(m, args).empty();
+}
+
 }  // namespace
 
 const Measurements& ObservableContext::meas() const {
@@ -169,12 +177,8 @@ std::vector<std::pair<std::string, std::string>> observable_units(const Model& m
   for (const Module& mod : modules()) {
     if (!m.module_on(mod.spec->name)) continue;
     for (const ObservableSpec& o : mod.spec->observables)
-      for (const std::string& name : expand(o, m)) {
-        ObservableArgs args;
-        match(o.pattern, name, m.dim, args);
-        if (o.check && !o.check(m, args).empty()) continue;
-        out.emplace_back(name, m.reduced_units ? std::string() : o.unit);
-      }
+      for (const std::string& name : expand(o, m))
+        if (accepts(o, m, name)) out.emplace_back(name, m.reduced_units ? std::string() : o.unit);
   }
   return out;
 }
@@ -186,17 +190,10 @@ std::vector<ObservableDoc> observable_docs(const Model* m) {
     for (const ObservableSpec& o : mod.spec->observables) {
       // For a model, not those it refuses (gamma without a shear): none of their names passes.
       if (m && o.check) {
-        bool given = false, passes = false;
-        for (const std::string& n : expand(o, *m)) {
-          given = true;
-          ObservableArgs args;
-          match(o.pattern, n, m->dim, args);
-          if (o.check(*m, args).empty()) {
-            passes = true;
-            break;
-          }
-        }
-        if (given && !passes) continue;
+        const std::vector<std::string> names = expand(o, *m);
+        if (!names.empty() &&
+            std::none_of(names.begin(), names.end(), [&](const std::string& n) { return accepts(o, *m, n); }))
+          continue;
       }
       std::string name = o.pattern;
       for (const auto& [from, to] :
