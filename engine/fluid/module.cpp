@@ -196,11 +196,10 @@ void compile_fluid(const SceneDesc& d, Model& m) {
   // A uniform body force on a fluid of one density adds the hydrostatic pressure rho g.x and moves
   // nothing between walls; along a periodic axis it is the drive fluid.pressure_gradient gives.
   // Accepted, it would be listed by `silt check` and do nothing.
-  for (const char* k : {"gravity.vector", "gravity.magnitude", "gravity.angle"})
-    if (d.has(k))
-      d.fail(k,
-             "gravity does not act on a fluid alone (it would only add the hydrostatic pressure rho g.x); drive "
-             "a flow along a periodic axis with fluid.pressure_gradient, or remove [gravity]");
+  if (const std::string k = d.first_given({"gravity.vector", "gravity.magnitude", "gravity.angle"}, ""); !k.empty())
+    d.fail(k,
+           "gravity does not act on a fluid alone (it would only add the hydrostatic pressure rho g.x); drive "
+           "a flow along a periodic axis with fluid.pressure_gradient, or remove [gravity]");
   compile_grid(d, m, p.grid);
   p.initial = d.string("fluid.initial") == "taylor_green" ? Initial::kTaylorGreen : Initial::kRest;
   if (p.initial == Initial::kTaylorGreen) p.initial_velocity = d.real("fluid.initial_velocity");

@@ -124,9 +124,8 @@ void compile_time_step(const SceneDesc& d, const Model& m, PasteParams& p) {
   p.dt_min = d.has("lubrication.dt_min") ? d.real("lubrication.dt_min") : 1e-12 * (unit > 0 ? unit : p.dt_initial);
   if (p.dt_min > p.dt_initial || p.dt_initial > p.dt_max) {
     // At the key given (a default's bound broken by another key's value), with the three values.
-    std::string at = "lubrication.dt_initial";
-    for (const char* k : {"lubrication.dt_min", "lubrication.dt_max", "lubrication.dt_initial"})
-      if (d.has(k)) at = k;
+    const std::string at =
+        d.first_given({"lubrication.dt_initial", "lubrication.dt_max", "lubrication.dt_min"}, "lubrication.dt_initial");
     d.fail(at, "the time steps must satisfy dt_min <= dt_initial <= dt_max: here dt_min = " +
                    format_number(p.dt_min, 4) + ", dt_initial = " + format_number(p.dt_initial, 4) +
                    ", dt_max = " + format_number(p.dt_max, 4) + " (those not given are defaults)");
@@ -138,12 +137,9 @@ void compile_paste(const SceneDesc& d, Model& m) {
   const std::string key = "lubrication.viscosity";
   if (!m.walls.empty()) d.fail(key, "a paste is periodic: walls are not supported with [lubrication]");
   if (m.n_frozen > 0) d.fail(key, "a paste cannot hold frozen grains (every grain's velocity is solved)");
-  if (m.gravity.norm() > 0) {
-    std::string at = key;
-    for (const char* k : {"gravity.angle", "gravity.magnitude", "gravity.vector"})
-      if (d.has(k)) at = k;
-    d.fail(at, "a paste has no gravity (its grains are neutrally buoyant); remove [gravity]");
-  }
+  if (m.gravity.norm() > 0)
+    d.fail(d.first_given({"gravity.vector", "gravity.magnitude", "gravity.angle"}, key),
+           "a paste has no gravity (its grains are neutrally buoyant); remove [gravity]");
   // The paste solves for the box's strain rates at imposed stresses, and for the grains under an
   // imposed shear rate (or viscous number): a shear stress imposed was accepted and the paste
   // stood still (its solve took the rate as given, and 0).

@@ -141,6 +141,12 @@ std::string value_to_string(const Value& v) {
 
 bool SceneDesc::has(std::string_view path) const { return entries.count(std::string(path)) > 0; }
 
+std::string SceneDesc::first_given(std::initializer_list<std::string_view> paths, std::string_view fallback) const {
+  for (std::string_view p : paths)
+    if (has(p)) return std::string(p);
+  return std::string(fallback);
+}
+
 bool SceneDesc::has_table(std::string_view table) const {
   if (tables.count(std::string(table))) return true;
   const std::string prefix = std::string(table) + ".";

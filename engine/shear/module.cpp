@@ -142,9 +142,9 @@ void setup_box_control(const SceneDesc& d, Model& m) {
 // Lees-Edwards simple shear: flow along x, gradient along y, both periodic.
 void setup_shear(const SceneDesc& d, Model& m) {
   ShearControl& sh = m.shear;
-  std::string key;
-  for (const char* k : {"shear.rate", "shear.inertial_number", "shear.viscous_number", "shear.stress"})
-    if (d.has(k)) key = k;
+  // (one at most: a KeyRule::one_of)
+  const std::string key =
+      d.first_given({"shear.rate", "shear.inertial_number", "shear.viscous_number", "shear.stress"}, "");
   if (key.empty()) return;
   if (!m.box.periodic[0] || !m.box.periodic[1])
     d.fail(key, "simple shear (Lees-Edwards) needs a domain periodic along x (flow) and y (gradient)");

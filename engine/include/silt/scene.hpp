@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <deque>
 #include <functional>
+#include <initializer_list>
 #include <map>
 #include <optional>
 #include <string>
@@ -121,6 +122,9 @@ class SceneDesc {
   std::map<std::string, FileLoc> tables;      // "domain", "grains[0]" -> where the table starts
 
   bool has(std::string_view path) const;
+  // The first of `paths` the scene gives, else `fallback`: where to report an error that more
+  // than one key could have caused.
+  std::string first_given(std::initializer_list<std::string_view> paths, std::string_view fallback) const;
   int group_count(std::string_view group) const;
   // Whether the scene gives the table or a key in it ([fluid], or fluid.cells by --set).
   bool has_table(std::string_view table) const;
