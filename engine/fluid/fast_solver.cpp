@@ -1,4 +1,5 @@
 #include "fluid/fast_solver.hpp"
+#include <cstring>
 
 #include <fftw3.h>
 
@@ -286,20 +287,36 @@ void FastSolver::tridiagonal(double* data, double sigma) {
   });
 }
 
-void FastSolver::solve(double* data, double sigma) {
+void FastSolver::solve(double* data, double sigma, const SolveIo& io) {
+  const SolveIo in{io.in, io.scale, nullptr}, out{nullptr, 1, io.out};
+  if (tri_axis_ == 0 && (io.in || io.out)) {
+    // Along x the Thomas sweeps: the lines copied in and out.
+    const int64_t n = m_[0], lines = size() / n;
+    if (io.in)
+      for (int64_t l = 0; l < lines; ++l) {
+        const double* from = io.in->base + (l % m_[1]) * io.in->row + (l / m_[1]) * io.in->plane;
+        for (int64_t i = 0; i < n; ++i) data[l * n + i] = from[i] * io.scale;
+      }
+    solve(data, sigma, {});
+    if (io.out)
+      for (int64_t l = 0; l < lines; ++l)
+        std::memcpy(io.out->base + (l % m_[1]) * io.out->row + (l / m_[1]) * io.out->plane, data + l * n,
+                    sizeof(double) * n);
+    return;
+  }
   if (tri_axis_ >= 0) {
     for (int a = 0; a < dim_; ++a)
-      if (a != tri_axis_) transform(data, a, true);
+      if (a != tri_axis_) transform(data, a, true, std::nullopt, a == 0 ? in : SolveIo{});
     tridiagonal(data, sigma);
     for (int a = dim_ - 1; a >= 0; --a)
-      if (a != tri_axis_) transform(data, a, false);
+      if (a != tri_axis_) transform(data, a, false, std::nullopt, a == 0 ? out : SolveIo{});
     return;
   }
   // Every axis transformed: along the last one forward, divided and back in one pass.
   const int last = dim_ - 1;
-  for (int a = 0; a < last; ++a) transform(data, a, true);
+  for (int a = 0; a < last; ++a) transform(data, a, true, std::nullopt, a == 0 ? in : SolveIo{});
   transform(data, last, true, sigma);
-  for (int a = last - 1; a >= 0; --a) transform(data, a, false);
+  for (int a = last - 1; a >= 0; --a) transform(data, a, false, std::nullopt, a == 0 ? out : SolveIo{});
 }
 
 }  // namespace silt::fluid

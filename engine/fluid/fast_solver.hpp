@@ -53,6 +53,21 @@ struct SolverAxis {
   double h = 1;
 };
 
+// The lines along x of a right-hand side or a solution where they lie in a field of another
+// shape (a padded one): line (j, k) starts at base + j row + k plane.
+struct SolveRows {
+  double* base = nullptr;
+  int64_t row = 0, plane = 0;
+};
+// Where a solve reads r (times scale) and writes x, when not in `data`: the first pass along x
+// reads `in` and the last one writes `out` (data then holds the passes between), two passes over
+// the grid fewer than copying into data and back.
+struct SolveIo {
+  const SolveRows* in = nullptr;
+  double scale = 1;
+  const SolveRows* out = nullptr;
+};
+
 class FastSolver {
  public:
   static constexpr int kBlock = 32;   // lines per transform along y and z
@@ -65,7 +80,8 @@ class FastSolver {
   // x = (sigma - Lap_h)^-1 r, in place on m0 * m1 * m2 values (x fastest); sigma >= 0. When the
   // operator is singular (sigma = 0, no Dirichlet condition), r must have zero sum and x is one
   // solution (another differs by a constant).
-  void solve(double* data, double sigma);
+  void solve(double* data, double sigma) { solve(data, sigma, {}); }
+  void solve(double* data, double sigma, const SolveIo& io);
   int64_t size() const { return m_[0] * m_[1] * m_[2]; }
   // Bytes of the per-thread buffers allocated so far.
   size_t bytes() const;
@@ -77,7 +93,9 @@ class FastSolver {
 
  private:
   struct Plans;
-  void transform(double* data, int axis, bool forward, std::optional<double> divide_at = std::nullopt);
+  // (io: along x only, the first pass's input or the last one's output)
+  void transform(double* data, int axis, bool forward, std::optional<double> divide_at = std::nullopt,
+                 const SolveIo& io = {});
   // A buffer's block of lines into the eigenbasis (forward) and back.
   void through_modes(double* buf, int axis, bool forward);
   void divide_block(double* buf, int axis, int64_t i0, int64_t count, int64_t o, double sigma) const;

@@ -258,6 +258,11 @@ void gather_unknowns(const Grid& g, const Layout& L, int a, const double* padded
   });
 }
 
+SolveRows unknown_rows(const Grid& g, const Layout& L, int a, double* padded) {
+  const Range3 r = range_of(g, a);
+  return {padded + L.at(r[0][0], r[1][0], r[2][0]), L.s[1], L.s[2]};
+}
+
 void scatter_unknowns(const Grid& g, const Layout& L, int a, const double* in, double* padded) {
   sweep_rows(L, range_of(g, a),
              [&](int64_t q0, int64_t n, int64_t row) { std::copy(in + row * n, in + row * n + n, padded + q0); });

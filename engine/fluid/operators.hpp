@@ -9,6 +9,7 @@
 #include <array>
 #include <vector>
 
+#include "fluid/fast_solver.hpp"
 #include "fluid/grid.hpp"
 #include "fluid/layout.hpp"
 #include "fluid/params.hpp"
@@ -49,6 +50,8 @@ void project_velocity(const Grid& g, const Layout& L, const Padded& u, const dou
 // or the cells (a = -1); a gather multiplies by `scale`.
 void gather_unknowns(const Grid& g, const Layout& L, int a, const double* padded, double* out, double scale = 1.0);
 void scatter_unknowns(const Grid& g, const Layout& L, int a, const double* in, double* padded);
+// The same unknowns as rows of the padded array, for a fast solve that reads and writes them there.
+SolveRows unknown_rows(const Grid& g, const Layout& L, int a, double* padded);
 // Number of the unknowns of component a (a = -1: cells), per axis.
 std::array<int64_t, 3> unknown_dims(const Grid& g, int a);
 

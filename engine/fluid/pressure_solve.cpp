@@ -63,8 +63,9 @@ linalg::SolveReport solve_pressure(const FluidParams& p, FluidWorkspace& w) {
   const Grid& g = p.grid;
   linalg::SolveReport r;
   if (w.poisson) {
-    w.poisson->solve(w.cells.data(), 0.0);
-    scatter_unknowns(g, w.L, -1, w.cells.data(), w.phi.data());
+    // (phi written by the solve's last pass)
+    const SolveRows phi = unknown_rows(g, w.L, -1, w.phi.data());
+    w.poisson->solve(w.cells.data(), 0.0, {nullptr, 1.0, &phi});
     return r;
   }
   PoissonSolver& mg = *w.multigrid;

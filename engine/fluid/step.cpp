@@ -416,10 +416,9 @@ void fluid_viscous(const Model& m, State&, FluidWorkspace& w) {
   if (beta > 0) {
     const double inv_beta = 1 / beta;
     for (int a = 0; a < g.dim; ++a) {
-      double* x = w.unknowns.data();
-      gather_unknowns(g, w.L, a, w.u_star[a].data(), x, inv_beta);
-      w.helmholtz[a]->solve(x, inv_beta);
-      scatter_unknowns(g, w.L, a, x, w.u_star[a].data());
+      // Read from u* and written back by the solve's passes along x.
+      const SolveRows rows = unknown_rows(g, w.L, a, w.u_star[a].data());
+      w.helmholtz[a]->solve(w.unknowns.data(), inv_beta, {&rows, inv_beta, &rows});
     }
   }
   for (int a = 0; a < g.dim; ++a) std::swap(w.u[a], w.u_star[a]);
