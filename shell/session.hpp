@@ -160,6 +160,7 @@ class Session {
   std::atomic<double> shown_t_{0};               // t for the prompt, published at step boundaries
   bool background_started_ = false;              // a `start` not yet followed by `stop`
   int64_t background_end_step_ = 0;              // where the last background run ended
+  bool background_interrupted_ = false;          // and whether Ctrl-C ended it
   std::atomic<bool> until_met_{false};
   std::mutex mutex_;
   std::condition_variable cv_;

@@ -93,7 +93,10 @@ void Session::cmd_stop(const Command&) {
   interrupt_ = true;
   if (background_.joinable()) background_.join();
   for (const std::string& m : take_messages()) out_ << m << "\n";
-  if (ended) out_ << "the run had already ended at step " << background_end_step_ << "\n";
+  if (ended)
+    out_ << (background_interrupted_ ? "the run had already been paused (interrupted) at step "
+                                     : "the run had already ended at step ")
+         << background_end_step_ << "\n";
 }
 
 namespace {
@@ -283,6 +286,8 @@ void Session::cmd_render(const Command& c) {
   Simulation& s = sim();
   render::View v = s.model().render;
   const std::vector<Token> args = expand_lists(c.args, 1);  // render a.png grains chains, or ["grains","chains"]
+  if (args.size() == 1 && c.args.size() > 1)  // (it drew the scene's list)
+    throw ParseError(c.args[1].col, "an empty list draws nothing: give what to draw, or nothing for render.draw's list");
   if (args.size() > 1) {
     v.draw.clear();
     const KeySpec* spec = find_key_spec("render.draw");

@@ -88,6 +88,18 @@ TEST_CASE("stop after a background run that already ended says so, and its failu
   std::remove("runs_soft2.toml");
 }
 
+TEST_CASE("stop after Ctrl-C paused a background run says it was paused, not that it ended") {
+  Fixture f;
+  REQUIRE(f.run("load " + test::scene_path("chute")));
+  REQUIRE(f.run("start 100000000"));
+  f.s.interrupt();
+  wait_until_stopped(f);
+  REQUIRE(f.run("stop"));
+  const std::string out = f.take_out();
+  CHECK(contains(out, "the run had already been paused (interrupted) at step "));
+  CHECK_FALSE(contains(out, "had already ended"));
+}
+
 TEST_CASE("Ctrl-C during a sourced script pauses the run and abandons the script and those that sourced it") {
   std::ofstream("runs_inner.silt") << "run 100000000\nprint step\n";
   std::ofstream("runs_outer.silt") << "source runs_inner.silt\nprint t\n";

@@ -239,6 +239,10 @@ TEST_CASE("help, params, stats, profile, render and frames print what a person r
   REQUIRE(f.run("render session_test.png grains chains"));
   CHECK(f.take_out().find("wrote session_test.png") != std::string::npos);
   CHECK_FALSE(f.run("render x.png sparkles"));
+  f.take_err();
+  CHECK_FALSE(f.run("render x.png []"));  // not the scene's list
+  CHECK(f.take_err().find("an empty list draws nothing") != std::string::npos);
+  CHECK_FALSE(std::ifstream("x.png").good());
   std::remove("session_test.png");
   std::system("rm -rf session_frames");
 }
