@@ -271,11 +271,10 @@ std::vector<SimdLevel> simd_levels(const std::string& list) {
 //   fluid_momentum   one fused sweep: reads u (D components), the pressure so far and n_prev (D);
 //                    writes u* (D) and n_prev (D): 4D + 1. With Crank-Nicolson it also reads the
 //                    boundary Laplacian bc_lap (D; operators.cpp, MomentumPoint): 5D + 1
-//   fluid_viscous    (Crank-Nicolson) per component: the gather into the unknowns (dividing by
-//                    beta as it copies: read, write), the Helmholtz solve, the scatter back
-//                    (read, write): 2 + solve + 2
-//   fluid_pressure   the divergence (reads D, writes 1), the Poisson solve in place, the scatter
-//                    of the increment into its padded array (read, write): D + 1 + solve + 2
+//   fluid_viscous    (Crank-Nicolson) per component: the Helmholtz solve, whose first pass reads
+//                    the padded u* (dividing by beta) and whose last writes it back: solve
+//   fluid_pressure   the divergence (reads D, writes 1), the Poisson solve, whose last pass writes
+//                    the increment into its padded array: D + 1 + solve
 //   fluid_project    one fused sweep: reads the increment once, reads and writes u (2D) and the
 //                    pressure (2): 2D + 3
 // A solve (fast_solver.cpp) transforms every axis but the last forward and back, one pass each,
@@ -294,8 +293,8 @@ std::vector<SimdLevel> simd_levels(const std::string& list) {
 double doubles_per_cell_step(int dim, bool cn) {
   const double D = dim;
   const double solve = 2 * (2 * D - 1);
-  double substep = (cn ? 5 * D + 1 : 4 * D + 1) + (D + 1 + solve + 2) + (2 * D + 3);
-  if (cn) substep += D * (2 + solve + 2);
+  double substep = (cn ? 5 * D + 1 : 4 * D + 1) + (D + 1 + solve) + (2 * D + 3);
+  if (cn) substep += D * solve;
   return 3 * substep + 4 * D + 4;
 }
 

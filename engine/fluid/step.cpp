@@ -329,7 +329,7 @@ void initial_velocity(const Model& m, State& s) {
 
 namespace {
 
-Padded pointers(const Grid& g, std::array<std::vector<double>, 3>& v) {
+Padded pointers(const Grid& g, std::array<LargeArray<double>, 3>& v) {
   Padded out{};
   for (int a = 0; a < g.dim; ++a) out[a] = v[a].data();
   return out;

@@ -18,6 +18,7 @@
 #include <memory>
 #include <vector>
 
+#include "core/large_array.hpp"
 #include "core/workspace.hpp"
 #include "fluid/fast_solver.hpp"
 #include "fluid/layout.hpp"
@@ -69,13 +70,13 @@ EventId solve_event();
 struct FluidWorkspace final : Workspace {
   bool ready = false;
   Layout L;
-  std::array<std::vector<double>, 3> u, u_star, n_prev, bc_lap;  // padded
-  std::array<double, 18> bc_velocities{};                        // the face velocities bc_lap was made for
+  std::array<LargeArray<double>, 3> u, u_star, n_prev, bc_lap;  // padded
+  std::array<double, 18> bc_velocities{};                       // the face velocities bc_lap was made for
   bool bc_lap_ready = false;
-  std::vector<double> phi;       // padded: the pressure increment of the substep
-  std::vector<double> p_kin;     // padded: the pressure / rho so far (incremental projection)
-  std::vector<double> cells;     // one value per cell (solver)
-  std::vector<double> unknowns;  // one component's unknowns (Helmholtz)
+  LargeArray<double> phi;       // padded: the pressure increment of the substep
+  LargeArray<double> p_kin;     // padded: the pressure / rho so far (incremental projection)
+  LargeArray<double> cells;     // one value per cell (solver)
+  LargeArray<double> unknowns;  // one component's unknowns (Helmholtz)
   // Flow-rate drive with an implicit viscous term: (1 - beta Lap)^-1 1 of each substep, its mean, and
   // the beta it was solved for (made again only when beta changes: a new step size or viscosity).
   std::array<std::vector<double>, 3> drive_shape;
