@@ -473,7 +473,7 @@ void Session::run_for(const RunLength& len, bool background) {
     shown_t_ = sim_->state().t;
     background_end_step_ = sim_->state().step;  // read after the join
     background_interrupted_ = r.end == RunEnd::kInterrupted;
-    serve_requests(true);                       // the requests that came after the last step; no more after these
+    serve_requests(true);  // the requests that came after the last step; no more after these
   });
   say("running in the background (stop pauses it)", false);
 }

@@ -286,8 +286,9 @@ void Session::cmd_render(const Command& c) {
   Simulation& s = sim();
   render::View v = s.model().render;
   const std::vector<Token> args = expand_lists(c.args, 1);  // render a.png grains chains, or ["grains","chains"]
-  if (args.size() == 1 && c.args.size() > 1)  // (it drew the scene's list)
-    throw ParseError(c.args[1].col, "an empty list draws nothing: give what to draw, or nothing for render.draw's list");
+  if (args.size() == 1 && c.args.size() > 1)                // (it drew the scene's list)
+    throw ParseError(c.args[1].col,
+                     "an empty list draws nothing: give what to draw, or nothing for render.draw's list");
   if (args.size() > 1) {
     v.draw.clear();
     const KeySpec* spec = find_key_spec("render.draw");
