@@ -176,8 +176,31 @@ void FastSolver::transform(double* data, int axis, bool forward, std::optional<d
       const int64_t i0 = (blk % xb) * B, o = blk / xb, count = std::min<int64_t>(B, m0 - i0);
       double* base = data + i0 + o * other_stride;
       if (count < B) std::memset(buf, 0, sizeof(double) * (il ? ns : ls) * B);
+      // Two rows of the data into one row of complex values, points 2k and 2k + 1 of each line
+      // side by side (the interleaved packed block of a path that moves no point): strides known
+      // to the compiler, which then vectorises the interleaving.
+      const bool pairs_in = il && packed && !reorder_in && ns % 2 == 0;
+      const bool pairs_out = il && packed && !reorder_out && n % 2 == 0;
+      if (pairs_in) {
+        for (int64_t r = 0; r < ns; r += 2) {
+          const double* a = base + r * stride;
+          const double* c = a + stride;
+          double* to = buf + r * B;  // row (r >> 1), of 2 B values
+          if (i0 + 2 * B <= m0)
+            for (int64_t q = 0; q < B; q += 8) {
+              __builtin_prefetch(a + B + q);
+              __builtin_prefetch(c + B + q);
+            }
+          run_simd([&] {
+            for (int64_t b = 0; b < count; ++b) {
+              to[2 * b] = a[b];
+              to[2 * b + 1] = c[b];
+            }
+          });
+        }
+      }
       // Place r of line b at (r >> shift) row + b lane + (r & odd).
-      for (int64_t r = 0; r < ns; ++r) {
+      for (int64_t r = 0; r < (pairs_in ? 0 : ns); ++r) {
         const int64_t j = reorder_in ? place_point(path, r, n) : r;
         const double sg = reorder_in ? place_sign(path, r, n) : 1.0;
         double* to = buf + (r >> shift) * row + (r & odd);
@@ -199,6 +222,20 @@ void FastSolver::transform(double* data, int axis, bool forward, std::optional<d
         through_modes(buf, axis, false);
       } else {
         through_modes(buf, axis, forward);
+      }
+      if (pairs_out) {
+        for (int64_t r = 0; r < n; r += 2) {
+          double* a = base + r * stride;
+          double* c = a + stride;
+          const double* from = buf + r * B;
+          run_simd([&] {
+            for (int64_t b = 0; b < count; ++b) {
+              a[b] = from[2 * b];
+              c[b] = from[2 * b + 1];
+            }
+          });
+        }
+        continue;
       }
       for (int64_t r = 0; r < n; ++r) {
         double* to = base + (reorder_out ? place_point(path, r, n) : r) * stride;
