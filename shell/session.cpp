@@ -471,8 +471,8 @@ void Session::run_for(const RunLength& len, bool background) {
     if (frames_) frames_->finish();
     if (const std::string fresh = note_output_errors(); !fresh.empty()) say(fresh, true);
     shown_t_ = sim_->state().t;
-    background_end_step_ = sim_->state().step;  // read after the join
-    background_interrupted_ = r.end == RunEnd::kInterrupted;
+    background_end_step_ = sim_->state().step;                               // read after the join
+    background_interrupted_ = r.end == RunEnd::kInterrupted && !until_met_;  // (an `until` ends so too)
     serve_requests(true);  // the requests that came after the last step; no more after these
   });
   say("running in the background (stop pauses it)", false);

@@ -98,6 +98,13 @@ TEST_CASE("stop after Ctrl-C paused a background run says it was paused, not tha
   const std::string out = f.take_out();
   CHECK(contains(out, "the run had already been paused (interrupted) at step "));
   CHECK_FALSE(contains(out, "had already ended"));
+  // A run that met its `until` ended: it was not paused.
+  REQUIRE(f.run("start until step >= " + std::to_string(f.value("step") + 3)));
+  wait_until_stopped(f);
+  REQUIRE(f.run("stop"));
+  const std::string until = f.take_out();
+  CHECK(contains(until, "the run had already ended at step "));
+  CHECK_FALSE(contains(until, "paused (interrupted)"));
 }
 
 TEST_CASE("Ctrl-C during a sourced script pauses the run and abandons the script and those that sourced it") {
