@@ -3,6 +3,8 @@
 // does not converge, reported with its step, its residual and the key to change.
 #include <doctest/doctest.h>
 
+#include <algorithm>
+
 #include <cmath>
 #include <set>
 #include <string>
@@ -207,4 +209,30 @@ TEST_CASE("paste: the state before the first step shows the paste's first step, 
   CHECK(sim->state().dt == p.dt_initial);
   REQUIRE(sim->step());
   CHECK(sim->state().t == doctest::Approx(p.dt_initial).epsilon(1e-15));  // the step it showed
+}
+
+// An error more than one key could have caused is reported at a key the scene gives: the step
+// bounds at the first of dt_initial, dt_max, dt_min given; gravity at its own key.
+TEST_CASE("paste: a refused step bound or gravity is reported at the key given") {
+  auto line_of = [](const std::string& text, const std::string& key) {
+    const size_t at = text.find(key);
+    return "bad.toml:" + std::to_string(1 + std::count(text.begin(), text.begin() + static_cast<long>(at), '\n')) + ":";
+  };
+  // A first step above the default largest (0.01 of 1 / gammadot): at dt_initial, the one given.
+  const std::string high_first = lonely_scene("dt_initial = 0.1");
+  const std::string e1 = test::scene_error(high_first);
+  CHECK(e1.rfind(line_of(high_first, "dt_initial"), 0) == 0);
+  CHECK(e1.find("dt_min <= dt_initial <= dt_max") != std::string::npos);
+  // dt_min above dt_max (the first step defaults to dt_max): at dt_max.
+  const std::string crossed = lonely_scene("dt_min = 1e-3\ndt_max = 1e-4");
+  CHECK(test::scene_error(crossed).rfind(line_of(crossed, "dt_max"), 0) == 0);
+  // All three given: at dt_initial.
+  const std::string three = lonely_scene("dt_min = 1e-3\ndt_max = 1e-2\ndt_initial = 1e-4");
+  CHECK(test::scene_error(three).rfind(line_of(three, "dt_initial"), 0) == 0);
+  // Gravity on a paste: at the gravity key, not at [lubrication].
+  std::string heavy = lonely_scene();
+  heavy.replace(heavy.find("[[grains]]"), 10, "[gravity]\nvector = [0.0, -1.0]\n[[grains]]");
+  const std::string e3 = test::scene_error(heavy);
+  CHECK(e3.rfind(line_of(heavy, "vector ="), 0) == 0);
+  CHECK(e3.find("a paste has no gravity") != std::string::npos);
 }
