@@ -43,9 +43,7 @@ int prepare(Simulation& sim, const RunArgs& a, RunJob& job, std::string& warning
   State packed;
   {
     StopSignals stop(&g_interrupt);
-    if (!a.quiet)
-      std::cerr << "silt: preparing: isotropic compression at P = "
-                << (model.prepare.pressure > 0 ? model.prepare.pressure : model.box_control.pressure) << "\n";
+    if (!a.quiet) std::cerr << "silt: preparing: isotropic compression at P = " << preparation_pressure(model) << "\n";
     packed = prepare_packing(model, a.threads, &prep, &g_interrupt);
   }
   if (prep.end == RunEnd::kFailed || prep.end == RunEnd::kInterrupted) {

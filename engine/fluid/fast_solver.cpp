@@ -292,18 +292,17 @@ void FastSolver::solve(double* data, double sigma, const SolveIo& io) {
   if (tri_axis_ == 0 && (io.in || io.out)) {
     // Along x the Thomas sweeps: the lines copied in and out.
     const int64_t n = m_[0], lines = size() / n;
-    auto line = [&](const SolveRows& r, int64_t l) { return r.base + (l % m_[1]) * r.row + (l / m_[1]) * r.plane; };
     if (io.in)
       sweep_for(size(), lines, 8, [&](int64_t l0, int64_t l1) {
         for (int64_t l = l0; l < l1; ++l) {
-          const double* from = line(*io.in, l);
+          const double* from = io.in->line(l, m_[1]);
           for (int64_t i = 0; i < n; ++i) data[l * n + i] = from[i] * io.scale;
         }
       });
     solve(data, sigma, {});
     if (io.out)
       sweep_for(size(), lines, 8, [&](int64_t l0, int64_t l1) {
-        for (int64_t l = l0; l < l1; ++l) std::memcpy(line(*io.out, l), data + l * n, sizeof(double) * n);
+        for (int64_t l = l0; l < l1; ++l) std::memcpy(io.out->line(l, m_[1]), data + l * n, sizeof(double) * n);
       });
     return;
   }

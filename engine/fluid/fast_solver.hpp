@@ -58,6 +58,8 @@ struct SolverAxis {
 struct SolveRows {
   double* base = nullptr;
   int64_t row = 0, plane = 0;
+  // Line l of the solve's x-fastest numbering, m1 lines to a plane.
+  double* line(int64_t l, int64_t m1) const { return base + (l % m1) * row + (l / m1) * plane; }
 };
 // Where a solve reads r (times scale) and writes x, when not in `data`: the first pass along x
 // reads `in` and the last one writes `out` (data then holds the passes between), two passes over

@@ -108,9 +108,7 @@ void FastSolver::transform(double* data, int axis, bool forward, std::optional<d
     const int align = fftw_alignment_of(plans_->buffer());
     const bool in_place = ns == n && !reorder_in && !reorder_out;
     // Line l of the data, or of the rows read or written instead.
-    auto line_of = [&](const SolveRows* rows, int64_t l) {
-      return rows ? rows->base + (l % m1) * rows->row + (l / m1) * rows->plane : data + l * n;
-    };
+    auto line_of = [&](const SolveRows* rows, int64_t l) { return rows ? rows->line(l, m1) : data + l * n; };
     sweep_for(m_[0] * m_[1] * m_[2], blocks, 1, [&](int64_t b0, int64_t b1) {
       double* buf = plans_->buffer();
       for (int64_t blk = b0; blk < b1; ++blk) {

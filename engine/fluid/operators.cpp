@@ -252,10 +252,9 @@ void project_velocity(const Grid& g, const Layout& L, const Padded& u, const dou
   else project_velocity_d<3>(g, L, u, phi, coeff, p);
 }
 
-void gather_unknowns(const Grid& g, const Layout& L, int a, const double* padded, double* out, double scale) {
-  sweep_rows(L, range_of(g, a), [&](int64_t q0, int64_t n, int64_t row) {
-    run_simd([&] { scaled_copy(padded + q0, out + row * n, n, scale); });
-  });
+void gather_unknowns(const Grid& g, const Layout& L, int a, const double* padded, double* out) {
+  sweep_rows(L, range_of(g, a),
+             [&](int64_t q0, int64_t n, int64_t row) { std::copy(padded + q0, padded + q0 + n, out + row * n); });
 }
 
 SolveRows unknown_rows(const Grid& g, const Layout& L, int a, double* padded) {

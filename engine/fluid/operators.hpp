@@ -47,8 +47,8 @@ double divergence_max(const Grid& g, const Layout& L, const PaddedConst& u, doub
 // p += phi in the cells (padded; its ghosts left as they were).
 void project_velocity(const Grid& g, const Layout& L, const Padded& u, const double* phi, double coeff, double* p);
 // Copies between a padded array and the unknowns of component a (its updated faces, x fastest),
-// or the cells (a = -1); a gather multiplies by `scale`.
-void gather_unknowns(const Grid& g, const Layout& L, int a, const double* padded, double* out, double scale = 1.0);
+// or the cells (a = -1).
+void gather_unknowns(const Grid& g, const Layout& L, int a, const double* padded, double* out);
 void scatter_unknowns(const Grid& g, const Layout& L, int a, const double* in, double* padded);
 // The same unknowns as rows of the padded array, for a fast solve that reads and writes them there.
 SolveRows unknown_rows(const Grid& g, const Layout& L, int a, double* padded);

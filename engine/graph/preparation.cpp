@@ -18,7 +18,7 @@ Model compression_model(const Model& m) {
   c.box.lees_edwards = false;
   c.box.le_offset = 0;
   c.box_control.on = true;
-  if (m.prepare.pressure > 0) c.box_control.pressure = m.prepare.pressure;
+  c.box_control.pressure = preparation_pressure(m);
   c.box_control.cycle = StressCycle::kNone;
   for (int k = 0; k < c.dim; ++k) c.box_control.controlled[k] = c.box.periodic[k];
   c.until_static.on = true;

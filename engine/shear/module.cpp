@@ -200,8 +200,7 @@ std::string describe_shear(const Model& m) {
     else o << "imposed rate gammadot = " << m.shear.rate << " 1/s\n";
   }
   if (m.prepare.compress)
-    o << "prepare      isotropic compression at "
-      << (m.prepare.pressure > 0 ? m.prepare.pressure : m.box_control.pressure) << " Pa until "
+    o << "prepare      isotropic compression at " << preparation_pressure(m) << " Pa until "
       << (m.prepare.phi > 0 ? "Phi = " + std::to_string(m.prepare.phi) + " or " : std::string()) << "static (at most "
       << m.prepare.max_steps << " steps)\n";
   if (m.box_control.on) {

@@ -333,6 +333,12 @@ void apply_change(SceneDesc& desc, const Override& change, const std::string& wh
 // over. Returns "" on success, else the reason (not steerable, out of range, unstable, ...).
 std::string steer(Model& m, const Override& change);
 
+// The pressure of the dry compression that prepares a packing (prepare.compress): the
+// preparation's own, else the box's.
+inline double preparation_pressure(const Model& m) {
+  return m.prepare.pressure > 0 ? m.prepare.pressure : m.box_control.pressure;
+}
+
 // Human-readable description of a compiled model (`silt check`).
 std::string describe(const Model& m);
 

@@ -102,6 +102,10 @@ std::vector<double> packed_real_spectrum(const std::vector<double>& v) {
   return out;
 }
 
+// Every kind an axis can have.
+constexpr AxisKind kAllKinds[] = {AxisKind::kPeriodic, AxisKind::kCellNN, AxisKind::kCellDD, AxisKind::kCellND,
+                                  AxisKind::kCellDN,   AxisKind::kFaceDD, AxisKind::kFaceDN};
+
 }  // namespace
 
 // The packed spectrum of a real line through the complex transform of half its length, against
@@ -272,13 +276,11 @@ TEST_CASE("fluid fast solver: periodic axes of every short even length and of od
 // Even lengths take the half-length complex transforms along a periodic axis, odd ones the halfcomplex
 // pair: both orders of the modes are checked, along x, y and z.
 TEST_CASE("fluid fast solver: every axis kind inverts its operator to round-off") {
-  const AxisKind kinds[] = {AxisKind::kPeriodic, AxisKind::kCellNN, AxisKind::kCellDD, AxisKind::kCellND,
-                            AxisKind::kCellDN,   AxisKind::kFaceDD, AxisKind::kFaceDN};
   unsigned seed = 1;
   for (int odd : {0, 1})
     for (int dim : {2, 3})
-      for (AxisKind kx : kinds)
-        for (AxisKind klast : kinds)
+      for (AxisKind kx : kAllKinds)
+        for (AxisKind klast : kAllKinds)
           for (double sigma : {0.0, 7.0}) {
             if (kx == AxisKind::kFaceDN && klast == AxisKind::kFaceDN) continue;  // one such axis at most
             std::array<SolverAxis, 3> ax{};
@@ -379,12 +381,10 @@ TEST_CASE("fluid fast solver: Helmholtz against a manufactured solution") {
 // for every kind along x (the Thomas sweeps along x copy), odd and even lengths, blocks of lines full
 // and partial, lines along y interleaved and transposed.
 TEST_CASE("fluid fast solver: a solve through a padded field's rows equals copying in and out") {
-  const AxisKind kinds[] = {AxisKind::kPeriodic, AxisKind::kCellNN, AxisKind::kCellDD, AxisKind::kCellND,
-                            AxisKind::kCellDN,   AxisKind::kFaceDD, AxisKind::kFaceDN};
   unsigned seed = 100;
   for (int odd : {0, 1})
     for (int dim : {2, 3})
-      for (AxisKind kx : kinds)
+      for (AxisKind kx : kAllKinds)
         for (AxisKind klast : {AxisKind::kPeriodic, AxisKind::kCellDD, AxisKind::kFaceDN}) {
           if (kx == AxisKind::kFaceDN && klast == AxisKind::kFaceDN) continue;
           std::array<SolverAxis, 3> ax{};
