@@ -414,7 +414,7 @@ void Session::run_for(const RunLength& len, bool background) {
   RunOptions opt = run_options(len, background);
   // Says how the run ended. After a failure the state goes back to the last good one (it can be
   // saved, or run again once the parameter is changed) and the failure's message is returned.
-  auto report = [this](const RunReport& r, bool from_background) {
+  auto report = [this](const RunReport& r, const RunJob& job, bool from_background) {
     const State& st = sim_->state();
     std::string how, failure;
     switch (r.end) {
@@ -429,7 +429,7 @@ void Session::run_for(const RunLength& len, bool background) {
     std::string line = how + (failure.empty() ? ": " : " ") + std::to_string(r.steps_done) + " steps in " +
                        format_number(r.wall_s, 3) + " s";
     if (!failure.empty()) {
-      sim_->restore(sim_->last_good_state());
+      sim_->restore(job.kept_state());  // (the last good state, which the job sampled)
       line += "; back to the last good state";
     }
     line += ", now t = " + format_number(st.t) + " s, step " + std::to_string(st.step);
@@ -452,7 +452,7 @@ void Session::run_for(const RunLength& len, bool background) {
     const RunReport r = job.run(opt);
     if (bar) bar->finish();
     if (frames_) frames_->finish();
-    if (const std::string failure = report(r, false); !failure.empty()) throw RunFailure(failure);
+    if (const std::string failure = report(r, job, false); !failure.empty()) throw RunFailure(failure);
     report_output_errors();
     return;
   }
@@ -464,7 +464,7 @@ void Session::run_for(const RunLength& len, bool background) {
   auto job = std::make_shared<RunJob>(*sim_, jo);
   background_ = std::thread([this, opt, report, job] {
     const RunReport r = job->run(opt);
-    if (const std::string failure = report(r, true); !failure.empty()) {
+    if (const std::string failure = report(r, *job, true); !failure.empty()) {
       std::lock_guard<std::mutex> lock(mutex_);
       background_failure_ = failure;
     }

@@ -6,6 +6,7 @@
 #include <fstream>
 #include <iomanip>
 #include <limits>
+#include <optional>
 
 #include "shell/session.hpp"
 #include "shell/table.hpp"
@@ -136,8 +137,24 @@ void Session::cmd_set(const Command& c) {
   next.push_back(change);
   if (spec->steerable) {
     std::string error;
-    at_boundary([&] { error = steer(s.model_for_steering(), change); });
+    std::optional<Model> before;
+    // A state whose solve failed under an earlier change: from the state before it, solved again
+    // under this one.
+    if (!running() && s.state().failure.failed) s.restore(s.last_good_state());
+    at_boundary([&] {
+      if (!running()) before = s.model();
+      error = steer(s.model_for_steering(), change);
+    });
     if (!running()) s.prepare();  // before the first step: the setup again, under the change if made
+    if (error.empty() && before && s.state().failure.failed) {
+      // The state could not be solved again under the change (a paste's velocities): refused, the
+      // model and the state as they were, rather than a state no run can leave.
+      const std::string why = s.state().failure.message;
+      s.model_for_steering() = std::move(*before);
+      s.restore(s.last_good_state());
+      throw std::runtime_error("set " + change.key + " " + c.args[1].text +
+                               ": refused, the state cannot be solved under it (" + why + ")");
+    }
     if (error.empty()) {
       overrides_ = std::move(next);
       out_ << change.key << " = " << c.args[1].text << (running() ? " (from the next step)" : "") << "\n";
@@ -153,14 +170,15 @@ void Session::cmd_set(const Command& c) {
                              "' cannot change while a run goes on (it is not steerable): stop first");
   // Recompile with the new value; keep the state of a run under way when the grains, the domain
   // and the fluid's grid are the same. Before the first step the state is made again from the
-  // scene as changed (its positions, velocities, seed, a fluid's initial field), unless it is a
-  // prepared packing (kPreparationKept).
+  // scene as changed (its positions, velocities, seed, a fluid's initial field), unless it was
+  // given: a prepared packing (kPreparationKept) or a restored checkpoint (as `silt run --restore
+  // X --set K=V`).
   Model m = compile(scene_with(next));
   const Model& old = s.model();
   const bool same_grains = m.scene_hash == old.scene_hash && m.walls.size() == old.walls.size();
   const bool same_grid =
       m.cells == old.cells && m.box.lo == old.box.lo && m.box.len == old.box.len && m.box.periodic == old.box.periodic;
-  const bool same_start = s.state().step > 0 || old.prepare.compress;
+  const bool same_start = s.state().step > 0 || s.state_given();
   const bool same = same_grains && same_grid && same_start;
   std::optional<State> keep;
   if (same) keep = s.state();  // (the cycles go on from their phase: the state holds its origin)

@@ -34,6 +34,7 @@ struct Simulation::Impl {
   // that step goes back to it, so the setup runs under the new parameters (a run loaded, changed
   // and started is the run compiled with the change, bit for bit).
   std::optional<State> unprepared;
+  bool given = false;                // state_given()
   std::vector<std::string> notices;  // the modules' notes not yet taken
 };
 
@@ -148,6 +149,7 @@ std::vector<std::string> Simulation::take_notices() {
 
 void Simulation::restore(State s) {
   impl_->unprepared.reset();
+  impl_->given = true;
   state_ = adopt_state(model_, std::move(s));
   adopt_modules();
   state_.failure = StepFailure{};
@@ -164,6 +166,8 @@ void Simulation::restore(State s) {
   }
   if (!impl_->primed) impl_->resolve_pending = false;  // the setup solves it as a first state
 }
+
+bool Simulation::state_given() const { return impl_->given; }
 
 Model& Simulation::model_for_steering() {
   if (impl_->unprepared) {

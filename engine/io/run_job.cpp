@@ -134,9 +134,13 @@ RunReport RunJob::run(RunOptions opt) {
     warnings_.push_back(n);
     if (tell) tell(n);
   };
+  kept_.reset();
   const RunReport rep = sim_.run(opt);
-  // The end is sampled once, whatever --every (a failed state is not a sample).
-  if (rep.end != RunEnd::kFailed) sample(sim_.state());
+  // The end is sampled once, whatever --every. After a failure the end is the last good state
+  // (the failed step's state is no sample), which the stats and the summary's last values then
+  // show, as its checkpoint does.
+  if (rep.end == RunEnd::kFailed) kept_ = sim_.last_good_state();
+  sample(kept_state());
   wall_s_ += rep.wall_s;
   steps_ += rep.steps_done;
   return rep;
@@ -177,7 +181,7 @@ int RunJob::finish(const RunReport& rep, int interrupted) {
   // The checkpoints first: the summary records whether they could be written.
   if (rep.end == RunEnd::kFailed) {
     const std::string path = last_good_path_for(o_);
-    kept_ = sim_.last_good_state();
+    if (!kept_) kept_ = sim_.last_good_state();
     if (write_last_good(path, m, *kept_, *this)) last_good_ = path;
   }
   if (!o_.save.empty() && rep.end != RunEnd::kFailed) {

@@ -102,8 +102,15 @@ SolveReport SpdSolver::solve(const SparseMatrix& a, const Vector& b, Vector& x, 
     if (stale)
       if (SolveReport f = refactor(); !f.ok()) return f;
     if (!all_finite(x)) x.setZero();
-    rep = conjugate_gradient(op, b, x, s_.options, &factor_, &cg_);
+    // What is left of the solve's iterations (options.max_iterations bounds the whole solve).
+    SolveOptions rest = s_.options;
+    rest.max_iterations = std::max(0, s_.options.max_iterations - spent);
+    rep = conjugate_gradient(op, b, x, rest, &factor_, &cg_);
     rep.iterations += spent;
+    if (rep.status == SolveStatus::kMaxIterations && rep.iterations >= s_.options.max_iterations)
+      rep.message = "no convergence in " + std::to_string(s_.options.max_iterations) + " iterations (" +
+                    std::to_string(spent) + " with the old factor, then a fresh one; relative residual " +
+                    std::to_string(rep.residual) + ", tolerance " + std::to_string(s_.options.tolerance) + ")";
     coarse_columns_ = 0;
     ++solves_since_factor_;
   } else if (rep.iterations > s_.refactor_iterations) {

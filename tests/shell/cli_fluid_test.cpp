@@ -152,3 +152,23 @@ TEST_CASE("silt play: the shipped cavity_reynolds.silt plays, on a smaller grid 
   CHECK(std::filesystem::exists("cli_fluid_film/frame_000000.png"));
   CHECK(std::filesystem::exists("cli_fluid_final.png"));
 }
+
+TEST_CASE("silt run: a failed run samples its last good state once, in the stats and the summary's last values") {
+  // Its stats had the rows of the steps sampled before (here only t = 0) and the summary's last
+  // values were of that sample, while its steps, its time and its probes were the last good
+  // state's.
+  const std::string stem = "cli_fluid_failed";
+  const Result r = silt_cli("run " + scene_path("channel") + " --set fluid.pressure_gradient=50 --stats " + stem +
+                            ".csv --summary " + stem + ".json --quiet");
+  REQUIRE(r.code == 3);
+  const auto j = nlohmann::json::parse(read_file(stem + ".json"));
+  REQUIRE(j["status"] == "failed");
+  const int64_t steps = j["steps"].get<int64_t>();
+  CHECK(steps > 0);
+  CHECK(j["observables"]["step"]["last"].get<double>() == static_cast<double>(steps));
+  CHECK(j["observables"]["t"]["last"].get<double>() == j["sim_time"].get<double>());
+  CHECK(j["observables"]["fluid.ke"]["last"].get<double>() > 0);
+  const std::string csv = read_file(stem + ".csv");
+  CHECK(csv.find("\n" + std::to_string(steps) + ",") == std::string::npos);  // (t first, then step)
+  CHECK(csv.find("," + std::to_string(steps) + ",") != std::string::npos);
+}

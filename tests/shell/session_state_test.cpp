@@ -50,3 +50,30 @@ TEST_CASE("freeze stops the grains below a height and a saved checkpoint then ma
   CHECK_FALSE(f.run("freeze y < 3"));
   CHECK(f.take_err().find("deforming box") != std::string::npos);
 }
+
+TEST_CASE("a restored state is kept when a key that is not steerable changes before the first step") {
+  // It was made again from the scene, as a loaded scene's is: `silt run --restore X --set K=V`
+  // kept it, the shell's `restore X`, `set K V` threw it away.
+  test::TempDir dir;
+  Fixture f;
+  REQUIRE(f.run("load " + test::scene_path("taylor_green_2d")));
+  REQUIRE(f.run("set fluid.cells [16, 16]"));
+  REQUIRE(f.run("set fluid.initial_velocity 2"));
+  CHECK(f.value("fluid.ke") == doctest::Approx(1.0));
+  REQUIRE(f.run("save " + dir / "start.ckpt"));
+  REQUIRE(f.run("load " + test::scene_path("taylor_green_2d")));
+  REQUIRE(f.run("set fluid.cells [16, 16]"));
+  CHECK(f.value("fluid.ke") == doctest::Approx(0.25));
+  REQUIRE(f.run("restore " + dir / "start.ckpt"));
+  const std::string restored = f.hash();
+  f.take_out();
+  REQUIRE(f.run("set output.every 7"));  // not steerable: the scene compiled again
+  CHECK(f.take_out().find("(state kept)") != std::string::npos);
+  CHECK(f.hash() == restored);
+  CHECK(f.value("fluid.ke") == doctest::Approx(1.0));
+  // A loaded scene's own state at t = 0 is still made again from the scene as changed.
+  REQUIRE(f.run("load " + test::scene_path("taylor_green_2d")));
+  REQUIRE(f.run("set fluid.cells [16, 16]"));
+  REQUIRE(f.run("set fluid.initial_velocity 2"));
+  CHECK(f.take_out().find("made again") != std::string::npos);
+}

@@ -83,6 +83,10 @@ class Simulation {
   // Continue from a saved state (a checkpoint of this model): its forces, lists and tangential
   // histories are used as they are, so the continuation is bitwise that of the original run.
   void restore(State s);
+  // Whether the state was given (restore(): a checkpoint, a prepared packing, a state kept across
+  // a recompile) rather than made from the scene: a change of parameters keeps it even before
+  // its first step.
+  bool state_given() const;
   RunReport run(const RunOptions& opt);
   // The steps a run of these options does at most: opt.steps, or steps_in(opt.time, dt).
   int64_t steps_for(const RunOptions& opt) const;

@@ -152,6 +152,26 @@ TEST_CASE("an older factor preconditions a changed matrix and the solver refacto
   }
 }
 
+TEST_CASE(
+    "the iterations of a factor-preconditioned solve are bounded as a whole, the retry with a fresh factor included") {
+  // The retry after a stale factor had the whole budget again: max_iterations = 1 gave solves of
+  // 2 iterations that reported success.
+  SolverSettings s;
+  s.method = Method::kFactorPcg;
+  s.options = {1e-10, 1};
+  s.refactor_iterations = 15;
+  SpdSolver solver(s);
+  Vector x = Vector::Zero(900);
+  const SparseMatrix a0 = grid(30, 7);
+  REQUIRE(solver.solve(a0, gaussian_vector(a0.rows(), 1), x, false).ok());  // a fresh factor: exact
+  const SparseMatrix a1 = grid(30, 7, 0.5);
+  const SolveReport r = solver.solve(a1, gaussian_vector(a1.rows(), 2), x, false);
+  CHECK_FALSE(r.ok());
+  CHECK(r.status == SolveStatus::kMaxIterations);
+  CHECK(r.iterations <= 1);
+  CHECK(r.message.find("no convergence in 1 iterations") != std::string::npos);
+}
+
 TEST_CASE("a system that is not positive definite, or not finite, is a report, not a NaN") {
   SparseMatrix a = grid(10, 3);
   a.coeffRef(37, 37) = -5;  // an indefinite matrix
