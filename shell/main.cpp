@@ -61,7 +61,7 @@ int main(int argc, char** argv) {
   int play_threads = 0;
   auto* pl = app.add_subcommand("play", "Play a script of shell commands, non-interactively");
   pl->add_option("script", script, "Script (.silt): one command per line, # comments")->required();
-  pl->add_flag("--keep-going", keep_going, "Go on after an error (exit 2 at the end)");
+  pl->add_flag("--keep-going", keep_going, "Go on after an error (at the end, the highest exit code of its errors)");
   pl->add_option("--threads", play_threads, "Worker threads (default: all cores)")
       ->transform(whole_number(1, kMaxThreads));
 

@@ -6,6 +6,7 @@
 #include <fstream>
 #include <iomanip>
 #include <limits>
+#include <map>
 #include <optional>
 
 #include "shell/session.hpp"
@@ -264,7 +265,7 @@ void Session::cmd_watch(const Command& c) {
   const size_t n = c.args.size();
   if (n < 3 || c.args[n - 2].text != "every") throw ParseError(c.name_col, "usage: watch OBS... every N | watch off");
   const auto every = parse_count(c.args[n - 1].text, 1);
-  if (!every) throw ParseError(c.args[n - 1].col, "every needs a positive number of steps");
+  if (!every) throw ParseError(c.args[n - 1].col, "every needs a whole number of steps from 1 to 9.2e18");
   Watch w;
   for (size_t k = 0; k + 2 < n; ++k)
     for (const Token& t : expand_list(c.args[k])) w.names.push_back(t.text);
@@ -303,6 +304,10 @@ void Session::cmd_profile(const Command&) {
 void Session::cmd_render(const Command& c) {
   Simulation& s = sim();
   render::View v = s.model().render;
+  // (a .jpg got PNG data under its name)
+  if (const std::string ext = std::filesystem::path(c.args[0].text).extension().string();
+      ext != ".png" && ext != ".PNG")
+    throw ParseError(c.args[0].col, "render writes PNG images: give a file name ending in .png");
   const std::vector<Token> args = expand_lists(c.args, 1);  // render a.png grains chains, or ["grains","chains"]
   if (args.size() == 1 && c.args.size() > 1)                // (it drew the scene's list)
     throw ParseError(c.args[1].col,
@@ -406,8 +411,13 @@ void Session::cmd_help(const Command& c) {
     out_ << "\nobservables" << (sim_ ? " of this scene" : "")
          << " (A, B: an axis x, y, z; W: a rotation axis, z only in 2D; K: an index)\n";
     Table o({"observable", "unit", "what"});
-    for (const ObservableDoc& d : observable_docs(sim_ ? &sim_->model() : nullptr))
-      o.add({d.name, d.unit.empty() ? "-" : d.unit, d.doc});
+    const std::vector<ObservableDoc> docs = observable_docs(sim_ ? &sim_->model() : nullptr);
+    // Every module's, before a scene is loaded: a name that more than one module defines (the
+    // paste's and the fluid's solver.iters) says whose each line is.
+    std::map<std::string, int> uses;
+    for (const ObservableDoc& d : docs) ++uses[d.name];
+    for (const ObservableDoc& d : docs)
+      o.add({d.name, d.unit.empty() ? "-" : d.unit, (uses[d.name] > 1 ? d.module + ": " : std::string()) + d.doc});
     o.print(out_);
     out_ << "help COMMAND explains one; params lists the scene keys with their units and ranges\n";
     return;

@@ -59,7 +59,7 @@ void Session::cmd_stats(const Command& c) {
     int64_t every = 0;
     if (a.size() == 3) {
       const auto n = parse_count(a[2].text, 1);
-      if (!n) throw ParseError(a[2].col, "every needs a positive number of steps");
+      if (!n) throw ParseError(a[2].col, "every needs a whole number of steps from 1 to 9.2e18");
       every = *n;
     }
     require_stopped("cannot change where the samples go");
@@ -115,7 +115,7 @@ void Session::cmd_frames(const Command& c) {
   if (c.args.size() != 3 || c.args[1].text != "every")
     throw ParseError(c.name_col, "usage: frames DIR every N | frames off");
   const auto every = parse_count(c.args[2].text, 1);
-  if (!every) throw ParseError(c.args[2].col, "every needs a positive number of steps");
+  if (!every) throw ParseError(c.args[2].col, "every needs a whole number of steps from 1 to 9.2e18");
   require_stopped("cannot change frames");
   note_output_errors();  // the writer replaced: its error stays to be reported
   frames_ = std::make_unique<render::FrameWriter>(c.args[0].text);
@@ -139,7 +139,7 @@ void Session::cmd_vtk(const Command& c) {
   }
   if (c.args.size() != 3 || c.args[1].text != "every") throw ParseError(c.name_col, "usage: vtk DIR every N | vtk off");
   const auto every = parse_count(c.args[2].text, 1);
-  if (!every) throw ParseError(c.args[2].col, "every needs a positive number of steps");
+  if (!every) throw ParseError(c.args[2].col, "every needs a whole number of steps from 1 to 9.2e18");
   require_stopped("cannot change the VTK output");
   note_output_errors();  // the writer replaced: its error stays to be reported
   vtk_ = std::make_unique<VtkWriter>(c.args[0].text);

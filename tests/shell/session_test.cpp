@@ -242,6 +242,9 @@ TEST_CASE("help, params, stats, profile, render and frames print what a person r
   f.take_err();
   CHECK_FALSE(f.run("render x.png []"));  // not the scene's list
   CHECK(f.take_err().find("an empty list draws nothing") != std::string::npos);
+  CHECK_FALSE(f.run("render x.jpg"));  // (PNG data under a .jpg name)
+  CHECK(f.take_err().find("render writes PNG images") != std::string::npos);
+  CHECK_FALSE(std::ifstream("x.jpg").good());
   CHECK_FALSE(std::ifstream("x.png").good());
   std::remove("session_test.png");
   std::system("rm -rf session_frames");
