@@ -97,6 +97,11 @@ void compile_time_step(const SceneDesc& d, const Model& m, PasteParams& p) {
   else if (!d.has("lubrication.dt") && (!d.has("lubrication.dt_initial") || !d.has("lubrication.dt_max")))
     d.fail("lubrication.viscosity",
            "without box.pressure or shear.rate there is no time unit: give lubrication.dt, or dt_initial and dt_max");
+  if (p.time_unit != 0 && !std::isnormal(p.time_unit))
+    // (a pressure of 1e-320 Pa made it infinite, and the first step too long for any bound)
+    d.fail(p.time_unit > 1 ? (m.box_control.on ? "box.pressure" : "shear.rate") : "lubrication.viscosity",
+           "the paste's time unit (" + std::string(m.box_control.on ? "eta a^(3-d) / P" : "1 / gammadot") + ") is " +
+               format_number(p.time_unit, 4) + " s, beyond what double precision resolves");
   if (d.has("lubrication.dt")) {
     for (const char* k : {"lubrication.dt_initial", "lubrication.dt_max", "lubrication.dt_min"})
       if (d.has(k)) d.fail(k, "lubrication.dt fixes the time step: give it or the adaptive step's bounds, not both");
@@ -121,7 +126,10 @@ void compile_time_step(const SceneDesc& d, const Model& m, PasteParams& p) {
   if (m.box_control.on && m.box_control.cycle != StressCycle::kNone && m.box_control.cycle_omega > 0)
     first = std::min(first, 1e-3 / m.box_control.cycle_omega);
   p.dt_initial = d.has("lubrication.dt_initial") ? d.real("lubrication.dt_initial") : std::min(first, p.dt_max);
-  p.dt_min = d.has("lubrication.dt_min") ? d.real("lubrication.dt_min") : 1e-12 * (unit > 0 ? unit : p.dt_initial);
+  // (of the fastest time scale: under a shear much faster than the viscous time, Vi >> 1, the
+  // default dt_min of the viscous time exceeded the first step)
+  p.dt_min = d.has("lubrication.dt_min") ? d.real("lubrication.dt_min")
+                                         : 1e-12 * (p.step_scale > 0 ? p.step_scale : p.dt_initial);
   if (p.dt_min > p.dt_initial || p.dt_initial > p.dt_max) {
     // At the key given (a default's bound broken by another key's value), with the three values.
     const std::string at =

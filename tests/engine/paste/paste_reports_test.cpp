@@ -236,3 +236,21 @@ TEST_CASE("paste: a refused step bound or gravity is reported at the key given")
   CHECK(e3.rfind(line_of(heavy, "vector ="), 0) == 0);
   CHECK(e3.find("a paste has no gravity") != std::string::npos);
 }
+
+TEST_CASE("paste: a pressure or viscosity whose time unit double precision cannot hold is refused at its key") {
+  // A pressure of 1e-320 Pa gave an infinite time unit: the run failed on its first step, with
+  // inf and nan in the stats, and the message blamed lubrication.dt_max.
+  std::string thin = loose_scene("");
+  thin.replace(thin.find("pressure = 1.0"), 14, "pressure = 1e-320");
+  const std::string e1 = test::scene_error(thin);
+  CHECK(e1.find("time unit (eta a^(3-d) / P) is inf s") != std::string::npos);
+  CHECK(e1.rfind("bad.toml:9:", 0) == 0);
+  const std::string e2 = test::scene_error(test::paste_disks({.viscosity = 1e-320}));
+  CHECK(e2.find("time unit (eta a^(3-d) / P) is ") != std::string::npos);
+  CHECK(e2.find("e-32") != std::string::npos);
+  // A shear far faster than the viscous time (Vi = 1e10): the default smallest step is of the
+  // shear's time, not above the first step.
+  std::string fast = loose_scene("");
+  fast.replace(fast.find("[contact]"), 9, "[shear]\nviscous_number = 1e10\n[contact]");
+  CHECK_NOTHROW(test::model_from(fast));
+}
