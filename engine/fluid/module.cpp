@@ -87,6 +87,18 @@ double default_velocity_scale(const FluidParams& p) {
   return u > 0 ? u : 1.0;
 }
 
+// A speed given at `key` whose squares over the grid would overflow: its kinetic energy and
+// enstrophy ((|u| / h)^2 summed over the cells) infinite from the first sample (a lid at 1e155
+// m/s ran, and its stats showed inf).
+void check_speed(const SceneDesc& d, const std::string& key, double v, const Grid& g) {
+  double h_min = g.h[0];
+  for (int a = 1; a < g.dim; ++a) h_min = std::min(h_min, g.h[a]);
+  const double rate = std::abs(v) / h_min;
+  if (std::isfinite(rate * rate * static_cast<double>(g.cells()))) return;
+  d.fail(key, key + " = " + format_number(v, 4) + " m/s: the flow's enstrophy, (|u| / h)^2 over the " +
+                  format_number(static_cast<double>(g.cells()), 4) + " cells, overflows double precision");
+}
+
 // What may change while running: viscosity (or Re), walls' and inflows' velocities, the drive,
 // the time step and the target CFL, the solver's tolerance.
 void compile_steerable(const SceneDesc& d, const Model& m, FluidParams& p) {
@@ -95,12 +107,18 @@ void compile_steerable(const SceneDesc& d, const Model& m, FluidParams& p) {
       const std::string key = std::string("fluid.boundary.") + face_names()[2 * a + side] + "_velocity";
       if (d.has(key)) {
         const auto v = d.reals(key);
-        for (int c = 0; c < m.dim && c < static_cast<int>(v.size()); ++c) p.grid.bc[a][side].velocity[c] = v[c];
+        for (int c = 0; c < m.dim && c < static_cast<int>(v.size()); ++c) {
+          check_speed(d, key, v[c], p.grid);
+          p.grid.bc[a][side].velocity[c] = v[c];
+        }
       }
     }
   p.density = d.real("fluid.density");
   if (d.has("fluid.pressure_gradient")) p.pressure_gradient = d.real("fluid.pressure_gradient");
-  if (d.has("fluid.bulk_velocity")) p.bulk_velocity = d.real("fluid.bulk_velocity");
+  if (d.has("fluid.bulk_velocity")) {
+    p.bulk_velocity = d.real("fluid.bulk_velocity");
+    check_speed(d, "fluid.bulk_velocity", p.bulk_velocity, p.grid);
+  }
   p.velocity_scale = d.has("fluid.velocity_scale") ? d.real("fluid.velocity_scale") : default_velocity_scale(p);
   p.length_scale = d.has("fluid.length_scale") ? d.real("fluid.length_scale") : m.box.len[0];
   p.dimensionless = d.has("fluid.reynolds");
@@ -202,7 +220,10 @@ void compile_fluid(const SceneDesc& d, Model& m) {
            "a flow along a periodic axis with fluid.pressure_gradient, or remove [gravity]");
   compile_grid(d, m, p.grid);
   p.initial = d.string("fluid.initial") == "taylor_green" ? Initial::kTaylorGreen : Initial::kRest;
-  if (p.initial == Initial::kTaylorGreen) p.initial_velocity = d.real("fluid.initial_velocity");
+  if (p.initial == Initial::kTaylorGreen) {
+    p.initial_velocity = d.real("fluid.initial_velocity");
+    check_speed(d, "fluid.initial_velocity", p.initial_velocity, p.grid);
+  }
   if (p.initial == Initial::kTaylorGreen)
     for (int a = 0; a < m.dim; ++a)
       if (!m.box.periodic[a]) d.fail("fluid.initial", "the Taylor-Green vortex needs a periodic box");

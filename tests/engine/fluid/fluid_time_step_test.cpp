@@ -199,3 +199,18 @@ TEST_CASE("fluid: a step below 1e-12 of L / U is refused, naming what set it") {
   CHECK(steer(sim->model_for_steering(), parse_override("fluid.cfl=1e-300")).find("fluid.cfl") != std::string::npos);
   REQUIRE(sim->step());
 }
+
+TEST_CASE("fluid: a wall or drive or initial speed whose enstrophy overflows is refused at its key") {
+  // A lid at 1e155 m/s ran: its first sample's enstrophy was inf, and the run then stopped on the
+  // CFL number, advising more cells.
+  std::string fast = lid_cavity(1.0, 1.0, "");
+  fast.replace(fast.find("y_hi_velocity = [1.000000"), 25, "y_hi_velocity = [1e155");
+  const std::string err = test::scene_error(fast);
+  CHECK(err.find("fluid.boundary.y_hi_velocity = 1e+155 m/s: the flow's enstrophy") != std::string::npos);
+  CHECK(err.rfind("bad.toml:11:", 0) == 0);
+  CHECK(test::scene_error(lid_cavity(1.0, 1e100, "")) == "");  // fast, but its squares are finite
+  auto sim = test::simulation_from(lid_cavity(1.0, 1.0, ""));
+  CHECK(steer(sim->model_for_steering(), parse_override("fluid.boundary.y_hi_velocity=[1e300, 0]")).find("overflows") !=
+        std::string::npos);
+  REQUIRE(sim->step());
+}
