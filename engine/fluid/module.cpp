@@ -124,6 +124,20 @@ void compile_steerable(const SceneDesc& d, const Model& m, FluidParams& p) {
   p.dimensionless = d.has("fluid.reynolds");
   p.viscosity = p.dimensionless ? p.density * p.velocity_scale * p.length_scale / d.real("fluid.reynolds")
                                 : d.real("fluid.viscosity");
+  // (a viscosity of 1e308 or a density of 1e-310 gave nu = inf, reported as a step to reduce
+  // "below 0 s"; a Reynolds number of 1e308 a subnormal nu, and `silt check` printed Re = 2e300)
+  if (!std::isnormal(p.length_scale / p.velocity_scale))
+    d.fail(d.first_given({"fluid.velocity_scale", "fluid.length_scale"}, "fluid.velocity_scale"),
+           "the flow's time L / U = " + format_number(p.length_scale / p.velocity_scale, 4) +
+               " s is beyond what double precision resolves");
+  if (!std::isnormal(p.density))
+    d.fail("fluid.density",
+           "a density of " + format_number(p.density, 4) + " kg/m^3 is beyond what double precision resolves");
+  if (const double nu = p.nu(); !std::isfinite(nu * p.grid.inv_h2_sum()) || (nu != 0 && !std::isnormal(nu)))
+    d.fail(d.first_given({"fluid.reynolds", "fluid.viscosity"}, "fluid.viscosity"),
+           "the kinematic viscosity nu = mu / rho = " + format_number(nu, 4) + " m^2/s (its rate on the grid, nu sum " +
+               "1/h^2 = " + format_number(nu * p.grid.inv_h2_sum(), 4) +
+               " 1/s) is beyond what double precision resolves");
   const double time_unit = p.dimensionless ? p.length_scale / p.velocity_scale : 1.0;
   p.dt_fixed = d.has("fluid.dt");
   double h_min = p.grid.h[0];
@@ -232,7 +246,8 @@ void compile_fluid(const SceneDesc& d, Model& m) {
     p.drive_axis = axis[0] - 'x';
     const std::string key = d.has("fluid.pressure_gradient") ? "fluid.pressure_gradient" : "fluid.bulk_velocity";
     p.drive = d.has("fluid.pressure_gradient") ? Drive::kPressure : Drive::kFlowRate;
-    if (p.drive_axis >= m.dim || !m.box.periodic[p.drive_axis])
+    if (p.drive_axis >= m.dim) d.fail("fluid.drive_axis", "a " + std::to_string(m.dim) + "D scene has no axis " + axis);
+    if (!m.box.periodic[p.drive_axis])
       d.fail(key, "the flow is driven along a periodic axis (fluid.drive_axis = " + axis + ")");
   }
   p.projection = d.string("fluid.projection") == "multigrid_cg" ? Projection::kMultigridCg : Projection::kFft;

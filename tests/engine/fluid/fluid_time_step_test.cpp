@@ -214,3 +214,20 @@ TEST_CASE("fluid: a wall or drive or initial speed whose enstrophy overflows is 
         std::string::npos);
   REQUIRE(sim->step());
 }
+
+TEST_CASE("fluid: a density or viscosity or flow time that double precision cannot hold is refused at its key") {
+  // nu = inf was reported as a step to reduce "below 0 s" at fluid.dt; a Reynolds number of 1e308
+  // gave a subnormal nu and `silt check` printed Re = 2e300.
+  const std::string cavity = lid_cavity(1.0, 1.0, "");
+  auto with = [&](const std::string& key_value) {
+    std::string s = cavity;
+    s.replace(s.find("reynolds = 100.0\n"), 17, key_value + "\n");
+    return s;
+  };
+  CHECK(test::scene_error(with("viscosity = 1e308")).find("nu = mu / rho = 1e+308 m^2/s") != std::string::npos);
+  CHECK(test::scene_error(with("reynolds = 1e308")).find("nu = mu / rho = 1e-308 m^2/s") != std::string::npos);
+  CHECK(test::scene_error(with("viscosity = 1.0\ndensity = 1e-310")).find("a density of 1e-310") != std::string::npos);
+  CHECK(test::scene_error(with("reynolds = 100.0\nvelocity_scale = 1e-310")).find("L / U = inf s") !=
+        std::string::npos);
+  CHECK(test::scene_error(with("viscosity = 1e-3")) == "");
+}
