@@ -100,9 +100,7 @@ int run_command(const RunArgs& a) {
   if (!loaded) return code;
   Model& m = *loaded;
   RunOptions opt;
-  opt.steps = m.run_steps;
-  // An adaptive time step runs the scene's time, not a step count made from the first step.
-  if (m.adaptive_dt && m.run_time >= 0) opt.time = m.run_time;
+  const bool scene_length = a.steps < 0 && a.time < 0;
   if (a.steps >= 0) {
     opt.steps = a.steps;
     opt.time = -1;
@@ -111,7 +109,7 @@ int run_command(const RunArgs& a) {
     if (steps_in(a.time, m.dt) < 0) return report_error("--time: too long, more than 9e18 time steps", 1);
     opt.time = a.time;
   }
-  if (opt.time < 0 && opt.steps <= 0 && a.steps != 0)
+  if (scene_length && m.run_time < 0 && m.run_steps <= 0)
     return report_error("no run length: give --steps or --time, or [run] steps or time in the scene", 1);
   RunJobOptions jo;
   jo.scene = a.scene;
@@ -142,6 +140,18 @@ int run_command(const RunArgs& a) {
       return report_error(e.what(), 4);
     }
     for (const std::string& w : restore_warnings) std::cerr << "silt: warning: " << w << "\n";
+  }
+  // The scene's own length runs to its end from the state it starts from (a restored one
+  // continues to the scene's end, as the shell's `restore X`, `run` does; it ran the whole length
+  // again). An adaptive step runs the scene's time, not a step count made from the first step.
+  if (scene_length) {
+    const RunOptions left = sim.scene_run_left();
+    if (left.time < 0 && left.steps <= 0 && !a.restore.empty())
+      return report_error("the checkpoint is at the scene's end (t = " + format_number(sim.state().t) + " s, step " +
+                              std::to_string(sim.state().step) + "): give --steps or --time to go on",
+                          1);
+    opt.steps = left.steps;
+    opt.time = left.time;
   }
   // Every output is opened or checked before the first step (of the preparation too), the frame
   // directory before the stats file, which opening truncates: a refused run keeps it.

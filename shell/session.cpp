@@ -318,22 +318,18 @@ RunOptions Session::run_options(const RunLength& len, bool background) {
       opt.stop_when_steady = true;
       break;
     case RunLength::kScene: {
-      if (m.adaptive_dt && m.run_time >= 0) {
-        const double left = m.run_time - s.state().t;
-        if (!(left > 0))
-          throw std::runtime_error("the scene's run time is reached (t = " + format_number(m.run_time) +
-                                   " s): give N, Ts or until EXPR to go on");
-        opt.time = left;
-        opt.stop_when_static = m.until_static.on;
-        opt.stop_when_steady = m.stop_when_steady;
-        break;
-      }
-      const int64_t left = m.run_steps - s.state().step;
-      if (left <= 0)
-        throw std::runtime_error("the scene's run length is reached (step " + std::to_string(m.run_steps) +
-                                 ", t = " + format_number(static_cast<double>(m.run_steps) * m.dt) +
-                                 " s): give N, Ts or until EXPR to go on");
-      opt.steps = left;
+      // To the scene's end from where the state is (its time, when it gives one: a step changed
+      // since it was loaded does not move that end).
+      const RunOptions left = s.scene_run_left();
+      if (left.time < 0 && left.steps <= 0)
+        throw std::runtime_error(m.run_time >= 0 || m.run_steps > 0
+                                     ? "the scene's run length is reached (" +
+                                           (m.run_time >= 0 ? "t = " + format_number(m.run_time) + " s"
+                                                            : "step " + std::to_string(m.run_steps)) +
+                                           "): give N, Ts or until EXPR to go on"
+                                     : "the scene gives no run length ([run] steps or time): give N, Ts or until EXPR");
+      opt.steps = left.steps;
+      opt.time = left.time;
       opt.stop_when_static = m.until_static.on;
       opt.stop_when_steady = m.stop_when_steady;
       break;

@@ -127,7 +127,10 @@ class Session {
   std::unique_ptr<Simulation> sim_;
   std::optional<StatsWriter> stats_;  // samples of the scene's observables since load (or reset)
   std::string stats_file_;            // where they are written ("" nowhere)
-  int64_t stats_every_ = 0;           // sampling interval (0: the scene's output.every)
+  // IoError when `path` is the scene file or the stats file being written (a `save` there replaced
+  // the stats with a checkpoint, and later rows went to a deleted file).
+  void check_not_open_file(const std::string& path, const std::string& what) const;
+  int64_t stats_every_ = 0;  // sampling interval (0: the scene's output.every)
 
   struct Watch {
     std::vector<std::string> names;

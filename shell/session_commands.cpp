@@ -330,16 +330,23 @@ void Session::cmd_render(const Command& c) {
   if (!raster_) raster_ = std::make_unique<render::Rasterizer>();
   render::Image img = raster_->draw(rs);
   render::compose_overlays(rs, img);
-  check_not_input(c.args[0].text, scene_file_, "image");
+  check_not_open_file(c.args[0].text, "image");
   render::write_png(c.args[0].text, img);
   out_ << "wrote " << c.args[0].text << " (" << img.width << " x " << img.height << ")\n";
   for (const std::string& w : rs.warnings) out_ << "warning: " << w << "\n";
 }
 
+void Session::check_not_open_file(const std::string& path, const std::string& what) const {
+  check_not_input(path, scene_file_, what);
+  std::error_code ec;
+  if (!stats_file_.empty() && std::filesystem::equivalent(path, stats_file_, ec))
+    throw IoError("cannot write " + what + " '" + path + "': it is the stats file being written; `stats off` first");
+}
+
 void Session::cmd_save(const Command& c) {
   Simulation& s = sim();
   State copy;
-  check_not_input(c.args[0].text, scene_file_, "checkpoint");
+  check_not_open_file(c.args[0].text, "checkpoint");
   at_boundary([&] { copy = s.state(); });
   write_checkpoint(c.args[0].text, s.model(), copy);
   out_ << "saved step " << copy.step << " (t = " << format_number(copy.t) << " s) to " << c.args[0].text << "\n";

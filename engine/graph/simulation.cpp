@@ -251,6 +251,19 @@ int64_t Simulation::steps_for(const RunOptions& opt) const {
   return opt.time >= 0 ? steps_in(opt.time, model_.dt) : opt.steps;
 }
 
+RunOptions Simulation::scene_run_left() const {
+  RunOptions opt;
+  opt.steps = 0;
+  if (model_.run_time >= 0) {
+    const double left = model_.run_time - state_.t;
+    if (left > 0 && model_.adaptive_dt) opt.time = left;
+    else if (left > 0) opt.steps = steps_in(left, model_.dt);
+  } else {
+    opt.steps = std::max<int64_t>(0, model_.run_steps - state_.step);
+  }
+  return opt;
+}
+
 RunReport Simulation::run(const RunOptions& options) {
   RunReport rep;
   RunOptions opt = options;

@@ -187,6 +187,9 @@ std::string describe_core(const Model& m) {
 std::string steer_core(Model& m, const Model& fresh) {
   m.gravity = fresh.gravity;
   m.dt = fresh.dt;
+  // (the run length in steps follows the step: `check` and a run's end gave the old step's count)
+  m.run_steps = fresh.run_steps;
+  m.run_time = fresh.run_time;
   return "";
 }
 

@@ -224,3 +224,22 @@ TEST_CASE("every shipped scene passes silt check") {
   }
   CHECK(scenes >= 7);
 }
+
+TEST_CASE("silt run --restore with the scene's length runs on to the scene's end, as the shell's run does") {
+  // It ran the scene's whole length again from the checkpoint: 1,000 more steps from step 300 of
+  // a run of 1,000.
+  const std::string scene = silt::test::scene_path("collision_normal");
+  REQUIRE(silt_cli("run " + scene + " --quiet --steps 300 --save cli_restore_300.ckpt").code == 0);
+  const Result r = silt_cli("run " + scene + " --quiet --restore cli_restore_300.ckpt --summary cli_restore.json");
+  REQUIRE(r.code == 0);
+  const auto j = nlohmann::json::parse(read_file("cli_restore.json"));
+  CHECK(j["steps"] == 1000);
+  CHECK(j["steps_run"] == 700);
+  CHECK(j["sim_time"].get<double>() == doctest::Approx(1e-3));
+  // At the end: nothing left to run, said so (exit 1); --steps goes on.
+  REQUIRE(silt_cli("run " + scene + " --quiet --save cli_restore_end.ckpt").code == 0);
+  const Result end = silt_cli("run " + scene + " --quiet --restore cli_restore_end.ckpt");
+  CHECK(end.code == 1);
+  CHECK(end.out.find("the checkpoint is at the scene's end") != std::string::npos);
+  CHECK(silt_cli("run " + scene + " --quiet --restore cli_restore_end.ckpt --steps 10").code == 0);
+}

@@ -188,3 +188,21 @@ TEST_CASE("print, watch and stats show units and sensible digits") {
   CHECK(contains(table, "p[0].vz     m/s"));
   CHECK(contains(table, "ke          J"));
 }
+
+TEST_CASE("run alone goes to the scene's run.time after the step changed, and check gives the new count") {
+  // The step count was made at load: after `set run.dt_over_tc 0.02` (half the step) `run` went
+  // to twice the scene's time, and `check` said so.
+  Fixture f;
+  REQUIRE(f.run("load " + test::scene_path("collision_normal")));
+  REQUIRE(f.run("set run.dt_over_tc 0.02"));
+  f.take_out();
+  REQUIRE(f.run("check"));
+  CHECK(f.take_out().find("500 steps = 0.001 s") != std::string::npos);
+  REQUIRE(f.run("run 100"));
+  REQUIRE(f.run("set run.dt_over_tc 0.01"));  // the scene's own step again, part-way
+  REQUIRE(f.run("run"));
+  CHECK(f.value("t") == doctest::Approx(1e-3));
+  CHECK(f.value("step") == 100 + 800);
+  CHECK_FALSE(f.run("run"));
+  CHECK(f.take_err().find("the scene's run length is reached (t = 0.001 s)") != std::string::npos);
+}

@@ -77,3 +77,19 @@ TEST_CASE("a restored state is kept when a key that is not steerable changes bef
   REQUIRE(f.run("set fluid.initial_velocity 2"));
   CHECK(f.take_out().find("made again") != std::string::npos);
 }
+
+TEST_CASE("save onto the stats file being written is refused and the stats are kept") {
+  test::TempDir dir;
+  Fixture f;
+  REQUIRE(f.run("load " + test::scene_path("collision_normal")));
+  REQUIRE(f.run("stats " + dir / "s.csv" + " every 1"));
+  REQUIRE(f.run("run 3"));
+  CHECK_FALSE(f.run("save " + dir / "s.csv"));
+  CHECK(f.take_err().find("it is the stats file being written") != std::string::npos);
+  REQUIRE(f.run("run 3"));
+  REQUIRE(f.run("stats off"));
+  std::ifstream in(dir / "s.csv");
+  std::string header;
+  std::getline(in, header);
+  CHECK(header.rfind("t,", 0) == 0);
+}

@@ -90,6 +90,11 @@ class Simulation {
   RunReport run(const RunOptions& opt);
   // The steps a run of these options does at most: opt.steps, or steps_in(opt.time, dt).
   int64_t steps_for(const RunOptions& opt) const;
+  // What is left of the scene's own run from the current state (a restored one, one part-run in
+  // the shell): to its run.time (the time left, with an adaptive step; else that time's steps at
+  // the current step), or to its run.steps. Both 0 when the end is reached or the scene gives no
+  // length (RunOptions' steps and time: one of them set).
+  RunOptions scene_run_left() const;
 
   // The state after the last step that completed without failure (replayed deterministically
   // from the last restart point, taken every limits.check_every steps).
