@@ -102,6 +102,10 @@ const std::vector<CommandSpec>& command_specs() {
        0, -1, ArgKind::kObservable},
       {"stop", "stop", "pause a background run", "Stops a background run at the next step boundary.", 0, 0,
        ArgKind::kNone},
+      {"wait", "wait", "wait for a background run to end",
+       "Waits until a background run ends at its length or condition (Ctrl-C pauses it), so that a script that starts "
+       "a run and then looks at its end does the same however fast the machine is.",
+       0, 0, ArgKind::kNone},
       {"set", "set KEY VALUE", "change a scene value",
        "Changes a value of the scene (dotted key, TOML value). Steerable values (params shows them) act at the next "
        "step boundary, even while a run goes on; the others are refused while running, and otherwise recompile the "

@@ -174,15 +174,15 @@ bool Session::execute(const std::string& line, const std::string& where) {
 
 void Session::dispatch(const Command& c) {
   static const std::vector<std::pair<std::string, Handler>> table = {
-      {"load", &Session::cmd_load},       {"reload", &Session::cmd_reload}, {"check", &Session::cmd_check},
-      {"run", &Session::cmd_run},         {"start", &Session::cmd_start},   {"stop", &Session::cmd_stop},
-      {"set", &Session::cmd_set},         {"get", &Session::cmd_get},       {"params", &Session::cmd_params},
-      {"print", &Session::cmd_print},     {"watch", &Session::cmd_watch},   {"stats", &Session::cmd_stats},
-      {"profile", &Session::cmd_profile}, {"render", &Session::cmd_render}, {"frames", &Session::cmd_frames},
-      {"vtk", &Session::cmd_vtk},         {"save", &Session::cmd_save},     {"restore", &Session::cmd_restore},
-      {"reset", &Session::cmd_reset},     {"hash", &Session::cmd_hash},     {"freeze", &Session::cmd_freeze},
-      {"fields", &Session::cmd_fields},   {"field", &Session::cmd_field},   {"source", &Session::cmd_source},
-      {"help", &Session::cmd_help},       {"quit", &Session::cmd_quit},
+      {"load", &Session::cmd_load},       {"reload", &Session::cmd_reload},   {"check", &Session::cmd_check},
+      {"run", &Session::cmd_run},         {"start", &Session::cmd_start},     {"stop", &Session::cmd_stop},
+      {"wait", &Session::cmd_wait},       {"set", &Session::cmd_set},         {"get", &Session::cmd_get},
+      {"params", &Session::cmd_params},   {"print", &Session::cmd_print},     {"watch", &Session::cmd_watch},
+      {"stats", &Session::cmd_stats},     {"profile", &Session::cmd_profile}, {"render", &Session::cmd_render},
+      {"frames", &Session::cmd_frames},   {"vtk", &Session::cmd_vtk},         {"save", &Session::cmd_save},
+      {"restore", &Session::cmd_restore}, {"reset", &Session::cmd_reset},     {"hash", &Session::cmd_hash},
+      {"freeze", &Session::cmd_freeze},   {"fields", &Session::cmd_fields},   {"field", &Session::cmd_field},
+      {"source", &Session::cmd_source},   {"help", &Session::cmd_help},       {"quit", &Session::cmd_quit},
   };
   const CommandSpec& spec = check_command(c);
   for (const auto& [name, handler] : table)

@@ -75,6 +75,7 @@ class Session {
   void cmd_run(const Command& c);
   void cmd_start(const Command& c);
   void cmd_stop(const Command& c);
+  void cmd_wait(const Command& c);
   void cmd_set(const Command& c);
   void cmd_get(const Command& c);
   void cmd_params(const Command& c);

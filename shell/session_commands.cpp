@@ -101,6 +101,13 @@ void Session::cmd_stop(const Command&) {
          << background_end_step_ << "\n";
 }
 
+void Session::cmd_wait(const Command&) {
+  if (!background_started_) throw std::runtime_error("nothing is running");
+  background_started_ = false;
+  if (background_.joinable()) background_.join();
+  for (const std::string& m : take_messages()) out_ << m << "\n";
+}
+
 namespace {
 
 // Whether a steerable key can change the dry compression that prepares a packing

@@ -243,3 +243,17 @@ TEST_CASE("silt run --restore with the scene's length runs on to the scene's end
   CHECK(end.out.find("the checkpoint is at the scene's end") != std::string::npos);
   CHECK(silt_cli("run " + scene + " --quiet --restore cli_restore_end.ckpt --steps 10").code == 0);
 }
+
+TEST_CASE("silt play: wait lets a script that starts a run look at its end, the same on any machine") {
+  // Without it, a `run` after `start 5` was refused when the background run had not ended yet.
+  const std::string script = write_file(
+      "play_wait.silt", "load " + silt::test::scene_path("collision_normal") + "\nstart 5\nwait\nrun 10\nprint step\n");
+  for (int k = 0; k < 3; ++k) {
+    const Result r = silt_cli("play " + script + " --threads 1");
+    CHECK(r.code == 0);
+    CHECK(r.out.find("step = 15") != std::string::npos);
+  }
+  const Result none = silt_cli("play " + write_file("play_wait_none.silt", "wait\n"));
+  CHECK(none.code == 2);
+  CHECK(none.out.find("nothing is running") != std::string::npos);
+}
