@@ -38,6 +38,17 @@ CLI::Validator seconds() {
       "T", "seconds");
 }
 
+CLI::Validator observable_list() {
+  return CLI::Validator(
+      [](std::string& in) -> std::string {
+        // (an empty list fell back to the scene's, and an empty name was dropped)
+        if (in.empty() || in.front() == ',' || in.back() == ',' || in.find(",,") != std::string::npos)
+          return "'" + in + "' has an empty name: give observables separated by commas (e.g. t,ke)";
+        return "";
+      },
+      "A,B,...", "observables");
+}
+
 CLI::Validator finite_number() {
   return CLI::Validator(
       [](std::string& in) -> std::string {

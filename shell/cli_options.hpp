@@ -15,6 +15,8 @@ CLI::Validator whole_number(int64_t least, int64_t most = kMaxWhole);
 // A time in seconds, >= 0: 0.5 or 0.5s.
 CLI::Validator seconds();
 // Any finite number (no nan, no inf).
+// A comma-separated list of observable names with no empty one.
+CLI::Validator observable_list();
 CLI::Validator finite_number();
 
 // The worker threads a run gets for `requested` (0: all cores): at most the cores oneTBB offers

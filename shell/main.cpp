@@ -25,7 +25,8 @@ int main(int argc, char** argv) {
   r->add_option("--threads", run.threads, "Worker threads (default: all cores; 1 = serial reference)")
       ->transform(whole_number(1, kMaxThreads));
   r->add_option("--stats", run.stats, "Time series of observables (CSV)");
-  r->add_option("--observe", run.observe, "Comma-separated observables (default: the scene's [output] list)");
+  r->add_option("--observe", run.observe, "Comma-separated observables (default: the scene's [output] list)")
+      ->check(observable_list());
   r->add_option("--every", run.every, "Sample every N steps (default: the scene's)")->transform(whole_number(1));
   r->add_option("--summary", run.summary, "Summary JSON written at the end");
   r->add_option("--average-from", run.average_from, "Means and errors over samples with t >= T")

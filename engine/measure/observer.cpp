@@ -213,7 +213,9 @@ std::vector<std::string> observable_names(const Model& m) {
 }
 
 Observer::Observer(const Model& m, std::vector<std::string> names) : names_(std::move(names)) {
+  if (names_.empty()) throw std::invalid_argument("no observable to sample: give at least one");
   for (const std::string& n : names_) {
+    if (std::count(names_.begin(), names_.end(), n) > 1) throw std::invalid_argument("'" + n + "' is listed twice");
     Found f = find(n, m);
     if (!f.spec) throw std::invalid_argument(f.error);
     items_.push_back({f.spec, f.args});

@@ -5,6 +5,8 @@
 #include <numbers>
 #include <sstream>
 
+#include <algorithm>
+
 #include "scene/core_module.hpp"
 #include "silt/module.hpp"
 #include "silt/text.hpp"
@@ -152,8 +154,15 @@ void finish_core(const SceneDesc& d, Model& m) {
   m.observe = d.strings("output.observe");
   // The default's grain energy means nothing without grains: a fluid's instead.
   if (!d.has("output.observe") && !m.module_on("dem")) m.observe = {"t", "step", "fluid.ke"};
-  for (const std::string& name : m.observe)
+  // (an empty list wrote blank rows with no header; a name twice, its column twice)
+  if (m.observe.empty()) d.fail("output.observe", "an empty list samples nothing: give at least one observable");
+  for (size_t k = 0; k < m.observe.size(); ++k) {
+    const std::string& name = m.observe[k];
     if (auto err = check_observable(name, m); !err.empty()) d.fail("output.observe", err);
+    if (std::find(m.observe.begin(), m.observe.begin() + static_cast<long>(k), name) !=
+        m.observe.begin() + static_cast<long>(k))
+      d.fail("output.observe", "'" + name + "' is listed twice");
+  }
   m.sample_every = d.integer("output.every");
   // The summary's velocity profile: across y under shear, else where the scene asks.
   VelocityProfileSpec& p = m.profile;

@@ -257,3 +257,21 @@ TEST_CASE("silt play: wait lets a script that starts a run look at its end, the 
   CHECK(none.code == 2);
   CHECK(none.out.find("nothing is running") != std::string::npos);
 }
+
+TEST_CASE("silt run: an observable list with an empty name, a name twice or nothing is refused") {
+  // '' and ',' fell back to the scene's list, 't,,ke' dropped the empty name, 't,t' wrote t twice,
+  // and output.observe = [] wrote blank rows with no header.
+  const std::string scene = silt::test::scene_path("collision_normal");
+  for (const char* list : {"''", ",", "t,,ke", "t,"}) {
+    CAPTURE(list);
+    const Result r = silt_cli("run " + scene + " --steps 2 --quiet --observe " + list);
+    CHECK(r.code == 1);
+    CHECK(r.out.find("has an empty name") != std::string::npos);
+  }
+  const Result twice = silt_cli("run " + scene + " --steps 2 --quiet --observe t,ke,t");
+  CHECK(twice.code == 1);
+  CHECK(twice.out.find("'t' is listed twice") != std::string::npos);
+  const Result none = silt_cli("run " + scene + " --steps 2 --quiet --set 'output.observe=[]'");
+  CHECK(none.code == 2);
+  CHECK(none.out.find("an empty list samples nothing") != std::string::npos);
+}
