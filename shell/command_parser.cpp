@@ -364,6 +364,13 @@ std::string quoted_word(std::string_view text) {
   return out + "\"";
 }
 
+std::string printable_line(std::string_view line) {
+  std::string out(line);
+  for (char& ch : out)
+    if ((static_cast<unsigned char>(ch) < 0x20 && ch != '\t') || ch == 0x7f) ch = '?';
+  return out;
+}
+
 std::string_view without_bom(std::string_view line) {
   constexpr std::string_view kBom = "\xEF\xBB\xBF";
   if (line.substr(0, kBom.size()) == kBom) line.remove_prefix(kBom.size());

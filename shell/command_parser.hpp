@@ -38,6 +38,8 @@ std::string quoted_word(std::string_view text);
 // A script's line without the byte order mark an editor may put at the start of a file (the
 // first command was then unknown).
 std::string_view without_bom(std::string_view line);
+// A script line as `silt play` echoes it: control bytes (a binary file read as a script) shown as '?'.
+std::string printable_line(std::string_view line);
 
 // The commands, with their arguments and documentation (help, completion).
 enum class ArgKind { kNone, kFile, kKey, kObservable, kCommand, kWord };

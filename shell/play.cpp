@@ -57,6 +57,7 @@ int play_command(const std::string& script, bool keep_going, int threads) {
   if (!in) return report_error("cannot read script '" + script + "'", 4);
   shell::Session session(std::cout, std::cerr, threads);
   session.set_script_dir(std::filesystem::path(script).parent_path().string());
+  session.set_echo_sources(true);
   g_played = &session;
   g_stop = false;
   StopSignals stop(&g_stop, interrupt_session);
@@ -69,7 +70,7 @@ int play_command(const std::string& script, bool keep_going, int threads) {
     if (n == 1) line = std::string(shell::without_bom(line));
     const auto start = line.find_first_not_of(" \t");
     if (start == std::string::npos || line[start] == '#') continue;
-    std::cout << script << ":" << n << "> " << line.substr(start) << "\n" << std::flush;
+    std::cout << script << ":" << n << "> " << shell::printable_line(line.substr(start)) << "\n" << std::flush;
     const std::string where = script + ":" + std::to_string(n);
     if (!session.execute(line, where)) failed(session.last_error_code());
     if (const int c = flush_background(session, where); c != 0) failed(c);

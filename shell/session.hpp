@@ -50,6 +50,8 @@ class Session {
   // Relative input files (load, source, restore) not found in the current directory are looked
   // for in this one: `silt play` gives the script's directory.
   void set_script_dir(const std::string& dir) { script_dir_ = dir; }
+  // `source`d lines echoed as `silt play` echoes its own (SCRIPT:LINE> command).
+  void set_echo_sources(bool on) { echo_sources_ = on; }
   bool quit_requested() const { return quit_; }
   bool running() const { return background_.joinable() && !bg_done_; }
   bool loaded() const { return sim_ != nullptr; }
@@ -127,7 +129,8 @@ class Session {
   std::vector<Override> overrides_;
   std::unique_ptr<Simulation> sim_;
   std::optional<StatsWriter> stats_;  // samples of the scene's observables since load (or reset)
-  std::string stats_file_;            // where they are written ("" nowhere)
+  bool echo_sources_ = false;
+  std::string stats_file_;  // where they are written ("" nowhere)
   // IoError when `path` is the scene file or the stats file being written (a `save` there replaced
   // the stats with a checkpoint, and later rows went to a deleted file).
   void check_not_open_file(const std::string& path, const std::string& what) const;

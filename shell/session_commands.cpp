@@ -408,7 +408,11 @@ void Session::cmd_source(const Command& c) {
   // Ctrl-C pauses the run in progress and abandons the script (and those that sourced it).
   while (ok && !quit_ && !script_interrupted_ && std::getline(in, line)) {
     ++n;
-    ok = execute(n == 1 ? std::string(without_bom(line)) : line, file + ":" + std::to_string(n));
+    if (n == 1) line = std::string(without_bom(line));
+    if (const auto start = line.find_first_not_of(" \t");
+        echo_sources_ && start != std::string::npos && line[start] != '#')
+      out_ << file << ":" << n << "> " << printable_line(line.substr(start)) << "\n";
+    ok = execute(line, file + ":" + std::to_string(n));
   }
   --source_depth_;
   script_dir_ = outer_dir;

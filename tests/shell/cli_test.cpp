@@ -275,3 +275,17 @@ TEST_CASE("silt run: an observable list with an empty name, a name twice or noth
   CHECK(none.code == 2);
   CHECK(none.out.find("an empty list samples nothing") != std::string::npos);
 }
+
+TEST_CASE("silt play echoes a sourced script's lines as its own, and a binary line without its control bytes") {
+  const std::string inner = write_file("play_inner.silt", "print t\n# a comment\nprint step\n");
+  const std::string outer =
+      write_file("play_outer.silt", "load " + silt::test::scene_path("collision_normal") + "\nsource " + inner + "\n");
+  const Result r = silt_cli("play " + outer);
+  CHECK(r.code == 0);
+  CHECK(r.out.find(inner + ":1> print t") != std::string::npos);
+  CHECK(r.out.find(inner + ":3> print step") != std::string::npos);
+  CHECK(r.out.find("a comment") == std::string::npos);
+  const Result bin = silt_cli("play " + write_file("play_binary.silt", std::string("pr\x1b[2Jint\n")));
+  CHECK(bin.code == 2);
+  CHECK(bin.out.find('\x1b') == std::string::npos);
+}
