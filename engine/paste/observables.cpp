@@ -28,11 +28,11 @@ double imposed_mean_stress(const Model& m, const State& s) {
 }
 
 std::string needs_pressure(const Model& m, const ObservableArgs&) {
-  return m.box_control.on ? "" : "it is relative to the imposed pressure, and this paste has no box.pressure";
+  return m.box_control.on ? "" : "it is relative to the imposed pressure (box.pressure), which this scene does not give";
 }
 
 std::string needs_sheared(const Model& m, const ObservableArgs&) {
-  return m.shear.on ? "" : "it applies where the paste is sheared (shear.viscous_number or shear.rate)";
+  return m.shear.on ? "" : "it applies to a sheared paste (shear.viscous_number or shear.rate with [lubrication])";
 }
 
 std::string needs_shear(const Model& m, const ObservableArgs&) {
