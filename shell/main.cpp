@@ -73,6 +73,17 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
+    // (it said "A subcommand is required")
+    std::string names;
+    bool known = false;
+    for (const CLI::App* sub : app.get_subcommands({})) {
+      names += (names.empty() ? "" : ", ") + sub->get_name();
+      known = known || (argc > 1 && sub->get_name() == argv[1]);
+    }
+    if (argc > 1 && argv[1][0] != '-' && !known) {
+      std::cerr << "silt: unknown command '" << argv[1] << "': one of " << names << " (silt --help)\n";
+      return 1;
+    }
     const int code = app.exit(e);
     return code == 0 ? 0 : 1;
   }

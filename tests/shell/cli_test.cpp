@@ -289,3 +289,9 @@ TEST_CASE("silt play echoes a sourced script's lines as its own, and a binary li
   CHECK(bin.code == 2);
   CHECK(bin.out.find('\x1b') == std::string::npos);
 }
+
+TEST_CASE("silt with an unknown command names it and the commands there are") {
+  const Result r = silt_cli("foo");
+  CHECK(r.code == 1);
+  CHECK(r.out.find("unknown command 'foo': one of run, check, shell, play, params") != std::string::npos);
+}
