@@ -38,6 +38,12 @@ double rate_of(const Simulation& sim) {
   return rate;
 }
 
+// The cavity with its fluid keys `reynolds = 100.0` replaced by `key_value`.
+std::string with_fluid_keys(std::string cavity, const std::string& key_value) {
+  cavity.replace(cavity.find("reynolds = 100.0\n"), 17, key_value + "\n");
+  return cavity;
+}
+
 }  // namespace
 
 TEST_CASE("fluid: a lid over a fluid at rest limits the step as the flow it drives will") {
@@ -176,11 +182,7 @@ TEST_CASE("fluid: a step below 1e-12 of L / U is refused, naming what set it") {
   // A target CFL or a Reynolds number of 1e-300 gave a step of 1e-303 s, whose projection
   // overflowed: a NaN at step 1, reported with the advice to reduce fluid.cfl.
   const std::string cavity = lid_cavity(1.0, 1.0, "");
-  auto with = [&](const std::string& key_value) {
-    std::string s = cavity;
-    s.replace(s.find("reynolds = 100.0\n"), 17, key_value + "\n");
-    return s;
-  };
+  auto with = [&](const std::string& key_value) { return with_fluid_keys(cavity, key_value); };
   std::string err = test::scene_error(with("reynolds = 100.0\ncfl = 1e-300"));
   CHECK(err.find("fluid.cfl") != std::string::npos);
   CHECK(err.find("below 1e-12 of the flow's time") != std::string::npos);
@@ -219,11 +221,7 @@ TEST_CASE("fluid: a density or viscosity or flow time that double precision cann
   // nu = inf was reported as a step to reduce "below 0 s" at fluid.dt; a Reynolds number of 1e308
   // gave a subnormal nu and `silt check` printed Re = 2e300.
   const std::string cavity = lid_cavity(1.0, 1.0, "");
-  auto with = [&](const std::string& key_value) {
-    std::string s = cavity;
-    s.replace(s.find("reynolds = 100.0\n"), 17, key_value + "\n");
-    return s;
-  };
+  auto with = [&](const std::string& key_value) { return with_fluid_keys(cavity, key_value); };
   CHECK(test::scene_error(with("viscosity = 1e308")).find("nu = mu / rho = 1e+308 m^2/s") != std::string::npos);
   CHECK(test::scene_error(with("reynolds = 1e308")).find("nu = mu / rho = 1e-308 m^2/s") != std::string::npos);
   CHECK(test::scene_error(with("viscosity = 1.0\ndensity = 1e-310")).find("a density of 1e-310") != std::string::npos);
