@@ -235,9 +235,9 @@ int run_command(const RunArgs& a) {
     std::snprintf(buf, sizeof buf, "%s%.4g cell-steps/s", rate.empty() ? "" : ", ", cells * per_s);
     rate += buf;
   }
-  std::printf("%s: %lld steps (t = %.6g s) in %.3f s, %s on %d thread(s); status %s\n", a.scene.c_str(),
-              static_cast<long long>(rep.steps_done), job->kept_state().t, rep.wall_s, rate.c_str(), sim.threads(),
-              RunJob::status(rep.end));
+  std::printf("%s: %lld steps (t = %.6g%s) in %.3f s, %s on %d thread(s); status %s\n", a.scene.c_str(),
+              static_cast<long long>(rep.steps_done), job->kept_state().t, model.unit("s").c_str(), rep.wall_s,
+              rate.c_str(), sim.threads(), RunJob::status(rep.end));
   return code;
 }
 

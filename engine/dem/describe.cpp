@@ -85,12 +85,13 @@ std::string describe_dem(const Model& m) {
           : (hertz ? "duration of an undamped collision reaching contact.hertz_ref_overlap" : "elastic, pi sqrt(m*/k)");
   // A damping ratio of exactly zero prints as 0, not -0 (e = 1 gives -ln(1) = -0).
   const double zeta = m.zeta_max == 0 ? 0.0 : m.zeta_max;
-  o << "time         t_c = " << m.t_contact << " s (" << tc_meaning << "; lightest pair m* = " << m.m_eff_min
-    << " kg, damping ratio " << zeta << ", " << restitution_text(m) << ")\n";
-  o << "             dt = " << m.dt << " s = t_c/" << m.t_contact / m.dt << "; stability limit " << m.dt_stable
-    << " s for one contact (dt/limit = " << m.dt / m.dt_stable << ")\n";
+  const std::string s = m.unit("s");
+  o << "time         t_c = " << m.t_contact << s << " (" << tc_meaning << "; lightest pair m* = " << m.m_eff_min
+    << m.unit("kg") << ", damping ratio " << zeta << ", " << restitution_text(m) << ")\n";
+  o << "             dt = " << m.dt << s << " = t_c/" << m.t_contact / m.dt << "; stability limit " << m.dt_stable << s
+    << " for one contact (dt/limit = " << m.dt / m.dt_stable << ")\n";
   o << "             a grain held by z contacts is stable below about limit/sqrt(z): " << m.dt_stable / std::sqrt(6.0)
-    << " s at z = 6\n";
+    << s << " at z = 6\n";
   if (m.dt > 0.1 * m.t_contact)
     o << "             warning: fewer than 10 steps per contact; collisions are poorly resolved\n";
   o << "neighbours   skin " << m.skin << " (" << m.skin / m.a_max << " largest diameter); contact candidates "

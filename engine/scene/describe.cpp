@@ -10,10 +10,11 @@ std::string describe(const Model& m) {
   o.precision(5);
   for (const Module& mod : modules())
     if (mod.spec->describe && m.module_on(mod.spec->name)) o << mod.spec->describe(m);
-  if (m.adaptive_dt && m.run_time >= 0) o << "run          until t = " << m.run_time << " s (adaptive time step)";
+  if (m.adaptive_dt && m.run_time >= 0)
+    o << "run          until t = " << m.run_time << m.unit("s") << " (adaptive time step)";
   else if (m.adaptive_dt)
-    o << "run          " << m.run_steps << " steps (adaptive time step: the first " << m.dt << " s)";
-  else o << "run          " << m.run_steps << " steps = " << m.run_steps * m.dt << " s";
+    o << "run          " << m.run_steps << " steps (adaptive time step: the first " << m.dt << m.unit("s") << ")";
+  else o << "run          " << m.run_steps << " steps = " << m.run_steps * m.dt << m.unit("s");
   o << (m.until_static.on ? ", or until static" : "") << (m.stop_when_steady ? ", or until steady" : "") << "\n";
   o << "observe      ";
   for (size_t k = 0; k < m.observe.size(); ++k) o << m.observe[k] << (k + 1 < m.observe.size() ? ", " : "");

@@ -295,3 +295,13 @@ TEST_CASE("silt with an unknown command names it and the commands there are") {
   CHECK(r.code == 1);
   CHECK(r.out.find("unknown command 'foo': one of run, check, shell, play, params") != std::string::npos);
 }
+
+TEST_CASE("silt check and silt run label no SI unit in reduced units") {
+  // The chute (scene.units = "reduced") was described with t_c in s, m* in kg and its run in s.
+  const Result c = silt_cli("check " + silt::test::scene_path("chute"));
+  REQUIRE(c.code == 0);
+  CHECK(c.out.find("33000 steps = 3.3\n") != std::string::npos);
+  CHECK(c.out.find(" kg") == std::string::npos);
+  const Result r = silt_cli("run " + silt::test::scene_path("collision_normal") + " --steps 2");
+  CHECK(r.out.find("(t = 2e-06 s)") != std::string::npos);  // SI scenes keep theirs
+}

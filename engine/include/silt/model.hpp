@@ -214,8 +214,10 @@ struct Model {
   // Provenance.
   std::string scene_file, scene_name;
   bool reduced_units = false;  // scene.units = "reduced": labels carry no SI units
-  uint64_t scene_hash = 0;     // of the grains, walls and periodicity: checkpoints refuse other systems
-  SceneDesc desc;              // what the file said (for `check`, `params`, `get`)
+  // " s", " kg", ... after a number, or nothing in reduced units.
+  std::string unit(const char* si) const { return reduced_units ? std::string() : std::string(" ") + si; }
+  uint64_t scene_hash = 0;  // of the grains, walls and periodicity: checkpoints refuse other systems
+  SceneDesc desc;           // what the file said (for `check`, `params`, `get`)
 
   // The modules the scene turns on (silt/module.hpp), in the order of the module list; core and
   // dem are always on. Parameters of modules Model does not name are in `params`.
