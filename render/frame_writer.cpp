@@ -16,6 +16,10 @@
 
 namespace silt::render {
 
+namespace {
+const NumberedSeries kFrames{{"frame_", ".png"}};  // frame_NNNNNN.png
+}  // namespace
+
 struct FrameWriter::Impl {
   std::string dir;
   int threads = 0;
@@ -73,11 +77,15 @@ struct FrameWriter::Impl {
   }
 };
 
+bool FrameWriter::owns(const std::string& path, const std::string& dir) {
+  return is_numbered_file(std::filesystem::path(path).filename().string(), kFrames) && is_in_directory(path, dir);
+}
+
 FrameWriter::FrameWriter(std::string dir, int threads) : impl_(std::make_unique<Impl>()) {
   make_output_directory(dir, "frame");
   // An earlier run's frames in the directory would mix with this run's in a film: remove them
   // (only silt's own names, frame_NNNNNN.png).
-  removed_ = remove_numbered_files(dir, {{"frame_", ".png"}});
+  removed_ = remove_numbered_files(dir, kFrames);
   impl_->dir = std::move(dir);
   impl_->threads = threads;
   impl_->worker = std::thread([this] { impl_->run(); });

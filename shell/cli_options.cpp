@@ -6,6 +6,7 @@
 #include <iostream>
 
 #include "shell/command_parser.hpp"
+#include "silt/scene.hpp"
 
 namespace silt::cli {
 
@@ -60,6 +61,20 @@ CLI::Validator finite_number() {
         return "";
       },
       "X", "finite number");
+}
+
+CLI::Validator key_value() {
+  return CLI::Validator(
+      [](std::string& in) -> std::string {
+        // (a malformed --set exited 2, as a scene error, not 1)
+        try {
+          parse_override(in);
+        } catch (const SceneError& e) {
+          return e.message();
+        }
+        return "";
+      },
+      "KEY=VALUE", "scene override");
 }
 
 int granted_threads(int requested) {

@@ -14,10 +14,12 @@ constexpr int64_t kMaxThreads = 4096;
 CLI::Validator whole_number(int64_t least, int64_t most = kMaxWhole);
 // A time in seconds, >= 0: 0.5 or 0.5s.
 CLI::Validator seconds();
-// Any finite number (no nan, no inf).
 // A comma-separated list of observable names with no empty one.
 CLI::Validator observable_list();
+// Any finite number (no nan, no inf).
 CLI::Validator finite_number();
+// A scene override KEY=VALUE (its value is checked against the scene later, a scene error).
+CLI::Validator key_value();
 
 // The worker threads a run gets for `requested` (0: all cores): at most the cores oneTBB offers
 // this process; a request above them is granted that many, and said so on stderr.

@@ -86,6 +86,10 @@ std::string shared_output(const RunArgs& a) {
     for (const auto& [other, q] : files)
       if (q == p) return other + " and " + option + " name the same file, " + *path;
     files.emplace_back(option, p);
+    // (a stats file named as a frame in the frames' directory was overwritten by that frame)
+    if (render::FrameWriter::owns(*path, a.frames))
+      return option + " " + *path + " is a frame's name in --frames " + a.frames;
+    if (VtkWriter::owns(*path, a.vtk)) return option + " " + *path + " is a VTK file's name in --vtk " + a.vtk;
   }
   return "";
 }

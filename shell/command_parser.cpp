@@ -222,6 +222,12 @@ std::optional<int64_t> parse_count(std::string_view s, int64_t least) {
   return static_cast<int64_t>(*n);
 }
 
+int64_t parse_every(const Token& t) {
+  const auto n = parse_count(t.text, 1);
+  if (!n) throw ParseError(t.col, "every needs a whole number of steps from 1 to 9.2e18");
+  return *n;
+}
+
 bool Condition::holds(const std::vector<double>& values) const {
   auto eval = [&](size_t k) {
     const Clause& c = clauses[k];

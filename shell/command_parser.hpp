@@ -99,5 +99,7 @@ std::vector<Token> expand_lists(const std::vector<Token>& args, size_t from = 0)
 std::optional<double> parse_number(std::string_view s);
 // A whole number from `least` to kMaxSteps (steps, "every N"); nullopt otherwise.
 std::optional<int64_t> parse_count(std::string_view s, int64_t least);
+// The N of "every N": a whole number of steps from 1; throws ParseError at its column.
+int64_t parse_every(const Token& t);
 
 }  // namespace silt::shell

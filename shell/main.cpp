@@ -16,7 +16,8 @@ int main(int argc, char** argv) {
   RunArgs run;
   auto* r = app.add_subcommand("run", "Run a scene headless (the main job)");
   r->add_option("scene", run.scene, "Scene file (TOML)")->required();
-  r->add_option("--set", run.sets, "Override a scene value: KEY=VALUE (dotted TOML path); repeatable");
+  r->add_option("--set", run.sets, "Override a scene value: KEY=VALUE (dotted TOML path); repeatable")
+      ->check(key_value());
   auto* steps = r->add_option("--steps", run.steps, "Run length in steps (overrides [run]): 1000, 1e3")
                     ->transform(whole_number(0));
   r->add_option("--time", run.time, "Run length in simulated seconds (overrides [run]): 0.5, 0.5s")
@@ -46,7 +47,7 @@ int main(int argc, char** argv) {
   CheckArgs check;
   auto* c = app.add_subcommand("check", "Validate a scene and print the compiled model");
   c->add_option("scene", check.scene, "Scene file (TOML)")->required();
-  c->add_option("--set", check.sets, "Override a scene value: KEY=VALUE; repeatable");
+  c->add_option("--set", check.sets, "Override a scene value: KEY=VALUE; repeatable")->check(key_value());
   c->add_option("--threads", check.threads, "Threads used to build the neighbour list")
       ->transform(whole_number(1, kMaxThreads));
 

@@ -134,6 +134,12 @@ class Session {
   // IoError when `path` is the scene file or the stats file being written (a `save` there replaced
   // the stats with a checkpoint, and later rows went to a deleted file).
   void check_not_open_file(const std::string& path, const std::string& what) const;
+  // IoError when `path` is a name the frames or the VTK files being written take in their
+  // directory (a stats file named frame_000001.png there was overwritten, or removed).
+  void check_not_series_file(const std::string& path, const std::string& what) const;
+  // IoError when the stats file being written has a name the series `owns` would take in `dir`.
+  void check_not_series_dir(const std::string& dir, bool (*owns)(const std::string&, const std::string&),
+                            const std::string& what) const;
   int64_t stats_every_ = 0;  // sampling interval (0: the scene's output.every)
 
   struct Watch {
@@ -144,9 +150,11 @@ class Session {
   };
   Watch watch_;
   std::unique_ptr<render::FrameWriter> frames_;
+  std::string frames_dir_;  // where frames_ writes
   int64_t frames_every_ = 0;
   int64_t frames_last_step_ = -1;  // of the last frame submitted (-1: none yet)
   std::unique_ptr<VtkWriter> vtk_;
+  std::string vtk_dir_;  // where vtk_ writes
   int64_t vtk_every_ = 0;
   int64_t vtk_last_step_ = -1;  // of the last files written (-1: none yet)
   std::string vtk_error_;       // the VTK output stopped on it

@@ -271,8 +271,7 @@ void Session::cmd_watch(const Command& c) {
   }
   const size_t n = c.args.size();
   if (n < 3 || c.args[n - 2].text != "every") throw ParseError(c.name_col, "usage: watch OBS... every N | watch off");
-  const auto every = parse_count(c.args[n - 1].text, 1);
-  if (!every) throw ParseError(c.args[n - 1].col, "every needs a whole number of steps from 1 to 9.2e18");
+  const int64_t every = parse_every(c.args[n - 1]);
   Watch w;
   for (size_t k = 0; k + 2 < n; ++k)
     for (const Token& t : expand_list(c.args[k])) w.names.push_back(t.text);
@@ -282,7 +281,7 @@ void Session::cmd_watch(const Command& c) {
     throw std::runtime_error(e.what());
   }
   require_stopped("cannot change the watch");
-  w.every = *every;
+  w.every = every;
   watch_ = std::move(w);
   out_ << "watching every " << watch_.every << " steps\n";
 }
@@ -348,6 +347,16 @@ void Session::check_not_open_file(const std::string& path, const std::string& wh
   std::error_code ec;
   if (!stats_file_.empty() && std::filesystem::equivalent(path, stats_file_, ec))
     throw IoError("cannot write " + what + " '" + path + "': it is the stats file being written; `stats off` first");
+  check_not_series_file(path, what);
+}
+
+void Session::check_not_series_file(const std::string& path, const std::string& what) const {
+  if (frames_ && render::FrameWriter::owns(path, frames_dir_))
+    throw IoError("cannot write " + what + " '" + path + "': it is a frame's name in " + frames_dir_ +
+                  ", where the frames go; `frames off` first or another name");
+  if (vtk_ && VtkWriter::owns(path, vtk_dir_))
+    throw IoError("cannot write " + what + " '" + path + "': it is a VTK file's name in " + vtk_dir_ +
+                  ", where the VTK files go; `vtk off` first or another name");
 }
 
 void Session::cmd_save(const Command& c) {

@@ -56,14 +56,10 @@ void Session::cmd_stats(const Command& c) {
     // stats FILE.csv [every N]
     if (a.size() != 1 && (a.size() != 3 || a[1].text != "every"))
       throw ParseError(c.name_col, "usage: stats [since T | reset | FILE.csv [every N] | off]");
-    int64_t every = 0;
-    if (a.size() == 3) {
-      const auto n = parse_count(a[2].text, 1);
-      if (!n) throw ParseError(a[2].col, "every needs a whole number of steps from 1 to 9.2e18");
-      every = *n;
-    }
+    const int64_t every = a.size() == 3 ? parse_every(a[2]) : 0;
     require_stopped("cannot change where the samples go");
     check_not_input(a[0].text, scene_file_, "stats");
+    check_not_series_file(a[0].text, "stats");
     stats_.emplace(reseries(*stats_, a[0].text));
     stats_file_ = a[0].text;
     stats_every_ = every;
@@ -100,6 +96,13 @@ void Session::cmd_stats(const Command& c) {
   t.print(out_);
 }
 
+void Session::check_not_series_dir(const std::string& dir, bool (*owns)(const std::string&, const std::string&),
+                                   const std::string& what) const {
+  if (!stats_file_.empty() && owns(stats_file_, dir))
+    throw IoError("cannot write " + what + " in '" + dir + "': the stats file being written, " + stats_file_ +
+                  ", has the name of one of them there; `stats off` first");
+}
+
 void Session::cmd_frames(const Command& c) {
   sim();
   if (c.args.size() == 1 && c.args[0].text == "off") {
@@ -114,13 +117,14 @@ void Session::cmd_frames(const Command& c) {
   }
   if (c.args.size() != 3 || c.args[1].text != "every")
     throw ParseError(c.name_col, "usage: frames DIR every N | frames off");
-  const auto every = parse_count(c.args[2].text, 1);
-  if (!every) throw ParseError(c.args[2].col, "every needs a whole number of steps from 1 to 9.2e18");
+  const int64_t every = parse_every(c.args[2]);
   require_stopped("cannot change frames");
+  check_not_series_dir(c.args[0].text, render::FrameWriter::owns, "frames");
   note_output_errors();  // the writer replaced: its error stays to be reported
   frames_ = std::make_unique<render::FrameWriter>(c.args[0].text);
+  frames_dir_ = c.args[0].text;
   frames_error_noted_ = false;
-  frames_every_ = *every;
+  frames_every_ = every;
   frames_last_step_ = -1;
   out_ << "frames to " << c.args[0].text << " every " << frames_every_ << " steps";
   if (frames_->removed() > 0) out_ << " (" << frames_->removed() << " frame(s) of an earlier run removed)";
@@ -138,12 +142,13 @@ void Session::cmd_vtk(const Command& c) {
     return;
   }
   if (c.args.size() != 3 || c.args[1].text != "every") throw ParseError(c.name_col, "usage: vtk DIR every N | vtk off");
-  const auto every = parse_count(c.args[2].text, 1);
-  if (!every) throw ParseError(c.args[2].col, "every needs a whole number of steps from 1 to 9.2e18");
+  const int64_t every = parse_every(c.args[2]);
   require_stopped("cannot change the VTK output");
+  check_not_series_dir(c.args[0].text, VtkWriter::owns, "vtk");
   note_output_errors();  // the writer replaced: its error stays to be reported
   vtk_ = std::make_unique<VtkWriter>(c.args[0].text);
-  vtk_every_ = *every;
+  vtk_dir_ = c.args[0].text;
+  vtk_every_ = every;
   vtk_error_.clear();
   vtk_error_noted_ = false;
   vtk_last_step_ = -1;

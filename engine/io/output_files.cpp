@@ -39,20 +39,36 @@ void check_not_input(const std::string& path, const std::string& input, const st
     throw IoError("cannot write " + what + " '" + path + "': it is the scene file, which it would overwrite");
 }
 
-int64_t remove_numbered_files(const std::string& dir, const std::vector<std::pair<std::string, std::string>>& series) {
+bool is_numbered_file(const std::string& name, const NumberedSeries& series) {
+  for (const auto& [prefix, ext] : series) {
+    const size_t digits = prefix.size();
+    if (name.size() == digits + 6 + ext.size() && name.rfind(prefix, 0) == 0 &&
+        name.compare(digits + 6, ext.size(), ext) == 0 && name.find_first_not_of("0123456789", digits) == digits + 6)
+      return true;
+  }
+  return false;
+}
+
+bool is_in_directory(const std::string& path, const std::string& dir) {
+  namespace fs = std::filesystem;
+  if (path.empty() || dir.empty()) return false;
+  std::error_code ec;
+  const auto canonical = [&ec](const fs::path& p) {
+    const fs::path abs = fs::absolute(p, ec).lexically_normal();
+    fs::path c = fs::weakly_canonical(abs, ec);
+    return ec ? abs : c;
+  };
+  fs::path parent = fs::path(path).parent_path();
+  if (parent.empty()) parent = ".";
+  return canonical(parent) == canonical(fs::path(dir));
+}
+
+int64_t remove_numbered_files(const std::string& dir, const NumberedSeries& series) {
   int64_t removed = 0;
   std::error_code ec;
   for (const auto& e : std::filesystem::directory_iterator(dir, ec)) {
-    const std::string name = e.path().filename().string();
-    for (const auto& [prefix, ext] : series) {
-      const size_t digits = prefix.size();
-      if (name.size() != digits + 6 + ext.size() || name.rfind(prefix, 0) != 0 ||
-          name.compare(digits + 6, ext.size(), ext) != 0 ||
-          name.find_first_not_of("0123456789", digits) != digits + 6 || !e.is_regular_file(ec))
-        continue;
-      if (std::filesystem::remove(e.path(), ec)) ++removed;
-      break;
-    }
+    if (!is_numbered_file(e.path().filename().string(), series) || !e.is_regular_file(ec)) continue;
+    if (std::filesystem::remove(e.path(), ec)) ++removed;
   }
   return removed;
 }

@@ -3,6 +3,7 @@
 // image data, and a .pvd time index. ASCII, so that the files are readable and diffable; the
 // index is rewritten atomically.
 #include <sys/stat.h>
+#include <filesystem>
 
 #include <cerrno>
 #include <cmath>
@@ -71,7 +72,17 @@ VtkWriter::VtkWriter(std::string dir) : dir_(std::move(dir)) {
   make_output_directory(dir_, "VTK");
   // An earlier run's files would mix with this run's in a series opened by their names (the new
   // index.pvd lists only its own): removed, as frames are.
-  removed_ = remove_numbered_files(dir_, {{"grains_", ".vtu"}, {"contacts_", ".vtp"}, {"fields_", ".vti"}});
+  removed_ = remove_numbered_files(dir_, series());
+}
+
+const NumberedSeries& VtkWriter::series() {
+  static const NumberedSeries s{{"grains_", ".vtu"}, {"contacts_", ".vtp"}, {"fields_", ".vti"}};
+  return s;
+}
+
+bool VtkWriter::owns(const std::string& path, const std::string& dir) {
+  const std::string name = std::filesystem::path(path).filename().string();
+  return (name == "index.pvd" || is_numbered_file(name, series())) && is_in_directory(path, dir);
 }
 
 void VtkWriter::write(const Model& m, const State& s, const std::vector<GridField>& fields) {

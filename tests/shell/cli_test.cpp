@@ -137,6 +137,13 @@ TEST_CASE("silt run: two outputs to one file, or two alternative keys set togeth
   CHECK_FALSE(std::ifstream("cli_same.ckpt").good());
   // A device may take several.
   CHECK(silt_cli("run " + scene + " --quiet --steps 5 --stats /dev/null --summary /dev/null").code == 0);
+  // A stats file named as a frame where the frames go was overwritten by that frame.
+  const Result frame =
+      silt_cli("run " + scene + " --steps 20 --frames cli_frames --frame-every 10 --stats cli_frames/frame_000001.png");
+  CHECK(frame.code == 1);
+  CHECK(frame.out.find("is a frame's name in --frames") != std::string::npos);
+  CHECK(silt_cli("run " + scene + " --steps 5 --vtk cli_vtk --summary ./cli_vtk/../cli_vtk/index.pvd").code == 1);
+  CHECK(silt_cli("run " + scene + " --quiet --steps 5 --vtk cli_vtk --summary cli_vtk/summary.json").code == 0);
   // The last of two alternatives won without a word (channel.toml: a flow rate over a pressure
   // gradient); one --set over the file's alternative still replaces it.
   const std::string channel = silt::test::scene_path("channel");
@@ -304,4 +311,20 @@ TEST_CASE("silt check and silt run label no SI unit in reduced units") {
   CHECK(c.out.find(" kg") == std::string::npos);
   const Result r = silt_cli("run " + silt::test::scene_path("collision_normal") + " --steps 2");
   CHECK(r.out.find("(t = 2e-06 s)") != std::string::npos);  // SI scenes keep theirs
+}
+
+TEST_CASE("silt run and check: a --set that is no KEY=VALUE is a usage error, a bad value a scene error") {
+  // (a malformed --set exited 2, the code of a scene error)
+  const std::string scene = silt::test::scene_path("collision_normal");
+  for (const char* cmd : {"run", "check"}) {
+    for (const char* set : {"contact.friction", "=0.3"}) {
+      CAPTURE(cmd);
+      CAPTURE(set);
+      const Result r = silt_cli(std::string(cmd) + " " + scene + " --set " + set);
+      CHECK(r.code == 1);
+      CHECK(r.out.find("expected KEY=VALUE") != std::string::npos);
+    }
+  }
+  const Result bad = silt_cli("run " + scene + " --steps 2 --quiet --set contact.friction=-1");
+  CHECK(bad.code == 2);
 }

@@ -93,3 +93,27 @@ TEST_CASE("save onto the stats file being written is refused and the stats are k
   std::getline(in, header);
   CHECK(header.rfind("t,", 0) == 0);
 }
+
+TEST_CASE("a file named as a frame or a VTK file where they are written is refused, before or after them") {
+  // (a stats file named frame_000001.png in the frames' directory was overwritten by that frame,
+  // and removed by the next `frames` there as an earlier run's frame)
+  test::TempDir dir;
+  Fixture f;
+  REQUIRE(f.run("load " + test::scene_path("collision_normal")));
+  REQUIRE(f.run("stats " + dir / "frame_000001.png" + " every 1"));
+  CHECK_FALSE(f.run("frames " + dir.path() + " every 1"));
+  CHECK(f.take_err().find("the stats file being written") != std::string::npos);
+  REQUIRE(f.run("stats " + dir / "index.pvd" + " every 1"));
+  CHECK_FALSE(f.run("vtk " + dir.path() + " every 1"));
+  f.take_err();
+  REQUIRE(f.run("stats off"));
+  REQUIRE(f.run("frames " + dir.path() + " every 1"));
+  REQUIRE(f.run("vtk " + dir.path() + " every 1"));
+  for (const char* name : {"frame_000002.png", "grains_000000.vtu", "index.pvd"}) {
+    CAPTURE(name);
+    CHECK_FALSE(f.run("stats " + dir / name));
+    CHECK_FALSE(f.run("save " + dir / name));
+  }
+  REQUIRE(f.run("stats " + dir / "s.csv" + " every 1"));
+  REQUIRE(f.run("save " + dir / "frame_1.ckpt"));
+}

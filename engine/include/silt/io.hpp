@@ -94,9 +94,15 @@ void check_not_input(const std::string& path, const std::string& input, const st
 // IoError when it cannot be, is not a directory, or cannot be written in, `what` naming the
 // files ("frame", "VTK").
 void make_output_directory(const std::string& dir, const std::string& what);
-// Removes from `dir` the regular files named PREFIX + six digits + EXT for each (PREFIX, EXT) of
-// `series` (an earlier run's numbered files, which would mix with a new run's); returns how many.
-int64_t remove_numbered_files(const std::string& dir, const std::vector<std::pair<std::string, std::string>>& series);
+// Series of numbered files: (PREFIX, EXT) for the names PREFIX + six digits + EXT.
+using NumberedSeries = std::vector<std::pair<std::string, std::string>>;
+// Whether `name` (a file name without its directory) is one of `series`'.
+bool is_numbered_file(const std::string& name, const NumberedSeries& series);
+// Whether the file `path` lies in the directory `dir` (either named by any path).
+bool is_in_directory(const std::string& path, const std::string& dir);
+// Removes from `dir` the regular files named as `series`' (an earlier run's numbered files, which
+// would mix with a new run's); returns how many.
+int64_t remove_numbered_files(const std::string& dir, const NumberedSeries& series);
 // A text file written whole: to PATH.tmp renamed over PATH (a device or a pipe is written in
 // place); IoError on any failed write.
 void write_text_file(const std::string& path, const std::string& text, const std::string& what);
@@ -134,6 +140,9 @@ class VtkWriter {
   void write(const Model& m, const State& s, const std::vector<GridField>& fields = {});
   int64_t count() const { return count_; }
   int64_t removed() const { return removed_; }  // an earlier run's files removed from dir
+  // The names it writes in its directory: the numbered series and index.pvd.
+  static const NumberedSeries& series();
+  static bool owns(const std::string& path, const std::string& dir);
 
  private:
   struct Entry {

@@ -187,6 +187,8 @@ class FrameWriter {
   int64_t written() const;
   std::string error() const;                    // "" while all is well
   int64_t removed() const { return removed_; }  // an earlier run's frames removed from dir
+  // Whether `path` is a frame's name in `dir` (a file a FrameWriter on dir overwrites or removes).
+  static bool owns(const std::string& path, const std::string& dir);
 
  private:
   struct Impl;
