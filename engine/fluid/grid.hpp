@@ -13,6 +13,7 @@
 // inflow: Neumann, dp/dn = 0; outflow: Dirichlet, p = 0 on the face; periodic: periodic).
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 
@@ -77,6 +78,11 @@ struct Grid {
   int64_t cell(int64_t i, int64_t j, int64_t k = 0) const { return i + n[0] * (j + n[1] * k); }
   PressureBc pbc(int a, int side) const { return pressure_bc(bc[a][side].type); }
   double cell_volume() const { return h[0] * h[1] * (dim == 3 ? h[2] : 1.0); }
+  double h_min() const {  // the smallest spacing
+    double m = h[0];
+    for (int a = 1; a < dim; ++a) m = std::min(m, h[a]);
+    return m;
+  }
   // sum_a 1 / h_a^2: the explicit viscous number is nu dt times it.
   double inv_h2_sum() const {
     double inv = 0;

@@ -91,9 +91,7 @@ double default_velocity_scale(const FluidParams& p) {
 // enstrophy ((|u| / h)^2 summed over the cells) infinite from the first sample (a lid at 1e155
 // m/s ran, and its stats showed inf).
 void check_speed(const SceneDesc& d, const std::string& key, double v, const Grid& g) {
-  double h_min = g.h[0];
-  for (int a = 1; a < g.dim; ++a) h_min = std::min(h_min, g.h[a]);
-  const double rate = std::abs(v) / h_min;
+  const double rate = std::abs(v) / g.h_min();
   if (std::isfinite(rate * rate * static_cast<double>(g.cells()))) return;
   d.fail(key, key + " = " + format_number(v, 4) + " m/s: the flow's enstrophy, (|u| / h)^2 over the " +
                   format_number(static_cast<double>(g.cells()), 4) + " cells, overflows double precision");
@@ -140,8 +138,7 @@ void compile_steerable(const SceneDesc& d, const Model& m, FluidParams& p) {
                " 1/s) is beyond what double precision resolves");
   const double time_unit = p.dimensionless ? p.length_scale / p.velocity_scale : 1.0;
   p.dt_fixed = d.has("fluid.dt");
-  double h_min = p.grid.h[0];
-  for (int a = 1; a < m.dim; ++a) h_min = std::min(h_min, p.grid.h[a]);
+  const double h_min = p.grid.h_min();
   // The adaptive step's keys are read for an adaptive step only: beside fluid.dt they would be
   // accepted and do nothing.
   if (!p.dt_fixed) p.cfl_target = d.real("fluid.cfl");
