@@ -91,7 +91,10 @@ const std::vector<CommandSpec>& command_specs() {
        ArgKind::kNone},
       {"run", "run [N | Ts | until EXPR | until static | until steady]", "run in the foreground",
        "Runs N steps, or T seconds of simulated time (\"run 0.5s\"), or until a condition on observables holds (\"run "
-       "until t >= 1 and ke < 1e-6\", blanks optional: \"run until t>=1\"), or until the packing is static (the "
+       "until t >= 1 and ke < 1e-6\", blanks optional: \"run until t>=1\"; tested at every step when it reads only t, "
+       "step "
+       "and dt, else every 10 steps: the run then stops up to 9 steps after it first holds), or until the packing is "
+       "static (the "
        "scene's run.static_* criterion), or until the fluid is steady (run.steady_tol). Alone, it runs to the scene's "
        "end (run.steps or run.time), stopping when static or steady if the scene says run.stop_when_static or "
        "run.stop_when_steady, as silt run does. Ctrl-C pauses at the next step boundary.",

@@ -56,7 +56,7 @@ int play_command(const std::string& script, bool keep_going, int threads) {
   std::ifstream in(script);
   if (!in) return report_error("cannot read script '" + script + "'", 4);
   shell::Session session(std::cout, std::cerr, threads);
-  session.set_script_dir(std::filesystem::path(script).parent_path().string());
+  session.set_script(script);
   session.set_echo_sources(true);
   g_played = &session;
   g_stop = false;

@@ -82,6 +82,12 @@ std::string Session::note_output_errors() {
       add("frames stopped (the run went on): " + e);
       frames_error_noted_ = true;
     }
+  // (rows a stats file could no longer take were lost without a word: play exited 0)
+  if (stats_ && !stats_error_noted_ && !stats_->error().empty()) {
+    add("stats file " + stats_file_ +
+        " no longer written (the run went on; the samples are in memory): " + stats_->error());
+    stats_error_noted_ = true;
+  }
   if (!vtk_error_.empty() && !vtk_error_noted_) {
     add("vtk stopped (the run went on): " + vtk_error_);
     vtk_error_noted_ = true;
@@ -198,8 +204,10 @@ void Session::install(Model m, const std::optional<State>& keep) {
     interrupt_ = false;
     State packed = prepare_packing(next->model(), threads_, &rep, &interrupt_);
     interrupt_ = false;
+    // A numerical failure, exit 3 in `silt play` as in `silt run` (it exited 2).
     if (rep.end == RunEnd::kFailed)
-      throw std::runtime_error("the preparation (prepare.compress) failed: " + rep.failure + "; nothing was loaded");
+      throw RunFailure("the preparation (prepare.compress) failed: " + rep.failure +
+                       (sim_ ? "; the scene and its state are as they were" : "; nothing was loaded"));
     next->restore(std::move(packed));
     out_ << "prepared: isotropic compression, " << rep.steps << " steps in " << rep.wall_s << " s"
          << (rep.end == RunEnd::kStatic ? ", static"

@@ -47,9 +47,9 @@ class Session {
   // An output (frames, VTK files) that a background run could no longer write and no command has
   // reported yet, "" when none: `silt play` exits 4 on it, as `silt run` does.
   std::string take_output_error();
-  // Relative input files (load, source, restore) not found in the current directory are looked
-  // for in this one: `silt play` gives the script's directory.
-  void set_script_dir(const std::string& dir) { script_dir_ = dir; }
+  // The script `silt play` reads: relative input files (load, source, restore) not found in the
+  // current directory are looked for in its directory, and no command writes over it.
+  void set_script(const std::string& path);
   // `source`d lines echoed as `silt play` echoes its own (SCRIPT:LINE> command).
   void set_echo_sources(bool on) { echo_sources_ = on; }
   bool quit_requested() const { return quit_; }
@@ -124,6 +124,10 @@ class Session {
   int source_depth_ = 0;
   int last_error_code_ = 0;
   std::string script_dir_;
+  std::vector<std::string> scripts_;  // the scripts being read (play's, sourced ones)
+  // IoError when `path` is the scene file or a script being read (a `stats` onto the script
+  // played replaced its next lines with CSV rows).
+  void check_not_inputs(const std::string& path, const std::string& what) const;
 
   std::string scene_file_;
   std::vector<Override> overrides_;
@@ -160,7 +164,7 @@ class Session {
   std::string vtk_error_;       // the VTK output stopped on it
   // The outputs' errors not yet reported (guarded by mutex_), and which of them were noted.
   std::string output_error_;
-  bool frames_error_noted_ = false, vtk_error_noted_ = false;
+  bool frames_error_noted_ = false, vtk_error_noted_ = false, stats_error_noted_ = false;
   // Notes the frames' and VTK's errors not noted yet into output_error_ (any thread); returns them.
   std::string note_output_errors();
   // Throws IoError with the errors noted and not reported (a command's error: exit 4 in play).

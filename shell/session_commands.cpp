@@ -12,22 +12,12 @@
 #include "shell/session.hpp"
 #include "shell/table.hpp"
 #include "silt/input_files.hpp"
+#include "silt/module.hpp"
 #include "silt/observables.hpp"
 #include "silt/text.hpp"
 
 namespace silt::shell {
 namespace {
-
-std::string canonical_key(const std::string& key) {
-  // "grains.0.count" -> "grains[0].count" (as --set accepts).
-  std::string out, part;
-  std::istringstream in(key);
-  while (std::getline(in, part, '.')) {
-    const bool index = !part.empty() && part.find_first_not_of("0123456789") == std::string::npos;
-    out += index && !out.empty() ? "[" + part + "]" : (out.empty() ? "" : ".") + part;
-  }
-  return out;
-}
 
 // A string key's choices, as its range: "linear hertz hooke".
 std::string join_words(const std::vector<std::string>& words) {
@@ -183,7 +173,8 @@ void Session::cmd_set(const Command& c) {
   // X --set K=V`).
   Model m = compile(scene_with(next));
   const Model& old = s.model();
-  const bool same_grains = m.scene_hash == old.scene_hash && m.walls.size() == old.walls.size();
+  // (grains frozen by `freeze` are kept frozen: the state was discarded as of other grains)
+  const bool same_grains = carry_running(m, old) && m.walls.size() == old.walls.size();
   const bool same_grid =
       m.cells == old.cells && m.box.lo == old.box.lo && m.box.len == old.box.len && m.box.periodic == old.box.periodic;
   const bool same_start = s.state().step > 0 || s.state_given();
@@ -213,6 +204,8 @@ void Session::cmd_get(const Command& c) {
   if (!spec) {
     throw std::runtime_error(unknown_key_message(key));
   }
+  // (grains.5.count of a scene with one [[grains]] answered "(not set)")
+  if (const std::string missing = d.missing_entry(key); !missing.empty()) throw std::runtime_error(missing);
   std::string value = "(not set)";
   if (auto it = d.entries.find(key); it != d.entries.end()) value = value_to_string(it->second.value);
   else if (const std::string chosen = spec->computed ? spec->computed(sim().model()) : std::string(); !chosen.empty())
@@ -343,11 +336,21 @@ void Session::cmd_render(const Command& c) {
 }
 
 void Session::check_not_open_file(const std::string& path, const std::string& what) const {
-  check_not_input(path, scene_file_, what);
+  check_not_inputs(path, what);
   std::error_code ec;
   if (!stats_file_.empty() && std::filesystem::equivalent(path, stats_file_, ec))
     throw IoError("cannot write " + what + " '" + path + "': it is the stats file being written; `stats off` first");
   check_not_series_file(path, what);
+}
+
+void Session::set_script(const std::string& path) {
+  script_dir_ = std::filesystem::path(path).parent_path().string();
+  scripts_ = {path};
+}
+
+void Session::check_not_inputs(const std::string& path, const std::string& what) const {
+  check_not_input(path, scene_file_, what);
+  for (const std::string& script : scripts_) check_not_input(path, script, what, "a script being played");
 }
 
 void Session::check_not_series_file(const std::string& path, const std::string& what) const {
@@ -410,6 +413,7 @@ void Session::cmd_source(const Command& c) {
   if (!in) throw std::runtime_error("cannot read '" + file + "'");
   // The script's own relative files are found beside it, as in `silt play`.
   const std::string outer_dir = std::exchange(script_dir_, std::filesystem::path(file).parent_path().string());
+  scripts_.push_back(file);
   ++source_depth_;
   std::string line;
   int n = 0;
@@ -424,6 +428,7 @@ void Session::cmd_source(const Command& c) {
     ok = execute(line, file + ":" + std::to_string(n));
   }
   --source_depth_;
+  scripts_.pop_back();
   script_dir_ = outer_dir;
   if (script_interrupted_) throw std::runtime_error("source " + file + " interrupted at line " + std::to_string(n));
   if (!ok) throw std::runtime_error("source " + file + " stopped at line " + std::to_string(n));

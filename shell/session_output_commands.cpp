@@ -58,9 +58,10 @@ void Session::cmd_stats(const Command& c) {
       throw ParseError(c.name_col, "usage: stats [since T | reset | FILE.csv [every N] | off]");
     const int64_t every = a.size() == 3 ? parse_every(a[2]) : 0;
     require_stopped("cannot change where the samples go");
-    check_not_input(a[0].text, scene_file_, "stats");
+    check_not_inputs(a[0].text, "stats");
     check_not_series_file(a[0].text, "stats");
     stats_.emplace(reseries(*stats_, a[0].text));
+    stats_error_noted_ = false;
     stats_file_ = a[0].text;
     stats_every_ = every;
     out_ << "stats to " << stats_file_ << " (" << stats_->rows().size() << " sample(s) so far), every "

@@ -13,6 +13,14 @@ std::string steer_dem(Model& m, const Model& fresh) {
   return "";
 }
 
+// The grains `freeze` froze in the running model, frozen in the one compiled again (only when
+// they are the same grains: else the fingerprints differ anyway).
+void carry_frozen(Model& fresh, const Model& m) {
+  if (fresh.init.frozen.size() != m.init.frozen.size() || fresh.init.frozen == m.init.frozen) return;
+  for (size_t i = 0; i < m.init.frozen.size(); ++i) fresh.init.frozen[i] |= m.init.frozen[i];
+  refresh_frozen(fresh);
+}
+
 }  // namespace
 
 const ModuleSpec& module() {
@@ -28,6 +36,7 @@ const ModuleSpec& module() {
     s.finish = finish_dem;
     s.describe = describe_dem;
     s.steer = steer_dem;
+    s.carry = carry_frozen;
     return s;
   }();
   return spec;

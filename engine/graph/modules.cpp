@@ -80,6 +80,16 @@ std::vector<LineSample> module_lines(const Model& m, const State& s) {
   return out;
 }
 
+bool carry_running(Model& fresh, const Model& m) {
+  if (fresh.scene_hash == m.scene_hash) return true;
+  Model carried = fresh;
+  for (const Module& mod : list())
+    if (mod.spec->carry && m.module_on(mod.spec->name)) mod.spec->carry(carried, m);
+  if (carried.scene_hash != m.scene_hash) return false;
+  fresh = std::move(carried);
+  return true;
+}
+
 bool has_steady_test(const Model& m) {
   for (const Module& mod : list())
     if (mod.spec->steady && m.module_on(mod.spec->name)) return true;

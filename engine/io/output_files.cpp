@@ -32,11 +32,12 @@ void check_output_path(const std::string& path, const std::string& what, bool re
     throw IoError("cannot write " + what + " '" + path + "': " + std::strerror(errno) + " (its directory)");
 }
 
-void check_not_input(const std::string& path, const std::string& input, const std::string& what) {
+void check_not_input(const std::string& path, const std::string& input, const std::string& what,
+                     const std::string& input_what) {
   if (path.empty() || input.empty()) return;
   std::error_code ec;
   if (std::filesystem::equivalent(path, input, ec))
-    throw IoError("cannot write " + what + " '" + path + "': it is the scene file, which it would overwrite");
+    throw IoError("cannot write " + what + " '" + path + "': it is " + input_what + ", which it would overwrite");
 }
 
 bool is_numbered_file(const std::string& name, const NumberedSeries& series) {

@@ -50,6 +50,8 @@ RunJob::RunJob(Simulation& sim, RunJobOptions options) : sim_(sim), o_(std::move
   if (o_.observe.empty()) o_.observe = m.observe;
   if (o_.every <= 0) o_.every = m.sample_every;
   observer_.emplace(m, o_.observe);  // throws std::invalid_argument naming a bad observable
+  // The VTK directory first: the summary or the checkpoint may be named inside it.
+  if (!o_.vtk.empty()) make_output_directory(o_.vtk, "VTK");
   check_output_path(o_.summary, "summary");
   check_output_path(o_.save, "checkpoint", true);
   check_not_input(o_.summary, o_.scene, "summary");

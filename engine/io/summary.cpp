@@ -107,7 +107,7 @@ void write_summary(const std::string& path, const SummaryInput& in, const Simula
     j["failure"] = f;
   }
   j["warnings"] = in.warnings;
-  write_text_file(path, j.dump(2) + "\n", "summary");
+  write_text_file(path, j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n", "summary");
 }
 
 }  // namespace silt

@@ -24,6 +24,18 @@ void open_file(std::ofstream& out, const std::string& path) {
   out.precision(9);
 }
 
+// Closes `out`, which open_file opened on `path`: the last buffered bytes go out here, so a full
+// disk shows only now (a check before the close passed on an empty file). IoError, the partial
+// file removed, when any write failed.
+void close_file(std::ofstream& out, const std::string& path) {
+  errno = 0;
+  out.close();
+  if (out) return;
+  const std::string why = errno != 0 ? std::string(": ") + std::strerror(errno) : std::string();
+  std::remove(path.c_str());
+  throw IoError("cannot write '" + path + "'" + why);
+}
+
 void array_header(std::ostream& o, const char* type, const char* name, int components) {
   o << "        <DataArray type=\"" << type << "\" Name=\"" << name << "\" NumberOfComponents=\"" << components
     << "\" format=\"ascii\">\n          ";
@@ -65,7 +77,7 @@ void write_vti(const std::string& path, const std::vector<GridField>& fields) {
     o << kArrayEnd;
   }
   o << "      </CellData>\n    </Piece>\n  </ImageData>\n</VTKFile>\n";
-  if (!o) throw IoError("cannot write '" + path + "'");
+  close_file(o, path);
 }
 
 VtkWriter::VtkWriter(std::string dir) : dir_(std::move(dir)) {
@@ -156,7 +168,7 @@ void VtkWriter::write(const Model& m, const State& s, const std::vector<GridFiel
     array_header(o, "UInt8", "frozen", 1);
     for (int64_t i = 0; i < s.n; ++i) o << static_cast<int>(s.particle_frozen[i]) << ' ';
     o << kArrayEnd << "      </PointData>\n    </Piece>\n  </UnstructuredGrid>\n</VTKFile>\n";
-    if (!o) throw IoError("cannot write '" + dir_ + "/" + grains + "'");
+    close_file(o, dir_ + "/" + grains);
   }
   {
     // Contacts: one line per touching pair, from i to the image of j next to it.
@@ -201,7 +213,7 @@ void VtkWriter::write(const Model& m, const State& s, const std::vector<GridFiel
     array_header(o, "Float64", "force", 3);
     for (const Line& l : lines) o << l.f[0] << ' ' << l.f[1] << ' ' << l.f[2] << ' ';
     o << kArrayEnd << "      </CellData>\n    </Piece>\n  </PolyData>\n</VTKFile>\n";
-    if (!o) throw IoError("cannot write '" + dir_ + "/" + contacts + "'");
+    close_file(o, dir_ + "/" + contacts);
   }
   std::string grid;
   if (!fields.empty()) {
@@ -223,7 +235,7 @@ void VtkWriter::write(const Model& m, const State& s, const std::vector<GridFiel
       if (!e.fields.empty()) o << "    <DataSet timestep=\"" << e.t << "\" part=\"2\" file=\"" << e.fields << "\"/>\n";
     }
     o << "  </Collection>\n</VTKFile>\n";
-    if (!o) throw IoError("cannot write '" + pvd + "'");
+    close_file(o, tmp);
   }
   if (std::rename(tmp.c_str(), pvd.c_str()) != 0) throw IoError("cannot write '" + pvd + "'");
 }

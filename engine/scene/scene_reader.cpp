@@ -172,37 +172,14 @@ class Reader {
 };
 
 // "grains.0.count" -> "grains[0].count"; "grains[0].count" unchanged.
-std::string canonical_override_key(const std::string& key) {
-  std::string out;
-  std::string part;
-  std::istringstream in(key);
-  while (std::getline(in, part, '.')) {
-    const bool index = !part.empty() && part.find_first_not_of("0123456789") == std::string::npos;
-    if (index && !out.empty()) out += "[" + part + "]";
-    else out += (out.empty() ? "" : ".") + part;
-  }
-  return out;
-}
-
 // `batch`: one of the command line's --set list, which may not hold two alternatives.
 void apply_override_at(SceneDesc& desc, const Override& o, int ordinal, bool batch) {
   const FileLoc where{"--set", ordinal, static_cast<int>(o.key.size()) + 2};
-  const std::string path = canonical_override_key(o.key);
+  const std::string path = canonical_key(o.key);
   const std::string norm = normalise_key(path);
   const KeySpec* spec = find_key_spec(norm);
   if (!spec) throw SceneError(where, unknown_key_message(path));
-  // Group index must exist.
-  if (auto lb = path.find('['); lb != std::string::npos) {
-    const std::string group = path.substr(0, lb);
-    const auto rb = path.find(']', lb);
-    const std::string digits = path.substr(lb + 1, rb == std::string::npos ? std::string::npos : rb - lb - 1);
-    if (digits.empty() || digits.size() > 9 || digits.find_first_not_of("0123456789") != std::string::npos)
-      throw SceneError(where, "'" + o.key + "': the index of " + group + "[...] must be a whole number");
-    const int index = std::stoi(digits);
-    if (index >= desc.group_count(group))
-      throw SceneError(where, "no " + group + "[" + std::to_string(index) + "] in the scene (it has " +
-                                  std::to_string(desc.group_count(group)) + ")");
-  }
+  if (const std::string missing = desc.missing_entry(path); !missing.empty()) throw SceneError(where, missing);
   toml::table t;
   try {
     t = toml::parse(std::string_view("v = " + o.value), std::string_view("--set"));
@@ -230,6 +207,32 @@ void apply_override_at(SceneDesc& desc, const Override& o, int ordinal, bool bat
 }
 
 }  // namespace
+
+std::string canonical_key(const std::string& key) {
+  std::string out;
+  std::string part;
+  std::istringstream in(key);
+  while (std::getline(in, part, '.')) {
+    const bool index = !part.empty() && part.find_first_not_of("0123456789") == std::string::npos;
+    if (index && !out.empty()) out += "[" + part + "]";
+    else out += (out.empty() ? "" : ".") + part;
+  }
+  return out;
+}
+
+std::string SceneDesc::missing_entry(const std::string& path) const {
+  const auto lb = path.find('[');
+  if (lb == std::string::npos) return "";
+  const std::string group = path.substr(0, lb);
+  const auto rb = path.find(']', lb);
+  const std::string digits = path.substr(lb + 1, rb == std::string::npos ? std::string::npos : rb - lb - 1);
+  if (digits.empty() || digits.size() > 9 || digits.find_first_not_of("0123456789") != std::string::npos)
+    return "'" + path + "': the index of " + group + "[...] must be a whole number";
+  const int index = std::stoi(digits);
+  if (index < group_count(group)) return "";
+  return "no " + group + "[" + std::to_string(index) + "] in the scene (it has " + std::to_string(group_count(group)) +
+         ")";
+}
 
 void apply_override(SceneDesc& desc, const Override& o) { apply_override_at(desc, o, 1, false); }
 

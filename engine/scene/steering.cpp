@@ -30,7 +30,8 @@ std::string steer(Model& m, const Override& change) {
   } catch (const SceneError& e) {
     return e.message();
   }
-  if (fresh.scene_hash != m.scene_hash) return "'" + change.key + "' would change the grains";
+  // (after `freeze`, every change was refused: the scene has no frozen grains)
+  if (!carry_running(fresh, m)) return "'" + change.key + "' would change the grains";
   if (fresh.modules != m.modules) return "'" + change.key + "' would turn a module on or off: set it when stopped";
   // Each module takes over its steerable parts, or refuses; the model changes only if none does.
   Model next = m;

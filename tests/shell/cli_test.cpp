@@ -84,6 +84,13 @@ TEST_CASE("silt run: stats CSV, summary JSON, --observe, --every") {
   CHECK(k["observables"]["ke"]["n"] == 11);
   CHECK(silt_cli("run " + silt::test::scene_path("collision_normal") + " --observe t,kee").code == 1);
   CHECK(silt_cli("run " + silt::test::scene_path("collision_normal") + " --stats no_dir/x.csv").code == 4);
+  // A scene path that is no UTF-8 (a Latin-1 name) is written with a replacement character: the
+  // summary was not written at all.
+  write_file("cli_\xe9t\xe9.toml", read_file(silt::test::scene_path("collision_normal")));
+  const Result latin = silt_cli("run 'cli_\xe9t\xe9.toml' --quiet --steps 5 --summary cli_latin.json");
+  CHECK(latin.code == 0);
+  const auto l = nlohmann::json::parse(read_file("cli_latin.json"));
+  CHECK(l["scene"].get<std::string>().find("\xef\xbf\xbd") != std::string::npos);
 }
 
 TEST_CASE("silt run: a numerical failure exits 3 and keeps the last good state") {
@@ -143,7 +150,10 @@ TEST_CASE("silt run: two outputs to one file, or two alternative keys set togeth
   CHECK(frame.code == 1);
   CHECK(frame.out.find("is a frame's name in --frames") != std::string::npos);
   CHECK(silt_cli("run " + scene + " --steps 5 --vtk cli_vtk --summary ./cli_vtk/../cli_vtk/index.pvd").code == 1);
+  // Inside the VTK directory the run makes (it was refused: "no directory").
+  std::filesystem::remove_all("cli_vtk");
   CHECK(silt_cli("run " + scene + " --quiet --steps 5 --vtk cli_vtk --summary cli_vtk/summary.json").code == 0);
+  CHECK(std::ifstream("cli_vtk/summary.json").good());
   // The last of two alternatives won without a word (channel.toml: a flow rate over a pressure
   // gradient); one --set over the file's alternative still replaces it.
   const std::string channel = silt::test::scene_path("channel");

@@ -124,6 +124,35 @@ TEST_CASE("silt play: a run that fails numerically stops the script with SCRIPT:
   CHECK(code == 3);
 }
 
+TEST_CASE(
+    "silt play: a failed preparation exits 3 and keeps what was loaded, and the played script is never an output") {
+  TempDir dir;
+  std::string scene;
+  {
+    std::ifstream in(silt::test::scene_path("shear2d_dry"));
+    scene.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  const size_t at = scene.find("pressure = 1.0");
+  REQUIRE(at != std::string::npos);
+  std::ofstream(dir / "crushed.toml") << scene.replace(at, 14, "pressure = 1e6");  // overlaps at step 18
+  int code = -1;
+  std::string out = play(dir, "load crushed.toml\n", "", &code);
+  CHECK(code == 3);
+  CHECK(contains(out, "nothing was loaded"));
+  const std::string load = "load " + silt::test::scene_path("collision_normal") + "\nrun 10\n";
+  out = play(dir, load + "load crushed.toml\nprint step\n", "--keep-going", &code);
+  CHECK(code == 3);
+  CHECK(contains(out, "the scene and its state are as they were"));
+  CHECK(contains(out, "step = 10"));
+  // `stats` onto the script being played replaced its next lines with CSV rows.
+  const std::string script = load + "stats play.silt\nprint step\n";
+  out = play(dir, script, "", &code);
+  CHECK(code == 4);
+  CHECK(contains(out, "a script being played"));
+  std::ifstream in(dir / "play.silt");
+  CHECK(std::string(std::istreambuf_iterator<char>(in), {}) == script);
+}
+
 TEST_CASE("silt play: steering acts on the next steps, also during a background run") {
   TempDir dir;
   const std::string load = "load " + silt::test::scene_path("bounce_dry") + "\n";  // free fall, dt = 1 us

@@ -70,6 +70,9 @@ TEST_CASE("non-steerable values recompile the scene, keeping the state when the 
   REQUIRE(f.run("reload"));
   CHECK(f.run("get grains[0].radius"));
   CHECK(f.take_out().find("0.0014") != std::string::npos);  // reload keeps the values set
+  // An entry the scene does not have is not "(not set)".
+  CHECK_FALSE(f.run("get grains.5.radius"));
+  CHECK(f.take_err().find("no grains[5] in the scene") != std::string::npos);
 }
 
 TEST_CASE("save, restore and reset: a restored run is bitwise the uninterrupted one") {

@@ -52,6 +52,8 @@ class StatsWriter {
   // Returns how many went.
   size_t drop_after(double t, int64_t step);
   void flush();
+  // The error that stopped the writes to the file ("" while all is well); add() keeps the rows.
+  const std::string& error() const { return error_; }
 
  private:
   std::FILE* file_ = nullptr;
@@ -88,8 +90,9 @@ struct ProfileSeries {
 // over a device).
 void check_output_path(const std::string& path, const std::string& what, bool regular_only = false);
 // IoError when `path` is the input file `input` (the same file by another name too): an output
-// given the scene's own name would overwrite it.
-void check_not_input(const std::string& path, const std::string& input, const std::string& what);
+// given the scene's own name would overwrite it. `input_what` names the input in the message.
+void check_not_input(const std::string& path, const std::string& input, const std::string& what,
+                     const std::string& input_what = "the scene file");
 // Before a run: the directory `dir` of a series of files (frames, VTK), made if it is not there;
 // IoError when it cannot be, is not a directory, or cannot be written in, `what` naming the
 // files ("frame", "VTK").

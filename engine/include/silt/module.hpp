@@ -46,6 +46,9 @@ struct ModuleSpec {
   // Take over the steerable parts of a freshly compiled model (live steering): "" when done,
   // else why the change cannot be made while running (then the model is left as it was).
   std::function<std::string(Model& m, const Model& fresh)> steer;
+  // What a running model holds that its scene does not say (grains frozen by `freeze`), taken
+  // into a model compiled again from the scene (`fresh`) from the running one (`m`).
+  std::function<void(Model& fresh, const Model& m)> carry;
   // "" when the module's own fields in a state read from a checkpoint are consistent (their
   // lengths and indices: those of Extent::kFree are not checked otherwise), else what is wrong.
   std::function<std::string(const Model& m, const State& s)> check_state;
@@ -110,6 +113,10 @@ const Module* find_module(std::string_view name);
 // model enables.
 std::vector<GridField> module_grid_fields(const Model& m, const State& s, std::string_view only = {});
 std::vector<LineSample> module_lines(const Model& m, const State& s);
+// A model compiled again from the scene (`fresh`) with what the running `m` holds beyond its
+// scene (ModuleSpec::carry): true when it then describes the same system as `m` (the same
+// fingerprint), else `fresh` is left as compiled.
+bool carry_running(Model& fresh, const Model& m);
 // Whether a module the model enables has a steady-state test (ModuleSpec::steady).
 bool has_steady_test(const Model& m);
 // Adds a module after the built-in ones (a module of a test, or of a user's build). Its fields and

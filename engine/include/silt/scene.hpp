@@ -105,6 +105,9 @@ bool is_group(std::string_view normalised);
 bool is_table_prefix(std::string_view normalised);
 // The error for a path that names no key: the nearest key, or the keys of the table it names.
 std::string unknown_key_message(std::string_view path);
+// A dotted key with its group indices bracketed, as scenes name them: "grains.0.count" ->
+// "grains[0].count".
+std::string canonical_key(const std::string& key);
 std::string value_to_string(const Value& v);
 
 struct SceneEntry {
@@ -126,6 +129,9 @@ class SceneDesc {
   // than one key could have caused.
   std::string first_given(std::initializer_list<std::string_view> paths, std::string_view fallback) const;
   int group_count(std::string_view group) const;
+  // For a canonical key of a group's entry ("grains[3].count"): why the scene has no such
+  // entry (an index that is no whole number, or past the tables it has), "" when it has.
+  std::string missing_entry(const std::string& path) const;
   // Whether the scene gives the table or a key in it ([fluid], or fluid.cells by --set).
   bool has_table(std::string_view table) const;
   // The value's location; for a key not given, where its table starts (the innermost one the
