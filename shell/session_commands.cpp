@@ -135,23 +135,14 @@ void Session::cmd_set(const Command& c) {
   next.push_back(change);
   if (spec->steerable) {
     std::string error;
-    std::optional<Model> before;
-    // A state whose solve failed under an earlier change: from the state before it, solved again
-    // under this one.
-    if (!running() && s.state().failure.failed) s.restore(s.last_good_state());
-    at_boundary([&] {
-      if (!running()) before = s.model();
-      error = steer(s.model_for_steering(), change);
-    });
-    if (!running()) s.prepare();  // before the first step: the setup again, under the change if made
-    if (error.empty() && before && s.state().failure.failed) {
-      // The state could not be solved again under the change (a paste's velocities): refused, the
-      // model and the state as they were, rather than a state no run can leave.
-      const std::string why = s.state().failure.message;
-      s.model_for_steering() = std::move(*before);
-      s.restore(s.last_good_state());
-      throw std::runtime_error("set " + change.key + " " + c.args[1].text +
-                               ": refused, the state cannot be solved under it (" + why + ")");
+    if (running()) {
+      at_boundary([&] { error = steer(s.model_for_steering(), change); });
+    } else {
+      const Simulation::SteerOutcome outcome = s.steer_stopped(change);
+      if (!outcome.refused.empty())
+        throw std::runtime_error("set " + change.key + " " + c.args[1].text +
+                                 ": refused, the state cannot be solved under it (" + outcome.refused + ")");
+      error = outcome.cannot;
     }
     if (error.empty()) {
       overrides_ = std::move(next);

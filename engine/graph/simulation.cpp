@@ -182,6 +182,20 @@ Model& Simulation::model_for_steering() {
   return model_;
 }
 
+Simulation::SteerOutcome Simulation::steer_stopped(const Override& change) {
+  if (state_.failure.failed) restore(last_good_state());
+  Model before = model_;
+  SteerOutcome out;
+  out.cannot = steer(model_for_steering(), change);
+  prepare();  // before the first step: the setup again, under the change if made
+  if (!out.cannot.empty() || !state_.failure.failed) return out;
+  // Rather than a state no run can leave: the model and the state as they were.
+  out.refused = state_.failure.message;
+  model_for_steering() = std::move(before);
+  restore(last_good_state());
+  return out;
+}
+
 bool Simulation::step() {
   if (state_.failure.failed) return false;
   prepare();

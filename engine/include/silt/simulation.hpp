@@ -71,6 +71,15 @@ class Simulation {
   // step the state goes back to what it was before prepare(), whose setup stages then run again
   // under the changed parameters.
   Model& model_for_steering();
+  // A change steered while stopped (the shell's `set`; a sweep's next point): steer() on the
+  // model, then the state solved again under it (prepare()). A state whose solve failed under an
+  // earlier change goes back to its last good one first. The outcome, with the model and the state
+  // as they were unless both strings are empty.
+  struct SteerOutcome {
+    std::string cannot;   // steer()'s reason a running model cannot take it (compile the scene again)
+    std::string refused;  // the state cannot be solved under the change (a paste's velocities)
+  };
+  SteerOutcome steer_stopped(const Override& change);
   const State& state() const { return state_; }
   State& state() { return state_; }
   int threads() const { return threads_; }
