@@ -72,9 +72,10 @@ class Simulation {
   // under the changed parameters.
   Model& model_for_steering();
   // A change steered while stopped (the shell's `set`; a sweep's next point): steer() on the
-  // model, then the state solved again under it (prepare()). A state whose solve failed under an
-  // earlier change goes back to its last good one first. The outcome, with the model and the state
-  // as they were unless both strings are empty.
+  // model, then prepare(). A state whose solve failed under an earlier change goes back to its last
+  // good one first and is solved again at once under this change (else the next step solves it:
+  // its Phase::kResolve stages). If that solve fails, the change is refused with the model and the
+  // state as they were.
   struct SteerOutcome {
     std::string cannot;   // steer()'s reason a running model cannot take it (compile the scene again)
     std::string refused;  // the state cannot be solved under the change (a paste's velocities)

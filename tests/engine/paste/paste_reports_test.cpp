@@ -200,6 +200,35 @@ TEST_CASE("paste: a solve again under a steered viscosity that does not converge
   CHECK(sim->last_good_state().step == 2);
 }
 
+TEST_CASE("paste: a change steered while stopped that the state cannot be solved under is refused, all as it was") {
+  // The shell's `set` and a sweep's next point. A steered viscosity is solved again by the next
+  // step (which fails here, its solve held to 2 iterations); the next change is tried from the last
+  // good state, solved again at once, and refused with the model and the state as they were,
+  // rather than leaving a state no run can leave.
+  auto sim = test::simulation_from(loose_scene("solver = \"cg\""), 1);
+  for (int k = 0; k < 2; ++k) REQUIRE(sim->step());
+  Simulation::SteerOutcome o = sim->steer_stopped(parse_override("lubrication.max_iterations=2"));
+  REQUIRE((o.cannot.empty() && o.refused.empty()));
+  const uint64_t good = state_hash(sim->state());
+  o = sim->steer_stopped(parse_override("lubrication.viscosity=2.0"));
+  REQUIRE((o.cannot.empty() && o.refused.empty()));
+  CHECK_FALSE(sim->step());
+  CHECK(sim->state().failure.stage == "lubrication_resolve");
+  o = sim->steer_stopped(parse_override("lubrication.viscosity=3.0"));
+  CHECK(o.cannot.empty());
+  CAPTURE(o.refused);
+  CHECK(o.refused.find("did not converge") != std::string::npos);
+  CHECK(state_hash(sim->state()) == good);
+  CHECK_FALSE(sim->state().failure.failed);
+  // With the solve's iterations back, the run goes on.
+  o = sim->steer_stopped(parse_override("lubrication.max_iterations=1000"));
+  CHECK((o.cannot.empty() && o.refused.empty()));
+  REQUIRE(sim->step());
+  CHECK(sim->state().step == 3);
+  // A key a running model cannot take is said, for the caller to compile the scene again.
+  CHECK_FALSE(sim->steer_stopped(parse_override("shear.viscous_number=0.1")).cannot.empty());
+}
+
 TEST_CASE("paste: the state before the first step shows the paste's first step, not the contacts' dt") {
   auto sim = test::simulation_from(loose_scene(""), 1);
   const double dem_dt = sim->state().dt;
