@@ -83,8 +83,12 @@ std::string shared_output(const RunArgs& a) {
     const std::filesystem::path abs = std::filesystem::absolute(*path, ec).lexically_normal();
     std::filesystem::path p = std::filesystem::weakly_canonical(abs, ec);
     if (ec) p = abs;
-    for (const auto& [other, q] : files)
+    // (each is written to its name + ".tmp", then renamed: --stats X.tmp --save X lost the stats)
+    for (const auto& [other, q] : files) {
       if (q == p) return other + " and " + option + " name the same file, " + *path;
+      if (q.string() + ".tmp" == p.string() || q.string() == p.string() + ".tmp")
+        return other + " and " + option + " name a file and its temporary file (NAME.tmp, written, then renamed)";
+    }
     files.emplace_back(option, p);
     // (a stats file named as a frame in the frames' directory was overwritten by that frame)
     if (render::FrameWriter::owns(*path, a.frames))

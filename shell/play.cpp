@@ -33,7 +33,7 @@ int flush_background(shell::Session& session, const std::string& where) {
     code = static_cast<int>(ExitCode::kNumerical);
   }
   if (const std::string lost = session.take_output_error(); !lost.empty()) {
-    std::cerr << where << ":1: the background run's output: " << lost << "\n" << std::flush;
+    std::cerr << where << ":1: the run's output: " << lost << "\n" << std::flush;
     code = std::max(code, static_cast<int>(ExitCode::kIo));
   }
   return code;

@@ -456,6 +456,8 @@ void Session::run_for(const RunLength& len, bool background) {
     const RunReport r = job.run(opt);
     if (bar) bar->finish();
     if (frames_) frames_->finish();
+    // (an output's error is noted before a failure is thrown: it was lost then)
+    note_output_errors();
     if (const std::string failure = report(r, job, false); !failure.empty()) throw RunFailure(failure);
     report_output_errors();
     return;

@@ -32,9 +32,9 @@ void Session::cmd_load(const Command& c) {
   require_stopped("cannot load a scene");
   const std::string file = input_path(c.args[0].text);
   Model m = compile(load_scene_file(file));  // throws: the previous scene stays
+  install(std::move(m), std::nullopt);       // throws (a preparation that fails): the same
   scene_file_ = file;
   overrides_.clear();
-  install(std::move(m), std::nullopt);
   const Model& model = sim_->model();
   out_ << "loaded " << file << ": " << model.n_grains << " grains (" << model.dim << "D), "
        << (model.adaptive_dt ? "adaptive time step"

@@ -27,6 +27,7 @@ void Session::cmd_stats(const Command& c) {
     size_t n = 0;
     at_boundary([&] {
       n = stats_->rows().size();
+      note_output_errors();                              // the writer replaced: its error stays to be reported
       std::vector<std::string> names = stats_->names();  // (emplace destroys the series first)
       stats_.emplace("", std::move(names));
     });
@@ -38,7 +39,10 @@ void Session::cmd_stats(const Command& c) {
   }
   if (a.size() == 1 && a[0].text == "off") {
     if (stats_file_.empty()) throw std::runtime_error("the samples go to no file (stats FILE.csv [every N])");
-    at_boundary([&] { stats_.emplace(reseries(*stats_, "")); });
+    at_boundary([&] {
+      note_output_errors();  // the writer replaced: its error stays to be reported
+      stats_.emplace(reseries(*stats_, ""));
+    });
     out_ << "stats no longer written to " << stats_file_ << "\n";
     stats_file_.clear();
     stats_every_ = 0;

@@ -14,10 +14,13 @@ std::string steer_dem(Model& m, const Model& fresh) {
 }
 
 // The grains `freeze` froze in the running model, frozen in the one compiled again (only when
-// they are the same grains: else the fingerprints differ anyway).
+// they are the same grains: else the fingerprints differ anyway). Not the grains the scene froze:
+// `set grains.0.frozen false` unfreezes those.
 void carry_frozen(Model& fresh, const Model& m) {
-  if (fresh.init.frozen.size() != m.init.frozen.size() || fresh.init.frozen == m.init.frozen) return;
-  for (size_t i = 0; i < m.init.frozen.size(); ++i) fresh.init.frozen[i] |= m.init.frozen[i];
+  const std::vector<uint8_t>& by_freeze = m.init.frozen_by_freeze;
+  if (by_freeze.empty() || fresh.init.frozen.size() != by_freeze.size()) return;
+  for (size_t i = 0; i < by_freeze.size(); ++i) fresh.init.frozen[i] |= by_freeze[i];
+  fresh.init.frozen_by_freeze = by_freeze;
   refresh_frozen(fresh);
 }
 

@@ -25,6 +25,8 @@ int64_t Simulation::freeze(int axis, bool below, double value) {
     for (int k = 0; k < D; ++k) s.particle_v[D * i + k] = 0;
     for (int k = 0; k < R; ++k) s.particle_w[R * i + k] = 0;
     m.init.frozen[s.particle_id[i]] = 1;
+    if (m.init.frozen_by_freeze.empty()) m.init.frozen_by_freeze.assign(m.init.frozen.size(), 0);
+    m.init.frozen_by_freeze[s.particle_id[i]] = 1;
     ++count;
   }
   if (count == 0) return 0;

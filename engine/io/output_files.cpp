@@ -40,6 +40,14 @@ void check_not_input(const std::string& path, const std::string& input, const st
     throw IoError("cannot write " + what + " '" + path + "': it is " + input_what + ", which it would overwrite");
 }
 
+std::string written_name(const std::string& path) {
+  std::string name = std::filesystem::path(path).filename().string();
+  constexpr std::string_view kTmp = ".tmp";
+  if (name.size() > kTmp.size() && name.compare(name.size() - kTmp.size(), kTmp.size(), kTmp) == 0)
+    name.resize(name.size() - kTmp.size());
+  return name;
+}
+
 bool is_numbered_file(const std::string& name, const NumberedSeries& series) {
   for (const auto& [prefix, ext] : series) {
     const size_t digits = prefix.size();
@@ -57,7 +65,9 @@ bool is_in_directory(const std::string& path, const std::string& dir) {
   const auto canonical = [&ec](const fs::path& p) {
     const fs::path abs = fs::absolute(p, ec).lexically_normal();
     fs::path c = fs::weakly_canonical(abs, ec);
-    return ec ? abs : c;
+    if (ec) c = abs;
+    // (a directory not made yet, given as "o2/", kept its slash and was not "o2")
+    return c.has_filename() || !c.has_parent_path() ? c : c.parent_path();
   };
   fs::path parent = fs::path(path).parent_path();
   if (parent.empty()) parent = ".";

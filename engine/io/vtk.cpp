@@ -93,7 +93,7 @@ const NumberedSeries& VtkWriter::series() {
 }
 
 bool VtkWriter::owns(const std::string& path, const std::string& dir) {
-  const std::string name = std::filesystem::path(path).filename().string();
+  const std::string name = written_name(path);
   return (name == "index.pvd" || is_numbered_file(name, series())) && is_in_directory(path, dir);
 }
 

@@ -139,11 +139,25 @@ TEST_CASE(
   std::string out = play(dir, "load crushed.toml\n", "", &code);
   CHECK(code == 3);
   CHECK(contains(out, "nothing was loaded"));
-  const std::string load = "load " + silt::test::scene_path("collision_normal") + "\nrun 10\n";
-  out = play(dir, load + "load crushed.toml\nprint step\n", "--keep-going", &code);
-  CHECK(code == 3);
+  // The scene loaded before stays the scene: `reload` reads it, and it is not an output (a failed
+  // load had made the crushed scene the session's, and `save` wrote over the loaded one).
+  std::string normal;
+  {
+    std::ifstream in(silt::test::scene_path("collision_normal"));
+    normal.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  std::ofstream(dir / "normal.toml") << normal;
+  out = play(dir, "load normal.toml\nrun 10\nload crushed.toml\nprint step\nsave normal.toml\nreload\nprint step\n",
+             "--keep-going", &code);
+  CHECK(code == 4);  // the highest: the save refused after the failure (3)
   CHECK(contains(out, "the scene and its state are as they were"));
   CHECK(contains(out, "step = 10"));
+  CHECK(contains(out, "reloaded normal.toml"));
+  {
+    std::ifstream in(dir / "normal.toml");
+    CHECK(std::string(std::istreambuf_iterator<char>(in), {}) == normal);
+  }
+  const std::string load = "load " + silt::test::scene_path("collision_normal") + "\nrun 10\n";
   // `stats` onto the script being played replaced its next lines with CSV rows.
   const std::string script = load + "stats play.silt\nprint step\n";
   out = play(dir, script, "", &code);
@@ -151,6 +165,26 @@ TEST_CASE(
   CHECK(contains(out, "a script being played"));
   std::ifstream in(dir / "play.silt");
   CHECK(std::string(std::istreambuf_iterator<char>(in), {}) == script);
+}
+
+TEST_CASE("silt play: a stats file that can no longer be written is reported when the run then fails") {
+  // The failure was thrown before the outputs' errors were noted: the lost rows went unsaid.
+  // The file is held to 1 kB (ulimit -f; SIGXFSZ ignored, so a write past it fails with EFBIG).
+  TempDir dir;
+  const std::string script =
+      "load " + silt::test::scene_path("bounce_dry") + "\nstats s.csv every 1\nset gravity.magnitude 1e7\nrun 20000\n";
+  std::ofstream(dir / "play.silt") << script;
+  const std::string cmd = "cd " + dir.path() + " && trap '' XFSZ && ulimit -f 2 && " + silt::test::silt_binary() +
+                          " play play.silt --threads 1 2>&1";
+  std::FILE* p = popen(cmd.c_str(), "r");
+  std::string out;
+  char buf[4096];
+  for (size_t n; (n = std::fread(buf, 1, sizeof buf, p)) > 0;) out.append(buf, n);
+  const int status = pclose(p);
+  CHECK(WIFEXITED(status));
+  CHECK(WEXITSTATUS(status) == 4);  // the failure (3) and the lost rows (4): the highest
+  CHECK(contains(out, "stage energy_check"));
+  CHECK(contains(out, "the run's output: stats file s.csv no longer written"));
 }
 
 TEST_CASE("silt play: steering acts on the next steps, also during a background run") {

@@ -68,6 +68,14 @@ TEST_CASE("grains frozen by freeze stay frozen, with the state, when a key is se
   CHECK(f.value("p[0].vz") == 0);
   REQUIRE(f.run("get gravity.magnitude"));
   CHECK(f.take_out().find('7') != std::string::npos);
+  // Grains the scene froze are not carried: unfrozen by the scene, they fall.
+  Fixture g;
+  REQUIRE(g.run("load " + test::scene_path("bounce_dry")));
+  REQUIRE(g.run("set grains.0.frozen true"));
+  REQUIRE(g.run("run 10"));
+  REQUIRE(g.run("set grains.0.frozen false"));
+  REQUIRE(g.run("run 100"));
+  CHECK(g.value("p[0].vz") < 0);
 }
 
 TEST_CASE("a restored state is kept when a key that is not steerable changes before the first step") {

@@ -101,6 +101,9 @@ void make_output_directory(const std::string& dir, const std::string& what);
 using NumberedSeries = std::vector<std::pair<std::string, std::string>>;
 // Whether `name` (a file name without its directory) is one of `series`'.
 bool is_numbered_file(const std::string& name, const NumberedSeries& series);
+// The file name of `path` without a ".tmp" ending: the name of what a file written as NAME.tmp and
+// renamed becomes (frames, the VTK index, checkpoints and summaries are written so).
+std::string written_name(const std::string& path);
 // Whether the file `path` lies in the directory `dir` (either named by any path).
 bool is_in_directory(const std::string& path, const std::string& dir);
 // Removes from `dir` the regular files named as `series`' (an earlier run's numbered files, which

@@ -150,6 +150,9 @@ struct GrainInit {
   std::vector<double> x, v, w;  // N*D, N*D, N*kRotDim
   std::vector<double> radius, mass, inertia;
   std::vector<uint8_t> frozen;
+  // Of those, the grains Simulation::freeze froze (empty when none): not in the scene, carried
+  // into a model compiled again from it (ModuleSpec::carry).
+  std::vector<uint8_t> frozen_by_freeze;
   std::vector<int32_t> group;
 };
 
