@@ -183,7 +183,13 @@ Model& Simulation::model_for_steering() {
 }
 
 Simulation::SteerOutcome Simulation::steer_stopped(const Override& change) {
-  if (state_.failure.failed) restore(last_good_state());
+  // restore() marks the state given; the last good state is the one we had, given or not (one
+  // made from the scene stays so before its first step: a recompile makes it again).
+  const bool given = impl_->given;
+  if (state_.failure.failed) {
+    restore(last_good_state());
+    impl_->given = given;
+  }
   Model before = model_;
   SteerOutcome out;
   out.cannot = steer(model_for_steering(), change);
@@ -193,6 +199,7 @@ Simulation::SteerOutcome Simulation::steer_stopped(const Override& change) {
   out.refused = state_.failure.message;
   model_for_steering() = std::move(before);
   restore(last_good_state());
+  impl_->given = given;
   return out;
 }
 

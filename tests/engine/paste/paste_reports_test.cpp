@@ -227,6 +227,15 @@ TEST_CASE("paste: a change steered while stopped that the state cannot be solved
   CHECK(sim->state().step == 3);
   // A key a running model cannot take is said, for the caller to compile the scene again.
   CHECK_FALSE(sim->steer_stopped(parse_override("shear.viscous_number=0.1")).cannot.empty());
+  // After a first step that failed, the state steered from is the scene's, not one given (which a
+  // change of the scene would keep rather than make again).
+  auto fresh = test::simulation_from(loose_scene("solver = \"cg\"\nmax_iterations = 3"), 1);
+  CHECK_FALSE(fresh->step());
+  o = fresh->steer_stopped(parse_override("lubrication.max_iterations=1000"));
+  CHECK((o.cannot.empty() && o.refused.empty()));
+  CHECK(fresh->state().step == 0);
+  CHECK_FALSE(fresh->state_given());
+  CHECK(fresh->step());
 }
 
 TEST_CASE("paste: the state before the first step shows the paste's first step, not the contacts' dt") {
