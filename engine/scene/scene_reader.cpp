@@ -171,7 +171,6 @@ class Reader {
   std::string file_;
 };
 
-// "grains.0.count" -> "grains[0].count"; "grains[0].count" unchanged.
 // `batch`: one of the command line's --set list, which may not hold two alternatives.
 void apply_override_at(SceneDesc& desc, const Override& o, int ordinal, bool batch) {
   const FileLoc where{"--set", ordinal, static_cast<int>(o.key.size()) + 2};
