@@ -103,8 +103,11 @@ void Session::report_output_errors() {
 std::string Session::input_path(const std::string& file) const {
   std::error_code ec;
   const std::filesystem::path p(file);
-  if (!std::filesystem::exists(p, ec) && p.is_relative() && !script_dir_.empty()) {
-    const std::string beside = (std::filesystem::path(script_dir_) / p).string();
+  // Beside the innermost script being read.
+  const std::string script_dir =
+      scripts_.empty() ? std::string() : std::filesystem::path(scripts_.back()).parent_path().string();
+  if (!std::filesystem::exists(p, ec) && p.is_relative() && !script_dir.empty()) {
+    const std::string beside = (std::filesystem::path(script_dir) / p).string();
     if (std::filesystem::exists(beside, ec)) return beside;
   }
   if (const std::string problem = input_file_problem(file); !problem.empty()) throw IoError(problem);

@@ -123,8 +123,9 @@ class Session {
   bool progress_ = false;
   int source_depth_ = 0;
   int last_error_code_ = 0;
-  std::string script_dir_;
-  std::vector<std::string> scripts_;  // the scripts being read (play's, sourced ones)
+  // The scripts being read (play's, sourced ones), the innermost last: relative input files are
+  // also looked for beside it.
+  std::vector<std::string> scripts_;
   // IoError when `path` is the scene file or a script being read (a `stats` onto the script
   // played replaced its next lines with CSV rows).
   void check_not_inputs(const std::string& path, const std::string& what) const;

@@ -334,10 +334,7 @@ void Session::check_not_open_file(const std::string& path, const std::string& wh
   check_not_series_file(path, what);
 }
 
-void Session::set_script(const std::string& path) {
-  script_dir_ = std::filesystem::path(path).parent_path().string();
-  scripts_ = {path};
-}
+void Session::set_script(const std::string& path) { scripts_ = {path}; }
 
 void Session::check_not_inputs(const std::string& path, const std::string& what) const {
   check_not_input(path, scene_file_, what);
@@ -403,7 +400,6 @@ void Session::cmd_source(const Command& c) {
   std::ifstream in(file);
   if (!in) throw std::runtime_error("cannot read '" + file + "'");
   // The script's own relative files are found beside it, as in `silt play`.
-  const std::string outer_dir = std::exchange(script_dir_, std::filesystem::path(file).parent_path().string());
   scripts_.push_back(file);
   ++source_depth_;
   std::string line;
@@ -420,7 +416,6 @@ void Session::cmd_source(const Command& c) {
   }
   --source_depth_;
   scripts_.pop_back();
-  script_dir_ = outer_dir;
   if (script_interrupted_) throw std::runtime_error("source " + file + " interrupted at line " + std::to_string(n));
   if (!ok) throw std::runtime_error("source " + file + " stopped at line " + std::to_string(n));
 }
