@@ -72,24 +72,15 @@ int prepare(Simulation& sim, const RunArgs& a, RunJob& job, std::string& warning
 // Two outputs written to one file would leave only the last: the two options, or "" when every
 // output file is its own (a device such as /dev/stdout may take several).
 std::string shared_output(const RunArgs& a) {
-  std::vector<std::pair<std::string, std::filesystem::path>> files;
-  for (const auto& [option, path] : {std::pair<std::string, const std::string*>{"--stats", &a.stats},
-                                     {"--summary", &a.summary},
-                                     {"--save", &a.save}}) {
+  const std::vector<std::pair<std::string, const std::string*>> files = {
+      {"--stats", &a.stats}, {"--summary", &a.summary}, {"--save", &a.save}};
+  for (size_t i = 0; i < files.size(); ++i) {
+    const auto& [option, path] = files[i];
     if (path->empty()) continue;
-    std::error_code ec;
-    const auto st = std::filesystem::status(*path, ec);
-    if (std::filesystem::exists(st) && !std::filesystem::is_regular_file(st)) continue;
-    const std::filesystem::path abs = std::filesystem::absolute(*path, ec).lexically_normal();
-    std::filesystem::path p = std::filesystem::weakly_canonical(abs, ec);
-    if (ec) p = abs;
     // (each is written to its name + ".tmp", then renamed: --stats X.tmp --save X lost the stats)
-    for (const auto& [other, q] : files) {
-      if (q == p) return other + " and " + option + " name the same file, " + *path;
-      if (q.string() + ".tmp" == p.string() || q.string() == p.string() + ".tmp")
-        return other + " and " + option + " name a file and its temporary file (NAME.tmp, written, then renamed)";
-    }
-    files.emplace_back(option, p);
+    for (size_t j = 0; j < i; ++j)
+      if (const std::string clash = output_clash(*files[j].second, *path); !clash.empty())
+        return files[j].first + " and " + option + " name " + clash + ", " + *path;
     // (a stats file named as a frame in the frames' directory was overwritten by that frame)
     if (render::FrameWriter::owns(*path, a.frames))
       return option + " " + *path + " is a frame's name in --frames " + a.frames;

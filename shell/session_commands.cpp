@@ -328,9 +328,9 @@ void Session::cmd_render(const Command& c) {
 
 void Session::check_not_open_file(const std::string& path, const std::string& what) const {
   check_not_inputs(path, what);
-  std::error_code ec;
-  if (!stats_file_.empty() && std::filesystem::equivalent(path, stats_file_, ec))
-    throw IoError("cannot write " + what + " '" + path + "': it is the stats file being written; `stats off` first");
+  if (const std::string clash = output_clash(path, stats_file_); !clash.empty())
+    throw IoError("cannot write " + what + " '" + path + "': it and the stats file being written, " + stats_file_ +
+                  ", are " + clash + "; `stats off` first");
   check_not_series_file(path, what);
 }
 

@@ -32,12 +32,45 @@ void check_output_path(const std::string& path, const std::string& what, bool re
     throw IoError("cannot write " + what + " '" + path + "': " + std::strerror(errno) + " (its directory)");
 }
 
+std::filesystem::path canonical_path(const std::string& path) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const fs::path abs = fs::absolute(path.empty() ? "." : path, ec).lexically_normal();
+  fs::path c = fs::weakly_canonical(abs, ec);
+  if (ec) c = abs;
+  // (a directory not made yet, given as "o2/", kept its slash and was not "o2")
+  return c.has_filename() || !c.has_parent_path() ? c : c.parent_path();
+}
+
+namespace {
+
+// A device or a pipe is written in place and may take several outputs.
+bool is_special_file(const std::string& path) {
+  std::error_code ec;
+  const auto st = std::filesystem::status(path, ec);
+  return std::filesystem::exists(st) && !std::filesystem::is_regular_file(st) && !std::filesystem::is_directory(st);
+}
+
+}  // namespace
+
+bool overwrites(const std::string& path, const std::string& file) {
+  if (path.empty() || file.empty() || is_special_file(path) || is_special_file(file)) return false;
+  const std::string p = canonical_path(path).string(), f = canonical_path(file).string();
+  return p == f || p + ".tmp" == f;
+}
+
+std::string output_clash(const std::string& a, const std::string& b) {
+  if (!overwrites(a, b) && !overwrites(b, a)) return "";
+  return canonical_path(a) == canonical_path(b) ? "the same file"
+                                                : "a file and its temporary file (NAME.tmp, written, then renamed)";
+}
+
 void check_not_input(const std::string& path, const std::string& input, const std::string& what,
                      const std::string& input_what) {
-  if (path.empty() || input.empty()) return;
-  std::error_code ec;
-  if (std::filesystem::equivalent(path, input, ec))
-    throw IoError("cannot write " + what + " '" + path + "': it is " + input_what + ", which it would overwrite");
+  if (!overwrites(path, input)) return;
+  const bool same = canonical_path(path) == canonical_path(input);
+  throw IoError("cannot write " + what + " '" + path + "': " + (same ? "it is " : "its temporary file (NAME.tmp) is ") +
+                input_what + ", which it would overwrite");
 }
 
 std::string written_name(const std::string& path) {
@@ -59,19 +92,9 @@ bool is_numbered_file(const std::string& name, const NumberedSeries& series) {
 }
 
 bool is_in_directory(const std::string& path, const std::string& dir) {
-  namespace fs = std::filesystem;
   if (path.empty() || dir.empty()) return false;
-  std::error_code ec;
-  const auto canonical = [&ec](const fs::path& p) {
-    const fs::path abs = fs::absolute(p, ec).lexically_normal();
-    fs::path c = fs::weakly_canonical(abs, ec);
-    if (ec) c = abs;
-    // (a directory not made yet, given as "o2/", kept its slash and was not "o2")
-    return c.has_filename() || !c.has_parent_path() ? c : c.parent_path();
-  };
-  fs::path parent = fs::path(path).parent_path();
-  if (parent.empty()) parent = ".";
-  return canonical(parent) == canonical(fs::path(dir));
+  const std::string parent = std::filesystem::path(path).parent_path().string();
+  return canonical_path(parent.empty() ? "." : parent) == canonical_path(dir);
 }
 
 int64_t remove_numbered_files(const std::string& dir, const NumberedSeries& series) {

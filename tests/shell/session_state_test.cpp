@@ -2,6 +2,7 @@
 #include "shell_fixtures.hpp"
 #include "support/scenes.hpp"
 
+#include <filesystem>
 #include <fstream>
 
 using namespace silt;
@@ -112,13 +113,23 @@ TEST_CASE("save onto the stats file being written is refused and the stats are k
   REQUIRE(f.run("stats " + dir / "s.csv" + " every 1"));
   REQUIRE(f.run("run 3"));
   CHECK_FALSE(f.run("save " + dir / "s.csv"));
-  CHECK(f.take_err().find("it is the stats file being written") != std::string::npos);
+  CHECK(f.take_err().find("the stats file being written, " + dir / "s.csv" + ", are the same file") !=
+        std::string::npos);
+  // A checkpoint is written to NAME.tmp, then renamed: NAME.tmp streaming the stats was emptied.
+  REQUIRE(f.run("stats " + dir / "c.ckpt.tmp" + " every 1"));
+  REQUIRE(f.run("run 3"));
+  CHECK_FALSE(f.run("save " + dir / "c.ckpt"));
+  CHECK(f.take_err().find("a file and its temporary file") != std::string::npos);
+  CHECK_FALSE(std::filesystem::exists(dir / "c.ckpt"));
   REQUIRE(f.run("run 3"));
   REQUIRE(f.run("stats off"));
-  std::ifstream in(dir / "s.csv");
-  std::string header;
-  std::getline(in, header);
-  CHECK(header.rfind("t,", 0) == 0);
+  for (const char* name : {"s.csv", "c.ckpt.tmp"}) {
+    CAPTURE(name);
+    std::ifstream in(dir / name);
+    std::string header;
+    std::getline(in, header);
+    CHECK(header.rfind("t,", 0) == 0);
+  }
 }
 
 TEST_CASE("a file named as a frame or a VTK file where they are written is refused, before or after them") {

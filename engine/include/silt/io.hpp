@@ -3,6 +3,7 @@
 
 #include <array>
 #include <cstdio>
+#include <filesystem>
 #include <map>
 #include <optional>
 #include <string>
@@ -89,8 +90,19 @@ struct ProfileSeries {
 // `regular_only`, an existing path must be a regular file (a checkpoint is renamed over it: never
 // over a device).
 void check_output_path(const std::string& path, const std::string& what, bool regular_only = false);
-// IoError when `path` is the input file `input` (the same file by another name too): an output
-// given the scene's own name would overwrite it. `input_what` names the input in the message.
+// The file `path` names as one path: absolute, normal, symbolic links resolved as far as the path
+// exists, no trailing slash; two names of one file give the same.
+std::filesystem::path canonical_path(const std::string& path);
+// Whether writing the output `path` (to PATH.tmp, then renamed) would overwrite the file `file`:
+// it is that file, or its temporary file is. A device or a pipe (written in place) overwrites nothing.
+bool overwrites(const std::string& path, const std::string& file);
+// Why two outputs, each written to NAME.tmp and renamed or streamed in place, would leave only
+// one: "the same file" or "a file and its temporary file (NAME.tmp, written, then renamed)"; ""
+// when they are apart (or either is "", a device or a pipe).
+std::string output_clash(const std::string& a, const std::string& b);
+// IoError when `path` is the input file `input` (the same file by another name too) or its
+// temporary file would be: an output given the scene's own name would overwrite it. `input_what`
+// names the input in the message.
 void check_not_input(const std::string& path, const std::string& input, const std::string& what,
                      const std::string& input_what = "the scene file");
 // Before a run: the directory `dir` of a series of files (frames, VTK), made if it is not there;

@@ -1,0 +1,71 @@
+// Output names: one path for every name of a file, and the pairs of outputs that would overwrite
+// one another (the same file, or a file and the NAME.tmp it is written to before the rename).
+#include <doctest/doctest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "silt/errors.hpp"
+#include "silt/io.hpp"
+
+using namespace silt;
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Dir {
+  fs::path path = fs::temp_directory_path() / "silt_output_files_test";
+  Dir() {
+    fs::remove_all(path);
+    fs::create_directories(path / "sub");
+  }
+  ~Dir() { fs::remove_all(path); }
+  std::string operator/(const std::string& name) const { return (path / name).string(); }
+};
+
+}  // namespace
+
+TEST_CASE("canonical_path gives one path for every name of a file, made or not") {
+  const Dir d;
+  CHECK(canonical_path(d / "sub/../a.csv") == canonical_path(d / "a.csv"));
+  CHECK(canonical_path(d / "sub/") == canonical_path(d / "sub"));
+  CHECK(canonical_path(d / "not_made/") == canonical_path(d / "not_made"));
+  CHECK(canonical_path(d / "not_made/x/../y") == canonical_path(d / "not_made/y"));
+  fs::create_directory_symlink(d.path / "sub", d.path / "link");
+  CHECK(canonical_path(d / "link/a.csv") == canonical_path(d / "sub/a.csv"));
+  CHECK(canonical_path("") == canonical_path("."));
+  CHECK(canonical_path("").is_absolute());
+}
+
+TEST_CASE("two outputs clash when they are one file or one is the other's temporary file") {
+  const Dir d;
+  CHECK(output_clash(d / "a.csv", d / "sub/../a.csv") == "the same file");
+  CHECK(output_clash(d / "a.ckpt", d / "a.ckpt.tmp").find("temporary file") != std::string::npos);
+  CHECK(output_clash(d / "a.ckpt.tmp", d / "a.ckpt").find("temporary file") != std::string::npos);
+  CHECK(output_clash(d / "a.ckpt", d / "a.ckpt.tmp.tmp").empty());
+  CHECK(output_clash(d / "a.csv", d / "b.csv").empty());
+  CHECK(output_clash(d / "a.csv", "").empty());
+  CHECK(output_clash("/dev/null", "/dev/null").empty());  // a device takes several
+  // Writing X overwrites X and X.tmp; nothing else.
+  CHECK(overwrites(d / "x", d / "x.tmp"));
+  CHECK_FALSE(overwrites(d / "x.tmp", d / "x"));
+}
+
+TEST_CASE("an output named as an input, or whose temporary file is, is refused with the reason") {
+  const Dir d;
+  std::ofstream(d / "scene.toml") << "# a scene\n";
+  CHECK_THROWS_WITH_AS(check_not_input(d / "sub/../scene.toml", d / "scene.toml", "checkpoint"),
+                       doctest::Contains("it is the scene file"), IoError);
+  std::ofstream(d / "play.tmp") << "run 1\n";
+  CHECK_THROWS_WITH_AS(check_not_input(d / "play", d / "play.tmp", "checkpoint", "a script being played"),
+                       doctest::Contains("its temporary file (NAME.tmp) is a script being played"), IoError);
+  CHECK_NOTHROW(check_not_input(d / "scene.toml.tmp", d / "scene.toml", "checkpoint"));
+}
+
+TEST_CASE("is_in_directory compares the file's directory with any name of the directory") {
+  const Dir d;
+  CHECK(is_in_directory(d / "sub/f.png", d / "sub/"));
+  CHECK(is_in_directory(d / "sub/../sub/f.png", d / "sub"));
+  CHECK_FALSE(is_in_directory(d / "f.png", d / "sub"));
+  CHECK_FALSE(is_in_directory("", d / "sub"));
+}
