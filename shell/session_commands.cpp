@@ -163,19 +163,16 @@ void Session::cmd_set(const Command& c) {
   // given: a prepared packing (kPreparationKept) or a restored checkpoint (as `silt run --restore
   // X --set K=V`).
   Model m = compile(scene_with(next));
-  const Model& old = s.model();
   // (grains frozen by `freeze` are kept frozen: the state was discarded as of other grains)
-  const bool same_grains = carry_running(m, old) && m.walls.size() == old.walls.size();
-  const bool same_grid =
-      m.cells == old.cells && m.box.lo == old.box.lo && m.box.len == old.box.len && m.box.periodic == old.box.periodic;
-  const bool same_start = s.state().step > 0 || s.state_given();
-  const bool same = same_grains && same_grid && same_start;
+  const Simulation::Recompile how = s.recompile(m);
+  const bool same = how == Simulation::Recompile::kStateKept;
   std::optional<State> keep;
   if (same) keep = s.state();  // (the cycles go on from their phase: the state holds its origin)
   const State& was = s.state();
-  const char* what = !same_grains ? "the grains changed: back to t = 0"
-                     : !same_grid ? "the domain or the fluid's grid changed: back to t = 0"
-                                  : "the state at t = 0 made again";
+  const char* what = how == Simulation::Recompile::kGrainsChanged ? "the grains changed: back to t = 0"
+                     : how == Simulation::Recompile::kGridChanged
+                         ? "the domain or the fluid's grid changed: back to t = 0"
+                         : "the state at t = 0 made again";
   std::string discarded = std::string(" (") + what;
   if (was.step > 0 || stats_->rows().size() > 1)
     discarded += "; discarded: the run to t = " + format_number(was.t) + " s (step " + std::to_string(was.step) +

@@ -169,6 +169,15 @@ void Simulation::restore(State s) {
 
 bool Simulation::state_given() const { return impl_->given; }
 
+Simulation::Recompile Simulation::recompile(Model& next) const {
+  const Model& m = model();
+  if (!carry_running(next, m) || next.walls.size() != m.walls.size()) return Recompile::kGrainsChanged;
+  if (next.cells != m.cells || next.box.lo != m.box.lo || next.box.len != m.box.len ||
+      next.box.periodic != m.box.periodic)
+    return Recompile::kGridChanged;
+  return state_.step > 0 || state_given() ? Recompile::kStateKept : Recompile::kStartMadeAgain;
+}
+
 Model& Simulation::model_for_steering() {
   if (impl_->unprepared) {
     // Not stepped yet: back to the state before the setup, which the next step (or prepare())

@@ -97,6 +97,12 @@ class Simulation {
   // a recompile) rather than made from the scene: a change of parameters keeps it even before
   // its first step.
   bool state_given() const;
+  // What compiling the scene again with changed values (`next`) does to the state: kept when
+  // `next` describes the same grains and walls (with what this model carries beyond its scene,
+  // ModuleSpec::carry, which goes into `next`), the same domain and grid, and the state is past
+  // its start (a step made, or given); else made again at t = 0, for the reason returned.
+  enum class Recompile { kStateKept, kGrainsChanged, kGridChanged, kStartMadeAgain };
+  Recompile recompile(Model& next) const;
   RunReport run(const RunOptions& opt);
   // The steps a run of these options does at most: opt.steps, or steps_in(opt.time, dt).
   int64_t steps_for(const RunOptions& opt) const;

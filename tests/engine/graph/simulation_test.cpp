@@ -232,3 +232,25 @@ TEST_CASE("a step lost in the rounding of the time stops the run at advance_cloc
   CHECK(f.parameter == "run.dt");
   CHECK(f.message.find("lost in the rounding of the time") != std::string::npos);
 }
+
+TEST_CASE("a recompiled scene keeps the state of the same grains past its start, and says why not") {
+  const std::string text = test::fill(kSoft, {{"k", 1e4}, {"v", 1.0}});
+  auto sim = test::simulation_from(text);
+  auto recompile = [&](const std::string& from, const std::string& to) {
+    std::string changed = text;
+    changed.replace(changed.find(from), from.size(), to);
+    Model next = test::model_from(changed);
+    return sim->recompile(next);
+  };
+  using R = Simulation::Recompile;
+  // Before the first step the state is the scene's: made again from the scene as changed.
+  CHECK(recompile("dt = 1e-3", "dt = 5e-4") == R::kStartMadeAgain);
+  CHECK(recompile("[-1, 0, 0], [1, 0, 0]", "[-1, 0, 0], [1.5, 0, 0]") == R::kStartMadeAgain);
+  REQUIRE(sim->step());
+  CHECK(recompile("dt = 1e-3", "dt = 5e-4") == R::kStateKept);
+  CHECK(recompile("k_n = 10000", "k_n = 20000") == R::kStateKept);
+  CHECK(recompile("radius = 0.5", "radius = 0.4") == R::kGrainsChanged);
+  // The positions given are where the grains start: the state past its start has its own.
+  CHECK(recompile("[-1, 0, 0], [1, 0, 0]", "[-1, 0, 0], [1.5, 0, 0]") == R::kStateKept);
+  CHECK(recompile("hi = [5, 5, 5]", "hi = [6, 5, 5]") == R::kGridChanged);
+}
