@@ -11,7 +11,7 @@ bool declared(const Access& a, FieldId f) { return std::find(a.begin(), a.end(),
 // Other values of the same kind: a stage that reads them computes something else.
 void poison(double& x) { x = 1.25 * x + 0.0625; }
 void poison(bool& x) { x = !x; }
-void poison(int64_t& x) { x += 7; }
+void poison(int64_t& x) { x ^= 7; }  // (+ 7 overflowed on a checkpoint's largest count)
 void poison(Vec3a& v) {
   for (double& x : v) poison(x);
 }

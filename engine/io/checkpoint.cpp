@@ -193,7 +193,9 @@ std::string check_state(const State& s, const Model& m) {
     if (!std::isfinite(s.box.lo[k]) || !(s.box.len[k] > 0) || !std::isfinite(s.box.len[k]))
       return "the box is not finite";
   if (!(s.box.le_offset >= 0 && s.box.le_offset <= s.box.len[0])) return "the Lees-Edwards offset is outside [0, L_x]";
-  if (!std::isfinite(s.t) || !std::isfinite(s.dt) || s.step < 0) return "the time is not finite";
+  if (!std::isfinite(s.t) || !std::isfinite(s.dt)) return "the time is not finite";
+  // (a step count of 2^63 - 1 overflowed in the first step's energy check; a run is at most 9e18 steps)
+  if (s.step < 0 || s.step > static_cast<int64_t>(9e18)) return "the step count is outside [0, 9e18]";
   // What the modules keep of their own (a free-length array).
   for (const Module& mod : modules())
     if (mod.spec->check_state && m.module_on(mod.spec->name))

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 
 #include "core/machine.hpp"
 #include "shell/cli_fixtures.hpp"
@@ -213,6 +214,14 @@ TEST_CASE("an edited checkpoint with a recomputed checksum is refused as corrupt
   const Result r = silt_cli("run " + scene_path("collision_normal") + " --steps 10 --restore " + (dir / "bad.ckpt"));
   CHECK(r.code == 4);
   CHECK(contains(r.out, "corrupt: particle_x has 0 entries"));
+  // A step count of 2^63 - 1 overflowed at the first step (UBSan, in the energy check).
+  s = sim->state();
+  s.step = std::numeric_limits<int64_t>::max();
+  silt::write_checkpoint(dir / "last_step.ckpt", sim->model(), s);
+  const Result last =
+      silt_cli("run " + scene_path("collision_normal") + " --steps 10 --restore " + (dir / "last_step.ckpt"));
+  CHECK(last.code == 4);
+  CHECK(contains(last.out, "corrupt: the step count is outside [0, 9e18]"));
 }
 
 TEST_CASE("inputs the fuzzers found end in a clear message and the contract's exit code") {
@@ -231,6 +240,7 @@ TEST_CASE("inputs the fuzzers found end in a clear message and the contract's ex
       {shear + " --steps 3 --restore " + dir + "lees_edwards_overflow.ckpt", 3},
       {pack + " --steps 3 --restore " + dir + "nbr_start_past_pairs.ckpt", 4},
       {pack + " --steps 3 --restore " + dir + "scalar_nan.ckpt", 4},
+      {pack + " --steps 3 --restore " + dir + "step_count_max.ckpt", 4},
       // The sanitizer build's access check (one thread: the serial executor) stopped this run at
       // step 251 with an internal error.
       {"run " + scene_path("collision_normal") + " --quiet --threads 1 --steps 300 --restore " + dir +
