@@ -164,6 +164,10 @@ std::string check_state(const State& s, const Model& m) {
             bad = f.name + "[" + std::to_string(k) + "] is not finite";
             return;
           }
+    } else if constexpr (std::is_same_v<std::remove_cvref_t<decltype(v)>, int64_t>) {
+      // A count (steps, list builds): one at 2^63 - 1 overflowed at the first step that added
+      // to it; a run is at most 9e18 steps.
+      if (v < 0 || v > static_cast<int64_t>(9e18)) bad = f.name + " = " + std::to_string(v) + " is outside [0, 9e18]";
     } else if (!finite_value(v)) {
       bad = f.name + " is not finite";
     }
@@ -194,8 +198,6 @@ std::string check_state(const State& s, const Model& m) {
       return "the box is not finite";
   if (!(s.box.le_offset >= 0 && s.box.le_offset <= s.box.len[0])) return "the Lees-Edwards offset is outside [0, L_x]";
   if (!std::isfinite(s.t) || !std::isfinite(s.dt)) return "the time is not finite";
-  // (a step count of 2^63 - 1 overflowed in the first step's energy check; a run is at most 9e18 steps)
-  if (s.step < 0 || s.step > static_cast<int64_t>(9e18)) return "the step count is outside [0, 9e18]";
   // What the modules keep of their own (a free-length array).
   for (const Module& mod : modules())
     if (mod.spec->check_state && m.module_on(mod.spec->name))

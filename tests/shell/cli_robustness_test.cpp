@@ -221,7 +221,14 @@ TEST_CASE("an edited checkpoint with a recomputed checksum is refused as corrupt
   const Result last =
       silt_cli("run " + scene_path("collision_normal") + " --steps 10 --restore " + (dir / "last_step.ckpt"));
   CHECK(last.code == 4);
-  CHECK(contains(last.out, "corrupt: the step count is outside [0, 9e18]"));
+  CHECK(contains(last.out, "corrupt: step = 9223372036854775807 is outside [0, 9e18]"));
+  s = sim->state();
+  s.nbr_builds = -1;  // every integer scalar is a count
+  silt::write_checkpoint(dir / "builds.ckpt", sim->model(), s);
+  const Result builds =
+      silt_cli("run " + scene_path("collision_normal") + " --steps 10 --restore " + (dir / "builds.ckpt"));
+  CHECK(builds.code == 4);
+  CHECK(contains(builds.out, "corrupt: nbr_builds = -1 is outside [0, 9e18]"));
 }
 
 TEST_CASE("inputs the fuzzers found end in a clear message and the contract's exit code") {
