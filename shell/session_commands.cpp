@@ -164,7 +164,7 @@ void Session::cmd_set(const Command& c) {
   // X --set K=V`).
   Model m = compile(scene_with(next));
   // (grains frozen by `freeze` are kept frozen: the state was discarded as of other grains)
-  const Simulation::Recompile how = s.recompile(m);
+  const Simulation::Recompile how = s.after_recompile(m);
   const bool same = how == Simulation::Recompile::kStateKept;
   std::optional<State> keep;
   if (same) keep = s.state();  // (the cycles go on from their phase: the state holds its origin)

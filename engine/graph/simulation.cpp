@@ -169,7 +169,7 @@ void Simulation::restore(State s) {
 
 bool Simulation::state_given() const { return impl_->given; }
 
-Simulation::Recompile Simulation::recompile(Model& next) const {
+Simulation::Recompile Simulation::after_recompile(Model& next) const {
   const Model& m = model();
   if (!carry_running(next, m) || next.walls.size() != m.walls.size()) return Recompile::kGrainsChanged;
   if (next.cells != m.cells || next.box.lo != m.box.lo || next.box.len != m.box.len ||

@@ -44,33 +44,42 @@ std::filesystem::path canonical_path(const std::string& path) {
 
 namespace {
 
-// A device or a pipe is written in place and may take several outputs.
-bool is_special_file(const std::string& path) {
-  std::error_code ec;
-  const auto st = std::filesystem::status(path, ec);
-  return std::filesystem::exists(st) && !std::filesystem::is_regular_file(st) && !std::filesystem::is_directory(st);
+// How writing `a` (to A.tmp, then renamed) and `b` meet: one file, or one is the other's
+// temporary file. A device or a pipe, written in place, meets nothing.
+enum class Meet { kApart, kSame, kATmpIsB, kBTmpIsA };
+Meet meet(const std::string& a, const std::string& b) {
+  namespace fs = std::filesystem;
+  auto special = [](const std::string& path) {
+    std::error_code ec;
+    const auto st = fs::status(path, ec);
+    return fs::exists(st) && !fs::is_regular_file(st) && !fs::is_directory(st);
+  };
+  if (a.empty() || b.empty() || special(a) || special(b)) return Meet::kApart;
+  const std::string p = canonical_path(a).string(), q = canonical_path(b).string();
+  return p == q ? Meet::kSame : p + ".tmp" == q ? Meet::kATmpIsB : q + ".tmp" == p ? Meet::kBTmpIsA : Meet::kApart;
 }
 
 }  // namespace
 
 bool overwrites(const std::string& path, const std::string& file) {
-  if (path.empty() || file.empty() || is_special_file(path) || is_special_file(file)) return false;
-  const std::string p = canonical_path(path).string(), f = canonical_path(file).string();
-  return p == f || p + ".tmp" == f;
+  const Meet m = meet(path, file);
+  return m == Meet::kSame || m == Meet::kATmpIsB;
 }
 
 std::string output_clash(const std::string& a, const std::string& b) {
-  if (!overwrites(a, b) && !overwrites(b, a)) return "";
-  return canonical_path(a) == canonical_path(b) ? "the same file"
-                                                : "a file and its temporary file (NAME.tmp, written, then renamed)";
+  const Meet m = meet(a, b);
+  return m == Meet::kApart  ? ""
+         : m == Meet::kSame ? "the same file"
+                            : "a file and its temporary file (NAME.tmp, written, then renamed)";
 }
 
 void check_not_input(const std::string& path, const std::string& input, const std::string& what,
                      const std::string& input_what) {
-  if (!overwrites(path, input)) return;
-  const bool same = canonical_path(path) == canonical_path(input);
-  throw IoError("cannot write " + what + " '" + path + "': " + (same ? "it is " : "its temporary file (NAME.tmp) is ") +
-                input_what + ", which it would overwrite");
+  const Meet m = meet(path, input);
+  if (m != Meet::kSame && m != Meet::kATmpIsB) return;
+  throw IoError("cannot write " + what + " '" + path +
+                "': " + (m == Meet::kSame ? "it is " : "its temporary file (NAME.tmp) is ") + input_what +
+                ", which it would overwrite");
 }
 
 std::string written_name(const std::string& path) {

@@ -26,8 +26,9 @@ void setup_time(const SceneDesc& d, Model& m) {
     // A module's step (a fluid's from its CFL number and velocity scale) names its key: the cause
     // may be there (a lid of 1e300 m/s), not in the run's length.
     if (m.run_steps < 0)
-      d.fail("run.time", "run.time is more than 9e18 time steps of " + format_number(m.dt) + " s" +
-                             (m.dt_key != "run.dt" ? " (the step set by " + m.dt_key + " and the scene's speeds)" : ""));
+      d.fail("run.time",
+             "run.time is more than 9e18 time steps of " + format_number(m.dt) + " s" +
+                 (m.dt_key != "run.dt" ? " (the step set by " + m.dt_key + " and the scene's speeds)" : ""));
   }
   m.until_static.on = d.boolean("run.stop_when_static");
   m.until_static.force_tol = d.real("run.static_force_tol");
@@ -39,7 +40,7 @@ void setup_time(const SceneDesc& d, Model& m) {
 
 int64_t steps_in(double time, double dt) {
   const double n = std::ceil(time / dt - 1e-9);
-  if (!(n < 9e18)) return -1;
+  if (!(n < static_cast<double>(kMaxRunSteps))) return -1;
   return std::max<int64_t>(0, static_cast<int64_t>(n));
 }
 

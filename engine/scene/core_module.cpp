@@ -35,7 +35,7 @@ std::vector<KeySpec> core_keys() {
       // ---- run
       {"run.dt", K::kReal, std::nullopt, Range::positive(), "s", true, {}, "Time step."},
       {"run.dt_over_tc", K::kReal, std::nullopt, Range::open_closed(0, 1), "", true, {}, "Time step as a fraction of the contact time (default 0.02)."},
-      {"run.steps", K::kInt, std::nullopt, Range::closed(0, 9e18), "", false, {}, "Run length in steps."},
+      {"run.steps", K::kInt, std::nullopt, Range::closed(0, static_cast<double>(kMaxRunSteps)), "", false, {}, "Run length in steps."},
       {"run.time", K::kReal, std::nullopt, Range::non_negative(), "s", false, {}, "Run length in simulated time."},
       {"run.stop_when_static", K::kBool, Value(false), Range::any(), "", false, {}, "Stop when the packing is in equilibrium (forces, stresses and kinetic energy below the tolerances)."},
       {"run.static_force_tol", K::kReal, Value(1e-4), Range::positive(), "", false, {}, "Equilibrium: largest net force on a grain / (a^(d-1) P)."},

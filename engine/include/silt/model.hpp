@@ -316,8 +316,12 @@ struct Model {
   RunLimits limits;
 };
 
+// The longest run, in steps (an int64_t holds it with room to spare): run.steps' bound, and a
+// checkpoint's counts beyond it are corrupt.
+inline constexpr int64_t kMaxRunSteps = 9'000'000'000'000'000'000;
+
 // The number of steps of dt in a run of `time` [s]: ceil(time / dt), a last step that would
-// overshoot by less than 1e-9 dt not counted; -1 when it is more than 9e18. The one conversion of
+// overshoot by less than 1e-9 dt not counted; -1 when it is more than kMaxRunSteps. The one conversion of
 // a run length in time to steps (scene files, --time, the shell's `run Ts`).
 int64_t steps_in(double time, double dt);
 

@@ -102,7 +102,7 @@ class Simulation {
   // ModuleSpec::carry, which goes into `next`), the same domain and grid, and the state is past
   // its start (a step made, or given); else made again at t = 0, for the reason returned.
   enum class Recompile { kStateKept, kGrainsChanged, kGridChanged, kStartMadeAgain };
-  Recompile recompile(Model& next) const;
+  Recompile after_recompile(Model& next) const;
   RunReport run(const RunOptions& opt);
   // The steps a run of these options does at most: opt.steps, or steps_in(opt.time, dt).
   int64_t steps_for(const RunOptions& opt) const;

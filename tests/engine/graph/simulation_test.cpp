@@ -240,7 +240,7 @@ TEST_CASE("a recompiled scene keeps the state of the same grains past its start,
     std::string changed = text;
     changed.replace(changed.find(from), from.size(), to);
     Model next = test::model_from(changed);
-    return sim->recompile(next);
+    return sim->after_recompile(next);
   };
   using R = Simulation::Recompile;
   // Before the first step the state is the scene's: made again from the scene as changed.
