@@ -17,7 +17,7 @@ CLI::Validator whole_number(int64_t least, int64_t most) {
         if (n && *n > most) n.reset();
         if (!n)
           return "'" + in + "' is not a whole number from " + std::to_string(least) + " to " +
-                 (most >= kMaxWhole ? std::string("9e18") : std::to_string(most)) + " (e.g. 1000, 1e3)";
+                 (most >= kMaxRunSteps ? std::string(kMaxRunStepsText) : std::to_string(most)) + " (e.g. 1000, 1e3)";
         in = std::to_string(*n);
         return "";
       },

@@ -6,12 +6,13 @@
 #include <CLI/CLI.hpp>
 #include <string>
 
+#include "silt/limits.hpp"
+
 namespace silt::cli {
 
-constexpr int64_t kMaxWhole = 9'000'000'000'000'000'000;
 constexpr int64_t kMaxThreads = 4096;
 // A whole number from least to most (1000, 1e3).
-CLI::Validator whole_number(int64_t least, int64_t most = kMaxWhole);
+CLI::Validator whole_number(int64_t least, int64_t most = kMaxRunSteps);
 // A time in seconds, >= 0: 0.5 or 0.5s.
 CLI::Validator seconds();
 // A comma-separated list of observable names with no empty one.

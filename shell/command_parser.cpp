@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdlib>
 
+#include "silt/limits.hpp"
 #include "silt/text.hpp"
 
 namespace silt::shell {
@@ -221,7 +222,8 @@ std::optional<double> parse_number(std::string_view s) {
 
 std::optional<int64_t> parse_count(std::string_view s, int64_t least) {
   const auto n = parse_number(s);
-  if (!n || *n < static_cast<double>(least) || *n != std::floor(*n) || *n > kMaxSteps) return std::nullopt;
+  if (!n || *n < static_cast<double>(least) || *n != std::floor(*n) || *n > static_cast<double>(kMaxRunSteps))
+    return std::nullopt;
   return static_cast<int64_t>(*n);
 }
 

@@ -72,9 +72,6 @@ struct Condition {
   bool holds(const std::vector<double>& values) const;
 };
 
-// The longest run, in steps (an int64_t holds it with room to spare).
-constexpr double kMaxSteps = 9e18;
-
 // How long `run` goes: N steps, a simulated time ("0.5s", "2e-3s"), until a condition, until
 // the packing is static (the scene's criterion, run.static_*) or until the fluid is steady
 // (run.steady_tol); or the scene's own length (`run` alone: to the scene's end step, stopping
@@ -97,7 +94,7 @@ std::vector<Token> expand_lists(const std::vector<Token>& args, size_t from = 0)
 
 // A number in full (no trailing garbage); nullopt otherwise.
 std::optional<double> parse_number(std::string_view s);
-// A whole number from `least` to kMaxSteps (steps, "every N"); nullopt otherwise.
+// A whole number from `least` to kMaxRunSteps (steps, "every N"); nullopt otherwise.
 std::optional<int64_t> parse_count(std::string_view s, int64_t least);
 // The N of "every N": a whole number of steps from 1; throws ParseError at its column.
 int64_t parse_every(const Token& t);

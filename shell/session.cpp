@@ -300,15 +300,15 @@ RunOptions Session::run_options(const RunLength& len, bool background) {
   Simulation& s = sim();
   const Model& m = s.model();
   RunOptions opt;
-  constexpr auto kForever = static_cast<int64_t>(kMaxSteps);
+  constexpr int64_t kForever = kMaxRunSteps;
   switch (len.kind) {
     case RunLength::kSteps: opt.steps = len.steps; break;
     case RunLength::kTime: {
       opt.time = len.time;
       const int64_t n = s.steps_for(opt);
-      if (n < 0 || !(static_cast<double>(n) <= kMaxSteps))
-        throw std::runtime_error("run " + format_number(len.time) + "s: too long, more than " +
-                                 format_number(kMaxSteps) + " steps of " + format_number(m.dt) + " s");
+      if (n < 0 || n > kMaxRunSteps)
+        throw std::runtime_error("run " + format_number(len.time) + "s: too long, more than " + kMaxRunStepsText +
+                                 " steps of " + format_number(m.dt) + " s");
       break;
     }
     case RunLength::kUntil: opt.steps = kForever; break;

@@ -301,7 +301,9 @@ RunReport Simulation::run(const RunOptions& options) {
   double t_end = -1;
   if (opt.time >= 0) {
     opt.steps = steps_for(opt);
-    if (opt.steps < 0) throw std::invalid_argument("run of " + format_number(opt.time) + " s: more than 9e18 steps");
+    if (opt.steps < 0)
+      throw std::invalid_argument("run of " + format_number(opt.time) + " s: more than " +
+                                  std::string(kMaxRunStepsText) + " steps");
     if (model_.adaptive_dt) t_end = state_.t + opt.time;
   }
   const auto t0 = std::chrono::steady_clock::now();

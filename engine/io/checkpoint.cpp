@@ -166,7 +166,8 @@ std::string check_state(const State& s, const Model& m) {
           }
     } else if constexpr (std::is_same_v<std::remove_cvref_t<decltype(v)>, int64_t>) {
       // A count (steps, list builds): one at 2^63 - 1 overflowed at the first step that added to it.
-      if (v < 0 || v > kMaxRunSteps) bad = f.name + " = " + std::to_string(v) + " is outside [0, 9e18]";
+      if (v < 0 || v > kMaxRunSteps)
+        bad = f.name + " = " + std::to_string(v) + " is outside [0, " + kMaxRunStepsText + "]";
     } else if (!finite_value(v)) {
       bad = f.name + " is not finite";
     }

@@ -27,7 +27,7 @@ void setup_time(const SceneDesc& d, Model& m) {
     // may be there (a lid of 1e300 m/s), not in the run's length.
     if (m.run_steps < 0)
       d.fail("run.time",
-             "run.time is more than 9e18 time steps of " + format_number(m.dt) + " s" +
+             "run.time is more than " + std::string(kMaxRunStepsText) + " time steps of " + format_number(m.dt) + " s" +
                  (m.dt_key != "run.dt" ? " (the step set by " + m.dt_key + " and the scene's speeds)" : ""));
   }
   m.until_static.on = d.boolean("run.stop_when_static");

@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "silt/limits.hpp"
 #include "silt/module_params.hpp"
 #include "silt/scene.hpp"
 #include "silt/vec.hpp"
@@ -315,10 +316,6 @@ struct Model {
   VelocityProfileSpec profile;
   RunLimits limits;
 };
-
-// The longest run, in steps (an int64_t holds it with room to spare): run.steps' bound, and a
-// checkpoint's counts beyond it are corrupt.
-inline constexpr int64_t kMaxRunSteps = 9'000'000'000'000'000'000;
 
 // The number of steps of dt in a run of `time` [s]: ceil(time / dt), a last step that would
 // overshoot by less than 1e-9 dt not counted; -1 when it is more than kMaxRunSteps. The one conversion of

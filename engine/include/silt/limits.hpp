@@ -1,0 +1,15 @@
+// The longest run silt takes, in steps, for every reader of a run length: run.steps and run.time
+// in a scene, --steps and --time, the shell's `run`, `every` and its checkpoints' counts. A
+// header of its own, so that the shell's command parser reads it without the engine's model.
+#pragma once
+
+#include <cstdint>
+
+namespace silt {
+
+// An int64_t holds it with room to spare (a step's count plus one never overflows).
+inline constexpr int64_t kMaxRunSteps = 9'000'000'000'000'000'000;
+// How messages write it.
+inline constexpr const char* kMaxRunStepsText = "9e18";
+
+}  // namespace silt
