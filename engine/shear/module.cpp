@@ -8,6 +8,7 @@
 #include "shear/cycle_origin.hpp"
 #include "shear/module.hpp"
 #include "shear/stages.hpp"
+#include "silt/text.hpp"
 
 namespace silt::shear {
 namespace {
@@ -165,6 +166,24 @@ void setup_shear(const SceneDesc& d, Model& m) {
   }
 }
 
+// With the time step known: an imposed rate that shears the box too far in one step. Neighbours
+// one above the other (centres up to 2 r_max apart along y) stream past each other by
+// gammadot dt 2 r_max a step; beyond limits.max_overlap r_min, one step can press touching grains
+// past the overlap at which the run fails. A fixed step only: an adaptive one (the paste's)
+// starts at 1e-3 of the shear time and follows what changes.
+void check_shear_step(const SceneDesc& d, const Model& m) {
+  if (!m.shear.on || m.shear.stress_controlled || m.adaptive_dt) return;
+  const double slip = std::abs(m.shear.rate) * m.dt * 2 * m.r_max, most = m.limits.max_overlap * m.r_min;
+  if (slip <= most) return;
+  const std::string key = d.first_given({"shear.rate", "shear.inertial_number", "shear.viscous_number"}, "shear.rate");
+  d.fail(key, "the shear rate " + format_number(m.shear.rate, 4) +
+                  " 1/s streams neighbouring grains past each other by " + format_number(slip, 3) +
+                  " m in a time step of " + format_number(m.dt, 4) +
+                  " s (gammadot dt 2 r_max), more than limits.max_overlap r_min = " + format_number(most, 3) +
+                  " m, the overlap at which the run fails: lower the rate below " +
+                  format_number(most / (m.dt * 2 * m.r_max), 4) + " 1/s or the time step");
+}
+
 void compile_shear(const SceneDesc& d, Model& m) {
   setup_box_control(d, m);
   setup_shear(d, m);
@@ -250,6 +269,7 @@ const ModuleSpec& module() {
     s.observables = shear_observables();
     s.enabled = shear_enabled;
     s.compile = compile_shear;
+    s.finish = check_shear_step;
     s.describe = describe_shear;
     s.steer = steer_shear;
     s.fields = {{"box_cycle_origin", Extent::kFree, "",

@@ -349,6 +349,41 @@ dt = 1e-4
         std::string::npos);
 }
 
+TEST_CASE(
+    "a shear rate that streams neighbours past each other by more than the failing overlap in one step is refused") {
+  // Radius 0.5, dt 1e-4, limits.max_overlap 0.2: neighbours a diameter apart slip by gammadot dt 2 r,
+  // at most 0.2 r = 0.1 m a step, so the largest rate is 0.1 / (1e-4 * 1) = 1000 1/s.
+  const std::string scene = R"([scene]
+dimension = 3
+[domain]
+lo = [0, 0, 0]
+hi = [10, 10, 10]
+periodic = [true, true, true]
+[shear]
+rate = RATE
+[contact]
+model = "hooke"
+k_n = 1e5
+[[grains]]
+count = 10
+radius = 0.5
+[run]
+dt = 1e-4
+)";
+  const auto at = [&](const std::string& rate) {
+    std::string s = scene;
+    s.replace(s.find("RATE"), 4, rate);
+    return test::scene_error(s);
+  };
+  CHECK(at("990").empty());
+  CHECK(at("-990").empty());
+  const std::string e = at("1010");
+  CHECK(e.rfind("bad.toml:8:", 0) == 0);  // at shear.rate
+  CHECK(e.find("streams neighbouring grains past each other by 0.101 m") != std::string::npos);
+  CHECK(e.find("lower the rate below 1000 1/s") != std::string::npos);
+  CHECK(at("-1e300").find("lower the rate below 1000 1/s") != std::string::npos);
+}
+
 TEST_CASE("stiffness number and damping of the shipped shear scenes, as observables") {
   // Hertz: kappa = (E~/P)^(2/3) with E~ = E / (1 - nu^2); the scene has nu = 0, E = 7.7017e6.
   const Model hertz =
