@@ -301,8 +301,10 @@ dt = 1e-3
 
 // ---- 9. scene errors --------------------------------------------------------------------------
 
-TEST_CASE("shear scenes that cannot be sheared by Lees-Edwards conditions are refused") {
-  const char* good = R"([scene]
+namespace {
+
+// Ten spheres of radius 0.5 sheared at 0.5 1/s with a step of 1e-4 s (shear.rate on line 8).
+const char* kShearedSpheres = R"([scene]
 dimension = 3
 [domain]
 lo = [0, 0, 0]
@@ -319,6 +321,11 @@ radius = 0.5
 [run]
 dt = 1e-4
 )";
+
+}  // namespace
+
+TEST_CASE("shear scenes that cannot be sheared by Lees-Edwards conditions are refused") {
+  const std::string good = kShearedSpheres;
   auto with = [&](const std::string& from, const std::string& to) {
     std::string s = good;
     s.replace(s.find(from), from.size(), to);
@@ -353,26 +360,9 @@ TEST_CASE(
     "a shear rate that streams neighbours past each other by more than the failing overlap in one step is refused") {
   // Radius 0.5, dt 1e-4, limits.max_overlap 0.2: neighbours a diameter apart slip by gammadot dt 2 r,
   // at most 0.2 r = 0.1 m a step, so the largest rate is 0.1 / (1e-4 * 1) = 1000 1/s.
-  const std::string scene = R"([scene]
-dimension = 3
-[domain]
-lo = [0, 0, 0]
-hi = [10, 10, 10]
-periodic = [true, true, true]
-[shear]
-rate = RATE
-[contact]
-model = "hooke"
-k_n = 1e5
-[[grains]]
-count = 10
-radius = 0.5
-[run]
-dt = 1e-4
-)";
-  const auto at = [&](const std::string& rate) {
-    std::string s = scene;
-    s.replace(s.find("RATE"), 4, rate);
+  const auto at = [](const std::string& rate) {
+    std::string s = kShearedSpheres;
+    s.replace(s.find("rate = 0.5"), 10, "rate = " + rate);
     return test::scene_error(s);
   };
   CHECK(at("990").empty());
