@@ -65,9 +65,10 @@ Watchdog* g_watchdog = nullptr;
 std::string small_scene(const std::string& text) {
   static const std::regex length(R"((^|\n)(steps|time) = [^\n]*)"), count(R"(\ncount = 224\n)"),
       box(R"(\nhi = \[19\.5, 19\.5\]\n)");
-  std::string out = std::regex_replace(text, length, "$1steps = " + std::to_string(kMaxRunSteps));
+  std::string out = std::regex_replace(text, length, "$1steps = " + std::to_string(kFuzzRunSteps));
   out = std::regex_replace(std::regex_replace(out, count, "\ncount = 60\n"), box, "\nhi = [10.0, 10.0]\n");
-  return out + "\n[render]\nwidth = 160\nheight = 120\n\n[prepare]\nmax_steps = " + std::to_string(kMaxRunSteps) + "\n";
+  return out + "\n[render]\nwidth = 160\nheight = 120\n\n[prepare]\nmax_steps = " + std::to_string(kFuzzRunSteps) +
+         "\n";
 }
 
 // The session's directory, a fresh copy of the files. libFuzzer's timer (SIGALRM, for -timeout)

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "shell/command_parser.hpp"
+#include "silt/limits.hpp"
 
 namespace silt::fuzz {
 namespace {
@@ -48,7 +49,7 @@ std::string seconds(double s) {
   return buf;
 }
 
-// run and start: every length made at most kMaxRunSteps. The scene's own length (no argument) is
+// run and start: every length made at most kFuzzRunSteps. The scene's own length (no argument) is
 // cut by the scene files and by bound_value.
 bool bound_run(Command& c, const ClockFn& now) {
   if (c.args.empty()) return false;
@@ -59,27 +60,28 @@ bool bound_run(Command& c, const ClockFn& now) {
     return false;  // refused as it is
   }
   if (r.kind == shell::RunLength::kSteps) {
-    if (r.steps <= kMaxRunSteps) return false;
-    c.args = {word(std::to_string(kMaxRunSteps))};
+    if (r.steps <= kFuzzRunSteps) return false;
+    c.args = {word(std::to_string(kFuzzRunSteps))};
     return true;
   }
   const std::optional<Clock> clock = now();
   if (!clock) return false;  // no scene: refused as it is
   if (r.kind == shell::RunLength::kTime) {
     const double steps = r.time / clock->dt;
-    if (!(steps > kMaxRunSteps) || steps > shell::kMaxSteps) return false;  // short, or refused as too long
-    c.args = {word(seconds(kMaxRunSteps * clock->dt))};
+    if (!(steps > kFuzzRunSteps) || steps > static_cast<double>(silt::kMaxRunSteps))
+      return false;  // short, or refused as too long
+    c.args = {word(seconds(kFuzzRunSteps * clock->dt))};
     return true;
   }
   // Until a condition, or until the first step that makes it true.
   if (r.kind == shell::RunLength::kUntil) {
     for (const char* w : {"or", "step", ">="}) c.args.push_back(word(w));
-    c.args.push_back(word(std::to_string(clock->step + kMaxRunSteps)));
+    c.args.push_back(word(std::to_string(clock->step + kFuzzRunSteps)));
     return true;
   }
   // Until static (which may never come): as many steps as the others at most. The static test
   // itself runs at the end of the scene's own length (pack_2d stops when static).
-  c.args = {word("until"), word("step"), word(">="), word(std::to_string(clock->step + kMaxRunSteps))};
+  c.args = {word("until"), word("step"), word(">="), word(std::to_string(clock->step + kFuzzRunSteps))};
   return true;
 }
 
@@ -95,12 +97,12 @@ bool bound_value(Command& c, const ClockFn& now) {
     return true;
   };
   if (key == "render.width" || key == "render.height") return cut(kMaxFramePixels, std::to_string(kMaxFramePixels));
-  if (key == "run.steps" || key == "prepare.max_steps") return cut(kMaxRunSteps, std::to_string(kMaxRunSteps));
+  if (key == "run.steps" || key == "prepare.max_steps") return cut(kFuzzRunSteps, std::to_string(kFuzzRunSteps));
   if (key == "run.time") {
     const std::optional<Clock> clock = now();
     if (!clock) return false;
-    const std::string most = seconds(kMaxRunSteps * clock->dt);
-    return cut(kMaxRunSteps * clock->dt, most.substr(0, most.size() - 1));
+    const std::string most = seconds(kFuzzRunSteps * clock->dt);
+    return cut(kFuzzRunSteps * clock->dt, most.substr(0, most.size() - 1));
   }
   return false;
 }

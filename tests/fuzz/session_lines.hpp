@@ -10,7 +10,7 @@
 namespace silt::fuzz {
 
 // Steps a run may take; longer ones are cut to this.
-constexpr int64_t kMaxRunSteps = 20;
+constexpr int64_t kFuzzRunSteps = 20;
 // Frame sizes beyond this are cut to it (the scenes of the session have 160 x 120).
 constexpr int kMaxFramePixels = 256;
 
@@ -23,7 +23,7 @@ using ClockFn = std::function<std::optional<Clock>()>;  // nullopt when no scene
 // The line with every path made a name in the current directory and every run length, and the
 // values that set one (run.steps, run.time, prepare.max_steps) or the frame size, cut; the line
 // itself when nothing needs changing (or it does not parse: the session refuses it as it is).
-// A run until a condition also stops kMaxRunSteps after the current step.
+// A run until a condition also stops kFuzzRunSteps after the current step.
 std::string bounded_line(const std::string& line, const ClockFn& now);
 
 // Whether a line the session wrote on its error stream (or a background run's message) says that
