@@ -79,6 +79,7 @@ const ModuleSpec& module() {
     };
     s.observables = {power, hydro};
     s.enabled = [](const SceneDesc& d) { return d.has("drag.viscosity"); };
+    s.needs_grains = true;
     s.compile = compile_drag;
     s.finish = finish_drag;
     s.describe = describe_drag;

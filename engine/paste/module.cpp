@@ -398,6 +398,7 @@ const ModuleSpec& module() {
     s.events = {"paste_resolve", "paste_solve", "paste_step"};  // (in order of precedence: the resolve runs first)
     s.observables = paste_observables();
     s.enabled = [](const SceneDesc& d) { return d.has("lubrication.viscosity"); };
+    s.needs_grains = true;
     s.compile = compile_paste;
     s.finish = finish_paste;
     s.memory_bytes = paste_memory_bytes;

@@ -48,6 +48,27 @@ bool Model::module_on(std::string_view name) const {
   return name == "core" || std::find(modules.begin(), modules.end(), name) != modules.end();
 }
 
+namespace {
+
+// A module that acts on grains, turned on in a scene without them (a resolved fluid alone, the
+// dem module off): refused at the first of its tables the scene gives (at a key of it, or at its
+// header when it is empty). Its stages would have been wired to the grains' absent ones.
+void check_needs_grains(const SceneDesc& d, const Model& m, const ModuleSpec& s) {
+  if (!s.needs_grains || m.module_on("dem")) return;
+  for (const KeySpec& k : s.keys) {
+    const std::string table = k.path.substr(0, k.path.find('.')), prefix = table + ".";
+    if (!d.has_table(table)) continue;
+    const auto it = d.entries.lower_bound(prefix);
+    d.fail(it != d.entries.end() && it->first.starts_with(prefix) ? it->first : prefix,
+           "[" + table +
+               "] acts on grains, and this scene has none (a resolved fluid alone: grains are not coupled "
+               "to it yet); remove [" +
+               table + "]");
+  }
+}
+
+}  // namespace
+
 Model compile(const SceneDesc& d) {
   Model m;
   m.desc = d;
@@ -55,6 +76,8 @@ Model compile(const SceneDesc& d) {
   D.check_rules();
   for (const Module& mod : modules())
     if (!mod.spec->enabled || mod.spec->enabled(D)) m.modules.push_back(mod.spec->name);
+  for (const Module& mod : modules())
+    if (m.module_on(mod.spec->name)) check_needs_grains(D, m, *mod.spec);
   for (const Module& mod : modules())
     if (mod.spec->compile && m.module_on(mod.spec->name)) mod.spec->compile(D, m);
   setup_time(D, m);

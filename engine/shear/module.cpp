@@ -268,6 +268,7 @@ const ModuleSpec& module() {
     s.rules = shear_rules();
     s.observables = shear_observables();
     s.enabled = shear_enabled;
+    s.needs_grains = true;
     s.compile = compile_shear;
     s.finish = check_shear_step;
     s.describe = describe_shear;

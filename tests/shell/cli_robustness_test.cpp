@@ -254,6 +254,7 @@ TEST_CASE("inputs the fuzzers found end in a clear message and the contract's ex
            "candidate_travel_twice.ckpt",
        0},
       {"check " + dir + "region_far_outside.toml", 0},
+      {"check " + dir + "fluid_with_shear_table.toml", 2},
       {"check " + scene_path("pack_2d") + " --set 'grains[].radius=0.1'", 2},
       {"check " + scene_path("pack_2d") + " --set 'grains[99999999999].radius=0.1'", 2},
   };

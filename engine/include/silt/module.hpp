@@ -38,6 +38,8 @@ struct ModuleSpec {
   std::vector<std::string> events;  // numerical events of its own (silt/events.hpp)
   // Whether a scene turns the module on; empty: always on.
   std::function<bool(const SceneDesc&)> enabled;
+  // It acts on grains: on in a scene without them (a fluid alone), a scene error at its table.
+  bool needs_grains = false;
   // Its part of compile(), in module order, before the time step is chosen; then, once every
   // module has compiled and the time step is known, `finish`.
   std::function<void(const SceneDesc&, Model&)> compile, finish;
