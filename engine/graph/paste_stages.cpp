@@ -96,10 +96,21 @@ void diagnose_paste(GraphBuilder& b) {
                       ": something moves without any lubricated gap changing; set lubrication.stokes_drag = true";
           break;
         }
-        default:
+        default: {
+          // The loads by name and value: a viscous number of 1e200 overflowed with "lower the loads".
+          std::string loads;
+          if (m.shear.on && !m.shear.stress_controlled)
+            loads += "the shear rate " + format_number(m.shear.rate, 4) + " 1/s";
+          if (m.shear.on && m.shear.stress_controlled)
+            loads += "the shear stress " + format_number(m.shear.stress, 4) + " Pa";
+          if (m.box_control.on)
+            loads += (loads.empty() ? "" : ", ") + std::string("the pressure ") +
+                     format_number(m.box_control.pressure, 4) + " Pa";
           f.parameter = "lubrication.h_min_over_a";
           f.message = "the lubrication solve met a non-finite value (residual " + format_number(e.value(), 4) +
-                      "): the forces or the resistances overflowed; raise lubrication.h_min_over_a or lower the loads";
+                      "): the forces or the resistances overflowed; raise lubrication.h_min_over_a or lower the loads" +
+                      (loads.empty() ? "" : " (" + loads + ")");
+        }
       }
     });
   }

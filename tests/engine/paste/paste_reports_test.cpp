@@ -238,6 +238,17 @@ TEST_CASE("paste: a change steered while stopped that the state cannot be solved
   CHECK(fresh->step());
 }
 
+TEST_CASE("paste: a solve that overflows names the loads by their values") {
+  // Vi = 1e200 makes gammadot 1e200 / (eta a / P): the forces overflow in the first solve, whose
+  // message said "lower the loads" without saying which.
+  auto sim = test::simulation_from(test::paste_disks({}) + "[shear]\nviscous_number = 1e200\n", 1);
+  CHECK_FALSE(sim->step());
+  const StepFailure& f = sim->state().failure;
+  INFO(f.message);
+  CHECK(f.message.find("overflowed") != std::string::npos);
+  CHECK(f.message.find("(the shear rate 1.008e+200 1/s, the pressure 1 Pa)") != std::string::npos);  // eta a = 0.992
+}
+
 TEST_CASE("paste: the state before the first step shows the paste's first step, not the contacts' dt") {
   auto sim = test::simulation_from(loose_scene(""), 1);
   const double dem_dt = sim->state().dt;
