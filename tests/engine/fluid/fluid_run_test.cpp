@@ -236,15 +236,17 @@ TEST_CASE("fluid: scene errors are located at their key") {
   // A table of a module that acts on grains, in a fluid scene: refused at it (an empty [shear],
   // [box], [prepare], [drag] or [lubrication] turned its module on and the step graph reported an
   // internal error, after `silt check` had printed the scene). The cavity's text ends at line 11.
-  for (const auto& [table, line] : std::vector<std::pair<std::string, std::string>>{
+  // (no structured bindings: clang's CAPTURE cannot take one)
+  for (const auto& c : std::vector<std::pair<std::string, std::string>>{
            {"[shear]\n", "bad.toml:12:1"},
            {"[box]\npressure = 1.0\n", "bad.toml:13:12"},
            {"[prepare]\n", "bad.toml:12:1"},
            {"[drag]\nviscosity = 1.0\n", "bad.toml:13:13"},
            {"[lubrication]\nviscosity = 1.0\ndt = 0.1\n", "bad.toml:14:6"}}) {
+    const std::string& table = c.first;
     CAPTURE(table);
     const std::string e = test::scene_error(cavity(2, 8) + table);
-    CHECK(e.rfind(line, 0) == 0);
+    CHECK(e.rfind(c.second, 0) == 0);
     CHECK(e.find(table.substr(0, table.find(']') + 1) + " acts on grains, and this scene has none") !=
           std::string::npos);
   }
