@@ -305,8 +305,8 @@ RunOptions Session::run_options(const RunLength& len, bool background) {
     case RunLength::kSteps: opt.steps = len.steps; break;
     case RunLength::kTime: {
       opt.time = len.time;
-      const int64_t n = s.steps_for(opt);
-      if (n < 0 || n > kMaxRunSteps)
+      // (steps_for says -1 beyond kMaxRunSteps)
+      if (s.steps_for(opt) < 0)
         throw std::runtime_error("run " + format_number(len.time) + "s: too long, more than " + kMaxRunStepsText +
                                  " steps of " + format_number(m.dt) + " s");
       break;
