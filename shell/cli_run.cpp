@@ -105,8 +105,7 @@ int run_command(const RunArgs& a) {
     opt.time = -1;
   }
   if (a.time >= 0) {
-    if (steps_in(a.time, m.dt) < 0)
-      return report_error("--time: too long, more than " + std::string(kMaxRunStepsText) + " time steps", 1);
+    if (steps_in(a.time, m.dt) < 0) return report_error("--time: " + too_many_steps(m.dt), 1);
     opt.time = a.time;
   }
   if (scene_length && m.run_time < 0 && m.run_steps <= 0)

@@ -307,8 +307,7 @@ RunOptions Session::run_options(const RunLength& len, bool background) {
       opt.time = len.time;
       // (steps_for says -1 beyond kMaxRunSteps)
       if (s.steps_for(opt) < 0)
-        throw std::runtime_error("run " + format_number(len.time) + "s: too long, more than " + kMaxRunStepsText +
-                                 " steps of " + format_number(m.dt) + " s");
+        throw std::runtime_error("run " + format_number(len.time) + "s: " + too_many_steps(m.dt));
       break;
     }
     case RunLength::kUntil: opt.steps = kForever; break;

@@ -302,8 +302,7 @@ RunReport Simulation::run(const RunOptions& options) {
   if (opt.time >= 0) {
     opt.steps = steps_for(opt);
     if (opt.steps < 0)
-      throw std::invalid_argument("run of " + format_number(opt.time) + " s: more than " +
-                                  std::string(kMaxRunStepsText) + " steps");
+      throw std::invalid_argument("run of " + format_number(opt.time) + " s: " + too_many_steps(model_.dt));
     if (model_.adaptive_dt) t_end = state_.t + opt.time;
   }
   const auto t0 = std::chrono::steady_clock::now();

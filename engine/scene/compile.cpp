@@ -27,7 +27,7 @@ void setup_time(const SceneDesc& d, Model& m) {
     // may be there (a lid of 1e300 m/s), not in the run's length.
     if (m.run_steps < 0)
       d.fail("run.time",
-             "run.time is more than " + std::string(kMaxRunStepsText) + " time steps of " + format_number(m.dt) + " s" +
+             "run.time is " + too_many_steps(m.dt) +
                  (m.dt_key != "run.dt" ? " (the step set by " + m.dt_key + " and the scene's speeds)" : ""));
   }
   m.until_static.on = d.boolean("run.stop_when_static");
@@ -40,8 +40,12 @@ void setup_time(const SceneDesc& d, Model& m) {
 
 int64_t steps_in(double time, double dt) {
   const double n = std::ceil(time / dt - 1e-9);
-  if (!(n < static_cast<double>(kMaxRunSteps))) return -1;
+  if (!(n <= static_cast<double>(kMaxRunSteps))) return -1;
   return std::max<int64_t>(0, static_cast<int64_t>(n));
+}
+
+std::string too_many_steps(double dt) {
+  return "too long, more than " + std::string(kMaxRunStepsText) + " steps of " + format_number(dt) + " s";
 }
 
 bool Model::module_on(std::string_view name) const {

@@ -318,9 +318,12 @@ struct Model {
 };
 
 // The number of steps of dt in a run of `time` [s]: ceil(time / dt), a last step that would
-// overshoot by less than 1e-9 dt not counted; -1 when it is more than kMaxRunSteps. The one conversion of
-// a run length in time to steps (scene files, --time, the shell's `run Ts`).
+// overshoot by less than 1e-9 dt not counted; -1 when it is more than kMaxRunSteps (the bound
+// run.steps and --steps take too). The one conversion of a run length in time to steps (scene
+// files, --time, the shell's `run Ts`).
 int64_t steps_in(double time, double dt);
+// Why steps_in refused a run: "too long, more than 9e18 steps of DT s", for every reader's message.
+std::string too_many_steps(double dt);
 
 // Compile a validated scene into a Model. Throws SceneError with the location of the value that
 // makes the scene impossible to simulate (bad geometry, overlaps, unstable time step, ...).

@@ -2,6 +2,8 @@
 // state is recovered bitwise.
 #include <doctest/doctest.h>
 
+#include <limits>
+
 #include "silt/observables.hpp"
 #include "silt/scene.hpp"
 #include "support/scenes.hpp"
@@ -231,6 +233,31 @@ TEST_CASE("a step lost in the rounding of the time stops the run at advance_cloc
   CHECK(f.stage == "advance_clock");
   CHECK(f.parameter == "run.dt");
   CHECK(f.message.find("lost in the rounding of the time") != std::string::npos);
+}
+
+TEST_CASE("a run given in time: ceil(time / dt) steps, as long as run.steps may be and no longer") {
+  CHECK(steps_in(1.0, 0.25) == 4);
+  CHECK(steps_in(1.0 + 1e-12, 0.25) == 4);  // overshoots by 4e-12 dt: not a step of its own
+  CHECK(steps_in(1.0 + 1e-6, 0.25) == 5);
+  CHECK(steps_in(-1.0, 0.25) == 0);
+  // The bound is run.steps' own, kMaxRunSteps included (9e18 is a double exactly).
+  CHECK(steps_in(9e18, 1.0) == kMaxRunSteps);
+  CHECK(steps_in(9.000001e18, 1.0) == -1);
+  CHECK(steps_in(1.0, 1e-300) == -1);
+  CHECK(steps_in(std::numeric_limits<double>::infinity(), 1.0) == -1);
+  CHECK(steps_in(std::numeric_limits<double>::quiet_NaN(), 1.0) == -1);
+  CHECK(too_many_steps(1e-3) == "too long, more than 9e18 steps of 0.001 s");
+  // The scene's run.time and a run of the engine say it the same way.
+  const std::string toml = test::fill(kSoft, {{"k", 1e6}, {"v", 0.0}});
+  CHECK(test::scene_error(toml + "time = 1e17\n").find("run.time is too long, more than 9e18 steps of 0.001 s") !=
+        std::string::npos);
+  CHECK(test::scene_error(toml + "time = 1e15\n").empty());
+  auto sim = test::simulation_from(toml);
+  RunOptions opt;
+  opt.time = 1e17;
+  CHECK_THROWS_WITH_AS(sim->run(opt), "run of 1e+17 s: too long, more than 9e18 steps of 0.001 s",
+                       std::invalid_argument);
+  CHECK(sim->state().step == 0);
 }
 
 TEST_CASE("a recompiled scene keeps the state of the same grains past its start, and says why not") {
