@@ -112,6 +112,7 @@ int run_command(const RunArgs& a) {
     return report_error("no run length: give --steps or --time, or [run] steps or time in the scene", 1);
   RunJobOptions jo;
   jo.scene = a.scene;
+  jo.restored = a.restore;
   jo.observe = a.observe.empty() ? std::vector<std::string>{} : split_names(a.observe);
   jo.every = a.every;
   jo.stats = a.stats;

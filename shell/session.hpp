@@ -126,9 +126,13 @@ class Session {
   // The scripts being read (play's, sourced ones), the innermost last: relative input files are
   // also looked for beside it.
   std::vector<std::string> scripts_;
-  // IoError when `path` is the scene file or a script being read (a `stats` onto the script
-  // played replaced its next lines with CSV rows).
+  // IoError when `path` is the scene file, a checkpoint its grains were read from or a script
+  // being read (a `stats` onto the script played replaced its next lines with CSV rows).
   void check_not_inputs(const std::string& path, const std::string& what) const;
+  // The checkpoints restored in this session: IoError when `path`, a stats file or an image, is
+  // one of them (a `save` may replace one: a state saved back).
+  std::vector<std::string> restored_;
+  void check_not_restored(const std::string& path, const std::string& what) const;
 
   std::string scene_file_;
   std::vector<Override> overrides_;

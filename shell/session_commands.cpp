@@ -318,6 +318,7 @@ void Session::cmd_render(const Command& c) {
   render::Image img = raster_->draw(rs);
   render::compose_overlays(rs, img);
   check_not_open_file(c.args[0].text, "image");
+  check_not_restored(c.args[0].text, "image");
   render::write_png(c.args[0].text, img);
   out_ << "wrote " << c.args[0].text << " (" << img.width << " x " << img.height << ")\n";
   for (const std::string& w : rs.warnings) out_ << "warning: " << w << "\n";
@@ -335,7 +336,14 @@ void Session::set_script(const std::string& path) { scripts_ = {path}; }
 
 void Session::check_not_inputs(const std::string& path, const std::string& what) const {
   check_not_input(path, scene_file_, what);
+  if (sim_)
+    for (const std::string& c : sim_->model().checkpoints_read)
+      check_not_input(path, c, what, "a checkpoint the scene reads (frozen_from)");
   for (const std::string& script : scripts_) check_not_input(path, script, what, "a script being played");
+}
+
+void Session::check_not_restored(const std::string& path, const std::string& what) const {
+  for (const std::string& c : restored_) check_not_input(path, c, what, "a checkpoint restored in this session");
 }
 
 void Session::check_not_series_file(const std::string& path, const std::string& what) const {
@@ -373,7 +381,9 @@ void Session::cmd_restore(const Command& c) {
   require_stopped("cannot restore");
   Simulation& s = sim();
   std::vector<std::string> differences;  // run parameters other than the checkpoint's: allowed, shown
-  State st = read_checkpoint(input_path(c.args[0].text), s.model(), &differences);
+  const std::string file = input_path(c.args[0].text);
+  State st = read_checkpoint(file, s.model(), &differences);
+  restored_.push_back(file);
   s.restore(std::move(st));
   s.prepare();  // a checkpoint of a state never stepped (a fresh paste's): as install() does
   out_ << "restored step " << s.state().step << " (t = " << format_number(s.state().t) << " s)";

@@ -63,6 +63,7 @@ void Session::cmd_stats(const Command& c) {
     const int64_t every = a.size() == 3 ? parse_every(a[2]) : 0;
     require_stopped("cannot change where the samples go");
     check_not_inputs(a[0].text, "stats");
+    check_not_restored(a[0].text, "stats");
     check_not_series_file(a[0].text, "stats");
     stats_.emplace(reseries(*stats_, a[0].text));
     stats_error_noted_ = false;

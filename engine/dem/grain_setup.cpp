@@ -379,7 +379,7 @@ void set_velocities(const SceneDesc& d, Model& m, int g, int64_t first, int64_t 
 
 // The grains of a checkpoint inside the group's region, frozen (grains[].frozen_from), in the
 // order of their ids in the file.
-void grains_from_checkpoint(const SceneDesc& d, const Model& m, int g, Group& G) {
+void grains_from_checkpoint(const SceneDesc& d, Model& m, int g, Group& G) {
   const std::string k = key(g, "frozen_from");
   std::string path = d.string(k);
   std::error_code ec;
@@ -410,6 +410,7 @@ void grains_from_checkpoint(const SceneDesc& d, const Model& m, int g, Group& G)
         throw IoError("checkpoint '" + path + "' is corrupt: bad grain ids");
       order[id[i]] = i;
     }
+    m.checkpoints_read.push_back(path);
     G.placement = "checkpoint";
     G.frozen = true;
     for (int64_t q = 0; q < n; ++q) {

@@ -44,8 +44,15 @@ std::filesystem::path canonical_path(const std::string& path) {
 
 namespace {
 
+// Whether two names that exist are one file: a hard link, which no spelling of the paths shows.
+bool same_inode(const std::string& a, const std::string& b) {
+  std::error_code ec;
+  return std::filesystem::equivalent(a, b, ec) && !ec;
+}
+
 // How writing `a` (to A.tmp, then renamed) and `b` meet: one file, or one is the other's
-// temporary file. A device or a pipe, written in place, meets nothing.
+// temporary file, by their names or as hard links of one file. A device or a pipe, written in
+// place, meets nothing.
 enum class Meet { kApart, kSame, kATmpIsB, kBTmpIsA };
 Meet meet(const std::string& a, const std::string& b) {
   namespace fs = std::filesystem;
@@ -56,7 +63,10 @@ Meet meet(const std::string& a, const std::string& b) {
   };
   if (a.empty() || b.empty() || special(a) || special(b)) return Meet::kApart;
   const std::string p = canonical_path(a).string(), q = canonical_path(b).string();
-  return p == q ? Meet::kSame : p + ".tmp" == q ? Meet::kATmpIsB : q + ".tmp" == p ? Meet::kBTmpIsA : Meet::kApart;
+  if (p == q || same_inode(a, b)) return Meet::kSame;
+  if (p + ".tmp" == q || same_inode(a + ".tmp", b)) return Meet::kATmpIsB;
+  if (q + ".tmp" == p || same_inode(b + ".tmp", a)) return Meet::kBTmpIsA;
+  return Meet::kApart;
 }
 
 }  // namespace

@@ -18,16 +18,32 @@ std::string stem_of(const std::string& path) {
 
 // Where the last good state goes after a failure: NAME.last_good.ckpt beside the summary, else
 // beside the stats, else beside the final checkpoint (devices such as /dev/stdout do not count),
-// else the fallback.
-std::string last_good_path_for(const RunJobOptions& o) {
+// else the fallback. A name that is a file the run read or another of its outputs (a run restored
+// from NAME.last_good.ckpt that fails again, stats named so) is numbered instead:
+// NAME.last_good.1.ckpt, then .2, ...; "" when a thousand are.
+std::string last_good_path_for(const RunJobOptions& o, const std::vector<std::pair<std::string, std::string>>& inputs) {
+  std::string first = o.last_good_fallback;
   for (const std::string* p : {&o.summary, &o.stats, &o.save}) {
     std::error_code ec;
     if (p->empty()) continue;
     const auto st = std::filesystem::status(*p, ec);
     if (std::filesystem::exists(st) && !std::filesystem::is_regular_file(st)) continue;
-    return stem_of(*p) + ".last_good.ckpt";
+    first = stem_of(*p) + ".last_good.ckpt";
+    break;
   }
-  return o.last_good_fallback;
+  if (first.empty()) return "";
+  const auto taken = [&](const std::string& path) {
+    for (const auto& in : inputs)
+      if (overwrites(path, in.first)) return true;
+    for (const std::string* p : {&o.summary, &o.stats, &o.save})
+      if (!output_clash(path, *p).empty()) return true;
+    return false;
+  };
+  for (int k = 0; k < 1000; ++k) {
+    const std::string path = k == 0 ? first : stem_of(first) + "." + std::to_string(k) + ".ckpt";
+    if (!taken(path)) return path;
+  }
+  return "";
 }
 
 // Writes the last good state to `path`; returns whether it could.
@@ -52,12 +68,22 @@ RunJob::RunJob(Simulation& sim, RunJobOptions options) : sim_(sim), o_(std::move
   observer_.emplace(m, o_.observe);  // throws std::invalid_argument naming a bad observable
   // The VTK directory first: the summary or the checkpoint may be named inside it.
   if (!o_.vtk.empty()) make_output_directory(o_.vtk, "VTK");
+  check_output_path(o_.stats, "stats file");
   check_output_path(o_.summary, "summary");
   check_output_path(o_.save, "checkpoint", true);
-  check_not_input(o_.summary, o_.scene, "summary");
-  check_not_input(o_.save, o_.scene, "checkpoint");
-  check_not_input(o_.stats, o_.scene, "stats");
-  // The VTK directory before the stats file, which opening truncates: a refused run keeps it.
+  inputs_.emplace_back(o_.scene, "the scene file");
+  for (const std::string& c : m.checkpoints_read) inputs_.emplace_back(c, "a checkpoint the scene reads (frozen_from)");
+  for (const auto& [input, what] : inputs_) {
+    check_not_input(o_.summary, input, "summary", what);
+    check_not_input(o_.save, input, "checkpoint", what);
+    check_not_input(o_.stats, input, "stats file", what);
+  }
+  // (the final checkpoint may replace the one restored: a run continued in place)
+  check_not_input(o_.summary, o_.restored, "summary", "the checkpoint restored");
+  check_not_input(o_.stats, o_.restored, "stats file", "the checkpoint restored");
+  inputs_.emplace_back(o_.restored, "the checkpoint restored");
+  // Every path checked before the VTK writer removes an earlier run's files, and the stats file,
+  // which opening truncates, after it: a refused run keeps both.
   if (!o_.vtk.empty()) vtk_ = std::make_unique<VtkWriter>(o_.vtk);
   // A batch run's samples are streamed into their block averages (its memory does not grow).
   if (!o_.series) stats_.emplace(o_.stats, o_.observe, o_.average_from);
@@ -182,7 +208,7 @@ int RunJob::finish(const RunReport& rep, int interrupted) {
   if (code == 0 && !output_errors_.empty()) code = static_cast<int>(ExitCode::kIo);
   // The checkpoints first: the summary records whether they could be written.
   if (rep.end == RunEnd::kFailed) {
-    const std::string path = last_good_path_for(o_);
+    const std::string path = last_good_path_for(o_, inputs_);
     if (!kept_) kept_ = sim_.last_good_state();
     if (write_last_good(path, m, *kept_, *this)) last_good_ = path;
   }
@@ -212,7 +238,7 @@ int RunJob::finish(const RunReport& rep, int interrupted) {
 int RunJob::finish_preparation(const PreparationReport& prep, int interrupted) {
   const bool failed = prep.end == RunEnd::kFailed;
   if (failed && prep.last_good) {
-    const std::string path = last_good_path_for(o_);
+    const std::string path = last_good_path_for(o_, inputs_);
     if (write_last_good(path, sim_.model(), *prep.last_good, *this)) last_good_ = path;
   }
   SummaryInput sum;

@@ -300,3 +300,55 @@ TEST_CASE(
   CHECK_FALSE(contains(r.out, "unknown command"));
   CHECK(test::read_file(scene) == before);
 }
+
+TEST_CASE(
+    "no output overwrites the checkpoint a run restored, and a last good state takes a name no file of the "
+    "run has") {
+  const std::string scene = scene_path("bounce_dry");
+  const std::string fail = " --quiet --set limits.max_overlap=0.0001 --set 'grains[0].positions=[[0,0,0.00301]]'";
+  std::remove("cli_restored.last_good.ckpt");
+  std::remove("cli_restored.last_good.1.ckpt");
+  REQUIRE(silt_cli("run " + scene + " --steps 1000 --save cli_restored.last_good.ckpt" + fail).code == 0);
+  const std::string saved = test::read_file("cli_restored.last_good.ckpt");
+  // --stats or --summary onto the checkpoint restored emptied it; the final checkpoint may replace it.
+  for (const std::string opt : {"--stats ", "--summary "}) {
+    CAPTURE(opt);
+    const Result r = silt_cli("run " + scene + " --restore cli_restored.last_good.ckpt --steps 2 " + opt +
+                              "cli_restored.last_good.ckpt" + fail);
+    CHECK(r.code == 4);
+    CHECK(contains(r.out, "it is the checkpoint restored, which it would overwrite"));
+    CHECK(test::read_file("cli_restored.last_good.ckpt") == saved);
+  }
+  // A run restored from NAME.last_good.ckpt that fails again kept its last good state there, over
+  // the state it started from.
+  const Result again = silt_cli(
+      "run " + scene + " --restore cli_restored.last_good.ckpt --steps 2000 --summary cli_restored.json" + fail);
+  CHECK(again.code == 3);
+  CHECK(contains(again.out, "last good state (step 1451) written to cli_restored.last_good.1.ckpt"));
+  CHECK(test::read_file("cli_restored.last_good.ckpt") == saved);
+  // Nor does it replace another output named so.
+  std::remove("cli_lg.last_good.1.ckpt");
+  const Result stats_named =
+      silt_cli("run " + scene + " --steps 2000 --summary cli_lg.json --stats cli_lg.last_good.ckpt" + fail);
+  CHECK(stats_named.code == 3);
+  CHECK(contains(stats_named.out, "written to cli_lg.last_good.1.ckpt"));
+  CHECK(test::read_file("cli_lg.last_good.ckpt").rfind("t,", 0) == 0);
+}
+
+TEST_CASE("a run refused for an output keeps the VTK files of the run before") {
+  // The VTK writer removed the earlier series before the stats path was found unwritable.
+  const std::string dir = "cli_vtk_kept";
+  std::filesystem::remove_all(dir);
+  const std::string run = "run " + scene_path("bounce_dry") + " --steps 10 --quiet --vtk " + dir;
+  REQUIRE(silt_cli(run + " --vtk-every 5").code == 0);
+  const auto count = [&] {
+    return std::distance(std::filesystem::directory_iterator(dir), std::filesystem::directory_iterator());
+  };
+  const auto before = count();
+  CHECK(before == 7);  // 3 grains and 3 contacts files, index.pvd
+  const Result r = silt_cli(run + " --stats cli_no_such_dir/x.csv");
+  CHECK(r.code == 4);
+  CHECK(contains(r.out, "cannot write stats file 'cli_no_such_dir/x.csv': no directory 'cli_no_such_dir'"));
+  CHECK(count() == before);
+  std::filesystem::remove_all(dir);
+}

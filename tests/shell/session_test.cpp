@@ -8,6 +8,7 @@
 #include <sstream>
 #include <thread>
 
+#include "shell/cli_fixtures.hpp"
 #include "shell/shell_fixtures.hpp"
 #include "support/scenes.hpp"
 
@@ -90,6 +91,13 @@ TEST_CASE("save, restore and reset: a restored run is bitwise the uninterrupted 
   CHECK(f.hash() == saved);
   REQUIRE(f.run("run 150"));
   CHECK(f.hash() == uninterrupted);
+  // A checkpoint restored is an input: stats and images never overwrite it, a save may.
+  const std::string bytes = test::read_file("session_test.ckpt");
+  CHECK_FALSE(f.run("stats session_test.ckpt"));
+  CHECK(contains(f.take_err(), "it is a checkpoint restored in this session"));
+  CHECK_FALSE(f.run("render session_test.ckpt"));
+  CHECK(test::read_file("session_test.ckpt") == bytes);
+  CHECK(f.run("save session_test.ckpt"));
   std::remove("session_test.ckpt");
 }
 

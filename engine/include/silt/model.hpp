@@ -217,6 +217,9 @@ struct StaticCriterion {
 struct Model {
   // Provenance.
   std::string scene_file, scene_name;
+  // The checkpoints the scene's grains were read from (grains[].frozen_from), as found: inputs
+  // that no output of a run may overwrite, as the scene file.
+  std::vector<std::string> checkpoints_read;
   bool reduced_units = false;  // scene.units = "reduced": labels carry no SI units
   // " s", " kg", ... after a number, or nothing in reduced units.
   std::string unit(const char* si) const { return reduced_units ? std::string() : std::string(" ") + si; }

@@ -16,7 +16,11 @@
 namespace silt {
 
 struct RunJobOptions {
-  std::string scene;                 // as the summary names it
+  std::string scene;  // as the summary names it
+  // The checkpoint the state was restored from ("" none): like the scene (and the checkpoints its
+  // grains were read from) no output overwrites it, but the final checkpoint may (a run continued
+  // in place).
+  std::string restored;
   std::vector<std::string> observe;  // the stats' observables (default: the scene's)
   int64_t every = 0;                 // samples every N steps (0: the scene's output.every)
   std::string stats;                 // stats CSV ("" none)
@@ -35,8 +39,9 @@ struct RunJobOptions {
 
 class RunJob {
  public:
-  // Checks the observables (std::invalid_argument), opens the stats and VTK outputs and checks
-  // that the summary and the checkpoint can be written (IoError), before any step.
+  // Checks the observables (std::invalid_argument), checks that no output would overwrite a file
+  // the run reads or another output and that the stats, the summary and the checkpoint can be
+  // written, then opens the VTK and stats outputs (IoError), before any step.
   RunJob(Simulation& sim, RunJobOptions options);
   ~RunJob();
   RunJob(const RunJob&) = delete;
@@ -88,7 +93,8 @@ class RunJob {
   std::vector<PeriodicHook> extra_;
   std::vector<std::string> warnings_, output_errors_;
   std::string last_good_;
-  std::optional<State> kept_;  // after a failure: the last good state
+  std::vector<std::pair<std::string, std::string>> inputs_;  // the files the run read, and what each is
+  std::optional<State> kept_;                                // after a failure: the last good state
   void sample(const State& s);
   int write_outputs(SummaryInput& sum, int code);
   double wall_s_ = 0;

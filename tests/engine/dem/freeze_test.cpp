@@ -5,6 +5,7 @@
 #include <cstdio>
 
 #include "silt/io.hpp"
+#include "silt/run_job.hpp"
 #include "support/scenes.hpp"
 
 using namespace silt;
@@ -127,6 +128,14 @@ TEST_CASE("frozen_from: a checkpoint's grains in a region become a frozen group 
   }
   auto chute_sim = test::simulation_from(chute(file), 1);
   for (int k = 0; k < 300; ++k) REQUIRE(chute_sim->step());
+  // The checkpoint is an input of the scene: a run's outputs never overwrite it.
+  REQUIRE(chute_sim->model().checkpoints_read == std::vector<std::string>{file});
+  for (const auto out : {&RunJobOptions::stats, &RunJobOptions::summary, &RunJobOptions::save}) {
+    RunJobOptions o;
+    o.*out = file;
+    CHECK_THROWS_WITH_AS(RunJob(*chute_sim, o), doctest::Contains("is a checkpoint the scene reads (frozen_from)"),
+                         IoError);
+  }
   // What the group cannot be told.
   CHECK(test::scene_error(chute(file, "count = 10")).find("count does not apply") != std::string::npos);
   CHECK(test::scene_error(chute(file, "frozen = false")).find("are frozen") != std::string::npos);

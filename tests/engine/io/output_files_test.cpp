@@ -62,6 +62,21 @@ TEST_CASE("an output named as an input, or whose temporary file is, is refused w
   CHECK_NOTHROW(check_not_input(d / "scene.toml.tmp", d / "scene.toml", "checkpoint"));
 }
 
+TEST_CASE("a hard link is the same file, whatever its name: the scene behind one is refused") {
+  // `--stats link.csv`, link.csv a hard link of the scene, emptied the scene.
+  const Dir d;
+  std::ofstream(d / "scene.toml") << "# a scene\n";
+  std::filesystem::create_hard_link(d / "scene.toml", d / "link.csv");
+  std::filesystem::create_hard_link(d / "scene.toml", d / "out.json.tmp");
+  CHECK(output_clash(d / "link.csv", d / "scene.toml") == "the same file");
+  CHECK_THROWS_WITH_AS(check_not_input(d / "link.csv", d / "scene.toml", "stats file"),
+                       doctest::Contains("it is the scene file"), IoError);
+  CHECK_THROWS_WITH_AS(check_not_input(d / "out.json", d / "scene.toml", "summary"),
+                       doctest::Contains("its temporary file (NAME.tmp) is the scene file"), IoError);
+  std::ofstream(d / "other.csv") << "t\n";
+  CHECK(output_clash(d / "other.csv", d / "scene.toml").empty());
+}
+
 TEST_CASE("is_in_directory compares the file's directory with any name of the directory") {
   const Dir d;
   CHECK(is_in_directory(d / "sub/f.png", d / "sub/"));
