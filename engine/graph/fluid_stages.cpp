@@ -35,17 +35,28 @@ void diagnose_fluid(GraphBuilder& b) {
           "; reduce fluid.dt or the viscosity, or use fluid.viscous = \"crank_nicolson\"";
     }
   });
-  b.diagnose(fluid::nonfinite_event(), [](const Model& m, const State& s, const EventSlot&, StepFailure& f) {
+  b.diagnose(fluid::nonfinite_event(), [](const Model& m, const State& s, const EventSlot& e, StepFailure& f) {
     const auto& p = m.params.get<fluid::FluidParams>();
     // The knob of the step is the key that sets it; a pressure-gradient drive may be what overflowed.
     const std::string step_key = p.dt_fixed ? "fluid.dt" : "fluid.cfl";
     const bool driven = p.drive == fluid::Drive::kPressure;
+    const std::string gradient =
+        driven ? "fluid.pressure_gradient (" + format_number(p.pressure_gradient, 4) + " Pa/m)" : "";
     f.stage = "fluid_store";
     f.parameter = step_key;
-    f.message =
-        "the fluid velocity is no longer finite at step " + std::to_string(s.step) +
-        ": the flow is under-resolved or the step too large; reduce " + step_key + ", or use more fluid.cells" +
-        (driven ? ", or a lower fluid.pressure_gradient (" + format_number(p.pressure_gradient, 4) + " Pa/m)" : "");
+    if (e.first() == 1) {
+      // Finite velocities whose squares over the grid overflow: a drive (or a wall) far too strong.
+      f.parameter = driven ? "fluid.pressure_gradient" : step_key;
+      f.message = "the fluid's speed at step " + std::to_string(s.step) +
+                  ", sum max|u|/h = " + format_number(e.value(), 4) +
+                  " 1/s, is too fast for double precision: its kinetic energy and " + "enstrophy, squares over the " +
+                  format_number(static_cast<double>(p.grid.cells()), 4) + " cells, overflow; " +
+                  (driven ? "lower " + gradient : "reduce " + step_key);
+      return;
+    }
+    f.message = "the fluid velocity is no longer finite at step " + std::to_string(s.step) +
+                ": the flow is under-resolved or the step too large; reduce " + step_key + ", or use more fluid.cells" +
+                (driven ? ", or a lower " + gradient : "");
   });
   b.diagnose(fluid::solve_event(), [](const Model& m, const State&, const EventSlot& e, StepFailure& f) {
     const auto& p = m.params.get<fluid::FluidParams>();

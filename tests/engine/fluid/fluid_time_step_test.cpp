@@ -217,6 +217,30 @@ TEST_CASE("fluid: a wall or drive or initial speed whose enstrophy overflows is 
   REQUIRE(sim->step());
 }
 
+TEST_CASE("fluid: a step whose speed overflows the squares fails there, naming the drive, and keeps the state before") {
+  // A pressure gradient of 1e155 Pa/m made velocities of 1e153 m/s in one step: finite, so that
+  // step was kept as the last good state, with a kinetic energy and an enstrophy of inf.
+  const std::string channel =
+      "[scene]\ndimension = 2\n[domain]\nlo = [0.0, 0.0]\nhi = [1.0, 1.0]\nperiodic = [true, false]\n"
+      "[fluid]\ncells = [16, 16]\nviscosity = 0.1\ndt = 0.01\ndrive_axis = \"x\"\npressure_gradient = 1e155\n";
+  auto sim = test::simulation_from(channel);
+  REQUIRE_FALSE(sim->step());
+  const StepFailure& f = sim->state().failure;
+  CHECK(f.stage == "fluid_store");
+  CHECK(f.parameter == "fluid.pressure_gradient");
+  CHECK(f.message.find("too fast for double precision") != std::string::npos);
+  CHECK(f.message.find("lower fluid.pressure_gradient (1e+155 Pa/m)") != std::string::npos);
+  const State good = sim->last_good_state();
+  CHECK(good.step == 0);
+  CHECK(std::isfinite(kinetic_energy(sim->model().params.get<FluidParams>(), good)));
+  // 1e150 Pa/m: its squares are finite; the next step's CFL number stops the run.
+  auto slower = test::simulation_from(channel.substr(0, channel.find("1e155")) + "1e150\n");
+  REQUIRE(slower->step());
+  CHECK(std::isfinite(kinetic_energy(slower->model().params.get<FluidParams>(), slower->state())));
+  REQUIRE_FALSE(slower->step());
+  CHECK(slower->state().failure.stage == "fluid_load");
+}
+
 TEST_CASE("fluid: a density or viscosity or flow time that double precision cannot hold is refused at its key") {
   // nu = inf was reported as a step to reduce "below 0 s" at fluid.dt; a Reynolds number of 1e308
   // gave a subnormal nu and `silt check` printed Re = 2e300.
