@@ -225,6 +225,7 @@ void Session::install(Model m, const std::optional<State>& keep) {
   next->prepare();
   const bool same_series = keep && sim_ && next->model().observe == sim_->model().observe;
   sim_ = std::move(next);
+  if (!keep) rewind_series(0);
   // The state kept with the same observables: its series goes on (samples, file and interval).
   // Else a new model starts a new series: a file the old one went to is closed as it is, not
   // overwritten.
@@ -239,6 +240,11 @@ void Session::install(Model m, const std::optional<State>& keep) {
   }
   stats_.emplace("", sim_->model().observe);
   rewatch();
+}
+
+void Session::rewind_series(int64_t step) {
+  for (int64_t* last : {&frames_last_step_, &vtk_last_step_, &watch_.last_step})
+    if (*last >= step) *last = step > 0 ? step - 1 : -1;
 }
 
 void Session::rewatch() {

@@ -162,6 +162,10 @@ class Session {
   std::string frames_dir_;  // where frames_ writes
   int64_t frames_every_ = 0;
   int64_t frames_last_step_ = -1;  // of the last frame submitted (-1: none yet)
+  // A state other than the one the frames, the VTK files and the watch followed (another scene, a
+  // reset, a restore), at `step`: they take it at their steps again from there (the first frame
+  // of a scene loaded after a run that ended at a frame's step was skipped).
+  void rewind_series(int64_t step);
   std::unique_ptr<VtkWriter> vtk_;
   std::string vtk_dir_;  // where vtk_ writes
   int64_t vtk_every_ = 0;

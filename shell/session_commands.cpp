@@ -386,6 +386,7 @@ void Session::cmd_restore(const Command& c) {
   restored_.push_back(file);
   s.restore(std::move(st));
   s.prepare();  // a checkpoint of a state never stepped (a fresh paste's): as install() does
+  rewind_series(s.state().step);
   out_ << "restored step " << s.state().step << " (t = " << format_number(s.state().t) << " s)";
   if (const size_t n = stats_->drop_after(s.state().t, s.state().step); n > 0)
     out_ << "; " << n << " sample(s) after it dropped from the stats"

@@ -111,6 +111,19 @@ TEST_CASE("watch off during a background run, a field's index past its end, outp
   for (int k = 0; k < 20; ++k) REQUIRE(f.run("run 1"));
   REQUIRE(f.run("frames off"));
   CHECK(contains(f.take_out(), "frames off (3 written)"));  // steps 0, 10 and 20
+  // Another state at the step of the last frame (a reset, another scene, a restore) was skipped:
+  // the new scene's first frame was never written.
+  REQUIRE(f.run("frames " + (dir / "fr2") + " every 10"));
+  REQUIRE(f.run("run 10"));  // steps 0 and 10
+  REQUIRE(f.run("save " + (dir / "at10.ckpt")));
+  REQUIRE(f.run("reset"));
+  REQUIRE(f.run("run 10"));  // 0 and 10 of the reset state
+  REQUIRE(f.run("restore " + (dir / "at10.ckpt")));
+  REQUIRE(f.run("run 10"));  // 10 restored, and 20
+  REQUIRE(f.run("load " + test::scene_path("collision_normal")));
+  REQUIRE(f.run("run 10"));  // 0 and 10 of the new scene
+  REQUIRE(f.run("frames off"));
+  CHECK(contains(f.take_out(), "frames off (8 written)"));
 }
 
 TEST_CASE("set: a kept state keeps its samples, and before the first step the state is made again from the scene") {
