@@ -133,6 +133,16 @@ void Session::cmd_set(const Command& c) {
                             }),
              next.end());
   next.push_back(change);
+  // A fixed step that another key changes: said (fluid.reynolds over a scene's fluid.viscosity makes
+  // its fluid.dt read in units of L / U, and a channel's step doubled without a word).
+  const bool was_fixed = !s.model().adaptive_dt;
+  const double dt_was = s.model().dt;
+  const auto note_step = [&] {
+    const Model& m = s.model();
+    if (was_fixed && !m.adaptive_dt && m.dt != dt_was && change.key != m.dt_key)
+      out_ << "note: the time step is now " << format_number(m.dt) << " s (it was " << format_number(dt_was)
+           << " s), from " << m.dt_key << " as the scene now reads it\n";
+  };
   if (spec->steerable) {
     std::string error;
     if (running()) {
@@ -147,6 +157,7 @@ void Session::cmd_set(const Command& c) {
     if (error.empty()) {
       overrides_ = std::move(next);
       out_ << change.key << " = " << c.args[1].text << (running() ? " (from the next step)" : "") << "\n";
+      note_step();
       if (s.state().step == 0 && s.model().prepare.compress && enters_preparation(change.key)) out_ << kPreparationKept;
       return;
     }
@@ -181,6 +192,7 @@ void Session::cmd_set(const Command& c) {
   install(std::move(m), keep);
   overrides_ = std::move(next);
   out_ << change.key << " = " << c.args[1].text << (same ? " (state kept)" : discarded) << "\n";
+  note_step();
   if (same && keep->step == 0 && sim().model().prepare.compress && enters_preparation(change.key))
     out_ << kPreparationKept;
 }

@@ -168,6 +168,15 @@ TEST_CASE("set replaces the keys a value is an alternative to, and errors name w
       contains(f.take_err(), "'grains' is a list of tables, not a key: its keys are grains[K].name, grains[K].count"));
   CHECK_FALSE(f.run("set gravty.vector [0,0,0]"));
   CHECK(contains(f.take_err(), "did you mean 'gravity.vector'?"));
+  // fluid.reynolds over the channel's fluid.viscosity: its fluid.dt = 0.01 is then in units of
+  // L / U = 2 s, and the step doubled without a word.
+  REQUIRE(f.run("load " + test::scene_path("channel")));
+  REQUIRE(f.run("run 2"));
+  f.take_out();
+  REQUIRE(f.run("set fluid.reynolds 20"));
+  CHECK(contains(f.take_out(), "note: the time step is now 0.02 s (it was 0.01 s), from fluid.dt"));
+  REQUIRE(f.run("set fluid.dt 0.005"));  // the step's own key: no note
+  CHECK_FALSE(contains(f.take_out(), "note:"));
 }
 
 TEST_CASE("print, watch and stats show units and sensible digits") {
