@@ -19,8 +19,9 @@ namespace silt {
 namespace {
 
 void open_file(std::ofstream& out, const std::string& path) {
+  errno = 0;
   out.open(path);
-  if (!out) throw IoError("cannot write '" + path + "'");
+  if (!out) throw IoError("cannot write '" + path + "'" + (errno != 0 ? std::string(": ") + std::strerror(errno) : ""));
   out.precision(9);
 }
 
@@ -237,7 +238,11 @@ void VtkWriter::write(const Model& m, const State& s, const std::vector<GridFiel
     o << "  </Collection>\n</VTKFile>\n";
     close_file(o, tmp);
   }
-  if (std::rename(tmp.c_str(), pvd.c_str()) != 0) throw IoError("cannot write '" + pvd + "'");
+  if (std::rename(tmp.c_str(), pvd.c_str()) != 0) {
+    const std::string why = std::strerror(errno);
+    std::remove(tmp.c_str());
+    throw IoError("cannot write '" + pvd + "': " + why);
+  }
 }
 
 }  // namespace silt
