@@ -28,6 +28,10 @@ struct Simulation::Impl {
   // What modules solve again for a state given under changed parameters (ModuleSpec::stale).
   std::unique_ptr<graph::StepGraph> resolve;
   bool resolve_pending = false;
+  // A state given under other parameters than its solve's, as given, until its first step: a
+  // change before that step gives it again under the new parameters (changed back to its own, it
+  // is the state given, bit for bit, not a solve of it from the one made under the others).
+  std::optional<State> given_stale;
   graph::RestartPoint restart;  // last restart point
   bool primed = false;
   // A new state before its setup stages ran, until its first step: a change of parameters before
@@ -150,6 +154,10 @@ std::vector<std::string> Simulation::take_notices() {
 void Simulation::restore(State s) {
   impl_->unprepared.reset();
   impl_->given = true;
+  // (as given, before adopt_state: kept when a module finds it stale; only a module that can is on)
+  std::optional<State> as_given;
+  for (const Module& mod : modules())
+    if (mod.spec->stale && model_.module_on(mod.spec->name) && !as_given) as_given = s;
   state_ = adopt_state(model_, std::move(s));
   adopt_modules();
   state_.failure = StepFailure{};
@@ -165,6 +173,8 @@ void Simulation::restore(State s) {
     if (mod.spec->stale && mod.spec->stale(model_, state_)) impl_->resolve_pending = true;
   }
   if (!impl_->primed) impl_->resolve_pending = false;  // the setup solves it as a first state
+  impl_->given_stale.reset();
+  if (impl_->resolve_pending) impl_->given_stale = std::move(as_given);
 }
 
 bool Simulation::state_given() const { return impl_->given; }
@@ -202,6 +212,11 @@ Simulation::SteerOutcome Simulation::steer_stopped(const Override& change) {
   Model before = model_;
   SteerOutcome out;
   out.cannot = steer(model_for_steering(), change);
+  if (out.cannot.empty() && impl_->given_stale) {
+    std::optional<State> as_given = std::move(impl_->given_stale);
+    restore(std::move(*as_given));
+    impl_->given = given;
+  }
   prepare();  // before the first step: the setup again, under the change if made
   if (!out.cannot.empty() || !state_.failure.failed) return out;
   // Rather than a state no run can leave: the model and the state as they were.
@@ -217,6 +232,7 @@ bool Simulation::step() {
   prepare();
   if (state_.failure.failed) return false;  // (the re-solve of a state given under changed parameters)
   impl_->unprepared.reset();                // (before the step's workspaces are made: never held beside them)
+  impl_->given_stale.reset();
   state_.events.clear();
   execute(*impl_->step, state_);
   if (!impl_->step->diagnose(model_, state_)) return false;

@@ -407,6 +407,30 @@ TEST_CASE("paste: a state restored under other parameters moves by velocities so
   }
 }
 
+TEST_CASE("paste: a state restored under another viscosity and steered back to its own is the state given") {
+  // The shell's `set lubrication.viscosity 2`, `restore` (the velocities solved again at once under
+  // 2), `set lubrication.viscosity 1`: solved again under 1 from the velocities of 2, whose CG
+  // ended elsewhere in its last bits, so the run no longer was the checkpoint's.
+  const std::string scene = test::paste_disks({.n = 80, .L = 10, .dilation = 1.05});
+  auto run = test::simulation_from(scene, 1);
+  for (int k = 0; k < 5; ++k) REQUIRE(run->step());
+  const State saved = run->state();
+  for (int k = 0; k < 5; ++k) REQUIRE(run->step());
+  auto sim = test::simulation_from(scene, 1);
+  sim->prepare();
+  const std::string eta = scene.substr(scene.find("viscosity = ") + 12,
+                                       scene.find('\n', scene.find("viscosity = ")) - scene.find("viscosity = ") - 12);
+  REQUIRE(sim->steer_stopped(parse_override("lubrication.viscosity=" + std::to_string(2 * std::stod(eta)))).cannot ==
+          "");
+  sim->restore(saved);
+  sim->prepare();
+  CHECK(state_hash(sim->state()) != state_hash(saved));  // solved again under twice the viscosity
+  REQUIRE(sim->steer_stopped(parse_override("lubrication.viscosity=" + eta)).cannot == "");
+  CHECK(state_hash(sim->state()) == state_hash(saved));
+  for (int k = 0; k < 5; ++k) REQUIRE(sim->step());
+  CHECK(state_hash(sim->state()) == state_hash(run->state()));
+}
+
 TEST_CASE("paste: a shear rate steered between steps is the one the velocities are solved again with") {
   // The re-solve of a steered step took the rate from the state, which box_drift set from the model
   // after it: it solved a reversed rate's step with the old rate. The step after steering is now
