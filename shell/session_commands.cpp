@@ -138,7 +138,7 @@ void Session::cmd_set(const Command& c) {
   const bool was_fixed = !s.model().adaptive_dt;
   const double dt_was = s.model().dt;
   const auto note_step = [&] {
-    const Model& m = s.model();
+    const Model& m = sim().model();  // (a recompile installs another simulation than `s`)
     if (was_fixed && !m.adaptive_dt && m.dt != dt_was && change.key != m.dt_key)
       out_ << "note: the time step is now " << format_number(m.dt) << " s (it was " << format_number(dt_was)
            << " s), from " << m.dt_key << " as the scene now reads it\n";
