@@ -347,10 +347,8 @@ void Session::check_not_open_file(const std::string& path, const std::string& wh
 void Session::set_script(const std::string& path) { scripts_ = {path}; }
 
 void Session::check_not_inputs(const std::string& path, const std::string& what) const {
-  check_not_input(path, scene_file_, what);
   if (sim_)
-    for (const std::string& c : sim_->model().checkpoints_read)
-      check_not_input(path, c, what, "a checkpoint the scene reads (frozen_from)");
+    for (const auto& [file, is] : sim_->model().files_read()) check_not_input(path, file, what, is);
   for (const std::string& script : scripts_) check_not_input(path, script, what, "a script being played");
 }
 
@@ -395,7 +393,7 @@ void Session::cmd_restore(const Command& c) {
   std::vector<std::string> differences;  // run parameters other than the checkpoint's: allowed, shown
   const std::string file = input_path(c.args[0].text);
   State st = read_checkpoint(file, s.model(), &differences);
-  restored_.push_back(file);
+  if (std::find(restored_.begin(), restored_.end(), file) == restored_.end()) restored_.push_back(file);
   s.restore(std::move(st));
   s.prepare();  // a checkpoint of a state never stepped (a fresh paste's): as install() does
   rewind_series(s.state().step);

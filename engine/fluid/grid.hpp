@@ -15,6 +15,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
 
 namespace silt::fluid {
@@ -83,6 +84,9 @@ struct Grid {
     for (int a = 1; a < dim; ++a) m = std::min(m, h[a]);
     return m;
   }
+  // Whether a flow whose velocities over the spacing reach `rate` [1/s] has squares over the cells
+  // beyond double precision: its kinetic energy and enstrophy ((|u| / h)^2 summed) would be inf.
+  bool squares_overflow(double rate) const { return !std::isfinite(rate * rate * static_cast<double>(cells())); }
   // sum_a 1 / h_a^2: the explicit viscous number is nu dt times it.
   double inv_h2_sum() const {
     double inv = 0;

@@ -91,8 +91,7 @@ double default_velocity_scale(const FluidParams& p) {
 // enstrophy ((|u| / h)^2 summed over the cells) infinite from the first sample (a lid at 1e155
 // m/s ran, and its stats showed inf).
 void check_speed(const SceneDesc& d, const std::string& key, double v, const Grid& g) {
-  const double rate = std::abs(v) / g.h_min();
-  if (std::isfinite(rate * rate * static_cast<double>(g.cells()))) return;
+  if (!g.squares_overflow(std::abs(v) / g.h_min())) return;
   d.fail(key, key + " = " + format_number(v, 4) + " m/s: the flow's enstrophy, (|u| / h)^2 over the " +
                   format_number(static_cast<double>(g.cells()), 4) + " cells, overflows double precision");
 }

@@ -491,10 +491,10 @@ void fluid_store(const Model& m, State& s, FluidWorkspace& w) {
     s.events.slot[nonfinite_event()].raise(0, rate);
     return;
   }
-  // Finite, but so fast that the squares over the grid overflow: the kinetic energy and the
-  // enstrophy of this state would be inf (a pressure gradient of 1e155 Pa/m in one step). Refused as
-  // the scene's speeds are (check_speed), so that the last good state is the one before.
-  if (!std::isfinite(rate * rate * static_cast<double>(g.cells()))) {
+  // Finite, but so fast that the squares over the grid overflow (a pressure gradient of 1e155 Pa/m
+  // in one step). Refused as the scene's speeds are (check_speed), so that the last good state is
+  // the one before.
+  if (g.squares_overflow(rate)) {
     s.events.slot[nonfinite_event()].raise(1, rate);
     return;
   }

@@ -71,8 +71,7 @@ RunJob::RunJob(Simulation& sim, RunJobOptions options) : sim_(sim), o_(std::move
   check_output_path(o_.stats, "stats file");
   check_output_path(o_.summary, "summary");
   check_output_path(o_.save, "checkpoint", true);
-  inputs_.emplace_back(o_.scene, "the scene file");
-  for (const std::string& c : m.checkpoints_read) inputs_.emplace_back(c, "a checkpoint the scene reads (frozen_from)");
+  inputs_ = m.files_read();
   for (const auto& [input, what] : inputs_) {
     check_not_input(o_.summary, input, "summary", what);
     check_not_input(o_.save, input, "checkpoint", what);

@@ -48,6 +48,12 @@ std::string too_many_steps(double dt) {
   return "too long, more than " + std::string(kMaxRunStepsText) + " steps of " + format_number(dt) + " s";
 }
 
+std::vector<std::pair<std::string, std::string>> Model::files_read() const {
+  std::vector<std::pair<std::string, std::string>> out{{scene_file, "the scene file"}};
+  for (const std::string& c : checkpoints_read) out.emplace_back(c, "a checkpoint the scene reads (frozen_from)");
+  return out;
+}
+
 bool Model::module_on(std::string_view name) const {
   return name == "core" || std::find(modules.begin(), modules.end(), name) != modules.end();
 }

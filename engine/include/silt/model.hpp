@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <numbers>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "silt/limits.hpp"
@@ -217,9 +218,11 @@ struct StaticCriterion {
 struct Model {
   // Provenance.
   std::string scene_file, scene_name;
-  // The checkpoints the scene's grains were read from (grains[].frozen_from), as found: inputs
-  // that no output of a run may overwrite, as the scene file.
+  // The checkpoints the scene's grains were read from (grains[].frozen_from), as found.
   std::vector<std::string> checkpoints_read;
+  // The files the model was compiled from, each with what a message calls it: the scene file and
+  // checkpoints_read. No output of a run (silt run's, the shell's) may overwrite them.
+  std::vector<std::pair<std::string, std::string>> files_read() const;
   bool reduced_units = false;  // scene.units = "reduced": labels carry no SI units
   // " s", " kg", ... after a number, or nothing in reduced units.
   std::string unit(const char* si) const { return reduced_units ? std::string() : std::string(" ") + si; }

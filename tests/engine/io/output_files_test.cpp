@@ -1,6 +1,7 @@
 // Output names: one path for every name of a file, and the pairs of outputs that would overwrite
 // one another (the same file, or a file and the NAME.tmp it is written to before the rename).
 #include <doctest/doctest.h>
+#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
@@ -14,7 +15,8 @@ namespace fs = std::filesystem;
 namespace {
 
 struct Dir {
-  fs::path path = fs::temp_directory_path() / "silt_output_files_test";
+  // One per process: ctest runs each test case of this file in its own process, at the same time.
+  fs::path path = fs::temp_directory_path() / ("silt_output_files_test_" + std::to_string(::getpid()));
   Dir() {
     fs::remove_all(path);
     fs::create_directories(path / "sub");
