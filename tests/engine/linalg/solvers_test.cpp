@@ -204,6 +204,32 @@ TEST_CASE("a system that is not positive definite, or not finite, is a report, n
   CHECK(std::isfinite(lim.residual));
 }
 
+TEST_CASE("the direct solve of a numerically singular matrix fails instead of returning its residual") {
+  // The grid's Laplacian with a shift eps: a constant vector is its slowest direction, at eps.
+  auto shifted = [](double eps) {
+    SparseMatrix a = grid(12, 5);
+    for (int k = 0; k < a.rows(); ++k) a.coeffRef(k, k) += eps - 1e-2;
+    return a;
+  };
+  const Vector b = gaussian_vector(144, 7);
+  SolverSettings settings;
+  settings.method = Method::kDirect;
+  settings.options.tolerance = 1e-10;
+  // Condition near 1e6: solved to round-off.
+  Vector x;
+  const SolveReport fine = SpdSolver(settings).solve(shifted(1e-2), b, x, true);
+  CHECK(fine.ok());
+  CHECK(fine.residual < 1e-10);
+  // Condition near 1e14: CHOLMOD's pivots stay positive, the residual does not reach 1e-10 (it
+  // was returned as converged).
+  Vector y;
+  const SolveReport bad = SpdSolver(settings).solve(shifted(1e-10), b, y, true);
+  CHECK(bad.status == SolveStatus::kMaxIterations);
+  CHECK(bad.residual > 1e-10);
+  CHECK(std::isfinite(bad.residual));
+  CHECK(bad.message.find("numerically singular") != std::string::npos);
+}
+
 TEST_CASE("a solve gives the same bits on 1, 2 and 4 threads") {
   const SparseMatrix a = grid(90, 11);  // 8,100 unknowns: more than one reduction block
   const Vector b = gaussian_vector(a.rows(), 12);
