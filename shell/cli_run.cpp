@@ -108,7 +108,7 @@ int run_command(const RunArgs& a) {
     if (steps_in(a.time, m.dt) < 0) return report_error("--time: " + too_many_steps(m.dt), 1);
     opt.time = a.time;
   }
-  if (scene_length && m.run_time < 0 && m.run_steps <= 0)
+  if (scene_length && !m.gives_run_length())
     return report_error("no run length: give --steps or --time, or [run] steps or time in the scene", 1);
   RunJobOptions jo;
   jo.scene = a.scene;

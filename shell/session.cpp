@@ -338,7 +338,7 @@ RunOptions Session::run_options(const RunLength& len, bool background) {
       // since it was loaded does not move that end).
       const RunOptions left = s.scene_run_left();
       if (left.time < 0 && left.steps <= 0)
-        throw std::runtime_error(m.run_time >= 0 || m.run_steps > 0
+        throw std::runtime_error(m.gives_run_length()
                                      ? "the scene's run length is reached (" +
                                            (m.run_time >= 0 ? "t = " + format_number(m.run_time) + " s"
                                                             : "step " + std::to_string(m.run_steps)) +

@@ -178,7 +178,7 @@ void Session::cmd_set(const Command& c) {
   const Simulation::Recompile how = s.after_recompile(m);
   const bool same = how == Simulation::Recompile::kStateKept;
   std::optional<State> keep;
-  if (same) keep = s.state();  // (the cycles go on from their phase: the state holds its origin)
+  if (same) keep = s.state_to_carry();  // (the cycles go on from their phase: the state holds its origin)
   const State& was = s.state();
   const char* what = how == Simulation::Recompile::kGrainsChanged ? "the grains changed: back to t = 0"
                      : how == Simulation::Recompile::kGridChanged
@@ -211,8 +211,8 @@ void Session::cmd_get(const Command& c) {
   else if (const std::string chosen = spec->computed ? spec->computed(sim().model()) : std::string(); !chosen.empty())
     value = "(not set), computed " + chosen;
   else if (spec->def) value = value_to_string(*spec->def) + " (default)";
-  const bool reduced = sim().model().reduced_units;
-  out_ << key << " = " << value << (spec->unit.empty() || reduced ? "" : " " + spec->unit) << "\n";
+  const std::string unit = key_unit(*spec, sim().model());
+  out_ << key << " = " << value << (unit.empty() ? "" : " " + unit) << "\n";
 }
 
 void Session::cmd_params(const Command& c) {
@@ -230,8 +230,7 @@ void Session::cmd_params(const Command& c) {
     }
     const bool numeric =
         spec->type == KeyType::kInt || spec->type == KeyType::kReal || spec->type == KeyType::kRealList;
-    const bool reduced = sim_ && sim_->model().reduced_units;
-    t.add({key, value.empty() ? "-" : value, reduced ? "" : spec->unit,
+    t.add({key, value.empty() ? "-" : value, sim_ ? key_unit(*spec, sim_->model()) : spec->unit,
            numeric ? spec->range.str() : join_words(spec->choices), spec->steerable ? "yes" : ""});
   }
   if (t.rows() == 0) throw std::runtime_error("no key starts with '" + prefix + "'");

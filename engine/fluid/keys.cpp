@@ -22,7 +22,7 @@ std::vector<KeySpec> fluid_keys() {
       {"fluid.length_scale", K::kReal, std::nullopt, Range::positive(), "m", false, {}, "L of the Reynolds number (default: the domain's length along x)."},
       {"fluid.dt", K::kReal, std::nullopt, Range::positive(), "s", true, {}, "A fixed fluid time step (in units of L / U with fluid.reynolds); default: adaptive from fluid.cfl."},
       {"fluid.cfl", K::kReal, Value(0.5), Range::open_closed(0, 1.5), "", true, {}, "Adaptive step: the target CFL number dt sum_a max|u_a| / h_a, the walls' and inflows' velocities included (RK3 is stable below sqrt(3); runs stop above 1.6)."},
-      {"fluid.dt_max", K::kReal, std::nullopt, Range::positive(), "s", true, {}, "Adaptive step: the largest (default: L / U / 10 in a fluid at rest, or one viscous time h^2 / nu)."},
+      {"fluid.dt_max", K::kReal, std::nullopt, Range::positive(), "s", true, {}, "Adaptive step: the largest (in units of L / U with fluid.reynolds; default: L / U / 10 in a fluid at rest, or one viscous time h^2 / nu)."},
       {"fluid.viscous", K::kString, Value(std::string("crank_nicolson")), Range::any(), "", false, S{"crank_nicolson", "backward_euler", "explicit"}, "Viscous term: Crank-Nicolson (implicit, second order; Helmholtz equations solved by transforms; the step at most 1 / (nu k^2) for the box's longest wavelength, which it damps too little beyond), backward Euler (implicit, first order, damps every mode: no viscous step limit; for Re << 1) or explicit (RK3, nu dt sum 1/h^2 <= 0.6)."},
       {"fluid.projection", K::kString, Value(std::string("fft")), Range::any(), "", false, S{"fft", "multigrid_cg"}, "Pressure Poisson solver: fast transforms (FFTW, direct) or CG preconditioned by a multigrid V-cycle (the reference)."},
       {"fluid.tolerance", K::kReal, Value(1e-10), Range::closed(1e-15, 1e-2), "", true, {}, "multigrid_cg: relative residual at which CG stops (at least 1e-15: below, round-off in the residual itself; on large grids the residual stalls above it, near 1e-14 at 64^2, and the run stops naming this key)."},
@@ -49,8 +49,14 @@ std::vector<KeySpec> fluid_keys() {
   };
   for (KeySpec& k : s) {
     if (k.path == "fluid.viscosity") k.computed = chosen([](const FluidParams& p) { return p.viscosity; });
-    if (k.path == "fluid.dt") k.computed = chosen([](const FluidParams& p) { return p.dt; });
-    if (k.path == "fluid.dt_max") k.computed = chosen([](const FluidParams& p) { return p.dt_max; });
+    if (k.path == "fluid.dt") k.computed = chosen([](const FluidParams& p) { return p.dt / p.time_unit(); });
+    if (k.path == "fluid.dt_max") k.computed = chosen([](const FluidParams& p) { return p.dt_max / p.time_unit(); });
+    // Times are in units of L / U where the scene gives fluid.reynolds (spec.cpp).
+    if (k.path == "fluid.dt" || k.path == "fluid.dt_max")
+      k.unit_in = [](const Model& m) {
+        return m.module_on("fluid") && m.params.get<FluidParams>().dimensionless ? std::string("L/U")
+                                                                                 : std::string("s");
+      };
     if (k.path == "fluid.velocity_scale") k.computed = chosen([](const FluidParams& p) { return p.velocity_scale; });
     if (k.path == "fluid.length_scale") k.computed = chosen([](const FluidParams& p) { return p.length_scale; });
   }

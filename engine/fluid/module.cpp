@@ -135,7 +135,7 @@ void compile_steerable(const SceneDesc& d, const Model& m, FluidParams& p) {
            "the kinematic viscosity nu = mu / rho = " + format_number(nu, 4) + " m^2/s (its rate on the grid, nu sum " +
                "1/h^2 = " + format_number(nu * p.grid.inv_h2_sum(), 4) +
                " 1/s) is beyond what double precision resolves");
-  const double time_unit = p.dimensionless ? p.length_scale / p.velocity_scale : 1.0;
+  const double time_unit = p.time_unit();
   p.dt_fixed = d.has("fluid.dt");
   const double h_min = p.grid.h_min();
   // The adaptive step's keys are read for an adaptive step only: beside fluid.dt they would be
@@ -186,6 +186,11 @@ void compile_lines(const SceneDesc& d, const Model& m, FluidParams& p) {
       if (other.name == probe.name) d.fail(k + "name", "two line probes are named '" + probe.name + "'");
     p.lines.push_back(probe);
   }
+}
+
+// A bound on fluid.dt as the scene gives it: in units of L / U in the dimensionless form.
+std::string scene_step(const Model& m, const FluidParams& p, double seconds) {
+  return format_number(seconds / p.time_unit(), 4) + (p.dimensionless ? " L/U" : m.unit("s"));
 }
 
 }  // namespace
@@ -266,15 +271,22 @@ void finish_fluid(const SceneDesc& d, Model& m) {
     d.fail("fluid.dt",
            "the explicit viscous term is unstable: nu dt sum 1/h^2 = " + format_number(p.nu() * p.dt * inv, 4) +
                " exceeds " + format_number(FluidParams::kViscousLimit, 4) + "; reduce fluid.dt below " +
-               format_number(FluidParams::kViscousLimit / (p.nu() * inv), 4) +
-               " s or use fluid.viscous = \"crank_nicolson\"");
+               scene_step(m, p, FluidParams::kViscousLimit / (p.nu() * inv)) +
+               " or use fluid.viscous = \"crank_nicolson\"");
   const double mode = p.dt * slowest_viscous_rate(p);
   if (p.dt_fixed && p.viscous == Viscous::kCrankNicolson && mode > FluidParams::kCnModeLimit)
     d.fail("fluid.dt", "Crank-Nicolson damps the box's slowest viscous mode too little at this step: nu dt k^2 = " +
                            format_number(mode, 4) + " exceeds " + format_number(FluidParams::kCnModeLimit, 4) +
                            " (beyond 3.75 it turns over instead of decaying); reduce fluid.dt below " +
-                           format_number(FluidParams::kCnModeLimit / slowest_viscous_rate(p), 4) +
-                           " s or use fluid.viscous = \"backward_euler\"");
+                           scene_step(m, p, FluidParams::kCnModeLimit / slowest_viscous_rate(p)) +
+                           " or use fluid.viscous = \"backward_euler\"");
+  // The walls' and inflows' speeds alone set the first step's CFL number (the fluid between them
+  // may only add to it): a fixed step past the limit with them fails at its first step.
+  if (const double rate = boundary_rate(p.grid); p.dt_fixed && p.dt * rate > FluidParams::kCflLimit)
+    d.fail("fluid.dt", "the walls' and inflows' speeds alone give a CFL number dt sum |U|/h = " +
+                           format_number(p.dt * rate, 4) + " above " + format_number(FluidParams::kCflLimit, 4) +
+                           ", the stability limit of RK3 advection; reduce fluid.dt below " +
+                           scene_step(m, p, FluidParams::kCflLimit / rate) + ", or remove it for the adaptive step");
   const double need = estimated_memory_bytes(m), have = available_memory_bytes();
   if (need > 0.9 * have)
     d.fail("fluid.cells", "the fluid needs about " + format_number(need / (1 << 30), 3) + " GiB (" +

@@ -53,6 +53,8 @@ struct FluidParams {
   // Dimensionless form: velocity and length scales (Re = U L / nu, times in L / U).
   double velocity_scale = 1, length_scale = 1;
   bool dimensionless = false;
+  // The unit of the scene's times (fluid.dt, fluid.dt_max) in seconds: L / U in the dimensionless form.
+  double time_unit() const { return dimensionless ? length_scale / velocity_scale : 1.0; }
   Drive drive = Drive::kNone;
   int drive_axis = 0;
   double pressure_gradient = 0;  // kPressure: -dp/dx along drive_axis [Pa/m] (steerable)

@@ -179,6 +179,8 @@ void Simulation::restore(State s) {
 
 bool Simulation::state_given() const { return impl_->given; }
 
+const State& Simulation::state_to_carry() const { return impl_->given_stale ? *impl_->given_stale : state_; }
+
 Simulation::Recompile Simulation::after_recompile(Model& next) const {
   const Model& m = model();
   if (!carry_running(next, m) || next.walls.size() != m.walls.size()) return Recompile::kGrainsChanged;
@@ -320,6 +322,7 @@ RunReport Simulation::run(const RunOptions& options) {
     if (opt.steps < 0)
       throw std::invalid_argument("run of " + format_number(opt.time) + " s: " + too_many_steps(model_.dt));
     if (model_.adaptive_dt) t_end = state_.t + opt.time;
+    if (model_.adaptive_dt && opt.time == 0) opt.steps = 0;  // its end is the boundary it starts at
   }
   const auto t0 = std::chrono::steady_clock::now();
   auto last_progress = t0;

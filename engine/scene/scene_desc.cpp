@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <sstream>
 
+#include "silt/model.hpp"
 #include "silt/scene.hpp"
 #include "silt/text.hpp"
 
@@ -27,6 +28,11 @@ const KeySpec* find_key_spec(std::string_view path) {
   for (const KeySpec& k : scene_schema())
     if (k.path == norm) return &k;
   return nullptr;
+}
+
+std::string key_unit(const KeySpec& spec, const Model& m) {
+  if (m.reduced_units) return "";
+  return spec.unit_in ? spec.unit_in(m) : spec.unit;
 }
 
 std::string suggest_key(std::string_view bad_path) {

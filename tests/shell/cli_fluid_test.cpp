@@ -39,12 +39,19 @@ TEST_CASE("silt run: the cavity's summary holds its probes, frames draw vorticit
   CHECK(read_file(dir + "_vtk/fields_000000.vti").find("Name=\"vorticity\"") != std::string::npos);
 }
 
-TEST_CASE("silt run: a fluid step past the CFL limit exits 3 naming fluid.dt") {
+TEST_CASE("silt run: a fluid step past the CFL limit exits 3 naming fluid.dt, or 2 where the lid alone passes it") {
+  // The lid at 1 m/s gives 1.44 at this step; the flow it drives passes 1.6 at the second step.
   const Result r = silt_cli("run " + scene_path("cavity_2d") +
-                            " --set fluid.cells=[32,32] --set fluid.dt=0.2 --set run.time=5 --quiet");
+                            " --set fluid.cells=[32,32] --set fluid.dt=0.045 --set run.time=5 --quiet");
   CHECK(r.code == 3);
   CHECK(r.out.find("fluid.dt") != std::string::npos);
   CHECK(r.out.find("CFL") != std::string::npos);
+  // The lid alone gives 6.4, in units of L / U = 1 s: refused at the key (`silt check` said ok).
+  const Result lid = silt_cli("check " + scene_path("cavity_2d") + " --set fluid.cells=[32,32] --set fluid.dt=0.2");
+  CHECK(lid.code == 2);
+  CHECK(lid.out.find("the walls' and inflows' speeds alone give a CFL number dt sum |U|/h = 6.4 above 1.6") !=
+        std::string::npos);
+  CHECK(lid.out.find("reduce fluid.dt below 0.05 L/U") != std::string::npos);
 }
 
 TEST_CASE("silt check: a fluid scene's cells, bytes per cell and dimensionless groups, a grid too large is refused") {

@@ -264,6 +264,10 @@ TEST_CASE("silt run --restore with the scene's length runs on to the scene's end
   CHECK(end.code == 1);
   CHECK(end.out.find("the checkpoint is at the scene's end") != std::string::npos);
   CHECK(silt_cli("run " + scene + " --quiet --restore cli_restore_end.ckpt --steps 10").code == 0);
+  // A length of 0 steps is one (the preparation alone, as --steps 0): it read as none, exit 1.
+  const Result none = silt_cli("run " + scene + " --quiet --set run.steps=0 --summary cli_restore_0.json");
+  CHECK(none.code == 0);
+  CHECK(nlohmann::json::parse(read_file("cli_restore_0.json"))["steps_run"] == 0);
 }
 
 TEST_CASE("silt play: wait lets a script that starts a run look at its end, the same on any machine") {

@@ -177,6 +177,13 @@ TEST_CASE("set replaces the keys a value is an alternative to, and errors name w
   CHECK(contains(f.take_out(), "note: the time step is now 0.02 s (it was 0.01 s), from fluid.dt"));
   REQUIRE(f.run("set fluid.dt 0.005"));  // the step's own key: no note
   CHECK_FALSE(contains(f.take_out(), "note:"));
+  // Its unit is then L / U, and the time computed for fluid.dt_max is in it too (it read seconds).
+  REQUIRE(f.run("get fluid.dt"));
+  CHECK(f.take_out() == "fluid.dt = 0.005 L/U\n");
+  REQUIRE(f.run("get fluid.dt_max"));
+  CHECK(f.take_out() == "fluid.dt_max = (not set), computed 0.1 L/U\n");
+  REQUIRE(f.run("params fluid.dt"));
+  CHECK(contains(f.take_out(), "L/U"));
 }
 
 TEST_CASE("print, watch and stats show units and sensible digits") {

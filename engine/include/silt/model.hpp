@@ -280,6 +280,8 @@ struct Model {
   double k_max = 0;       // stiffest normal contact (Hertz: at the largest allowed overlap)
   int64_t run_steps = 0;  // from [run] (steps or time / dt), overridable on the command line
   double run_time = -1;   // [run] time when given [s]: the run length of an adaptive step
+  // Whether [run] gives a length (steps = 0 is one: the preparation alone).
+  bool gives_run_length() const { return run_time >= 0 || desc.has("run.steps"); }
   StaticCriterion until_static;
   // Runs end when every enabled module's steady-state test holds (ModuleSpec::steady; the
   // fluid's run.stop_when_steady), tested every limits.check_every steps.

@@ -67,6 +67,9 @@ struct KeySpec {
   // The value compile() chose when the scene gives none and there is no fixed default (a skin of
   // a tenth of the largest diameter, a time step from the contact time, ...), for `params`.
   std::function<std::string(const Model&)> computed;
+  // The unit where the scene's form decides it (fluid.dt is in units of L / U when the scene gives
+  // fluid.reynolds); empty: `unit`.
+  std::function<std::string(const Model&)> unit_in;
   std::string module;  // the module that owns the key (set when the schema is assembled)
 };
 
@@ -97,6 +100,8 @@ const std::vector<KeyRule>& scene_rules();
 std::vector<std::string> alternatives_of(const std::string& key);
 // The spec of a key path, with array indices normalised ("grains[3].radius" -> "grains[]...").
 const KeySpec* find_key_spec(std::string_view path);
+// A key's unit in a compiled model: its unit_in where it has one, none in reduced units.
+std::string key_unit(const KeySpec& spec, const Model& m);
 std::string normalise_key(std::string_view path);
 // The closest known key to a misspelt one, or "" when nothing is close.
 std::string suggest_key(std::string_view bad_path);

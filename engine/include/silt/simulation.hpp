@@ -97,6 +97,10 @@ class Simulation {
   // a recompile) rather than made from the scene: a change of parameters keeps it even before
   // its first step.
   bool state_given() const;
+  // The state a recompile carries over (restore() into the new simulation): a state given under
+  // other parameters than its solve's as it was given, until its first step (a value set and set
+  // back before it is then the state given, bit for bit, as steer_stopped makes it); else state().
+  const State& state_to_carry() const;
   // What compiling the scene again with changed values (`next`) does to the state: kept when
   // `next` describes the same grains and walls (with what this model carries beyond its scene,
   // ModuleSpec::carry, which goes into `next`), the same domain and grid, and the state is past

@@ -149,18 +149,24 @@ TEST_CASE("fluid: steering the viscosity mid-run changes the decay rate from the
 TEST_CASE("fluid: a step beyond the CFL limit stops the run naming fluid.dt, the lid's speed counted") {
   // The fluid starts at rest, but the lid moves at once: a CFL number of 6.4 at the lid. The rate
   // of a state at rest was 0 and its first step ran, reported as CFL 0 and kept as the last good
-  // state; so did the step after a lid steered ten times faster.
-  auto sim = test::simulation_from(cavity(2, 32, "dt = 0.2"));
+  // state; so did the step after a lid steered twenty times faster.
+  // Such a fixed step is refused with the scene now; the lid's 1.44 at this one, the flow it drives
+  // passes 1.6 at the second step.
+  CHECK(test::scene_error(cavity(2, 32, "dt = 0.2")).find("CFL number dt sum |U|/h = 6.4 above 1.6") !=
+        std::string::npos);
+  auto sim = test::simulation_from(cavity(2, 32, "dt = 0.045"));
+  REQUIRE(sim->step());
   CHECK_FALSE(sim->step());
-  CHECK(sim->state().failure.step == 1);
+  CHECK(sim->state().failure.step == 2);
   CHECK(sim->state().failure.parameter == "fluid.dt");
-  CHECK(sim->state().failure.message.find("6.4") != std::string::npos);
+  CHECK(sim->state().failure.message.find("CFL") != std::string::npos);
   auto slow = test::simulation_from(cavity(2, 16, "dt = 0.01\nvelocity_scale = 1.0"));
   REQUIRE(slow->step());
   CHECK(test::observe(slow->model(), slow->state(), "fluid.cfl") == doctest::Approx(0.16));
-  REQUIRE(steer(slow->model_for_steering(), parse_override("fluid.boundary.y_hi_velocity=[20.0, 0.0]")) == "");
-  CHECK_FALSE(slow->step());
-  CHECK(slow->state().failure.step == 2);
+  // A lid steered twenty times faster under the fixed step: refused at once (the step failed).
+  CHECK(steer(slow->model_for_steering(), parse_override("fluid.boundary.y_hi_velocity=[20.0, 0.0]"))
+            .find("CFL number dt sum |U|/h = 3.2 above 1.6") != std::string::npos);
+  REQUIRE(slow->step());
   // An adaptive first step with a velocity scale below the lid's speed: held to the lid's.
   auto scaled = test::simulation_from(cavity(2, 16, "velocity_scale = 0.1"));
   CHECK(scaled->model().params.get<FluidParams>().dt <= 0.5 / 16 * (1 + 1e-12));

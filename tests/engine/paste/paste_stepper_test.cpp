@@ -240,6 +240,40 @@ TEST_CASE("paste: a box that no lubricated gap holds is a clear failure, not a N
   CHECK(f.parameter == "box.pressure");
   CHECK(f.message.find("no lubricated gap resists the box") != std::string::npos);
   for (double v : sim->last_good_state().particle_v) CHECK(std::isfinite(v));
+  // The sheared paste's scene with 100 grains not compressed, and the direct solve: its factor of
+  // the nearly singular Xi kept positive pivots, and its residual of 1.6 went into the velocities
+  // (1e17 m/s) unremarked; the next step failed on an overlap of 202 %.
+  std::ifstream in(test::scene_path("paste_shear"));
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string scene = text.str();
+  for (const auto& [from, to] :
+       {std::pair<std::string, std::string>{"compress = true\ndilation = 1.1", "compress = false"},
+        {"count = 896", "count = 100"},
+        {"[lubrication]\n", "[lubrication]\nsolver = \"direct\"\n"}}) {
+    REQUIRE(scene.find(from) != std::string::npos);
+    scene.replace(scene.find(from), from.size(), to);
+  }
+  auto direct = test::simulation_from(scene, 1);
+  CHECK_FALSE(direct->step());
+  const StepFailure& d = direct->state().failure;
+  CHECK(d.stage == "lubrication_solve");
+  CHECK(d.parameter == "lubrication.h_max_over_a");
+  CHECK(d.message.find("Xi is numerically singular") != std::string::npos);
+  for (double v : direct->last_good_state().particle_v) CHECK(std::abs(v) < 1e3);
+}
+
+TEST_CASE("paste: a run of no time with the adaptive step takes no step, a run of any time one at least") {
+  // (`silt run --time 0` took one step: the end was tested after each step only)
+  auto sim = test::simulation_from(packed(60, 9), 1);
+  RunOptions none;
+  none.time = 0;
+  CHECK(sim->run(none).steps_done == 0);
+  CHECK(sim->state().step == 0);
+  RunOptions some;
+  some.time = 1e-12;
+  CHECK(sim->run(some).steps_done == 1);
+  CHECK(sim->state().step == 1);
 }
 
 TEST_CASE("paste: grains that could turn as gears are held at rest, the rest of the solve unchanged") {
