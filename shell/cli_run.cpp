@@ -56,6 +56,7 @@ int prepare(Simulation& sim, const RunArgs& a, RunJob& job, std::string& warning
     return code;
   }
   sim.restore(std::move(packed));
+  job.prepared(prep);
   if (!a.quiet)
     std::fprintf(stderr, "silt: prepared in %lld steps (%.1f s): phi = %.5f%s\n", static_cast<long long>(prep.steps),
                  prep.wall_s, measure(model, sim.state()).phi, prep.end == RunEnd::kStatic ? ", static" : "");
@@ -147,8 +148,9 @@ int run_command(const RunArgs& a) {
   if (scene_length) {
     const RunOptions left = sim.scene_run_left();
     if (left.time < 0 && left.steps <= 0 && !a.restore.empty())
-      return report_error("the checkpoint is at the scene's end (t = " + format_number(sim.state().t) + " s, step " +
-                              std::to_string(sim.state().step) + "): give --steps or --time to go on",
+      return report_error("the checkpoint is at the scene's end (t = " + format_number(sim.state().t) +
+                              model.unit("s") + ", step " + std::to_string(sim.state().step) +
+                              "): give --steps or --time to go on",
                           1);
     opt.steps = left.steps;
     opt.time = left.time;

@@ -444,7 +444,7 @@ void Session::run_for(const RunLength& len, bool background) {
       sim_->restore(job.kept_state());  // (the last good state, which the job sampled)
       line += "; back to the last good state";
     }
-    line += ", now t = " + format_number(st.t) + " s, step " + std::to_string(st.step);
+    line += ", now t = " + format_number(st.t) + sim_->model().unit("s") + ", step " + std::to_string(st.step);
     say(line, from_background);
     return failure;
   };

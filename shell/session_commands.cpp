@@ -186,8 +186,8 @@ void Session::cmd_set(const Command& c) {
                          : "the state at t = 0 made again";
   std::string discarded = std::string(" (") + what;
   if (was.step > 0 || stats_->rows().size() > 1)
-    discarded += "; discarded: the run to t = " + format_number(was.t) + " s (step " + std::to_string(was.step) +
-                 ") and its " + std::to_string(stats_->rows().size()) + " sample(s)";
+    discarded += "; discarded: the run to t = " + format_number(was.t) + s.model().unit("s") + " (step " +
+                 std::to_string(was.step) + ") and its " + std::to_string(stats_->rows().size()) + " sample(s)";
   discarded += ")";
   install(std::move(m), keep);
   overrides_ = std::move(next);
@@ -370,7 +370,8 @@ void Session::cmd_save(const Command& c) {
   check_not_open_file(c.args[0].text, "checkpoint");
   at_boundary([&] { copy = s.state(); });
   write_checkpoint(c.args[0].text, s.model(), copy);
-  out_ << "saved step " << copy.step << " (t = " << format_number(copy.t) << " s) to " << c.args[0].text << "\n";
+  out_ << "saved step " << copy.step << " (t = " << format_number(copy.t) << s.model().unit("s") << ") to "
+       << c.args[0].text << "\n";
 }
 
 void Session::cmd_hash(const Command&) {
@@ -396,7 +397,7 @@ void Session::cmd_restore(const Command& c) {
   s.restore(std::move(st));
   s.prepare();  // a checkpoint of a state never stepped (a fresh paste's): as install() does
   rewind_series(s.state().step);
-  out_ << "restored step " << s.state().step << " (t = " << format_number(s.state().t) << " s)";
+  out_ << "restored step " << s.state().step << " (t = " << format_number(s.state().t) << s.model().unit("s") << ")";
   if (const size_t n = stats_->drop_after(s.state().t, s.state().step); n > 0)
     out_ << "; " << n << " sample(s) after it dropped from the stats"
          << (stats_file_.empty() ? "" : " (the file keeps them)");

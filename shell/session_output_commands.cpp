@@ -60,6 +60,9 @@ void Session::cmd_stats(const Command& c) {
     // stats FILE.csv [every N]
     if (a.size() != 1 && (a.size() != 3 || a[1].text != "every"))
       throw ParseError(c.name_col, "usage: stats [since T | reset | FILE.csv [every N] | off]");
+    // (`stats every` started a file named "every" in the current directory)
+    if (a[0].text == "every" || a[0].text == "since")
+      throw ParseError(a[0].col, "'" + a[0].text + "' is a word of the command, not a file: stats FILE.csv every N");
     const int64_t every = a.size() == 3 ? parse_every(a[2]) : 0;
     require_stopped("cannot change where the samples go");
     check_not_inputs(a[0].text, "stats");

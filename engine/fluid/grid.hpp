@@ -85,8 +85,16 @@ struct Grid {
     return m;
   }
   // Whether a flow whose velocities over the spacing reach `rate` [1/s] has squares over the cells
-  // beyond double precision: its kinetic energy and enstrophy ((|u| / h)^2 summed) would be inf.
-  bool squares_overflow(double rate) const { return !std::isfinite(rate * rate * static_cast<double>(cells())); }
+  // beyond double precision: the sums of (|u| / h)^2 and |u|^2 over the cells, or the kinetic
+  // energy and enstrophy they give over the cells' volume (a domain of 1e110 m gave inf), would
+  // be inf.
+  bool squares_overflow(double rate, double density) const {
+    double h_max = h[0];
+    for (int a = 1; a < dim; ++a) h_max = std::max(h_max, h[a]);
+    const double nc = static_cast<double>(cells()), speed = rate * h_max;
+    return !std::isfinite(rate * rate * nc) || !std::isfinite(rate * rate * nc * cell_volume()) ||
+           !std::isfinite(speed * speed * nc) || !std::isfinite(0.5 * density * speed * speed * nc * cell_volume());
+  }
   // sum_a 1 / h_a^2: the explicit viscous number is nu dt times it.
   double inv_h2_sum() const {
     double inv = 0;

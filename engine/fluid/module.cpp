@@ -35,6 +35,12 @@ void compile_grid(const SceneDesc& d, const Model& m, Grid& g) {
     g.lo[a] = m.box.lo[a];
     g.h[a] = m.box.len[a] / static_cast<double>(g.n[a]);
   }
+  // The kinetic energy and the enstrophy are integrals over the cells: a domain of 1e300 m in 2D
+  // (1e110 m in 3D) gave them inf from the first sample, and the CFL number NaN.
+  if (!std::isnormal(g.cell_volume()))
+    d.fail(d.first_given({"domain.hi", "domain.lo"}, "domain.hi"),
+           "the grid's cells, of " + format_number(g.cell_volume(), 4) + (m.dim == 3 ? " m^3" : " m^2") +
+               " each, are beyond what double precision resolves (the fluid's integrals over them would be 0 or inf)");
   for (int a = 1; a < m.dim; ++a)
     if (std::abs(g.h[a] - g.h[0]) > 1e-9 * g.h[0])
       d.fail("fluid.cells", "the grid spacing must be the same along every axis: " + format_number(g.h[0], 4) +
@@ -90,31 +96,34 @@ double default_velocity_scale(const FluidParams& p) {
 // A speed given at `key` whose squares over the grid would overflow: its kinetic energy and
 // enstrophy ((|u| / h)^2 summed over the cells) infinite from the first sample (a lid at 1e155
 // m/s ran, and its stats showed inf).
-void check_speed(const SceneDesc& d, const std::string& key, double v, const Grid& g) {
-  if (!g.squares_overflow(std::abs(v) / g.h_min())) return;
-  d.fail(key, key + " = " + format_number(v, 4) + " m/s: the flow's enstrophy, (|u| / h)^2 over the " +
+void check_speed(const SceneDesc& d, const std::string& key, double v, const Grid& g, double density) {
+  if (!g.squares_overflow(std::abs(v) / g.h_min(), density)) return;
+  d.fail(key, key + " = " + format_number(v, 4) + " m/s: the flow's kinetic energy or enstrophy, squares over the " +
                   format_number(static_cast<double>(g.cells()), 4) + " cells, overflows double precision");
 }
 
 // What may change while running: viscosity (or Re), walls' and inflows' velocities, the drive,
 // the time step and the target CFL, the solver's tolerance.
 void compile_steerable(const SceneDesc& d, const Model& m, FluidParams& p) {
+  p.density = d.real("fluid.density");
+  if (!std::isnormal(p.density))
+    d.fail("fluid.density",
+           "a density of " + format_number(p.density, 4) + " kg/m^3 is beyond what double precision resolves");
   for (int a = 0; a < m.dim; ++a)
     for (int side = 0; side < 2; ++side) {
       const std::string key = std::string("fluid.boundary.") + face_names()[2 * a + side] + "_velocity";
       if (d.has(key)) {
         const auto v = d.reals(key);
         for (int c = 0; c < m.dim && c < static_cast<int>(v.size()); ++c) {
-          check_speed(d, key, v[c], p.grid);
+          check_speed(d, key, v[c], p.grid, p.density);
           p.grid.bc[a][side].velocity[c] = v[c];
         }
       }
     }
-  p.density = d.real("fluid.density");
   if (d.has("fluid.pressure_gradient")) p.pressure_gradient = d.real("fluid.pressure_gradient");
   if (d.has("fluid.bulk_velocity")) {
     p.bulk_velocity = d.real("fluid.bulk_velocity");
-    check_speed(d, "fluid.bulk_velocity", p.bulk_velocity, p.grid);
+    check_speed(d, "fluid.bulk_velocity", p.bulk_velocity, p.grid, p.density);
   }
   p.velocity_scale = d.has("fluid.velocity_scale") ? d.real("fluid.velocity_scale") : default_velocity_scale(p);
   p.length_scale = d.has("fluid.length_scale") ? d.real("fluid.length_scale") : m.box.len[0];
@@ -127,9 +136,6 @@ void compile_steerable(const SceneDesc& d, const Model& m, FluidParams& p) {
     d.fail(d.first_given({"fluid.velocity_scale", "fluid.length_scale"}, "fluid.velocity_scale"),
            "the flow's time L / U = " + format_number(p.length_scale / p.velocity_scale, 4) +
                " s is beyond what double precision resolves");
-  if (!std::isnormal(p.density))
-    d.fail("fluid.density",
-           "a density of " + format_number(p.density, 4) + " kg/m^3 is beyond what double precision resolves");
   if (const double nu = p.nu(); !std::isfinite(nu * p.grid.inv_h2_sum()) || (nu != 0 && !std::isnormal(nu)))
     d.fail(d.first_given({"fluid.reynolds", "fluid.viscosity"}, "fluid.viscosity"),
            "the kinematic viscosity nu = mu / rho = " + format_number(nu, 4) + " m^2/s (its rate on the grid, nu sum " +
@@ -169,6 +175,7 @@ void compile_lines(const SceneDesc& d, const Model& m, FluidParams& p) {
     const std::string k = "output.lines[" + std::to_string(l) + "].";
     LineProbe probe;
     probe.name = d.string(k + "name");
+    if (probe.name.empty()) d.fail(k + "name", "a line probe needs a name (its key in the summary's \"lines\")");
     probe.field = d.string(k + "field");
     if (probe.field == "w" && m.dim == 2) d.fail(k + "field", "w is the z velocity: a 2D fluid has none");
     const auto from = d.reals(k + "from"), to = d.reals(k + "to");
@@ -181,6 +188,7 @@ void compile_lines(const SceneDesc& d, const Model& m, FluidParams& p) {
         if (x < m.box.lo[a] - 1e-12 * m.box.len[a] || x > m.box.lo[a] + m.box.len[a] * (1 + 1e-12))
           d.fail(k + (x == from[a] ? "from" : "to"), "the probe's ends must be inside the domain");
     }
+    if (probe.from == probe.to) d.fail(k + "to", "the probe's ends are the same point: a segment has two");
     probe.points = static_cast<int>(d.integer(k + "points"));
     for (const LineProbe& other : p.lines)
       if (other.name == probe.name) d.fail(k + "name", "two line probes are named '" + probe.name + "'");
@@ -237,7 +245,7 @@ void compile_fluid(const SceneDesc& d, Model& m) {
   p.initial = d.string("fluid.initial") == "taylor_green" ? Initial::kTaylorGreen : Initial::kRest;
   if (p.initial == Initial::kTaylorGreen) {
     p.initial_velocity = d.real("fluid.initial_velocity");
-    check_speed(d, "fluid.initial_velocity", p.initial_velocity, p.grid);
+    check_speed(d, "fluid.initial_velocity", p.initial_velocity, p.grid, d.real("fluid.density"));
   }
   if (p.initial == Initial::kTaylorGreen)
     for (int a = 0; a < m.dim; ++a)

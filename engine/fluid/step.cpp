@@ -494,7 +494,7 @@ void fluid_store(const Model& m, State& s, FluidWorkspace& w) {
   // Finite, but so fast that the squares over the grid overflow (a pressure gradient of 1e155 Pa/m
   // in one step). Refused as the scene's speeds are (check_speed), so that the last good state is
   // the one before.
-  if (g.squares_overflow(rate)) {
+  if (g.squares_overflow(rate, p.density)) {
     s.events.slot[nonfinite_event()].raise(1, rate);
     return;
   }

@@ -95,6 +95,7 @@ State prepare_packing(const Model& m, int threads, PreparationReport* report, co
     report->end = rep.end;
     report->reached_phi = reached;
     report->failure = sim.state().failure.message;
+    report->profile = sim.state().profile;
     if (rep.end == RunEnd::kFailed) {
       report->failure_detail = sim.state().failure;
       report->last_good = sim.last_good_state();
@@ -103,6 +104,7 @@ State prepare_packing(const Model& m, int threads, PreparationReport* report, co
   State s = sim.state();
   s.t = 0;
   s.step = 0;
+  s.profile = Profile{};  // (the run's stage times are the run's: the summary's stages held the compression's)
   for (auto& v : s.particle_v) v = 0;
   for (auto& w : s.particle_w) w = 0;
   s.shear_strain = 0;

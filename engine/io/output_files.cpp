@@ -23,13 +23,25 @@ void check_output_path(const std::string& path, const std::string& what, bool re
       throw IoError("cannot write " + what + " '" + path + "': not a regular file (a device, a pipe)");
     if (::access(path.c_str(), W_OK) != 0)
       throw IoError("cannot write " + what + " '" + path + "': " + std::strerror(errno));
-    return;
+    if (!fs::is_regular_file(st)) return;  // a device or a pipe is written in place
   }
   std::string dir = fs::path(path).parent_path().string();
   if (dir.empty()) dir = ".";
   if (!fs::is_directory(dir, ec)) throw IoError("cannot write " + what + " '" + path + "': no directory '" + dir + "'");
   if (::access(dir.c_str(), W_OK) != 0)
     throw IoError("cannot write " + what + " '" + path + "': " + std::strerror(errno) + " (its directory)");
+  // A file made there and removed: the directory may grant writing (to root, /proc and /sys do)
+  // and refuse a new file, which a regular file's NAME.tmp is before its rename (a summary or a
+  // checkpoint was refused only after the run).
+  const std::string probe = path + ".probe." + std::to_string(::getpid());
+  const int fd = ::open(probe.c_str(), O_WRONLY | O_CREAT | O_EXCL, 0644);
+  if (fd < 0) {
+    if (errno == EEXIST) return;  // (a file of that name: the directory takes new files)
+    throw IoError("cannot write " + what + " '" + path + "': " + std::strerror(errno) +
+                  " (a new file in its directory)");
+  }
+  ::close(fd);
+  ::unlink(probe.c_str());
 }
 
 std::filesystem::path canonical_path(const std::string& path) {

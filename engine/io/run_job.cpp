@@ -226,6 +226,7 @@ int RunJob::finish(const RunReport& rep, int interrupted) {
   sum.steps_run = steps_;
   sum.average_from = o_.average_from;
   sum.profiles = profiles_;
+  if (preparation_) sum.preparation = &*preparation_;
   if (kept_) sum.kept = &*kept_;
   if (m.until_static.on && rep.end == RunEnd::kDone)
     sum.warnings.push_back("run.stop_when_static: no equilibrium within the run length");
@@ -245,6 +246,7 @@ int RunJob::finish_preparation(const PreparationReport& prep, int interrupted) {
   sum.status = status(prep.end);
   sum.wall_s = prep.wall_s;
   sum.average_from = o_.average_from;
+  sum.preparation = &prep;
   if (failed) {
     sum.failure = prep.failure_detail;
     sum.failure.failed = true;

@@ -38,6 +38,11 @@ void write_summary(const std::string& path, const SummaryInput& in, const Simula
   json stages = json::object();
   for (const auto& [name, st] : now.profile) stages[name] = st.seconds();
   j["stages"] = stages;
+  if (const PreparationReport* p = in.preparation) {
+    json prep_stages = json::object();
+    for (const auto& [name, st] : p->profile) prep_stages[name] = st.seconds();
+    j["preparation"] = {{"steps", p->steps}, {"wall_s", p->wall_s}, {"stages", prep_stages}};
+  }
   for (const Module& mod : modules())
     if (mod.spec->summary && m.module_on(mod.spec->name)) {
       json g = json::object();

@@ -5,6 +5,7 @@
 
 #include "scene/core_module.hpp"
 #include "scene/render_settings.hpp"
+#include "silt/text.hpp"
 
 namespace silt {
 
@@ -80,6 +81,18 @@ void read_render_settings(const SceneDesc& d, Model& m) {
     double centre = 0;
     for (int k = 0; k < 3; ++k) centre += n[k] * (m.box.lo[k] + 0.5 * m.box.len[k]);
     r.slice_position = d.has("render.slice_position") ? d.real("render.slice_position") : centre;
+    // A plane that misses the domain draws nothing but the box and the colour bar.
+    double span[2] = {centre, centre};
+    for (int corner = 0; corner < 8; ++corner) {
+      double at = 0;
+      for (int k = 0; k < 3; ++k) at += n[k] * (m.box.lo[k] + ((corner >> k) & 1) * m.box.len[k]);
+      span[0] = std::min(span[0], at);
+      span[1] = std::max(span[1], at);
+    }
+    if (!(r.slice_position >= span[0] && r.slice_position <= span[1]))
+      d.fail("render.slice_position", "the slice n . x = " + format_number(r.slice_position, 4) +
+                                          " misses the domain, where n . x spans [" + format_number(span[0], 4) + ", " +
+                                          format_number(span[1], 4) + "]");
     r.slice_component = d.string("render.slice_component");
   } else {
     for (const char* k : {"render.slice_axis", "render.slice_normal", "render.slice_position", "render.slice_component",

@@ -170,4 +170,10 @@ TEST_CASE("[render] slice_normal: any direction, normalised, through the domain 
             .find("not both") != std::string::npos);
   CHECK(test::scene_error(std::string(kCube) + "[render]\nslice_normal = [0, 0, 0]\n").find("non-zero") !=
         std::string::npos);
+  // A plane that misses the cube drew the box alone: refused. On its faces, it is drawn.
+  CHECK(test::scene_error(std::string(kCube) + "[render]\nslice_axis = \"x\"\nslice_position = 5.0\n")
+            .find("the slice n . x = 5 misses the domain, where n . x spans [0, 4]") != std::string::npos);
+  CHECK(test::scene_error(std::string(kCube) + "[render]\nslice_normal = [1, 1, 0]\nslice_position = -0.1\n")
+            .find("misses the domain") != std::string::npos);
+  CHECK(test::scene_error(std::string(kCube) + "[render]\nslice_axis = \"z\"\nslice_position = 4.0\n") == "");
 }

@@ -84,8 +84,19 @@ TEST_CASE("procedure O: a prepared packing is static at P, at rest, unsheared, w
 TEST_CASE("silt run: prepare, save, restore and shear with a linear mean velocity profile") {
   std::string out;
   std::ofstream("cli_shear.toml") << kShear;
-  REQUIRE(run("run cli_shear.toml --steps 0 --save cli_shear_prep.ckpt", &out) == 0);
+  REQUIRE(run("run cli_shear.toml --steps 0 --save cli_shear_prep.ckpt --summary cli_shear_prep.json", &out) == 0);
   CHECK(out.find("prepared in") != std::string::npos);
+  {
+    // The compression's stages apart from the run's (which were its: 6 s of contact forces in a
+    // run of 0.1 s).
+    std::ifstream pin("cli_shear_prep.json");
+    const auto p = nlohmann::json::parse(pin);
+    CHECK(p["preparation"]["steps"].get<int64_t>() > 0);
+    CHECK(p["preparation"]["stages"].contains("contact_forces"));
+    double run_stages = 0;
+    for (const auto& [name, seconds] : p["stages"].items()) run_stages += seconds.get<double>();
+    CHECK(run_stages <= p["wall_s"].get<double>());
+  }
   REQUIRE(run("run cli_shear.toml --quiet --restore cli_shear_prep.ckpt --summary cli_shear.json --average-from 20 "
               "--observe t,gamma,I,box.Ly",
               &out) == 0);

@@ -51,6 +51,10 @@ TEST_CASE("stats reset, stats since T, and stats FILE every N writing as the run
   CHECK(test::read_file(dir / "s.csv") == csv);
   CHECK_FALSE(f.run("stats off"));  // it goes to no file now
   CHECK_FALSE(f.run("stats a.csv every 0"));
+  f.take_err();
+  CHECK_FALSE(f.run("stats every"));  // it started a file named "every"
+  CHECK(contains(f.take_err(), "'every' is a word of the command, not a file"));
+  CHECK_FALSE(std::filesystem::exists("every"));
 }
 
 TEST_CASE("vtk DIR every N writes during runs, a change that discards the run says what it discarded") {

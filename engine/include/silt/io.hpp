@@ -135,6 +135,9 @@ struct SummaryInput {
   std::vector<std::string> warnings;
   std::vector<ProfileSeries> profiles;
   StepFailure failure;  // a failure that is not the simulation's state's (the preparation's)
+  // The preparation before the run (procedure O), when there was one: its steps, wall time and
+  // stage times, apart from the run's.
+  const PreparationReport* preparation = nullptr;
   // A failed run: the last good state, whose step, time and fields the summary reports (the
   // failure and the stage timings are the simulation's state's).
   const State* kept = nullptr;

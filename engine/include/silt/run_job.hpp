@@ -68,6 +68,8 @@ class RunJob {
   // --restore); the summary says what happened. Returns 3 after a failure, `interrupted` after an
   // interruption, or 4 when an output could not be written.
   int finish_preparation(const PreparationReport& prep, int interrupted = 130);
+  // A preparation that ended well, before the run: reported in the summary apart from the run.
+  void prepared(const PreparationReport& prep) { preparation_ = prep; }
 
   const StatsWriter& stats() const { return o_.series ? *o_.series : *stats_; }
   // An earlier run's VTK files removed from the directory (0 without VTK output).
@@ -95,6 +97,7 @@ class RunJob {
   std::string last_good_;
   std::vector<std::pair<std::string, std::string>> inputs_;  // the files the run read, and what each is
   std::optional<State> kept_;                                // after a failure: the last good state
+  std::optional<PreparationReport> preparation_;
   void sample(const State& s);
   int write_outputs(SummaryInput& sum, int code);
   double wall_s_ = 0;

@@ -176,6 +176,7 @@ struct PreparationReport {
   std::string failure;
   StepFailure failure_detail;      // when end == kFailed
   std::optional<State> last_good;  // when end == kFailed: the compression's last good state
+  Profile profile;                 // the compression's wall time per stage (the packing's state starts with none)
 };
 Model compression_model(const Model& m);
 State prepare_packing(const Model& m, int threads, PreparationReport* report = nullptr,

@@ -227,6 +227,17 @@ TEST_CASE("fluid: scene errors are located at their key") {
     CAPTURE(both);
     CHECK(test::scene_error(cavity(2, 8, both)).find("not both") != std::string::npos);
   }
+  // A line probe without a name (the summary's key "") or of one point, from = to (its s, a
+  // fraction of its length, is then 0 / 0): accepted, both.
+  const std::string probe = "[[output.lines]]\nname = \"NAME\"\nfield = \"u\"\nfrom = [0.5, 0.1]\nto = [0.5, 0.9]\n";
+  auto probed = [&](const std::string& from, const std::string& to) {
+    std::string text = cavity(2, 8) + probe;
+    text.replace(text.find(from), from.size(), to);
+    return test::scene_error(text);
+  };
+  CHECK(probed("\"NAME\"", "\"\"").find("a line probe needs a name") != std::string::npos);
+  CHECK(probed("[0.5, 0.9]", "[0.5, 0.1]").find("the probe's ends are the same point") != std::string::npos);
+  CHECK(probed("NAME", "u_centreline") == "");
   const std::string big = test::scene_error(cavity(3, 4000));
   INFO(big);
   CHECK(big.find("GiB") != std::string::npos);

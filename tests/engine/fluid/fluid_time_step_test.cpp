@@ -208,7 +208,8 @@ TEST_CASE("fluid: a wall or drive or initial speed whose enstrophy overflows is 
   std::string fast = lid_cavity(1.0, 1.0, "");
   fast.replace(fast.find("y_hi_velocity = [1.000000"), 25, "y_hi_velocity = [1e155");
   const std::string err = test::scene_error(fast);
-  CHECK(err.find("fluid.boundary.y_hi_velocity = 1e+155 m/s: the flow's enstrophy") != std::string::npos);
+  CHECK(err.find("fluid.boundary.y_hi_velocity = 1e+155 m/s: the flow's kinetic energy or enstrophy") !=
+        std::string::npos);
   CHECK(err.rfind("bad.toml:11:", 0) == 0);
   CHECK(test::scene_error(lid_cavity(1.0, 1e100, "")) == "");  // fast, but its squares are finite
   auto sim = test::simulation_from(lid_cavity(1.0, 1.0, ""));
@@ -241,7 +242,7 @@ TEST_CASE("fluid: a step whose speed overflows the squares fails there, naming t
   CHECK(slower->state().failure.stage == "fluid_load");
 }
 
-TEST_CASE("fluid: a density or viscosity or flow time that double precision cannot hold is refused at its key") {
+TEST_CASE("fluid: a density, viscosity, flow time or domain that double precision cannot hold is refused at its key") {
   // nu = inf was reported as a step to reduce "below 0 s" at fluid.dt; a Reynolds number of 1e308
   // gave a subnormal nu and `silt check` printed Re = 2e300.
   const std::string cavity = lid_cavity(1.0, 1.0, "");
@@ -252,4 +253,16 @@ TEST_CASE("fluid: a density or viscosity or flow time that double precision cann
   CHECK(test::scene_error(with("reynolds = 100.0\nvelocity_scale = 1e-310")).find("L / U = inf s") !=
         std::string::npos);
   CHECK(test::scene_error(with("viscosity = 1e-3")) == "");
+  // A domain so large that the kinetic energy and enstrophy, integrals over its cells, are inf
+  // (they were, from the first sample, with status ok), or that its lid's kinetic energy is.
+  auto sized = [](const char* side, double lid) {
+    std::string text = lid_cavity(1.0, lid, "");
+    const std::string from = "hi = [1.000000, 1.000000]";
+    text.replace(text.find(from), from.size(), std::string("hi = [") + side + ", " + side + "]");
+    return text;
+  };
+  CHECK(test::scene_error(sized("1e300", 1.0)).find("the grid's cells, of inf m^2 each") != std::string::npos);
+  CHECK(test::scene_error(sized("1e150", 1e10)).find("y_hi_velocity = 1e+10 m/s: the flow's kinetic energy") !=
+        std::string::npos);
+  CHECK(test::scene_error(sized("1e150", 1.0)) == "");
 }

@@ -86,3 +86,20 @@ TEST_CASE("is_in_directory compares the file's directory with any name of the di
   CHECK_FALSE(is_in_directory(d / "f.png", d / "sub"));
   CHECK_FALSE(is_in_directory("", d / "sub"));
 }
+
+TEST_CASE("an output path is checked by making a file beside it, where writing is granted but refused") {
+  // To root, /proc and /sys pass access(W_OK) and refuse a new file: a summary or a checkpoint
+  // there was refused only after the run.
+  // (Other users are refused by access: the directory.)
+  CHECK_THROWS_WITH_AS(check_output_path("/proc/silt_output_test.ckpt", "checkpoint"), doctest::Contains("directory"),
+                       IoError);
+  Dir d;
+  CHECK_NOTHROW(check_output_path(d / "new.json", "summary"));
+  std::ofstream(d / "old.json") << "{}";
+  CHECK_NOTHROW(check_output_path(d / "old.json", "summary"));
+  CHECK_NOTHROW(check_output_path("/dev/null", "summary"));
+  // Nothing is left beside them.
+  int entries = 0;
+  for ([[maybe_unused]] const auto& e : fs::directory_iterator(d.path)) ++entries;
+  CHECK(entries == 2);  // sub/ and old.json
+}
