@@ -73,20 +73,13 @@ int prepare(Simulation& sim, const RunArgs& a, RunJob& job, std::string& warning
 // Two outputs written to one file would leave only the last: the two options, or "" when every
 // output file is its own (a device such as /dev/stdout may take several).
 std::string shared_output(const RunArgs& a) {
-  const std::vector<std::pair<std::string, const std::string*>> files = {
-      {"--stats", &a.stats}, {"--summary", &a.summary}, {"--save", &a.save}};
-  for (size_t i = 0; i < files.size(); ++i) {
-    const auto& [option, path] = files[i];
-    if (path->empty()) continue;
-    // (each is written to its name + ".tmp", then renamed: --stats X.tmp --save X lost the stats)
-    for (size_t j = 0; j < i; ++j)
-      if (const std::string clash = output_clash(*files[j].second, *path); !clash.empty())
-        return files[j].first + " and " + option + " name " + clash + ", " + *path;
-    // (a stats file named as a frame in the frames' directory was overwritten by that frame)
-    if (render::FrameWriter::owns(*path, a.frames))
-      return option + " " + *path + " is a frame's name in --frames " + a.frames;
-    if (VtkWriter::owns(*path, a.vtk)) return option + " " + *path + " is a VTK file's name in --vtk " + a.vtk;
-  }
+  const std::vector<std::pair<std::string, std::string>> files = {
+      {"--stats", a.stats}, {"--summary", a.summary}, {"--save", a.save}};
+  if (std::string clash = clashing_outputs(files, a.vtk); !clash.empty()) return clash;
+  // (a stats file named as a frame in the frames' directory was overwritten by that frame)
+  for (const auto& [option, path] : files)
+    if (!path.empty() && render::FrameWriter::owns(path, a.frames))
+      return option + " " + path + " is a frame's name in --frames " + a.frames;
   return "";
 }
 

@@ -48,7 +48,8 @@ std::string describe_fluid(const Model& m) {
     << bytes_per_cell(p) * padded_cells(p) / static_cast<double>(g.cells()) << " bytes per cell, "
     << fluid_memory_bytes(m) / (1 << 20) << " MiB)\n";
   o << "             rho = " << p.density << " kg/m^3, mu = " << p.viscosity << " Pa s (nu = " << p.nu()
-    << " m^2/s); Re = U L / nu = " << p.velocity_scale * p.length_scale / std::max(p.nu(), 1e-300)
+    << " m^2/s); Re = U L / nu = "
+    << (p.nu() > 0 ? format_number(p.velocity_scale * p.length_scale / p.nu()) : std::string("inf (inviscid)"))
     << " (U = " << p.velocity_scale << " m/s, L = " << p.length_scale << " m)\n";
   o << "             faces:";
   for (int a = 0; a < m.dim; ++a)

@@ -95,6 +95,19 @@ std::string output_clash(const std::string& a, const std::string& b) {
                             : "a file and its temporary file (NAME.tmp, written, then renamed)";
 }
 
+std::string clashing_outputs(const std::vector<std::pair<std::string, std::string>>& outputs, const std::string& vtk) {
+  for (size_t i = 0; i < outputs.size(); ++i) {
+    const auto& [option, path] = outputs[i];
+    if (path.empty()) continue;
+    // (each is written to its name + ".tmp", then renamed: --stats X.tmp --save X lost the stats)
+    for (size_t j = 0; j < i; ++j)
+      if (const std::string clash = output_clash(outputs[j].second, path); !clash.empty())
+        return outputs[j].first + " and " + option + " name " + clash + ", " + path;
+    if (VtkWriter::owns(path, vtk)) return option + " " + path + " is a VTK file's name in the VTK directory " + vtk;
+  }
+  return "";
+}
+
 void check_not_input(const std::string& path, const std::string& input, const std::string& what,
                      const std::string& input_what) {
   const Meet m = meet(path, input);

@@ -66,6 +66,11 @@ RunJob::RunJob(Simulation& sim, RunJobOptions options) : sim_(sim), o_(std::move
   if (o_.observe.empty()) o_.observe = m.observe;
   if (o_.every <= 0) o_.every = m.sample_every;
   observer_.emplace(m, o_.observe);  // throws std::invalid_argument naming a bad observable
+  // (the command line refuses them first; a caller of its own, a sweep, would not)
+  if (const std::string clash = clashing_outputs(
+          {{"the stats file", o_.stats}, {"the summary", o_.summary}, {"the checkpoint", o_.save}}, o_.vtk);
+      !clash.empty())
+    throw IoError(clash + ": each would overwrite the other");
   // The VTK directory first: the summary or the checkpoint may be named inside it.
   if (!o_.vtk.empty()) make_output_directory(o_.vtk, "VTK");
   check_output_path(o_.stats, "stats file");

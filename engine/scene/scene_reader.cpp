@@ -57,7 +57,13 @@ std::string convert(const toml::node& n, const KeySpec& spec, const std::string&
     case KeyType::kInt: {
       auto x = as_number(n);
       // Whole and within int64 before it is converted (nan, inf and 1e300 are not integers).
-      if (!x || !(std::abs(*x) < 9.2e18) || *x != std::floor(*x)) return type_error();
+      if (!x || !std::isfinite(*x) || *x != std::floor(*x)) return type_error();
+      // (an integer past the key's range and int64's, 2^63 - 1 points, is out of that range: it
+      // read "must be an integer")
+      if (!(std::abs(*x) < 9.2e18)) {
+        const std::string range = check_range(*x, n);
+        return range.empty() ? type_error() : range;
+      }
       out = static_cast<int64_t>(*x);
       return check_range(*x, n);
     }

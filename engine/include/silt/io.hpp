@@ -100,6 +100,10 @@ bool overwrites(const std::string& path, const std::string& file);
 // one: "the same file" or "a file and its temporary file (NAME.tmp, written, then renamed)"; ""
 // when they are apart (or either is "", a device or a pipe).
 std::string output_clash(const std::string& a, const std::string& b);
+// The first two of these outputs (option or name, path) that would overwrite each other, or one
+// that is a VTK file's name in the VTK directory `vtk`: "--stats and --save name the same file,
+// x", "" when none does.
+std::string clashing_outputs(const std::vector<std::pair<std::string, std::string>>& outputs, const std::string& vtk);
 // IoError when `path` is the input file `input` (the same file by another name too) or its
 // temporary file would be: an output given the scene's own name would overwrite it. `input_what`
 // names the input in the message.

@@ -5,9 +5,12 @@
 
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 
 #include "silt/errors.hpp"
 #include "silt/io.hpp"
+#include "silt/run_job.hpp"
+#include "support/scenes.hpp"
 
 using namespace silt;
 namespace fs = std::filesystem;
@@ -102,4 +105,25 @@ TEST_CASE("an output path is checked by making a file beside it, where writing i
   int entries = 0;
   for ([[maybe_unused]] const auto& e : fs::directory_iterator(d.path)) ++entries;
   CHECK(entries == 2);  // sub/ and old.json
+}
+
+TEST_CASE("a run job refuses two of its outputs on one file, or on a VTK file's name, as the command line does") {
+  // (only `silt run` checked them: a caller of RunJob of its own lost one output to the other)
+  std::ifstream in(test::scene_path("collision_normal"));
+  std::stringstream text;
+  text << in.rdbuf();
+  auto sim = test::simulation_from(text.str(), 1);
+  Dir d;
+  RunJobOptions same;
+  same.stats = d / "out.csv";
+  same.save = d / "out.csv.tmp";
+  CHECK_THROWS_WITH_AS(RunJob(*sim, same), doctest::Contains("a file and its temporary file"), IoError);
+  RunJobOptions vtk;
+  vtk.vtk = d / "v";
+  vtk.summary = d / "v/index.pvd";
+  CHECK_THROWS_WITH_AS(RunJob(*sim, vtk), doctest::Contains("is a VTK file's name in the VTK directory"), IoError);
+  RunJobOptions apart;
+  apart.stats = d / "a.csv";
+  apart.summary = d / "a.json";
+  CHECK_NOTHROW(RunJob(*sim, apart));
 }

@@ -91,6 +91,9 @@ TEST_CASE("out of range: the range and unit are named") {
   CHECK(e.rfind("bad.toml:8:7: ", 0) == 0);
   CHECK(e.find("out of range > 0 N/m") != std::string::npos);
   CHECK(test::scene_error(with("dimension = 3", "dimension = 4")).find("[2, 3]") != std::string::npos);
+  // An integer past int64's reach is past the key's range too (it read "must be an integer").
+  CHECK(test::scene_error(with("dimension = 3", "dimension = 9223372036854775807")).find("is out of range [2, 3]") !=
+        std::string::npos);
   const std::string c = test::scene_error(with("model = \"hooke\"", "model = \"hookean\""));
   CHECK(c.find("bad.toml:7:9") != std::string::npos);
   CHECK(c.find("is not one of: spring_dashpot hooke hertz linear") != std::string::npos);
