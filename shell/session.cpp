@@ -472,6 +472,7 @@ void Session::run_for(const RunLength& len, bool background) {
   }
   bg_done_ = false;
   background_started_ = true;
+  background_waited_ = false;
   RunJobOptions jo;
   jo.series = &*stats_;
   jo.every = stats_every_;

@@ -189,6 +189,7 @@ class Session {
   bool background_started_ = false;              // a `start` not yet followed by `stop`
   int64_t background_end_step_ = 0;              // where the last background run ended
   bool background_interrupted_ = false;          // and whether Ctrl-C ended it
+  bool background_waited_ = false;               // the last `start` was followed by `wait`, not `stop`
   std::atomic<bool> until_met_{false};
   std::mutex mutex_;
   std::condition_variable cv_;

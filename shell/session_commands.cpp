@@ -46,7 +46,14 @@ void Session::cmd_reload(const Command&) {
   require_stopped("cannot reload");
   if (scene_file_.empty()) throw std::runtime_error("no scene loaded (load FILE)");
   install(compile(scene_with(overrides_)), std::nullopt);
-  out_ << "reloaded " << scene_file_ << " at t = 0\n";
+  out_ << "reloaded " << scene_file_ << " at t = 0";
+  // (the values set were kept without a word: `get` then read them, not the file's)
+  if (!overrides_.empty()) {
+    out_ << ", with the value(s) set since it was loaded:";
+    for (const Override& o : overrides_) out_ << " " << o.key << " = " << o.value;
+    out_ << " (load FILE reads the file alone)";
+  }
+  out_ << "\n";
 }
 
 void Session::cmd_check(const Command&) {
@@ -79,6 +86,12 @@ void Session::cmd_start(const Command& c) {
 // A finite `start` may end before its `stop`: that is said, not an error, so that what a script
 // does does not depend on how fast the machine is.
 void Session::cmd_stop(const Command&) {
+  // (`start N`, `wait`, `stop` failed a script: "nothing is running")
+  if (!background_started_ && background_waited_) {
+    background_waited_ = false;
+    out_ << "the run had already ended at step " << background_end_step_ << " (wait)\n";
+    return;
+  }
   if (!background_started_) throw std::runtime_error("nothing is running");
   background_started_ = false;
   const bool ended = !running();
@@ -94,6 +107,7 @@ void Session::cmd_stop(const Command&) {
 void Session::cmd_wait(const Command&) {
   if (!background_started_) throw std::runtime_error("nothing is running");
   background_started_ = false;
+  background_waited_ = true;
   if (background_.joinable()) background_.join();
   for (const std::string& m : take_messages()) out_ << m << "\n";
 }

@@ -130,8 +130,8 @@ void refresh_frozen(Model& m) {
 void check_time_step(const SceneDesc& d, const Model& m) {
   if (!(m.dt > m.dt_stable)) return;
   const std::string key = d.has("run.dt") ? "run.dt" : "run.dt_over_tc";
-  d.fail(key, "time step " + format_number(m.dt) + " s exceeds the velocity-Verlet stability limit " +
-                  format_number(m.dt_stable) + " s of the stiffest contact (reduced mass " +
+  d.fail(key, "time step " + format_number(m.dt) + m.unit("s") + " exceeds the velocity-Verlet stability limit " +
+                  format_number(m.dt_stable) + m.unit("s") + " of the stiffest contact (reduced mass " +
                   format_number(m.m_eff_min) + ", stiffness " + format_number(m.k_max) + "); reduce " + key +
                   " (run.dt_over_tc <= " + format_number(m.dt_stable / m.t_contact) + ")");
 }
@@ -150,9 +150,9 @@ void check_initial_speeds(const SceneDesc& d, const Model& m) {
     if (!(v * m.dt <= extent)) {
       const std::string p = "grains[" + std::to_string(m.init.group[i]) + "].";
       d.fail(d.has(p + "velocities") ? p + "velocities" : (d.has(p + "temperature") ? p + "temperature" : "run.dt"),
-             "grain " + std::to_string(i) + " starts at " + format_number(v) +
-                 " m/s: it would cross the whole domain (" + format_number(extent) + " m) in one time step of " +
-                 format_number(m.dt) + " s: reduce its speed or run.dt");
+             "grain " + std::to_string(i) + " starts at " + format_number(v) + m.unit("m/s") +
+                 ": it would cross the whole domain (" + format_number(extent) + m.unit("m") +
+                 ") in one time step of " + format_number(m.dt) + m.unit("s") + ": reduce its speed or run.dt");
     }
   }
 }

@@ -87,7 +87,7 @@ void diagnose_dem(GraphBuilder& b) {
     f.particle = id;
     f.parameter = m.dt_key;
     f.message = "grain " + std::to_string(id) + " has a non-finite velocity or position; the time step " +
-                format_number(s.dt, 4) + " s is too large for the contacts it meets: " + step_advice(m);
+                format_number(s.dt, 4) + m.unit("s") + " is too large for the contacts it meets: " + step_advice(m);
   };
   b.diagnose(event::kNonFinite, [non_finite](const Model& m, const State& s, const EventSlot& e, StepFailure& f) {
     non_finite(m, s, s.particle_id[e.first()], f);
@@ -110,12 +110,12 @@ void diagnose_dem(GraphBuilder& b) {
     if (m.velocities_solved) {
       // The step moved the grains with solved velocities: the DEM's inertial limit is not theirs.
       f.parameter = m.dt_key;
-      f.message =
-          what + ": the step of " + format_number(s.dt, 4) + " s moved the grains into each other; lower " + m.dt_key;
+      f.message = what + ": the step of " + format_number(s.dt, 4) + m.unit("s") +
+                  " moved the grains into each other; lower " + m.dt_key;
     } else if (s.dt > m.dt_stable) {
       f.parameter = "run.dt";
-      f.message = what + ": the time step " + format_number(s.dt, 4) + " s exceeds the stability limit " +
-                  format_number(m.dt_stable, 4) + " s; reduce run.dt";
+      f.message = what + ": the time step " + format_number(s.dt, 4) + m.unit("s") + " exceeds the stability limit " +
+                  format_number(m.dt_stable, 4) + m.unit("s") + "; reduce run.dt";
     } else {
       f.parameter = stiffness_key(m);
       // A shorter contact time is a stiffer spring (k ~ 1 / t_c^2); a larger modulus or k_n is.
@@ -127,9 +127,10 @@ void diagnose_dem(GraphBuilder& b) {
   b.diagnose(event::kRunaway, [step_advice](const Model& m, const State&, const EventSlot& e, StepFailure& f) {
     f.stage = "energy_check";
     f.parameter = m.dt_key;
-    f.message = "kinetic energy " + format_number(e.value(), 4) + " J exceeds " +
+    f.message = "kinetic energy " + format_number(e.value(), 4) + m.unit("J") + " exceeds " +
                 format_number(m.limits.energy_factor, 4) + " times the energy the scene can supply (" +
-                format_number(m.limits.energy_scale, 4) + " J): the integration is unstable; " + step_advice(m);
+                format_number(m.limits.energy_scale, 4) + m.unit("J") + "): the integration is unstable; " +
+                step_advice(m);
   });
 }
 

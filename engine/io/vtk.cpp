@@ -147,7 +147,13 @@ void VtkWriter::write(const Model& m, const State& s, const std::vector<GridFiel
       vec3("velocity", s.particle_v, D, 0);
     }
     vec3("angular_velocity", s.particle_w, R, R == 1 ? 2 : 0);
-    vec3("force", s.particle_f, D, 0);
+    // The total force, as p[K].f: the state's sum holds no gravity (a grain at rest on the silo's
+    // floor showed m g upwards, the sum over the grains M g).
+    std::vector<double> force = s.particle_f;
+    for (int64_t i = 0; i < s.n; ++i)
+      if (!s.particle_frozen[i])
+        for (int k = 0; k < D; ++k) force[D * i + k] += m.gravity[k] / s.particle_inv_m[i];
+    vec3("force", force, D, 0);
     // The modules' pair forces on each grain (a paste's lubrication: pair_f_lub -> force_lub).
     for (const FieldId id : m.pair_stress_fields) {
       const auto pf = double_field(s, id);

@@ -282,6 +282,17 @@ TEST_CASE("silt play: wait lets a script that starts a run look at its end, the 
   const Result none = silt_cli("play " + write_file("play_wait_none.silt", "wait\n"));
   CHECK(none.code == 2);
   CHECK(none.out.find("nothing is running") != std::string::npos);
+  // A stop after the wait says the run had ended, as a stop after a run that ended alone does (it
+  // failed the script: "nothing is running"); a second stop fails.
+  const Result stop =
+      silt_cli("play " + write_file("play_wait_stop.silt",
+                                    "load " + silt::test::scene_path("collision_normal") + "\nstart 5\nwait\nstop\n"));
+  CHECK(stop.code == 0);
+  CHECK(stop.out.find("the run had already ended at step 5 (wait)") != std::string::npos);
+  const Result twice =
+      silt_cli("play " + write_file("play_wait_stop2.silt", "load " + silt::test::scene_path("collision_normal") +
+                                                                "\nstart 5\nwait\nstop\nstop\n"));
+  CHECK(twice.code == 2);
 }
 
 TEST_CASE("silt run: an observable list with an empty name, a name twice or nothing is refused") {

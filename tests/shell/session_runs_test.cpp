@@ -145,7 +145,11 @@ TEST_CASE("set replaces the keys a value is an alternative to, and errors name w
   CHECK(f.value("dt") == doctest::Approx(2e-6));
   REQUIRE(f.run("set gravity.vector [0,0,-1]"));
   REQUIRE(f.run("set gravity.magnitude 2"));
-  REQUIRE(f.run("reload"));
+  f.take_out();
+  REQUIRE(f.run("reload"));  // with the values set, listed (they were kept without a word)
+  CHECK(contains(f.take_out(),
+                 "with the value(s) set since it was loaded: run.dt_over_tc = 0.02 scene.seed = 5 "
+                 "gravity.magnitude = 2 (load FILE reads the file alone)"));
   REQUIRE(f.run("get gravity.vector"));
   CHECK(contains(f.take_out(), "(not set)"));
   // A value out of range: its key as typed, no made-up file position.

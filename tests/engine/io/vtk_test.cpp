@@ -158,12 +158,27 @@ TEST_CASE("VTK: the grains' force and the contacts' force vectors, normal and ta
     for (int k = 0; k < 3; ++k) rest += std::pow(f[3 * c + k] - along * n[k], 2);
     CHECK(std::sqrt(rest) == doctest::Approx(ft[c]).epsilon(1e-6));
   }
-  // Each grain's force is the sum of its contacts' (no walls, no gravity in particle_f).
+  // Each grain's force is the sum of its contacts' (no walls, no gravity in this scene).
   CHECK(gf[0] == doctest::Approx(f[0] + f[3]));
   CHECK(gf[1] == doctest::Approx(f[1] + f[4]));
   CHECK(gf[3] == doctest::Approx(-f[0]));
   CHECK(gf[7] == doctest::Approx(-f[4]));
   std::filesystem::remove_all("vtk_force_out");
+  // With gravity, the total force, as p[K].f: a falling grain's is m g (it was the state's sum,
+  // which holds no gravity: 0).
+  std::ifstream in(test::scene_path("bounce_dry"));
+  std::stringstream text;
+  text << in.rdbuf();
+  auto fall = test::simulation_from(text.str());
+  fall->prepare();
+  VtkWriter gvtk("vtk_gravity_out");
+  gvtk.write(fall->model(), fall->state());
+  const auto g = array_of(slurp("vtk_gravity_out/grains_000000.vtu"), "force");
+  REQUIRE(g.size() == 3);
+  CHECK(g[2] == doctest::Approx(test::observe(fall->model(), fall->state(), "p[0].fz")));
+  CHECK(g[2] == doctest::Approx(fall->model().gravity[2] / fall->state().particle_inv_m[0]));
+  CHECK(g[2] < 0);
+  std::filesystem::remove_all("vtk_gravity_out");
 }
 
 TEST_CASE("VTK image data: scalar and vector grid fields as cell data, read back") {
