@@ -191,6 +191,11 @@ void Session::cmd_set(const Command& c) {
   // (grains frozen by `freeze` are kept frozen: the state was discarded as of other grains)
   const Simulation::Recompile how = s.after_recompile(m);
   const bool same = how == Simulation::Recompile::kStateKept;
+  // (a wall moved through the settled grains was taken, and the next step failed on an overlap of
+  // 2,062 %, advising stiffer contacts)
+  if (same)
+    if (const std::string conflict = s.kept_state_conflict(m); !conflict.empty())
+      throw std::runtime_error("set " + change.key + " " + c.args[1].text + ": refused, " + conflict);
   std::optional<State> keep;
   if (same) keep = s.state_to_carry();  // (the cycles go on from their phase: the state holds its origin)
   const State& was = s.state();

@@ -181,6 +181,28 @@ bool Simulation::state_given() const { return impl_->given; }
 
 const State& Simulation::state_to_carry() const { return impl_->given_stale ? *impl_->given_stale : state_; }
 
+std::string Simulation::kept_state_conflict(const Model& next) const {
+  const State& s = state_to_carry();
+  for (size_t w = 0; w < next.walls.size() && w < model_.walls.size(); ++w) {
+    const Wall& now = next.walls[w];
+    const Wall& was = model_.walls[w];
+    if (now.point == was.point && now.normal == was.normal) continue;  // (grains may rest on a wall kept)
+    for (int64_t i = 0; i < s.n; ++i) {
+      if (s.particle_frozen[i]) continue;  // (a frozen grain and a wall exert nothing on each other)
+      const double r = s.particle_r[i];
+      const double* x = &s.particle_x[static_cast<size_t>(s.dim * i)];
+      const double gap = s.dim == 3 ? now.gap<3>(Eigen::Map<const Eigen::Vector3d>(x), r)
+                                    : now.gap<2>(Eigen::Map<const Eigen::Vector2d>(x), r);
+      if (-gap > next.limits.max_overlap * r)
+        return "walls[" + std::to_string(w) + "] at its new place cuts through grain " +
+               std::to_string(s.particle_id[i]) + " (an overlap of " + format_number(-gap / r * 100, 4) +
+               " % of its radius, beyond limits.max_overlap = " + format_number(next.limits.max_overlap * 100, 4) +
+               " %): move it clear of the grains, or change it before the first step (or after a reset)";
+    }
+  }
+  return "";
+}
+
 Simulation::Recompile Simulation::after_recompile(Model& next) const {
   const Model& m = model();
   if (!carry_running(next, m) || next.walls.size() != m.walls.size()) return Recompile::kGrainsChanged;

@@ -74,6 +74,18 @@ TEST_CASE("non-steerable values recompile the scene, keeping the state when the 
   // An entry the scene does not have is not "(not set)".
   CHECK_FALSE(f.run("get grains.5.radius"));
   CHECK(f.take_err().find("no grains[5] in the scene") != std::string::npos);
+  // A wall moved through a grain of the state kept: refused, the state as it was (it was taken,
+  // and the next step failed on the overlap advising stiffer contacts). Clear of it: kept.
+  Fixture w;
+  REQUIRE(w.run("load " + test::scene_path("bounce_dry")));
+  REQUIRE(w.run("run 40000"));  // fallen 7.8 mm: z = 0.0452 m, radius 3 mm
+  const std::string before = w.hash();
+  CHECK_FALSE(w.run("set walls[0].point [0, 0, 0.047]"));  // clear of where the scene puts it
+  CHECK(w.take_err().find("walls[0] at its new place cuts through grain 0") != std::string::npos);
+  CHECK(w.hash() == before);
+  REQUIRE(w.run("set walls[0].point [0, 0, 0.01]"));
+  CHECK(w.take_out().find("state kept") != std::string::npos);
+  REQUIRE(w.run("run 10"));
 }
 
 TEST_CASE("save, restore and reset: a restored run is bitwise the uninterrupted one") {

@@ -107,6 +107,9 @@ class Simulation {
   // its start (a step made, or given); else made again at t = 0, for the reason returned.
   enum class Recompile { kStateKept, kGrainsChanged, kGridChanged, kStartMadeAgain };
   Recompile after_recompile(Model& next) const;
+  // Why the state kept by such a recompile cannot go on under `next`: a wall moved into grains,
+  // which the next step would find overlapping it beyond limits.max_overlap ("" when none is).
+  std::string kept_state_conflict(const Model& next) const;
   RunReport run(const RunOptions& opt);
   // The steps a run of these options does at most: opt.steps, or steps_in(opt.time, dt).
   int64_t steps_for(const RunOptions& opt) const;
