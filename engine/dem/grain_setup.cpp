@@ -280,10 +280,6 @@ int64_t group_count(const SceneDesc& d, const Model& m, int g, Group& G) {
   d.fail(key(g, "placement"), "random placement needs grains[" + std::to_string(g) + "].count");
 }
 
-double wall_gap(const Model& m, const double* x, double r, const Wall& w) {
-  return m.dim == 2 ? w.gap<2>(at<2>(x, 0), r) : w.gap<3>(at<3>(x, 0), r);
-}
-
 void place_random(const SceneDesc& d, Model& m, int g, const Group& G, int64_t first, Rng& rng, PlacementGrid& grid) {
   const int D = m.dim;
   auto& xs = m.init.x;
@@ -305,7 +301,7 @@ void place_random(const SceneDesc& d, Model& m, int g, const Group& G, int64_t f
       if (grid.worst_overlap(p, r, xs, rs) > 0) continue;
       bool clear = true;
       for (const Wall& w : m.walls)
-        if (wall_gap(m, p, r, w) < 0) clear = false;
+        if (w.gap(m.dim, p, r) < 0) clear = false;
       if (!clear) continue;
       for (int k = 0; k < D; ++k) xs[D * i + k] = p[k];
       grid.insert(i, p);
@@ -577,7 +573,7 @@ void check_initial_overlaps(const Model& m) {
                       format_number(m.limits.max_overlap) + ": move them apart or reduce their radii");
     grid.insert(i, x);
     for (size_t w = 0; w < m.walls.size(); ++w) {
-      const double gap = wall_gap(m, x, I.radius[i], m.walls[w]);
+      const double gap = m.walls[w].gap(D, x, I.radius[i]);
       if (!I.frozen[i] && -gap > m.limits.max_overlap * I.radius[i])
         m.desc.fail("walls[" + std::to_string(w) + "].point",
                     "grain " + std::to_string(i) + " overlaps wall " + std::to_string(w) + " by " +

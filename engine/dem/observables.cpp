@@ -69,8 +69,8 @@ std::vector<ObservableSpec> dem_observables() {
                        [](const Ctx& c, int64_t i, const Args& a) { return c.s.particle_w[c.s.rot * i + a.w]; }),
       grain_observable("p[{k}].f{a}", "N", "total force on grain K, gravity included",
                        [](const Ctx& c, int64_t i, const Args& a) {
-                         const double g = c.s.particle_frozen[i] ? 0 : c.m.gravity[a.a] / c.s.particle_inv_m[i];
-                         return c.s.particle_f[c.s.dim * i + a.a] + g;
+                         return c.s.particle_f[c.s.dim * i + a.a] +
+                                c.m.weight(c.s.particle_inv_m[i], c.s.particle_frozen[i], a.a);
                        }),
       grain_observable("p[{k}].r", "m", "radius of grain K",
                        [](const Ctx& c, int64_t i, const Args&) { return c.s.particle_r[i]; }),

@@ -66,22 +66,17 @@ void diagnose_paste(GraphBuilder& b) {
       f.stage = stage;
       switch (status) {
         case linalg::SolveStatus::kMaxIterations: {
-          if (p.solver.method == linalg::Method::kDirect && e.value() < 1e-4) {
-            // Round-off in an ill-conditioned Xi: the solution is near, the tolerance the knob.
-            f.parameter = "lubrication.tolerance";
-            f.message = "the direct lubrication solve left a relative residual of " + format_number(e.value(), 4) +
-                        ", above lubrication.tolerance = " + format_number(p.solver.options.tolerance, 4) +
-                        ": the round-off of so ill-conditioned a Xi; raise lubrication.tolerance";
-            break;
-          }
           if (p.solver.method == linalg::Method::kDirect) {
-            // Its factor solves a nearly singular Xi inaccurately.
-            f.parameter = "lubrication.h_max_over_a";
+            // Below 1e-4, round-off in an ill-conditioned Xi: the solution is near, the tolerance
+            // the knob. Above, its factor solved a nearly singular Xi inaccurately.
+            const bool round_off = e.value() < 1e-4;
+            f.parameter = round_off ? "lubrication.tolerance" : "lubrication.h_max_over_a";
             f.message = "the direct lubrication solve left a relative residual of " + format_number(e.value(), 4) +
                         ", above lubrication.tolerance = " + format_number(p.solver.options.tolerance, 4) +
-                        ": Xi is numerically singular (something moves with almost no lubricated "
-                        "gap resisting it); compress the grains first (prepare.compress), raise "
-                        "lubrication.h_max_over_a, or set lubrication.stokes_drag = true";
+                        (round_off ? ": the round-off of so ill-conditioned a Xi; raise lubrication.tolerance"
+                                   : ": Xi is numerically singular (something moves with almost no lubricated "
+                                     "gap resisting it); compress the grains first (prepare.compress), raise "
+                                     "lubrication.h_max_over_a, or set lubrication.stokes_drag = true");
             break;
           }
           // A residual that reached round-off (1e-12 and below) stalled there: the tolerance is the knob.

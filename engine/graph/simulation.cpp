@@ -190,9 +190,7 @@ std::string Simulation::kept_state_conflict(const Model& next) const {
     for (int64_t i = 0; i < s.n; ++i) {
       if (s.particle_frozen[i]) continue;  // (a frozen grain and a wall exert nothing on each other)
       const double r = s.particle_r[i];
-      const double* x = &s.particle_x[static_cast<size_t>(s.dim * i)];
-      const double gap = s.dim == 3 ? now.gap<3>(Eigen::Map<const Eigen::Vector3d>(x), r)
-                                    : now.gap<2>(Eigen::Map<const Eigen::Vector2d>(x), r);
+      const double gap = now.gap(s.dim, &s.particle_x[static_cast<size_t>(s.dim * i)], r);
       if (-gap > next.limits.max_overlap * r)
         return "walls[" + std::to_string(w) + "] at its new place cuts through grain " +
                std::to_string(s.particle_id[i]) + " (an overlap of " + format_number(-gap / r * 100, 4) +

@@ -151,8 +151,7 @@ void VtkWriter::write(const Model& m, const State& s, const std::vector<GridFiel
     // floor showed m g upwards, the sum over the grains M g).
     std::vector<double> force = s.particle_f;
     for (int64_t i = 0; i < s.n; ++i)
-      if (!s.particle_frozen[i])
-        for (int k = 0; k < D; ++k) force[D * i + k] += m.gravity[k] / s.particle_inv_m[i];
+      for (int k = 0; k < D; ++k) force[D * i + k] += m.weight(s.particle_inv_m[i], s.particle_frozen[i], k);
     vec3("force", force, D, 0);
     // The modules' pair forces on each grain (a paste's lubrication: pair_f_lub -> force_lub).
     for (const FieldId id : m.pair_stress_fields) {

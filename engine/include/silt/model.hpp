@@ -63,6 +63,10 @@ struct Wall {
   double gap(const V& x, double r) const {
     return (x - point.head<D>()).dot(normal.head<D>()) - r;
   }
+  // The same for a grain's coordinates as the state stores them (dim of them).
+  double gap(int dim, const double* x, double r) const {
+    return dim == 2 ? gap<2>(at<2>(x, 0), r) : gap<3>(at<3>(x, 0), r);
+  }
 };
 
 // The periodic box. Its lengths may change in time (stress control), so State holds the
@@ -264,6 +268,9 @@ struct Model {
   // Whether a grain-grain contact may carry a tangential force (some pair has friction).
   bool pair_friction() const;
   Vec3 gravity = Vec3::Zero();  // steerable
+  // Component a of the weight of a grain of inverse mass inv_m (none on a frozen grain): what the
+  // state's force sums leave out of a grain's total force.
+  double weight(double inv_m, bool frozen, int a) const { return frozen ? 0.0 : gravity[a] / inv_m; }
 
   // Time stepping.
   double dt = 0;  // steerable
