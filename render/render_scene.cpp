@@ -234,8 +234,8 @@ RenderScene build_render_scene(const Model& m, const State& s, const View& v, co
   }
   if (v.wants("box")) add_box_outline(rs, s, D == 2 ? static_cast<float>(4 * r_max) : 0.0f);
 
-  // Overlays.
-  if (bar != Bar::kNone) {
+  // Overlays (no bar where what it was for has nothing drawn: lubrication in a dry state).
+  if (bar != Bar::kNone && !scale.colormap.empty()) {
     rs.colorbar = {
         true,           v.width - 90, mg.top + 20, 18,         std::max(20, v.height - mg.top - mg.bottom - 40),
         scale.colormap, scale.lo,     scale.hi,    scale.label};

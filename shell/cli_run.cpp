@@ -172,8 +172,12 @@ int run_command(const RunArgs& a) {
       return report_error(e.what(), 4);
     }
   }
-  const int64_t frame_every =
-      a.frame_every > 0 ? a.frame_every : (model.render.every > 0 ? model.render.every : model.sample_every);
+  // (--every stands for output.every here too: `--every 10` drew one frame where `--set
+  // output.every=10` drew eleven)
+  const int64_t frame_every = a.frame_every > 0        ? a.frame_every
+                              : model.render.every > 0 ? model.render.every
+                              : a.every > 0            ? a.every
+                                                       : model.sample_every;
   std::string frame_error;
   if (frames)
     job->add_hook({frame_every, [&](const State& s) {

@@ -33,13 +33,19 @@ int main(int argc, char** argv) {
   r->add_option("--average-from", run.average_from, "Means and errors over samples with t >= T")
       ->transform(finite_number());
   r->add_flag("--quiet", run.quiet, "No progress line");
-  r->add_option("--frames", run.frames, "Write PNG frames DIR/frame_000000.png, ... (the scene's [render] settings)");
-  r->add_option("--frame-every", run.frame_every, "One frame every N steps (default: render.every, else output.every)")
-      ->transform(whole_number(1));
-  r->add_option("--vtk", run.vtk,
-                "Write VTK files for ParaView/OVITO to DIR (grains .vtu, contacts .vtp, fluid fields .vti, index.pvd)");
-  r->add_option("--vtk-every", run.vtk_every, "VTK files every N steps (default: output.every)")
-      ->transform(whole_number(1));
+  auto* frames = r->add_option("--frames", run.frames,
+                               "Write PNG frames DIR/frame_000000.png, ... (the scene's [render] settings)");
+  // (an interval without its output was ignored without a word)
+  r->add_option("--frame-every", run.frame_every,
+                "One frame every N steps (default: render.every, else --every, else output.every)")
+      ->transform(whole_number(1))
+      ->needs(frames);
+  auto* vtk = r->add_option(
+      "--vtk", run.vtk,
+      "Write VTK files for ParaView/OVITO to DIR (grains .vtu, contacts .vtp, fluid fields .vti, index.pvd)");
+  r->add_option("--vtk-every", run.vtk_every, "VTK files every N steps (default: --every, else output.every)")
+      ->transform(whole_number(1))
+      ->needs(vtk);
   r->add_option("--restore", run.restore,
                 "Start from a checkpoint of the same grains (a prepared packing, a .last_good.ckpt)");
   r->add_option("--save", run.save, "Checkpoint of the final state (written atomically)");

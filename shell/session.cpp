@@ -114,8 +114,8 @@ std::string Session::input_path(const std::string& file) const {
   return file;
 }
 
-SceneDesc Session::scene_with(const std::vector<Override>& changes) const {
-  SceneDesc d = load_scene_file(scene_file_);
+SceneDesc Session::scene_with(const std::vector<Override>& changes, const SceneDesc* base) const {
+  SceneDesc d = base ? *base : scene_read_;
   for (const Override& o : changes) apply_change(d, o, "set " + o.key);
   return d;
 }

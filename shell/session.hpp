@@ -105,8 +105,9 @@ class Session {
   void install(Model m, const std::optional<State>& keep);
   // The watched observables under the model installed (off, saying why, when it has them not).
   void rewatch();
-  // The scene file read again with the changes typed since it was loaded.
-  SceneDesc scene_with(const std::vector<Override>& changes) const;
+  // The scene file as loaded (or reloaded) with the changes typed since: the file is not read
+  // again (a file edited since is read by `reload`), or `base` with them.
+  SceneDesc scene_with(const std::vector<Override>& changes, const SceneDesc* base = nullptr) const;
   // An input file: as given, else relative to the script's directory; throws when unreadable.
   std::string input_path(const std::string& file) const;
   void run_for(const RunLength& len, bool background);
@@ -135,6 +136,7 @@ class Session {
   void check_not_restored(const std::string& path, const std::string& what) const;
 
   std::string scene_file_;
+  SceneDesc scene_read_;  // the file as `load` or `reload` read it, no value set
   std::vector<Override> overrides_;
   std::unique_ptr<Simulation> sim_;
   std::optional<StatsWriter> stats_;  // samples of the scene's observables since load (or reset)

@@ -31,9 +31,12 @@ std::string join_words(const std::vector<std::string>& words) {
 void Session::cmd_load(const Command& c) {
   require_stopped("cannot load a scene");
   const std::string file = input_path(c.args[0].text);
-  Model m = compile(load_scene_file(file));  // throws: the previous scene stays
-  install(std::move(m), std::nullopt);       // throws (a preparation that fails): the same
+  SceneDesc read = load_scene_file(file);
+  // (compiled from a copy, which it marks with the keys it uses)
+  Model m = compile(SceneDesc(read));   // throws: the previous scene stays
+  install(std::move(m), std::nullopt);  // throws (a preparation that fails): the same
   scene_file_ = file;
+  scene_read_ = std::move(read);
   overrides_.clear();
   const Model& model = sim_->model();
   out_ << "loaded " << file << ": " << model.n_grains << " grains (" << model.dim << "D), "
@@ -45,7 +48,9 @@ void Session::cmd_load(const Command& c) {
 void Session::cmd_reload(const Command&) {
   require_stopped("cannot reload");
   if (scene_file_.empty()) throw std::runtime_error("no scene loaded (load FILE)");
-  install(compile(scene_with(overrides_)), std::nullopt);
+  SceneDesc read = load_scene_file(scene_file_);  // (the file as it is now)
+  install(compile(scene_with(overrides_, &read)), std::nullopt);
+  scene_read_ = std::move(read);
   out_ << "reloaded " << scene_file_ << " at t = 0";
   // (the values set were kept without a word: `get` then read them, not the file's)
   if (!overrides_.empty()) {
@@ -153,16 +158,29 @@ void Session::cmd_set(const Command& c) {
   const double dt_was = s.model().dt;
   const auto note_step = [&] {
     const Model& m = sim().model();  // (a recompile installs another simulation than `s`)
-    if (was_fixed && !m.adaptive_dt && m.dt != dt_was && change.key != m.dt_key)
+    // (not for the key that sets the step, nor its alternative: run.dt_over_tc is run.dt's)
+    const std::vector<std::string> sets_step = alternatives_of(m.dt_key);
+    if (was_fixed && !m.adaptive_dt && m.dt != dt_was && change.key != m.dt_key &&
+        std::find(sets_step.begin(), sets_step.end(), change.key) == sets_step.end())
       out_ << "note: the time step is now " << format_number(m.dt) << " s (it was " << format_number(dt_was)
            << " s), from " << m.dt_key << " as the scene now reads it\n";
   };
   if (spec->steerable) {
+    // The scene as the file and the values typed make it: a key's alternatives come back from the
+    // file when it replaces the value that had replaced them (`set gravity.vector V` then `set
+    // gravity.magnitude G` dropped the file's gravity.angle: the model's own scene had lost it,
+    // until a recompile or `reload` read it back). A value the scene refuses is left to steer().
+    std::optional<SceneDesc> scene;
+    try {
+      scene = scene_with(next);
+    } catch (const SceneError&) {
+    }
+    const SceneDesc* as_set = scene ? &*scene : nullptr;
     std::string error;
     if (running()) {
-      at_boundary([&] { error = steer(s.model_for_steering(), change); });
+      at_boundary([&] { error = steer(s.model_for_steering(), change, as_set); });
     } else {
-      const Simulation::SteerOutcome outcome = s.steer_stopped(change);
+      const Simulation::SteerOutcome outcome = s.steer_stopped(change, as_set);
       if (!outcome.refused.empty())
         throw std::runtime_error("set " + change.key + " " + c.args[1].text +
                                  ": refused, the state cannot be solved under it (" + outcome.refused + ")");
@@ -173,6 +191,9 @@ void Session::cmd_set(const Command& c) {
       out_ << change.key << " = " << c.args[1].text << (running() ? " (from the next step)" : "") << "\n";
       note_step();
       if (s.state().step == 0 && s.model().prepare.compress && enters_preparation(change.key)) out_ << kPreparationKept;
+      if (const RenderSettings& r = s.model().render; change.key == "render.field" && !r.field_range_auto)
+        out_ << "note: render.field_range = [" << format_number(r.field_range[0]) << ", "
+             << format_number(r.field_range[1]) << "] colours it too (set render.field_range for " << r.field << ")\n";
       return;
     }
     // Not a change a running model can take (a shear mode switched on or off, ...): when stopped,
@@ -492,6 +513,8 @@ void Session::cmd_quit(const Command&) {
     interrupt_ = true;
     background_.join();
   }
+  // (the run's end, "paused: N steps ...": the piped shell left without it)
+  for (const std::string& m : take_messages()) out_ << m << "\n";
   quit_ = true;
 }
 

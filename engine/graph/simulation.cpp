@@ -223,7 +223,7 @@ Model& Simulation::model_for_steering() {
   return model_;
 }
 
-Simulation::SteerOutcome Simulation::steer_stopped(const Override& change) {
+Simulation::SteerOutcome Simulation::steer_stopped(const Override& change, const SceneDesc* scene) {
   // restore() marks the state given; the last good state is the one we had, given or not (one
   // made from the scene stays so before its first step: a recompile makes it again).
   const bool given = impl_->given;
@@ -233,7 +233,7 @@ Simulation::SteerOutcome Simulation::steer_stopped(const Override& change) {
   }
   Model before = model_;
   SteerOutcome out;
-  out.cannot = steer(model_for_steering(), change);
+  out.cannot = steer(model_for_steering(), change, scene);
   if (out.cannot.empty() && impl_->given_stale) {
     std::optional<State> as_given = std::move(impl_->given_stale);
     restore(std::move(*as_given));

@@ -144,7 +144,7 @@ RunReport RunJob::run(RunOptions opt) {
   }
   opt.hooks.push_back({o_.every, [this](const State& s) { sample(s); }});
   if (vtk_)
-    opt.hooks.push_back({o_.vtk_every > 0 ? o_.vtk_every : m.sample_every, [this](const State& s) {
+    opt.hooks.push_back({o_.vtk_every > 0 ? o_.vtk_every : o_.every, [this](const State& s) {
                            if (!vtk_error_.empty()) return;
                            try {
                              vtk_->write(sim_.model(), s, module_grid_fields(sim_.model(), s));

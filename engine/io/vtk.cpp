@@ -227,6 +227,10 @@ void VtkWriter::write(const Model& m, const State& s, const std::vector<GridFiel
     grid = name;
     write_vti(dir_ + "/" + grid, fields);
   }
+  // A series that goes back in time (the shell's `restore` or `reset` between two writes): the
+  // index leaves out the entries of the branch left behind, whose files stay, so that the times
+  // ParaView reads run forward (they went 0.1, 0.15, 0.2, 0.1, 0.15, 0.2).
+  while (!entries_.empty() && !(entries_.back().t < s.t)) entries_.pop_back();
   entries_.push_back({s.t, grains, contacts, grid});
   ++count_;
   // The time index, rewritten whole and renamed into place.

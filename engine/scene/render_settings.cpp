@@ -109,9 +109,18 @@ void read_render_settings(const SceneDesc& d, Model& m) {
   }
   r.periodic_images = d.boolean("render.periodic_images");
   r.every = d.has("render.every") ? d.integer("render.every") : 0;
-  // A fluid field needs the fluid module.
+  // A fluid field needs the fluid module, lubrication forces the paste.
   if (r.wants("field") && !m.module_on("fluid"))
     d.fail("render.draw", "'field' draws a fluid field (" + r.field + "), but this scene has no fluid module");
+  if (r.wants("lubrication") && !m.module_on("paste"))
+    d.fail("render.draw", "'lubrication' draws a paste's lubrication forces, but this scene has no [lubrication]");
+  // A magnitude is drawn on a sequential map from 0 (a vorticity's [-5, 5] kept for |u| painted the
+  // cavity one colour).
+  const bool magnitude = r.field == "velocity" && (D == 2 || r.slice_component == "magnitude");
+  if (magnitude && !r.field_range_auto && r.field_range[0] < 0)
+    d.fail("render.field_range", "render.field_range starts at " + format_number(r.field_range[0], 4) +
+                                     ", below 0, where |" + r.field +
+                                     "| (a magnitude, drawn from 0) has no colour: give [0, hi] for it");
 }
 
 }  // namespace scene

@@ -14,8 +14,8 @@ void apply_change(SceneDesc& desc, const Override& change, const std::string& wh
   desc.erase_alternatives_of(change.key);
 }
 
-std::string steer(Model& m, const Override& change) {
-  SceneDesc desc = m.desc;
+std::string steer(Model& m, const Override& change, const SceneDesc* scene) {
+  SceneDesc desc = scene ? *scene : m.desc;
   try {
     apply_change(desc, change, change.key);
   } catch (const SceneError& e) {

@@ -113,4 +113,11 @@ TEST_CASE("the lubrication forces' colour bar, and a dry scene that has none to 
   CHECK(none.segments.empty());
   REQUIRE(none.warnings.size() == 1);
   CHECK(none.warnings[0] == "no lubrication forces to draw in this scene");
+  // No colour bar for what is not drawn (its empty scale made the frame writer throw on a colour
+  // map named "": frames stopped, exit 4); a scene that asks for them is refused when read.
+  CHECK_FALSE(none.colorbar.on);
+  const std::string refused =
+      test::scene_error(std::string(test::kRow) + "\n[render]\ndraw = [\"grains\", \"lubrication\"]\n");
+  CHECK(refused.find("'lubrication' draws a paste's lubrication forces, but this scene has no [lubrication]") !=
+        std::string::npos);
 }

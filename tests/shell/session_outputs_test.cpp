@@ -57,6 +57,31 @@ TEST_CASE("stats reset, stats since T, and stats FILE every N writing as the run
   CHECK_FALSE(std::filesystem::exists("every"));
 }
 
+TEST_CASE("the VTK index's times run forward after a restore goes back, the files of the branch left kept") {
+  test::TempDir dir;
+  Fixture f;
+  REQUIRE(f.run("load " + test::scene_path("collision_normal")));
+  REQUIRE(f.run("run 10"));
+  REQUIRE(f.run("save " + (dir / "c10.ckpt")));
+  REQUIRE(f.run("vtk " + (dir / "v") + " every 5"));
+  REQUIRE(f.run("run 10"));  // t = 10, 15, 20 dt
+  REQUIRE(f.run("restore " + (dir / "c10.ckpt")));
+  REQUIRE(f.run("run 5"));  // t = 10, 15 dt again
+  REQUIRE(f.run("vtk off"));
+  const std::string pvd = test::read_file(dir / "v/index.pvd");
+  std::vector<double> times;
+  for (size_t at = pvd.find("part=\"0\""); at != std::string::npos; at = pvd.find("part=\"0\"", at + 1)) {
+    const size_t t = pvd.rfind("timestep=\"", at) + 10;
+    times.push_back(std::stod(pvd.substr(t)));
+  }
+  REQUIRE(times.size() == 2);
+  CHECK(times[0] < times[1]);
+  CHECK(contains(pvd, "grains_000003.vtu"));
+  CHECK(contains(pvd, "grains_000004.vtu"));
+  CHECK(std::filesystem::exists(dir / "v/grains_000002.vtu"));  // of the branch left: kept, not listed
+  CHECK_FALSE(contains(pvd, "grains_000002.vtu"));
+}
+
 TEST_CASE("vtk DIR every N writes during runs, a change that discards the run says what it discarded") {
   test::TempDir dir;
   Fixture f;

@@ -88,6 +88,16 @@ TEST_CASE("stop after a background run that already ended says so, and its failu
   std::remove("runs_soft2.toml");
 }
 
+TEST_CASE("quit during a background run says where it paused it") {
+  // (the piped shell left without the line; `silt play` printed it)
+  Fixture f;
+  REQUIRE(f.run("load " + test::scene_path("collision_normal")));
+  REQUIRE(f.run("start 100000000"));
+  REQUIRE(f.run("quit"));
+  CHECK(contains(f.take_out(), "paused: "));
+  CHECK(f.s.take_messages().empty());
+}
+
 TEST_CASE("stop after Ctrl-C paused a background run says it was paused, not that it ended") {
   Fixture f;
   REQUIRE(f.run("load " + test::scene_path("chute")));
@@ -188,6 +198,63 @@ TEST_CASE("set replaces the keys a value is an alternative to, and errors name w
   CHECK(f.take_out() == "fluid.dt_max = (not set), computed 0.1 L/U\n");
   REQUIRE(f.run("params fluid.dt"));
   CHECK(contains(f.take_out(), "L/U"));
+}
+
+TEST_CASE("a value set over the one that replaced its alternatives gives the file's others back, running or not") {
+  // `set gravity.vector V` replaces the file's gravity.magnitude and gravity.angle; `set
+  // gravity.magnitude G` after it replaced the vector and went on with the angle's default (0, not
+  // the file's 30 degrees), until a later recompile read the file again and changed it mid-run.
+  test::TempDir dir;
+  const std::string scene = dir / "tilted.toml";
+  {
+    std::ifstream in(test::scene_path("collision_normal"));
+    std::ofstream out(scene);
+    out << in.rdbuf() << "\n[gravity]\nmagnitude = 9.81\nangle = 30.0\n";
+  }
+  Fixture once;
+  REQUIRE(once.run("load " + scene));
+  REQUIRE(once.run("set gravity.magnitude 3"));
+  REQUIRE(once.run("run 20"));
+  const std::string expected = once.hash();
+  for (const bool running : {false, true}) {
+    CAPTURE(running);
+    Fixture f;
+    REQUIRE(f.run("load " + scene));
+    REQUIRE(f.run("set gravity.vector [0,0,-2]"));
+    if (running) {
+      // At a step boundary of a background run: the step it is applied at is not fixed, so the
+      // state is compared through the model's gravity, not its hash.
+      REQUIRE(f.run("start 1000000"));
+      REQUIRE(f.run("set gravity.magnitude 3"));
+      REQUIRE(f.run("stop"));
+    } else {
+      REQUIRE(f.run("set gravity.magnitude 3"));
+    }
+    f.take_out();
+    REQUIRE(f.run("get gravity.angle"));
+    CHECK(f.take_out() == "gravity.angle = 30 deg\n");
+    REQUIRE(f.run("check"));
+    CHECK(contains(f.take_out(), "gravity      (1.5, 0, -2.5981)"));
+    if (!running) {
+      REQUIRE(f.run("run 20"));
+      CHECK(f.hash() == expected);
+    }
+  }
+}
+
+TEST_CASE("a field's colour range is said to apply to the field set after it, and refused for a magnitude below 0") {
+  // The cavity's render.field_range = [-5, 5] is its vorticity's: |u| drawn on the sequential map
+  // from -5 came out one colour.
+  Fixture f;
+  REQUIRE(f.run("load " + test::scene_path("cavity_2d")));
+  CHECK_FALSE(f.run("set render.field velocity"));
+  CHECK(
+      contains(f.take_err(), "render.field_range starts at -5, below 0, where |velocity| (a magnitude, drawn from 0)"));
+  REQUIRE(f.run("set render.field pressure"));
+  CHECK(contains(f.take_out(),
+                 "note: render.field_range = [-5, 5] colours it too (set render.field_range for pressure)"));
+  REQUIRE(f.run("set render.field_range [0, 1]"));
+  REQUIRE(f.run("set render.field velocity"));
 }
 
 TEST_CASE("print, watch and stats show units and sensible digits") {

@@ -355,7 +355,11 @@ void apply_change(SceneDesc& desc, const Override& change, const std::string& wh
 // steerable in the schema are accepted (gravity, friction, time step, imposed pressure, render
 // settings, ...): the scene is recompiled with the new value and the steerable parts are taken
 // over. Returns "" on success, else the reason (not steerable, out of range, unstable, ...).
-std::string steer(Model& m, const Override& change);
+// `scene`, when given, is the scene as it reads with the change (a shell's file with the values
+// typed since it was loaded); else the model's own scene with the change. They differ where a key
+// has alternatives: `set gravity.vector V` then `set gravity.magnitude G` gives the file's
+// gravity.angle back with the scene, where the model's own scene has lost it to the vector.
+std::string steer(Model& m, const Override& change, const SceneDesc* scene = nullptr);
 
 // The pressure of the dry compression that prepares a packing (prepare.compress): the
 // preparation's own, else the box's.

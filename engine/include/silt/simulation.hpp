@@ -80,7 +80,8 @@ class Simulation {
     std::string cannot;   // steer()'s reason a running model cannot take it (compile the scene again)
     std::string refused;  // the state cannot be solved under the change (a paste's velocities)
   };
-  SteerOutcome steer_stopped(const Override& change);
+  // (`scene`: as steer()'s.)
+  SteerOutcome steer_stopped(const Override& change, const SceneDesc* scene = nullptr);
   const State& state() const { return state_; }
   State& state() { return state_; }
   int threads() const { return threads_; }
