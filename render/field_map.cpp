@@ -94,11 +94,12 @@ bool plane_extent(const GridField& g, const Vec3& n, double p, const Vec3& u, co
 
 }  // namespace
 
-ColorScale add_field(RenderScene& rs, const GridField& f, const View& v, int dim, float z) {
+ColorScale add_field(RenderScene& rs, const GridField& f, const View& v, int dim, float z, bool si_units) {
   const bool magnitude = f.components == 3 && v.slice_component == "magnitude";
   const GridField g = field_component(f, v.slice_component);
+  // (a scene in reduced units had its bar labelled "vorticity [1/s]")
   ColorScale scale{magnitude ? "sequential" : "diverging", v.field_range[0], v.field_range[1],
-                   g.unit.empty() ? g.name : g.name + " [" + g.unit + "]"};
+                   g.unit.empty() || !si_units ? g.name : g.name + " [" + g.unit + "]"};
   int64_t nans = 0;
   double mx = 0;
   for (double x : g.value) {

@@ -80,7 +80,19 @@ ColorScale add_grains(RenderScene& rs, const Model& m, const State& s, const Vie
     }
     if (scale.lo > scale.hi) scale.lo = 0, scale.hi = 1;  // no grain coloured (it read 1e308 to 1e308)
     if (color_by == "speed") scale.lo = 0;
-    if (!(scale.hi > scale.lo)) scale.hi = scale.lo + 1;
+    // A diverging map is white at 0 (a velocity component from -0.106 to 0.122 put white at 0.008).
+    if (v.colormap == "diverging" && color_by != "speed") {
+      const double most = std::max(std::abs(scale.lo), std::abs(scale.hi));
+      scale.lo = -most;
+      scale.hi = most;
+    }
+    // Every grain at one value: the middle of a range around it (hi = lo + 1 painted grains
+    // falling at -0.0039 m/s the map's deep end, as if far below the rest).
+    if (!(scale.hi > scale.lo)) {
+      const double c = scale.lo, half = std::abs(c) > 0 ? std::abs(c) : 1.0;
+      scale.lo = color_by == "speed" ? 0.0 : c - half;  // (grains at rest: the map's low end)
+      scale.hi = c + half;
+    }
   }
   const Colormap& cm = Colormap::get(v.colormap);
   const double frozen_rgb[3] = {0.45 * v.flat_color[0], 0.45 * v.flat_color[1], 0.45 * v.flat_color[2]};
@@ -154,7 +166,12 @@ std::vector<Vec3> frame_corners(const Model& m, const State& s, bool whole_domai
 
 }  // namespace
 
-RenderScene build_render_scene(const Model& m, const State& s, const View& v, const GridField* field) {
+RenderScene build_render_scene(const Model& m, const State& s, const View& given, const GridField* field) {
+  // The chains' slab centred on the box as it is now: a stress-controlled box shrinks (centred on
+  // the scene's, the slab sat at 64 % of the compressed box's height).
+  View v = given;
+  if (v.slab_center_auto)
+    for (int k = 0; k < m.dim; ++k) v.slab_center[k] = s.box.lo[k] + 0.5 * s.box.len[k];
   // The field to draw, when none is given: the module's field of that name (a fluid's).
   std::vector<GridField> fields;
   if (field == nullptr && v.wants("field")) {
@@ -229,7 +246,7 @@ RenderScene build_render_scene(const Model& m, const State& s, const View& v, co
     else if (bar == Bar::kLubrication) scale = c;
   }
   if (draw_field) {
-    const ColorScale f = add_field(rs, *field, v, D, static_cast<float>(-2 * r_max));
+    const ColorScale f = add_field(rs, *field, v, D, static_cast<float>(-2 * r_max), !m.reduced_units);
     if (bar == Bar::kField) scale = f;
   }
   if (v.wants("box")) add_box_outline(rs, s, D == 2 ? static_cast<float>(4 * r_max) : 0.0f);

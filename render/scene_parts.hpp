@@ -42,6 +42,6 @@ void add_box_outline(RenderScene& rs, const State& s, float z);
 // A field drawn as a textured quad: in 2D, a map of the xy plane at height z; in 3D, the slice
 // plane n . x = p (View::slice_normal, slice_position) sampled trilinearly. Returns its colour
 // scale; adds a warning for NaN values or a slice that misses the grid.
-ColorScale add_field(RenderScene& rs, const GridField& f, const View& v, int dim, float z);
+ColorScale add_field(RenderScene& rs, const GridField& f, const View& v, int dim, float z, bool si_units = true);
 
 }  // namespace silt::render

@@ -388,4 +388,11 @@ std::string_view without_bom(std::string_view line) {
   return line;
 }
 
+std::string script_line(std::string_view line, int n) {
+  if (n == 1) line = without_bom(line);
+  // (a script saved with CRLF ends: its lines were echoed with a '?')
+  if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+  return std::string(line);
+}
+
 }  // namespace silt::shell

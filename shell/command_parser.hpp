@@ -38,6 +38,9 @@ std::string quoted_word(std::string_view text);
 // A script's line without the byte order mark an editor may put at the start of a file (the
 // first command was then unknown).
 std::string_view without_bom(std::string_view line);
+// Line n (from 1) of a script as read: without that mark on the first, and without the carriage
+// return of a CRLF end.
+std::string script_line(std::string_view line, int n);
 // A script line as `silt play` echoes it: control bytes (a binary file read as a script) shown as '?'.
 std::string printable_line(std::string_view line);
 

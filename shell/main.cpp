@@ -106,13 +106,7 @@ int main(int argc, char** argv) {
     if (sh->parsed()) return shell_command(shell_scene, granted_threads(shell_threads));
     if (pl->parsed()) return play_command(script, keep_going, granted_threads(play_threads));
     if (p->parsed()) {
-      if (markdown) {
-        std::cout << silt::schema_markdown();
-      } else {
-        for (const auto& k : silt::scene_schema())
-          std::cout << k.path << "  (" << silt::key_type_name(k.type) << (k.unit.empty() ? "" : ", " + k.unit)
-                    << (k.steerable ? ", live" : "") << ")  " << k.doc << "\n";
-      }
+      std::cout << (markdown ? silt::schema_markdown() : silt::schema_text());
       return 0;
     }
   } catch (const std::exception& e) {

@@ -67,7 +67,7 @@ int play_command(const std::string& script, bool keep_going, int threads) {
   auto failed = [&](int c) { code = std::max(code, c); };
   while (std::getline(in, line)) {
     ++n;
-    if (n == 1) line = std::string(shell::without_bom(line));
+    line = shell::script_line(line, n);
     const auto start = line.find_first_not_of(" \t");
     if (start == std::string::npos || line[start] == '#') continue;
     std::cout << script << ":" << n << "> " << shell::printable_line(line.substr(start)) << "\n" << std::flush;

@@ -136,6 +136,25 @@ void check_time_step(const SceneDesc& d, const Model& m) {
                   " (run.dt_over_tc <= " + format_number(m.dt_stable / m.t_contact) + ")");
 }
 
+// A weight that alone presses a grain into what it rests on beyond limits.max_overlap (linear
+// contacts: m g / (k_n r); Hertz, whose force at that overlap is less than k_max times it, sooner):
+// every grain that comes to rest fails the run. gravity.magnitude = 1e300 printed a weight overlap
+// of inf, `ok`, and the run failed at its first step.
+void check_weight(const SceneDesc& d, const Model& m) {
+  const double g = m.gravity.norm();
+  // (with nothing to rest on, no wall nor frozen grain, a grain falls freely whatever its weight)
+  if (!(g > 0) || m.k_max <= 0 || m.n_grains == m.n_frozen || (m.walls.empty() && m.n_frozen == 0)) return;
+  const double overlap = m.m_mean * g / (m.k_max * m.r_mean);
+  if (overlap <= m.limits.max_overlap) return;
+  d.fail(d.first_given({"gravity.magnitude", "gravity.vector"}, "gravity.magnitude"),
+         "a grain's weight alone (m g = " + format_number(m.m_mean * g, 4) + m.unit("N") +
+             ") presses it into what it rests on by " + format_number(overlap, 3) +
+             " of its radius (m g / (k_n r)), beyond limits.max_overlap = " + format_number(m.limits.max_overlap, 3) +
+             ", where the run fails: reduce the gravity below " +
+             format_number(m.limits.max_overlap * m.k_max * m.r_mean / m.m_mean, 4) + m.unit("m/s^2") +
+             " or stiffen the contacts");
+}
+
 // Initial velocities no scene can have: a grain that crosses the whole domain in one time step
 // (a speed of 1e308, say) is not simulated, it is thrown away, and every neighbour build after
 // it would span the distance.
@@ -159,6 +178,7 @@ void check_initial_speeds(const SceneDesc& d, const Model& m) {
 
 void finish_dem(const SceneDesc& d, Model& m) {
   check_time_step(d, m);
+  check_weight(d, m);
   check_initial_speeds(d, m);
   setup_energy_scale(m);
   if (!std::isfinite(m.limits.energy_scale))

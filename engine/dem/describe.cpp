@@ -86,8 +86,15 @@ std::string describe_dem(const Model& m) {
   // A damping ratio of exactly zero prints as 0, not -0 (e = 1 gives -ln(1) = -0).
   const double zeta = m.zeta_max == 0 ? 0.0 : m.zeta_max;
   const std::string s = m.unit("s");
+  // (a paste printed "damping ratio 0.98, restitution 1": the ratio of the scene's dashpots, which
+  // only its dry preparation keeps, beside the paste's contacts' collision, without them)
+  const std::string damping = m.velocities_solved
+                                  ? "damping ratio " + format_number(zeta, 5) +
+                                        " in the dry preparation; the paste's contacts have no "
+                                        "dashpot (the liquid dissipates)"
+                                  : "damping ratio " + format_number(zeta, 5) + ", " + restitution_text(m);
   o << "time         t_c = " << m.t_contact << s << " (" << tc_meaning << "; lightest pair m* = " << m.m_eff_min
-    << m.unit("kg") << ", damping ratio " << zeta << ", " << restitution_text(m) << ")\n";
+    << m.unit("kg") << ", " << damping << ")\n";
   o << "             dt = " << m.dt << s << " = t_c/" << m.t_contact / m.dt << "; stability limit " << m.dt_stable << s
     << " for one contact (dt/limit = " << m.dt / m.dt_stable << ")\n";
   o << "             a grain held by z contacts is stable below about limit/sqrt(z): " << m.dt_stable / std::sqrt(6.0)

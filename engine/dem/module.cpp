@@ -1,6 +1,8 @@
 // The DEM module as the rest of silt sees it (silt/module.hpp).
 #include "dem/module.hpp"
 
+#include <algorithm>
+
 namespace silt::dem {
 namespace {
 
@@ -10,6 +12,10 @@ std::string steer_dem(Model& m, const Model& fresh) {
   m.materials = fresh.materials;
   m.pair_contact = fresh.pair_contact;
   m.wall_contact = fresh.wall_contact;
+  // The energy the scene can supply under what was steered (a gravity, a pressure), kept at the
+  // most it has been: a grain falling under g = 5e5 set while running failed the energy check
+  // against the 9.81's supply, where the same scene from its file failed on the impact's overlap.
+  m.limits.energy_scale = std::max(m.limits.energy_scale, fresh.limits.energy_scale);
   return "";
 }
 

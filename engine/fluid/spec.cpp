@@ -44,13 +44,13 @@ std::string describe_fluid(const Model& m) {
   o.precision(5);
   o << "fluid        " << g.n[0];
   for (int a = 1; a < m.dim; ++a) o << " x " << g.n[a];
-  o << " cells of h = " << g.h[0] << " m (" << static_cast<double>(g.cells()) << " cells, "
+  o << " cells of h = " << g.h[0] << m.unit("m") << " (" << static_cast<double>(g.cells()) << " cells, "
     << bytes_per_cell(p) * padded_cells(p) / static_cast<double>(g.cells()) << " bytes per cell, "
     << fluid_memory_bytes(m) / (1 << 20) << " MiB)\n";
-  o << "             rho = " << p.density << " kg/m^3, mu = " << p.viscosity << " Pa s (nu = " << p.nu()
-    << " m^2/s); Re = U L / nu = "
+  o << "             rho = " << p.density << m.unit("kg/m^3") << ", mu = " << p.viscosity << m.unit("Pa s")
+    << " (nu = " << p.nu() << m.unit("m^2/s") << "); Re = U L / nu = "
     << (p.nu() > 0 ? format_number(p.velocity_scale * p.length_scale / p.nu()) : std::string("inf (inviscid)"))
-    << " (U = " << p.velocity_scale << " m/s, L = " << p.length_scale << " m)\n";
+    << " (U = " << p.velocity_scale << m.unit("m/s") << ", L = " << p.length_scale << m.unit("m") << ")\n";
   o << "             faces:";
   for (int a = 0; a < m.dim; ++a)
     for (int side = 0; side < 2; ++side) {
@@ -72,10 +72,10 @@ std::string describe_fluid(const Model& m) {
   o << "             RK3 (Wray), viscous " << scheme << ", projection "
     << (p.projection == Projection::kFft ? "by fast transforms (FFTW)" : "by multigrid CG to ")
     << (p.projection == Projection::kFft ? std::string() : format_number(p.tolerance, 3)) << "\n";
-  o << "             time step " << (p.dt_fixed ? "fixed " : "adaptive from ") << dt << " s"
-    << (p.dt_fixed
-            ? std::string()
-            : " (target CFL " + format_number(p.cfl_target, 3) + ", at most " + format_number(p.dt_max, 4) + " s)")
+  o << "             time step " << (p.dt_fixed ? "fixed " : "adaptive from ") << dt << m.unit("s")
+    << (p.dt_fixed ? std::string()
+                   : " (target CFL " + format_number(p.cfl_target, 3) + ", at most " + format_number(p.dt_max, 4) +
+                         m.unit("s") + ")")
     << "; CFL at U: " << dt * m.dim * p.velocity_scale / g.h[0] << " (limit " << FluidParams::kCflLimit
     << "); viscous number nu dt sum 1/h^2 = " << p.nu() * dt * inv
     << (p.viscous == Viscous::kExplicit ? " (limit " + format_number(FluidParams::kViscousLimit, 2) + ")"
@@ -87,9 +87,9 @@ std::string describe_fluid(const Model& m) {
     << "\n";
   if (p.drive == Drive::kPressure)
     o << "             driven by -dp/d"
-      << "xyz"[p.drive_axis] << " = " << p.pressure_gradient << " Pa/m\n";
+      << "xyz"[p.drive_axis] << " = " << p.pressure_gradient << m.unit("Pa/m") << "\n";
   if (p.drive == Drive::kFlowRate)
-    o << "             driven at a bulk velocity " << p.bulk_velocity << " m/s along "
+    o << "             driven at a bulk velocity " << p.bulk_velocity << m.unit("m/s") << " along "
       << "xyz"[p.drive_axis] << "\n";
   return o.str();
 }

@@ -214,7 +214,7 @@ std::string describe_paste(const Model& m) {
   const PasteParams& p = m.params.get<PasteParams>();
   std::ostringstream o;
   o.precision(5);
-  o << "paste        lubrication eta = " << p.eta << " Pa s, h_min/a = " << p.h_min_over_a
+  o << "paste        lubrication eta = " << p.eta << m.unit("Pa s") << ", h_min/a = " << p.h_min_over_a
     << ", h_max/a = " << p.h_max_over_a << ", " << (p.cutoff == Cutoff::kLinear ? "linear" : "constant")
     << " cutoff (Peyneau 2009 eq. 1.28-1.29); " << stepper_name(p.stepper) << " stepper, "
     << linalg::method_name(p.solver.method) << " solver to " << p.solver.options.tolerance
@@ -231,11 +231,11 @@ std::string describe_paste(const Model& m) {
   // The time unit compile_time_step chose: the viscous time, else the shear time 1 / |gammadot|.
   const char* unit =
       pressure ? (m.dim == 2 ? "eta a/P" : "eta/P") : (m.shear.on && m.shear.rate != 0 ? "1/gammadot" : nullptr);
-  if (p.fixed_dt) o << "             time step fixed at " << p.dt_initial << " s\n";
+  if (p.fixed_dt) o << "             time step fixed at " << p.dt_initial << m.unit("s") << "\n";
   else {
-    o << "             time step adaptive (sec. 2.2.4) from " << p.dt_initial << " s, in [" << p.dt_min << ", "
-      << p.dt_max << "] s";
-    if (unit) o << "; time unit " << unit << " = " << p.time_unit << " s";
+    o << "             time step adaptive (sec. 2.2.4) from " << p.dt_initial << m.unit("s") << ", in [" << p.dt_min
+      << ", " << p.dt_max << "]" << m.unit("s");
+    if (unit) o << "; time unit " << unit << " = " << p.time_unit << m.unit("s");
     o << "\n";
   }
   // The dimensionless groups: kappa against the stress that drives the grains (the imposed

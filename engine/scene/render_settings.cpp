@@ -54,7 +54,10 @@ void read_render_settings(const SceneDesc& d, Model& m) {
     if (static_cast<int>(v.size()) != D) d.fail(key, "needs " + std::to_string(D) + " entries");
     for (int k = 0; k < 3; ++k) out[k] = k < D ? v[k] : 0.0;
   };
-  if (d.has("render.slab_center")) vec("render.slab_center", r.slab_center);
+  if (d.has("render.slab_center")) {
+    vec("render.slab_center", r.slab_center);
+    r.slab_center_auto = false;
+  }
   if (d.has("render.slab_normal")) vec("render.slab_normal", r.slab_normal);
   // Unset (-1): opaque, or 0.25 in 3D when chains are drawn (decided by the renderer).
   r.grain_opacity = d.has("render.grain_opacity") ? d.real("render.grain_opacity") : -1.0;

@@ -143,6 +143,10 @@ class Reader {
       const std::string norm = normalise_key(path);
       if (node.is_table()) {
         if (is_group(norm)) throw SceneError(where, "'" + path + "' is a list of tables: write [[" + path + "]]");
+        // A key given a table (`friction.x = 0.25`, `friction = {a = 1}`): its type, not "unknown
+        // key 'contact.friction'; did you mean 'contact.friction'?"
+        if (const KeySpec* spec = find_key_spec(norm))
+          throw SceneError(where, "'" + path + "' takes a value (" + key_type_name(spec->type) + "), not a table");
         if (!is_table_prefix(norm)) throw SceneError(where, unknown_key_message(path));
         desc_.tables[path] = loc_of(node.source(), file_);
         table(*node.as_table(), path);

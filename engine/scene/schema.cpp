@@ -75,21 +75,50 @@ const char* key_type_name(KeyType t) {
   return "?";
 }
 
+namespace {
+
+// What both listings show of a key beside its name, type, unit and liveness.
+struct KeyColumns {
+  std::string def;    // "" when none
+  std::string range;  // "" for a key that is not numeric
+  std::string doc;    // with the choices of a string key
+};
+
+KeyColumns key_columns(const KeySpec& k, const char* quote) {
+  KeyColumns c;
+  c.doc = k.doc;
+  if (!k.choices.empty()) {
+    c.doc += " One of:";
+    for (const auto& choice : k.choices) c.doc += std::string(" ") + quote + choice + quote;
+    c.doc += ".";
+  }
+  if (k.def) c.def = quote + value_to_string(*k.def) + quote;
+  if (k.type == KeyType::kInt || k.type == KeyType::kReal || k.type == KeyType::kRealList) c.range = k.range.str();
+  return c;
+}
+
+}  // namespace
+
 std::string schema_markdown() {
   std::ostringstream o;
   o << "| key | module | type | default | range | unit | live | meaning |\n|---|---|---|---|---|---|---|---|\n";
   for (const KeySpec& k : scene_schema()) {
-    std::string doc = k.doc;
-    if (!k.choices.empty()) {
-      doc += " One of:";
-      for (const auto& c : k.choices) doc += " `" + c + "`";
-      doc += ".";
-    }
-    const bool numeric = k.type == KeyType::kInt || k.type == KeyType::kReal || k.type == KeyType::kRealList;
+    const KeyColumns c = key_columns(k, "`");
     o << "| `" << k.path << "` | " << k.module << " | " << key_type_name(k.type) << " | "
-      << (k.def ? "`" + value_to_string(*k.def) + "`" : std::string("-")) << " | "
-      << (numeric ? k.range.str() : std::string("")) << " | " << k.unit << " | " << (k.steerable ? "yes" : "") << " | "
-      << doc << " |\n";
+      << (c.def.empty() ? std::string("-") : c.def) << " | " << c.range << " | " << k.unit << " | "
+      << (k.steerable ? "yes" : "") << " | " << c.doc << " |\n";
+  }
+  return o.str();
+}
+
+std::string schema_text() {
+  // (it listed the type and unit alone, where `silt params --help` promises defaults and ranges)
+  std::ostringstream o;
+  for (const KeySpec& k : scene_schema()) {
+    const KeyColumns c = key_columns(k, "");
+    o << k.path << "  (" << key_type_name(k.type) << (k.unit.empty() ? "" : ", " + k.unit)
+      << (k.steerable ? ", live" : "") << "; default " << (c.def.empty() ? std::string("none") : c.def)
+      << (c.range.empty() ? "" : "; range " + c.range) << ")  " << c.doc << "\n";
   }
   return o.str();
 }

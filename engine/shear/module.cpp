@@ -171,7 +171,39 @@ void setup_shear(const SceneDesc& d, Model& m) {
 // gammadot dt 2 r_max a step; beyond limits.max_overlap r_min, one step can press touching grains
 // past the overlap at which the run fails. A fixed step only: an adaptive one (the paste's)
 // starts at 1e-3 of the shear time and follows what changes.
+// The box's own oscillation, eq. 3.11 with the grains following its affine strain: the contact
+// network's stiffness along a length L is K = z N k <n^4> d^2 / (2 L^2) (N grains, z = 2 D
+// contacts each, <n^4> = 3/8 in 2D and 1/5 in 3D for isotropic directions, d = a_max, k a
+// contact's stiffness), the box's mass M; velocity-Verlet holds it while dt < 2 sqrt(M / K). A box a
+// million times lighter than its grains was taken, and the run failed at step 123 advising
+// stiffer contacts (at 1e-300, in the kick, advising a shorter step).
+void check_box_mass(const SceneDesc& d, const Model& m) {
+  const BoxControl& b = m.box_control;
+  if (!(b.on || m.shear.stress_controlled) || m.velocities_solved || m.adaptive_dt) return;
+  double len = 1e308;
+  for (int k = 0; k < m.dim; ++k)
+    if ((b.on && b.controlled[k]) || (m.shear.stress_controlled && k < 2)) len = std::min(len, m.box.len[k]);
+  const double n_free = static_cast<double>(m.n_grains - m.n_frozen);
+  const double n4 = m.dim == 2 ? 3.0 / 8 : 1.0 / 5;
+  const double a_over_len = m.a_max / len;
+  // Hertz: the stiffness of an undamped collision reaching contact.hertz_ref_overlap (the largest
+  // overlap's, k_max, was 20 times the stiffness a packing's contacts have under a pressure).
+  const double pi = std::numbers::pi;
+  const double k = m.contact.law == NormalLaw::kHertz ? m.m_eff_min * (pi / m.t_contact) * (pi / m.t_contact) : m.k_max;
+  const double stiffness = m.dim * n_free * k * n4 * a_over_len * a_over_len;
+  const double limit = 2 * std::sqrt(b.mass / stiffness);
+  if (!(stiffness > 0) || m.dt <= limit) return;
+  const double least = b.mass_factor * (m.dt / limit) * (m.dt / limit);
+  d.fail(d.first_given({"box.mass_factor", "box.pressure", "shear.stress"}, "box.mass_factor"),
+         "the box of mass " + format_number(b.mass, 4) + m.unit("kg") +
+             " (box.mass_factor = " + format_number(b.mass_factor, 4) +
+             ") oscillates on its grains' contacts faster than the time step " + format_number(m.dt, 4) + m.unit("s") +
+             " can follow (stable below " + format_number(limit, 4) + m.unit("s") +
+             "): raise box.mass_factor to at least " + format_number(least, 3) + " or reduce the time step");
+}
+
 void check_shear_step(const SceneDesc& d, const Model& m) {
+  check_box_mass(d, m);
   if (!m.shear.on || m.shear.stress_controlled || m.adaptive_dt) return;
   const double slip = std::abs(m.shear.rate) * m.dt * 2 * m.r_max, most = m.limits.max_overlap * m.r_min;
   if (slip <= most) return;
@@ -206,20 +238,20 @@ std::string describe_shear(const Model& m) {
   std::ostringstream o;
   o.precision(5);
   if (m.box_control.on) {
-    o << "box control  pressure " << m.box_control.pressure << " Pa on";
+    o << "box control  pressure " << m.box_control.pressure << m.stress_unit() << " on";
     for (int k = 0; k < m.dim; ++k)
       if (m.box_control.controlled[k])
         o << " L"
           << "xyz"[k];
-    o << ", box mass " << m.box_control.mass << " kg\n";
+    o << ", box mass " << m.box_control.mass << m.unit("kg") << "\n";
   }
   if (m.shear.on) {
     o << "shear        Lees-Edwards, flow along x, gradient along y; ";
-    if (m.shear.stress_controlled) o << "imposed shear stress " << m.shear.stress << " Pa (eq. 3.12)\n";
-    else o << "imposed rate gammadot = " << m.shear.rate << " 1/s\n";
+    if (m.shear.stress_controlled) o << "imposed shear stress " << m.shear.stress << m.stress_unit() << " (eq. 3.12)\n";
+    else o << "imposed rate gammadot = " << m.shear.rate << m.unit("1/s") << "\n";
   }
   if (m.prepare.compress)
-    o << "prepare      isotropic compression at " << preparation_pressure(m) << " Pa until "
+    o << "prepare      isotropic compression at " << preparation_pressure(m) << m.stress_unit() << " until "
       << (m.prepare.phi > 0 ? "Phi = " + std::to_string(m.prepare.phi) + " or " : std::string()) << "static (at most "
       << m.prepare.max_steps << " steps)\n";
   if (m.box_control.on) {
@@ -230,7 +262,7 @@ std::string describe_shear(const Model& m) {
       << (hertz ? " (Peyneau eq. 1.31)\n" : " (Peyneau eq. 1.33)\n");
     o << "             zeta = " << (m.zeta_max == 0 ? 0.0 : m.zeta_max) << " (damping ratio of the lightest pair)\n";
     o << "             inertial time sqrt(m / (a^(d-2) P)) = " << std::sqrt(m.m_a / (std::pow(a, m.dim - 2) * P))
-      << " s (m = " << m.m_a << " kg, a grain of diameter a = " << a << " m)\n";
+      << m.unit("s") << " (m = " << m.m_a << m.unit("kg") << ", a grain of diameter a = " << a << m.unit("m") << ")\n";
     if (m.shear.on && !m.shear.stress_controlled && !m.velocities_solved) {
       const double I = inertial_number(m, m.shear.rate, P);
       o << "             I = gammadot sqrt(m / (a^(d-2) P)) = " << I << " (Peyneau eq. 1.30); "

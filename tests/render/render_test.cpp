@@ -103,6 +103,25 @@ TEST_CASE("Lamb-Oseen and Taylor-Green vortices put the expected colours at know
   CHECK(img.pixel(e[0], e[1]).g > 200);  // near zero: near white
 }
 
+TEST_CASE("an automatic grain range: white at 0 on the diverging map, and one value in the middle") {
+  auto sim = test::simulation_from(kRow);
+  View v = plain(800, 400, {"grains", "colorbar"});
+  v.color_by = "vx";
+  const auto range = [&](const std::string& map, std::vector<double> vx) {
+    for (int i = 0; i < 3; ++i) sim->state().particle_v[2 * i] = vx[i];
+    v.colormap = map;
+    const RenderScene rs = build_render_scene(sim->model(), sim->state(), v);
+    return std::array<double, 2>{rs.colorbar.lo, rs.colorbar.hi};
+  };
+  CHECK(range("sequential", {-0.1, 0.05, 0.2}) == std::array<double, 2>{-0.1, 0.2});
+  CHECK(range("diverging", {-0.1, 0.05, 0.2}) == std::array<double, 2>{-0.2, 0.2});  // (white at 0.05 before)
+  // Every grain falling at one speed: painted the middle of the map (it was its deep end).
+  CHECK(range("sequential", {-0.004, -0.004, -0.004}) == std::array<double, 2>{-0.008, 0.0});
+  CHECK(range("diverging", {0, 0, 0}) == std::array<double, 2>{-1, 1});
+  v.color_by = "speed";
+  CHECK(range("sequential", {0, 0, 0}) == std::array<double, 2>{0, 1});  // at rest: the low end
+}
+
 TEST_CASE("the colour bar spans the stated range, with its labels") {
   auto sim = test::simulation_from(kRow);
   View v = plain(800, 400, {"grains", "colorbar"});
@@ -278,6 +297,7 @@ dt_over_tc = 0.05
   const RenderScene all = build_render_scene(sim->model(), sim->state(), v);
   REQUIRE(all.segments.size() > 20);
   v.slab_half_width = 0.5;
+  v.slab_center_auto = false;
   v.slab_center[0] = v.slab_center[1] = v.slab_center[2] = 3.0 * sim->state().box.len[0] / 6.0;
   const RenderScene slab = build_render_scene(sim->model(), sim->state(), v);
   CHECK(slab.segments.size() < all.segments.size());
@@ -291,6 +311,15 @@ dt_over_tc = 0.05
   CHECK(both.spheres.front().color == Rgba{191, 191, 199, 64});
   CHECK(static_cast<int64_t>(both.spheres.size()) < sim->state().n);
   for (const auto& g : both.spheres) CHECK(std::abs(g.centre[1] - v.slab_center[1]) <= 0.5 + 1e-6);
+  // Not given, the slab is centred on the box as it is now: this one shrank under the pressure
+  // (centred on the scene's box, it sat off the compressed box's middle).
+  const Box& box = sim->state().box;
+  REQUIRE(box.len[1] < 5.9);
+  View centred = plain(400, 300, {"grains", "chains"});
+  centred.slab_half_width = 0.5;
+  const RenderScene mid = build_render_scene(sim->model(), sim->state(), centred);
+  REQUIRE(!mid.spheres.empty());
+  for (const auto& g : mid.spheres) CHECK(std::abs(g.centre[1] - (box.lo[1] + 0.5 * box.len[1])) <= 0.5 + 1e-6);
   v.slab_half_width = 0;
   CHECK(static_cast<int64_t>(build_render_scene(sim->model(), sim->state(), v).spheres.size()) == sim->state().n);
   // A slice at z = 3 of a field equal to z: one colour on the plane, and only the grains it cuts.

@@ -79,6 +79,17 @@ TEST_CASE("values no scene can supply are refused at their key") {
   CHECK(contains(r.out, "not a finite number"));
   r = silt_cli("check " + scene_path("collision_normal") + " --set contact.contact_time=inf");
   CHECK(r.code == 2);
+  // A weight that alone overlaps a resting grain beyond limits.max_overlap (it printed a weight
+  // overlap of inf, `ok`, and the run failed at its first step), and 3D Hertz's Poisson ratio of
+  // -1 (E~ = E / (1 - nu^2) infinite), now outside its range.
+  r = silt_cli("check " + scene_path("silo") + " --set gravity.magnitude=1e300");
+  CHECK(r.code == 2);
+  CHECK(contains(r.out, "--set:1:19: a grain's weight alone"));
+  CHECK(contains(r.out, "reduce the gravity below 4.081e+05 m/s^2"));
+  CHECK(silt_cli("check " + scene_path("silo") + " --set gravity.magnitude=3e5").code == 0);
+  r = silt_cli("check " + scene_path("shear3d_frictionless") + " --set contact.poisson_ratio=-1");
+  CHECK(r.code == 2);
+  CHECK(contains(r.out, "(-1, 0.5)"));
 }
 
 namespace {

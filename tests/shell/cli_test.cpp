@@ -384,6 +384,20 @@ TEST_CASE("silt check and silt run label no SI unit in reduced units") {
   REQUIRE(c.code == 0);
   CHECK(c.out.find("33000 steps = 3.3\n") != std::string::npos);
   CHECK(c.out.find(" kg") == std::string::npos);
+  // Nor the paste's and the box's lines (pressure 1 Pa, eta = 1 Pa s, box mass in kg, times in s),
+  // nor a reduced fluid's (cells in m, rho in kg/m^3).
+  for (const char* scene : {"paste_iso", "paste_3d_shear"}) {
+    CAPTURE(scene);
+    const Result p = silt_cli("check " + silt::test::scene_path(scene));
+    REQUIRE(p.code == 0);
+    for (const char* unit : {" Pa", " kg", " s,", " s)", " s\n", " m)", " N/m"}) {
+      CAPTURE(unit);
+      CHECK(p.out.find(unit) == std::string::npos);
+    }
+  }
+  // SI: a 2D pressure is a force per length.
+  CHECK(silt_cli("check " + silt::test::scene_path("pack_2d")).out.find("pressure 1 N/m on Lx Ly") !=
+        std::string::npos);
   const Result r = silt_cli("run " + silt::test::scene_path("collision_normal") + " --steps 2");
   CHECK(r.out.find("(t = 2e-06 s)") != std::string::npos);  // SI scenes keep theirs
 }

@@ -172,7 +172,7 @@ TEST_CASE("silt play: a stats file that can no longer be written is reported whe
   // The file is held to 1 kB (ulimit -f; SIGXFSZ ignored, so a write past it fails with EFBIG).
   TempDir dir;
   const std::string script =
-      "load " + silt::test::scene_path("bounce_dry") + "\nstats s.csv every 1\nset gravity.magnitude 1e7\nrun 20000\n";
+      "load " + silt::test::scene_path("bounce_dry") + "\nstats s.csv every 1\nset gravity.magnitude 5e5\nrun 20000\n";
   std::ofstream(dir / "play.silt") << script;
   const std::string cmd = "cd " + dir.path() + " && trap '' XFSZ && ulimit -f 2 && " + silt::test::silt_binary() +
                           " play play.silt --threads 1 2>&1";
@@ -183,7 +183,10 @@ TEST_CASE("silt play: a stats file that can no longer be written is reported whe
   const int status = pclose(p);
   CHECK(WIFEXITED(status));
   CHECK(WEXITSTATUS(status) == 4);  // the failure (3) and the lost rows (4): the highest
-  CHECK(contains(out, "stage energy_check"));
+  // The impact's overlap, as `silt run --set gravity.magnitude=5e5` fails: the energy check had
+  // kept the supply of the scene's 9.81 and failed first (and 1e7, which this test set before, is
+  // refused now: the grain's weight alone would overlap it with the wall beyond the limit).
+  CHECK(contains(out, "step 450, stage contact_forces/wall_forces"));
   CHECK(contains(out, "the run's output: stats file s.csv no longer written"));
 }
 

@@ -192,6 +192,7 @@ struct RenderSettings {
   bool chains_above_mean = false;
   double slab_half_width = 0;  // 3D chains: only those within this distance of the slab plane (0: all)
   double slab_center[3] = {0, 0, 0};
+  bool slab_center_auto = true;  // not given: the centre of the box as it is in the state drawn
   double slab_normal[3] = {0, 1, 0};
   double grain_opacity = -1;        // -1: opaque, or 0.25 in 3D when chains are drawn
   std::string field = "vorticity";  // vorticity | velocity | pressure (fluid fields)
@@ -230,6 +231,8 @@ struct Model {
   bool reduced_units = false;  // scene.units = "reduced": labels carry no SI units
   // " s", " kg", ... after a number, or nothing in reduced units.
   std::string unit(const char* si) const { return reduced_units ? std::string() : std::string(" ") + si; }
+  // A stress's or a pressure's: a force per length in 2D.
+  std::string stress_unit() const { return unit(dim == 2 ? "N/m" : "Pa"); }
   uint64_t scene_hash = 0;  // of the grains, walls and periodicity: checkpoints refuse other systems
   SceneDesc desc;           // what the file said (for `check`, `params`, `get`)
 

@@ -40,6 +40,7 @@ struct Range {
   static Range closed(double lo, double hi) { return {lo, hi, false, false}; }
   static Range open_closed(double lo, double hi) { return {lo, hi, true, false}; }
   static Range closed_open(double lo, double hi) { return {lo, hi, false, true}; }
+  static Range open(double lo, double hi) { return {lo, hi, true, true}; }
 };
 
 struct Model;
@@ -184,5 +185,7 @@ SceneDesc parse_scene(const std::string& text, const std::string& name, const st
 
 // The schema as a Markdown table (README) or aligned text (help).
 std::string schema_markdown();
+// The same, a line per key: `silt params`.
+std::string schema_text();
 
 }  // namespace silt

@@ -388,3 +388,16 @@ TEST_CASE("stiffness number and damping of the shipped shear scenes, as observab
   CHECK(test::observe(disks, s2, "zeta") == doctest::Approx(0.98).epsilon(1e-12));
   CHECK(test::observe(disks, s2, "I") == doctest::Approx(0.01).epsilon(1e-12));
 }
+
+TEST_CASE("a box too light for the time step is refused at box.mass_factor, with the least it needs") {
+  // A box a million times lighter than its grains was taken: pack_2d failed at step 123 advising
+  // stiffer contacts. The bound is the box's own oscillation on the contacts (about 4e-6 there,
+  // where 4e-6 ran and 3e-6 failed): here the scene's 0.1 passes and 1e-6 is refused.
+  std::string light = shear_disks("rate", 0.01);
+  light.replace(light.find("mass_factor = 0.1"), 17, "mass_factor = 1e-6");
+  const std::string refused = test::scene_error(light);
+  CAPTURE(refused);
+  CHECK(refused.find("box.mass_factor") != std::string::npos);
+  CHECK(refused.find("raise box.mass_factor to at least") != std::string::npos);
+  CHECK(test::scene_error(shear_disks("rate", 0.01)).empty());
+}
