@@ -58,6 +58,7 @@ int play_command(const std::string& script, bool keep_going, int threads) {
   shell::Session session(std::cout, std::cerr, threads);
   session.set_script(script);
   session.set_echo_sources(true);
+  session.set_keep_going(keep_going);
   g_played = &session;
   g_stop = false;
   StopSignals stop(&g_stop, interrupt_session);

@@ -52,6 +52,8 @@ class Session {
   void set_script(const std::string& path);
   // `source`d lines echoed as `silt play` echoes its own (SCRIPT:LINE> command).
   void set_echo_sources(bool on) { echo_sources_ = on; }
+  // Sourced scripts go on after an error (`silt play --keep-going`).
+  void set_keep_going(bool on) { keep_going_ = on; }
   bool quit_requested() const { return quit_; }
   bool running() const { return background_.joinable() && !bg_done_; }
   bool loaded() const { return sim_ != nullptr; }
@@ -141,6 +143,7 @@ class Session {
   std::unique_ptr<Simulation> sim_;
   std::optional<StatsWriter> stats_;  // samples of the scene's observables since load (or reset)
   bool echo_sources_ = false;
+  bool keep_going_ = false;
   std::string stats_file_;  // where they are written ("" nowhere)
   // IoError when `path` is the scene file or the stats file being written (a `save` there replaced
   // the stats with a checkpoint, and later rows went to a deleted file).

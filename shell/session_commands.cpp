@@ -464,21 +464,25 @@ void Session::cmd_source(const Command& c) {
   scripts_.push_back(file);
   ++source_depth_;
   std::string line;
-  int n = 0;
-  bool ok = true;
-  // Ctrl-C pauses the run in progress and abandons the script (and those that sourced it).
-  while (ok && !quit_ && !script_interrupted_ && std::getline(in, line)) {
+  int n = 0, failures = 0, first_failure = 0;
+  // Ctrl-C pauses the run in progress and abandons the script (and those that sourced it). An
+  // error stops it, unless `silt play --keep-going` (which stopped at a sourced script's first).
+  while ((failures == 0 || keep_going_) && !quit_ && !script_interrupted_ && std::getline(in, line)) {
     ++n;
     line = script_line(line, n);
     if (const auto start = line.find_first_not_of(" \t");
         echo_sources_ && start != std::string::npos && line[start] != '#')
       out_ << file << ":" << n << "> " << printable_line(line.substr(start)) << "\n";
-    ok = execute(line, file + ":" + std::to_string(n));
+    if (!execute(line, file + ":" + std::to_string(n)) && failures++ == 0) first_failure = n;
   }
   --source_depth_;
   scripts_.pop_back();
   if (script_interrupted_) throw std::runtime_error("source " + file + " interrupted at line " + std::to_string(n));
-  if (!ok) throw std::runtime_error("source " + file + " stopped at line " + std::to_string(n));
+  if (failures > 0 && !keep_going_)
+    throw std::runtime_error("source " + file + " stopped at line " + std::to_string(first_failure));
+  if (failures > 0)
+    throw std::runtime_error("source " + file + ": " + std::to_string(failures) + " line(s) failed, the first " +
+                             std::to_string(first_failure));
 }
 
 void Session::cmd_help(const Command& c) {

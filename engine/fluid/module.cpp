@@ -54,7 +54,7 @@ void compile_grid(const SceneDesc& d, const Model& m, Grid& g) {
       if ((bc.type == BcType::kPeriodic) != m.box.periodic[a])
         d.fail(d.has(key) ? key : "domain.periodic",
                std::string("a face of a ") + (m.box.periodic[a] ? "periodic" : "non-periodic") + " axis (" +
-                   std::string(1, "xyz"[a]) + ") cannot be " + (m.box.periodic[a] ? "anything but" : "") + " periodic");
+                   std::string(1, "xyz"[a]) + ") cannot be " + (m.box.periodic[a] ? "anything but " : "") + "periodic");
       if (bc.type == BcType::kOutflow && side == 0)
         d.fail(key, "an outflow is on a high face (x_hi, y_hi, z_hi): put the inflow on the low face");
       if (d.has(key + "_velocity")) {

@@ -39,6 +39,9 @@ std::vector<KeySpec> shear_keys() {
       {"prepare.max_steps", K::kInt, Value(int64_t{2000000}), Range::closed(1, 4.6e18), "", false, {}, "Longest preparation; the run then starts from where it got, with a warning."},
   };
   // clang-format on
+  // A 2D stress is a force per length (`get box.pressure` read Pa in pack_2d).
+  for (KeySpec& k : s)
+    if (k.unit == "Pa") k.unit_in = [](const Model& m) { return std::string(m.dim == 2 ? "N/m" : "Pa"); };
   return s;
 }
 

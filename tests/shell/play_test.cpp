@@ -82,6 +82,18 @@ TEST_CASE("silt play: echoes each command with its line, stops at the first erro
   out = play(dir, script, "--keep-going", &code);
   CHECK(code == 2);
   CHECK(contains(out, "play.silt:6> run 100"));
+  // Also in a sourced script (it stopped at the sourced script's first error).
+  std::ofstream(dir / "inner.silt") << "prnt t\nprint step\nfrobnicate\n";
+  out = play(dir, "load " + silt::test::scene_path("collision_normal") + "\nsource inner.silt\nprint t\n",
+             "--keep-going", &code);
+  CHECK(code == 2);
+  CHECK(contains(out, "step = 0"));
+  CHECK(contains(out, "source "));
+  CHECK(contains(out, "2 line(s) failed, the first 1"));
+  CHECK(contains(out, "play.silt:3> print t"));
+  out = play(dir, "load " + silt::test::scene_path("collision_normal") + "\nsource inner.silt\n", "", &code);
+  CHECK_FALSE(contains(out, "step = 0"));
+  CHECK(contains(out, "stopped at line 1"));
   play(dir, "load " + silt::test::scene_path("collision_normal") + "\nrun 10\n", "", &code);
   CHECK(code == 0);
   play(dir, "", "", &code);

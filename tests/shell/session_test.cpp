@@ -250,7 +250,10 @@ TEST_CASE("help, params, stats, profile, render and frames print what a person r
   REQUIRE(f.run("params box"));
   const std::string p = f.take_out();
   CHECK(p.find("box.pressure") != std::string::npos);
-  CHECK(p.find("Pa") != std::string::npos);
+  CHECK(p.find("N/m") != std::string::npos);  // a 2D pressure: a force per length (it read Pa)
+  CHECK(p.find(" Pa ") == std::string::npos);
+  REQUIRE(f.run("print pressure"));
+  CHECK(contains(f.take_out(), " N/m"));
   REQUIRE(f.run("frames session_frames every 500"));
   REQUIRE(f.run("run 1000"));
   REQUIRE(f.run("frames off"));
