@@ -351,6 +351,9 @@ void paste_to_dry(Model& c) {
   std::erase(c.modules, std::string("paste"));
   c.velocities_solved = false;
   c.adaptive_dt = false;
+  // The DEM's step (a failure of the compression advised lowering lubrication.dt_max, which the
+  // dry compression does not use).
+  c.dt_key = "run.dt";
   c.pair_gap = 0;
   c.pair_stress_fields.clear();
   c.kinetic_stress = true;

@@ -239,20 +239,21 @@ TEST_CASE("the README's parameter table is the schema's") {
 }
 
 TEST_CASE("silt run --frames writes numbered PNGs and nothing else, and --vtk writes ParaView files") {
+  // (its own VTK directory: another case, run at the same time by ctest -j, writes cli_vtk)
   const std::string dir = "cli_frames";
-  std::system(("rm -rf " + dir + " cli_vtk").c_str());
-  const Result r =
-      silt_cli("run " + silt::test::scene_path("collision_normal") + " --quiet --frames " + dir +
-               " --frame-every 250 --vtk cli_vtk --vtk-every 500 --set render.width=200 --set render.height=100");
+  std::system(("rm -rf " + dir + " cli_frames_vtk").c_str());
+  const Result r = silt_cli(
+      "run " + silt::test::scene_path("collision_normal") + " --quiet --frames " + dir +
+      " --frame-every 250 --vtk cli_frames_vtk --vtk-every 500 --set render.width=200 --set render.height=100");
   CHECK(r.code == 0);
   std::FILE* p = popen(("ls " + dir).c_str(), "r");
   char buf[4096];
   std::string listing(buf, std::fread(buf, 1, sizeof buf, p));
   pclose(p);
   CHECK(listing == "frame_000000.png\nframe_000001.png\nframe_000002.png\nframe_000003.png\nframe_000004.png\n");
-  CHECK(std::ifstream("cli_vtk/index.pvd").good());
-  CHECK(std::ifstream("cli_vtk/grains_000002.vtu").good());
-  CHECK_FALSE(std::ifstream("cli_vtk/grains_000003.vtu").good());
+  CHECK(std::ifstream("cli_frames_vtk/index.pvd").good());
+  CHECK(std::ifstream("cli_frames_vtk/grains_000002.vtu").good());
+  CHECK_FALSE(std::ifstream("cli_frames_vtk/grains_000003.vtu").good());
   // A render value that cannot be drawn is a scene error, before the run.
   CHECK(silt_cli("run " + silt::test::scene_path("collision_normal") + " --frames " + dir +
                  " --set render.color_by=temperature")

@@ -97,4 +97,9 @@ TEST_CASE("drag: a time step past the Stokes time is refused at the viscosity") 
   const auto line = std::count(text.begin(), text.begin() + static_cast<long>(text.find("viscosity")), '\n') + 1;
   CHECK(err.find("bad.toml:" + std::to_string(line) + ":") == 0);
   CHECK(err.find("Stokes time") != std::string::npos);
+  // The rotation's, I / (8 pi eta r^3) = 0.3 tau for a sphere: half the translation's time was
+  // taken, and a spinning grain's spin flipped sign every step.
+  const std::string spin = test::scene_error(test::fill(kFall, {{"eta", eta}, {"dt", 0.5 * tau}}));
+  CHECK(spin.find("Stokes time of rotation I / (8 pi eta r^3) = ") != std::string::npos);
+  CHECK(test::scene_error(test::fill(kFall, {{"eta", eta}, {"dt", 0.25 * tau}})).empty());
 }
