@@ -205,7 +205,31 @@ void check_box_mass(const SceneDesc& d, const Model& m) {
              "): raise box.mass_factor to at least " + format_number(least, 3) + " or reduce the time step");
 }
 
+// A pressure that presses the contacts by more than a diameter: a stiffness number below 1 (the
+// deflection is about a / kappa, Peyneau eq. 1.32), where a run fails at limits.max_overlap, a
+// fifth of a radius by default. box.pressure = 1e10 on contacts of k_n = 1e4 failed at step 1 with
+// a non-finite velocity, advising a shorter step.
+void check_box_pressure(const SceneDesc& d, const Model& m) {
+  const double pressure =
+      m.box_control.on ? m.box_control.pressure : (m.prepare.compress ? preparation_pressure(m) : 0.0);
+  if (!(pressure > 0)) return;
+  const double kappa = stiffness_number(m, pressure);
+  if (kappa >= 1) return;
+  const bool hertz = m.contact.law == NormalLaw::kHertz;
+  const double most = hertz ? pressure * std::pow(kappa, 1.5) : pressure * kappa;
+  d.fail(d.first_given({"box.pressure", "prepare.pressure"}, "box.pressure"),
+         "the pressure " + format_number(pressure, 4) + m.stress_unit() +
+             " gives a stiffness number kappa = " + format_number(kappa, 3) +
+             " below 1: it presses each contact by about a / kappa, more than a diameter, where a run fails at "
+             "limits.max_overlap = " +
+             format_number(m.limits.max_overlap, 3) + " of a radius: lower it (kappa is 1 at " +
+             format_number(most, 4) + m.stress_unit() +
+             "; packings are run at kappa 1e3 and more) or stiffen the "
+             "contacts");
+}
+
 void check_shear_step(const SceneDesc& d, const Model& m) {
+  check_box_pressure(d, m);
   check_box_mass(d, m);
   if (!m.shear.on || m.shear.stress_controlled || m.adaptive_dt) return;
   const double slip = std::abs(m.shear.rate) * m.dt * 2 * m.r_max, most = m.limits.max_overlap * m.r_min;

@@ -216,10 +216,10 @@ TEST_CASE("a checkpoint that cannot be written at the end of a run: exit 4, in t
 
 TEST_CASE("a preparation that fails writes a summary and its last good state") {
   silt::test::TempDir dir;
-  // A pressure ten thousand times the scene's, on contacts as soft: the compression overlaps the
-  // grains beyond limits.max_overlap within a few hundred steps. (A box a billion times lighter
-  // than its grains, which blew up in the first step, is refused when the scene is read now.)
-  const Result r = silt_cli("run " + scene_path("shear2d_dry") + " --set box.pressure=1e4 --quiet --summary " +
+  // A pressure a thousand times the scene's, on contacts as soft: the compression overlaps the
+  // grains beyond limits.max_overlap within a thousand steps. (A box a billion times lighter than
+  // its grains, which blew up in the first step, is refused when the scene is read now.)
+  const Result r = silt_cli("run " + scene_path("shear2d_dry") + " --set box.pressure=1e3 --quiet --summary " +
                             (dir / "p.json") + " --stats " + (dir / "p.csv"));
   CHECK(r.code == 3);
   CHECK(contains(r.out, "numerical failure during the preparation"));

@@ -206,3 +206,15 @@ TEST_CASE("paste: a checkpoint restored under another cycle period goes on from 
   REQUIRE(c->step());
   CHECK(obs.sample(c->model(), c->state())[0] == doctest::Approx(c->state().t / 8.0).epsilon(1e-14));
 }
+
+TEST_CASE("paste: the dry compression's model names the DEM's step in its failures") {
+  // (a non-finite velocity in a paste's compression advised lowering lubrication.dt_max, which the
+  // compression does not use)
+  std::string scene = kCyclicPaste;
+  scene.replace(scene.find("{kind}"), 6, "alternating");
+  const Model m = test::model_from(scene);
+  CHECK(m.dt_key == "lubrication.dt_max");
+  const Model dry = compression_model(m);
+  CHECK(dry.dt_key == "run.dt");
+  CHECK_FALSE(dry.velocities_solved);
+}
