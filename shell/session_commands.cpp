@@ -165,8 +165,8 @@ void Session::cmd_set(const Command& c) {
     const std::vector<std::string> sets_step = alternatives_of(m.dt_key);
     if (was_fixed && !m.adaptive_dt && m.dt != dt_was && change.key != m.dt_key &&
         std::find(sets_step.begin(), sets_step.end(), change.key) == sets_step.end())
-      out_ << "note: the time step is now " << format_number(m.dt) << " s (it was " << format_number(dt_was)
-           << " s), from " << m.dt_key << " as the scene now reads it\n";
+      out_ << "note: the time step is now " << format_number(m.dt) << m.unit("s") << " (it was "
+           << format_number(dt_was) << m.unit("s") << "), from " << m.dt_key << " as the scene now reads it\n";
   };
   if (spec->steerable) {
     // The scene as the file and the values typed make it: a key's alternatives come back from the

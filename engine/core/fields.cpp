@@ -46,6 +46,10 @@ bool follows_grains(Extent e) {
          e == Extent::kGrainWallVec;
 }
 
+bool on_grid(Extent e) {
+  return e == Extent::kCell || e == Extent::kFaceX || e == Extent::kFaceY || e == Extent::kFaceZ;
+}
+
 // The modules' fields are registered when the module list is made: make it first.
 const std::deque<FieldInfo>& field_infos() {
   (void)modules();

@@ -33,6 +33,24 @@ int64_t extent_size(const State& s, Extent e) {
   return 0;
 }
 
+void fit_module_fields(const Model& m, State& s, FitFields how) {
+  const auto& info = field_infos();
+  s.module_fields.resize(info.size() - fid::kBuiltinCount);
+  for (size_t k = 0; k < s.module_fields.size(); ++k) {
+    const FieldInfo& f = info[fid::kBuiltinCount + k];
+    std::vector<double>& v = s.module_fields[k];
+    if (!m.module_on(f.module)) {
+      v.clear();
+      continue;
+    }
+    if (f.extent == Extent::kFree) continue;
+    const int64_t want = extent_size(s, f.extent);
+    const bool refit =
+        how == FitFields::kMismatched ? static_cast<int64_t>(v.size()) != want : v.empty() && !on_grid(f.extent);
+    if (refit) v.assign(static_cast<size_t>(want), 0.0);
+  }
+}
+
 State make_state(const Model& m) {
   State s;
   const int64_t n = m.n_grains;

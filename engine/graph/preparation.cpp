@@ -39,16 +39,7 @@ State adopt_state(const Model& m, State s) {
   for (int k = 0; k < 3; ++k)
     if (!m.box_control.on || !m.box_control.controlled[k]) s.box_rate[k] = 0;
   // The fields of modules the state was made without (a dry compression before a paste).
-  const auto& info = field_infos();
-  s.module_fields.resize(info.size() - fid::kBuiltinCount);
-  for (size_t k = 0; k < s.module_fields.size(); ++k) {
-    const FieldInfo& f = info[fid::kBuiltinCount + k];
-    auto& v = s.module_fields[k];
-    const bool on = m.module_on(f.module);
-    if (!on) v.clear();
-    else if (f.extent != Extent::kFree && static_cast<int64_t>(v.size()) != extent_size(s, f.extent))
-      v.assign(static_cast<size_t>(extent_size(s, f.extent)), 0.0);
-  }
+  fit_module_fields(m, s, FitFields::kMismatched);
   return s;
 }
 

@@ -356,16 +356,7 @@ State read_checkpoint(const std::string& path, const Model& m, std::vector<std::
   // drag.viscosity V` kept the state): the fields of a module now off are dropped, and those of one
   // now on that the file holds empty are made as a new state has them, as adopt_state does for a
   // state kept across a recompile. A grid's are left as they are (another grid, another system).
-  const auto& infos = field_infos();
-  for (size_t k = 0; k < s.module_fields.size(); ++k) {
-    const FieldInfo& f = infos[fid::kBuiltinCount + k];
-    std::vector<double>& v = s.module_fields[k];
-    const bool grid = f.extent == Extent::kCell || f.extent == Extent::kFaceX || f.extent == Extent::kFaceY ||
-                      f.extent == Extent::kFaceZ;
-    if (!m.module_on(f.module)) v.clear();
-    else if (v.empty() && !grid && f.extent != Extent::kFree)
-      v.assign(static_cast<size_t>(extent_size(s, f.extent)), 0.0);
-  }
+  fit_module_fields(m, s, FitFields::kEmptyPerGrain);
   if (const std::string bad = check_state(s, m); !bad.empty()) {
     // The same grains under other parameters (another fluid grid, a module switched on) give
     // fields of other lengths: say which parameters differ rather than call the file corrupt.

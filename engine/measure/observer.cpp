@@ -172,24 +172,13 @@ int64_t ObservableContext::index_of(int64_t id) const {
 
 std::string check_observable(const std::string& name, const Model& m) { return find(name, m).error; }
 
-namespace {
-
-// An observable's unit in a model: none in reduced units; a 2D stress is a force per length
-// (`print pressure` read Pa in pack_2d).
-std::string unit_in(const ObservableSpec& o, const Model& m) {
-  if (m.reduced_units) return "";
-  return o.unit == "Pa" && m.dim == 2 ? "N/m" : o.unit;
-}
-
-}  // namespace
-
 std::vector<std::pair<std::string, std::string>> observable_units(const Model& m) {
   std::vector<std::pair<std::string, std::string>> out;
   for (const Module& mod : modules()) {
     if (!m.module_on(mod.spec->name)) continue;
     for (const ObservableSpec& o : mod.spec->observables)
       for (const std::string& name : expand(o, m))
-        if (accepts(o, m, name)) out.emplace_back(name, unit_in(o, m));
+        if (accepts(o, m, name)) out.emplace_back(name, m.unit_name(o.unit));
   }
   return out;
 }
@@ -211,7 +200,7 @@ std::vector<ObservableDoc> observable_docs(const Model* m) {
            {std::pair<std::string, std::string>{"{a}", "A"}, {"{b}", "B"}, {"{k}", "K"}, {"{w}", "W"}})
         for (auto at = name.find(from); at != std::string::npos; at = name.find(from))
           name.replace(at, from.size(), to);
-      out.push_back({name, m ? unit_in(o, *m) : o.unit, o.doc, mod.spec->name});
+      out.push_back({name, m ? m->unit_name(o.unit) : o.unit, o.doc, mod.spec->name});
     }
   }
   return out;
@@ -230,7 +219,7 @@ Observer::Observer(const Model& m, std::vector<std::string> names) : names_(std:
     Found f = find(n, m);
     if (!f.spec) throw std::invalid_argument(f.error);
     items_.push_back({f.spec, f.args});
-    units_.push_back(unit_in(*f.spec, m));
+    units_.push_back(m.unit_name(f.spec->unit));
   }
 }
 

@@ -31,8 +31,7 @@ const KeySpec* find_key_spec(std::string_view path) {
 }
 
 std::string key_unit(const KeySpec& spec, const Model& m) {
-  if (m.reduced_units) return "";
-  return spec.unit_in ? spec.unit_in(m) : spec.unit;
+  return m.unit_name(spec.unit_in ? spec.unit_in(m) : spec.unit);
 }
 
 std::string suggest_key(std::string_view bad_path) {

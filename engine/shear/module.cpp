@@ -39,9 +39,6 @@ std::vector<KeySpec> shear_keys() {
       {"prepare.max_steps", K::kInt, Value(int64_t{2000000}), Range::closed(1, 4.6e18), "", false, {}, "Longest preparation; the run then starts from where it got, with a warning."},
   };
   // clang-format on
-  // A 2D stress is a force per length (`get box.pressure` read Pa in pack_2d).
-  for (KeySpec& k : s)
-    if (k.unit == "Pa") k.unit_in = [](const Model& m) { return std::string(m.dim == 2 ? "N/m" : "Pa"); };
   return s;
 }
 
@@ -169,11 +166,6 @@ void setup_shear(const SceneDesc& d, Model& m) {
   }
 }
 
-// With the time step known: an imposed rate that shears the box too far in one step. Neighbours
-// one above the other (centres up to 2 r_max apart along y) stream past each other by
-// gammadot dt 2 r_max a step; beyond limits.max_overlap r_min, one step can press touching grains
-// past the overlap at which the run fails. A fixed step only: an adaptive one (the paste's)
-// starts at 1e-3 of the shear time and follows what changes.
 // The box's own oscillation, eq. 3.11 with the grains following its affine strain: the contact
 // network's stiffness along a length L is K = z N k <n^4> d^2 / (2 L^2) (N grains, z = 2 D
 // contacts each, <n^4> = 3/8 in 2D and 1/5 in 3D for isotropic directions, d = a_max, k a
@@ -189,10 +181,12 @@ void check_box_mass(const SceneDesc& d, const Model& m) {
   const double n_free = static_cast<double>(m.n_grains - m.n_frozen);
   const double n4 = m.dim == 2 ? 3.0 / 8 : 1.0 / 5;
   const double a_over_len = m.a_max / len;
-  // Hertz: the stiffness of an undamped collision reaching contact.hertz_ref_overlap (the largest
-  // overlap's, k_max, was 20 times the stiffness a packing's contacts have under a pressure).
-  const double pi = std::numbers::pi;
-  const double k = m.contact.law == NormalLaw::kHertz ? m.m_eff_min * (pi / m.t_contact) * (pi / m.t_contact) : m.k_max;
+  // Hertz: k_max, the stiffness at the largest allowed overlap (limits.max_overlap r_min), taken to
+  // contact.hertz_ref_overlap r_min, k growing as the overlap's square root (k_max itself was 14
+  // times the stiffness of a packing's contacts under shear3d_frictionless's pressure).
+  const double k = m.contact.law == NormalLaw::kHertz
+                       ? m.k_max * std::sqrt(m.contact.hertz_ref_overlap / m.limits.max_overlap)
+                       : m.k_max;
   const double stiffness = m.dim * n_free * k * n4 * a_over_len * a_over_len;
   const double limit = 2 * std::sqrt(b.mass / stiffness);
   if (!(stiffness > 0) || m.dt <= limit) return;
@@ -218,12 +212,12 @@ void check_box_pressure(const SceneDesc& d, const Model& m) {
   const bool hertz = m.contact.law == NormalLaw::kHertz;
   const double most = hertz ? pressure * std::pow(kappa, 1.5) : pressure * kappa;
   d.fail(d.first_given({"box.pressure", "prepare.pressure"}, "box.pressure"),
-         "the pressure " + format_number(pressure, 4) + m.stress_unit() +
+         "the pressure " + format_number(pressure, 4) + m.unit("Pa") +
              " gives a stiffness number kappa = " + format_number(kappa, 3) +
              " below 1: it presses each contact by about a / kappa, more than a diameter, where a run fails at "
              "limits.max_overlap = " +
              format_number(m.limits.max_overlap, 3) + " of a radius: lower it (kappa is 1 at " +
-             format_number(most, 4) + m.stress_unit() +
+             format_number(most, 4) + m.unit("Pa") +
              "; packings are run at kappa 1e3 and more) or stiffen the "
              "contacts");
 }
@@ -231,6 +225,11 @@ void check_box_pressure(const SceneDesc& d, const Model& m) {
 void check_shear_step(const SceneDesc& d, const Model& m) {
   check_box_pressure(d, m);
   check_box_mass(d, m);
+  // With the time step known: an imposed rate that shears the box too far in one step. Neighbours
+  // one above the other (centres up to 2 r_max apart along y) stream past each other by
+  // gammadot dt 2 r_max a step; beyond limits.max_overlap r_min, one step can press touching grains
+  // past the overlap at which the run fails. A fixed step only: an adaptive one (the paste's)
+  // starts at 1e-3 of the shear time and follows what changes.
   if (!m.shear.on || m.shear.stress_controlled || m.adaptive_dt) return;
   const double slip = std::abs(m.shear.rate) * m.dt * 2 * m.r_max, most = m.limits.max_overlap * m.r_min;
   if (slip <= most) return;
@@ -265,7 +264,7 @@ std::string describe_shear(const Model& m) {
   std::ostringstream o;
   o.precision(5);
   if (m.box_control.on) {
-    o << "box control  pressure " << m.box_control.pressure << m.stress_unit() << " on";
+    o << "box control  pressure " << m.box_control.pressure << m.unit("Pa") << " on";
     for (int k = 0; k < m.dim; ++k)
       if (m.box_control.controlled[k])
         o << " L"
@@ -274,11 +273,11 @@ std::string describe_shear(const Model& m) {
   }
   if (m.shear.on) {
     o << "shear        Lees-Edwards, flow along x, gradient along y; ";
-    if (m.shear.stress_controlled) o << "imposed shear stress " << m.shear.stress << m.stress_unit() << " (eq. 3.12)\n";
+    if (m.shear.stress_controlled) o << "imposed shear stress " << m.shear.stress << m.unit("Pa") << " (eq. 3.12)\n";
     else o << "imposed rate gammadot = " << m.shear.rate << m.unit("1/s") << "\n";
   }
   if (m.prepare.compress)
-    o << "prepare      isotropic compression at " << preparation_pressure(m) << m.stress_unit() << " until "
+    o << "prepare      isotropic compression at " << preparation_pressure(m) << m.unit("Pa") << " until "
       << (m.prepare.phi > 0 ? "Phi = " + std::to_string(m.prepare.phi) + " or " : std::string()) << "static (at most "
       << m.prepare.max_steps << " steps)\n";
   if (m.box_control.on) {

@@ -37,6 +37,8 @@ const char* extent_name(
 // Whether a field moves with the grains when they are renumbered (grid and pair fields do not:
 // the pair list is rebuilt, and grid fields are indexed by space, not by grain).
 bool follows_grains(Extent e);
+// Whether a field is indexed by the cells or faces of a grid.
+bool on_grid(Extent e);
 
 using FieldId = uint16_t;
 

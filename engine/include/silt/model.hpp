@@ -229,10 +229,18 @@ struct Model {
   // checkpoints_read. No output of a run (silt run's, the shell's) may overwrite them.
   std::vector<std::pair<std::string, std::string>> files_read() const;
   bool reduced_units = false;  // scene.units = "reduced": labels carry no SI units
-  // " s", " kg", ... after a number, or nothing in reduced units.
-  std::string unit(const char* si) const { return reduced_units ? std::string() : std::string(" ") + si; }
-  // A stress's or a pressure's: a force per length in 2D.
-  std::string stress_unit() const { return unit(dim == 2 ? "N/m" : "Pa"); }
+  // A unit as this model's labels show it (keys, observables, messages): none in reduced units, and
+  // a stress's or a pressure's Pa is a force per length, N/m, in 2D (`print pressure` and `get
+  // box.pressure` read Pa in pack_2d).
+  std::string unit_name(const std::string& si) const {
+    if (reduced_units) return "";
+    return dim == 2 && si == "Pa" ? "N/m" : si;
+  }
+  // " s", " kg", ... after a number, or nothing in reduced units (unit_name's).
+  std::string unit(const char* si) const {
+    const std::string name = unit_name(si);
+    return name.empty() ? name : " " + name;
+  }
   uint64_t scene_hash = 0;  // of the grains, walls and periodicity: checkpoints refuse other systems
   SceneDesc desc;           // what the file said (for `check`, `params`, `get`)
 

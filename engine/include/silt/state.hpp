@@ -138,6 +138,14 @@ State make_state(const Model& m);
 // Number of items of a field of this extent in this state (pair extents: the current list).
 int64_t extent_size(const State& s, Extent e);
 
+// The modules' fields of a state fitted to the modules `m` turns on: a module's that is off are
+// emptied; one's that is on, of a fixed extent, are made as a new state has them (zeros) where
+// they do not fit: any length but their extent's (kMismatched: a state made without the module,
+// or the grid of another model, kept across a recompile), or none at all, grid fields aside
+// (kEmptyPerGrain: a checkpoint written with the module off, whose other lengths are checked).
+enum class FitFields { kMismatched, kEmptyPerGrain };
+void fit_module_fields(const Model& m, State& s, FitFields how);
+
 // Visit every field: f(const FieldInfo&, storage&), storage being the scalar (T&) or the vector
 // (std::vector<T>&); module fields come last, as std::vector<double>&.
 template <class S, class F>
