@@ -6,15 +6,18 @@
 // by a Cholesky factor of an earlier matrix (its lubrication.h_min_over_a as the roughness
 // cutoff), LAMMPS with plain CG on Ball-Melrose lubrication (cutinner the same gap). Grain-steps
 // per second of each, on one process / thread and on two (LAMMPS two MPI ranks, silt two
-// threads); and how each one's cost grows as the gaps close (silt: h_min/a; LAMMPS: cutinner).
+// threads); and how each one's cost grows as the gaps close (silt: h_min/a; LAMMPS: cutinner) and
+// as the packing tightens (Phi: the same dry compression stopped at each, up to touching grains).
 //
 //   build/bench/paste_vs_lammps [--steps N] [--lammps-steps N] [--no-lammps] [--gaps X,Y,...]
-//                               [--lammps-down-to X] [--lammps-limit S] [--set KEY=VALUE ...]
+//                               [--phis P,Q,...] [--lammps-down-to X] [--lammps-limit S]
+//                               [--set KEY=VALUE ...]
 //
 // --gaps: the values of h_min/a (default 1e-2,1e-3,1e-4,1e-6,1e-8); LAMMPS runs those down to
 // --lammps-down-to (default 1e-4: its plain CG's cost grows as the gaps close, and at 1e-6 it
-// did not finish a step in 20 minutes). --set: a scene key for silt's runs, as `silt run --set`
-// (e.g. lubrication.tolerance=1e-4: LAMMPS's CG stops at 1e-4, silt's at the scene's 1e-8).
+// did not finish a step in 20 minutes). --phis: the packing fractions the grains are compressed to
+// (prepare.phi, default the scene's 0.45; about 0.64 is as far as the compression goes). --set: a scene key for silt's
+// runs, as `silt run --set` (e.g. lubrication.tolerance=1e-4: LAMMPS's CG stops at 1e-4, silt's at the scene's 1e-8).
 // --lammps-limit: seconds after which a LAMMPS run is stopped (default 1200); its row then says
 // so, with a rate of 0.
 //
@@ -127,70 +130,89 @@ Silt run_silt(const Model& m, const State& packing, int threads, int steps) {
   return s;
 }
 
+struct Options {
+  int steps = 30, lmp_steps = 30;
+  bool lammps = true;
+  std::vector<double> gaps{1e-2, 1e-3, 1e-4, 1e-6, 1e-8};
+  std::vector<double> phis;  // the scene's by default
+  double lammps_down_to = 1e-4;
+  std::vector<Override> sets;  // silt's scene keys
+  std::string set_note;        // and how the rows name them
+  double lammps_limit = 1200;
+};
+
+void row(const Model& base, const std::string& code, const std::string& name, double h, int threads, int n_steps,
+         double rate, double iters, double refactor, const std::string& note) {
+  std::printf("%-8s %-36s %8d %14.4g %8.1f %8.0f  %s\n", code.c_str(), name.c_str(), threads, rate, iters, refactor,
+              note.c_str());
+  std::fflush(stdout);
+  std::ostringstream o;
+  o << bench::today() << ',' << code << ',' << name << ',' << num(h) << ',' << threads << ',' << base.n_grains << ','
+    << n_steps << ',' << num(rate > 0 ? base.n_grains * n_steps / rate : 0) << ',' << num(rate) << ',' << num(iters)
+    << ',' << num(refactor) << ',' << note;
+  bench::append_csv(kCsv, kHeader, o.str());
+}
+
+// Both codes at every gap on one packing. The roughness cutoff of each: silt's h_min = x a (a = 2),
+// LAMMPS's cutinner = 2 + x a.
+void compare_at(const Options& o, const std::string& scene, const std::vector<Override>& packing_sets, double phi) {
+  const Model base = compile(load_scene_file(scene, packing_sets));
+  const State packing = prepare_packing(base, 2);
+  write_data(packing, kDir + "/data.paste");
+  std::printf("paste_3d_shear: %lld spheres, Phi %.4f, on %s\n", static_cast<long long>(base.n_grains),
+              measure(base, packing).phi, bench::cpu_model().c_str());
+  const std::string at = " phi=" + num(phi);
+  for (double x : o.gaps) {
+    std::vector<Override> over = packing_sets;
+    over.push_back(parse_override("lubrication.h_min_over_a=" + num(x)));
+    const Model m = compile(load_scene_file(scene, over));
+    for (int threads : {1, 2}) {
+      const Silt s = run_silt(m, packing, threads, o.steps);
+      row(base, "silt", "h_min/a=" + num(x) + at, x, threads, o.steps, s.rate, s.iters, s.refactor,
+          "factor_pcg" + o.set_note);
+    }
+    for (int ranks : {1, 2}) {
+      if (!o.lammps || x < o.lammps_down_to) break;
+      const Lammps l = run_lammps(2 + 2 * x, o.lmp_steps, 1e-3, o.lammps_limit, ranks);
+      const std::string name = "cutinner=" + num(2 + 2 * x) + at;
+      if (l.rate > 0) row(base, "lammps", name, x, ranks, o.lmp_steps, l.rate, 0, 0, "lubricateU");
+      else if (l.timed_out)
+        row(base, "lammps", name, x, ranks, o.lmp_steps, 0, 0, 0,
+            "lubricateU stopped after " + num(o.lammps_limit) + " s; its " + std::to_string(o.lmp_steps) +
+                " step(s) not done");
+      else
+        std::printf("LAMMPS did not run (cutinner %s, %d ranks):\n%s\n", num(2 + 2 * x).c_str(), ranks,
+                    l.error.c_str());
+    }
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   return bench::guarded_main([&] {
-    int steps = 30, lmp_steps = 30;
-    bool lammps = true;
-    std::vector<double> gaps{1e-2, 1e-3, 1e-4, 1e-6, 1e-8};
-    double lammps_down_to = 1e-4;
-    std::vector<Override> sets;  // silt's scene keys
-    std::string set_note;        // and how the rows name them
-    double lammps_limit = 1200;
+    Options o;
     for (int i = 1; i < argc; ++i) {
-      if (!std::strcmp(argv[i], "--steps") && i + 1 < argc) steps = std::atoi(argv[++i]);
-      else if (!std::strcmp(argv[i], "--lammps-steps") && i + 1 < argc) lmp_steps = std::atoi(argv[++i]);
-      else if (!std::strcmp(argv[i], "--no-lammps")) lammps = false;
-      else if (!std::strcmp(argv[i], "--gaps") && i + 1 < argc) gaps = bench::parse_list(argv[++i]);
-      else if (!std::strcmp(argv[i], "--lammps-down-to") && i + 1 < argc) lammps_down_to = std::atof(argv[++i]);
+      if (!std::strcmp(argv[i], "--steps") && i + 1 < argc) o.steps = std::atoi(argv[++i]);
+      else if (!std::strcmp(argv[i], "--lammps-steps") && i + 1 < argc) o.lmp_steps = std::atoi(argv[++i]);
+      else if (!std::strcmp(argv[i], "--no-lammps")) o.lammps = false;
+      else if (!std::strcmp(argv[i], "--gaps") && i + 1 < argc) o.gaps = bench::parse_list(argv[++i]);
+      else if (!std::strcmp(argv[i], "--phis") && i + 1 < argc) o.phis = bench::parse_list(argv[++i]);
+      else if (!std::strcmp(argv[i], "--lammps-down-to") && i + 1 < argc) o.lammps_down_to = std::atof(argv[++i]);
       else if (!std::strcmp(argv[i], "--set") && i + 1 < argc) {
-        sets.push_back(parse_override(argv[++i]));
-        set_note += std::string(" ") + argv[i];
-      } else if (!std::strcmp(argv[i], "--lammps-limit") && i + 1 < argc) lammps_limit = std::atof(argv[++i]);
+        o.sets.push_back(parse_override(argv[++i]));
+        o.set_note += std::string(" ") + argv[i];
+      } else if (!std::strcmp(argv[i], "--lammps-limit") && i + 1 < argc) o.lammps_limit = std::atof(argv[++i]);
       else throw std::invalid_argument(std::string("unknown option ") + argv[i]);
     }
     ::mkdir(kDir.c_str(), 0755);
     const std::string scene = std::string(SILT_SOURCE_DIR) + "/scenes/paste_3d_shear.toml";
-    const Model base = compile(load_scene_file(scene));
-    const State packing = prepare_packing(base, 2);
-    write_data(packing, kDir + "/data.paste");
-    std::printf("paste_3d_shear: %lld spheres, Phi %.4f, on %s\n", static_cast<long long>(base.n_grains),
-                measure(base, packing).phi, bench::cpu_model().c_str());
-    std::printf("%-8s %-28s %8s %14s %8s %8s\n", "code", "case", "threads", "grain-steps/s", "iters", "refact");
-    auto row = [&](const std::string& code, const std::string& name, double h, int threads, int n_steps, double rate,
-                   double iters, double refactor, const std::string& note) {
-      std::printf("%-8s %-28s %8d %14.4g %8.1f %8.0f  %s\n", code.c_str(), name.c_str(), threads, rate, iters, refactor,
-                  note.c_str());
-      std::fflush(stdout);
-      std::ostringstream o;
-      o << bench::today() << ',' << code << ',' << name << ',' << num(h) << ',' << threads << ',' << base.n_grains
-        << ',' << n_steps << ',' << num(rate > 0 ? base.n_grains * n_steps / rate : 0) << ',' << num(rate) << ','
-        << num(iters) << ',' << num(refactor) << ',' << note;
-      bench::append_csv(kCsv, kHeader, o.str());
-    };
-    // The roughness cutoff of each: silt's h_min = x a (a = 2), LAMMPS's cutinner = 2 + x a.
-    for (double x : gaps) {
-      std::vector<Override> over{parse_override("lubrication.h_min_over_a=" + num(x))};
-      over.insert(over.end(), sets.begin(), sets.end());
-      const Model m = compile(load_scene_file(scene, over));
-      for (int threads : {1, 2}) {
-        const Silt s = run_silt(m, packing, threads, steps);
-        row("silt", "h_min/a=" + num(x), x, threads, steps, s.rate, s.iters, s.refactor, "factor_pcg" + set_note);
-      }
-      for (int ranks : {1, 2}) {
-        if (!lammps || x < lammps_down_to) break;
-        const Lammps l = run_lammps(2 + 2 * x, lmp_steps, 1e-3, lammps_limit, ranks);
-        const std::string name = "cutinner=" + num(2 + 2 * x);
-        if (l.rate > 0) row("lammps", name, x, ranks, lmp_steps, l.rate, 0, 0, "lubricateU");
-        else if (l.timed_out)
-          row("lammps", name, x, ranks, lmp_steps, 0, 0, 0,
-              "lubricateU stopped after " + num(lammps_limit) + " s; its " + std::to_string(lmp_steps) +
-                  " step(s) not done");
-        else
-          std::printf("LAMMPS did not run (cutinner %s, %d ranks):\n%s\n", num(2 + 2 * x).c_str(), ranks,
-                      l.error.c_str());
-      }
+    if (o.phis.empty()) o.phis.push_back(compile(load_scene_file(scene)).prepare.phi);
+    std::printf("%-8s %-36s %8s %14s %8s %8s\n", "code", "case", "threads", "grain-steps/s", "iters", "refact");
+    for (double phi : o.phis) {
+      std::vector<Override> packing_sets{parse_override("prepare.phi=" + num(phi))};
+      packing_sets.insert(packing_sets.end(), o.sets.begin(), o.sets.end());
+      compare_at(o, scene, packing_sets, phi);
     }
     return 0;
   });
