@@ -44,29 +44,75 @@ char** completion(const char* text, int, int) {
 }
 
 // In a multibyte (UTF-8) locale, readline 8.2's vi motions do not move over a byte that is no
-// character (`w` on "\xff\xbf" loops forever). A character's bytes are read together (a terminal
-// sends them together), the ones after the first handed back to readline as pending input, and
-// bytes that make no character become '?'.
-int utf8_checked(FILE* stream, int lead) {
+// character, nor over a character that has no width on a terminal (wcwidth -1: U+FFFF, the C1
+// controls): `w` on "\xff\xbf" loops forever, and on "?" then U+FFFF at the line's end it goes
+// back and forth between the two. A character's bytes are read together (a terminal sends them
+// together), and bytes that make no printable character become '?'. One character from its first
+// byte: its bytes, or "?"; `cut` is the byte that cut it short (EOF if none).
+std::string read_character(FILE* stream, int lead, int& cut) {
+  cut = EOF;
   const int more = lead >= 0xc2 && lead <= 0xdf   ? 1
                    : lead >= 0xe0 && lead <= 0xef ? 2
                    : lead >= 0xf0 && lead <= 0xf4 ? 3
                                                   : -1;
-  if (more < 0) return '?';  // a continuation byte alone, or a byte no UTF-8 character begins with
-  char bytes[4] = {static_cast<char>(lead), 0, 0, 0};
+  if (more < 0) return "?";  // a continuation byte alone, or a byte no UTF-8 character begins with
+  std::string bytes(1, static_cast<char>(lead));
   for (int k = 1; k <= more; ++k) {
     const int b = rl_getc(stream);
-    if (b < 0x80 || b > 0xbf) {  // cut short: the byte that cut it is read next
-      if (b != EOF) rl_stuff_char(b);
-      return '?';
+    if (b < 0x80 || b > 0xbf) {
+      cut = b;
+      return "?";
     }
-    bytes[k] = static_cast<char>(b);
+    bytes.push_back(static_cast<char>(b));
   }
   std::mbstate_t state{};
   wchar_t w = 0;
-  if (std::mbrtowc(&w, bytes, static_cast<size_t>(more + 1), &state) != static_cast<size_t>(more + 1)) return '?';
-  for (int k = 1; k <= more; ++k) rl_stuff_char(static_cast<unsigned char>(bytes[k]));
-  return lead;
+  if (std::mbrtowc(&w, bytes.data(), bytes.size(), &state) != bytes.size() || wcwidth(w) < 0) return "?";
+  return bytes;
+}
+
+// The key readline reads for a byte above 127: the first byte of what read_character made, the
+// others handed back to readline as pending input. The byte that cut a character short is read
+// as the next character, through the same check (handed back unchecked, a lead byte reached the
+// line alone); a run of such bytes is read up to 64 bytes, the byte that cuts the last one short
+// then a '?' of its own (readline's pending input holds 512). keep_printable_line mends what other
+// paths bring (a history file written in another encoding, a line's edits).
+int utf8_checked(FILE* stream, int lead) {
+  int cut = EOF;
+  std::string typed = read_character(stream, lead, cut);
+  while (cut != EOF) {
+    if (cut < 0x80 || typed.size() >= 64) {
+      typed.push_back(cut < 0x80 ? static_cast<char>(cut) : '?');
+      break;
+    }
+    int next = EOF;
+    typed += read_character(stream, cut, next);
+    cut = next;
+  }
+  for (size_t k = 1; k < typed.size(); ++k) rl_stuff_char(static_cast<unsigned char>(typed[k]));
+  return static_cast<unsigned char>(typed[0]);
+}
+
+// Every byte of the line that begins no whole character, and each byte of a character of no
+// width, becomes '?', in place (the line keeps its length, so the point, the mark and the undo
+// records keep their places).
+void keep_printable_line() {
+  if (MB_CUR_MAX == 1 || !rl_line_buffer) return;
+  for (int i = 0; i < rl_end;) {
+    if (static_cast<unsigned char>(rl_line_buffer[i]) < 0x80) {
+      ++i;
+      continue;
+    }
+    std::mbstate_t state{};
+    wchar_t w = 0;
+    const size_t n = std::mbrtowc(&w, rl_line_buffer + i, static_cast<size_t>(rl_end - i), &state);
+    if (n == 0 || n > static_cast<size_t>(rl_end - i)) {  // (size_t)-1 and -2: no whole character
+      rl_line_buffer[i++] = '?';
+      continue;
+    }
+    if (wcwidth(w) < 0) std::memset(rl_line_buffer + i, '?', n);
+    i += static_cast<int>(n);
+  }
 }
 
 // A count (Meta and digits, or digits in vi command mode) is held at kMaxCount: readline takes up
@@ -191,6 +237,7 @@ void keep_saved_line() {
 // minutes of fuzzing. Bytes above 127: utf8_checked.
 int guarded_getc(FILE* stream) {
   hold_line_length();
+  keep_printable_line();
   // vi's first Escape in a line frees the line's undo list (so that U reverts only to there), and
   // readline 8.2 then forgets a history entry's pointer into that list only when it points at its
   // head: a history line recalled and edited, vi mode, Up, Escape left an entry holding freed

@@ -337,6 +337,30 @@ TEST_CASE("vi's redo of an operator left without a motion keeps the line whole")
   CHECK(t.wait_exit() == 0);
 }
 
+TEST_CASE("vi's word motion ends on a line with a broken character or one of no width, typed or recalled") {
+  TempDir home;
+  // A history line of an earlier session with U+FFFF at its end (wcwidth -1).
+  std::ofstream(home / ".silt_history") << "print t?\xef\xbf\xbf\n";
+  Terminal t(silt::test::scene_path("collision_normal"), home.path());
+  REQUIRE(!t.read_until("silt[t=0]> ").empty());
+  // Recalled from the history: vi mode, Escape, k, the point put on the '?' before U+FFFF (0, 7l),
+  // `w`: readline 8.2 went back and forth between the last two characters forever. Then the line
+  // changed into one that runs.
+  t.type(
+      "\x1b\n\x1bk07lw\x1b"
+      "0Cprint step\n");
+  CHECK(!t.read_until("step = 0").empty());
+  // Typed: \xc3 cut short by \xd9, \xd9 by U+FFFF, Escape (back onto the last character), `w`:
+  // the same, the byte that cut the first short having reached the line unchecked ("?", "\xd9",
+  // U+FFFF).
+  t.type(
+      "print t\xc3\xd9\xef\xbf\xbf\x1bw\x1b"
+      "0Cprint step\n");
+  CHECK(!t.read_until("step = 0").empty());
+  t.type("quit\n");
+  CHECK(t.wait_exit() == 0);
+}
+
 TEST_CASE("a count's long insertion is drawn wrapped, and a dumb terminal reads plain lines") {
   TempDir home;
   // readline 8.2 scrolling the line sideways (an inputrc's horizontal-scroll-mode, or a terminal
