@@ -109,6 +109,15 @@ inline std::vector<double> parse_list(const std::string& text) {
   return v;
 }
 
+// An --only value that names none of a program's sections: refused, with their names (it ran
+// nothing and said so by silence).
+inline void check_only(const std::string& only, const std::vector<std::string>& names) {
+  if (only.empty() || std::find(names.begin(), names.end(), only) != names.end()) return;
+  std::string list;
+  for (const std::string& n : names) list += (list.empty() ? "" : ", ") + n;
+  throw std::invalid_argument("--only " + only + ": no such section (" + list + ")");
+}
+
 // Run a shell command, returning its standard output.
 inline std::string capture(const std::string& cmd) {
   std::string out;

@@ -609,6 +609,7 @@ int main(int argc, char** argv) {
             "usage: fluid [--only cavity|throughput|openfoam|frames|poisson|viscous] [--quick] [--simd "
             "baseline,avx2,avx512]");
     }
+    check_only(only, {"throughput", "cavity", "openfoam", "frames", "poisson", "viscous"});
     std::printf("silt fluid benchmark, %s, %s\n", cpu_model().c_str(), today().c_str());
     limit_simd(levels.front());
     if (only.empty() || only == "throughput") throughput(quick, levels);

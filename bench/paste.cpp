@@ -638,11 +638,14 @@ int main(int argc, char** argv) {
       else if (s == "--set" && i + 1 < argc) a.sets.push_back(argv[++i]);
       else throw std::invalid_argument("unknown option " + s);
     }
-    std::printf("paste bench on %s (%s), %d thread(s)%s\n", bench::host().c_str(), bench::cpu_model().c_str(),
-                a.threads, a.quick ? ", quick" : "");
     const std::vector<std::pair<std::string, void (*)(const Args&)>> sections = {
         {"iso", iso},   {"equilibrium", equilibrium}, {"knobs", knobs},     {"shear", shear},      {"cyclic", cyclic},
         {"cost", cost}, {"cost3d", cost3d},           {"knobs3d", knobs3d}, {"coarse3d", coarse3d}};
+    std::vector<std::string> names;
+    for (const auto& section : sections) names.push_back(section.first);
+    bench::check_only(a.only, names);
+    std::printf("paste bench on %s (%s), %d thread(s)%s\n", bench::host().c_str(), bench::cpu_model().c_str(),
+                a.threads, a.quick ? ", quick" : "");
     for (const auto& [name, fn] : sections)
       if (a.only.empty() || a.only == name) fn(a);
     return 0;

@@ -34,6 +34,7 @@
 // probed one, so the run stops only on what the integration does (an overlap beyond the
 // scene's 2 %, runaway energy, a non-finite value).
 // Appends to bench/results/shear.csv.
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -220,18 +221,6 @@ int run(int argc, char** argv) {
       {0.316, {0.415, 0.566}}, {0.0316, {0.212, 0.620}}, {0.00316, {0.1457, 0.6322}}, {0.56, {0.5031, 0}},
       {0.056, {0.2435, 0}},    {0.0056, {0.1571, 0}},    {0.00056, {0.1250, 0}}};
 
-  // Procedure O, once.
-  Case base;
-  base.inertial = 0.0316;
-  Model m0 = model_for(a, base);
-  PreparationReport prep;
-  const double t0 = bench::now_s();
-  const State prepared = prepare_packing(m0, a.threads, &prep);
-  const double phi_iso = measure(m0, prepared).phi;
-  std::printf("procedure O: N = %lld, Phi_iso = %.4f after %lld steps (%.1f s)%s\n",
-              static_cast<long long>(m0.n_grains), phi_iso, static_cast<long long>(prep.steps), bench::now_s() - t0,
-              prep.end == RunEnd::kStatic ? ", static" : ", NOT static");
-
   std::vector<Case> cases;
   std::vector<double> inertial = {0.316, 0.1, 0.0316};
   if (a.low) inertial.insert(inertial.end(), {0.01, 0.00316});
@@ -296,6 +285,23 @@ int run(int argc, char** argv) {
   short_003.transient = 0.5;
   short_003.measured = 2;
   sweep("skin", short_003, {0.05, 0.1, 0.2, 0.4}, &Case::skin);  // cost only: the physics does not depend on it
+
+  std::vector<std::string> knobs;
+  for (const Case& c : cases)
+    if (std::find(knobs.begin(), knobs.end(), c.knob) == knobs.end()) knobs.push_back(c.knob);
+  bench::check_only(a.only, knobs);
+
+  // Procedure O, once.
+  Case base;
+  base.inertial = 0.0316;
+  Model m0 = model_for(a, base);
+  PreparationReport prep;
+  const double t0 = bench::now_s();
+  const State prepared = prepare_packing(m0, a.threads, &prep);
+  const double phi_iso = measure(m0, prepared).phi;
+  std::printf("procedure O: N = %lld, Phi_iso = %.4f after %lld steps (%.1f s)%s\n",
+              static_cast<long long>(m0.n_grains), phi_iso, static_cast<long long>(prep.steps), bench::now_s() - t0,
+              prep.end == RunEnd::kStatic ? ", static" : ", NOT static");
 
   // The steady flow the time-step cases start from: the packing sheared at I = 3.16e-2 and
   // 0.05 t_c through the transient.
