@@ -31,6 +31,7 @@
 #include <sys/select.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <csignal>
 #include <cstdlib>
@@ -42,6 +43,7 @@
 #include "shell/readline_setup.hpp"
 #include "shell/session.hpp"
 #include "shell/stop_signals.hpp"
+#include "silt/errors.hpp"
 
 namespace silt::cli {
 namespace {
@@ -107,8 +109,14 @@ constexpr size_t kMaxPlainLine = size_t{1} << 20;
 // The shell without a terminal: plain lines (a pipe, a file), a background run's messages
 // printed between them, Ctrl-C (SIGINT) pausing a run as on a terminal. On a terminal without line
 // editing (`prompted`), a prompt is printed whenever a line is awaited (again after a background
-// run's messages, on a line of its own) and each line entered goes to the history file.
-int plain_lines(shell::Session& session, bool prompted) {
+// run's messages, on a line of its own) and each line entered goes to the history file. From a
+// pipe or a file the lines are a script that goes on after an error: the exit code is the highest
+// of its errors' (as `silt play --keep-going`'s), a background run that failed numerically 3, an
+// output lost 4; on a terminal the user has seen them, and it is 0. `code`: the scene's load's.
+int plain_lines(shell::Session& session, bool prompted, int code) {
+  auto execute = [&](const std::string& line) {
+    if (!session.execute(line) && !prompted) code = std::max(code, session.last_error_code());
+  };
   std::string buf;
   size_t scanned = 0;     // buf[0, scanned) holds no end of line
   bool too_long = false;  // the line being read is past kMaxPlainLine: dropped up to its end
@@ -125,7 +133,10 @@ int plain_lines(shell::Session& session, bool prompted) {
     const auto nl = buf.find('\n', scanned);
     if (nl == std::string::npos) scanned = buf.size();
     if (nl == std::string::npos && buf.size() > kMaxPlainLine) {
-      if (!too_long) std::cerr << "error: a line longer than " << kMaxPlainLine << " bytes: ignored\n";
+      if (!too_long) {
+        std::cerr << "error: a line longer than " << kMaxPlainLine << " bytes: ignored\n";
+        if (!prompted) code = std::max(code, static_cast<int>(ExitCode::kScene));
+      }
       too_long = true;
       buf.clear();
       scanned = 0;
@@ -137,7 +148,7 @@ int plain_lines(shell::Session& session, bool prompted) {
       if (std::exchange(too_long, false)) continue;  // the end of a line refused above
       if (!line.empty() && line.back() == '\r') line.pop_back();
       if (prompted && !line.empty()) remember(line.c_str());
-      session.execute(line);
+      execute(line);
       prompt_due = prompted;
       prompt_shown = false;
       char drain[64];  // a Ctrl-C that paused the command is spent
@@ -146,7 +157,7 @@ int plain_lines(shell::Session& session, bool prompted) {
       continue;
     }
     if (eof) {
-      if (!buf.empty() && !too_long) session.execute(std::exchange(buf, std::string()));
+      if (!buf.empty() && !too_long) execute(std::exchange(buf, std::string()));
       break;
     }
     if (std::exchange(prompt_due, false)) {
@@ -176,7 +187,10 @@ int plain_lines(shell::Session& session, bool prompted) {
   }
   if (prompt_shown) std::cout << "\n";  // end of input typed at the prompt
   session.execute("quit");
-  return g_terminated ? 128 + g_terminated : 0;
+  if (!prompted && !session.take_background_failure().empty())
+    code = std::max(code, static_cast<int>(ExitCode::kNumerical));
+  if (!prompted && !session.take_output_error().empty()) code = std::max(code, static_cast<int>(ExitCode::kIo));
+  return g_terminated ? 128 + g_terminated : code;
 }
 
 }  // namespace
@@ -209,9 +223,9 @@ int shell_command(const std::string& scene, int threads) {
   // characters (AddressSanitizer: heap-buffer-overflow in rl_redisplay from _rl_arg_dispatch).
   const char* up = terminal ? rl_get_termcap("up") : nullptr;
   if (!up || !*up) {
-    if (!scene.empty()) session.execute("load " + shell::quoted_word(scene));
+    const bool loaded = scene.empty() || session.execute("load " + shell::quoted_word(scene));
     if (terminal) using_history();
-    const int code = plain_lines(session, terminal);
+    const int code = plain_lines(session, terminal, loaded || terminal ? 0 : session.last_error_code());
     g_session = nullptr;
     ::close(g_pipe[0]);
     ::close(g_pipe[1]);
