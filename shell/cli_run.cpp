@@ -89,11 +89,17 @@ int run_command(const RunArgs& a) {
   if (const std::string shared = shared_output(a); !shared.empty())
     return report_error(shared + ": each would overwrite the other", 1);
   int code = 0;
-  auto loaded = load_model(a.scene, a.sets, code);
+  // --steps and --time replace the scene's [run] length before it is compiled, so that a run.time
+  // too long for the scene's step does not refuse a run of N steps. With --time the run's length
+  // is opt.time, not the model's (the key only takes the scene's out of the way).
+  const bool cli_length = a.steps >= 0 || a.time >= 0;
+  const std::optional<Override> length =
+      cli_length ? std::optional(Override{"run.steps", std::to_string(std::max<int64_t>(a.steps, 0))}) : std::nullopt;
+  auto loaded = load_model(a.scene, a.sets, code, length);
   if (!loaded) return code;
   Model& m = *loaded;
   RunOptions opt;
-  const bool scene_length = a.steps < 0 && a.time < 0;
+  const bool scene_length = !cli_length;
   if (a.steps >= 0) {
     opt.steps = a.steps;
     opt.time = -1;

@@ -296,6 +296,27 @@ TEST_CASE("silt run --restore with the scene's length runs on to the scene's end
   CHECK(nlohmann::json::parse(read_file("cli_restore_0.json"))["steps_run"] == 0);
 }
 
+TEST_CASE("--steps and --time replace a scene's run length that is too long for its step") {
+  // The scene's run.time was checked before --steps replaced it: refused at run.time (exit 2).
+  const std::string scene = silt::test::scene_path("collision_normal") + " --quiet --set run.time=1e30";
+  CHECK(silt_cli("run " + scene).code == 2);
+  const Result steps = silt_cli("run " + scene + " --steps 10 --summary cli_length_steps.json");
+  CHECK(steps.code == 0);
+  CHECK(nlohmann::json::parse(read_file("cli_length_steps.json"))["steps_run"] == 10);
+  const Result time = silt_cli("run " + scene + " --time 1e-5 --summary cli_length_time.json");
+  CHECK(time.code == 0);
+  CHECK(nlohmann::json::parse(read_file("cli_length_time.json"))["sim_time"].get<double>() == doctest::Approx(1e-5));
+  // A --time too long itself is still a usage error.
+  CHECK(silt_cli("run " + silt::test::scene_path("collision_normal") + " --quiet --time 1e30").code == 1);
+  // The checkpoint records the scene as given, not the run's length: restored under the scene,
+  // no parameter differs.
+  const std::string plain = silt::test::scene_path("collision_normal") + " --quiet";
+  REQUIRE(silt_cli("run " + plain + " --steps 300 --save cli_length.ckpt").code == 0);
+  const Result restored = silt_cli("run " + plain + " --restore cli_length.ckpt");
+  CHECK(restored.code == 0);
+  CHECK(restored.out.find("warning") == std::string::npos);
+}
+
 TEST_CASE("a checkpoint restored under a module switched on or off goes on as the shell's kept state does") {
   // `silt run --restore X --set drag.viscosity=V` was refused ("particle_f_drag has 0 entries where
   // 6 are expected", exit 4), and so was the checkpoint of the shell's run with the drag on, under
