@@ -99,6 +99,9 @@ bool VtkWriter::owns(const std::string& path, const std::string& dir) {
 }
 
 void VtkWriter::write(const Model& m, const State& s, const std::vector<GridField>& fields) {
+  // A scene of a fluid alone has no grains and no contacts to write (it wrote two empty files a
+  // sample); a scene whose grains have all gone (a silo emptied) goes on with empty ones.
+  if (m.n_grains == 0 && !fields.empty()) return write_entry(s.t, "", "", write_fields(fields));
   const int D = m.dim, R = m.rot;
   char name[64];
   std::snprintf(name, sizeof name, "grains_%06lld.vtu", static_cast<long long>(count_));
@@ -221,17 +224,23 @@ void VtkWriter::write(const Model& m, const State& s, const std::vector<GridFiel
     o << kArrayEnd << "      </CellData>\n    </Piece>\n  </PolyData>\n</VTKFile>\n";
     close_file(o, dir_ + "/" + contacts);
   }
-  std::string grid;
-  if (!fields.empty()) {
-    std::snprintf(name, sizeof name, "fields_%06lld.vti", static_cast<long long>(count_));
-    grid = name;
-    write_vti(dir_ + "/" + grid, fields);
-  }
+  write_entry(s.t, grains, contacts, write_fields(fields));
+}
+
+std::string VtkWriter::write_fields(const std::vector<GridField>& fields) {
+  if (fields.empty()) return "";
+  char name[64];
+  std::snprintf(name, sizeof name, "fields_%06lld.vti", static_cast<long long>(count_));
+  write_vti(dir_ + "/" + name, fields);
+  return name;
+}
+
+void VtkWriter::write_entry(double t, const std::string& grains, const std::string& contacts, const std::string& grid) {
   // A series that goes back in time (the shell's `restore` or `reset` between two writes): the
   // index leaves out the entries of the branch left behind, whose files stay, so that the times
   // ParaView reads run forward (they went 0.1, 0.15, 0.2, 0.1, 0.15, 0.2).
-  while (!entries_.empty() && !(entries_.back().t < s.t)) entries_.pop_back();
-  entries_.push_back({s.t, grains, contacts, grid});
+  while (!entries_.empty() && !(entries_.back().t < t)) entries_.pop_back();
+  entries_.push_back({t, grains, contacts, grid});
   ++count_;
   // The time index, rewritten whole and renamed into place.
   const std::string pvd = dir_ + "/index.pvd", tmp = pvd + ".tmp";
@@ -240,9 +249,10 @@ void VtkWriter::write(const Model& m, const State& s, const std::vector<GridFiel
     open_file(o, tmp);
     o << "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"1.0\">\n  <Collection>\n";
     for (const Entry& e : entries_) {
-      o << "    <DataSet timestep=\"" << e.t << "\" part=\"0\" file=\"" << e.grains << "\"/>\n";
-      o << "    <DataSet timestep=\"" << e.t << "\" part=\"1\" file=\"" << e.contacts << "\"/>\n";
-      if (!e.fields.empty()) o << "    <DataSet timestep=\"" << e.t << "\" part=\"2\" file=\"" << e.fields << "\"/>\n";
+      int part = 0;  // the parts a sample has, numbered in this order: grains, contacts, fields
+      for (const std::string* file : {&e.grains, &e.contacts, &e.fields})
+        if (!file->empty())
+          o << "    <DataSet timestep=\"" << e.t << "\" part=\"" << part++ << "\" file=\"" << *file << "\"/>\n";
     }
     o << "  </Collection>\n</VTKFile>\n";
     close_file(o, tmp);

@@ -37,6 +37,10 @@ TEST_CASE("silt run: the cavity's summary holds its probes, frames draw vorticit
   CHECK(std::filesystem::exists(dir + "_frames/frame_000000.png"));
   CHECK(std::filesystem::exists(dir + "_vtk/fields_000000.vti"));
   CHECK(read_file(dir + "_vtk/fields_000000.vti").find("Name=\"vorticity\"") != std::string::npos);
+  // No grains: no grains or contacts files (two empty ones a sample before), the fields part 0.
+  CHECK_FALSE(std::filesystem::exists(dir + "_vtk/grains_000000.vtu"));
+  CHECK_FALSE(std::filesystem::exists(dir + "_vtk/contacts_000000.vtp"));
+  CHECK(read_file(dir + "_vtk/index.pvd").find("part=\"0\" file=\"fields_000000.vti\"") != std::string::npos);
 }
 
 TEST_CASE("silt run: a fluid step past the CFL limit exits 3 naming fluid.dt, or 2 where the lid alone passes it") {

@@ -156,8 +156,9 @@ void write_vti(const std::string& path, const std::vector<GridField>& fields);
 
 // VTK XML output for ParaView and OVITO: DIR/grains_NNNNNN.vtu (points with radius, velocity,
 // angular velocity, force, id, frozen), DIR/contacts_NNNNNN.vtp (one line per contact with its
-// normal and tangential force), DIR/fields_NNNNNN.vti for the grid fields given (a fluid's, once
-// a fluid module provides them; none today) and DIR/index.pvd (the time series).
+// normal and tangential force), DIR/fields_NNNNNN.vti for the grid fields given (a fluid's) and
+// DIR/index.pvd (the time series, its parts numbered in that order). A scene without grains
+// writes no grains or contacts files.
 class VtkWriter {
  public:
   // Creates dir (an earlier run's numbered files in it removed); throws IoError.
@@ -170,6 +171,8 @@ class VtkWriter {
   static bool owns(const std::string& path, const std::string& dir);
 
  private:
+  std::string write_fields(const std::vector<GridField>& fields);  // its file's name, "" for none
+  void write_entry(double t, const std::string& grains, const std::string& contacts, const std::string& grid);
   struct Entry {
     double t;
     std::string grains, contacts, fields;  // fields: "" when none
