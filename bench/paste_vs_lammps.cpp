@@ -16,7 +16,7 @@
 // --gaps: the values of h_min/a (default 1e-2,1e-3,1e-4,1e-6,1e-8); LAMMPS runs those down to
 // --lammps-down-to (default 1e-4: its plain CG's cost grows as the gaps close, and at 1e-6 it
 // did not finish a step in 20 minutes). --phis: the packing fractions the grains are compressed
-// to (prepare.phi, default the scene's 0.45; the compression jams near 0.64). --set: a scene key
+// to (prepare.phi, default the scene's 0.45; 0.60 has 5.1 contacts a grain). --set: a scene key
 // for silt's runs, as `silt run --set` (e.g. lubrication.tolerance=1e-4: LAMMPS's CG stops at
 // 1e-4, silt's at the scene's 1e-8).
 // --lammps-limit: seconds after which a LAMMPS run is stopped (default 1200); its row then says
