@@ -119,7 +119,7 @@ TEST_CASE("a change before the first step is made before the setup, bit for bit,
   CHECK(state_hash(compiled.state()) == state_hash(direct.state()));
   // A change the packing's compression depends on is not made to it: the shell says so.
   Fixture p;
-  REQUIRE(p.run("load " + test::scene_path("paste_iso")));
+  REQUIRE(p.run("load " + test::quarter_paste_scene("paste_iso", dir.path())));
   p.take_out();
   REQUIRE(p.run("set box.pressure 2"));
   CHECK(contains(p.take_out(), "`reset` compresses it again under this value"));
@@ -129,7 +129,7 @@ TEST_CASE("a change before the first step is made before the setup, bit for bit,
   CHECK(contains(p.take_out(), "`reset` compresses it again under this value"));
   // The cycles: a period changed mid-run goes on from the phase reached; reset starts them at 0.
   Fixture c;
-  REQUIRE(c.run("load " + test::scene_path("paste_cyclic_alternating")));
+  REQUIRE(c.run("load " + test::quarter_paste_scene("paste_cyclic_alternating", dir.path())));
   REQUIRE(c.run("run 20"));
   const double before = c.value("cycle");
   REQUIRE(c.run("set box.cycle_period 1000"));

@@ -117,16 +117,19 @@ TEST_CASE("the state after load is the one a run starts from, and saved before t
   // The shell showed the state before the setup stages: the Taylor-Green field at rest until the
   // first step, a paste without its connections, and a checkpoint saved then was unreadable
   // ("fluid_stat has the wrong length").
-  for (const std::string scene : {"taylor_green_2d", "paste_iso", "collision_normal"}) {
+  test::TempDir small;
+  for (const std::string& scene :
+       {test::scene_path("taylor_green_2d"), test::quarter_paste_scene("paste_iso", small.path()),
+        test::scene_path("collision_normal")}) {
     CAPTURE(scene);
-    Simulation run(compile(load_scene_file(test::scene_path(scene))), 1);
+    Simulation run(compile(load_scene_file(scene)), 1);
     if (run.model().prepare.compress) run.restore(prepare_packing(run.model(), 1));  // paste_iso's
     run.prepare();                                                                   // what `silt run --steps 0` saves
     char expected[17];
     std::snprintf(expected, sizeof expected, "%016llx", static_cast<unsigned long long>(state_hash(run.state())));
     Fixture f;
     test::TempDir dir;
-    REQUIRE(f.run("load " + test::scene_path(scene)));
+    REQUIRE(f.run("load " + scene));
     CHECK(f.hash() == expected);
     REQUIRE(f.run("save " + dir / "t0.ckpt"));
     REQUIRE(f.run("run 2"));

@@ -1,5 +1,9 @@
 #include "support/scenes.hpp"
 
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
 #include "core/workspace.hpp"
 #include "dem/workspace.hpp"
 #include "silt/observables.hpp"
@@ -76,6 +80,22 @@ std::set<std::pair<int, int>> listed_pairs(const State& s) {
 std::string scene_path(const std::string& name) { return std::string(SILT_SOURCE_DIR) + "/scenes/" + name + ".toml"; }
 
 std::string silt_binary() { return SILT_BINARY; }
+
+std::string quarter_paste_scene(const std::string& name, const std::string& dir) {
+  std::ifstream in(scene_path(name));
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string toml = text.str();
+  for (const auto& [from, to] :
+       {std::pair<std::string, std::string>{"count = 224", "count = 56"}, {"hi = [17.0, 17.0]", "hi = [8.5, 8.5]"}}) {
+    const auto at = toml.find(from);
+    if (at == std::string::npos) throw std::runtime_error(name + ": no '" + from + "' to make a quarter of");
+    toml.replace(at, from.size(), to);
+  }
+  const std::string path = dir + "/" + name + ".toml";
+  std::ofstream(path) << toml;
+  return path;
+}
 
 }  // namespace silt::test
 

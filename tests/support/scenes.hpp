@@ -51,6 +51,11 @@ dem::DemWorkspace& dem_workspace(Simulation& sim);
 // A scene file of the repository, by name ("chute" -> scenes/chute.toml).
 std::string scene_path(const std::string& name);
 
+// A shipped 2D paste scene of 224 disks in a 17 x 17 region (paste_iso, paste_cyclic_*) made a
+// quarter of it, 56 disks in 8.5 x 8.5, written to dir/NAME.toml: its path. For tests whose
+// checks do not depend on the size, and whose compressions are the sanitizer pass's longest.
+std::string quarter_paste_scene(const std::string& name, const std::string& dir);
+
 // The built `silt` executable.
 std::string silt_binary();
 
