@@ -86,8 +86,9 @@ std::string quarter_paste_scene(const std::string& name, const std::string& dir)
   std::stringstream text;
   text << in.rdbuf();
   std::string toml = text.str();
-  for (const auto& [from, to] :
-       {std::pair<std::string, std::string>{"count = 224", "count = 56"}, {"hi = [17.0, 17.0]", "hi = [8.5, 8.5]"}}) {
+  for (const auto& [from, to] : {std::pair<std::string, std::string>{"count = 224", "count = 56"},
+                                 {"hi = [17.0, 17.0]", "hi = [8.5, 8.5]"},
+                                 {"compress = true", "compress = true\nphi = 0.8"}}) {
     const auto at = toml.find(from);
     if (at == std::string::npos) throw std::runtime_error(name + ": no '" + from + "' to make a quarter of");
     toml.replace(at, from.size(), to);
@@ -151,7 +152,8 @@ density = {rho}
 placement = "random"
 )";
   std::string s = text;
-  const std::string prepare = p.dilation > 0 ? "[prepare]\ncompress = true\ndilation = {dilation}\n" : "";
+  std::string prepare = p.dilation > 0 ? "[prepare]\ncompress = true\ndilation = {dilation}\n" : "";
+  if (p.dilation > 0 && p.phi > 0) prepare += "phi = {phi}\n";
   s.replace(s.find("{prepare}"), 9, prepare);
   s.replace(s.find("{lubrication}"), 13, p.lubrication);
   s.replace(s.find("{seed}"), 6, std::to_string(p.seed));
@@ -161,6 +163,7 @@ placement = "random"
                   {"eta", p.viscosity},
                   {"rho", p.density},
                   {"dilation", p.dilation},
+                  {"phi", p.phi},
                   {"rmin", 0.35 * p.length},
                   {"rmax", 0.5 * p.length}});
 }

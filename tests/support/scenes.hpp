@@ -52,8 +52,10 @@ dem::DemWorkspace& dem_workspace(Simulation& sim);
 std::string scene_path(const std::string& name);
 
 // A shipped 2D paste scene of 224 disks in a 17 x 17 region (paste_iso, paste_cyclic_*) made a
-// quarter of it, 56 disks in 8.5 x 8.5, written to dir/NAME.toml: its path. For tests whose
-// checks do not depend on the size, and whose compressions are the sanitizer pass's longest.
+// quarter of it, 56 disks in 8.5 x 8.5, its dry compression stopped at Phi = 0.8 (prepare.phi;
+// paste_iso's then takes 8,300 steps instead of the 312,000 that make it static), written to
+// dir/NAME.toml: its path. For tests whose checks depend neither on the size nor on a static
+// packing, and whose compressions were the sanitizer pass's longest.
 std::string quarter_paste_scene(const std::string& name, const std::string& dir);
 
 // The built `silt` executable.
@@ -93,8 +95,9 @@ double observe(const Model& m, const State& s, const std::string& name);
 
 // A lubricated paste of frictional disks (radii 0.35 to 0.5, linear contacts k_n = 1e4, friction
 // 0.3) placed at random in a periodic L x L box at an imposed pressure P = 1. With a dilation,
-// compressed dry to a static packing first and then dilated by it (a paste's initial state,
-// Peyneau 2009 sec. 2.3.1). `lubrication` holds more lines of the [lubrication] table.
+// compressed dry to a static packing first (or until Phi = `phi`, when given) and then dilated by
+// it (a paste's initial state, Peyneau 2009 sec. 2.3.1). `lubrication` holds more lines of the
+// [lubrication] table.
 struct PasteDisks {
   double n = 60;
   double L = 9;
@@ -102,6 +105,7 @@ struct PasteDisks {
   double viscosity = 1;
   double density = 1;
   double dilation = 0;  // 0: no dry compression first
+  double phi = 0;       // 0: the compression goes on until static
   unsigned seed = 7;
   double length = 1;  // the unit of length: the radii and the box times it
   std::string lubrication = "";
