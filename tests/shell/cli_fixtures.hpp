@@ -9,6 +9,7 @@
 #include <sstream>
 #include <string>
 
+#include "support/files.hpp"
 #include "support/scenes.hpp"
 
 namespace silt::test {
@@ -38,13 +39,6 @@ inline Result silt_cli(const std::string& args) { return sh(silt_binary() + " " 
 inline std::string write_file(const std::string& name, const std::string& text) {
   std::ofstream(name) << text;
   return name;
-}
-
-inline std::string read_file(const std::string& name) {
-  std::ifstream in(name);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
 }
 
 }  // namespace silt::test

@@ -16,6 +16,7 @@
 #include <thread>
 
 #include "shell/shell_fixtures.hpp"
+#include "support/files.hpp"
 #include "support/scenes.hpp"
 
 using silt::test::contains;
@@ -106,13 +107,6 @@ class Terminal {
   std::string seen_;
 };
 
-std::string read_text(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
 }  // namespace
 
 TEST_CASE("the interactive shell: GNU readline, Ctrl-C pauses a run, tab completion, quit") {
@@ -149,13 +143,13 @@ TEST_CASE(
   t.type("stats st.csv every 20\nstart 1e9\n");
   const std::string csv = home.path() + "/st.csv";
   auto lines = [&] {
-    const std::string text = read_text(csv);
+    const std::string text = silt::test::read_file(csv);
     return std::count(text.begin(), text.end(), '\n');
   };
   for (int i = 0; i < 400 && lines() < 5; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(50));
   t.hang_up();
   CHECK(t.wait_exit() == 129);
-  const std::string rows = read_text(csv);
+  const std::string rows = silt::test::read_file(csv);
   CHECK(std::count(rows.begin(), rows.end(), '\n') >= 5);
   CHECK(rows.back() == '\n');
 }
@@ -170,7 +164,7 @@ TEST_CASE("history: each line is saved as it is entered, and the next session ha
     REQUIRE(!t.read_until("]> ").empty());
     t.kill_now();  // no clean exit: what is in the file was written line by line
   }
-  CHECK(contains(read_text(home / ".silt_history"), "run 7"));
+  CHECK(contains(silt::test::read_file(home / ".silt_history"), "run 7"));
   Terminal t(silt::test::scene_path("collision_normal"), home.path());
   REQUIRE(!t.read_until("silt[t=0]> ").empty());
   t.type("\x1b[A\n");  // Up: the previous session's line
@@ -399,7 +393,7 @@ TEST_CASE("a count's long insertion is drawn wrapped, and a dumb terminal reads 
   CHECK(!t.read_until("\nsilt[t=").empty());
   t.type("quit\n");
   CHECK(t.wait_exit() == 0);
-  CHECK(contains(read_text(home / ".silt_history"), "print step\nstart 20\nquit\n"));
+  CHECK(contains(silt::test::read_file(home / ".silt_history"), "print step\nstart 20\nquit\n"));
 }
 
 TEST_CASE("a long line is cut to 4 KiB at a character: vi's motions cross it promptly, a long paste's Enter is kept") {
@@ -485,7 +479,7 @@ TEST_CASE("without a terminal the shell reads plain lines: control characters ar
     const std::string cmd = bin + " shell " + silt::test::scene_path("collision_normal") + " < " + (dir / "in.txt") +
                             " > " + (dir / "out.txt") + " 2>&1";
     const int status = std::system(cmd.c_str());
-    return std::make_pair(WIFEXITED(status) ? WEXITSTATUS(status) : -1, read_text(dir / "out.txt"));
+    return std::make_pair(WIFEXITED(status) ? WEXITSTATUS(status) : -1, silt::test::read_file(dir / "out.txt"));
   };
   // Lines from a file go on after an error, and the exit code is the highest of the errors'
   // (it was 0 whatever failed): none here.

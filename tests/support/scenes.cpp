@@ -8,6 +8,7 @@
 #include "dem/workspace.hpp"
 #include "silt/observables.hpp"
 #include "silt/scene.hpp"
+#include "support/files.hpp"
 
 namespace silt::test {
 
@@ -82,10 +83,7 @@ std::string scene_path(const std::string& name) { return std::string(SILT_SOURCE
 std::string silt_binary() { return SILT_BINARY; }
 
 std::string quarter_paste_scene(const std::string& name, const std::string& dir) {
-  std::ifstream in(scene_path(name));
-  std::stringstream text;
-  text << in.rdbuf();
-  std::string toml = text.str();
+  std::string toml = read_file(scene_path(name));
   for (const auto& [from, to] : {std::pair<std::string, std::string>{"count = 224", "count = 56"},
                                  {"hi = [17.0, 17.0]", "hi = [8.5, 8.5]"},
                                  {"compress = true", "compress = true\nphi = 0.8"}}) {

@@ -15,6 +15,7 @@
 #include "dem/workspace.hpp"
 #include "graph/adders.hpp"
 #include "graph/step_graph.hpp"
+#include "support/files.hpp"
 #include "support/scenes.hpp"
 
 using namespace silt;
@@ -257,13 +258,6 @@ TEST_CASE("a loop node runs its body M times, on the serial and the flow executo
 
 namespace {
 
-std::string file_text(const std::filesystem::path& p) {
-  std::ifstream in(p);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
 // The module functions that engine/graph/ makes into stages: those it takes the address of
 // (&module::fn) or calls on the model and the state (module::fn(m, s ...), in a stage's lambda).
 std::set<std::string> stage_functions() {
@@ -272,7 +266,7 @@ std::set<std::string> stage_functions() {
   const std::regex call(R"(\b(dem|shear|paste|fluid|drag)::([a-z_0-9]+)\(m+, s\b)");
   for (const auto& e : std::filesystem::directory_iterator(std::filesystem::path(SILT_SOURCE_DIR) / "engine/graph")) {
     if (e.path().extension() != ".cpp") continue;
-    const std::string src = file_text(e.path());
+    const std::string src = test::read_file(e.path());
     for (const std::regex* r : {&pointer, &call})
       for (auto m = std::sregex_iterator(src.begin(), src.end(), *r); m != std::sregex_iterator(); ++m)
         names.insert((*m)[2]);
@@ -294,7 +288,7 @@ TEST_CASE("the step graph is the only place where stages are called") {
        std::filesystem::recursive_directory_iterator(std::filesystem::path(SILT_SOURCE_DIR) / "engine")) {
     if (e.path().extension() != ".cpp" || e.path().parent_path().filename() == "graph") continue;
     ++files;
-    const std::string src = file_text(e.path());
+    const std::string src = test::read_file(e.path());
     for (const std::string& fn : stages) {
       const std::regex call("(^|[^A-Za-z0-9_.>])" + fn + "\\(");
       for (auto m = std::sregex_iterator(src.begin(), src.end(), call); m != std::sregex_iterator(); ++m) {

@@ -10,6 +10,7 @@
 #include "silt/errors.hpp"
 #include "silt/io.hpp"
 #include "silt/run_job.hpp"
+#include "support/files.hpp"
 #include "support/scenes.hpp"
 
 using namespace silt;
@@ -109,10 +110,7 @@ TEST_CASE("an output path is checked by making a file beside it, where writing i
 
 TEST_CASE("a run job refuses two of its outputs on one file, or on a VTK file's name, as the command line does") {
   // (only `silt run` checked them: a caller of RunJob of its own lost one output to the other)
-  std::ifstream in(test::scene_path("collision_normal"));
-  std::stringstream text;
-  text << in.rdbuf();
-  auto sim = test::simulation_from(text.str(), 1);
+  auto sim = test::simulation_from(test::read_file(test::scene_path("collision_normal")), 1);
   Dir d;
   RunJobOptions same;
   same.stats = d / "out.csv";

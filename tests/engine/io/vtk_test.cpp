@@ -8,18 +8,12 @@
 #include <sstream>
 
 #include "silt/io.hpp"
+#include "support/files.hpp"
 #include "support/scenes.hpp"
 
 using namespace silt;
 
 namespace {
-
-std::string slurp(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 // The numbers of the DataArray named `name`.
 std::vector<double> array_of(const std::string& xml, const std::string& name) {
@@ -66,7 +60,7 @@ TEST_CASE("VTK: grains with their data, contacts with normal and tangential forc
   vtk.write(sim->model(), sim->state());
   REQUIRE(sim->step());
   vtk.write(sim->model(), sim->state());
-  const std::string grains = slurp("vtk_test_out/grains_000000.vtu");
+  const std::string grains = test::read_file("vtk_test_out/grains_000000.vtu");
   CHECK(grains.find("<VTKFile type=\"UnstructuredGrid\"") != std::string::npos);
   CHECK(grains.find("NumberOfPoints=\"3\"") != std::string::npos);
   const auto x = array_of(grains, "position");
@@ -77,7 +71,7 @@ TEST_CASE("VTK: grains with their data, contacts with normal and tangential forc
   CHECK(array_of(grains, "angular_velocity")[2] == 2.0);  // 2D spin in the z component
   CHECK(array_of(grains, "velocity")[1] == doctest::Approx(0.1));
   // Contacts: 0-1 (overlap 0.04) and 2-0 across the periodic boundary (distance 1.9).
-  const std::string contacts = slurp("vtk_test_out/contacts_000000.vtp");
+  const std::string contacts = test::read_file("vtk_test_out/contacts_000000.vtp");
   CHECK(contacts.find("NumberOfLines=\"2\"") != std::string::npos);
   const auto fn = array_of(contacts, "normal_force");
   REQUIRE(fn.size() == 2);
@@ -86,7 +80,7 @@ TEST_CASE("VTK: grains with their data, contacts with normal and tangential forc
   // The periodic contact is drawn from grain 0 to the image of grain 2 next to it (x = -0.4).
   const auto ends = array_of(contacts, "position");
   CHECK(ends[6 + 3] == doctest::Approx(-0.4));
-  const std::string pvd = slurp("vtk_test_out/index.pvd");
+  const std::string pvd = test::read_file("vtk_test_out/index.pvd");
   CHECK(pvd.find("file=\"grains_000001.vtu\"") != std::string::npos);
   CHECK(pvd.find("file=\"contacts_000001.vtp\"") != std::string::npos);
   CHECK(vtk.count() == 2);
@@ -117,7 +111,7 @@ dt = 1e-3
 )");
   VtkWriter vtk("vtk_shear_out");
   vtk.write(sim->model(), sim->state());
-  const std::string grains = slurp("vtk_shear_out/grains_000000.vtu");
+  const std::string grains = test::read_file("vtk_shear_out/grains_000000.vtu");
   // velocity = relative velocity + (0.5 (y - 1), 0, 0).
   CHECK(array_of(grains, "velocity") == std::vector<double>{0.1 + 0.5 * 2, 0.2, 0, 0.5 * 8, 0, 0});
   CHECK(array_of(grains, "velocity_relative_to_shear_flow") == std::vector<double>{0.1, 0.2, 0, 0, 0, 0});
@@ -131,8 +125,8 @@ TEST_CASE("VTK: the grains' force and the contacts' force vectors, normal and ta
   for (int k = 0; k < 3; ++k) REQUIRE(sim->step());
   VtkWriter vtk("vtk_force_out");
   vtk.write(sim->model(), sim->state());
-  const std::string grains = slurp("vtk_force_out/grains_000000.vtu"),
-                    contacts = slurp("vtk_force_out/contacts_000000.vtp");
+  const std::string grains = test::read_file("vtk_force_out/grains_000000.vtu"),
+                    contacts = test::read_file("vtk_force_out/contacts_000000.vtp");
   const auto gf = array_of(grains, "force");
   REQUIRE(gf.size() == 9);
   for (int i = 0; i < 3; ++i) {
@@ -166,14 +160,11 @@ TEST_CASE("VTK: the grains' force and the contacts' force vectors, normal and ta
   std::filesystem::remove_all("vtk_force_out");
   // With gravity, the total force, as p[K].f: a falling grain's is m g (it was the state's sum,
   // which holds no gravity: 0).
-  std::ifstream in(test::scene_path("bounce_dry"));
-  std::stringstream text;
-  text << in.rdbuf();
-  auto fall = test::simulation_from(text.str());
+  auto fall = test::simulation_from(test::read_file(test::scene_path("bounce_dry")));
   fall->prepare();
   VtkWriter gvtk("vtk_gravity_out");
   gvtk.write(fall->model(), fall->state());
-  const auto g = array_of(slurp("vtk_gravity_out/grains_000000.vtu"), "force");
+  const auto g = array_of(test::read_file("vtk_gravity_out/grains_000000.vtu"), "force");
   REQUIRE(g.size() == 3);
   CHECK(g[2] == doctest::Approx(test::observe(fall->model(), fall->state(), "p[0].fz")));
   CHECK(g[2] == doctest::Approx(fall->model().gravity[2] / fall->state().particle_inv_m[0]));
@@ -195,7 +186,7 @@ TEST_CASE("VTK image data: scalar and vector grid fields as cell data, read back
   for (int k = 0; k < 12; ++k) p.value.push_back(0.5 * k - 1);
   for (int k = 0; k < 36; ++k) w.value.push_back(k * 0.125 - 2);  // exact in decimal
   write_vti("vtk_fields.vti", {p, w});
-  const std::string vti = slurp("vtk_fields.vti");
+  const std::string vti = test::read_file("vtk_fields.vti");
   CHECK(vti.find("<VTKFile type=\"ImageData\"") != std::string::npos);
   CHECK(vti.find("WholeExtent=\"0 3 0 2 0 2\" Origin=\"1 2 3\" Spacing=\"0.5 0.25 1\"") != std::string::npos);
   CHECK(vti.find("<CellData Scalars=\"pressure\" Vectors=\"vorticity\">") != std::string::npos);
@@ -216,8 +207,8 @@ TEST_CASE("VTK image data: scalar and vector grid fields as cell data, read back
   vtk.write(sim->model(), sim->state());
   vtk.write(sim->model(), sim->state(), {p});
   CHECK_FALSE(std::ifstream("vtk_fields_out/fields_000000.vti").good());
-  CHECK(array_of(slurp("vtk_fields_out/fields_000001.vti"), "pressure") == p.value);
-  const std::string pvd = slurp("vtk_fields_out/index.pvd");
+  CHECK(array_of(test::read_file("vtk_fields_out/fields_000001.vti"), "pressure") == p.value);
+  const std::string pvd = test::read_file("vtk_fields_out/index.pvd");
   CHECK(pvd.find("part=\"2\" file=\"fields_000001.vti\"") != std::string::npos);
   CHECK(pvd.find("fields_000000") == std::string::npos);
   std::filesystem::remove_all("vtk_fields_out");
@@ -233,7 +224,7 @@ TEST_CASE("VTK of a paste: every grain's lubrication force, which balances its c
   const State& s = sim->state();
   VtkWriter vtk("vtk_paste_out");
   vtk.write(sim->model(), s);
-  const std::string grains = slurp("vtk_paste_out/grains_000000.vtu");
+  const std::string grains = test::read_file("vtk_paste_out/grains_000000.vtu");
   const auto lub = array_of(grains, "force_lub"), contact = array_of(grains, "force");
   REQUIRE(lub.size() == 15);
   REQUIRE(contact.size() == 15);
@@ -257,6 +248,6 @@ TEST_CASE("VTK of a paste: every grain's lubrication force, which balances its c
     CHECK(lub[k] == doctest::Approx(-contact[k]).scale(scale).epsilon(1e-8));
   }
   // Only the touching pairs are contact lines; the lubrication is the grains' force_lub.
-  CHECK(slurp("vtk_paste_out/contacts_000000.vtp").find("NumberOfLines=\"2\"") != std::string::npos);
+  CHECK(test::read_file("vtk_paste_out/contacts_000000.vtp").find("NumberOfLines=\"2\"") != std::string::npos);
   std::filesystem::remove_all("vtk_paste_out");
 }

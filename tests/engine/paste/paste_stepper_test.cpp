@@ -13,6 +13,7 @@
 #include "paste/solve.hpp"
 #include "silt/io.hpp"
 #include "silt/observables.hpp"
+#include "support/files.hpp"
 #include "support/scenes.hpp"
 
 using namespace silt;
@@ -171,10 +172,7 @@ TEST_CASE("paste: the same bits on 1, 2 and 4 threads, and a restart continues t
   // 1e-6, where the factor's coarse correction (on by default in 3D) serves every solve.
   std::string disks = paste_scene(1100, 38);
   disks.replace(disks.find("[box]\npressure = 1.0\n"), 20, "[shear]\nrate = 0.1\n");
-  std::ifstream file(test::scene_path("paste_3d_shear"));
-  std::stringstream text;
-  text << file.rdbuf();
-  std::string spheres = text.str();
+  std::string spheres = test::read_file(test::scene_path("paste_3d_shear"));
   for (auto [from, to] : {std::pair<std::string, std::string>{"count = 4096", "count = 512"},
                           {"hi = [38.0, 38.0, 38.0]", "hi = [19.0, 19.0, 19.0]"},
                           {"h_min_over_a = 1e-3", "h_min_over_a = 1e-6"}}) {
@@ -243,10 +241,7 @@ TEST_CASE("paste: a box that no lubricated gap holds is a clear failure, not a N
   // The sheared paste's scene with 100 grains not compressed, and the direct solve: its factor of
   // the nearly singular Xi kept positive pivots, and its residual of 1.6 went into the velocities
   // (1e17 m/s) unremarked; the next step failed on an overlap of 202 %.
-  std::ifstream in(test::scene_path("paste_shear"));
-  std::stringstream text;
-  text << in.rdbuf();
-  std::string scene = text.str();
+  std::string scene = test::read_file(test::scene_path("paste_shear"));
   for (const auto& [from, to] :
        {std::pair<std::string, std::string>{"compress = true\ndilation = 1.1", "compress = false"},
         {"count = 896", "count = 100"},
