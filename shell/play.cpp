@@ -27,16 +27,9 @@ namespace {
 int flush_background(shell::Session& session, const std::string& where) {
   for (const std::string& m : session.take_messages()) std::cout << m << "\n";
   std::cout << std::flush;
-  int code = 0;
-  if (const std::string failure = session.take_background_failure(); !failure.empty()) {
-    std::cerr << where << ":1: the background run failed: " << failure << "\n" << std::flush;
-    code = static_cast<int>(ExitCode::kNumerical);
-  }
-  if (const std::string lost = session.take_output_error(); !lost.empty()) {
-    std::cerr << where << ":1: the run's output: " << lost << "\n" << std::flush;
-    code = std::max(code, static_cast<int>(ExitCode::kIo));
-  }
-  return code;
+  const shell::Session::Unreported u = session.take_unreported();
+  for (const std::string& line : u.lines) std::cerr << where << ":1: " << line << "\n" << std::flush;
+  return u.code;
 }
 
 shell::Session* g_played = nullptr;

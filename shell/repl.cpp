@@ -187,9 +187,8 @@ int plain_lines(shell::Session& session, bool prompted, int code) {
   }
   if (prompt_shown) std::cout << "\n";  // end of input typed at the prompt
   session.execute("quit");
-  if (!prompted && !session.take_background_failure().empty())
-    code = std::max(code, static_cast<int>(ExitCode::kNumerical));
-  if (!prompted && !session.take_output_error().empty()) code = std::max(code, static_cast<int>(ExitCode::kIo));
+  // (the texts were printed with the run's messages)
+  if (!prompted) code = std::max(code, session.take_unreported().code);
   return g_terminated ? 128 + g_terminated : code;
 }
 

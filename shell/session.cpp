@@ -2,6 +2,7 @@
 // The commands that only read or change things are in session_commands.cpp.
 #include "shell/session.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <exception>
@@ -11,6 +12,7 @@
 
 #include "shell/progress.hpp"
 #include "shell/table.hpp"
+#include "silt/errors.hpp"
 #include "silt/input_files.hpp"
 #include "silt/module.hpp"
 #include "silt/observables.hpp"
@@ -68,6 +70,19 @@ std::string Session::take_background_failure() {
 std::string Session::take_output_error() {
   std::lock_guard<std::mutex> lock(mutex_);
   return std::exchange(output_error_, std::string());
+}
+
+Session::Unreported Session::take_unreported() {
+  Unreported u;
+  if (const std::string failure = take_background_failure(); !failure.empty()) {
+    u.lines.push_back("the background run failed: " + failure);
+    u.code = static_cast<int>(ExitCode::kNumerical);
+  }
+  if (const std::string lost = take_output_error(); !lost.empty()) {
+    u.lines.push_back("the run's output: " + lost);
+    u.code = std::max(u.code, static_cast<int>(ExitCode::kIo));
+  }
+  return u;
 }
 
 std::string Session::note_output_errors() {

@@ -47,6 +47,14 @@ class Session {
   // An output (frames, VTK files) that a background run could no longer write and no command has
   // reported yet, "" when none: `silt play` exits 4 on it, as `silt run` does.
   std::string take_output_error();
+  // Both, as the lines a script's player reports ("the background run failed: ...", "the run's
+  // output: ...") and the exit code they ask for: 3 for a failure, 4 for a lost output (the higher
+  // when both), 0 when neither.
+  struct Unreported {
+    std::vector<std::string> lines;
+    int code = 0;
+  };
+  Unreported take_unreported();
   // The script `silt play` reads: relative input files (load, source, restore) not found in the
   // current directory are looked for in its directory, and no command writes over it.
   void set_script(const std::string& path);
