@@ -49,6 +49,14 @@ SolveReport conjugate_gradient(const LinearOperator& a, const Vector& b, Vector&
     a.apply(x, ap);
     r = b - ap;
     double r_norm = std::sqrt(dot(r, r));
+    // A guess farther from the solution than zero (velocities solved under a viscosity 1e60 times
+    // lower): its residual is cancelled to the round-off of the guess, not of the solution, which
+    // may be orders of magnitude smaller. Zero then.
+    if (restart == 0 && r_norm > b_norm) {
+      x.setZero();
+      r = b;
+      r_norm = b_norm;
+    }
     if (r_norm <= target || rep.status != SolveStatus::kConverged) break;
     precondition();
     p = z;

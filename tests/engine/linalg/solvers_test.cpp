@@ -116,6 +116,25 @@ TEST_CASE("CG, Jacobi CG, factor-preconditioned CG and the direct solve agree") 
   CHECK(f.factor_bytes() >= 8 * f.factor_entries());
 }
 
+TEST_CASE("CG starts from zero when the guess is farther from the solution than zero") {
+  // A paste's velocities solved under a viscosity 1e60 times lower, as the guess: CG cancelled its
+  // residual to the guess's round-off, 1e55 times the solution (a box rate that took the box
+  // through zero). From zero the solution is found to the tolerance.
+  const SparseMatrix a = grid(20, 3) * 1e60;
+  const Vector b = gaussian_vector(a.rows(), 5);
+  CholeskyFactor f;
+  REQUIRE(f.factorize(a).ok());
+  Vector exact;
+  REQUIRE(f.solve(b, exact).ok());
+  Vector x = exact * 1e60;  // the solution of the matrix divided by 1e60
+  const SolveReport rep = conjugate_gradient(SparseOperator(a), b, x, {1e-10, 20000}, &f);
+  CHECK(rep.ok());
+  CHECK(rel_diff(x, exact) < 1e-8);
+  // A good guess is kept: CG from it takes no iteration.
+  Vector y = exact;
+  CHECK(conjugate_gradient(SparseOperator(a), b, y, {1e-8, 20000}, &f).iterations == 0);
+}
+
 TEST_CASE("an older factor preconditions a changed matrix and the solver refactorises when it no longer helps") {
   SolverSettings s;
   s.method = Method::kFactorPcg;
