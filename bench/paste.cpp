@@ -70,22 +70,25 @@ const std::string kHeader =
 
 std::string scene(const std::string& name) { return std::string(SILT_SOURCE_DIR) + "/scenes/" + name + ".toml"; }
 
-// Rows are named with "_implicit_contacts" when the scene linearises its contacts into the solve.
-bool g_implicit_contacts = false;
+// Rows are named with "_implicit_contacts" when the scene linearises its contacts into the solve,
+// and with "_drift_max_X" when the adaptive step's drift bound is not the default 0.05.
+std::string g_case_suffix;
+
+std::string num(double x) {
+  char b[40];
+  std::snprintf(b, sizeof b, "%.6g", x);
+  return b;
+}
 
 Model model_of(const std::string& file, const Args& a, const std::vector<std::string>& sets) {
   std::vector<Override> o;
   for (const std::string& s : a.sets) o.push_back(parse_override(s));
   for (const std::string& s : sets) o.push_back(parse_override(s));
   Model m = compile(load_scene_file(file, o));
-  g_implicit_contacts = m.params.get<paste::PasteParams>().implicit_contacts;
+  const paste::PasteParams& p = m.params.get<paste::PasteParams>();
+  g_case_suffix = p.implicit_contacts ? "_implicit_contacts" : "";
+  if (p.drift_max != paste::PasteParams{}.drift_max) g_case_suffix += "_drift_max_" + num(p.drift_max);
   return m;
-}
-
-std::string num(double x) {
-  char b[40];
-  std::snprintf(b, sizeof b, "%.6g", x);
-  return b;
 }
 
 struct Row {
@@ -97,12 +100,12 @@ struct Row {
 
 void write(const Row& r) {
   std::ostringstream o;
-  o << bench::today() << ',' << r.section << ',' << r.name << (g_implicit_contacts ? "_implicit_contacts" : "") << ','
-    << r.n << ',' << num(r.h_min) << ',' << r.cutoff << ',' << r.seed << ',' << num(r.vi) << ',' << r.solver << ','
-    << num(r.phi) << ',' << num(r.phi_err) << ',' << num(r.z_star) << ',' << num(r.mob) << ',' << num(r.mu) << ','
-    << num(r.mu_err) << ',' << num(r.p_cont) << ',' << num(r.time) << ',' << num(r.strain) << ',' << r.steps << ','
-    << num(r.wall) << ',' << num(r.steps ? r.wall / r.steps : 0) << ',' << r.solves << ',' << num(r.iters) << ','
-    << r.refactor << ',' << r.status << ',' << r.thesis;
+  o << bench::today() << ',' << r.section << ',' << r.name << g_case_suffix << ',' << r.n << ',' << num(r.h_min) << ','
+    << r.cutoff << ',' << r.seed << ',' << num(r.vi) << ',' << r.solver << ',' << num(r.phi) << ',' << num(r.phi_err)
+    << ',' << num(r.z_star) << ',' << num(r.mob) << ',' << num(r.mu) << ',' << num(r.mu_err) << ',' << num(r.p_cont)
+    << ',' << num(r.time) << ',' << num(r.strain) << ',' << r.steps << ',' << num(r.wall) << ','
+    << num(r.steps ? r.wall / r.steps : 0) << ',' << r.solves << ',' << num(r.iters) << ',' << r.refactor << ','
+    << r.status << ',' << r.thesis;
   bench::append_csv(kCsv, kHeader, o.str());
 }
 

@@ -131,10 +131,14 @@ void diagnose_paste(GraphBuilder& b) {
     const auto& p = m.params.get<paste::PasteParams>();
     f.stage = "lubrication_solve";
     f.parameter = "lubrication.dt_min";
+    const bool drift = e.first() == 1;  // the drift's bound, else the change of Xi or the forces
     f.message = "the adaptive time step wants " + format_number(e.value(), 4) +
                 " s, below lubrication.dt_min = " + format_number(p.dt_min, 4) + " s (step " + std::to_string(s.step) +
-                "): the configuration changes too fast for the explicit positions; lower lubrication.dt_min, or "
-                "raise lubrication.h_min_over_a (stiffer lubrication at contact)";
+                (drift ? "): a grain moves too fast for lubrication.drift_max = " + format_number(p.drift_max, 4) +
+                             " of its radius a step; lower lubrication.dt_min, raise lubrication.drift_max, or "
+                             "lubrication.stokes_drag = true (a drag on every grain bounds its velocity)"
+                       : "): the configuration changes too fast for the explicit positions; lower lubrication.dt_min, "
+                         "or raise lubrication.h_min_over_a (stiffer lubrication at contact)");
   });
 }
 

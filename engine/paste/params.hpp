@@ -45,13 +45,15 @@ struct PasteParams {
   // The adaptive step of sec. 2.2.4 [s]: from dt_initial, multiplied by dt_growth each step
   // while no diagonal entry of Xi and no entry of the right-hand side changed by more than
   // dt_change (relative to its largest entry), else shrunk by dt_change / change (at least
-  // 1/10); always within [dt_min, dt_max].
+  // 1/10); always within [dt_min, dt_max]. And at most drift_max times r_i / |V_i| for every
+  // grain (V relative to the affine flow): no grain moves more than that fraction of its radius in
+  // a step (0: no such bound).
   double time_unit = 0;  // eta / P, or 1 / |gammadot| without a pressure [s]
   // The fastest of the time unit, 1 / |gammadot| and the cycles' 1 / w [s] (0 without any): the
   // adaptive step is chosen under it, and a steered viscosity, pressure or rate that lowers it cuts
   // the step in proportion (paste_dt).
   double step_scale = 0;
-  double dt_initial = 0, dt_min = 0, dt_max = 0, dt_growth = 1.2, dt_change = 0.01;
+  double dt_initial = 0, dt_min = 0, dt_max = 0, dt_growth = 1.2, dt_change = 0.01, drift_max = 0.05;
   bool fixed_dt = false;  // lubrication.dt: dt_initial always
   // The dry contact laws, restored for the dry compression of procedure O (the paste's own have
   // no dashpots: the liquid dissipates).

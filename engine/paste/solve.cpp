@@ -116,6 +116,19 @@ double next_step(const PasteParams& p, double dt, double change) {
   return std::clamp(dt * factor, p.dt_min, p.dt_max);
 }
 
+// The largest |V_i| / r_i over the grains, V relative to the affine flow: a step of dt moves no
+// grain by more than dt times this of its radius.
+double fastest_rate(const State& s) {
+  const int D = s.dim;
+  double top = 0;
+  for (int64_t i = 0; i < s.n; ++i) {
+    double v2 = 0;
+    for (int a = 0; a < D; ++a) v2 += s.particle_v[D * i + a] * s.particle_v[D * i + a];
+    top = std::max(top, v2 / (s.particle_r[i] * s.particle_r[i]));
+  }
+  return std::sqrt(top);
+}
+
 }  // namespace
 
 PasteFields paste_fields() {
@@ -282,7 +295,7 @@ void solve_paste(const Model& m, State& s, PasteWorkspace& w, SolveAt at) {
   const bool adapt = at == SolveAt::kStep && !p.fixed_dt;
   // The state's step before the first is the paste's (it showed the DEM's contact-time step).
   if (at == SolveAt::kFirst) s.dt = dt;
-  const double dt_next = adapt ? next_step(p, dt, step_change) : dt;
+  double dt_next = adapt ? next_step(p, dt, step_change) : dt;
   if (p.implicit_contacts) {
     set_contact_stiffness(m, s, dt_next, w.links);
     w.system.add_contact_stiffness(cs, s.particle_r, s.shear_rate, b);
@@ -499,6 +512,15 @@ void solve_paste(const Model& m, State& s, PasteWorkspace& w, SolveAt at) {
   s.module_field(f.solved_under).assign(under.begin(), under.end());
   if (!adapt) return;
   if (step_change > p.dt_change && dt <= p.dt_min) s.events[step_event()].raise(0, dt * p.dt_change / step_change);
+  // The drift: the velocities just solved move the grains over the next step. (The matrix of an
+  // inertial or implicit-contact solve was made with the step before this bound; where it binds,
+  // the velocities are those of a slightly longer step, the positions still move by at most this.)
+  const double fastest = p.drift_max > 0 ? fastest_rate(s) : 0;  // max |V_i| / r_i
+  if (fastest * dt_next > p.drift_max) {
+    const double bound = p.drift_max / fastest;
+    if (bound < p.dt_min) s.events[step_event()].raise(1, bound);
+    dt_next = std::max(bound, p.dt_min);
+  }
   s.module_field(f.dt)[0] = dt_next;
   s.module_field(f.dt_scale)[0] = p.step_scale;
 }

@@ -21,7 +21,7 @@ TEST_CASE("silt check on a paste sheared at an imposed rate: its time unit, St, 
   REQUIRE(r.code == 0);
   // No pressure is imposed: the time unit is 1 / gammadot (= 100), not eta / P; in reduced units,
   // without "s".
-  CHECK(has(r.out, "time unit 1/gammadot = 100\n"));
+  CHECK(has(r.out, "time unit 1/gammadot = 100; a grain moves at most 0.05 of its radius a step\n"));
   CHECK_FALSE(has(r.out, "eta/P"));
   // St = m gammadot / (eta a): m = (4/3) pi 1^3 (density 1), gammadot = 0.01, eta = 1, a = 2.
   CHECK(has(r.out, "St = m gammadot / (eta a) = 0.020944"));
