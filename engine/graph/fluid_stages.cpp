@@ -82,7 +82,7 @@ void add_fluid_stages(GraphBuilder& b) {
         [](const Model& m, State& s) {
           if (s.module_field(fluid::fluid_fields().stat).empty()) fluid::initial_velocity(m, s);
         },
-        {}, fluid_access());
+        fluid_access(), fluid_access());  // (a state that has its fields keeps them: it reads them)
     return;
   }
   auto& w = b.workspaces().get<fluid::FluidWorkspace>();

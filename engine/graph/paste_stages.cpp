@@ -127,6 +127,16 @@ void diagnose_paste(GraphBuilder& b) {
       }
     });
   }
+  b.diagnose(paste::mass_event(), [](const Model&, const State&, const EventSlot& e, StepFailure& f) {
+    f.stage = "lubrication_solve";
+    f.particle = e.first();
+    f.parameter = "lubrication.stepper";
+    f.message = "grain " + std::to_string(e.first()) + "'s m / dt is " + format_number(e.value(), 3) +
+                " of the largest resistance of Xi: the inertial stepper cannot resolve the grains' common "
+                "translations, which only the masses "
+                "resist, in double precision; at so small a Stokes number use lubrication.stepper = "
+                "\"quasi_static\" (this limit), or lubrication.stokes_drag = true";
+  });
   b.diagnose(paste::step_event(), [](const Model& m, const State& s, const EventSlot& e, StepFailure& f) {
     const auto& p = m.params.get<paste::PasteParams>();
     f.stage = "lubrication_solve";
@@ -159,6 +169,7 @@ void add_paste_stages(GraphBuilder& b) {
     b.after(solve, b.find("restore_springs"), "implicit contacts: the springs as the first step starts them");
     if (const int rate = b.find("impose_shear_rate"); rate >= 0)
       b.after(solve, rate, "solves under the imposed rate as the model has it now");
+    diagnose_paste(b);
     return;
   }
   const paste::PasteFields f = paste::paste_fields();

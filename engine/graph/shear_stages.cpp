@@ -34,7 +34,11 @@ void add_shear_stages(GraphBuilder& b) {
   if (b.phase() == Phase::kSetup) {
     if (rate >= 0) b.after(b.find("contact_forces"), rate, "the relative velocities at contact under the imposed rate");
     if (!box_stage) return;
-    const int st = b.add("box_stress", &shear::box_stress, kStressReads, {fid::box_stress, fid::shear_stress});
+    // (it leaves the stresses of the axes it does not measure as they were: it reads them)
+    Access reads = kStressReads;
+    reads.push_back(fid::box_stress);
+    reads.push_back(fid::shear_stress);
+    const int st = b.add("box_stress", &shear::box_stress, reads, {fid::box_stress, fid::shear_stress});
     b.after(st, b.find("contact_forces"), "the contact stress of the first state's pair forces");
     return;
   }

@@ -107,12 +107,19 @@ void Simulation::prepare() {
     return;
   }
   if (state_.step == 0 && !impl_->unprepared) impl_->unprepared = state_;
-  execute(*impl_->setup, state_);
   state_.events.clear();
   state_.internal.clear();
-  impl_->restart.take(state_);
+  State before = state_;
+  execute(*impl_->setup, state_);
+  // A failure of the setup (a paste's first solve) is the first step's, as a failed step's: the
+  // state it left, and the state before it as the last good one. (It was dropped, and the first
+  // step moved the grains by what the failed solve left: a box through zero named as the failure.)
+  const bool ok = impl_->setup->diagnose(model_, state_, state_.step + 1);
+  state_.events.clear();
+  state_.internal.clear();
+  impl_->restart.take(ok ? state_ : before);
   impl_->primed = true;
-  collect_notices();
+  if (ok) collect_notices();
 }
 
 // A state given under changed parameters: the modules' Phase::kResolve stages, once, before it is

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <string>
 
@@ -147,6 +148,11 @@ EventId solve_event() {
 
 EventId resolve_event() {
   static const EventId e = register_module_event("paste_resolve");
+  return e;
+}
+
+EventId mass_event() {
+  static const EventId e = register_module_event("paste_mass");
   return e;
 }
 
@@ -301,9 +307,19 @@ void solve_paste(const Model& m, State& s, PasteWorkspace& w, SolveAt at) {
     w.system.add_contact_stiffness(cs, s.particle_r, s.shear_rate, b);
   }
 
-  // Inertia, the optional Stokes drag: on the grains' diagonal.
+  // Inertia, the optional Stokes drag: on the grains' diagonal. (With inertia, the lightest m / dt
+  // against Xi's largest translational resistance, before it is added.)
+  double lightest = std::numeric_limits<double>::infinity(), stiffest = 0;
+  int64_t lightest_at = -1;
   for (int64_t i = 0; i < n; ++i) {
     const double r = s.particle_r[i];
+    if (inertial) {
+      for (int a = 0; a < D; ++a) stiffest = std::max(stiffest, val[w.system.diagonal_position(i * pg + a)]);
+      if (const double md = 1 / (s.particle_inv_m[i] * dt); md < lightest) {
+        lightest = md;
+        lightest_at = i;
+      }
+    }
     double ct = p.stokes_drag ? 6 * std::numbers::pi * p.eta * r : 0;
     double cr = p.stokes_drag ? 8 * std::numbers::pi * p.eta * r * r * r : 0;
     if (inertial) {
@@ -317,6 +333,10 @@ void solve_paste(const Model& m, State& s, PasteWorkspace& w, SolveAt at) {
     for (int a = 0; a < R; ++a) val[w.system.diagonal_position(i * pg + D + a)] += cr;
   }
 
+  if (inertial && lightest < kMassResolution * stiffest) {
+    s.events[mass_event()].raise(s.particle_id[lightest_at], lightest / stiffest);
+    return;
+  }
   scale_system(units, A, b);
 
   // Without inertia or drag, Xi is singular by the translation of every connected cluster and by

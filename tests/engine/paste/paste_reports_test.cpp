@@ -155,6 +155,34 @@ TEST_CASE("paste: a solve that does not converge stops the run naming the step, 
   CHECK(test::scene_error(loose_scene("tolerance = 1e-16")).find("out of range [1e-15") != std::string::npos);
 }
 
+TEST_CASE("paste: grains too light for the inertial stepper's matrix stop the run naming the stepper") {
+  // At a density of 1e-100 the masses M / dt are 1e-100 of Xi: the matrix M / dt + Xi cannot
+  // resolve the grains' common translations in double precision. The first state's solve failed,
+  // its failure was dropped, and the first step moved the box through zero (a box length of
+  // -1.9e42 named as the failure, with "use more grains or a lower box.pressure").
+  const auto light = [](double rho) {
+    return test::paste_disks({.density = rho, .lubrication = "stepper = \"inertial\"\n"});
+  };
+  auto sim = test::simulation_from(light(1e-100), 1);
+  const State first = sim->state();
+  CHECK_FALSE(sim->step());
+  const StepFailure& f = sim->state().failure;
+  CAPTURE(f.message);
+  CHECK(f.step == 1);
+  CHECK(f.stage == "lubrication_solve");
+  CHECK(f.parameter == "lubrication.stepper");
+  CHECK(f.message.find("cannot resolve the grains' common translations") != std::string::npos);
+  CHECK(f.message.find("lubrication.stepper = \"quasi_static\"") != std::string::npos);
+  // The last good state is the one given, before the first state's solve.
+  const State good = sim->last_good_state();
+  CHECK(good.step == 0);
+  CHECK(good.particle_x == first.particle_x);
+  CHECK(good.box.len == first.box.len);
+  // Grains of a millionth of the density are solved and stepped.
+  auto heavier = test::simulation_from(light(1e-6), 1);
+  for (int k = 0; k < 3; ++k) CHECK(heavier->step());
+}
+
 TEST_CASE("paste: a step that moves the grains into each other names the paste's step key, not run.dt") {
   // The loose paste with a step of 100 eta / P: its grains pass through each other. The DEM's
   // inertial limit does not apply to solved velocities; the key to lower is the paste's.
