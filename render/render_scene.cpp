@@ -203,14 +203,22 @@ RenderScene build_render_scene(const Model& m, const State& s, const View& given
   const bool grains = v.wants("grains") || (draw_field && D == 3);
   const bool colored = grains && color_by != "flat" && color_by != "frozen";
   enum class Bar { kNone, kField, kGrains, kChains, kLubrication };
-  const Bar bar = !v.wants("colorbar") ? Bar::kNone
-                  : draw_field         ? Bar::kField
-                  : colored            ? Bar::kGrains
-                  : chains             ? Bar::kChains
-                  : lubrication        ? Bar::kLubrication
-                                       : Bar::kNone;
+  Bar bar = !v.wants("colorbar") ? Bar::kNone
+            : draw_field         ? Bar::kField
+            : colored            ? Bar::kGrains
+            : chains             ? Bar::kChains
+            : lubrication        ? Bar::kLubrication
+                                 : Bar::kNone;
+  // The bar is drawn in a margin of its own: a frame too narrow to keep the domain beside it has
+  // none (it was drawn over the grains, the margin given up for the domain).
+  constexpr int kBarMargin = 110, kLeastDomain = 100;
+  if (bar != Bar::kNone && v.width < kBarMargin + kLeastDomain) {
+    rs.warnings.push_back("a frame " + std::to_string(v.width) + " px wide has no colour bar (it needs " +
+                          std::to_string(kBarMargin + kLeastDomain) + " px)");
+    bar = Bar::kNone;
+  }
   Margins mg;
-  if (bar != Bar::kNone) mg.right = 110;
+  if (bar != Bar::kNone) mg.right = kBarMargin;
   if (v.wants("time")) mg.top = 36;
   if (v.wants("scalebar")) mg.bottom = 40;
   double r_mean = 0;

@@ -200,3 +200,20 @@ TEST_CASE("the empty top of a tall domain is left out of the frame, but not with
   CHECK(rs.camera.target[2] == doctest::Approx(15));
   CHECK(project_corners(rs, sim->state().box).inside);
 }
+
+TEST_CASE("a frame too narrow for the colour bar's margin has none, and says so") {
+  // Below 210 px the margin of 110 px was given up for the domain and the bar was drawn over the
+  // grains at width - 90.
+  auto sim = test::simulation_from(test::kRow);
+  for (int width : {120, 209, 210, 400}) {
+    CAPTURE(width);
+    View v = test::plain_view(width, 200, {"grains", "colorbar"});
+    v.color_by = "speed";
+    const RenderScene rs = build_render_scene(sim->model(), sim->state(), v);
+    const bool room = width >= 210;
+    CHECK(rs.colorbar.on == room);
+    CHECK(rs.warnings.size() == (room ? 0U : 1U));
+    if (room) CHECK(rs.camera.domain_px[0] + rs.camera.domain_px[2] <= rs.colorbar.x);
+    else CHECK(rs.warnings[0] == "a frame " + std::to_string(width) + " px wide has no colour bar (it needs 210 px)");
+  }
+}
