@@ -5,6 +5,10 @@
 //
 // and for the first state, lubrication_solve after the DEM's sum_forces: the velocities the first
 // drift moves the grains with.
+#include <cmath>
+#include <numbers>
+#include <string>
+
 #include "graph/adders.hpp"
 #include "paste/solve.hpp"
 #include "shear/cycle_origin.hpp"
@@ -119,6 +123,17 @@ void diagnose_paste(GraphBuilder& b) {
           if (m.box_control.on)
             loads += (loads.empty() ? "" : ", ") + std::string("the pressure ") +
                      format_number(m.box_control.pressure, 4) + " Pa";
+          // The largest resistance, xi_N at h_min between two grains of diameter a (eq. 1.28): past
+          // 1e300 Xi's sums overflow, whatever the loads (a viscosity of 1e306 was told to lower them).
+          const double xi_top = 1.5 * std::numbers::pi * p.eta * (p.a / 2) * (p.a / 2) / (p.h_min_over_a * p.a);
+          if (!(xi_top < 1e300)) {
+            f.parameter = "lubrication.viscosity";
+            f.message = "the lubrication resistances overflow: at h_min they reach " +
+                        (std::isfinite(xi_top) ? format_number(xi_top, 3) : std::string("more than 1e308")) +
+                        " N s/m (lubrication.viscosity = " + format_number(p.eta, 4) +
+                        " Pa s); lower the viscosity or raise lubrication.h_min_over_a";
+            break;
+          }
           f.parameter = "lubrication.h_min_over_a";
           f.message = "the lubrication solve met a non-finite value (residual " + format_number(e.value(), 4) +
                       "): the forces or the resistances overflowed; raise lubrication.h_min_over_a or lower the loads" +

@@ -183,6 +183,23 @@ TEST_CASE("paste: grains too light for the inertial stepper's matrix stop the ru
   for (int k = 0; k < 3; ++k) CHECK(heavier->step());
 }
 
+TEST_CASE("paste: a viscosity whose resistances overflow is named, not the loads") {
+  // At 1e306 Pa s xi_N at h_min reaches 1.2e308 N s/m: the solve met infinities and the report
+  // advised lowering the loads (a pressure of 1 Pa). 1e300 runs.
+  for (double eta : {1e306, 1e308}) {
+    CAPTURE(eta);
+    auto sim = test::simulation_from(test::paste_disks({.viscosity = eta}), 1);
+    CHECK_FALSE(sim->step());
+    const StepFailure& f = sim->state().failure;
+    CAPTURE(f.message);
+    CHECK(f.step == 1);
+    CHECK(f.parameter == "lubrication.viscosity");
+    CHECK(f.message.find("the lubrication resistances overflow") != std::string::npos);
+  }
+  auto fine = test::simulation_from(test::paste_disks({.viscosity = 1e300}), 1);
+  CHECK(fine->step());
+}
+
 TEST_CASE("paste: a step that moves the grains into each other names the paste's step key, not run.dt") {
   // The loose paste with a step of 100 eta / P: its grains pass through each other. The DEM's
   // inertial limit does not apply to solved velocities; the key to lower is the paste's.
