@@ -109,9 +109,10 @@ void diagnose_dem(GraphBuilder& b) {
     f.particle = id;
     if (m.velocities_solved) {
       // The step moved the grains with solved velocities: the DEM's inertial limit is not theirs.
-      f.parameter = m.dt_key;
+      // (An adaptive paste's step is bounded by the drift: the bound is the key to lower.)
+      f.parameter = m.drift_key.empty() ? m.dt_key : m.drift_key;
       f.message = what + ": the step of " + format_number(s.dt, 4) + m.unit("s") +
-                  " moved the grains into each other; lower " + m.dt_key;
+                  " moved the grains into each other; lower " + f.parameter;
     } else if (s.dt > m.dt_stable) {
       f.parameter = "run.dt";
       f.message = what + ": the time step " + format_number(s.dt, 4) + m.unit("s") + " exceeds the stability limit " +

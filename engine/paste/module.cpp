@@ -167,6 +167,7 @@ void compile_paste(const SceneDesc& d, Model& m) {
   p.stokes_drag = d.boolean("lubrication.stokes_drag");
   compile_time_step(d, m, p);
   m.dt_key = p.fixed_dt ? "lubrication.dt" : "lubrication.dt_max";
+  m.drift_key = p.fixed_dt || p.drift_max <= 0 ? "" : "lubrication.drift_max";
   // The DEM's part: contacts without dashpots (the liquid dissipates; the dry ones are kept for
   // the preparation), pairs listed out to h_max, grains never renumbered (the stored factor
   // follows the unknowns' numbering).
@@ -286,6 +287,7 @@ std::string steer_paste(Model& m, const Model& fresh) {
   p = PasteParams(f);
   p.time_unit = unit;
   m.dt_key = fresh.dt_key;  // a fixed step set or unset: the key an overlap's report names
+  m.drift_key = fresh.drift_key;
   return "";
 }
 

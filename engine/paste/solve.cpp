@@ -530,19 +530,25 @@ void solve_paste(const Model& m, State& s, PasteWorkspace& w, SolveAt at) {
 
   const auto under = solve_parameters(m);
   s.module_field(f.solved_under).assign(under.begin(), under.end());
-  if (!adapt) return;
-  if (step_change > p.dt_change && dt <= p.dt_min) s.events[step_event()].raise(0, dt * p.dt_change / step_change);
+  // (the first state's solve: its velocities move the grains over the first step, bounded as well)
+  const bool first = at == SolveAt::kFirst && !p.fixed_dt;
+  if (!adapt && !first) return;
+  if (adapt && step_change > p.dt_change && dt <= p.dt_min)
+    s.events[step_event()].raise(0, dt * p.dt_change / step_change);
   // The drift: the velocities just solved move the grains over the next step. (The matrix of an
   // inertial or implicit-contact solve was made with the step before this bound; where it binds,
   // the velocities are those of a slightly longer step, the positions still move by at most this.)
   const double fastest = p.drift_max > 0 ? fastest_rate(s) : 0;  // max |V_i| / r_i
-  if (fastest * dt_next > p.drift_max) {
+  const bool bound_binds = fastest * dt_next > p.drift_max;
+  if (bound_binds) {
     const double bound = p.drift_max / fastest;
     if (bound < p.dt_min) s.events[step_event()].raise(1, bound);
     dt_next = std::max(bound, p.dt_min);
   }
+  if (!adapt && !bound_binds) return;  // the first step stays the state's (dt_initial)
   s.module_field(f.dt)[0] = dt_next;
   s.module_field(f.dt_scale)[0] = p.step_scale;
+  if (!adapt) s.dt = dt_next;
 }
 
 }  // namespace

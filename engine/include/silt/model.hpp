@@ -319,6 +319,10 @@ struct Model {
   // The key that sets the step the DEM's failure reports advise lowering: run.dt, or that of the
   // module choosing the step (a paste's lubrication.dt_max).
   std::string dt_key = "run.dt";
+  // The key that bounds how far a step moves the grains, when it is not the step's own: a paste's
+  // lubrication.drift_max (its adaptive step is at most it over the fastest grain); overlap
+  // reports advise it. Empty: dt_key.
+  std::string drift_key;
   // Per-pair force arrays of modules (P*D, the layout of pair_f: force on i from j) that count
   // in the grains' stress besides the contact forces: the lubrication forces of a paste.
   std::vector<uint16_t> pair_stress_fields;

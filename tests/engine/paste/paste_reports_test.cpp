@@ -204,7 +204,7 @@ TEST_CASE("paste: a step that moves the grains into each other names the paste's
   // The loose paste with a step of 100 eta / P: its grains pass through each other. The DEM's
   // inertial limit does not apply to solved velocities; the key to lower is the paste's.
   for (const auto& c : {std::pair<std::string, std::string>{"dt = 100.0", "lubrication.dt"},
-                        {"dt_initial = 100.0\ndt_max = 1000.0", "lubrication.dt_max"}}) {
+                        {"dt_initial = 100.0\ndt_max = 1000.0\ndrift_max = 0.0", "lubrication.dt_max"}}) {
     const std::string& extra = c.first;  // (not a structured binding: clang's CAPTURE cannot take one)
     const std::string& key = c.second;
     CAPTURE(extra);
@@ -216,6 +216,14 @@ TEST_CASE("paste: a step that moves the grains into each other names the paste's
     CAPTURE(f.message);
     CHECK(f.parameter == key);
     CHECK(f.message.find("moved the grains into each other; lower " + key) != std::string::npos);
+  }
+  // With the drift bounded (the default), the same steps of 100 eta / P move no grain by more
+  // than 5 % of its radius: no overlap in 100 steps, even at a bound of a whole radius; an overlap
+  // would be reported at the bound.
+  for (const char* bound : {"", "\ndrift_max = 1.0"}) {
+    auto bounded = test::simulation_from(loose_scene(std::string("dt_initial = 100.0\ndt_max = 1000.0") + bound), 1);
+    CHECK(bounded->model().drift_key == "lubrication.drift_max");
+    for (int k = 0; k < 100; ++k) REQUIRE(bounded->step());
   }
   // The same step steered (the shell's `set lubrication.dt 100`): it named lubrication.dt_max,
   // which a fixed step then refuses.
@@ -300,9 +308,17 @@ TEST_CASE("paste: the state before the first step shows the paste's first step, 
   sim->prepare();
   const auto& p = sim->model().params.get<paste::PasteParams>();
   CHECK(p.dt_initial != dem_dt);
-  CHECK(sim->state().dt == p.dt_initial);
+  // dt_initial, or shorter where the first state's velocities would move a grain farther than
+  // drift_max of its radius in it (this loose paste's do, by 0.6 %).
+  const State& s = sim->state();
+  double fastest = 0;
+  for (int64_t i = 0; i < s.n; ++i)
+    fastest = std::max(fastest, std::hypot(s.particle_v[2 * i], s.particle_v[2 * i + 1]) / s.particle_r[i]);
+  const double first = std::min(p.dt_initial, p.drift_max / fastest);
+  CHECK(first < p.dt_initial);
+  CHECK(s.dt == first);
   REQUIRE(sim->step());
-  CHECK(sim->state().t == doctest::Approx(p.dt_initial).epsilon(1e-15));  // the step it showed
+  CHECK(sim->state().t == doctest::Approx(first).epsilon(1e-15));  // the step it showed
 }
 
 // An error more than one key could have caused is reported at a key the scene gives: the step
