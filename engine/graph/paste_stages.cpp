@@ -6,10 +6,10 @@
 // and for the first state, lubrication_solve after the DEM's sum_forces: the velocities the first
 // drift moves the grains with.
 #include <cmath>
-#include <numbers>
 #include <string>
 
 #include "graph/adders.hpp"
+#include "paste/lubrication_laws.hpp"
 #include "paste/solve.hpp"
 #include "shear/cycle_origin.hpp"
 #include "silt/text.hpp"
@@ -123,9 +123,10 @@ void diagnose_paste(GraphBuilder& b) {
           if (m.box_control.on)
             loads += (loads.empty() ? "" : ", ") + std::string("the pressure ") +
                      format_number(m.box_control.pressure, 4) + " Pa";
-          // The largest resistance, xi_N at h_min between two grains of diameter a (eq. 1.28): past
-          // 1e300 Xi's sums overflow, whatever the loads (a viscosity of 1e306 was told to lower them).
-          const double xi_top = 1.5 * std::numbers::pi * p.eta * (p.a / 2) * (p.a / 2) / (p.h_min_over_a * p.a);
+          // The largest resistance, xi_N at h_min between two grains of diameter a (R_eq = a / 2):
+          // past 1e300 Xi's sums overflow, whatever the loads (a viscosity of 1e306 was told to
+          // lower them).
+          const double xi_top = paste::xi_normal(p.h_min_over_a * p.a, p.a / 2, p.law());
           if (!(xi_top < 1e300)) {
             f.parameter = "lubrication.viscosity";
             f.message = "the lubrication resistances overflow: at h_min they reach " +
@@ -156,7 +157,7 @@ void diagnose_paste(GraphBuilder& b) {
     const auto& p = m.params.get<paste::PasteParams>();
     f.stage = "lubrication_solve";
     f.parameter = "lubrication.dt_min";
-    const bool drift = e.first() == 1;  // the drift's bound, else the change of Xi or the forces
+    const bool drift = e.first() == paste::kDriftLimit;  // else the change of Xi or the forces
     f.message = "the adaptive time step wants " + format_number(e.value(), 4) +
                 " s, below lubrication.dt_min = " + format_number(p.dt_min, 4) + " s (step " + std::to_string(s.step) +
                 (drift ? "): a grain moves too fast for lubrication.drift_max = " + format_number(p.drift_max, 4) +

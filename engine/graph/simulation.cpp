@@ -100,7 +100,7 @@ void Simulation::execute(graph::StepGraph& g, State& s) {
 }
 
 // The forces of t = 0, so that the first half kick uses them (LAMMPS `setup`): the setup graph
-// of the modules' stages. Events it raises (an overlap present from the start) are not failures.
+// of the modules' stages. A failure it reports (a paste's first solve) is the first step's.
 void Simulation::prepare() {
   if (impl_->primed) {
     resolve_stale();
@@ -109,15 +109,16 @@ void Simulation::prepare() {
   if (state_.step == 0 && !impl_->unprepared) impl_->unprepared = state_;
   state_.events.clear();
   state_.internal.clear();
-  State before = state_;
   execute(*impl_->setup, state_);
-  // A failure of the setup (a paste's first solve) is the first step's, as a failed step's: the
-  // state it left, and the state before it as the last good one. (It was dropped, and the first
-  // step moved the grains by what the failed solve left: a box through zero named as the failure.)
+  // A failure of the setup is the first step's, as a failed step's: the state it left, and the
+  // state before it as the last good one: the unprepared copy of a state at t = 0, else the state
+  // restore() was given, which its restart point already holds. (It was dropped, and the first step
+  // moved the grains by what the failed solve left: a box through zero named as the failure.)
   const bool ok = impl_->setup->diagnose(model_, state_, state_.step + 1);
   state_.events.clear();
   state_.internal.clear();
-  impl_->restart.take(ok ? state_ : before);
+  if (ok) impl_->restart.take(state_);
+  else if (impl_->unprepared) impl_->restart.take(*impl_->unprepared);
   impl_->primed = true;
   if (ok) collect_notices();
 }

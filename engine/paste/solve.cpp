@@ -117,8 +117,8 @@ double next_step(const PasteParams& p, double dt, double change) {
   return std::clamp(dt * factor, p.dt_min, p.dt_max);
 }
 
-// The largest |V_i| / r_i over the grains, V relative to the affine flow: a step of dt moves no
-// grain by more than dt times this of its radius.
+}  // namespace
+
 double fastest_rate(const State& s) {
   const int D = s.dim;
   double top = 0;
@@ -129,8 +129,6 @@ double fastest_rate(const State& s) {
   }
   return std::sqrt(top);
 }
-
-}  // namespace
 
 PasteFields paste_fields() {
   static const PasteFields f{find_field("pair_f_lub")->id,         find_field("paste_dt")->id,
@@ -534,7 +532,7 @@ void solve_paste(const Model& m, State& s, PasteWorkspace& w, SolveAt at) {
   const bool first = at == SolveAt::kFirst && !p.fixed_dt;
   if (!adapt && !first) return;
   if (adapt && step_change > p.dt_change && dt <= p.dt_min)
-    s.events[step_event()].raise(0, dt * p.dt_change / step_change);
+    s.events[step_event()].raise(kChangeLimit, dt * p.dt_change / step_change);
   // The drift: the velocities just solved move the grains over the next step. (The matrix of an
   // inertial or implicit-contact solve was made with the step before this bound; where it binds,
   // the velocities are those of a slightly longer step, the positions still move by at most this.)
@@ -542,7 +540,7 @@ void solve_paste(const Model& m, State& s, PasteWorkspace& w, SolveAt at) {
   const bool bound_binds = fastest * dt_next > p.drift_max;
   if (bound_binds) {
     const double bound = p.drift_max / fastest;
-    if (bound < p.dt_min) s.events[step_event()].raise(1, bound);
+    if (bound < p.dt_min) s.events[step_event()].raise(kDriftLimit, bound);
     dt_next = std::max(bound, p.dt_min);
   }
   if (!adapt && !bound_binds) return;  // the first step stays the state's (dt_initial)

@@ -69,9 +69,12 @@ struct PasteWorkspace final : Workspace {
 EventId solve_event();
 // The same, raised by the solve again under parameters changed between steps (lubrication_resolve).
 EventId resolve_event();
-// The event of an adaptive step below lubrication.dt_min: value the step wanted (index 1 when the
-// drift's bound wanted it, 0 the change of Xi or the forces).
+// The event of an adaptive step below lubrication.dt_min: value the step wanted, index what wanted it.
 EventId step_event();
+enum StepLimit : int64_t { kChangeLimit = 0, kDriftLimit = 1 };  // the change of Xi or the forces; the drift
+// The largest |V_i| / r_i over the grains, V relative to the affine flow: a step of dt moves no
+// grain by more than dt times this of its radius (lubrication.drift_max bounds it).
+double fastest_rate(const State& s);
 // The event of an inertial solve whose lightest grain's m / dt is below kMassResolution times Xi's
 // largest translational resistance: index the grain, value the ratio.
 EventId mass_event();

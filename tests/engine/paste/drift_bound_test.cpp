@@ -27,13 +27,7 @@ std::string sheared(const std::string& drift_max) {
 
 // The largest |V_i| dt / r_i the next step will move a grain by: the state's velocities over the
 // step the solve chose (paste_dt).
-double next_drift(const State& s) {
-  const double dt = s.module_field(paste::paste_fields().dt)[0];
-  double top = 0;
-  for (int64_t i = 0; i < s.n; ++i)
-    top = std::max(top, std::hypot(s.particle_v[2 * i], s.particle_v[2 * i + 1]) * dt / s.particle_r[i]);
-  return top;
-}
+double next_drift(const State& s) { return paste::fastest_rate(s) * s.module_field(paste::paste_fields().dt)[0]; }
 
 }  // namespace
 

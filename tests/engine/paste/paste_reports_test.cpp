@@ -311,10 +311,7 @@ TEST_CASE("paste: the state before the first step shows the paste's first step, 
   // dt_initial, or shorter where the first state's velocities would move a grain farther than
   // drift_max of its radius in it (this loose paste's do, by 0.6 %).
   const State& s = sim->state();
-  double fastest = 0;
-  for (int64_t i = 0; i < s.n; ++i)
-    fastest = std::max(fastest, std::hypot(s.particle_v[2 * i], s.particle_v[2 * i + 1]) / s.particle_r[i]);
-  const double first = std::min(p.dt_initial, p.drift_max / fastest);
+  const double first = std::min(p.dt_initial, p.drift_max / paste::fastest_rate(s));
   CHECK(first < p.dt_initial);
   CHECK(s.dt == first);
   REQUIRE(sim->step());
