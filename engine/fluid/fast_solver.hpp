@@ -31,8 +31,9 @@
 // transform of face DD lines of odd length (half_length_fft.hpp). Along x a block aligned as the
 // planner's buffer is transformed where it lies, others are copied into aligned per-thread
 // buffers; along y and z the lines of kBlock neighbouring x are copied into a buffer, read and
-// written as whole rows: short lines interleaved, so the transforms, the packing of the spectra
-// and the division by the eigenvalues run across the block's lines, long ones transposed. Every
+// written as whole rows: short lines (and those of the complex paths up to 1024 places)
+// interleaved, so the transforms, the packing of the spectra and the division by the eigenvalues
+// run across the block's lines, long ones transposed. Every
 // line is transformed by the same code whatever thread runs it, so results are bitwise the same
 // for any thread count.
 #pragma once
@@ -104,9 +105,10 @@ class FastSolver {
   void tridiagonal(double* data, double sigma);
   static constexpr int64_t kChunk = 64;  // modes per Thomas sweep
   // What stays in the first-level cache. Along y and z a block's lines are interleaved when the
-  // block takes at most this (lines of up to 128 points); longer ones, whose interleaved
-  // transforms run several times slower, are transposed. Lines one after the other are
-  // transformed and finished a group of at most this at a time.
+  // block takes at most this (lines of up to 128 points), and so are the lines of a complex path
+  // (the half-length transforms) of up to 8 times this (1024 places), in padded rows
+  // (Plans::row); other lines are transposed. Lines one after the other are transformed and
+  // finished a group of at most this at a time.
   static constexpr int64_t kCacheBlockBytes = 32 << 10;
 
   int dim_;

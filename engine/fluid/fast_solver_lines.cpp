@@ -57,36 +57,38 @@ void FastSolver::through_modes(double* buf, int axis, bool forward) {
   const double* sn = plans_->sines[axis].data();
   const bool cosine = cosine_like(path), face_sine = path == LinePath::kFaceSine;
   const bool fwd = forward || face_sine;
-  auto before = [&](double* v, int64_t lanes) {
-    if (face_sine) face_sine_prepare(v, n, sn, lanes);
+  // (lanes lines, cs values between their complex rows)
+  auto before = [&](double* v, int64_t lanes, int64_t cs) {
+    if (face_sine) face_sine_prepare(v, n, sn, lanes, cs);
     if (fwd) return;
-    if (cosine) spectrum_from_cosine(v, n, cw, lanes);
-    unpack_spectrum(v, n, w, lanes);
+    if (cosine) spectrum_from_cosine(v, n, cw, lanes, cs);
+    unpack_spectrum(v, n, w, lanes, cs);
   };
-  auto after = [&](double* v, int64_t lanes) {
+  auto after = [&](double* v, int64_t lanes, int64_t cs) {
     if (!fwd) return;
-    pack_spectrum(v, n, w, lanes);
-    if (cosine) cosine_from_spectrum(v, n, cw, lanes);
-    if (face_sine) face_sine_finish(v, n, lanes);
+    pack_spectrum(v, n, w, lanes, cs);
+    if (cosine) cosine_from_spectrum(v, n, cw, lanes, cs);
+    if (face_sine) face_sine_finish(v, n, lanes, cs);
   };
   const fftw_plan plan = fwd ? plans_->fwd[axis] : plans_->bwd[axis];
   if (plans_->interleaved[axis]) {
-    run_simd([&] { before(buf, kBlock); });
+    const int64_t cs = plans_->row[axis];
+    run_simd([&] { before(buf, kBlock, cs); });
     auto* c = reinterpret_cast<fftw_complex*>(buf);
     fftw_execute_dft(plan, c, c);
-    run_simd([&] { after(buf, kBlock); });
+    run_simd([&] { after(buf, kBlock, cs); });
     return;
   }
   const int64_t lines = axis == 0 ? kLinesX : kBlock, g = plans_->group[axis], ls = plans_->stride[axis];
   for (int64_t first = 0; first < lines; first += g) {
     double* lines_of_group = buf + first * ls;
     run_simd([&] {
-      for (int64_t b = 0; b < g; ++b) before(lines_of_group + b * ls, 1);
+      for (int64_t b = 0; b < g; ++b) before(lines_of_group + b * ls, 1, 2);
     });
     auto* c = reinterpret_cast<fftw_complex*>(lines_of_group);
     fftw_execute_dft(plan, c, c);
     run_simd([&] {
-      for (int64_t b = 0; b < g; ++b) after(lines_of_group + b * ls, 1);
+      for (int64_t b = 0; b < g; ++b) after(lines_of_group + b * ls, 1, 2);
     });
   }
 }
@@ -164,16 +166,17 @@ void FastSolver::transform(double* data, int axis, bool forward, std::optional<d
   const int64_t xb = (m0 + B - 1) / B, blocks = xb * others;
   const bool packed = half_length(path), il = plans_->interleaved[axis];
   const int64_t ls = plans_->stride[axis];
-  // Interleaved, a packed line's places 2k and 2k + 1 are one complex value: at 2 (k B + b) and
-  // one further; other interleaved lines' place r at r B + b; transposed, at b ls + r.
+  // Interleaved, a packed line's places 2k and 2k + 1 are one complex value: at k row + 2 b and
+  // one further; other interleaved lines' place r at r row + b; transposed, at b ls + r.
   const int shift = il && packed ? 1 : 0;
-  const int64_t row = il ? (packed ? 2 * B : B) : 1, lane = il ? (packed ? 2 : 1) : ls, odd = il && packed ? 1 : 0;
+  const int64_t row = il ? plans_->row[axis] : 1, lane = il ? (packed ? 2 : 1) : ls, odd = il && packed ? 1 : 0;
+  const int64_t block_size = il ? (ns >> shift) * row : ls * B;
   sweep_for(m_[0] * m_[1] * m_[2], blocks, 2, [&](int64_t b0, int64_t b1) {
     double* buf = plans_->buffer();
     for (int64_t blk = b0; blk < b1; ++blk) {
       const int64_t i0 = (blk % xb) * B, o = blk / xb, count = std::min<int64_t>(B, m0 - i0);
       double* base = data + i0 + o * other_stride;
-      if (count < B) std::memset(buf, 0, sizeof(double) * (il ? ns : ls) * B);
+      if (count < B) std::memset(buf, 0, sizeof(double) * block_size);
       // Two rows of the data into one row of complex values, points 2k and 2k + 1 of each line
       // side by side (the interleaved packed block of a path that moves no point): strides known
       // to the compiler, which then vectorises the interleaving.
@@ -183,7 +186,7 @@ void FastSolver::transform(double* data, int axis, bool forward, std::optional<d
         for (int64_t r = 0; r < ns; r += 2) {
           const double* a = base + r * stride;
           const double* c = a + stride;
-          double* to = buf + r * B;  // row (r >> 1), of 2 B values
+          double* to = buf + (r >> 1) * row;
           if (i0 + 2 * B <= m0)
             for (int64_t q = 0; q < B; q += 8) {
               __builtin_prefetch(a + B + q);
@@ -225,7 +228,7 @@ void FastSolver::transform(double* data, int axis, bool forward, std::optional<d
         for (int64_t r = 0; r < n; r += 2) {
           double* a = base + r * stride;
           double* c = a + stride;
-          const double* from = buf + r * B;
+          const double* from = buf + (r >> 1) * row;
           run_simd([&] {
             for (int64_t b = 0; b < count; ++b) {
               a[b] = from[2 * b];

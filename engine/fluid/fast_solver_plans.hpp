@@ -73,7 +73,13 @@ struct FastSolver::Plans {
   std::array<std::vector<double>, 3> sines;              // of the face sine axes
   std::array<int64_t, 3> slots{1, 1, 1};                 // places of a line in the buffer: m, or m + 1 (face sine)
   std::array<bool, 3> interleaved{false, false, false};  // a block's lines interleaved (y, z; short lines)
-  std::array<int64_t, 3> group{1, 1, 1};                 // lines per complex transform of a packed axis not interleaved
+  // Between the rows of an interleaved block (a place of each line, or a complex value of each
+  // packed line): kBlock or 2 kBlock values, and 8 more when the block would not stay in the
+  // first-level cache. Rows of 2^k values put a transform's points on a few cache sets, which
+  // then evict one another: FFTW's 128-point complex transform of 32 such lines runs 1.5 times
+  // as fast in rows of 72 values as in rows of 64 (0.79 against 1.21 ns a point, this machine).
+  std::array<int64_t, 3> row{1, 1, 1};
+  std::array<int64_t, 3> group{1, 1, 1};  // lines per complex transform of a packed axis not interleaved
   // Between the lines of a block not interleaved: m along x (a block in place), along y and z m
   // rounded up to 8 and 8 more, so that a block's lines neither start on the same cache set
   // (lines of 2^k points would) nor lose the 64-byte alignment of the buffer.

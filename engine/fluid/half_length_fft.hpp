@@ -52,15 +52,16 @@ inline void for_each_mode_pair_of_line(double* v, int64_t n, const double* w, F&
   }
 }
 
-// Both below work on `lanes` lines side by side (complex k of line l at v + 2 (lanes k + l)): one
-// line (lanes = 1) or a block whose lines are interleaved, each loop over the lines contiguous.
+// Both below work on `lanes` lines side by side (complex k of line l at v + cs k + 2 l, cs >= 2
+// lanes the values of a row, padding included): one line (lanes = 1, cs = 2) or a block whose
+// lines are interleaved, each loop over the lines contiguous.
 // Entries 0 and 1 of each line become their sum and difference; then f(a, b, W^k) for the pairs of
 // complex values k and N - k of each line, k = 1 .. N / 2 (at k = N / 2 a and b are the same
 // values, which f reads before it writes).
 template <class F>
-inline void for_each_mode_pair(double* v, int64_t n, const double* w, int64_t lanes, F&& f) {
+inline void for_each_mode_pair(double* v, int64_t n, const double* w, int64_t lanes, int64_t cs, F&& f) {
   if (lanes == 1) return for_each_mode_pair_of_line(v, n, w, f);
-  const int64_t N = n / 2, cs = 2 * lanes;
+  const int64_t N = n / 2;
   SILT_IVDEP
   for (int64_t l = 0; l < lanes; ++l) {
     const double r0 = v[2 * l], i0 = v[2 * l + 1];
@@ -78,8 +79,8 @@ inline void for_each_mode_pair(double* v, int64_t n, const double* w, int64_t la
 
 // After the forward complex transform of the N values of each line: the packed spectra
 // (entries 0 and 1: X_0 = Re Z_0 + Im Z_0 and X_N = Re Z_0 - Im Z_0).
-inline void pack_spectrum(double* v, int64_t n, const double* w, int64_t lanes = 1) {
-  for_each_mode_pair(v, n, w, lanes, [](double* a, double* b, double wr, double wi) {
+inline void pack_spectrum(double* v, int64_t n, const double* w, int64_t lanes = 1, int64_t cs = 2) {
+  for_each_mode_pair(v, n, w, lanes, cs, [](double* a, double* b, double wr, double wi) {
     const double ar = a[0], ai = a[1], br = b[0], bi = -b[1];  // Z_k, conj Z_N-k
     const double er = 0.5 * (ar + br), ei = 0.5 * (ai + bi);
     const double orr = 0.5 * (ai - bi), oi = -0.5 * (ar - br);  // (Z_k - conj Z_N-k) / 2i
@@ -97,8 +98,8 @@ inline void pack_spectrum(double* v, int64_t n, const double* w, int64_t lanes =
 
 // Before the backward complex transform: the N complex values of each line whose transform is
 // n x (entries 0 and 1: Z_0 = X_0 + X_N + i (X_0 - X_N)).
-inline void unpack_spectrum(double* v, int64_t n, const double* w, int64_t lanes = 1) {
-  for_each_mode_pair(v, n, w, lanes, [](double* a, double* b, double wr, double w_im) {
+inline void unpack_spectrum(double* v, int64_t n, const double* w, int64_t lanes = 1, int64_t cs = 2) {
+  for_each_mode_pair(v, n, w, lanes, cs, [](double* a, double* b, double wr, double w_im) {
     const double wi = -w_im;                                   // conj W^k
     const double ar = a[0], ai = a[1], br = b[0], bi = -b[1];  // X_k, conj X_N-k
     const double er = ar + br, ei = ai + bi, dr = ar - br, di = ai - bi;
@@ -135,8 +136,9 @@ std::vector<double> cosine_twiddles(int64_t n);
 // real spectra whose cosine spectra these are (the rotation is its own inverse):
 // Y_0 = scale V_0, Y_n/2 = sqrt 2 V_n/2 (2 cos(pi / 4)), and for the pair of places of V_k,
 // (Y_k, Y_n-k) = scale (c V_r + s V_i, s V_r - c V_i) with c, s = cos, sin(pi k / 2n).
-inline void rotate_cosine_spectrum(double* v, int64_t n, const double* c, double scale, int64_t lanes = 1) {
-  const int64_t N = n / 2, cs = 2 * lanes;
+inline void rotate_cosine_spectrum(double* v, int64_t n, const double* c, double scale, int64_t lanes = 1,
+                                   int64_t cs = 2) {
+  const int64_t N = n / 2;
   SILT_IVDEP
   for (int64_t l = 0; l < lanes; ++l) {
     v[2 * l] *= scale;
@@ -160,25 +162,24 @@ inline void rotate_cosine_spectrum(double* v, int64_t n, const double* c, double
     for (int64_t l = 0; l < lanes; ++l) rotate(a + 2 * l, ck, sk);
   }
 }
-inline void cosine_from_spectrum(double* v, int64_t n, const double* c, int64_t lanes = 1) {
-  rotate_cosine_spectrum(v, n, c, 2.0, lanes);
+inline void cosine_from_spectrum(double* v, int64_t n, const double* c, int64_t lanes = 1, int64_t cs = 2) {
+  rotate_cosine_spectrum(v, n, c, 2.0, lanes, cs);
 }
-inline void spectrum_from_cosine(double* v, int64_t n, const double* c, int64_t lanes = 1) {
-  rotate_cosine_spectrum(v, n, c, 1.0, lanes);
+inline void spectrum_from_cosine(double* v, int64_t n, const double* c, int64_t lanes = 1, int64_t cs = 2) {
+  rotate_cosine_spectrum(v, n, c, 1.0, lanes, cs);
 }
 
 // The sine transform of interior faces (DST-I, FFTW's RODFT00, Y_k = 2 sum_j x_j sin(pi (j + 1)
 // (k + 1) / N) for m = N - 1 points, N even) through the real transform of N values (Numerical
 // Recipes §12.4.1): f_0 = 0, f_j = x_j-1; y_j = sin(pi j / N) (f_j + f_N-j) + (f_j - f_N-j) / 2, whose
 // real spectrum Y gives F_2k = -Im Y_k and F_2k+1 = F_2k-1 + Re Y_k (F_1 = Re Y_0 / 2), F_q the
-// sums sum_j f_j sin(pi j q / N). Place r of a line's N places is at (r / 2) cs + r % 2 (cs = 2
-// lanes), lane l 2l further. face_sine_prepare takes the N places (place 0 zero) to y;
+// sums sum_j f_j sin(pi j q / N). Place r of a line's N places is at (r / 2) cs + r % 2 (cs >= 2
+// lanes, as above), lane l 2l further. face_sine_prepare takes the N places (place 0 zero) to y;
 // face_sine_finish takes the packed spectrum of y to 2 F_q at place q - 1, natural order, place
 // N - 1 zero: FFTW's Y_k at place k. The transform is its own inverse up to 2N.
 std::vector<double> face_sine_table(int64_t N);  // sin(pi j / N), j = 0 .. N / 2
 
-inline void face_sine_prepare(double* v, int64_t N, const double* s, int64_t lanes = 1) {
-  const int64_t cs = 2 * lanes;
+inline void face_sine_prepare(double* v, int64_t N, const double* s, int64_t lanes = 1, int64_t cs = 2) {
   auto at = [cs](int64_t r) { return (r >> 1) * cs + (r & 1); };
   SILT_IVDEP
   for (int64_t l = 0; l < lanes; ++l) v[2 * l] = 0;
@@ -196,8 +197,7 @@ inline void face_sine_prepare(double* v, int64_t N, const double* s, int64_t lan
   }
 }
 
-inline void face_sine_finish(double* v, int64_t N, int64_t lanes = 1) {
-  const int64_t cs = 2 * lanes;
+inline void face_sine_finish(double* v, int64_t N, int64_t lanes = 1, int64_t cs = 2) {
   // Place 0 holds Re Y_0 = 2 F_1 already; each step reads 2 F_2k-1 where the one before left it.
   for (int64_t k = 1; 2 * k < N; ++k) {
     double* pair = v + k * cs;          // places 2k, 2k + 1: Re Y_k, Im Y_k

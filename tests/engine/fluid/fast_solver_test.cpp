@@ -142,24 +142,30 @@ TEST_CASE("fluid fast solver: a real line's spectrum through a complex transform
       CHECK(std::abs(line[2 * k] - X[k].real()) < 1e-12 * n);
       CHECK(std::abs(line[2 * k + 1] - X[k].imag()) < 1e-12 * n);
     }
-    // Three lines interleaved (complex k of line l at 2 (3 k + l)): each as the line alone.
-    std::vector<double> three(static_cast<size_t>(3 * n));
+    // Three lines interleaved in rows of 8 values (complex k of line l at 8 k + 2 l, two values
+    // of padding a row, which stay as they are): each as the line alone.
+    constexpr int64_t kRow = 8;
+    constexpr double kPad = 7.25;
+    std::vector<double> three(static_cast<size_t>(kRow * n / 2), kPad);
     for (int64_t k = 0; k < n / 2; ++k)
       for (int64_t l = 0; l < 3; ++l) {
         const double f = 1.0 + static_cast<double>(l);  // line l holds (1 + l) z
-        three[2 * (3 * k + l)] = f * z[k].real(), three[2 * (3 * k + l) + 1] = f * z[k].imag();
+        three[kRow * k + 2 * l] = f * z[k].real(), three[kRow * k + 2 * l + 1] = f * z[k].imag();
       }
-    pack_spectrum(three.data(), n, w.data(), 3);
-    for (int64_t k = 0; k < n / 2; ++k)
-      for (int64_t l = 0; l < 3; ++l)
-        for (int64_t r = 0; r < 2; ++r)
-          CHECK(std::abs(three[2 * (3 * k + l) + r] - (1.0 + l) * line[2 * k + r]) < 1e-12 * n);
-    unpack_spectrum(three.data(), n, w.data(), 3);
+    pack_spectrum(three.data(), n, w.data(), 3, kRow);
+    auto check_three = [&](double tolerance) {
+      for (int64_t k = 0; k < n / 2; ++k) {
+        for (int64_t l = 0; l < 3; ++l)
+          for (int64_t r = 0; r < 2; ++r)
+            CHECK(std::abs(three[kRow * k + 2 * l + r] - (1.0 + l) * line[2 * k + r]) < tolerance);
+        CHECK(three[kRow * k + 6] == kPad);
+        CHECK(three[kRow * k + 7] == kPad);
+      }
+    };
+    check_three(1e-12 * n);
+    unpack_spectrum(three.data(), n, w.data(), 3, kRow);
     unpack_spectrum(line.data(), n, w.data());
-    for (int64_t k = 0; k < n / 2; ++k)
-      for (int64_t l = 0; l < 3; ++l)
-        for (int64_t r = 0; r < 2; ++r)
-          CHECK(std::abs(three[2 * (3 * k + l) + r] - (1.0 + l) * line[2 * k + r]) < 1e-12 * n * n);
+    check_three(1e-12 * n * n);
     for (int64_t k = 0; k < n / 2; ++k) z[k] = {line[2 * k], line[2 * k + 1]};
     z = dft(z, 1);
     for (int64_t k = 0; k < n / 2; ++k) {
@@ -227,21 +233,25 @@ TEST_CASE("fluid fast solver: the sine transform of interior faces through a rea
       CHECK(std::abs(y[k] - d) < 1e-12 * N);
     }
     CHECK(y[m] == 0.0);
-    // Three lines interleaved (place r of line l at 2 (3 (r / 2) + l) + r % 2): each as alone.
-    std::vector<double> three(static_cast<size_t>(3 * N), 0.0);
-    auto at = [](int64_t r, int64_t l) { return 2 * (3 * (r / 2) + l) + r % 2; };
+    // Three lines interleaved in rows of 8 values (place r of line l at 8 (r / 2) + 2 l + r % 2,
+    // two values of padding a row, which stay as they are): each as alone.
+    constexpr int64_t kRow = 8;
+    constexpr double kPad = 7.25;
+    std::vector<double> three(static_cast<size_t>(kRow * N / 2), kPad);
+    auto at = [](int64_t r, int64_t l) { return kRow * (r / 2) + 2 * l + r % 2; };
     for (int64_t l = 0; l < 3; ++l)
       for (int64_t j = 0; j < m; ++j) three[at(j + 1, l)] = (1.0 + l) * x[j];
-    face_sine_prepare(three.data(), N, sn.data(), 3);
+    face_sine_prepare(three.data(), N, sn.data(), 3, kRow);
     for (int64_t l = 0; l < 3; ++l) {
       std::vector<double> v(static_cast<size_t>(N));
       for (int64_t r = 0; r < N; ++r) v[r] = three[at(r, l)];
       v = packed_real_spectrum(v);
       for (int64_t r = 0; r < N; ++r) three[at(r, l)] = v[r];
     }
-    face_sine_finish(three.data(), N, 3);
+    face_sine_finish(three.data(), N, 3, kRow);
     for (int64_t l = 0; l < 3; ++l)
       for (int64_t k = 0; k < N; ++k) CHECK(std::abs(three[at(k, l)] - (1.0 + l) * y[k]) < 1e-12 * N);
+    for (int64_t k = 0; k < N / 2; ++k) CHECK((three[kRow * k + 6] == kPad && three[kRow * k + 7] == kPad));
     std::vector<double> yk(y.begin(), y.begin() + m);
     const auto back = transform(yk);
     for (int64_t j = 0; j < m; ++j) CHECK(std::abs(back[j] - 2.0 * N * x[j]) < 1e-11 * N * N);
@@ -253,9 +263,12 @@ TEST_CASE("fluid fast solver: the sine transform of interior faces through a rea
 // and blocks that do not.
 TEST_CASE("fluid fast solver: periodic axes of every short even length and of odd lengths invert to round-off") {
   unsigned seed = 11;
-  // Lines of more than 128 points along y and z are transposed, shorter ones interleaved.
-  const std::array<int64_t, 3> sizes[] = {{2, 4, 4},   {3, 5, 4},   {4, 6, 4},   {5, 7, 4},   {6, 8, 4},  {16, 18, 4},
-                                          {34, 36, 4}, {3, 136, 6}, {4, 135, 4}, {5, 4, 137}, {4, 2, 130}};
+  // Along y and z, lines of up to 128 points are interleaved; so are the lines of these kinds'
+  // complex paths (periodic, cell NN and DD of even length, face DD of odd) of up to 1024 places,
+  // in padded rows; other lines are transposed.
+  const std::array<int64_t, 3> sizes[] = {{2, 4, 4},   {3, 5, 4},    {4, 6, 4},    {5, 7, 4},    {6, 8, 4},
+                                          {16, 18, 4}, {34, 36, 4},  {3, 136, 6},  {4, 135, 4},  {5, 4, 137},
+                                          {4, 2, 130}, {3, 1024, 2}, {2, 1023, 2}, {3, 2, 1026}, {2, 2, 1025}};
   for (AxisKind kind : {AxisKind::kPeriodic, AxisKind::kCellNN, AxisKind::kCellDD, AxisKind::kFaceDD})
     for (const auto& m : sizes)
       for (double sigma : {0.0, 3.0}) {
