@@ -10,10 +10,11 @@ namespace {
 using Ctx = ObservableContext;
 using Args = ObservableArgs;
 
-// An observable read off the measurements (a pass over grains and contacts).
+// An observable read off a part of the measurements (measure_part: a pass over grains or
+// contacts).
 template <class F>
-ObservableSpec measured(const char* pattern, const char* unit, const char* doc, F f) {
-  return {pattern, unit, doc, [f](const Ctx& c, const Args& a) { return f(c.meas(), a); }};
+ObservableSpec measured(const char* pattern, const char* unit, const char* doc, unsigned part, F f) {
+  return {pattern, unit, doc, [f, part](const Ctx& c, const Args& a) { return f(c.meas(part), a); }};
 }
 
 }  // namespace
@@ -23,34 +24,36 @@ std::vector<ObservableSpec> dem_observables() {
       measured("ke", "J",
                "kinetic energy of the free grains (translation + rotation; in a deforming box, of the velocities "
                "relative to the affine flow, as the state holds them)",
-               [](const Measurements& x, const Args&) { return x.ke; }),
-      measured("ke_rot", "J", "rotational kinetic energy", [](const Measurements& x, const Args&) { return x.ke_rot; }),
+               measure_part::kGrains, [](const Measurements& x, const Args&) { return x.ke; }),
+      measured("ke_rot", "J", "rotational kinetic energy", measure_part::kGrains,
+               [](const Measurements& x, const Args&) { return x.ke_rot; }),
       measured("ke_fluct", "J", "translational kinetic energy per grain, relative to the affine flow",
-               [](const Measurements& x, const Args&) { return x.ke_fluct; }),
+               measure_part::kGrains, [](const Measurements& x, const Args&) { return x.ke_fluct; }),
       measured("e_contact", "J", "elastic energy stored in the contacts (normal and tangential springs)",
-               [](const Measurements& x, const Args&) { return x.e_contact; }),
+               measure_part::kEnergy, [](const Measurements& x, const Args&) { return x.e_contact; }),
       measured("momentum.{a}", "kg m/s", "total momentum of the free grains, the affine flow included",
-               [](const Measurements& x, const Args& a) { return x.momentum[a.a]; }),
-      measured("phi", "", "solid fraction of the grains in the box",
+               measure_part::kGrains, [](const Measurements& x, const Args& a) { return x.momentum[a.a]; }),
+      measured("phi", "", "solid fraction of the grains in the box", measure_part::kGrains,
                [](const Measurements& x, const Args&) { return x.phi; }),
-      measured("z", "", "contacts per free grain", [](const Measurements& x, const Args&) { return x.z; }),
-      measured("z_star", "", "contacts per free grain that has one",
+      measured("z", "", "contacts per free grain", measure_part::kContacts,
+               [](const Measurements& x, const Args&) { return x.z; }),
+      measured("z_star", "", "contacts per free grain that has one", measure_part::kContacts,
                [](const Measurements& x, const Args&) { return x.z_star; }),
-      measured("z_mech", "", "contacts per grain of the mechanical skeleton",
+      measured("z_mech", "", "contacts per grain of the mechanical skeleton", measure_part::kSkeleton,
                [](const Measurements& x, const Args&) { return x.z_mech; }),
-      measured("p0", "", "fraction of free grains with no contact",
+      measured("p0", "", "fraction of free grains with no contact", measure_part::kContacts,
                [](const Measurements& x, const Args&) { return x.p0; }),
-      measured("n_contacts", "", "grain-grain and grain-wall contacts",
+      measured("n_contacts", "", "grain-grain and grain-wall contacts", measure_part::kContacts,
                [](const Measurements& x, const Args&) { return static_cast<double>(x.n_contacts); }),
-      measured("pressure", "Pa", "trace of the stress / dimension",
+      measured("pressure", "Pa", "trace of the stress / dimension", measure_part::kStress,
                [](const Measurements& x, const Args&) { return x.pressure; }),
-      measured("mu", "", "stress ratio |stress.xy| / stress.yy",
+      measured("mu", "", "stress ratio |stress.xy| / stress.yy", measure_part::kStress,
                [](const Measurements& x, const Args&) {
                  return x.stress[1][1] != 0 ? std::abs(x.stress[0][1]) / x.stress[1][1] : 0;
                }),
       measured("stress.{a}{b}", "Pa", "grain stress tensor (contact + kinetic), compression positive",
-               [](const Measurements& x, const Args& a) { return x.stress[a.a][a.b]; }),
-      measured("fabric.{a}{b}", "", "fabric tensor <n n> over grain-grain contacts",
+               measure_part::kStress, [](const Measurements& x, const Args& a) { return x.stress[a.a][a.b]; }),
+      measured("fabric.{a}{b}", "", "fabric tensor <n n> over grain-grain contacts", measure_part::kContacts,
                [](const Measurements& x, const Args& a) { return x.fabric[a.a][a.b]; }),
       {"n_builds", "", "neighbour-list builds so far",
        [](const Ctx& c, const Args&) { return static_cast<double>(c.s.nbr_builds); }},
@@ -58,7 +61,8 @@ std::vector<ObservableSpec> dem_observables() {
        [](const Ctx& c, const Args&) { return static_cast<double>(c.s.n_pairs()); }},
       {"kappa", "", "stiffness number at the imposed (else the measured) pressure",
        [](const Ctx& c, const Args&) {
-         return stiffness_number(c.m, c.m.box_control.on ? c.m.box_control.pressure : c.meas().pressure);
+         return stiffness_number(
+             c.m, c.m.box_control.on ? c.m.box_control.pressure : c.meas(measure_part::kStress).pressure);
        }},
       {"zeta", "", "damping ratio of the lightest pair", [](const Ctx& c, const Args&) { return c.m.zeta_max; }},
       grain_observable("p[{k}].{a}", "m", "position of grain K",
@@ -81,7 +85,7 @@ std::vector<ObservableSpec> dem_observables() {
   };
   // pn.K: the fraction of grains with exactly K contacts (Peyneau 2009 Table 3.14).
   ObservableSpec pn = measured(
-      "pn.{k}", "", "fraction of free grains with exactly K contacts",
+      "pn.{k}", "", "fraction of free grains with exactly K contacts", measure_part::kContacts,
       [](const Measurements& x, const Args& a) { return a.k < static_cast<int64_t>(x.pn.size()) ? x.pn[a.k] : 0.0; });
   pn.k_count = [](const Model&) { return int64_t{1000}; };
   pn.k_what = "contact count";

@@ -160,9 +160,11 @@ bool accepts(const ObservableSpec& o, const Model& m, const std::string& name) {
 
 }  // namespace
 
-const Measurements& ObservableContext::meas() const {
-  if (!meas_) meas_ = measure(m, s);
-  return *meas_;
+const Measurements& ObservableContext::meas(unsigned parts) const {
+  const unsigned missing = parts & ~measured_;
+  if (missing) measure_into(m, s, missing, meas_);
+  measured_ |= missing;
+  return meas_;
 }
 
 int64_t ObservableContext::index_of(int64_t id) const {

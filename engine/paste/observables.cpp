@@ -28,7 +28,8 @@ double imposed_mean_stress(const Model& m, const State& s) {
 }
 
 std::string needs_pressure(const Model& m, const ObservableArgs&) {
-  return m.box_control.on ? "" : "it is relative to the imposed pressure (box.pressure), which this scene does not give";
+  return m.box_control.on ? ""
+                          : "it is relative to the imposed pressure (box.pressure), which this scene does not give";
 }
 
 std::string needs_sheared(const Model& m, const ObservableArgs&) {
@@ -125,7 +126,7 @@ std::vector<ObservableSpec> paste_observables() {
        "pressure carried by the contacts / P (under cycles, / the imposed stresses' mean then): their elastic "
        "and frictional forces and the lubrication between touching grains (Peyneau 2009 sec. 4.2.3)",
        [](C c, A) {
-         const Measurements& x = c.meas();
+         const Measurements& x = c.meas(measure_part::kStress);
          // (the pressure less that of the pair fields: the contacts' own forces and the kinetic part)
          const double elastic = x.pressure - trace(x.stress_pairs, c.m.dim);
          const auto implicit = pair_pressures(c.s, paste_fields().pair_f_implicit);
@@ -143,7 +144,8 @@ std::vector<ObservableSpec> paste_observables() {
        [](C c, A) {
          // (at fixed volume too: it needs a rate, not a pressure; none at a rate of 0)
          const double scale = viscous_stress(c.m, params(c.m).eta, c.s.shear_rate);
-         return scale > 0 ? std::abs(c.meas().stress[0][1]) / scale : std::numeric_limits<double>::quiet_NaN();
+         return scale > 0 ? std::abs(c.meas(measure_part::kStress).stress[0][1]) / scale
+                          : std::numeric_limits<double>::quiet_NaN();
        }},
       {"solver.iters", "", "iterations of the last lubrication solve (0 for a direct solve)",
        [](C c, A) { return solver_stat(c, kLastIterations); }},

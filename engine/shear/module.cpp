@@ -76,8 +76,9 @@ std::vector<ObservableSpec> shear_observables() {
        [](const ObservableContext& c, const ObservableArgs&) { return c.s.shear_rate; }},
       {"I", "", "inertial number at the imposed (else the measured sigma_yy) pressure",
        [](const ObservableContext& c, const ObservableArgs&) {
-         return inertial_number(c.m, c.s.shear_rate,
-                                c.m.box_control.on ? c.m.box_control.pressure : c.meas().stress[1][1]);
+         return inertial_number(
+             c.m, c.s.shear_rate,
+             c.m.box_control.on ? c.m.box_control.pressure : c.meas(measure_part::kStress).stress[1][1]);
        }},
   };
   o.push_back({"cycle", "", "cycles of the imposed stresses done, w t / (2 pi) (the phase, through steered w's)",

@@ -121,3 +121,53 @@ TEST_CASE("the velocity profile skips a grain it cannot place (a failed run's Na
   CHECK(counted >= 11);  // the other grains, each in one or two slabs, and grain 3 in every slab
   CHECK(p.count[9] >= 1);
 }
+
+TEST_CASE("the measurements' parts, asked one by one in any order and again, are those of all at once") {
+  using namespace measure_part;
+  auto sim = test::simulation_from(test::fill(kCluster, {{"mu", 0.3}}));
+  for (int k = 0; k < 20; ++k) REQUIRE(sim->step());  // forces, stresses and springs not zero
+  const Model& m = sim->model();
+  const State& s = sim->state();
+  const Measurements all = measure(m, s);
+  REQUIRE(all.n_contacts > 0);
+  REQUIRE(all.e_contact > 0);
+  REQUIRE(all.n_off_skeleton > 0);
+  auto check_same = [](const Measurements& a, const Measurements& b) {
+    CHECK(a.ke == b.ke);
+    CHECK(a.ke_rot == b.ke_rot);
+    CHECK(a.ke_fluct == b.ke_fluct);
+    CHECK(a.phi == b.phi);
+    CHECK(a.volume == b.volume);
+    CHECK(a.max_net_force == b.max_net_force);
+    CHECK(a.momentum == b.momentum);
+    CHECK(a.stress == b.stress);
+    CHECK(a.stress_pairs == b.stress_pairs);
+    CHECK(a.pressure == b.pressure);
+    CHECK(a.n_contacts == b.n_contacts);
+    CHECK(a.fabric == b.fabric);
+    CHECK(a.z == b.z);
+    CHECK(a.z_star == b.z_star);
+    CHECK(a.p0 == b.p0);
+    CHECK(a.pn == b.pn);
+    CHECK(a.z_mech == b.z_mech);
+    CHECK(a.n_off_skeleton == b.n_off_skeleton);
+    CHECK(a.e_contact == b.e_contact);
+  };
+  const std::vector<std::vector<unsigned>> orders = {{kGrains, kStress, kContacts, kSkeleton, kEnergy},
+                                                     {kEnergy, kSkeleton, kContacts, kStress, kGrains},
+                                                     {kSkeleton, kGrains | kEnergy, kContacts | kStress}};
+  for (const auto& order : orders) {
+    ObservableContext c(m, s);
+    for (unsigned part : order) {
+      c.meas(part);
+      c.meas(part);  // again: nothing counted twice
+    }
+    check_same(c.meas(kAll), all);
+  }
+  // A part not asked stays at its defaults.
+  const Measurements contacts = measure(m, s, kContacts);
+  CHECK(contacts.n_contacts == all.n_contacts);
+  CHECK(contacts.z_mech == 0);
+  CHECK(contacts.e_contact == 0);
+  CHECK(contacts.ke == 0);
+}
