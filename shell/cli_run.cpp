@@ -59,11 +59,12 @@ int prepare(Simulation& sim, const RunArgs& a, RunJob& job, std::string& warning
   job.prepared(prep);
   if (!a.quiet)
     std::fprintf(stderr, "silt: prepared in %lld steps (%.1f s): phi = %.5f%s\n", static_cast<long long>(prep.steps),
-                 prep.wall_s, measure(model, sim.state()).phi, prep.end == RunEnd::kStatic ? ", static" : "");
+                 prep.wall_s, measure(model, sim.state(), measure_part::kGrains).phi,
+                 prep.end == RunEnd::kStatic ? ", static" : "");
   if (prep.end != RunEnd::kStatic && !prep.reached_phi) {
     // Said now as well as in the summary: what follows starts from a packing still moving.
     warning = "prepare.max_steps: the compression did not reach equilibrium in " + std::to_string(prep.steps) +
-              " steps (phi = " + format_number(measure(model, sim.state()).phi, 5) +
+              " steps (phi = " + format_number(measure(model, sim.state(), measure_part::kGrains).phi, 5) +
               "); the run starts from a packing still in motion";
     std::cerr << "silt: warning: " << warning << "\n";
   }

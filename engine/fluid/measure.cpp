@@ -76,9 +76,6 @@ struct PaddedState {
   ~PaddedState() {
     if (!a.grid.empty()) padded_cache().give(std::move(a));
   }
-  std::array<LargeArray<double>, 3>& u() { return a.u; }
-  const std::array<LargeArray<double>, 3>& u() const { return a.u; }
-  const LargeArray<double>& p() const { return a.p; }
   Padded ptr() { return {a.u[0].data(), a.u[1].data(), a.u[2].data()}; }
   PaddedConst cptr() const { return {a.u[0].data(), a.u[1].data(), a.u[2].data()}; }
 };
@@ -266,9 +263,9 @@ std::vector<GridField> cell_fields(const FluidParams& p, const State& s, std::st
   };
   if (wanted("velocity"))
     cells(grid_field(g, "velocity", "m/s", 3), [&](double* v, int64_t q) {
-      for (int a = 0; a < g.dim; ++a) v[a] = 0.5 * (ps.u()[a][q] + ps.u()[a][q + ps.L.s[a]]);
+      for (int a = 0; a < g.dim; ++a) v[a] = 0.5 * (ps.a.u[a][q] + ps.a.u[a][q + ps.L.s[a]]);
     });
-  if (wanted("pressure")) cells(grid_field(g, "pressure", "Pa", 1), [&](double* v, int64_t q) { *v = ps.p()[q]; });
+  if (wanted("pressure")) cells(grid_field(g, "pressure", "Pa", 1), [&](double* v, int64_t q) { *v = ps.a.p[q]; });
   if (wanted("vorticity")) out.push_back(vorticity_field(g, ps));
   return out;
 }
@@ -287,9 +284,9 @@ double sample_in(const Grid& g, const PaddedState& ps, const std::string& field,
   if (field == "u" || field == "v" || field == "w") {
     const int a = field[0] == 'u' ? 0 : (field[0] == 'v' ? 1 : 2);
     off[a] = 0;
-    return interpolate(g, ps.L, at(ps.u()[a]), off, x);
+    return interpolate(g, ps.L, at(ps.a.u[a]), off, x);
   }
-  if (field == "p") return interpolate(g, ps.L, at(ps.p()), off, x);
+  if (field == "p") return interpolate(g, ps.L, at(ps.a.p), off, x);
   const double inv_h[3] = {1 / g.h[0], 1 / g.h[1], 1 / g.h[2]};
   const PaddedConst c = ps.cptr();
   const int64_t* s = ps.L.s.data();

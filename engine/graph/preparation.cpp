@@ -58,7 +58,7 @@ State prepare_packing(const Model& m, int threads, PreparationReport* report, co
     // the overshoot is one step's compaction (chunks of limits.check_every steps took 200 spheres
     // from below 0.45 to 0.564).
     int64_t chunk_steps = c.limits.check_every;
-    double phi = measure(c, sim.state()).phi;
+    double phi = measure(c, sim.state(), measure_part::kGrains).phi;
     while (rep.steps_done < m.prepare.max_steps) {
       opt.steps = std::min(chunk_steps, m.prepare.max_steps - rep.steps_done);
       const RunReport chunk = sim.run(opt);
@@ -66,7 +66,7 @@ State prepare_packing(const Model& m, int threads, PreparationReport* report, co
       rep.wall_s += chunk.wall_s;
       rep.end = chunk.end;
       if (chunk.end != RunEnd::kDone) break;
-      const double now = measure(c, sim.state()).phi;
+      const double now = measure(c, sim.state(), measure_part::kGrains).phi;
       if (now >= m.prepare.phi) {
         reached = true;
         break;

@@ -290,7 +290,7 @@ int64_t Simulation::restart_step() const { return impl_->restart.step(); }
 bool Simulation::is_static() const {
   const Model& m = model_;
   if (!m.box_control.on) return false;
-  const Measurements meas = measure(m, state_);
+  const Measurements meas = measure(m, state_, measure_part::kGrains | measure_part::kStress);
   const double P = m.box_control.pressure;
   const double a = m.a_max;
   const double force_unit = std::pow(a, m.dim - 1) * P;

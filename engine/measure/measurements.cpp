@@ -172,15 +172,14 @@ void measure_dim(const Model& m, const State& s, unsigned parts, Measurements& o
           ++n_contacts;
           ++contacts[i];
         }
+    // (the contacts' part too when only the skeleton was asked for: the same pass)
     const int64_t n_free = free_grains(s);
-    if (parts & kContacts) {
-      out.n_contacts = n_contacts;
-      if (n_grain_pairs > 0)
-        for (int a = 0; a < D; ++a)
-          for (int b = 0; b < D; ++b) fabric[a][b] /= static_cast<double>(n_grain_pairs);
-      out.fabric = fabric;
-      coordination(s, contacts, n_free, out);
-    }
+    out.n_contacts = n_contacts;
+    if (n_grain_pairs > 0)
+      for (int a = 0; a < D; ++a)
+        for (int b = 0; b < D; ++b) fabric[a][b] /= static_cast<double>(n_grain_pairs);
+    out.fabric = fabric;
+    coordination(s, contacts, n_free, out);
     if (pairs) skeleton(m, s, touching, contacts, n_free, out);
   }
   if (parts & kEnergy) out.e_contact = dem::contact_energy(m, s);

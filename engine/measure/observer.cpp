@@ -163,7 +163,8 @@ bool accepts(const ObservableSpec& o, const Model& m, const std::string& name) {
 const Measurements& ObservableContext::meas(unsigned parts) const {
   const unsigned missing = parts & ~measured_;
   if (missing) measure_into(m, s, missing, meas_);
-  measured_ |= missing;
+  // (the skeleton's pass measures the contacts too)
+  measured_ |= missing | ((missing & measure_part::kSkeleton) ? measure_part::kContacts : 0U);
   return meas_;
 }
 
