@@ -277,11 +277,12 @@ std::vector<SimdLevel> simd_levels(const std::string& list) {
 //                    the increment into its padded array: D + 1 + solve
 //   fluid_project    one fused sweep: reads the increment once, reads and writes u (2D) and the
 //                    pressure (2): 2D + 3
-// A solve (fast_solver.cpp) transforms every axis but the last forward and back, one pass each,
-// and the last axis forward, divided by the eigenvalues and back in one pass (blocks gathered
-// into a buffer): 2 (D - 1) + 1 passes. When the last axis is not periodic (a wall), the Thomas
-// sweeps along it replace that pass, forward and back over a chunk of 64 modes that stays in
-// cache between the two (64 x n values and as many pivots): again 2D - 1 passes.
+// A solve (fast_solver.cpp) is three passes: x forward (in 3D, x then y forward, one z plane at
+// a time, the plane staying in the cache between the two), the last axis forward, divided by the
+// eigenvalues and back in one pass (blocks gathered into a buffer), and x back (in 3D, y then x,
+// plane by plane). When the last axis is not periodic (a wall), the Thomas sweeps along it
+// replace that pass, forward and back over a chunk of 64 modes that stays in cache between the
+// two (64 x n values and as many pivots): again 3 passes.
 // Per step: fluid_load copies the State's velocity and pressure into the padded arrays and
 // fluid_store copies them back (read, write, D + 1 arrays each): 4D + 4.
 // Not counted: the divergence the store computes only when a sample looks at the step (the
@@ -292,7 +293,7 @@ std::vector<SimdLevel> simd_levels(const std::string& list) {
 // doubles per cell each, 10 % more than counted at 128^3 in 3D and 1 % at 1024^2.
 double doubles_per_cell_step(int dim, bool cn) {
   const double D = dim;
-  const double solve = 2 * (2 * D - 1);
+  const double solve = 2 * 3;
   double substep = (cn ? 5 * D + 1 : 4 * D + 1) + (D + 1 + solve) + (2 * D + 3);
   if (cn) substep += D * solve;
   return 3 * substep + 4 * D + 4;

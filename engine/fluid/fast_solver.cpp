@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstring>
 #include <numbers>
+#include <numeric>
 #include <optional>
 #include <stdexcept>
 
@@ -298,6 +299,20 @@ void FastSolver::tridiagonal(double* data, double sigma) {
   });
 }
 
+int64_t FastSolver::plane_group() const {
+  const int64_t g = kLinesX / std::gcd(int64_t{kLinesX}, m_[1]);
+  return g * m_[0] * m_[1] * static_cast<int64_t>(sizeof(double)) <= kPlaneGroupBytes ? g : 0;
+}
+
+void FastSolver::planes(double* data, bool forward, const SolveIo& io) {
+  const int64_t g = plane_group(), groups = (m_[2] + g - 1) / g;
+  sweep_for(size(), groups, 1, [&](int64_t g0, int64_t g1) {
+    for (int64_t q = g0; q < g1; ++q)
+      for (int a : forward ? std::array<int, 2>{0, 1} : std::array<int, 2>{1, 0})
+        transform(data, a, forward, std::nullopt, a == 0 ? io : SolveIo{}, {q * g, std::min(m_[2], (q + 1) * g)});
+  });
+}
+
 void FastSolver::solve(double* data, double sigma, const SolveIo& io) {
   const SolveIo in{io.in, io.scale, nullptr}, out{nullptr, 1, io.out};
   if (tri_axis_ == 0 && (io.in || io.out)) {
@@ -315,6 +330,16 @@ void FastSolver::solve(double* data, double sigma, const SolveIo& io) {
       sweep_for(size(), lines, 8, [&](int64_t l0, int64_t l1) {
         for (int64_t l = l0; l < l1; ++l) std::memcpy(io.out->line(l, m_[1]), data + l * n, sizeof(double) * n);
       });
+    return;
+  }
+  if (dim_ == 3 && tri_axis_ != 0 && tri_axis_ != 1 && plane_group() > 0 && m_[2] >= 4 * plane_group()) {
+    // x and y transformed a group of planes at a time, then z: divided (or the Thomas sweeps
+    // along it). (A box of fewer than 4 groups keeps its threads on the lines of each axis; the
+    // lines see the same operations either way.)
+    planes(data, true, in);
+    if (tri_axis_ == 2) tridiagonal(data, sigma);
+    else transform(data, 2, true, sigma);
+    planes(data, false, out);
     return;
   }
   if (tri_axis_ >= 0) {

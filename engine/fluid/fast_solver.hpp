@@ -22,7 +22,12 @@
 // axis of kind face DN (an outflow's normal velocity), which no FFTW transform diagonalises.
 // Only one axis may be solved so. When every axis is transformed, the last one is transformed
 // forward, its modes divided by their eigenvalues and transformed back block by block, in one
-// pass over the data.
+// pass over the data. In 3D (unless x or y is the Thomas axis) x and y go a group of z planes at
+// a time, the group's lines along x then along y while it is in the cache (and back, y then x):
+// a solve is three passes over the data instead of five. Measured on this machine (one periodic
+// Poisson solve, best of 10 to 20): 256^3 in 5.7 to 6.0 ns a cell instead of 6.7 to 7.1 on one
+// thread, 3.0 instead of 3.5 on two; 128^3 and below alone unchanged (their data stays in the
+// last-level cache between passes).
 //
 // Transforms run on blocks of lines, each block of an axis with the same FFTW plan (chosen by
 // FFTW_ESTIMATE, not by timing). A periodic line of even length goes through a complex transform
@@ -71,6 +76,11 @@ struct SolveIo {
   const SolveRows* out = nullptr;
 };
 
+// z planes [lo, hi) of a solve's grid; lo < 0: all of them, shared among the threads.
+struct PlaneRange {
+  int64_t lo = -1, hi = -1;
+};
+
 class FastSolver {
  public:
   static constexpr int kBlock = 32;   // lines per transform along y and z
@@ -96,9 +106,17 @@ class FastSolver {
 
  private:
   struct Plans;
-  // (io: along x only, the first pass's input or the last one's output)
+  // (io: along x only, the first pass's input or the last one's output; planes: only the lines of
+  // those z planes, along x or y, on the calling thread)
   void transform(double* data, int axis, bool forward, std::optional<double> divide_at = std::nullopt,
-                 const SolveIo& io = {});
+                 const SolveIo& io = {}, PlaneRange planes = {});
+  // Along x then y forward (or y then x back), a group of z planes after the other: the group
+  // stays in the cache between the two, one pass over the grid instead of two.
+  void planes(double* data, bool forward, const SolveIo& io);
+  // z planes per group: the fewest whose lines along x fill whole blocks of kLinesX; 0 when the
+  // group would take more than kPlaneGroupBytes (no planes then).
+  int64_t plane_group() const;
+  static constexpr int64_t kPlaneGroupBytes = 1 << 20;
   // A buffer's block of lines into the eigenbasis (forward) and back.
   void through_modes(double* buf, int axis, bool forward);
   void divide_block(double* buf, int axis, int64_t i0, int64_t count, int64_t o, double sigma) const;

@@ -96,7 +96,8 @@ void FastSolver::through_modes(double* buf, int axis, bool forward) {
 // Lines along `axis`, kBlock at a time: gathered into a buffer, transformed, scattered back.
 // With divide_at (along y or z), each block is transformed forward, its modes divided and
 // transformed back while it is in the buffer.
-void FastSolver::transform(double* data, int axis, bool forward, std::optional<double> divide_at, const SolveIo& io) {
+void FastSolver::transform(double* data, int axis, bool forward, std::optional<double> divide_at, const SolveIo& io,
+                           PlaneRange planes) {
   // n points a line in the data, ns places in the buffer.
   const int64_t m0 = m_[0], m1 = m_[1], n = m_[axis], ns = plans_->slots[axis];
   const LinePath path = plans_->path[axis];
@@ -111,47 +112,55 @@ void FastSolver::transform(double* data, int axis, bool forward, std::optional<d
     const bool in_place = ns == n && !reorder_in && !reorder_out;
     // Line l of the data, or of the rows read or written instead.
     auto line_of = [&](const SolveRows* rows, int64_t l) { return rows ? rows->line(l, m1) : data + l * n; };
+    // The block of `count` lines from line `first`.
+    auto block_of_lines = [&](double* buf, int64_t first, int64_t count) {
+      double* block = data + first * n;
+      if (count == B && fftw_alignment_of(block) == align && in_place) {
+        // Read into the block, transformed and written out while it is in the cache.
+        if (io.in)
+          for (int64_t b = 0; b < count; ++b) {
+            const double* from = line_of(io.in, first + b);
+            double* to = block + b * n;
+            for (int64_t r = 0; r < n; ++r) to[r] = from[r] * io.scale;
+          }
+        through_modes(block, axis, forward);
+        if (io.out)
+          for (int64_t b = 0; b < count; ++b)
+            std::memcpy(line_of(io.out, first + b), block + b * n, sizeof(double) * n);
+        return;
+      }
+      if (io.in) {
+        // (scaled as it is read: each value times scale once, as a copy then a solve in place)
+        for (int64_t b = 0; b < count; ++b) {
+          double* to = buf + b * ns;
+          if (!reorder_in) std::memcpy(to, line_of(io.in, first + b), sizeof(double) * n);
+          else line_into_places(path, line_of(io.in, first + b), to, n);
+          if (io.scale != 1.0)
+            for (int64_t r = 0; r < ns; ++r) to[r] *= io.scale;
+        }
+      } else if (!reorder_in) {
+        std::memcpy(buf, block, sizeof(double) * n * count);
+      } else {
+        for (int64_t b = 0; b < count; ++b) line_into_places(path, block + b * n, buf + b * ns, n);
+      }
+      if (count < B) std::memset(buf + count * ns, 0, sizeof(double) * (B - count) * ns);
+      through_modes(buf, axis, forward);
+      for (int64_t b = 0; b < count; ++b) {
+        double* to = line_of(io.out, first + b);
+        if (!reorder_out) std::memcpy(to, buf + b * ns, sizeof(double) * n);
+        else places_into_line(path, buf + b * ns, to, n);
+      }
+    };
+    if (planes.lo >= 0) {
+      // The lines of the planes, B at a time from the first.
+      double* buf = plans_->buffer();
+      const int64_t end = planes.hi * m1;
+      for (int64_t l = planes.lo * m1; l < end; l += B) block_of_lines(buf, l, std::min<int64_t>(B, end - l));
+      return;
+    }
     sweep_for(m_[0] * m_[1] * m_[2], blocks, 1, [&](int64_t b0, int64_t b1) {
       double* buf = plans_->buffer();
-      for (int64_t blk = b0; blk < b1; ++blk) {
-        const int64_t first = blk * B, count = std::min<int64_t>(B, lines - first);
-        double* block = data + first * n;
-        if (count == B && fftw_alignment_of(block) == align && in_place) {
-          // Read into the block, transformed and written out while it is in the cache.
-          if (io.in)
-            for (int64_t b = 0; b < count; ++b) {
-              const double* from = line_of(io.in, first + b);
-              double* to = block + b * n;
-              for (int64_t r = 0; r < n; ++r) to[r] = from[r] * io.scale;
-            }
-          through_modes(block, axis, forward);
-          if (io.out)
-            for (int64_t b = 0; b < count; ++b)
-              std::memcpy(line_of(io.out, first + b), block + b * n, sizeof(double) * n);
-          continue;
-        }
-        if (io.in) {
-          // (scaled as it is read: each value times scale once, as a copy then a solve in place)
-          for (int64_t b = 0; b < count; ++b) {
-            double* to = buf + b * ns;
-            if (!reorder_in) std::memcpy(to, line_of(io.in, first + b), sizeof(double) * n);
-            else line_into_places(path, line_of(io.in, first + b), to, n);
-            if (io.scale != 1.0)
-              for (int64_t r = 0; r < ns; ++r) to[r] *= io.scale;
-          }
-        } else if (!reorder_in) {
-          std::memcpy(buf, block, sizeof(double) * n * count);
-        } else {
-          for (int64_t b = 0; b < count; ++b) line_into_places(path, block + b * n, buf + b * ns, n);
-        }
-        if (count < B) std::memset(buf + count * ns, 0, sizeof(double) * (B - count) * ns);
-        through_modes(buf, axis, forward);
-        for (int64_t b = 0; b < count; ++b) {
-          double* to = line_of(io.out, first + b);
-          if (!reorder_out) std::memcpy(to, buf + b * ns, sizeof(double) * n);
-          else places_into_line(path, buf + b * ns, to, n);
-        }
-      }
+      for (int64_t blk = b0; blk < b1; ++blk) block_of_lines(buf, blk * B, std::min<int64_t>(B, lines - blk * B));
     });
     return;
   }
@@ -171,7 +180,7 @@ void FastSolver::transform(double* data, int axis, bool forward, std::optional<d
   const int shift = il && packed ? 1 : 0;
   const int64_t row = il ? plans_->row[axis] : 1, lane = il ? (packed ? 2 : 1) : ls, odd = il && packed ? 1 : 0;
   const int64_t block_size = il ? (ns >> shift) * row : ls * B;
-  sweep_for(m_[0] * m_[1] * m_[2], blocks, 2, [&](int64_t b0, int64_t b1) {
+  auto run_blocks = [&](int64_t b0, int64_t b1) {
     double* buf = plans_->buffer();
     for (int64_t blk = b0; blk < b1; ++blk) {
       const int64_t i0 = (blk % xb) * B, o = blk / xb, count = std::min<int64_t>(B, m0 - i0);
@@ -245,7 +254,10 @@ void FastSolver::transform(double* data, int axis, bool forward, std::optional<d
         for (int64_t b = 0; b < count; ++b) to[b] = sg * from[b * lane];
       }
     }
-  });
+  };
+  // Along y, a plane's blocks are those of its z (o = the plane).
+  if (planes.lo >= 0) run_blocks(planes.lo * xb, planes.hi * xb);
+  else sweep_for(m_[0] * m_[1] * m_[2], blocks, 2, run_blocks);
 }
 
 }  // namespace silt::fluid

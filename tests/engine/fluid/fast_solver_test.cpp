@@ -287,19 +287,21 @@ TEST_CASE("fluid fast solver: periodic axes of every short even length and of od
 }
 
 // Even lengths take the half-length complex transforms along a periodic axis, odd ones the halfcomplex
-// pair: both orders of the modes are checked, along x, y and z.
+// pair: both orders of the modes are checked, along x, y and z. The second 3D box goes along x and
+// y two z planes at a time (32 lines along x to a plane), its last group one plane when odd.
 TEST_CASE("fluid fast solver: every axis kind inverts its operator to round-off") {
   unsigned seed = 1;
   for (int odd : {0, 1})
-    for (int dim : {2, 3})
+    for (int shape : {2, 3, 4})
       for (AxisKind kx : kAllKinds)
         for (AxisKind klast : kAllKinds)
           for (double sigma : {0.0, 7.0}) {
             if (kx == AxisKind::kFaceDN && klast == AxisKind::kFaceDN) continue;  // one such axis at most
+            const int dim = shape == 2 ? 2 : 3;
             std::array<SolverAxis, 3> ax{};
             ax[0] = {(dim == 2 ? 12 : 8) + odd, kx, 0.1};
-            ax[1] = {(dim == 2 ? 10 : 6) + odd, dim == 2 ? klast : AxisKind::kCellDN, 0.1};
-            ax[2] = {5 + odd, klast, 0.1};
+            ax[1] = {shape == 4 ? 32 : (dim == 2 ? 10 : 6) + odd, dim == 2 ? klast : AxisKind::kCellDN, 0.1};
+            ax[2] = {(shape == 4 ? 9 : 5) + odd, klast, 0.1};
             auto nn = [](AxisKind k) { return k == AxisKind::kPeriodic || k == AxisKind::kCellNN; };
             const bool singular = sigma == 0 && dim == 2 && nn(kx) && nn(klast);
             FastSolver solver(dim, ax);
@@ -309,7 +311,8 @@ TEST_CASE("fluid fast solver: every axis kind inverts its operator to round-off"
             const auto back = apply(dim, ax, x, sigma);
             double scale = 0;
             for (double v : r) scale = std::max(scale, std::abs(v));
-            INFO("dim " << dim << " odd " << odd << " kinds " << int(kx) << " " << int(klast) << " sigma " << sigma);
+            INFO("shape " << shape << " odd " << odd << " kinds " << int(kx) << " " << int(klast) << " sigma "
+                          << sigma);
             CHECK(max_diff(back, r) < 1e-10 * scale);
           }
 }
@@ -396,15 +399,17 @@ TEST_CASE("fluid fast solver: Helmholtz against a manufactured solution") {
 TEST_CASE("fluid fast solver: a solve through a padded field's rows equals copying in and out") {
   unsigned seed = 100;
   for (int odd : {0, 1})
-    for (int dim : {2, 3})
+    for (int shape : {2, 3, 4})
       for (AxisKind kx : kAllKinds)
         for (AxisKind klast : {AxisKind::kPeriodic, AxisKind::kCellDD, AxisKind::kFaceDN}) {
           if (kx == AxisKind::kFaceDN && klast == AxisKind::kFaceDN) continue;
+          const int dim = shape == 2 ? 2 : 3;
           std::array<SolverAxis, 3> ax{};
           ax[0] = {(dim == 2 ? 12 : 8) + odd, kx, 0.1};
-          // In 2D 130 lines along x (blocks full and partial) and lines of 130 along y (transposed).
-          ax[1] = {dim == 2 ? 130 : 9, dim == 2 ? klast : AxisKind::kCellNN, 0.1};
-          ax[2] = {dim == 2 ? 1 : 10 + odd, klast, 0.1};
+          // In 2D 130 lines along x (blocks full and partial) and lines of 130 along y (transposed);
+          // the second 3D box along x and y two z planes at a time.
+          ax[1] = {dim == 2 ? 130 : (shape == 4 ? 32 : 9), dim == 2 ? klast : AxisKind::kCellNN, 0.1};
+          ax[2] = {dim == 2 ? 1 : (shape == 4 ? 9 : 10) + odd, klast, 0.1};
           FastSolver solver(dim, ax);
           const int64_t m0 = ax[0].m, m1 = ax[1].m, m2 = dim == 3 ? ax[2].m : 1;
           const int64_t row = m0 + 3, plane = row * (m1 + 3);
@@ -424,7 +429,7 @@ TEST_CASE("fluid fast solver: a solve through a padded field's rows equals copyi
           const SolveRows rows{field.data() + origin, row, dim == 3 ? plane : 0};
           std::vector<double> work(static_cast<size_t>(solver.size()));
           solver.solve(work.data(), sigma, {&rows, scale, &rows});
-          INFO("dim " << dim << " odd " << odd << " kinds " << int(kx) << " " << int(klast));
+          INFO("shape " << shape << " odd " << odd << " kinds " << int(kx) << " " << int(klast));
           CHECK(field == expected);  // the ghosts untouched, every unknown to the bit
         }
 }
