@@ -1,6 +1,7 @@
 #include "fluid/boundaries.hpp"
 
 #include <algorithm>
+#include <cstdint>
 
 #include "core/parallel.hpp"
 #include "fluid/sweep_for.hpp"
@@ -29,38 +30,40 @@ void for_each_line(const Layout& L, int b, F&& f) {
   });
 }
 
+// Along a periodic axis b, the ghosts of a block of contiguous values at index 0 along b (whole
+// rows or planes): -1 from n - 1, n from 0 and n + 1 from 1.
+inline void wrap_block(const Layout& L, int b, double* u, int64_t base, int64_t len) {
+  const int64_t n = L.n[b], sb = L.s[b];
+  std::copy_n(u + base + (n - 1) * sb, len, u + base - sb);
+  std::copy_n(u + base, len, u + base + n * sb);
+  std::copy_n(u + base + sb, len, u + base + (n + 1) * sb);
+}
+
+// Along a periodic x, the three ghosts at the ends of row j of plane k.
+inline void wrap_row(const Layout& L, double* u, int64_t j, int64_t k) {
+  const int64_t n = L.n[0];
+  double* row = u + L.at(0, j, k);
+  row[-1] = row[n - 1];
+  row[n] = row[0];
+  row[n + 1] = row[1];
+}
+
 // The ghosts along a periodic axis b of the arrays f (n cells, or n faces, the face n being face
-// 0): on every line along b, over the whole padded extent of the other axes, -1 from n - 1, n
-// from 0 and n + 1 from 1. Along x that is three values at the ends of each row; along the other
-// axes whole rows (y in 3D) or planes (the last axis), copied as contiguous blocks.
+// 0), over the whole padded extent of the other axes: along x three values at the ends of each
+// row (the rows shared among the threads), along the last axis whole rows (2D) or planes (3D).
+// (In 3D, x and y go a plane at a time: wrap_plane.)
 template <size_t K>
 void wrap_periodic_axis(const Layout& L, int b, const std::array<double*, K>& f) {
-  const int64_t n = L.n[b], sb = L.s[b];
-  const int64_t p1 = L.n[1] + 3, p2 = L.dim == 3 ? L.n[2] + 3 : 1;
-  auto wrap_block = [&](double* u, int64_t base, int64_t len) {  // base: the block at index 0 along b
-    std::copy_n(u + base + (n - 1) * sb, len, u + base - sb);
-    std::copy_n(u + base, len, u + base + n * sb);
-    std::copy_n(u + base + sb, len, u + base + (n + 1) * sb);
-  };
-  if (b == 0) {
-    sweep_for(L.cells(), p1 * p2, kLinesPerTask, [&](int64_t r0, int64_t r1) {
-      for (double* u : f)
-        for (int64_t r = r0; r < r1; ++r) {
-          double* row = u + L.at(0, r % p1 - 1, L.dim == 3 ? r / p1 - 1 : 0);
-          row[-1] = row[n - 1];
-          row[n] = row[0];
-          row[n + 1] = row[1];
-        }
-    });
-  } else if (b == L.dim - 1) {
+  if (b == L.dim - 1) {
     const int64_t base = b == 2 ? L.at(-1, -1, 0) : L.at(-1, 0);
-    for (double* u : f) wrap_block(u, base, sb);
-  } else {
-    sweep_for(L.cells(), p2, std::max<int64_t>(1, kLinesPerTask / 3), [&](int64_t k0, int64_t k1) {
-      for (double* u : f)
-        for (int64_t k = k0; k < k1; ++k) wrap_block(u, L.at(-1, 0, k - 1), L.s[1]);
-    });
+    for (double* u : f) wrap_block(L, b, u, base, L.s[b]);
+    return;
   }
+  const int64_t p1 = L.n[1] + 3, p2 = L.dim == 3 ? L.n[2] + 3 : 1;
+  sweep_for(L.cells(), p1 * p2, kLinesPerTask, [&](int64_t r0, int64_t r1) {
+    for (double* u : f)
+      for (int64_t r = r0; r < r1; ++r) wrap_row(L, u, r % p1 - 1, L.dim == 3 ? r / p1 - 1 : 0);
+  });
 }
 
 // Along x the lines are the rows, visited one after the other, each touched only at its ends:
@@ -84,81 +87,151 @@ double inflow_velocity(const Grid& g, int b, int side, int a, const std::array<d
   return v;
 }
 
-void fill_velocity_ghosts(const Grid& g, const Layout& L, const std::array<double*, 3>& c) {
-  for (int b = 0; b < g.dim; ++b) {
-    if (g.periodic(b)) {
-      if (g.dim == 3) wrap_periodic_axis<3>(L, b, c);
-      else wrap_periodic_axis<2>(L, b, {c[0], c[1]});
-      continue;
-    }
-    const int64_t n = g.n[b], sb = L.s[b];
-    for (int a = 0; a < g.dim; ++a) {
-      double* u = c[a];
-      const bool normal = a == b;
-      for_each_line(L, b, [&](int64_t q, const std::array<int64_t, 3>& idx) {
-        double* line = u + q;  // line[i * sb]: position i along b
-        auto at = [&](int64_t i) -> double& { return line[i * sb]; };
-        if (b == 0) prefetch_row_ends(L, line, n);
-        for (int side = 0; side < 2; ++side) {
-          const Bc& bc = g.bc[b][side];
-          const int64_t edge = side == 0 ? 0 : (normal ? n : n - 1);  // last value inside
-          const int64_t out = side == 0 ? -1 : edge + 1;              // the ghost
-          const int64_t in = side == 0 ? 1 : edge - 1;                // the value inside the face
-          if (normal) {
-            switch (bc.type) {
-              case BcType::kNoSlip:
-              case BcType::kFreeSlip:
-                at(edge) = 0;
-                at(out) = -at(in);
-                break;
-              case BcType::kInflow: {
-                std::array<double, 3> x{};
-                for (int o = 0; o < g.dim; ++o) x[o] = g.lo[o] + (static_cast<double>(idx[o]) + 0.5) * g.h[o];
-                at(edge) = inflow_velocity(g, b, side, a, x);
-                at(out) = at(edge);
-                break;
-              }
-              default: at(out) = at(edge);  // outflow
-            }
-          } else {
-            switch (bc.type) {
-              case BcType::kNoSlip: at(out) = 2 * bc.velocity[a] - at(edge); break;
-              case BcType::kInflow: {
-                std::array<double, 3> x{};
-                for (int o = 0; o < g.dim; ++o)
-                  x[o] = g.lo[o] + (static_cast<double>(idx[o]) + (o == a ? 0.0 : 0.5)) * g.h[o];
-                x[b] = g.lo[b] + side * n * g.h[b];
-                at(out) = 2 * inflow_velocity(g, b, side, a, x) - at(edge);
-                break;
-              }
-              default: at(out) = at(edge);  // free slip, outflow
-            }
-            if (side == 1) at(n + 1) = at(n);  // the unused slot
-          }
+namespace {
+
+// The lines of axis b (x or y, in 3D) within z plane k (padded index -1 .. n + 1): f(q, idx) as
+// for_each_line calls it for them.
+template <class F>
+void lines_in_plane(const Layout& L, int b, int64_t k, F&& f) {
+  const int o1 = b == 0 ? 1 : 0;
+  const int64_t n1 = L.n[o1] + 3;
+  for (int64_t t = 0; t < n1; ++t) {
+    std::array<int64_t, 3> idx{0, 0, k};
+    idx[o1] = t - 1;
+    f(L.at(idx[0], idx[1], idx[2]), idx);
+  }
+}
+
+// Along a periodic axis b (x or y, in 3D), the ghosts of the arrays f within z plane k.
+template <size_t K>
+void wrap_plane(const Layout& L, int b, int64_t k, const std::array<double*, K>& f) {
+  for (double* u : f) {
+    if (b == 1) wrap_block(L, 1, u, L.at(-1, 0, k), L.s[1]);
+    else
+      for (int64_t j = -1; j < L.n[1] + 2; ++j) wrap_row(L, u, j, k);
+  }
+}
+
+// The ghosts at both ends of one line along a non-periodic axis b of velocity component a (q: the
+// line's padded index at position 0 along b; idx: its place along the other axes).
+void velocity_line(const Grid& g, const Layout& L, int b, int a, double* u, int64_t q,
+                   const std::array<int64_t, 3>& idx) {
+  const int64_t n = g.n[b], sb = L.s[b];
+  const bool normal = a == b;
+  double* line = u + q;  // line[i * sb]: position i along b
+  auto at = [&](int64_t i) -> double& { return line[i * sb]; };
+  if (b == 0) prefetch_row_ends(L, line, n);
+  for (int side = 0; side < 2; ++side) {
+    const Bc& bc = g.bc[b][side];
+    const int64_t edge = side == 0 ? 0 : (normal ? n : n - 1);  // last value inside
+    const int64_t out = side == 0 ? -1 : edge + 1;              // the ghost
+    const int64_t in = side == 0 ? 1 : edge - 1;                // the value inside the face
+    if (normal) {
+      switch (bc.type) {
+        case BcType::kNoSlip:
+        case BcType::kFreeSlip:
+          at(edge) = 0;
+          at(out) = -at(in);
+          break;
+        case BcType::kInflow: {
+          std::array<double, 3> x{};
+          for (int o = 0; o < g.dim; ++o) x[o] = g.lo[o] + (static_cast<double>(idx[o]) + 0.5) * g.h[o];
+          at(edge) = inflow_velocity(g, b, side, a, x);
+          at(out) = at(edge);
+          break;
         }
-      });
+        default: at(out) = at(edge);  // outflow
+      }
+    } else {
+      switch (bc.type) {
+        case BcType::kNoSlip: at(out) = 2 * bc.velocity[a] - at(edge); break;
+        case BcType::kInflow: {
+          std::array<double, 3> x{};
+          for (int o = 0; o < g.dim; ++o)
+            x[o] = g.lo[o] + (static_cast<double>(idx[o]) + (o == a ? 0.0 : 0.5)) * g.h[o];
+          x[b] = g.lo[b] + side * n * g.h[b];
+          at(out) = 2 * inflow_velocity(g, b, side, a, x) - at(edge);
+          break;
+        }
+        default: at(out) = at(edge);  // free slip, outflow
+      }
+      if (side == 1) at(n + 1) = at(n);  // the unused slot
     }
   }
 }
 
-void fill_pressure_ghosts(const Grid& g, const Layout& L, double* p) {
-  for (int b = 0; b < g.dim; ++b) {
-    if (g.periodic(b)) {
-      wrap_periodic_axis<1>(L, b, {p});
-      continue;
-    }
-    const int64_t n = g.n[b], sb = L.s[b];
-    for_each_line(L, b, [&](int64_t q, const std::array<int64_t, 3>&) {
-      double* line = p + q;
-      auto at = [&](int64_t i) -> double& { return line[i * sb]; };
-      if (b == 0) prefetch_row_ends(L, line, n);
-      const double lo = g.pbc(b, 0) == PressureBc::kDirichlet ? -1.0 : 1.0;
-      const double hi = g.pbc(b, 1) == PressureBc::kDirichlet ? -1.0 : 1.0;
-      at(-1) = lo * at(0);
-      at(n) = hi * at(n - 1);
-      at(n + 1) = at(n);
-    });
+// And of a cell-centred scalar under the pressure's conditions.
+void pressure_line(const Grid& g, const Layout& L, int b, double* p, int64_t q) {
+  const int64_t n = g.n[b], sb = L.s[b];
+  double* line = p + q;
+  auto at = [&](int64_t i) -> double& { return line[i * sb]; };
+  if (b == 0) prefetch_row_ends(L, line, n);
+  const double lo = g.pbc(b, 0) == PressureBc::kDirichlet ? -1.0 : 1.0;
+  const double hi = g.pbc(b, 1) == PressureBc::kDirichlet ? -1.0 : 1.0;
+  at(-1) = lo * at(0);
+  at(n) = hi * at(n - 1);
+  at(n + 1) = at(n);
+}
+
+constexpr int64_t kEveryPlane = INT64_MIN;
+
+// The ghosts along axis b of the velocity components (K of them): within z plane k (3D, b = x or
+// y), or on every line, in a parallel loop (k = kEveryPlane).
+template <size_t K>
+void velocity_axis(const Grid& g, const Layout& L, int b, const std::array<double*, K>& c, int64_t k) {
+  if (g.periodic(b)) {
+    if (k == kEveryPlane) wrap_periodic_axis<K>(L, b, c);
+    else wrap_plane<K>(L, b, k, c);
+    return;
   }
+  for (int a = 0; a < static_cast<int>(K); ++a) {
+    auto line = [&](int64_t q, const std::array<int64_t, 3>& idx) { velocity_line(g, L, b, a, c[a], q, idx); };
+    if (k == kEveryPlane) for_each_line(L, b, line);
+    else lines_in_plane(L, b, k, line);
+  }
+}
+
+void pressure_axis(const Grid& g, const Layout& L, int b, double* p, int64_t k) {
+  if (g.periodic(b)) {
+    if (k == kEveryPlane) wrap_periodic_axis<1>(L, b, {p});
+    else wrap_plane<1>(L, b, k, {p});
+    return;
+  }
+  auto line = [&](int64_t q, const std::array<int64_t, 3>&) { pressure_line(g, L, b, p, q); };
+  if (k == kEveryPlane) for_each_line(L, b, line);
+  else lines_in_plane(L, b, k, line);
+}
+
+// Every axis in order, each over the whole padded extent of the others. In 3D the ghosts along x
+// and along y of a z plane come from that plane alone, so one loop over the planes (-1 .. n + 1)
+// makes both, x first (the y ghosts are whole rows, their ends x's): one parallel loop where
+// there were two (at 32^3 a step runs about 100, each start and join some microseconds).
+template <class Axis>
+void fill_axes(const Grid& g, const Layout& L, Axis&& axis) {
+  if (g.dim == 3) {
+    sweep_for(L.cells(), L.n[2] + 3, 1, [&](int64_t k0, int64_t k1) {
+      for (int64_t k = k0; k < k1; ++k) {
+        axis(0, k - 1);
+        axis(1, k - 1);
+      }
+    });
+    axis(2, kEveryPlane);
+    return;
+  }
+  for (int b = 0; b < g.dim; ++b) axis(b, kEveryPlane);
+}
+
+}  // namespace
+
+void fill_velocity_ghosts(const Grid& g, const Layout& L, const std::array<double*, 3>& c) {
+  fill_axes(g, L, [&](int b, int64_t k) {
+    if (g.dim == 3) velocity_axis<3>(g, L, b, c, k);
+    else velocity_axis<2>(g, L, b, {c[0], c[1]}, k);
+  });
+}
+
+void fill_pressure_ghosts(const Grid& g, const Layout& L, double* p) {
+  fill_axes(g, L, [&](int b, int64_t k) { pressure_axis(g, L, b, p, k); });
 }
 
 }  // namespace silt::fluid
