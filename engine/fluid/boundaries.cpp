@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstdint>
 
+#include "core/assert.hpp"
 #include "core/parallel.hpp"
 #include "fluid/sweep_for.hpp"
 
@@ -49,9 +50,9 @@ inline void wrap_row(const Layout& L, double* u, int64_t j, int64_t k) {
 }
 
 // The ghosts along a periodic axis b of the arrays f (n cells, or n faces, the face n being face
-// 0), over the whole padded extent of the other axes: along x three values at the ends of each
-// row (the rows shared among the threads), along the last axis whole rows (2D) or planes (3D).
-// (In 3D, x and y go a plane at a time: wrap_plane.)
+// 0), over the whole padded extent of the other axes: along the last axis whole rows (2D) or
+// planes (3D); along x in 2D three values at the ends of each row, the rows shared among the
+// threads. (In 3D, x and y go a plane at a time: wrap_plane.)
 template <size_t K>
 void wrap_periodic_axis(const Layout& L, int b, const std::array<double*, K>& f) {
   if (b == L.dim - 1) {
@@ -59,10 +60,10 @@ void wrap_periodic_axis(const Layout& L, int b, const std::array<double*, K>& f)
     for (double* u : f) wrap_block(L, b, u, base, L.s[b]);
     return;
   }
-  const int64_t p1 = L.n[1] + 3, p2 = L.dim == 3 ? L.n[2] + 3 : 1;
-  sweep_for(L.cells(), p1 * p2, kLinesPerTask, [&](int64_t r0, int64_t r1) {
+  SILT_ASSERT(L.dim == 2 && b == 0, "in 3D the ghosts along x and y are wrapped a plane at a time");
+  sweep_for(L.cells(), L.n[1] + 3, kLinesPerTask, [&](int64_t r0, int64_t r1) {
     for (double* u : f)
-      for (int64_t r = r0; r < r1; ++r) wrap_row(L, u, r % p1 - 1, L.dim == 3 ? r / p1 - 1 : 0);
+      for (int64_t r = r0; r < r1; ++r) wrap_row(L, u, r - 1, 0);
   });
 }
 

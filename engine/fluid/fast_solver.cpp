@@ -117,6 +117,15 @@ FastSolver::FastSolver(int dim, const std::array<SolverAxis, 3>& axes)
     while (g > 1 && g * n * static_cast<int64_t>(sizeof(double)) > kCacheBlockBytes) g /= 2;
     plans_->group[a] = (g * plans_->stride[a]) % 8 == 0 ? g : lines;
   }
+  // x and y a group of z planes at a time: the fewest planes whose lines along x fill whole blocks
+  // of kLinesX, when x and y are transformed (neither is the Thomas axis), the group takes at
+  // most kPlaneGroupBytes and the box holds at least 4 groups (fewer keep the threads on the
+  // lines of each axis; the lines see the same operations either way).
+  if (dim == 3 && tri_axis_ != 0 && tri_axis_ != 1) {
+    const int64_t g = kLinesX / std::gcd(int64_t{kLinesX}, m_[1]);
+    if (g * m_[0] * m_[1] * static_cast<int64_t>(sizeof(double)) <= kPlaneGroupBytes && m_[2] >= 4 * g)
+      plane_group_ = g;
+  }
   int64_t largest = plans_->slots[0] * kLinesX;  // block
   for (int a = 0; a < dim; ++a) {
     lambda_[a].resize(m_[a]);
@@ -299,13 +308,8 @@ void FastSolver::tridiagonal(double* data, double sigma) {
   });
 }
 
-int64_t FastSolver::plane_group() const {
-  const int64_t g = kLinesX / std::gcd(int64_t{kLinesX}, m_[1]);
-  return g * m_[0] * m_[1] * static_cast<int64_t>(sizeof(double)) <= kPlaneGroupBytes ? g : 0;
-}
-
 void FastSolver::planes(double* data, bool forward, const SolveIo& io) {
-  const int64_t g = plane_group(), groups = (m_[2] + g - 1) / g;
+  const int64_t g = plane_group_, groups = (m_[2] + g - 1) / g;
   sweep_for(size(), groups, 1, [&](int64_t g0, int64_t g1) {
     for (int64_t q = g0; q < g1; ++q)
       for (int a : forward ? std::array<int, 2>{0, 1} : std::array<int, 2>{1, 0})
@@ -332,10 +336,9 @@ void FastSolver::solve(double* data, double sigma, const SolveIo& io) {
       });
     return;
   }
-  if (dim_ == 3 && tri_axis_ != 0 && tri_axis_ != 1 && plane_group() > 0 && m_[2] >= 4 * plane_group()) {
+  if (plane_group_ > 0) {
     // x and y transformed a group of planes at a time, then z: divided (or the Thomas sweeps
-    // along it). (A box of fewer than 4 groups keeps its threads on the lines of each axis; the
-    // lines see the same operations either way.)
+    // along it).
     planes(data, true, in);
     if (tri_axis_ == 2) tridiagonal(data, sigma);
     else transform(data, 2, true, sigma);

@@ -113,9 +113,6 @@ class FastSolver {
   // Along x then y forward (or y then x back), a group of z planes after the other: the group
   // stays in the cache between the two, one pass over the grid instead of two.
   void planes(double* data, bool forward, const SolveIo& io);
-  // z planes per group: the fewest whose lines along x fill whole blocks of kLinesX; 0 when the
-  // group would take more than kPlaneGroupBytes (no planes then).
-  int64_t plane_group() const;
   static constexpr int64_t kPlaneGroupBytes = 1 << 20;
   // A buffer's block of lines into the eigenbasis (forward) and back.
   void through_modes(double* buf, int axis, bool forward);
@@ -132,6 +129,7 @@ class FastSolver {
   int dim_;
   std::array<int64_t, 3> m_{1, 1, 1};
   std::array<SolverAxis, 3> axes_;
+  int64_t plane_group_ = 0;                    // z planes per group of planes(), 0: each axis in a pass of its own
   int tri_axis_ = -1;                          // the axis solved by the Thomas algorithm, -1: transforms on every axis
   std::array<std::vector<double>, 3> lambda_;  // eigenvalues / h^2 per axis
   double norm_ = 1;                            // product of the transforms' scale factors
