@@ -432,8 +432,9 @@ void cyclic(const Args& a) {
       r.n = m.n_grains;
       r.strain = c;  // the cycle
       const State& s = sim.state();
-      r.phi = measure(m, s).phi;
-      r.z_star = measure(m, s).z_star;
+      const Measurements x = measure(m, s, measure_part::kGrains | measure_part::kContacts);
+      r.phi = x.phi;
+      r.z_star = x.z_star;
       r.mob = paste::friction_mobilisation(s);
       // eps_11 - eps_22, eps_ii = (L_i^0 - L_i) / L_i^0 (Peyneau sec. 5.3.1).
       r.mu = (lx0 - s.box.len[0]) / lx0 - (ly0 - s.box.len[1]) / ly0;

@@ -102,7 +102,7 @@ int run(int argc, char** argv) {
   opt.steps = steps;
   opt.hooks.push_back({every, [&](const State& s) {
                          if (s.shear_strain < 1) return;
-                         const Measurements q = measure(m, s);
+                         const Measurements q = measure(m, s, measure_part::kStress);
                          silt_series.add(q.stress[0][1], q.stress[1][1]);
                        }});
   silt_series.wall = sim.run(opt).wall_s;
