@@ -3,6 +3,8 @@
 
 #include <algorithm>
 
+#include "dem/forces_under.hpp"
+
 namespace silt::dem {
 namespace {
 
@@ -45,6 +47,12 @@ const ModuleSpec& module() {
     s.finish = finish_dem;
     s.describe = describe_dem;
     s.steer = steer_dem;
+    s.fields = {{"dem_forces_under", Extent::kFree, "",
+                 "the parameters of every force on the grains that particle_f and the pair and wall forces were made "
+                 "under (dem/forces_under.hpp): others in the model make them again before the step; the first "
+                 "state's forces, refresh_forces"}};
+    s.force_parameters = contact_parameters;
+    s.stale = forces_under_other;
     s.carry = carry_frozen;
     return s;
   }();

@@ -22,6 +22,9 @@ struct DemWorkspace final : Workspace {
   std::vector<double> old_hist;
   // The springs before the first state's force evaluation (dem::keep_springs), put back after it.
   std::vector<double> kept_pair_hist, kept_wall_hist;
+  // Whether the forces of the state are made again (graph::Phase::kResolve: they were made under
+  // other parameters, dem/forces_under.hpp), decided by the graph's first stage for the others.
+  bool refresh = false;
   std::vector<int32_t> perm;           // new index -> old index of the last spatial sort
   std::vector<std::byte> permute_buf;  // a per-grain array being renumbered by perm
   PairSchedule schedule;               // of the current pair list when schedule_valid

@@ -101,6 +101,7 @@ const ModuleSpec& module() {
     s.compile = compile_drag;
     s.finish = finish_drag;
     s.describe = describe_drag;
+    s.force_parameters = [](const Model& m) { return std::vector<double>{m.params.get<DragParams>().viscosity}; };
     return s;
   }();
   return spec;

@@ -4,9 +4,12 @@
 //                                      \------> wall_forces ---/
 //
 // and for the forces of the first state: update_neighbors -> keep_springs -> (contact_forces |
-// wall_forces) -> sum_forces, then restore_springs.
+// wall_forces) -> sum_forces, then restore_springs. The forces of a state made under other
+// parameters (dem/forces_under.hpp), made again before its step: the same without the neighbour
+// update, when forces_stale finds them so.
 #include <memory>
 
+#include "dem/forces_under.hpp"
 #include "dem/stages.hpp"
 #include "graph/adders.hpp"
 #include "silt/module.hpp"
@@ -146,9 +149,69 @@ bool dem_alone(const Model& m) {
   return true;
 }
 
+// The forces of a state given or steered under other parameters than those it holds them under,
+// made again at its positions and velocities as the first state's are (the springs stretched by a
+// step they do not take, then put back), when they are: forces_stale decides it for the rest.
+// (The other modules' forces, a drag's, join the sum; the list is the state's.)
+void add_refresh_stages(GraphBuilder& b) {
+  const Model& m = b.model();
+  auto& w = b.workspaces().get<dem::DemWorkspace>();
+  auto forces = b.forces();
+  const FieldId under = dem::forces_under_field();
+  const int stale = b.add("forces_stale",
+                          [&w](const Model& mm, State& s) { w.refresh = dem::forces_under_other(mm, s); }, {under}, {});
+  b.light(stale);
+  const int keep = b.add("keep_springs",
+                         [&w](const Model&, State& s) {
+                           if (w.refresh) dem::keep_springs(s, w);
+                         },
+                         {fid::pair_hist, fid::wall_hist}, {});
+  b.after(keep, stale, "only when the forces are stale");
+  const int pairs = b.add(
+      "contact_forces",
+      [&w](const Model& mm, State& s) {
+        if (w.refresh) dem::contact_forces(mm, s, w);
+      },
+      contact_reads(m), contact_writes());
+  b.after(pairs, keep, "stretches the springs kept");
+  const int restore = b.add("restore_springs",
+                            [&w](const Model&, State& s) {
+                              if (w.refresh) dem::restore_springs(s, w);
+                            },
+                            {}, {fid::pair_hist, fid::wall_hist});
+  b.after(restore, pairs, "puts back the springs the evaluation stretched");
+  if (!m.walls.empty()) {
+    const int wf = b.add(
+        "wall_forces",
+        [&w](const Model& mm, State& s) {
+          if (w.refresh) dem::wall_forces(mm, s);
+        },
+        kWallReads, kWallWrites);
+    b.after(wf, keep, "stretches the springs kept");
+    b.after(restore, wf, "puts back the springs the evaluation stretched");
+    b.add_force({fid::wall_f, fid::particle_t_wall}, wf);
+  }
+  const int sum = b.add("sum_forces",
+                        [forces, &w](const Model& mm, State& s) {
+                          if (w.refresh) dem::sum_forces(mm, s, *forces);
+                        },
+                        {fid::particle_f, fid::particle_t}, {fid::particle_f, fid::particle_t});
+  b.after(sum, pairs, "adds the pair forces made again");
+  b.sums_forces(sum);
+  const int record = b.add("record_forces_under",
+                           [&w](const Model& mm, State& s) {
+                             if (w.refresh) dem::record_forces_under(mm, s);
+                           },
+                           {}, {under});
+  b.after(record, stale, "records the parameters found stale");
+  b.light(record);
+  diagnose_dem(b);
+}
+
 }  // namespace
 
 void add_dem_stages(GraphBuilder& b) {
+  if (b.phase() == Phase::kResolve || b.phase() == Phase::kRefresh) return add_refresh_stages(b);
   const Model& m = b.model();
   auto& w = b.workspaces().get<dem::DemWorkspace>();
   const bool walls = !m.walls.empty();
@@ -215,6 +278,8 @@ void add_dem_stages(GraphBuilder& b) {
                               {fid::pair_hist, fid::wall_hist});
     b.after(restore, pairs, "puts back the springs the first evaluation stretched");
     if (walls) b.after(restore, b.find("wall_forces"), "puts back the springs the first evaluation stretched");
+    const int record = b.add("record_forces_under", &dem::record_forces_under, {}, {dem::forces_under_field()});
+    b.light(record);
     return;
   }
   if (m.velocities_solved) {

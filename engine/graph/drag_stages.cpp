@@ -9,7 +9,9 @@ void add_drag_stages(GraphBuilder& b) {
   const FieldId f = find_field("particle_f_drag")->id, t = find_field("particle_t_drag")->id;
   const int drag = b.add("drag_forces", [f, t](const Model& m, State& s) { drag::drag_forces(m, s, f, t); },
                          {fid::particle_v, fid::particle_w, fid::particle_r, fid::particle_frozen}, {f, t});
-  b.after(drag, b.find("update_neighbors"), "a rebuild may renumber the grains (cell order)");
+  // (the forces made again for a state given or steered follow no neighbour update: Phase::kResolve)
+  if (const int nbr = b.find("update_neighbors"); nbr >= 0)
+    b.after(drag, nbr, "a rebuild may renumber the grains (cell order)");
   b.add_force({f, t}, drag);
 }
 

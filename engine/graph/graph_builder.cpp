@@ -74,6 +74,10 @@ int GraphBuilder::loop(std::string name, int times, const std::function<void(Gra
 }
 
 void GraphBuilder::add_force(ForceSource source, int writer) {
+  for (const Module& mod : modules())
+    if (mod.spec->name == module_ && !mod.spec->force_parameters)
+      throw std::logic_error("step graph: module " + module_ + " adds a force on the grains (" +
+                             stages_.at(writer).name + ") but names no parameters it depends on (force_parameters)");
   forces_->push_back(source);
   force_writers_.emplace_back(source, writer);
   for (int s : summers_) reads_force(s, source, writer);
@@ -179,7 +183,8 @@ StageList build_stage_list(const Model& m, Workspaces& ws, Phase phase, std::vec
   GraphBuilder b(m, ws, phase);
   for (const Module& mod : modules()) {
     if (!mod.add_stages || !m.module_on(mod.spec->name)) continue;
-    if (phase == Phase::kResolve && !mod.spec->stale) continue;
+    if (phase == Phase::kResolve && !mod.spec->stale && !mod.spec->force_parameters) continue;
+    if (phase == Phase::kRefresh && !mod.spec->force_parameters) continue;
     b.set_module(mod.spec->name);
     mod.add_stages(b);
   }

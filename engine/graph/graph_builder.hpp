@@ -16,10 +16,13 @@
 namespace silt::graph {
 
 // kStep: one time step. kSetup: the forces of the first state, so that the first half kick uses
-// them (LAMMPS `setup`). kResolve: what a module solved again for a state given to a simulation
-// under changed parameters (ModuleSpec::stale), the stages a step runs first when they are
-// steered between steps; only the adders of modules with a `stale` test are called.
-enum class Phase { kStep, kSetup, kResolve };
+// them (LAMMPS `setup`). kResolve: what modules solve and make again for a state given to a
+// simulation, or steered, under changed parameters (ModuleSpec::stale), before its next step: a
+// paste's velocities, the forces on the grains; only the adders of modules with a `stale` test or
+// forces on the grains (ModuleSpec::force_parameters) are called. kRefresh: the forces alone made
+// again, for a state whose parameters were steered (a paste solves its velocities again in the
+// step, after the step's own stages); only the adders of modules with forces are called.
+enum class Phase { kStep, kSetup, kResolve, kRefresh };
 
 using StageFn = std::function<void(const Model&, State&)>;
 using Access = std::vector<FieldId>;
@@ -87,7 +90,9 @@ class GraphBuilder {
 
   void diagnose(EventId event, DiagnoseFn fn) { diagnoses_->push_back({event, std::move(fn)}); }
   // A force (and torque) written by stage `writer`, added to the grains by the stages marked
-  // with sums_forces(), which then read it and run after `writer`.
+  // with sums_forces(), which then read it and run after `writer`. Its module gives the parameters
+  // it depends on (ModuleSpec::force_parameters: the forces are made again when they change), and
+  // its stages are then added in Phase::kRefresh too, with no neighbour update before them.
   void add_force(ForceSource source, int writer);
   void sums_forces(int stage);
   // A stage that may add the forces of the step before (dem::late_kick_drift): it reads them, as

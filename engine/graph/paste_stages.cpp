@@ -201,6 +201,8 @@ void add_paste_stages(GraphBuilder& b) {
     b.after(again, rate, "solves under the imposed rate as the model has it now");
   // A state given under changed parameters: its step, and its velocities solved again (and no more).
   if (b.phase() == Phase::kResolve) {
+    b.after(dt, b.find("restore_springs"), "the contact forces made again stretched the springs by the last step");
+    b.after(again, b.find("sum_forces"), "solves with the contact forces, made again if they were stale");
     diagnose_paste(b);
     return;
   }

@@ -5,11 +5,14 @@
 #include <tbb/info.h>
 #include <tbb/task_arena.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <optional>
 #include <sstream>
+#include <utility>
 
+#include "dem/forces_under.hpp"
 #include "dem/module.hpp"
 #include "graph/restart_point.hpp"
 #include "graph/step_graph.hpp"
@@ -27,7 +30,14 @@ struct Simulation::Impl {
   std::unique_ptr<graph::StepGraph> setup;  // the forces of the first state
   // What modules solve again for a state given under changed parameters (ModuleSpec::stale).
   std::unique_ptr<graph::StepGraph> resolve;
+  // The forces alone made again for a state whose parameters were steered (refresh_steered).
+  std::unique_ptr<graph::StepGraph> refresh;
+  // The forces the last step left, while a steered change has them made again (refresh_steered).
+  std::optional<State> as_stepped;
   bool resolve_pending = false;
+  // A parameter steered since the last step (model_for_steering): what it made stale is solved and
+  // made again before the next one (ModuleSpec::stale).
+  bool steered = false;
   // A state given under other parameters than its solve's, as given, until its first step: a
   // change before that step gives it again under the new parameters (changed back to its own, it
   // is the state given, bit for bit, not a solve of it from the one made under the others).
@@ -52,6 +62,7 @@ Simulation::Simulation(Model model, int threads)
     impl_->step = std::make_unique<graph::StepGraph>(model_, impl_->workspaces, graph::Phase::kStep);
     impl_->setup = std::make_unique<graph::StepGraph>(model_, impl_->workspaces, graph::Phase::kSetup);
     impl_->resolve = std::make_unique<graph::StepGraph>(model_, impl_->workspaces, graph::Phase::kResolve);
+    impl_->refresh = std::make_unique<graph::StepGraph>(model_, impl_->workspaces, graph::Phase::kRefresh);
   });
 }
 
@@ -87,6 +98,7 @@ void Simulation::set_access_check(bool on) {
   impl_->step->set_access_check(on);
   impl_->setup->set_access_check(on);
   impl_->resolve->set_access_check(on);
+  impl_->refresh->set_access_check(on);
 }
 
 // Up to kSortMin grains every stage is a single block of work (grains are not renumbered in cell
@@ -103,9 +115,11 @@ void Simulation::execute(graph::StepGraph& g, State& s) {
 // of the modules' stages. A failure it reports (a paste's first solve) is the first step's.
 void Simulation::prepare() {
   if (impl_->primed) {
+    refresh_steered();
     resolve_stale();
     return;
   }
+  impl_->steered = false;  // (the setup runs under the model as it is now)
   if (state_.step == 0 && !impl_->unprepared) impl_->unprepared = state_;
   state_.events.clear();
   state_.internal.clear();
@@ -123,15 +137,61 @@ void Simulation::prepare() {
   if (ok) collect_notices();
 }
 
+namespace {
+
+// The fields `ids` of `from` copied into `to`.
+void copy_fields(const State& from, State& to, const std::vector<FieldId>& ids) {
+  std::vector<const void*> src(field_infos().size(), nullptr);
+  for_each_field(from, [&](const FieldInfo& f, const auto& v) { src[f.id] = &v; });
+  for_each_field(to, [&](const FieldInfo& f, auto& v) {
+    if (std::find(ids.begin(), ids.end(), f.id) != ids.end())
+      v = *static_cast<const std::remove_reference_t<decltype(v)>*>(src[f.id]);
+  });
+}
+
+}  // namespace
+
+// A parameter steered since the last step that the forces depend on (dem/forces_under.hpp): the
+// forces are made again before the next half kick uses them, else the change would enter the
+// dynamics half a step late. (A paste's velocities stale under it are solved again by the step
+// itself, after the step's own stages, an imposed rate, have run.) Steered back to the parameters
+// of the forces the last step left, those forces come back: a value set and set back between two
+// steps changes nothing.
+void Simulation::refresh_steered() {
+  if (!std::exchange(impl_->steered, false) || !model_.module_on("dem")) return;
+  if (!dem::forces_under_other(model_, state_)) return;
+  std::vector<FieldId> made;  // what the forces made again write
+  for (const graph::Stage& st : impl_->refresh->stages()) made.insert(made.end(), st.writes.begin(), st.writes.end());
+  if (impl_->as_stepped && !dem::forces_under_other(model_, *impl_->as_stepped)) {
+    copy_fields(*impl_->as_stepped, state_, made);
+    impl_->as_stepped.reset();
+    impl_->restart.take(state_);
+    return;
+  }
+  if (!impl_->as_stepped) impl_->as_stepped = state_;
+  run_again(*impl_->refresh);
+}
+
 // A state given under changed parameters: the modules' Phase::kResolve stages, once, before it is
 // sampled or stepped. A failure they report is the first step's, as when the same change is
 // steered between steps (the state's last good one is the state given).
 void Simulation::resolve_stale() {
   if (!impl_->resolve_pending) return;
   impl_->resolve_pending = false;
+  run_again(*impl_->resolve);
+}
+
+// What a graph of Phase::kResolve or kRefresh makes again for the state as it is. A failure it
+// reports is the next step's: the state goes back to its restart point (the state given, or the
+// one the change was steered at).
+void Simulation::run_again(graph::StepGraph& g) {
   state_.events.clear();
-  execute(*impl_->resolve, state_);
-  if (impl_->resolve->diagnose(model_, state_, state_.step + 1)) {
+  // (the pair forces made again are stored, as at a boundary seen: State::boundary_seen)
+  const bool seen = state_.boundary_seen;
+  state_.boundary_seen = true;
+  execute(g, state_);
+  state_.boundary_seen = seen;
+  if (g.diagnose(model_, state_, state_.step + 1)) {
     impl_->restart.take(state_);
     return;
   }
@@ -161,6 +221,7 @@ std::vector<std::string> Simulation::take_notices() {
 
 void Simulation::restore(State s) {
   impl_->unprepared.reset();
+  impl_->as_stepped.reset();
   impl_->given = true;
   // (as given, before adopt_state: kept when a module finds it stale; only a module that can is on)
   std::optional<State> as_given;
@@ -228,6 +289,7 @@ Model& Simulation::model_for_steering() {
     impl_->primed = false;
   }
   if (impl_->primed && !state_.failure.failed) impl_->restart.take(state_);
+  impl_->steered = true;
   return model_;
 }
 
@@ -264,6 +326,7 @@ bool Simulation::step() {
   impl_->unprepared.reset();                // (before the step's workspaces are made: never held beside them)
   impl_->given_stale.reset();
   state_.events.clear();
+  impl_->as_stepped.reset();
   execute(*impl_->step, state_);
   if (!impl_->step->diagnose(model_, state_)) return false;
   if (state_.step % model_.limits.check_every == 0) impl_->restart.take(state_);

@@ -64,6 +64,7 @@ const ModuleSpec& tether() {
          }}};
     s.enabled = [](const SceneDesc& d) { return d.has("tether.stiffness"); };
     s.compile = [](const SceneDesc& d, Model& m) { m.params.get<TetherParams>().k = d.real("tether.stiffness"); };
+    s.force_parameters = [](const Model& m) { return std::vector<double>{m.params.get<TetherParams>().k}; };
     return s;
   }();
   return spec;
@@ -85,7 +86,7 @@ void add_tether_stages(graph::GraphBuilder& b) {
   const int loop = b.loop("tether_cycle", 1, [&](graph::GraphBuilder& body) {
     body.add("tether_forces", &tether_forces, {fid::box, fid::particle_x, x0}, {f});
   });
-  b.after(loop, b.find("update_neighbors"), "a rebuild may renumber the grains");
+  if (const int nbr = b.find("update_neighbors"); nbr >= 0) b.after(loop, nbr, "a rebuild may renumber the grains");
   if (b.phase() == graph::Phase::kSetup) b.after(loop, b.find("tether_anchor"), "pulls toward the anchors");
   b.add_force({f, kNoField}, loop);
 }

@@ -93,6 +93,12 @@ struct ModuleSpec {
   // parameters are steered between steps), not the stages of a first state: its forces stay as
   // they are. Empty: never.
   std::function<bool(const Model& m, const State& s)> stale;
+  // The parameters its forces on the grains depend on (a contact law's, a drag's viscosity), in a
+  // fixed order. The DEM keeps those of every module on with the forces a state holds
+  // (dem_forces_under); under a model whose differ (a value steered, or a state given to a model
+  // compiled with other values) the forces are made again before the next half kick uses them:
+  // the module's stages then run in graph::Phase::kResolve too. Empty: it exerts no such force.
+  std::function<std::vector<double>(const Model& m)> force_parameters;
   // Fills the module's fields of a state made or given (restored) for this model with what a later
   // change must not lose (the cycles' phase origin under the w of this model). Empty: nothing.
   std::function<void(const Model& m, State& s)> adopt;

@@ -69,7 +69,9 @@ class Simulation {
   // restart point moves to the current state first, so that a replay to the last good state
   // takes the steps before the change with the parameters they were taken with. Before the first
   // step the state goes back to what it was before prepare(), whose setup stages then run again
-  // under the changed parameters.
+  // under the changed parameters. After the first step, the forces a changed parameter acts on
+  // (ModuleSpec::force_parameters) are made again by the next prepare() (steer_stopped's, or the
+  // next step's), so that the next half kick uses the forces of the parameters it steps under.
   Model& model_for_steering();
   // A change steered while stopped (the shell's `set`; a sweep's next point): steer() on the
   // model, then prepare(). A state whose solve failed under an earlier change goes back to its last
@@ -157,6 +159,8 @@ class Simulation {
   void execute(graph::StepGraph& g, State& s);
   void collect_notices();
   void resolve_stale();
+  void refresh_steered();
+  void run_again(graph::StepGraph& g);
   // ModuleSpec::adopt of every module the model enables, on the state made or restored.
   void adopt_modules();
   Model model_;

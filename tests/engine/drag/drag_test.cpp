@@ -103,3 +103,19 @@ TEST_CASE("drag: a time step past the Stokes time is refused at the viscosity") 
   CHECK(spin.find("Stokes time of rotation I / (8 pi eta r^3) = ") != std::string::npos);
   CHECK(test::scene_error(test::fill(kFall, {{"eta", eta}, {"dt", 0.25 * tau}})).empty());
 }
+
+TEST_CASE("drag: a viscosity steered between steps acts from the next half kick") {
+  const double r = 1e-3, m = 2500 * 4.0 / 3.0 * std::numbers::pi * r * r * r, eta = 0.5;
+  const double tau = m / (6 * std::numbers::pi * eta * r);
+  auto sim = test::simulation_from(test::fill(kFall, {{"eta", eta}, {"dt", 0.01 * tau}}));
+  for (int k = 0; k < 20; ++k) REQUIRE(sim->step());
+  const FieldId f = find_field("particle_f_drag")->id;
+  const double v = sim->state().particle_v[2];
+  // The drag the last step left: of the old viscosity, at the half-step velocity.
+  REQUIRE(double_field(sim->state(), f)[2] == doctest::Approx(-6 * std::numbers::pi * eta * r * v).epsilon(0.02));
+  REQUIRE(sim->steer_stopped(parse_override("drag.viscosity=2")).cannot.empty());
+  // Made again under the new one at the state's velocity, in the sum the next half kick uses.
+  const double drag = -6 * std::numbers::pi * 2.0 * r * v;
+  CHECK(double_field(sim->state(), f)[2] == doctest::Approx(drag).epsilon(1e-14));
+  CHECK(sim->state().particle_f[2] == doctest::Approx(drag).epsilon(1e-14));
+}

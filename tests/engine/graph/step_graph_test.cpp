@@ -57,7 +57,12 @@ TEST_CASE("stages follow the modules a scene enables") {
   // The forces of the first state (what Simulation::prepare runs): the same adders.
   CHECK(names(silo, graph::Phase::kSetup) == std::vector<std::string>{"update_neighbors", "keep_springs",
                                                                       "contact_forces", "wall_forces", "sum_forces",
-                                                                      "restore_springs"});
+                                                                      "restore_springs", "record_forces_under"});
+  // Those forces made again for a state whose parameters were steered: without the neighbour
+  // update, when they were made under others.
+  CHECK(names(silo, graph::Phase::kRefresh) ==
+        std::vector<std::string>{"forces_stale", "keep_springs", "contact_forces", "wall_forces", "restore_springs",
+                                 "sum_forces", "record_forces_under"});
   CHECK(names(pack, graph::Phase::kSetup).back() == "box_stress");
 }
 

@@ -1,0 +1,136 @@
+// A value the forces depend on, steered between steps: the forces are made again before the next
+// half kick uses them (dem/forces_under.hpp), whether it is steered in place or the state is given
+// to a model compiled with it; set and set back, it changes nothing.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "silt/simulation.hpp"
+#include "support/scenes.hpp"
+
+using namespace silt;
+
+namespace {
+
+// 60 frictional disks poured on a floor under a gravity tilted 25 degrees, periodic along x: many
+// contacts then carry a tangential force well above 0.05 of their normal one.
+const char* kPile = R"(
+[scene]
+dimension = 2
+seed = 3
+[domain]
+lo = [0, 0]
+hi = [10, 8]
+periodic = [true, false]
+[gravity]
+magnitude = 9.81
+angle = 25
+[contact]
+model = "hooke"
+k_n = 2e5
+gamma_n = 50
+friction = {mu}
+[[walls]]
+point = [0, 0]
+normal = [0, 1]
+friction = 0.5
+[[grains]]
+count = 60
+radius_min = 0.4
+radius_max = 0.5
+placement = "random"
+[run]
+dt = 1e-4
+)";
+
+std::string pile(double mu) { return test::fill(kPile, {{"mu", mu}}); }
+
+// The largest |f_t| / |f_n| over the touching pairs of the state's list (pair_f: on i from j).
+double largest_mobilisation(const State& s) {
+  double worst = 0;
+  for (int64_t i = 0; i < s.n; ++i)
+    for (int32_t p = s.nbr_start[i]; p < s.nbr_start[i + 1]; ++p) {
+      if (!s.pair_touch[p]) continue;
+      const int64_t j = s.pair_j[p];
+      double d[3] = {0, 0, 0}, f[2] = {s.pair_f[2 * p], s.pair_f[2 * p + 1]};
+      for (int c = 0; c < 2; ++c) d[c] = s.particle_x[2 * i + c] - s.particle_x[2 * j + c];
+      s.box.nearest(d, 2);
+      const double len = std::hypot(d[0], d[1]);
+      const double fn = (f[0] * d[0] + f[1] * d[1]) / len;
+      const double ft = std::abs(f[0] * d[1] - f[1] * d[0]) / len;
+      if (std::abs(fn) > 0) worst = std::max(worst, ft / std::abs(fn));
+    }
+  return worst;
+}
+
+std::unique_ptr<Simulation> poured(int steps) {
+  auto sim = test::simulation_from(pile(0.5));
+  for (int k = 0; k < steps; ++k) REQUIRE(sim->step());
+  return sim;
+}
+
+}  // namespace
+
+TEST_CASE("a friction steered between steps: the forces of the state are made under it at once") {
+  auto sim = poured(6000);
+  // Contacts mobilised beyond the new coefficient: the change must clip them.
+  REQUIRE(largest_mobilisation(sim->state()) > 0.2);
+  const auto outcome = sim->steer_stopped(parse_override("contact.friction=0.05"));
+  REQUIRE(outcome.cannot.empty());
+  REQUIRE(outcome.refused.empty());
+  // Coulomb's bound of the new coefficient on every contact (the rounding of the clip's scaling).
+  CHECK(largest_mobilisation(sim->state()) <= 0.05 * (1 + 1e-12));
+  CHECK(largest_mobilisation(sim->state()) > 0.049);
+
+  // The same state given to the scene compiled with the new coefficient: the same forces, and the
+  // same steps after them, to the bit.
+  auto fresh = poured(6000);
+  auto compiled = test::simulation_from(pile(0.05));
+  compiled->restore(fresh->state());
+  compiled->prepare();
+  CHECK(state_hash(compiled->state()) == state_hash(sim->state()));
+  for (int k = 0; k < 200; ++k) {
+    REQUIRE(sim->step());
+    REQUIRE(compiled->step());
+  }
+  CHECK(state_hash(compiled->state()) == state_hash(sim->state()));
+}
+
+TEST_CASE("a friction steered while running enters the next step, and one set and set back changes nothing") {
+  // Between two steps of a run (the shell's `set` while it runs), after 99 of them: the next step
+  // moves the grains with the forces of the new coefficient, as the state given to the scene
+  // compiled with it does.
+  auto steered = poured(6000);
+  RunOptions opt;
+  opt.steps = 300;
+  int calls = 0;
+  opt.boundary_wanted = [] { return true; };
+  opt.between_steps = [&] {
+    if (++calls == 100) REQUIRE(steer(steered->model_for_steering(), parse_override("contact.friction=0.05")).empty());
+  };
+  REQUIRE(steered->run(opt).end == RunEnd::kDone);
+  auto at = poured(6000);
+  RunOptions first;
+  first.steps = 99;
+  REQUIRE(at->run(first).end == RunEnd::kDone);
+  auto compiled = test::simulation_from(pile(0.05));
+  compiled->restore(at->state());
+  RunOptions rest;
+  rest.steps = 201;
+  REQUIRE(compiled->run(rest).end == RunEnd::kDone);
+  CHECK(state_hash(compiled->state()) == state_hash(steered->state()));
+  // Not the run that changed nothing.
+  REQUIRE(at->run(rest).end == RunEnd::kDone);
+  CHECK(state_hash(at->state()) != state_hash(steered->state()));
+
+  // Set and set back before the next step: the forces the last step left come back.
+  opt.between_steps = nullptr;
+  auto again = poured(6000);
+  REQUIRE(again->steer_stopped(parse_override("contact.friction=0.1")).cannot.empty());
+  REQUIRE(again->steer_stopped(parse_override("contact.friction=0.5")).cannot.empty());
+  REQUIRE(again->run(opt).end == RunEnd::kDone);
+  auto reference = poured(6000);
+  REQUIRE(reference->run(opt).end == RunEnd::kDone);
+  CHECK(state_hash(again->state()) == state_hash(reference->state()));
+}
