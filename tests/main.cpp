@@ -3,7 +3,7 @@
 // splits it into two CMake list items) would otherwise pass having run nothing. The files the tests
 // write (checkpoints, stats, frames, scripts, many through the command line into its working
 // directory) go to a directory of the run's own, made empty in the system's temporary directory and
-// removed when every test passed (kept and named otherwise): not into the directory the program
+// removed when every test passed or it is empty (kept and named otherwise): not into the directory the program
 // was started from (run from the source tree, they were left there), nor shared by the cases ctest
 // runs at the same time.
 #define DOCTEST_CONFIG_IMPLEMENT
@@ -54,7 +54,7 @@ int main(int argc, char** argv) {
     result = 1;
   }
   std::error_code ec;
-  if (result == 0) std::filesystem::remove_all(dir, ec);
+  if (result == 0 || std::filesystem::is_empty(dir, ec)) std::filesystem::remove_all(dir, ec);
   else std::fprintf(stderr, "the tests' files are kept in %s\n", dir.c_str());
   return result;
 }

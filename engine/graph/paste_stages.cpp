@@ -8,6 +8,7 @@
 #include <cmath>
 #include <string>
 
+#include "dem/forces_under.hpp"
 #include "graph/adders.hpp"
 #include "paste/lubrication_laws.hpp"
 #include "paste/solve.hpp"
@@ -47,14 +48,17 @@ Access solve_reads() {
           f.dt_scale,
           f.solved_under,
           f.pair_f_implicit,
+          f.forces_under,
+          dem::forces_under_field(),    // the parameters of the contact forces solved with
           shear::cycle_origin_field(),  // the cycles' phase, for the imposed stresses
           fid::particle_id};            // names the grains alone
 }
 
 Access solve_writes() {
   const paste::PasteFields f = paste::paste_fields();
-  return {fid::particle_v, fid::particle_w, fid::box_rate,  f.pair_f_lub, f.dt,           f.solver,         f.change,
-          f.factor,        f.alone,         f.coarse_order, f.dt_scale,   f.solved_under, f.pair_f_implicit};
+  return {fid::particle_v, fid::particle_w, fid::box_rate,     f.pair_f_lub,  f.dt,
+          f.solver,        f.change,        f.factor,          f.alone,       f.coarse_order,
+          f.dt_scale,      f.solved_under,  f.pair_f_implicit, f.forces_under};
 }
 
 void diagnose_paste(GraphBuilder& b) {
@@ -183,6 +187,7 @@ void add_paste_stages(GraphBuilder& b) {
         }());
     b.after(solve, b.find("sum_forces"), "solves with the contact forces of the first state");
     b.after(solve, b.find("restore_springs"), "implicit contacts: the springs as the first step starts them");
+    b.after(solve, b.find("record_forces_under"), "keeps the parameters of the contact forces it solved with");
     if (const int rate = b.find("impose_shear_rate"); rate >= 0)
       b.after(solve, rate, "solves under the imposed rate as the model has it now");
     diagnose_paste(b);
@@ -203,6 +208,7 @@ void add_paste_stages(GraphBuilder& b) {
   if (b.phase() == Phase::kResolve) {
     b.after(dt, b.find("restore_springs"), "the contact forces made again stretched the springs by the last step");
     b.after(again, b.find("sum_forces"), "solves with the contact forces, made again if they were stale");
+    b.after(again, b.find("record_forces_under"), "keeps the parameters of the contact forces it solves with");
     diagnose_paste(b);
     return;
   }

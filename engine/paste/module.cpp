@@ -386,6 +386,9 @@ const ModuleSpec& module() {
          "the parameters the velocities were solved under (viscosity, h_min / a, h_max / a, cutoff, Stokes drag, "
          "implicit contacts, pressure, cycle amplitude and w, shear rate and stress): others in the model solve them "
          "again before the step moves the grains (lubrication_resolve); lubrication_solve"},
+        {"paste_forces_under", Extent::kFree, "",
+         "dem_forces_under as the velocities were solved: the contact forces made again since under other "
+         "parameters (a friction steered) solve them again before the step moves the grains; lubrication_solve"},
         {"paste_solver", Extent::kFree, "", "solver counts (paste/solve.hpp SolverStat); lubrication_solve"},
         {"pair_f_implicit", Extent::kFree, "N",
          "with implicit contacts (else empty), the increment dt K G V of each contact's force over the step, on i "

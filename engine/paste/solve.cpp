@@ -8,6 +8,7 @@
 #include <string>
 
 #include "core/parallel.hpp"
+#include "dem/forces_under.hpp"
 #include "dem/stress.hpp"
 #include "paste/contact_stiffness.hpp"
 #include "shear/cycle_origin.hpp"
@@ -131,11 +132,11 @@ double fastest_rate(const State& s) {
 }
 
 PasteFields paste_fields() {
-  static const PasteFields f{find_field("pair_f_lub")->id,         find_field("paste_dt")->id,
-                             find_field("paste_solver")->id,       find_field("paste_change")->id,
-                             find_field("paste_factor")->id,       find_field("paste_alone")->id,
-                             find_field("paste_coarse_order")->id, find_field("paste_dt_scale")->id,
-                             find_field("paste_solved_under")->id, find_field("pair_f_implicit")->id};
+  static const PasteFields f{
+      find_field("pair_f_lub")->id,         find_field("paste_dt")->id,          find_field("paste_solver")->id,
+      find_field("paste_change")->id,       find_field("paste_factor")->id,      find_field("paste_alone")->id,
+      find_field("paste_coarse_order")->id, find_field("paste_dt_scale")->id,    find_field("paste_solved_under")->id,
+      find_field("pair_f_implicit")->id,    find_field("paste_forces_under")->id};
   return f;
 }
 
@@ -232,7 +233,13 @@ bool solved_under_other(const Model& m, const State& s) {
   // Empty: a checkpoint written before the parameters were kept; solved again only when its time
   // scale differs from the model's (what it records).
   const auto now = solve_parameters(m);
-  return under.empty() ? step_rescale(p, s) != 1.0 : !std::equal(under.begin(), under.end(), now.begin(), now.end());
+  if (under.empty() ? step_rescale(p, s) != 1.0 : !std::equal(under.begin(), under.end(), now.begin(), now.end()))
+    return true;
+  // The contact forces made again under a steered friction or material since the solve (empty: a
+  // checkpoint written before either was kept).
+  const std::vector<double>& with = s.module_field(paste_fields().forces_under);
+  const std::vector<double>& forces = s.module_field(dem::forces_under_field());
+  return !with.empty() && !forces.empty() && with != forces;
 }
 
 namespace {
@@ -528,6 +535,8 @@ void solve_paste(const Model& m, State& s, PasteWorkspace& w, SolveAt at) {
 
   const auto under = solve_parameters(m);
   s.module_field(f.solved_under).assign(under.begin(), under.end());
+  const std::vector<double>& forces = s.module_field(dem::forces_under_field());
+  s.module_field(f.forces_under).assign(forces.begin(), forces.end());
   // (the first state's solve: its velocities move the grains over the first step, bounded as well)
   const bool first = at == SolveAt::kFirst && !p.fixed_dt;
   if (!adapt && !first) return;

@@ -25,7 +25,8 @@ namespace silt::paste {
 
 // The paste's own fields (registered by its module spec).
 struct PasteFields {
-  FieldId pair_f_lub, dt, solver, change, factor, alone, coarse_order, dt_scale, solved_under, pair_f_implicit;
+  FieldId pair_f_lub, dt, solver, change, factor, alone, coarse_order, dt_scale, solved_under, pair_f_implicit,
+      forces_under;
 };
 PasteFields paste_fields();
 
@@ -96,7 +97,8 @@ enum class SolveAt { kStep, kFirst, kAgain };
 //  particle_inv_i, particle_id, nbr_start, pair_j, pair_f, pair_hist, particle_group, box,
 //  box_rate, shear_rate, paste_*) =>
 // (particle_v, particle_w, box_rate, pair_f_lub, paste_dt, paste_solver, paste_change,
-//  paste_factor, paste_alone, paste_coarse_order, paste_dt_scale, paste_solved_under)
+//  paste_factor, paste_alone, paste_coarse_order, paste_dt_scale, paste_solved_under,
+//  paste_forces_under)
 void lubrication_solve(const Model& m, State& s, PasteWorkspace& w, SolveAt at);
 
 // The same access, and shear_rate written (an imposed rate changed: the model's, which box_drift
@@ -104,9 +106,9 @@ void lubrication_solve(const Model& m, State& s, PasteWorkspace& w, SolveAt at);
 // solved under parameters other than the model's (paste_solved_under), else nothing. The inertial
 // stepper's velocities are the grains' own and carry over a change.
 void lubrication_resolve(const Model& m, State& s, PasteWorkspace& w);
-// Whether the state's quasi-static velocities were solved under other parameters than the model's
-// (lubrication_resolve solves them again; a state restored so is solved again before its first
-// sample, ModuleSpec::unstarted).
+// Whether the state's quasi-static velocities were solved under other parameters than the model's,
+// or with contact forces made since under other parameters (dem/forces_under.hpp): lubrication_resolve
+// solves them again; a state restored so is solved again before its first sample (ModuleSpec::stale).
 bool solved_under_other(const Model& m, const State& s);
 
 // The stepper's name, for reports.
