@@ -183,8 +183,9 @@ StageList build_stage_list(const Model& m, Workspaces& ws, Phase phase, std::vec
   GraphBuilder b(m, ws, phase);
   for (const Module& mod : modules()) {
     if (!mod.add_stages || !m.module_on(mod.spec->name)) continue;
-    if (phase == Phase::kResolve && !mod.spec->stale && !mod.spec->force_parameters) continue;
-    if (phase == Phase::kRefresh && !mod.spec->force_parameters) continue;
+    const bool forces = mod.spec->force_parameters || mod.spec->follows_forces;
+    if (phase == Phase::kResolve && !mod.spec->stale && !forces) continue;
+    if (phase == Phase::kRefresh && !forces) continue;
     b.set_module(mod.spec->name);
     mod.add_stages(b);
   }

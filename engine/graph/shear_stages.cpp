@@ -20,12 +20,30 @@ const Access kStressReads = {fid::box,        fid::pair_f,         fid::particle
                              fid::particle_x, fid::particle_inv_m, fid::particle_frozen,
                              fid::nbr_start,  fid::pair_j};
 
+// The contact and kinetic stresses of the state (it leaves those of the axes it does not measure
+// as they were: it reads them).
+int add_box_stress(GraphBuilder& b) {
+  Access reads = kStressReads;
+  reads.push_back(fid::box_stress);
+  reads.push_back(fid::shear_stress);
+  return b.add("box_stress", &shear::box_stress, reads, {fid::box_stress, fid::shear_stress});
+}
+
 }  // namespace
 
 void add_shear_stages(GraphBuilder& b) {
   const Model& m = b.model();
   // With solved velocities (a paste), the box's strain rates are solved too: no box kick.
   const bool box_stage = shear::box_stage_on(m) && !m.velocities_solved;
+  if (b.phase() == Phase::kRefresh || b.phase() == Phase::kResolve) {
+    // The stresses the box's next half kick uses, from the forces made again (the same values for
+    // forces left as they were: the state's own pair forces and velocities).
+    if (!box_stage) return;
+    const int st = add_box_stress(b);
+    b.after(st, b.find("sum_forces"), "the contact stress of the forces made again");
+    b.after(st, b.find("contact_forces"), "the contact stress of the pair forces made again");
+    return;
+  }
   int rate = -1;
   if (m.shear.on && !m.shear.stress_controlled) {
     rate = b.add("impose_shear_rate", &shear::impose_shear_rate, {}, {fid::shear_rate});
@@ -34,11 +52,7 @@ void add_shear_stages(GraphBuilder& b) {
   if (b.phase() == Phase::kSetup) {
     if (rate >= 0) b.after(b.find("contact_forces"), rate, "the relative velocities at contact under the imposed rate");
     if (!box_stage) return;
-    // (it leaves the stresses of the axes it does not measure as they were: it reads them)
-    Access reads = kStressReads;
-    reads.push_back(fid::box_stress);
-    reads.push_back(fid::shear_stress);
-    const int st = b.add("box_stress", &shear::box_stress, reads, {fid::box_stress, fid::shear_stress});
+    const int st = add_box_stress(b);
     b.after(st, b.find("contact_forces"), "the contact stress of the first state's pair forces");
     return;
   }

@@ -322,6 +322,7 @@ const ModuleSpec& module() {
   static const ModuleSpec spec = [] {
     ModuleSpec s;
     s.name = "shear";
+    s.follows_forces = true;  // the box's stresses
     s.doc = "stress-controlled box lengths, Lees-Edwards simple shear, isotropic compression";
     s.keys = shear_keys();
     s.rules = shear_rules();

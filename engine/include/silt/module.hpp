@@ -99,6 +99,9 @@ struct ModuleSpec {
   // compiled with other values) the forces are made again before the next half kick uses them:
   // the module's stages then run in graph::Phase::kResolve too. Empty: it exerts no such force.
   std::function<std::vector<double>(const Model& m)> force_parameters;
+  // Its stages derive state from the grains' forces (a box's stresses): in graph::Phase::kRefresh
+  // and kResolve they derive it again from the forces made again.
+  bool follows_forces = false;
   // Fills the module's fields of a state made or given (restored) for this model with what a later
   // change must not lose (the cycles' phase origin under the w of this model). Empty: nothing.
   std::function<void(const Model& m, State& s)> adopt;

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "dem/stress.hpp"
 #include "silt/simulation.hpp"
 #include "support/scenes.hpp"
 
@@ -133,4 +134,22 @@ TEST_CASE("a friction steered while running enters the next step, and one set an
   auto reference = poured(6000);
   REQUIRE(reference->run(opt).end == RunEnd::kDone);
   CHECK(state_hash(again->state()) == state_hash(reference->state()));
+}
+
+TEST_CASE(
+    "a friction steered under a stress-controlled box: the box's next half kick uses the stresses of the new forces") {
+  // procedure O's compression of 224 disks, 5,000 steps in: its contacts slide and stick.
+  auto sim = std::make_unique<Simulation>(compile(load_scene_file(test::scene_path("pack_2d"))), 1);
+  for (int k = 0; k < 5000; ++k) REQUIRE(sim->step());
+  REQUIRE(largest_mobilisation(sim->state()) > 0.1);
+  const Vec3a before = sim->state().box_stress;
+  REQUIRE(sim->steer_stopped(parse_override("contact.friction=0.02")).cannot.empty());
+  CHECK(largest_mobilisation(sim->state()) <= 0.02 * (1 + 1e-12));
+  // The contact stress of the clipped forces (their virial, pair by pair).
+  const Vec3a after = sim->state().box_stress;
+  CHECK((after[0] != before[0] || after[1] != before[1]));
+  const std::array<double, 9> virial = dem::virial_sums<false>(sim->state());
+  const double area = sim->state().box.len[0] * sim->state().box.len[1];
+  CHECK(after[0] == doctest::Approx(virial[0] / area).epsilon(1e-14));
+  CHECK(after[1] == doctest::Approx(virial[4] / area).epsilon(1e-14));
 }

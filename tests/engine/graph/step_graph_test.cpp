@@ -64,6 +64,7 @@ TEST_CASE("stages follow the modules a scene enables") {
         std::vector<std::string>{"forces_stale", "keep_springs", "contact_forces", "wall_forces", "restore_springs",
                                  "sum_forces", "record_forces_under"});
   CHECK(names(pack, graph::Phase::kSetup).back() == "box_stress");
+  CHECK(names(pack, graph::Phase::kRefresh).back() == "box_stress");  // the stresses of the forces made again
 }
 
 TEST_CASE("silt check's graph names the module of every stage and why each waits") {
