@@ -154,6 +154,8 @@ bool dem_alone(const Model& m) {
 // step they do not take, then put back), when they are: forces_stale decides it for the rest.
 // (The other modules' forces, a drag's, join the sum; the list is the state's.)
 void add_refresh_stages(GraphBuilder& b) {
+  // (a stage that may leave what it writes as it was, forces not stale, reads it)
+  auto kept = [](const Access& reads, const Access& writes) { return with(reads, writes); };
   const Model& m = b.model();
   auto& w = b.workspaces().get<dem::DemWorkspace>();
   auto forces = b.forces();
@@ -172,13 +174,13 @@ void add_refresh_stages(GraphBuilder& b) {
       [&w](const Model& mm, State& s) {
         if (w.refresh) dem::contact_forces(mm, s, w);
       },
-      contact_reads(m), contact_writes());
+      kept(contact_reads(m), contact_writes()), contact_writes());
   b.after(pairs, keep, "stretches the springs kept");
   const int restore = b.add("restore_springs",
                             [&w](const Model&, State& s) {
                               if (w.refresh) dem::restore_springs(s, w);
                             },
-                            {}, {fid::pair_hist, fid::wall_hist});
+                            {fid::pair_hist, fid::wall_hist}, {fid::pair_hist, fid::wall_hist});
   b.after(restore, pairs, "puts back the springs the evaluation stretched");
   if (!m.walls.empty()) {
     const int wf = b.add(
@@ -186,7 +188,7 @@ void add_refresh_stages(GraphBuilder& b) {
         [&w](const Model& mm, State& s) {
           if (w.refresh) dem::wall_forces(mm, s);
         },
-        kWallReads, kWallWrites);
+        kept(kWallReads, kWallWrites), kWallWrites);
     b.after(wf, keep, "stretches the springs kept");
     b.after(restore, wf, "puts back the springs the evaluation stretched");
     b.add_force({fid::wall_f, fid::particle_t_wall}, wf);
@@ -202,7 +204,7 @@ void add_refresh_stages(GraphBuilder& b) {
                            [&w](const Model& mm, State& s) {
                              if (w.refresh) dem::record_forces_under(mm, s);
                            },
-                           {}, {under});
+                           {under}, {under});
   b.after(record, stale, "records the parameters found stale");
   b.light(record);
   diagnose_dem(b);
