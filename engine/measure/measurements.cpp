@@ -6,8 +6,10 @@
 //
 // Stress: dem/stress.hpp, the sums a controlled box is driven by.
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 
+#include "core/parallel.hpp"
 #include "dem/stages.hpp"
 #include "dem/stress.hpp"
 #include "silt/contacts.hpp"
@@ -51,12 +53,20 @@ void skeleton(const Model& m, const State& s, const std::vector<std::pair<int32_
   out.z_mech = 0;
   out.n_off_skeleton = 0;
   if (n_free == 0) return;
-  // Peel the grains under the bound until none is left.
+  // Peel the grains under the bound until none is left. Each grain's neighbours in one array
+  // (adj[start[i] .. start[i + 1])), in the order of the touching pairs.
   const int need = m.pair_friction() ? 2 : m.dim + 1;
-  std::vector<std::vector<int32_t>> adj(n);
+  std::vector<int64_t> start(n + 1, 0);
   for (auto [i, j] : touching) {
-    adj[i].push_back(j);
-    adj[j].push_back(i);
+    ++start[i + 1];
+    ++start[j + 1];
+  }
+  for (int64_t i = 0; i < n; ++i) start[i + 1] += start[i];
+  std::vector<int32_t> adj(start[n]);
+  std::vector<int64_t> fill(start.begin(), start.end() - 1);
+  for (auto [i, j] : touching) {
+    adj[fill[i]++] = j;
+    adj[fill[j]++] = i;
   }
   std::vector<uint8_t> rattler(n, 0);
   std::vector<int32_t> stack;
@@ -67,7 +77,8 @@ void skeleton(const Model& m, const State& s, const std::vector<std::pair<int32_
     stack.pop_back();
     if (rattler[i]) continue;
     rattler[i] = 1;
-    for (int32_t j : adj[i]) {
+    for (int64_t k = start[i]; k < start[i + 1]; ++k) {
+      const int32_t j = adj[k];
       if (rattler[j]) continue;
       if (--contacts[j] < need && !s.particle_frozen[j]) stack.push_back(j);
     }
@@ -86,6 +97,10 @@ void skeleton(const Model& m, const State& s, const std::vector<std::pair<int32_
   out.z_mech = kept ? static_cast<double>(ksum) / kept : 0;
 }
 
+// Grains a block of the contacts' walk takes (measure_dim): fixed, so that the fabric's sums do
+// not depend on the threads.
+constexpr int64_t kContactBlock = 2048;
+
 int64_t free_grains(const State& s) {
   int64_t n_free = 0;
   for (int64_t i = 0; i < s.n; ++i) n_free += s.particle_frozen[i] ? 0 : 1;
@@ -99,6 +114,7 @@ void measure_dim(const Model& m, const State& s, unsigned parts, Measurements& o
   double vol = 1;
   for (int k = 0; k < D; ++k) vol *= s.box.len[k];
   out.volume = vol;
+  int64_t n_free_counted = 0;  // (the grains' part counts them)
   if (parts & kGrains) {
     const dem::KineticEnergy ke = dem::kinetic_energy(s);
     out.ke = ke.total;
@@ -106,7 +122,7 @@ void measure_dim(const Model& m, const State& s, unsigned parts, Measurements& o
     out.max_net_force = 0;
     out.momentum = Vec3a{0, 0, 0};
     double solid = 0;
-    int64_t n_free = 0;
+    int64_t& n_free = n_free_counted;
     for (int64_t i = 0; i < n; ++i) {
       const double r = s.particle_r[i];
       solid += grain_volume(D, r);
@@ -151,29 +167,45 @@ void measure_dim(const Model& m, const State& s, unsigned parts, Measurements& o
   if (parts & (kContacts | kSkeleton)) {
     // Grain-grain contacts; and grain-wall contacts, which count for coordination (not a frozen
     // grain's: the walls exert no force on it).
+    // Blocks of kContactBlock grains walk their listed pairs at the same time, whatever the
+    // threads: the counts are integers, the fabric's sums are added block after block, and the
+    // touching pairs come in pair order, as one walk gives them (the same values on any number of
+    // threads; the fabric's last bits are those of the blocks' sums).
     const bool pairs = (parts & kSkeleton) != 0;
     std::vector<int32_t> contacts(n, 0);
-    std::vector<std::pair<int32_t, int32_t>> touching;
-    int64_t n_contacts = 0, n_grain_pairs = 0;
-    std::array<std::array<double, 3>, 3> fabric{};
-    for_each_contact(s, [&](const Contact& c) {
-      ++n_contacts;
-      ++n_grain_pairs;
-      ++contacts[c.i];
-      ++contacts[c.j];
-      if (pairs) touching.push_back({static_cast<int32_t>(c.i), static_cast<int32_t>(c.j)});
-      const double dn = c.dist;
-      for (int a = 0; a < D; ++a)
-        for (int b = 0; b < D; ++b) fabric[a][b] += c.d[a] * c.d[b] / (dn * dn);
+    auto count = [&](int64_t i) { std::atomic_ref<int32_t>(contacts[i]).fetch_add(1, std::memory_order_relaxed); };
+    std::vector<std::vector<std::pair<int32_t, int32_t>>> block_touching(
+        pairs ? static_cast<size_t>((n + kContactBlock - 1) / kContactBlock) : 0);
+    // (grain-grain contacts, grain-wall contacts, the fabric's 9 sums)
+    const std::array<double, 11> sums = deterministic_sums<11>(n, kContactBlock, [&](int64_t i0, int64_t i1) {
+      std::array<double, 11> acc{};
+      auto* touching = pairs ? &block_touching[i0 / kContactBlock] : nullptr;
+      for_each_contact_of(s, i0, i1, [&](const Contact& c) {
+        acc[0] += 1;
+        count(c.i);
+        count(c.j);
+        if (touching) touching->push_back({static_cast<int32_t>(c.i), static_cast<int32_t>(c.j)});
+        const double dn = c.dist;
+        for (int a = 0; a < D; ++a)
+          for (int b = 0; b < D; ++b) acc[2 + 3 * a + b] += c.d[a] * c.d[b] / (dn * dn);
+      });
+      for (int64_t i = i0; i < i1; ++i)
+        for (int w = 0; w < s.n_walls && !s.particle_frozen[i]; ++w)
+          if (m.walls[w].gap<D>(at<D>(s.particle_x.data(), i), s.particle_r[i]) < 0) {
+            acc[1] += 1;
+            count(i);
+          }
+      return acc;
     });
-    for (int64_t i = 0; i < n; ++i)
-      for (int w = 0; w < s.n_walls && !s.particle_frozen[i]; ++w)
-        if (m.walls[w].gap<D>(at<D>(s.particle_x.data(), i), s.particle_r[i]) < 0) {
-          ++n_contacts;
-          ++contacts[i];
-        }
+    const auto n_grain_pairs = static_cast<int64_t>(sums[0]);
+    const int64_t n_contacts = n_grain_pairs + static_cast<int64_t>(sums[1]);
+    std::array<std::array<double, 3>, 3> fabric{};
+    for (int a = 0; a < D; ++a)
+      for (int b = 0; b < D; ++b) fabric[a][b] = sums[2 + 3 * a + b];
+    std::vector<std::pair<int32_t, int32_t>> touching;
+    for (const auto& t : block_touching) touching.insert(touching.end(), t.begin(), t.end());
     // (the contacts' part too when only the skeleton was asked for: the same pass)
-    const int64_t n_free = free_grains(s);
+    const int64_t n_free = (parts & kGrains) ? n_free_counted : free_grains(s);
     out.n_contacts = n_contacts;
     if (n_grain_pairs > 0)
       for (int a = 0; a < D; ++a)

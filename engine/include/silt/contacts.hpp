@@ -19,29 +19,64 @@ struct Contact {
   double fn = 0;              // normal force f . d / |d| (> 0 repulsive)
 };
 
-// f(const Contact&) for every touching pair (|d| < r_i + r_j), in pair order, without storing
-// them (a measurement every few steps of a large bed need not allocate the network).
-template <class F>
-void for_each_contact(const State& s, F&& f) {
-  const int D = s.dim;
-  for (int64_t i = 0; i < s.n; ++i)
+namespace contacts_detail {
+
+template <int D, class F>
+void for_each_contact_dim(const State& s, int64_t i0, int64_t i1, F&& f) {
+  // The nearest image as Box::nearest gives it, multiplying by the inverse lengths: the same
+  // separations of touching grains, without a division per pair.
+  const Box& b = s.box;
+  double len[3] = {0, 0, 0}, inv[3] = {0, 0, 0};
+  for (int k = 0; k < D; ++k)
+    if (b.periodic[k]) {
+      len[k] = b.len[k];
+      inv[k] = 1.0 / b.len[k];
+    }
+  const double inv_y = 1.0 / b.len[1];
+  for (int64_t i = i0; i < i1; ++i)
     for (int32_t p = s.nbr_start[i]; p < s.nbr_start[i + 1]; ++p) {
       Contact c;
       c.i = i;
       c.j = s.pair_j[p];
       c.pair = p;
-      double d2 = 0;
       for (int k = 0; k < D; ++k) c.d[k] = s.particle_x[D * i + k] - s.particle_x[D * c.j + k];
-      s.box.nearest(c.d.data(), D);
-      for (int k = 0; k < D; ++k) d2 += c.d[k] * c.d[k];
+      if (b.lees_edwards) {
+        const double ny = std::nearbyint(c.d[1] * inv_y);
+        c.d[1] -= ny * b.len[1];
+        c.d[0] -= ny * b.le_offset;
+      }
+      double d2 = 0;
+      for (int k = 0; k < D; ++k) {
+        c.d[k] -= len[k] * std::nearbyint(c.d[k] * inv[k]);
+        d2 += c.d[k] * c.d[k];
+      }
+      const double reach = s.particle_r[i] + s.particle_r[c.j];
+      if (!(d2 <= reach * reach * (1 + 1e-9))) continue;  // (no root for most listed pairs; it decides)
       c.dist = std::sqrt(d2);
-      if (!(c.dist < s.particle_r[i] + s.particle_r[c.j]) || c.dist == 0) continue;
+      if (!(c.dist < reach) || c.dist == 0) continue;
       for (int k = 0; k < D; ++k) {
         c.f[k] = s.pair_f[D * p + k];
         c.fn += c.f[k] * c.d[k] / c.dist;
       }
       f(c);
     }
+}
+
+}  // namespace contacts_detail
+
+// f(const Contact&) for every touching pair (|d| < r_i + r_j) of the grains i in [i0, i1) (the
+// pairs listed with them), in pair order, without storing them (a measurement every few steps of
+// a large bed need not allocate the network).
+template <class F>
+void for_each_contact_of(const State& s, int64_t i0, int64_t i1, F&& f) {
+  if (s.dim == 2) contacts_detail::for_each_contact_dim<2>(s, i0, i1, f);
+  else contacts_detail::for_each_contact_dim<3>(s, i0, i1, f);
+}
+
+// The same for every grain.
+template <class F>
+void for_each_contact(const State& s, F&& f) {
+  for_each_contact_of(s, 0, s.n, f);
 }
 
 // The same, as a list.

@@ -1,6 +1,7 @@
 // Coordination of a contact network built by hand: z, Peyneau's z* = z/(1 - p0) and p_n, and the
 // mechanical skeleton z_mech, as measurements and as observables.
 #include <doctest/doctest.h>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <string>
@@ -170,4 +171,47 @@ TEST_CASE("the measurements' parts, asked one by one in any order and again, are
   CHECK(contacts.z_mech == 0);
   CHECK(contacts.e_contact == 0);
   CHECK(contacts.ke == 0);
+}
+
+TEST_CASE("the contacts of 6,400 disks on a square lattice, walked in blocks on one and on two threads") {
+  // Each disk touches its four neighbours (spacing 1, radius 0.51): z = z* = z_mech = 4, p0 = 0, and
+  // half the contacts along x, half along y: the fabric diag(1/2, 1/2), exactly, however the
+  // blocks of the walk fall among the threads.
+  const char* kSquare = R"(
+[scene]
+dimension = 2
+[domain]
+lo = [0, 0]
+hi = [80, 80]
+periodic = [true, true]
+[contact]
+model = "hooke"
+k_n = 1e4
+friction = 0.3
+[[grains]]
+radius = 0.51
+placement = "lattice"
+lattice = "sc"
+spacing = 1.0
+lattice_origin = [0.5, 0.5]
+[run]
+dt = 1e-4
+)";
+  auto sim = test::simulation_from(kSquare, 1);
+  sim->prepare();
+  REQUIRE(sim->state().n == 6400);
+  for (int threads : {1, 2}) {
+    CAPTURE(threads);
+    Measurements out;
+    tbb::task_arena(threads).execute([&] { out = measure(sim->model(), sim->state()); });
+    CHECK(out.n_contacts == 12800);
+    CHECK(out.z == 4.0);
+    CHECK(out.z_star == 4.0);
+    CHECK(out.z_mech == 4.0);
+    CHECK(out.p0 == 0.0);
+    CHECK(out.n_off_skeleton == 0);
+    CHECK(out.fabric[0][0] == 0.5);
+    CHECK(out.fabric[1][1] == 0.5);
+    CHECK(out.fabric[0][1] == 0.0);
+  }
 }
