@@ -15,8 +15,8 @@
 #include <vector>
 
 #include "core/parallel.hpp"
-#include "core/periodic_image.hpp"
 #include "silt/model.hpp"
+#include "silt/periodic_image.hpp"
 #include "silt/vec.hpp"
 
 namespace silt {

@@ -24,7 +24,6 @@
 
 #include "core/assert.hpp"
 #include "core/parallel.hpp"
-#include "core/periodic_image.hpp"
 #include "core/simd_level.hpp"
 #include "core/small_vec.hpp"
 #include "dem/contact_candidates.hpp"
@@ -32,6 +31,7 @@
 #include "dem/pair_schedule.hpp"
 #include "dem/stages.hpp"
 #include "dem/touch_pass.hpp"
+#include "silt/periodic_image.hpp"
 
 namespace silt::dem {
 namespace {

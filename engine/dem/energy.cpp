@@ -1,9 +1,9 @@
 // Kinetic energy of the grains, and the runaway check on it.
 #include <cmath>
 
-#include "core/periodic_image.hpp"
 #include "dem/contact_laws.hpp"
 #include "dem/stages.hpp"
+#include "silt/periodic_image.hpp"
 
 namespace silt::dem {
 namespace {

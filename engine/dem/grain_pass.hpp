@@ -5,8 +5,8 @@
 
 #include <cstdint>
 
-#include "core/periodic_image.hpp"
 #include "silt/events.hpp"
+#include "silt/periodic_image.hpp"
 #include "silt/state.hpp"
 
 namespace silt::dem::grain_pass {

@@ -18,11 +18,11 @@
 
 #include "core/assert.hpp"
 #include "core/owned.hpp"
-#include "core/periodic_image.hpp"
 #include "core/simd_level.hpp"
 #include "dem/grain_pass.hpp"
 #include "dem/grain_pass_avx2.hpp"
 #include "dem/stages.hpp"
+#include "silt/periodic_image.hpp"
 
 namespace silt::dem {
 namespace {

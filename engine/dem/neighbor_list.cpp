@@ -18,11 +18,11 @@
 #include "core/buffers.hpp"
 #include "core/cell_grid.hpp"
 #include "core/parallel.hpp"
-#include "core/periodic_image.hpp"
 #include "dem/contact_candidates.hpp"
 #include "dem/module.hpp"
 #include "dem/pair_schedule.hpp"
 #include "dem/stages.hpp"
+#include "silt/periodic_image.hpp"
 
 namespace silt::dem {
 namespace {

@@ -17,9 +17,9 @@
 #include <immintrin.h>
 #endif
 
-#include "core/periodic_image.hpp"
 #include "core/simd_level.hpp"
 #include "core/small_vec.hpp"
+#include "silt/periodic_image.hpp"
 
 namespace silt::dem {
 

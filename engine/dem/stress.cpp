@@ -1,7 +1,7 @@
 #include "dem/stress.hpp"
 
 #include "core/parallel.hpp"
-#include "core/periodic_image.hpp"
+#include "silt/periodic_image.hpp"
 
 namespace silt::dem {
 namespace {

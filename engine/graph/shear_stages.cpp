@@ -40,7 +40,6 @@ void add_shear_stages(GraphBuilder& b) {
     // forces left as they were: the state's own pair forces and velocities).
     if (!box_stage) return;
     const int st = add_box_stress(b);
-    b.after(st, b.find("sum_forces"), "the contact stress of the forces made again");
     b.after(st, b.find("contact_forces"), "the contact stress of the pair forces made again");
     return;
   }

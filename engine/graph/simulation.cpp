@@ -12,7 +12,6 @@
 #include <sstream>
 #include <utility>
 
-#include "dem/forces_under.hpp"
 #include "dem/module.hpp"
 #include "graph/restart_point.hpp"
 #include "graph/step_graph.hpp"
@@ -158,18 +157,30 @@ void copy_fields(const State& from, State& to, const std::vector<FieldId>& ids) 
 // of the forces the last step left, those forces come back: a value set and set back between two
 // steps changes nothing.
 void Simulation::refresh_steered() {
-  if (!std::exchange(impl_->steered, false) || !model_.module_on("dem")) return;
-  if (!dem::forces_under_other(model_, state_)) return;
+  if (!std::exchange(impl_->steered, false) || !forces_stale(state_)) return;
   std::vector<FieldId> made;  // what the forces made again write
   for (const graph::Stage& st : impl_->refresh->stages()) made.insert(made.end(), st.writes.begin(), st.writes.end());
-  if (impl_->as_stepped && !dem::forces_under_other(model_, *impl_->as_stepped)) {
+  if (impl_->as_stepped && !forces_stale(*impl_->as_stepped)) {
     copy_fields(*impl_->as_stepped, state_, made);
     impl_->as_stepped.reset();
     impl_->restart.take(state_);
     return;
   }
-  if (!impl_->as_stepped) impl_->as_stepped = state_;
+  if (!impl_->as_stepped) {  // (those fields alone)
+    impl_->as_stepped.emplace();
+    impl_->as_stepped->module_fields.resize(state_.module_fields.size());
+    copy_fields(state_, *impl_->as_stepped, made);
+  }
   run_again(*impl_->refresh);
+}
+
+// Whether a module that exerts forces on the grains finds them made under other parameters than
+// the model's (ModuleSpec::stale: the DEM's record of them, dem/forces_under.hpp).
+bool Simulation::forces_stale(const State& s) const {
+  for (const Module& mod : modules())
+    if (mod.spec->force_parameters && mod.spec->stale && model_.module_on(mod.spec->name) && mod.spec->stale(model_, s))
+      return true;
+  return false;
 }
 
 // A state given under changed parameters: the modules' Phase::kResolve stages, once, before it is

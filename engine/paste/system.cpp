@@ -9,8 +9,8 @@
 #include <type_traits>
 
 #include "core/parallel.hpp"
-#include "core/periodic_image.hpp"
 #include "dem/contact_laws.hpp"
+#include "silt/periodic_image.hpp"
 
 namespace silt::paste {
 

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <vector>
 
+#include "silt/periodic_image.hpp"
 #include "silt/state.hpp"
 
 namespace silt {
@@ -23,16 +24,7 @@ namespace contacts_detail {
 
 template <int D, class F>
 void for_each_contact_dim(const State& s, int64_t i0, int64_t i1, F&& f) {
-  // The nearest image as Box::nearest gives it, multiplying by the inverse lengths: the same
-  // separations of touching grains, without a division per pair.
-  const Box& b = s.box;
-  double len[3] = {0, 0, 0}, inv[3] = {0, 0, 0};
-  for (int k = 0; k < D; ++k)
-    if (b.periodic[k]) {
-      len[k] = b.len[k];
-      inv[k] = 1.0 / b.len[k];
-    }
-  const double inv_y = 1.0 / b.len[1];
+  const PeriodicImage<D> img(s.box);  // (Box::nearest's images, by the inverse lengths)
   for (int64_t i = i0; i < i1; ++i)
     for (int32_t p = s.nbr_start[i]; p < s.nbr_start[i + 1]; ++p) {
       Contact c;
@@ -40,16 +32,9 @@ void for_each_contact_dim(const State& s, int64_t i0, int64_t i1, F&& f) {
       c.j = s.pair_j[p];
       c.pair = p;
       for (int k = 0; k < D; ++k) c.d[k] = s.particle_x[D * i + k] - s.particle_x[D * c.j + k];
-      if (b.lees_edwards) {
-        const double ny = std::nearbyint(c.d[1] * inv_y);
-        c.d[1] -= ny * b.len[1];
-        c.d[0] -= ny * b.le_offset;
-      }
+      img.apply(c.d);
       double d2 = 0;
-      for (int k = 0; k < D; ++k) {
-        c.d[k] -= len[k] * std::nearbyint(c.d[k] * inv[k]);
-        d2 += c.d[k] * c.d[k];
-      }
+      for (int k = 0; k < D; ++k) d2 += c.d[k] * c.d[k];
       const double reach = s.particle_r[i] + s.particle_r[c.j];
       if (!(d2 <= reach * reach * (1 + 1e-9))) continue;  // (no root for most listed pairs; it decides)
       c.dist = std::sqrt(d2);

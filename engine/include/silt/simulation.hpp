@@ -160,6 +160,7 @@ class Simulation {
   void collect_notices();
   void resolve_stale();
   void refresh_steered();
+  bool forces_stale(const State& s) const;
   void run_again(graph::StepGraph& g);
   // ModuleSpec::adopt of every module the model enables, on the state made or restored.
   void adopt_modules();

@@ -6,10 +6,10 @@
 #include <string>
 #include <vector>
 
-#include "core/periodic_image.hpp"
 #include "core/small_vec.hpp"
 #include "dem/contact_candidates.hpp"
 #include "dem/workspace.hpp"
+#include "silt/periodic_image.hpp"
 #include "silt/scene.hpp"
 #include "silt/simulation.hpp"
 #include "support/scenes.hpp"

@@ -3,7 +3,7 @@
 
 #include <cmath>
 
-#include "core/periodic_image.hpp"
+#include "silt/periodic_image.hpp"
 #include "support/scenes.hpp"
 
 using namespace silt;

@@ -5,8 +5,8 @@
 #include <map>
 #include <set>
 
-#include "core/periodic_image.hpp"
 #include "dem/stages.hpp"
+#include "silt/periodic_image.hpp"
 #include "support/scenes.hpp"
 
 using namespace silt;

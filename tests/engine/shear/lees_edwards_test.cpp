@@ -11,10 +11,10 @@
 #include <string>
 #include <vector>
 
-#include "core/periodic_image.hpp"
 #include "dem/stages.hpp"
 #include "silt/contacts.hpp"
 #include "silt/observables.hpp"
+#include "silt/periodic_image.hpp"
 #include "silt/scene.hpp"
 #include "support/scenes.hpp"
 
