@@ -10,7 +10,8 @@
 // factorisation, the direct solve, one solve with the factor (CHOLMOD's triangular solves and
 // silt's, on one thread and on two), one product with the matrix, CG preconditioned by the
 // previous step's factor, Jacobi CG and plain CG, all to a relative residual of 1e-8 (at most
-// 20,000 iterations). One thread, but for the row of silt's solve on two.
+// 20,000 iterations). One thread, but for the rows of silt's solve on two. Its solve and PCG again
+// with the factor's values rounded to floats (the preconditioner's single precision).
 //
 // Usage: linalg_solvers [N...]    (default: 1000 4000)        Writes bench/results/linalg.csv.
 #include <algorithm>
@@ -194,7 +195,7 @@ int main(int argc, char** argv) {
               Vector x;
               for (int r = 0; r < 11; ++r) {
                 const auto s0 = std::chrono::steady_clock::now();
-                old.solve(b, x);
+                old.apply(b, x);  // solve(), or in single precision when set
                 if (r > 0) best = std::min(best, seconds_since(s0));
               }
             });
@@ -209,6 +210,12 @@ int main(int argc, char** argv) {
                         static_cast<long long>(sp.tasks), 100 * sp.in_tasks, 100 * sp.shared);
           row(how, 0, best_solve(1), 0, 0, mib);
           row("factor solve; silt 2 threads", 0, best_solve(2), 0, 0, mib);
+          // The factor's values rounded to floats (a preconditioner's solve): half the bytes.
+          old.set_single_preconditioner(true);
+          if (old.applies_single()) {
+            row("factor solve; silt single precision, 1 thread", 0, best_solve(1), 0, 0, mib / 2);
+            row("factor solve; silt single precision, 2 threads", 0, best_solve(2), 0, 0, mib / 2);
+          }
         }
         const SparseOperator op(a1);
         {
@@ -226,7 +233,16 @@ int main(int argc, char** argv) {
           Vector x = Vector::Zero(b.size());
           t0 = std::chrono::steady_clock::now();
           const SolveReport r = conjugate_gradient(op, b, x, opt, &old);
-          row("PCG, previous factor", 0, seconds_since(t0), r.iterations, r.residual, mib);
+          const bool single = old.applies_single();
+          row(single ? "PCG, previous factor (single precision)" : "PCG, previous factor (single refused: double)", 0,
+              seconds_since(t0), r.iterations, r.residual, single ? mib / 2 : mib);
+        }
+        {
+          old.set_single_preconditioner(false);
+          Vector x = Vector::Zero(b.size());
+          t0 = std::chrono::steady_clock::now();
+          const SolveReport r = conjugate_gradient(op, b, x, opt, &old);
+          row("PCG, previous factor (double precision)", 0, seconds_since(t0), r.iterations, r.residual, mib);
         }
         {
           Vector x = Vector::Zero(b.size());

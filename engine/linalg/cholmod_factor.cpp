@@ -151,6 +151,7 @@ SolveReport CholeskyFactor::factorize(const SparseMatrix& a0) {
     sv.x = static_cast<const double*>(im.l->x);
     sv.perm = static_cast<const int*>(im.l->Perm);
     im.tree_ready = im.tree.plan(sv);
+    if (im.tree_ready && single_) im.tree.keep_single();
   }
   return rep;
 }
@@ -166,7 +167,20 @@ std::vector<int> CholeskyFactor::order() const {
   return {perm, perm + im.l->n};
 }
 
-SolveReport CholeskyFactor::solve(const Vector& b, Vector& x) const {
+SolveReport CholeskyFactor::solve(const Vector& b, Vector& x) const { return solve(b, x, false); }
+
+void CholeskyFactor::set_single_preconditioner(bool on) {
+  if (on == single_) return;
+  single_ = on;
+  Impl& im = *impl_;
+  if (!im.tree_ready) return;
+  if (on) im.tree.keep_single();
+  else im.tree.drop_single();
+}
+
+bool CholeskyFactor::applies_single() const { return impl_->tree_ready && impl_->tree.has_single(); }
+
+SolveReport CholeskyFactor::solve(const Vector& b, Vector& x, bool single) const {
   SolveReport rep;
   if (!ready()) {
     rep.status = SolveStatus::kNotPositive;
@@ -181,7 +195,7 @@ SolveReport CholeskyFactor::solve(const Vector& b, Vector& x) const {
   }
   if (im.tree_ready && !cholmod_solve_) {
     x.resize(b.size());
-    im.tree.solve(b.data(), x.data());
+    im.tree.solve(b.data(), x.data(), single);
     if (!all_finite(x)) {
       rep.status = SolveStatus::kNotFinite;
       rep.message = "the solution is not finite";
@@ -207,7 +221,7 @@ SolveReport CholeskyFactor::solve(const Vector& b, Vector& x) const {
 
 SolveSplit CholeskyFactor::solve_split() const { return impl_->tree_ready ? impl_->tree.split() : SolveSplit{}; }
 
-void CholeskyFactor::apply(const Vector& r, Vector& z) const { (void)solve(r, z); }
+void CholeskyFactor::apply(const Vector& r, Vector& z) const { (void)solve(r, z, single_); }
 
 int64_t CholeskyFactor::factor_entries() const {
   const Impl& im = *impl_;
@@ -218,8 +232,10 @@ int64_t CholeskyFactor::factor_entries() const {
 int64_t CholeskyFactor::factor_bytes() const {
   const Impl& im = *impl_;
   if (!im.l) return 0;
-  // Values, plus the integer pattern of a simplicial factor (a supernodal one's is small).
-  return factor_entries() * static_cast<int64_t>(sizeof(double)) +
+  // Values (and their copy as floats, when held), plus the integer pattern of a simplicial factor
+  // (a supernodal one's is small).
+  const int64_t floats = applies_single() ? factor_entries() * static_cast<int64_t>(sizeof(float)) : 0;
+  return factor_entries() * static_cast<int64_t>(sizeof(double)) + floats +
          (im.l->is_super ? static_cast<int64_t>(im.l->ssize) * 4 : factor_entries() * 4);
 }
 

@@ -27,7 +27,7 @@ const char* method_name(Method m) {
   return "?";
 }
 
-SpdSolver::SpdSolver(SolverSettings s) : s_(s) {}
+SpdSolver::SpdSolver(SolverSettings s) : s_(s) { factor_.set_single_preconditioner(s_.single_factor); }
 SpdSolver::~SpdSolver() = default;
 
 void SpdSolver::forget_factor() { factor_valid_ = false; }
@@ -99,10 +99,13 @@ SolveReport SpdSolver::solve(const SparseMatrix& a, const Vector& b, Vector& x, 
   // solve again from where it got to with a fresh factor of this matrix, alone (a coarse space
   // whose columns are nearly dependent can spoil the correction). A solve that converged but took
   // more than the threshold asks for a fresh factor next time.
+  // A fresh factor applied in single precision gets the threshold itself: past it, the rounding of
+  // the factor is what matters, and the solve goes on in double (below).
   const bool stale = solves_since_factor_ > 0, corrected = m == &coarse_;
+  const int threshold = std::max(1, s_.refactor_iterations);
   SolveOptions first = s_.options;
-  if (stale || corrected)
-    first.max_iterations = std::min(first.max_iterations, 4 * std::max(1, s_.refactor_iterations));
+  if (stale || corrected) first.max_iterations = std::min(first.max_iterations, 4 * threshold);
+  else if (factor_.applies_single()) first.max_iterations = std::min(first.max_iterations, threshold);
   SolveReport rep = conjugate_gradient(op, b, x, first, m, &cg_);
   ++solves_since_factor_;
   if (!rep.ok() && (corrected || (stale && rep.status != SolveStatus::kNotFinite))) {
@@ -113,6 +116,7 @@ SolveReport SpdSolver::solve(const SparseMatrix& a, const Vector& b, Vector& x, 
     // What is left of the solve's iterations (options.max_iterations bounds the whole solve).
     SolveOptions rest = s_.options;
     rest.max_iterations = std::max(0, s_.options.max_iterations - spent);
+    if (factor_.applies_single()) rest.max_iterations = std::min(rest.max_iterations, threshold);
     rep = conjugate_gradient(op, b, x, rest, &factor_, &cg_);
     rep.iterations += spent;
     if (rep.status == SolveStatus::kMaxIterations && rep.iterations >= s_.options.max_iterations)
@@ -123,6 +127,24 @@ SolveReport SpdSolver::solve(const SparseMatrix& a, const Vector& b, Vector& x, 
     ++solves_since_factor_;
   } else if (rep.iterations > s_.refactor_iterations) {
     factor_valid_ = false;
+  }
+  // A factor applied in single precision that still leaves the solve short (a matrix so badly
+  // conditioned that the rounding of its factor matters) is applied in double for what is left,
+  // and rounded again after (the same floats): each solve decides from its factor alone.
+  if (!rep.ok() && rep.status != SolveStatus::kNotFinite && factor_.applies_single()) {
+    const int spent = rep.iterations;
+    if (!all_finite(x)) x.setZero();
+    SolveOptions rest = s_.options;
+    rest.max_iterations = std::max(0, s_.options.max_iterations - spent);
+    factor_.set_single_preconditioner(false);
+    rep = conjugate_gradient(op, b, x, rest, &factor_, &cg_);
+    factor_.set_single_preconditioner(true);
+    rep.iterations += spent;
+    ++double_retries_;
+    if (rep.status == SolveStatus::kMaxIterations && rep.iterations >= s_.options.max_iterations)
+      rep.message = "no convergence in " + std::to_string(s_.options.max_iterations) + " iterations (" +
+                    std::to_string(spent) + " with the factor in single precision, then in double; relative residual " +
+                    std::to_string(rep.residual) + ", tolerance " + std::to_string(s_.options.tolerance) + ")";
   }
   return rep;
 }

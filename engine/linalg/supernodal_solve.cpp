@@ -1,7 +1,9 @@
 #include "linalg/supernodal_solve.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
+#include <limits>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -27,12 +29,20 @@ constexpr int64_t kParallelEntries = int64_t{1} << 18;
 // Eight doubles, one per chain of a sum (GCC's vector extension: one AVX-512 register, or two
 // AVX2 or four SSE ones, with the same operations on each lane at every level).
 using Lanes = double __attribute__((vector_size(64)));
+using Floats = float __attribute__((vector_size(32)));
 // (Taken and given by reference: a vector this wide passed by value has no ABI without AVX-512.)
 inline void load(Lanes& v, const double* p) { std::memcpy(&v, p, sizeof v); }
+// Eight floats of a single-precision factor, each made a double exactly.
+inline void load(Lanes& v, const float* p) {
+  Floats f;
+  std::memcpy(&f, p, sizeof f);
+  v = __builtin_convertvector(f, Lanes);
+}
 inline double join(const Lanes& c) { return ((c[0] + c[4]) + (c[1] + c[5])) + ((c[2] + c[6]) + (c[3] + c[7])); }
 
-// sum_i a[i] b[i] in eight chains (i mod 8), joined in a fixed order.
-inline double dot(const double* a, const double* b, int64_t n) {
+// sum_i a[i] b[i] in eight chains (i mod 8), joined in a fixed order (a of the factor's type T).
+template <class T>
+inline double dot(const T* a, const double* b, int64_t n) {
   Lanes c = {};
   int64_t i = 0;
   Lanes x, y;
@@ -41,13 +51,14 @@ inline double dot(const double* a, const double* b, int64_t n) {
     load(y, b + i);
     c += x * y;
   }
-  for (int l = 0; i < n; ++i, ++l) c[l] += a[i] * b[i];
+  for (int l = 0; i < n; ++i, ++l) c[l] += static_cast<double>(a[i]) * b[i];
   return join(c);
 }
 
 // dot(a[k], b, n) for k = 0..3, each summed exactly as dot() sums it: four streams through
 // memory at once, b read once.
-inline void dot4(const double* const* a, const double* b, int64_t n, double* out) {
+template <class T>
+inline void dot4(const T* const* a, const double* b, int64_t n, double* out) {
   Lanes c0 = {}, c1 = {}, c2 = {}, c3 = {};
   int64_t i = 0;
   for (; i + 8 <= n; i += 8) {
@@ -63,10 +74,10 @@ inline void dot4(const double* const* a, const double* b, int64_t n, double* out
     c3 += x3 * bi;
   }
   for (int l = 0; i < n; ++i, ++l) {
-    c0[l] += a[0][i] * b[i];
-    c1[l] += a[1][i] * b[i];
-    c2[l] += a[2][i] * b[i];
-    c3[l] += a[3][i] * b[i];
+    c0[l] += static_cast<double>(a[0][i]) * b[i];
+    c1[l] += static_cast<double>(a[1][i]) * b[i];
+    c2[l] += static_cast<double>(a[2][i]) * b[i];
+    c3[l] += static_cast<double>(a[3][i]) * b[i];
   }
   out[0] = join(c0);
   out[1] = join(c1);
@@ -78,6 +89,7 @@ inline void dot4(const double* const* a, const double* b, int64_t n, double* out
 
 bool SupernodalSolver::plan(const SupernodalView& f) {
   f_ = f;
+  single_ = {};
   ranges_.clear();
   task_start_.assign(1, 0);
   top_.clear();
@@ -211,16 +223,45 @@ bool SupernodalSolver::plan(const SupernodalView& f) {
   return true;
 }
 
+bool SupernodalSolver::keep_single() {
+  single_ = {};
+  // The diagonal sets the scale: every diagonal entry at least 2^24 times the smallest normal float
+  // (so what is not below a float's rounding of it stays a normal number) and no entry beyond
+  // 2^-24 of the largest float. Entries below the smallest normal float are made zeros, not
+  // subnormals (which would slow the arithmetic): they are below a float's rounding of every
+  // diagonal entry, and L~ keeps its positive diagonal, so L~ L~^T stays positive definite.
+  constexpr double kEps = 0x1p-24, kLow = std::numeric_limits<float>::min(), kHigh = std::numeric_limits<float>::max();
+  for (int64_t sn = 0; sn < f_.nsuper; ++sn) {
+    const int64_t nc = f_.super[sn + 1] - f_.super[sn], nr = f_.pi[sn + 1] - f_.pi[sn];
+    for (int64_t j = 0; j < nc; ++j) {
+      const double d = f_.x[f_.px[sn] + j * nr + j];
+      if (!(d >= kLow / kEps && d <= kHigh * kEps)) return false;
+    }
+  }
+  const int64_t count = f_.nsuper > 0 ? f_.px[f_.nsuper] : 0;
+  for (int64_t k = 0; k < count; ++k)
+    if (!(std::abs(f_.x[k]) <= kHigh * kEps)) return false;
+  single_.resize(static_cast<size_t>(count));
+  parallel_for(count, int64_t{1} << 16, [&](int64_t k0, int64_t k1) {
+    for (int64_t k = k0; k < k1; ++k) {
+      const double v = f_.x[k];
+      single_[static_cast<size_t>(k)] = std::abs(v) < kLow ? 0.0f : static_cast<float>(v);
+    }
+  });
+  return true;
+}
+
 namespace {
 
 // x = L^-1 x on the triangle of columns [jb, je) of a supernode (column j at l + j nr), four
 // columns at a time: their own triangle, then the rows below it in the block updated by the four
 // in their order. Each entry takes the same operations in the same order as one column at a
 // time, with a quarter of the loads and stores.
-inline void block_triangle(const double* l, int64_t nr, int64_t jb, int64_t je, double* x) {
+template <class T>
+inline void block_triangle(const T* l, int64_t nr, int64_t jb, int64_t je, double* x) {
   int64_t j = jb;
   for (; j + 4 <= je; j += 4) {
-    const double *c0 = l + j * nr, *c1 = c0 + nr, *c2 = c1 + nr, *c3 = c2 + nr;
+    const T *c0 = l + j * nr, *c1 = c0 + nr, *c2 = c1 + nr, *c3 = c2 + nr;
     const double x0 = x[j] / c0[j];
     x[j] = x0;
     x[j + 1] -= c0[j + 1] * x0;
@@ -239,7 +280,7 @@ inline void block_triangle(const double* l, int64_t nr, int64_t jb, int64_t je, 
     for (int64_t i = j + 4; i < je; ++i) x[i] = (((x[i] - c0[i] * x0) - c1[i] * x1) - c2[i] * x2) - c3[i] * x3;
   }
   for (; j < je; ++j) {
-    const double* c = l + j * nr;
+    const T* c = l + j * nr;
     const double xj = x[j] / c[j];
     x[j] = xj;
     SILT_IVDEP
@@ -252,9 +293,10 @@ inline void block_triangle(const double* l, int64_t nr, int64_t jb, int64_t je, 
 // y_s = L_ss^-1 y_s, then the rows below: y_r -= L_rs y_s (into a buffer for a task's top rows).
 // Block by block of kCols columns: the block's triangle, then its update of the rows after it,
 // each row updated by the columns in their order whatever the split of the rows.
-void SupernodalSolver::forward(int64_t sn, double* y, bool split) const {
+template <class T>
+void SupernodalSolver::forward(const T* values, int64_t sn, double* y, bool split) const {
   const int64_t k0 = f_.super[sn], nc = f_.super[sn + 1] - k0, p0 = f_.pi[sn], nr = f_.pi[sn + 1] - p0, m = nr - nc;
-  const double* l = f_.x + f_.px[sn];
+  const T* l = values + f_.px[sn];
   double* w = work_.data();
   double* xs = w + k0;
   std::fill(y, y + m, 0.0);
@@ -269,7 +311,7 @@ void SupernodalSolver::forward(int64_t sn, double* y, bool split) const {
         // Four columns at a time, each row updated by them in order (the same operations as
         // one column at a time, with a quarter of the loads and stores of the rows).
         for (; j + 4 <= je; j += 4) {
-          const double *c0 = l + j * nr, *c1 = c0 + nr, *c2 = c1 + nr, *c3 = c2 + nr;
+          const T *c0 = l + j * nr, *c1 = c0 + nr, *c2 = c1 + nr, *c3 = c2 + nr;
           const double x0 = xs[j], x1 = xs[j + 1], x2 = xs[j + 2], x3 = xs[j + 3];
           SILT_IVDEP
           for (int64_t i = r0; i < a1; ++i) xs[i] = (((xs[i] - c0[i] * x0) - c1[i] * x1) - c2[i] * x2) - c3[i] * x3;
@@ -277,7 +319,7 @@ void SupernodalSolver::forward(int64_t sn, double* y, bool split) const {
           for (int64_t i = b0; i < r1; ++i) yb[i] = (((yb[i] + c0[i] * x0) + c1[i] * x1) + c2[i] * x2) + c3[i] * x3;
         }
         for (; j < je; ++j) {
-          const double* c = l + j * nr;
+          const T* c = l + j * nr;
           const double xj = xs[j];
           SILT_IVDEP
           for (int64_t i = r0; i < a1; ++i) xs[i] -= c[i] * xj;
@@ -302,9 +344,10 @@ void SupernodalSolver::forward(int64_t sn, double* y, bool split) const {
 // z_s = L_ss^-T (z_s - L_rs^T z_r), the rows r below read where they are finished. Block by
 // block of kCols columns from the last: each column's dot with the rows after the block (the
 // columns shared among the threads when split), then the block's triangle.
-void SupernodalSolver::backward(int64_t sn, double* t, bool split) const {
+template <class T>
+void SupernodalSolver::backward(const T* values, int64_t sn, double* t, bool split) const {
   const int64_t k0 = f_.super[sn], nc = f_.super[sn + 1] - k0, p0 = f_.pi[sn], nr = f_.pi[sn + 1] - p0;
-  const double* l = f_.x + f_.px[sn];
+  const T* l = values + f_.px[sn];
   double* w = work_.data();
   std::copy(w + k0, w + k0 + nc, t);
   for (int64_t i = nc; i < nr; ++i) t[i] = w[f_.s[p0 + i]];
@@ -315,7 +358,7 @@ void SupernodalSolver::backward(int64_t sn, double* t, bool split) const {
       run_simd([&] {
         int64_t j = j0;
         for (; j + 4 <= j1; j += 4) {
-          const double* c[4] = {l + j * nr + je, l + (j + 1) * nr + je, l + (j + 2) * nr + je, l + (j + 3) * nr + je};
+          const T* c[4] = {l + j * nr + je, l + (j + 1) * nr + je, l + (j + 2) * nr + je, l + (j + 3) * nr + je};
           dot4(c, t + je, nr - je, after + (j - jb));
         }
         for (; j < j1; ++j) after[j - jb] = dot(l + j * nr + je, t + je, nr - je);
@@ -328,7 +371,7 @@ void SupernodalSolver::backward(int64_t sn, double* t, bool split) const {
     }
     run_simd([&] {
       for (int64_t j = je - 1; j >= jb; --j) {
-        const double* c = l + j * nr;
+        const T* c = l + j * nr;
         t[j] = (t[j] - after[j - jb] - dot(c + j + 1, t + j + 1, je - j - 1)) / c[j];
       }
     });
@@ -336,7 +379,13 @@ void SupernodalSolver::backward(int64_t sn, double* t, bool split) const {
   std::copy(t, t + nc, w + k0);
 }
 
-void SupernodalSolver::solve(const double* b, double* x) const {
+void SupernodalSolver::solve(const double* b, double* x, bool single) const {
+  if (single && !single_.empty()) solve_with(single_.data(), b, x);
+  else solve_with(f_.x, b, x);
+}
+
+template <class T>
+void SupernodalSolver::solve_with(const T* values, const double* b, double* x) const {
   const int64_t n = f_.n, tasks = this->tasks();
   double* w = work_.data();
   for (int64_t k = 0; k < n; ++k) w[k] = b[f_.perm ? f_.perm[k] : k];
@@ -350,8 +399,8 @@ void SupernodalSolver::solve(const double* b, double* x) const {
             double* scratch = scratch_.data() + scratch_start_[static_cast<size_t>(t)];
             run_simd([&] {
               for_task(t, reverse, [&](int64_t sn) {
-                if (reverse) backward(sn, scratch, false);
-                else forward(sn, scratch, false);
+                if (reverse) backward(values, sn, scratch, false);
+                else forward(values, sn, scratch, false);
               });
             });
           }
@@ -365,8 +414,8 @@ void SupernodalSolver::solve(const double* b, double* x) const {
     for (size_t k = 0; k < top_.size();) {
       auto node = [&](size_t i) { return top_[reverse ? top_.size() - 1 - i : i]; };
       auto one = [&](int64_t sn, bool split) {
-        if (reverse) backward(sn, top_scratch, split);
-        else forward(sn, top_scratch, split);
+        if (reverse) backward(values, sn, top_scratch, split);
+        else forward(values, sn, top_scratch, split);
       };
       if (split_[static_cast<size_t>(node(k))]) {
         one(node(k++), true);

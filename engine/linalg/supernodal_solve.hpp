@@ -4,7 +4,8 @@
 // A supernode is a block of consecutive columns of L with one pattern of rows: a dense rectangle,
 // its first rows the lower triangle of the diagonal block (Ng & Peyton 1993). Its column and rows
 // in L's order are read from the factor as CHOLMOD leaves it (engine/linalg/cholmod_factor.cpp:
-// the only file that knows CHOLMOD's types); nothing is copied.
+// the only file that knows CHOLMOD's types); nothing is copied, but for the values rounded to floats
+// when a preconditioner asks for them (keep_single).
 //
 // The forward solve L y = P b takes the supernodes in their order (a child before its parent),
 // the backward solve L^T z = y in the reverse order. Supernodes in disjoint subtrees touch
@@ -45,15 +46,27 @@ class SupernodalSolver {
   // Reads the tree and cuts it into tasks; false if the factor is not in the order assumed (a
   // parent after its children, each subtree a contiguous range), and solve() must not be used.
   bool plan(const SupernodalView& f);
-  // x = A^-1 b (b and x of n entries; they may not overlap). One solve at a time: the solver
-  // holds its work arrays.
-  void solve(const double* b, double* x) const;
+  // A copy of the factor's values in single precision, for solves that precondition: half the
+  // bytes to read (the solves are bound by memory), sums still in double. False, and no copy, when
+  // a value would not keep its relative precision as a float (beyond FLT_MAX or below FLT_MIN).
+  bool keep_single();
+  void drop_single() { single_ = {}; }
+  bool has_single() const { return !single_.empty(); }
+  // x = A^-1 b (b and x of n entries; they may not overlap), with the single-precision copy of
+  // the factor when asked and kept (the solve of L~ L~^T, L~ the rounded factor: symmetric
+  // positive definite as L~ has a positive diagonal). One solve at a time: the solver holds its
+  // work arrays.
+  void solve(const double* b, double* x, bool single = false) const;
   int64_t tasks() const { return static_cast<int64_t>(task_start_.size()) - 1; }
   const SolveSplit& split() const { return split_share_; }
 
  private:
-  void forward(int64_t sn, double* scratch, bool split) const;
-  void backward(int64_t sn, double* scratch, bool split) const;
+  template <class T>
+  void solve_with(const T* values, const double* b, double* x) const;
+  template <class T>
+  void forward(const T* values, int64_t sn, double* scratch, bool split) const;
+  template <class T>
+  void backward(const T* values, int64_t sn, double* scratch, bool split) const;
   // f(supernode) over task t's subtrees, each in order (or in reverse order, the last first).
   template <class F>
   void for_task(int64_t t, bool reverse, F&& f) const {
@@ -78,6 +91,7 @@ class SupernodalSolver {
   std::vector<int> target_;                          // where each row of s is updated in work_
   std::vector<int64_t> scratch_start_;               // [tasks + 2] scratch of each task, then the top
   SolveSplit split_share_;
+  std::vector<float> single_;  // the factor's values rounded to floats (keep_single), or empty
   mutable std::vector<double> work_, scratch_;
 };
 

@@ -114,6 +114,9 @@ PasteMemory estimate_paste_memory(const Model& m) {
     f.integers += 3 * n * l.rot;
   }
   e.factor = f.factor_bytes();
+  // With factor_precision = single, the factor's values again as floats (the preconditioner's).
+  if (p.solver.method == linalg::Method::kFactorPcg && p.solver.single_factor)
+    e.factor += 4.0 * static_cast<double>(f.entries);
   // The factorised matrix's entries: Xi's, or the translations' and the rotations' own blocks.
   const int64_t factored_entries = own ? pattern_entries(fb) + n * l.rot * l.rot : e.entries;
 

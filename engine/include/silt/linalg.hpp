@@ -162,6 +162,12 @@ class CholeskyFactor final : public Preconditioner {
   // measured against.
   SolveReport solve(const Vector& b, Vector& x) const;
   void use_cholmod_solve(bool on) { cholmod_solve_ = on; }
+  // As a preconditioner (apply()), the factor's values rounded to single precision (the factor
+  // held, from now, and every factor made after): its triangular solves read half the bytes, the
+  // sums stay in double. solve() stays exact. A factor whose diagonal a float cannot hold to its
+  // relative precision is applied in double (applies_single() says which).
+  void set_single_preconditioner(bool on);
+  bool applies_single() const;
   // How silt's solves with the held factor are shared among threads (all zero: CHOLMOD's solve
   // is used).
   SolveSplit solve_split() const;
@@ -178,8 +184,9 @@ class CholeskyFactor final : public Preconditioner {
  private:
   struct Impl;
   std::unique_ptr<Impl> impl_;
+  SolveReport solve(const Vector& b, Vector& x, bool single) const;
   int64_t analyses_ = 0, factorizations_ = 0;
-  bool cholmod_solve_ = false;
+  bool cholmod_solve_ = false, single_ = false;
 };
 
 // A two-level preconditioner around another one, M (a Cholesky factor of an earlier matrix): the
@@ -265,6 +272,7 @@ struct SolverSettings {
   int refactor_iterations = 20;  // kFactorPcg: refactorise after a solve that took more
   int refactor_every = 0;        // kFactorPcg: and at least every N solves (0: never forced)
   double coarse_drop = 0;        // kFactorPcg: CoarseCorrection::set_drop of the coarse correction
+  bool single_factor = false;    // kFactorPcg: the factor applied in single precision (CholeskyFactor)
 };
 
 // The columns of a CoarseCorrection's W, and a key naming each (or none): what a caller makes
@@ -290,7 +298,10 @@ class SpdSolver {
   // (connections made or broken), so a stored factor cannot precondition it.
   SolveReport solve(const SparseMatrix& a, const Vector& b, Vector& x, bool pattern_changed);
   const SolverSettings& settings() const { return s_; }
-  void set_settings(const SolverSettings& s) { s_ = s; }
+  void set_settings(const SolverSettings& s) {
+    s_ = s;
+    factor_.set_single_preconditioner(s.single_factor);
+  }
   int64_t refactorizations() const { return factor_.factorizations(); }
   int64_t analyses() const { return factor_.analyses(); }
   const CholeskyFactor& factor() const { return factor_; }
@@ -311,6 +322,8 @@ class SpdSolver {
   // the factor alone. A corrected solve that fails is done again with a fresh factor alone.
   std::function<CoarseSpace()> coarse_space;
   int64_t coarse_columns() const { return coarse_columns_; }  // of the last solve
+  // Solves that a factor applied in single precision left short, finished in double.
+  int64_t double_retries() const { return double_retries_; }
   const CoarseCorrection& coarse() const { return coarse_; }
   void set_coarse_order(CoarseCorrection::OrderMemory m) { coarse_.set_order_memory(std::move(m)); }
 
@@ -319,7 +332,7 @@ class SpdSolver {
   CholeskyFactor factor_;
   bool factor_valid_ = false;
   int solves_since_factor_ = 0;
-  int64_t coarse_columns_ = 0;
+  int64_t coarse_columns_ = 0, double_retries_ = 0;
   CgWorkspace cg_;
   CoarseCorrection coarse_;
 };

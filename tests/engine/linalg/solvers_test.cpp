@@ -279,21 +279,22 @@ TEST_CASE("a solve gives the same bits on 1, 2 and 4 threads") {
 
 namespace {
 
-// A 3D grid Laplacian (side^3 unknowns) with weights spanning two decades and a small shift: its
-// factor has separators of side^2 columns, large enough to be shared among threads.
-SparseMatrix grid_3d(int side, unsigned seed) {
+// A 3D grid Laplacian (side^3 unknowns) with weights spanning two decades (or `decades`) and a
+// small shift: its factor has separators of side^2 columns, large enough to be shared among
+// threads.
+SparseMatrix grid_3d(int side, unsigned seed, double decades = 2, double shift = 1e-2) {
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> u(0, 1);
   const int n = side * side * side;
   std::vector<Eigen::Triplet<double>> t;
-  std::vector<double> diag(n, 1e-2);
+  std::vector<double> diag(n, shift);
   auto id = [side](int i, int j, int k) { return (k * side + j) * side + i; };
   for (int k = 0; k < side; ++k)
     for (int j = 0; j < side; ++j)
       for (int i = 0; i < side; ++i)
         for (const auto& [di, dj, dk] : {std::array{1, 0, 0}, std::array{0, 1, 0}, std::array{0, 0, 1}}) {
           if (i + di >= side || j + dj >= side || k + dk >= side) continue;
-          const double w = std::pow(10.0, 2 * u(rng));
+          const double w = std::pow(10.0, decades * u(rng));
           const int a = id(i, j, k), b = id(i + di, j + dj, k + dk);
           t.emplace_back(a, b, -w);
           t.emplace_back(b, a, -w);
@@ -335,4 +336,99 @@ TEST_CASE("silt's supernodal solves agree with CHOLMOD's and give the same bits 
     const Vector other = solve_on(threads);
     CHECK(std::memcmp(one.data(), other.data(), sizeof(double) * one.size()) == 0);
   }
+}
+
+TEST_CASE("a factor applied in single precision preconditions as well, with the same bits on 1, 2 and 4 threads") {
+  const SparseMatrix a = grid_3d(22, 5);
+  const Vector b = gaussian_vector(a.rows(), 6);
+  CholeskyFactor f;
+  REQUIRE(f.factorize(a).ok());
+  CHECK_FALSE(f.applies_single());
+  const int64_t bytes = f.factor_bytes();
+  f.set_single_preconditioner(true);  // the factor held is rounded at once
+  REQUIRE(f.applies_single());
+  CHECK(f.factor_bytes() == bytes + 4 * f.factor_entries());
+  Vector exact;
+  REQUIRE(f.solve(b, exact).ok());  // solve() stays exact
+  CHECK((b - a * exact).norm() / b.norm() < 1e-13);
+  auto apply_on = [&](int threads) {
+    tbb::task_arena arena(threads);
+    Vector z;
+    arena.execute([&] { f.apply(b, z); });
+    return z;
+  };
+  const Vector one = apply_on(1);
+  // The rounded factor L~ = L + E, |E| <= 2^-24 |L|: L~ L~^T differs from A by about 2^-23 |A|,
+  // and its solve from A^-1 b by at most that times the condition number (about 1e5 here; the
+  // errors of the entries do not add up so, and 5.6e-8 is measured). 1e-5 catches a value out
+  // of place or rounded to fewer bits.
+  const double err = rel_diff(one, exact);
+  CHECK(err > 0);  // the floats were used
+  CHECK(err < 1e-5);
+  for (int threads : {2, 4}) {
+    const Vector other = apply_on(threads);
+    CHECK(std::memcmp(one.data(), other.data(), sizeof(double) * one.size()) == 0);
+  }
+  // As CG's preconditioner: the exact solution to 1e-12 in a few iterations.
+  const SparseOperator op(a);
+  Vector x = Vector::Zero(a.rows());
+  const SolveReport r = conjugate_gradient(op, b, x, SolveOptions{1e-12, 100}, &f);
+  CHECK(r.ok());
+  CHECK(r.iterations <= 3);  // 2 measured
+  CHECK(rel_diff(x, exact) < 1e-9);
+  // Set back, the factor is applied exactly again.
+  f.set_single_preconditioner(false);
+  CHECK_FALSE(f.applies_single());
+  const Vector z = apply_on(1);
+  CHECK(std::memcmp(z.data(), exact.data(), sizeof(double) * z.size()) == 0);
+}
+
+TEST_CASE("a factor whose values a float cannot hold is applied in double precision") {
+  SparseMatrix a = grid_3d(8, 3);
+  a *= 1e80;  // the diagonal of L about 1e40: beyond the largest float
+  const Vector b = gaussian_vector(a.rows(), 4);
+  CholeskyFactor f;
+  f.set_single_preconditioner(true);
+  REQUIRE(f.factorize(a).ok());
+  CHECK_FALSE(f.applies_single());
+  Vector exact, z;
+  REQUIRE(f.solve(b, exact).ok());
+  f.apply(b, z);
+  CHECK(std::memcmp(exact.data(), z.data(), sizeof(double) * z.size()) == 0);
+  a *= 1e-150;  // the diagonal about 1e-35: rounded to floats, its small entries would lose bits
+  REQUIRE(f.factorize(a).ok());
+  CHECK_FALSE(f.applies_single());
+}
+
+TEST_CASE("a solve that a factor in single precision leaves short goes on in double") {
+  // A 3D grid whose weights span seven decades (a diagonal shift of 1e-3): to 1e-7 a fresh factor
+  // solves it in 1 iteration, rounded to floats in 3.
+  const SparseMatrix a = grid_3d(16, 3, 7, 1e-3);
+  const int64_t n = a.rows();
+  const Vector b = gaussian_vector(n, 6);
+  auto solve_with = [&](bool single, int threshold, int64_t& retries) {
+    SolverSettings s;
+    s.options = {1e-7, 10};
+    s.refactor_iterations = threshold;
+    s.single_factor = single;
+    SpdSolver solver(s);
+    Vector x = Vector::Zero(n);
+    const SolveReport r = solver.solve(a, b, x, true);
+    retries = solver.double_retries();
+    CHECK(solver.factor().applies_single() == single);  // rounded again after the retry
+    return r;
+  };
+  int64_t retries = -1;
+  SolveReport r = solve_with(false, 2, retries);
+  CHECK(r.ok());
+  CHECK(r.iterations == 1);
+  r = solve_with(true, 5, retries);  // within the threshold: floats throughout
+  CHECK(r.ok());
+  CHECK(r.iterations == 3);
+  CHECK(retries == 0);
+  r = solve_with(true, 2, retries);  // past it: 2 iterations with the floats, then the double factor
+  CHECK(r.ok());
+  CHECK(r.iterations == 3);
+  CHECK(retries == 1);
+  CHECK(r.residual <= 1e-7);
 }
