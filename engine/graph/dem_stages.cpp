@@ -149,64 +149,79 @@ bool dem_alone(const Model& m) {
   return true;
 }
 
-// The forces of a state given or steered under other parameters than those it holds them under,
-// made again at its positions and velocities as the first state's are (the springs stretched by a
-// step they do not take, then put back), when they are: forces_stale decides it for the rest.
-// (The other modules' forces, a drag's, join the sum; the list is the state's.)
-void add_refresh_stages(GraphBuilder& b) {
-  // (a stage that may leave what it writes as it was, forces not stale, reads it)
-  auto kept = [](const Access& reads, const Access& writes) { return with(reads, writes); };
+// The forces of the first state (setup), or of a state given or steered under other parameters
+// than those it holds them under (refresh, `gated`: only when forces_stale finds them so), made at
+// its positions and velocities: the springs kept, stretched by a step they do not take and put
+// back; the other modules' forces, a drag's, join the sum (the list is the state's); the
+// parameters recorded. `first` is the stage before: the setup's neighbour list, the refresh's
+// forces_stale.
+void add_first_forces(GraphBuilder& b, int first, bool gated) {
   const Model& m = b.model();
   auto& w = b.workspaces().get<dem::DemWorkspace>();
   auto forces = b.forces();
-  const FieldId under = dem::forces_under_field();
-  const int stale = b.add("forces_stale",
-                          [&w](const Model& mm, State& s) { w.refresh = dem::forces_under_other(mm, s); }, {under}, {});
-  b.light(stale);
+  const bool walls = !m.walls.empty();
+  // Whether the forces are made (always in the setup).
+  auto on = [&w, gated] { return !gated || w.refresh; };
+  // A gated stage may leave what it writes as it was: it reads it too.
+  auto reads = [gated](const Access& r, const Access& written) { return gated ? with(r, written) : r; };
+  const Access springs = {fid::pair_hist, fid::wall_hist};
   const int keep = b.add("keep_springs",
-                         [&w](const Model&, State& s) {
-                           if (w.refresh) dem::keep_springs(s, w);
+                         [&w, on](const Model&, State& s) {
+                           if (on()) dem::keep_springs(s, w);
                          },
-                         {fid::pair_hist, fid::wall_hist}, {});
-  b.after(keep, stale, "only when the forces are stale");
+                         springs, {});
+  b.after(keep, first, gated ? "only when the forces are stale" : "the springs of the (possibly rebuilt) pair list");
   const int pairs = b.add(
       "contact_forces",
-      [&w](const Model& mm, State& s) {
-        if (w.refresh) dem::contact_forces(mm, s, w);
+      [&w, on](const Model& mm, State& s) {
+        if (on()) dem::contact_forces(mm, s, w);
       },
-      kept(contact_reads(m), contact_writes()), contact_writes());
+      reads(contact_reads(m), contact_writes()), contact_writes());
+  if (!gated) b.after(pairs, first, "iterates the (possibly rebuilt) pair list");
   b.after(pairs, keep, "stretches the springs kept");
-  const int restore = b.add("restore_springs",
-                            [&w](const Model&, State& s) {
-                              if (w.refresh) dem::restore_springs(s, w);
-                            },
-                            {fid::pair_hist, fid::wall_hist}, {fid::pair_hist, fid::wall_hist});
-  b.after(restore, pairs, "puts back the springs the evaluation stretched");
-  if (!m.walls.empty()) {
+  if (walls) {
     const int wf = b.add(
         "wall_forces",
-        [&w](const Model& mm, State& s) {
-          if (w.refresh) dem::wall_forces(mm, s);
+        [on](const Model& mm, State& s) {
+          if (on()) dem::wall_forces(mm, s);
         },
-        kept(kWallReads, kWallWrites), kWallWrites);
+        reads(kWallReads, kWallWrites), kWallWrites);
+    if (!gated) b.after(wf, first, "a rebuild may renumber the grains (cell order)");
     b.after(wf, keep, "stretches the springs kept");
-    b.after(restore, wf, "puts back the springs the evaluation stretched");
     b.add_force({fid::wall_f, fid::particle_t_wall}, wf);
   }
   const int sum = b.add("sum_forces",
-                        [forces, &w](const Model& mm, State& s) {
-                          if (w.refresh) dem::sum_forces(mm, s, *forces);
+                        [forces, on](const Model& mm, State& s) {
+                          if (on()) dem::sum_forces(mm, s, *forces);
                         },
                         {fid::particle_f, fid::particle_t}, {fid::particle_f, fid::particle_t});
-  b.after(sum, pairs, "adds the pair forces made again");
+  b.after(sum, pairs, "adds the pair forces made");
   b.sums_forces(sum);
+  const int restore = b.add(
+      "restore_springs",
+      [&w, on](const Model&, State& s) {
+        if (on()) dem::restore_springs(s, w);
+      },
+      reads({}, springs), springs);
+  b.after(restore, pairs, "puts back the springs the evaluation stretched");
+  if (walls) b.after(restore, b.find("wall_forces"), "puts back the springs the evaluation stretched");
+  const FieldId under = dem::forces_under_field();
   const int record = b.add("record_forces_under",
-                           [&w](const Model& mm, State& s) {
-                             if (w.refresh) dem::record_forces_under(mm, s);
+                           [on](const Model& mm, State& s) {
+                             if (on()) dem::record_forces_under(mm, s);
                            },
-                           {under}, {under});
-  b.after(record, stale, "records the parameters found stale");
+                           reads({}, {under}), {under});
+  if (gated) b.after(record, first, "records the parameters found stale");
   b.light(record);
+}
+
+void add_refresh_stages(GraphBuilder& b) {
+  auto& w = b.workspaces().get<dem::DemWorkspace>();
+  const int stale =
+      b.add("forces_stale", [&w](const Model& mm, State& s) { w.refresh = dem::forces_under_other(mm, s); },
+            {dem::forces_under_field()}, {});
+  b.light(stale);
+  add_first_forces(b, stale, true);
   diagnose_dem(b);
 }
 
@@ -242,6 +257,7 @@ void add_dem_stages(GraphBuilder& b) {
   // once (its writes checked, not its reads). Found by the checkpoint fuzzer on a restored state
   // whose candidates then changed the pairs' springs.
   b.carries_workspace(nbr);
+  if (b.phase() == Phase::kSetup) return add_first_forces(b, nbr, false);
   const int pairs = b.add(
       "contact_forces",
       [&w, early](const Model& mm, State& s) {
@@ -265,24 +281,6 @@ void add_dem_stages(GraphBuilder& b) {
     // Runs concurrently with contact_forces; not with update_neighbors, which may renumber grains.
     b.after(wf, nbr, "a rebuild may renumber the grains (cell order)");
     b.add_force({fid::wall_f, fid::particle_t_wall}, wf);
-  }
-  if (b.phase() == Phase::kSetup) {
-    const int sum = b.add("sum_forces", [forces](const Model& mm, State& s) { dem::sum_forces(mm, s, *forces); },
-                          with({fid::particle_f, fid::particle_t}, {}), {fid::particle_f, fid::particle_t});
-    b.after(sum, pairs, "adds the pair forces of the first state");
-    b.sums_forces(sum);
-    const int keep = b.add("keep_springs", [&w](const Model&, State& s) { dem::keep_springs(s, w); },
-                           {fid::pair_hist, fid::wall_hist}, {});
-    b.after(keep, nbr, "the springs of the (possibly rebuilt) pair list");
-    b.after(pairs, keep, "stretches the springs kept");
-    if (walls) b.after(b.find("wall_forces"), keep, "stretches the springs kept");
-    const int restore = b.add("restore_springs", [&w](const Model&, State& s) { dem::restore_springs(s, w); }, {},
-                              {fid::pair_hist, fid::wall_hist});
-    b.after(restore, pairs, "puts back the springs the first evaluation stretched");
-    if (walls) b.after(restore, b.find("wall_forces"), "puts back the springs the first evaluation stretched");
-    const int record = b.add("record_forces_under", &dem::record_forces_under, {}, {dem::forces_under_field()});
-    b.light(record);
-    return;
   }
   if (m.velocities_solved) {
     // Velocities from a solve (the paste): the grains drift with them; no kick, no energy check.

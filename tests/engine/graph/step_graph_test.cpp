@@ -58,11 +58,11 @@ TEST_CASE("stages follow the modules a scene enables") {
   CHECK(names(silo, graph::Phase::kSetup) == std::vector<std::string>{"update_neighbors", "keep_springs",
                                                                       "contact_forces", "wall_forces", "sum_forces",
                                                                       "restore_springs", "record_forces_under"});
-  // Those forces made again for a state whose parameters were steered: without the neighbour
-  // update, when they were made under others.
-  CHECK(names(silo, graph::Phase::kRefresh) ==
-        std::vector<std::string>{"forces_stale", "keep_springs", "contact_forces", "wall_forces", "restore_springs",
-                                 "sum_forces", "record_forces_under"});
+  // Those forces made again for a state whose parameters were steered, by the same adder: without
+  // the neighbour update, when they were made under others.
+  CHECK(names(silo, graph::Phase::kRefresh) == std::vector<std::string>{"forces_stale", "keep_springs",
+                                                                        "contact_forces", "wall_forces", "sum_forces",
+                                                                        "restore_springs", "record_forces_under"});
   CHECK(names(pack, graph::Phase::kSetup).back() == "box_stress");
   CHECK(names(pack, graph::Phase::kRefresh).back() == "box_stress");  // the stresses of the forces made again
 }
