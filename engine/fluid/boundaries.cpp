@@ -14,18 +14,24 @@ namespace {
 // thread fills the lines of the part of the grid it sweeps.
 constexpr int64_t kLinesPerTask = 64;
 
-// Calls f(q) for the padded index q of position 0 along axis b, for every position of the other
-// axes over their whole padded range (-1 .. n + 1).
+// The place of a line along axis b (its position along b 0): t along the first other axis and k
+// along the second (z, unless b is; 0 in 2D), padded indices from -1 to n + 1.
+inline std::array<int64_t, 3> line_place(int b, int64_t t, int64_t k) {
+  std::array<int64_t, 3> idx{0, 0, 0};
+  idx[b == 0 ? 1 : 0] = t;
+  idx[b == 2 ? 1 : 2] = k;
+  return idx;
+}
+inline int64_t lines_across(const Layout& L, int b) { return L.n[b == 0 ? 1 : 0] + 3; }
+
+// Calls f(q, idx) for every line along axis b (q: its padded index at position 0 along b; idx:
+// its place along the other axes), in parallel.
 template <class F>
 void for_each_line(const Layout& L, int b, F&& f) {
-  const int o1 = b == 0 ? 1 : 0, o2 = b == 2 ? 1 : 2;
-  const int64_t n1 = L.n[o1] + 3, n2 = L.dim == 3 ? L.n[o2] + 3 : 1;
-  const int64_t off2 = L.dim == 3 ? 1 : 0;
+  const int64_t n1 = lines_across(L, b), n2 = L.dim == 3 ? L.n[b == 2 ? 1 : 2] + 3 : 1;
   sweep_for(L.cells(), n1 * n2, kLinesPerTask, [&](int64_t l0, int64_t l1) {
     for (int64_t l = l0; l < l1; ++l) {
-      std::array<int64_t, 3> idx{0, 0, 0};
-      idx[o1] = l % n1 - 1;
-      if (L.dim == 3) idx[o2] = l / n1 - off2;
+      const std::array<int64_t, 3> idx = line_place(b, l % n1 - 1, L.dim == 3 ? l / n1 - 1 : 0);
       f(L.at(idx[0], idx[1], idx[2]), idx);
     }
   });
@@ -94,11 +100,8 @@ namespace {
 // for_each_line calls it for them.
 template <class F>
 void lines_in_plane(const Layout& L, int b, int64_t k, F&& f) {
-  const int o1 = b == 0 ? 1 : 0;
-  const int64_t n1 = L.n[o1] + 3;
-  for (int64_t t = 0; t < n1; ++t) {
-    std::array<int64_t, 3> idx{0, 0, k};
-    idx[o1] = t - 1;
+  for (int64_t t = -1; t < lines_across(L, b) - 1; ++t) {
+    const std::array<int64_t, 3> idx = line_place(b, t, k);
     f(L.at(idx[0], idx[1], idx[2]), idx);
   }
 }
