@@ -209,6 +209,10 @@ void ResistanceSystem::build_pattern(const std::vector<Connection>& cs) {
   if (nnz > std::numeric_limits<int>::max()) throw std::length_error("the resistance matrix has over 2^31 entries");
   if (a_.rows() != size || a_.cols() != size) a_.resize(size, size);
   a_.makeCompressed();  // a no-op unless something left it uncompressed
+  // The connections change at nearly every step, and the entries with them: room for a quarter
+  // more, so that the arrays are not moved into fresh memory (page faults, a copy) at each step
+  // that adds a few.
+  if (nnz > a_.data().allocatedSize()) a_.data().reserve(nnz + nnz / 4 - a_.nonZeros());
   a_.resizeNonZeros(nnz);
   int* outer = a_.outerIndexPtr();
   int* out = a_.innerIndexPtr();
