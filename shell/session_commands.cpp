@@ -290,7 +290,7 @@ void Session::cmd_print(const Command& c) {
     throw std::runtime_error(e.what());
   }
   std::vector<double> values;
-  at_boundary([&] { values = obs->sample(sim_->model(), sim_->state()); });
+  at_boundary([&] { sim_->within([&] { values = obs->sample(sim_->model(), sim_->state()); }); });
   size_t w = 0;
   for (const auto& n : names) w = std::max(w, n.size());
   for (size_t k = 0; k < names.size(); ++k)

@@ -414,6 +414,8 @@ RunOptions Simulation::scene_run_left() const {
   return opt;
 }
 
+void Simulation::within(const std::function<void()>& fn) const { impl_->arena.execute(fn); }
+
 RunReport Simulation::run(const RunOptions& options) {
   RunReport rep;
   RunOptions opt = options;
@@ -445,13 +447,13 @@ RunReport Simulation::run(const RunOptions& options) {
   // The hooks' measurements run in the simulation's arena, on its threads and no others.
   auto periodic = [&](bool force) {
     for (const PeriodicHook& h : opt.hooks)
-      if (h.every > 0 && h.fn && (force || state_.step % h.every == 0)) impl_->arena.execute([&] { h.fn(state_); });
+      if (h.every > 0 && h.fn && (force || state_.step % h.every == 0)) within([&] { h.fn(state_); });
   };
   periodic(true);
   // The hooks of the run's last state, which its length did not set (an end in time, at rest).
   auto last_sample = [&] {
     for (const PeriodicHook& h : opt.hooks)
-      if (h.every > 0 && h.fn && state_.step % h.every != 0) impl_->arena.execute([&] { h.fn(state_); });
+      if (h.every > 0 && h.fn && state_.step % h.every != 0) within([&] { h.fn(state_); });
   };
   // A step stores its pair forces (State::boundary_seen) only when something sees its end: a
   // hook, a request, a restart point or the static and steady tests (every check_every steps),

@@ -148,6 +148,9 @@ class Simulation {
   int64_t freeze(int axis, bool below, double value);
   // Bytes held now: the state, the restart point, the modules' workspaces.
   size_t memory_bytes() const;
+  // Runs fn on the simulation's threads and no others (its arena): a measurement made between
+  // runs (the shell's print) uses the cores the run was given, as a run's samples do.
+  void within(const std::function<void()>& fn) const;
   // The modules' workspaces (core/workspace.hpp), for tests and benchmarks that look inside.
   Workspaces& workspaces();
   // The access check of the serial executor (graph/access_check.hpp), on by default in the

@@ -2,6 +2,7 @@
 // (Box2D's test_determinism, for the serial executor and the flow graph at 2 and 4 threads).
 #include <doctest/doctest.h>
 #include <tbb/global_control.h>
+#include <tbb/task_arena.h>
 
 #include <vector>
 
@@ -176,4 +177,15 @@ TEST_CASE("the hash sees a change of one bit") {
   const uint64_t h = state_hash(sim->state());
   sim->state().particle_v[7] = std::nextafter(sim->state().particle_v[7], 1.0);
   CHECK(state_hash(sim->state()) != h);
+}
+
+TEST_CASE("a measurement made between runs runs on the simulation's threads") {
+  // (The shell's print sampled in the caller's arena: every core, whatever --threads said.)
+  tbb::global_control allow(tbb::global_control::max_allowed_parallelism, 4);
+  for (int threads : {1, 3}) {
+    auto sim = test::simulation_from(kPour3d, threads);
+    int seen = 0;
+    sim->within([&] { seen = tbb::this_task_arena::max_concurrency(); });
+    CHECK(seen == threads);
+  }
 }
