@@ -278,6 +278,9 @@ TEST_CASE("inputs the fuzzers found end in a clear message and the contract's ex
       {"run " + scene_path("collision_normal") + " --quiet --threads 1 --steps 300 --restore " + dir +
            "candidate_travel_twice.ckpt",
        0},
+      // A state whose pair list is not valid, restored under other force parameters than its
+      // own: the forces' refresh ran the contact forces without a list (an internal error).
+      {shear + " --threads 1 --steps 3 --restore " + dir + "stale_forces_without_pair_list.ckpt", 0},
       {"check " + dir + "region_far_outside.toml", 0},
       {"check " + dir + "fluid_with_shear_table.toml", 2},
       {"check " + scene_path("pack_2d") + " --set 'grains[].radius=0.1'", 2},

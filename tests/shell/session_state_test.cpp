@@ -155,3 +155,16 @@ TEST_CASE("a file named as a frame or a VTK file where they are written is refus
   REQUIRE(f.run("stats " + dir / "s.csv" + " every 1"));
   REQUIRE(f.run("save " + dir / "frame_1.ckpt"));
 }
+
+TEST_CASE("a force parameter set just after a freeze is taken by the next step") {
+  // freeze leaves the state without a valid pair list; the forces made again for the new friction
+  // ran the contact forces without one, and `set` was refused with an internal error.
+  Fixture f;
+  REQUIRE(f.run("load " + test::scene_path("chute")));
+  REQUIRE(f.run("run 100"));
+  REQUIRE(f.run("freeze z < 2"));
+  CHECK(f.run("set contact.friction 0.1"));
+  CHECK(f.take_err().find("internal error") == std::string::npos);
+  REQUIRE(f.run("run 20"));
+  CHECK(f.value("step") == 120);
+}
