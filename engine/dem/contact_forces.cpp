@@ -357,8 +357,7 @@ void dispatch(const Model& m, State& s, DemWorkspace& w, const GrainBlockPass* t
 
 void contact_forces(const Model& m, State& s, DemWorkspace& w, const GrainBlockPass* then) {
   // Pre: update_neighbors left a valid list (its postcondition).
-  SILT_ASSERT(s.nbr_valid && static_cast<int64_t>(s.nbr_start.size()) == s.n + 1,
-              "contact_forces needs a valid pair list");
+  SILT_ASSERT(has_pair_list(s), "contact_forces needs a valid pair list");
   if (m.dim == 2) dispatch<2>(m, s, w, then);
   else dispatch<3>(m, s, w, then);
 }

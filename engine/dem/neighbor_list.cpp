@@ -210,8 +210,7 @@ bool update_neighbors(const Model& m, State& s, DemWorkspace& w) {
   const bool renumbered = m.dim == 2 ? update<2>(m, s, w) : update<3>(m, s, w);
   // Post: a valid list in CSR form, its per-pair arrays as long as it.
   const int64_t np = s.n_pairs();
-  SILT_ASSERT(s.nbr_valid && static_cast<int64_t>(s.nbr_start.size()) == s.n + 1 && s.nbr_start[s.n] == np,
-              "the pair list's row starts do not span it");
+  SILT_ASSERT(has_pair_list(s) && s.nbr_start[s.n] == np, "the pair list's row starts do not span it");
   SILT_ASSERT(static_cast<int64_t>(s.pair_i.size()) == np && static_cast<int64_t>(s.pair_f.size()) == np * m.dim &&
                   static_cast<int64_t>(s.pair_hist.size()) == np * m.dim &&
                   static_cast<int64_t>(s.pair_touch.size()) == np,

@@ -35,9 +35,11 @@ void drift(const Model& m, State& s);
 // Rebuild the half Verlet list (cell list, pairs within r_i + r_j + skin) only when a grain
 // moved more than skin/2 since the last build; tangential histories of surviving pairs are kept.
 // Then re-select the contact candidates (contact_candidates.hpp) when they may have gone stale.
-// Pre: nbr_start has N + 1 entries or the list is invalid. Post: nbr_valid; nbr_start[N] = P.
+// Pre: nbr_start has N + 1 entries or the list is invalid. Post: has_pair_list; nbr_start[N] = P.
 // Returns whether it renumbered the grains.
 bool update_neighbors(const Model& m, State& s, DemWorkspace& w);
+// Whether the state holds a valid pair list, one row per grain (what the pair forces need).
+inline bool has_pair_list(const State& s) { return s.nbr_valid && static_cast<int64_t>(s.nbr_start.size()) == s.n + 1; }
 
 // (dt, box, box_rate, shear_rate, particle_x, particle_v, particle_w, particle_r, inv_m,
 //  nbr_start, pair_i, pair_j, pair_hist, pair_touch, pair_f) => (pair_f, pair_hist, pair_touch,

@@ -220,12 +220,10 @@ void add_refresh_stages(GraphBuilder& b) {
   // Forces need a pair list: a state without a valid one (grains frozen, a checkpoint that says so)
   // keeps its forces until the next step's, which builds the list first (its first half kick then
   // uses the forces of the parameters the state held).
-  const int stale = b.add("forces_stale",
-                          [&w](const Model& mm, State& s) {
-                            const bool listed = s.nbr_valid && static_cast<int64_t>(s.nbr_start.size()) == s.n + 1;
-                            w.refresh = listed && dem::forces_under_other(mm, s);
-                          },
-                          {dem::forces_under_field(), fid::nbr_valid, fid::nbr_start}, {});
+  const int stale =
+      b.add("forces_stale",
+            [&w](const Model& mm, State& s) { w.refresh = dem::has_pair_list(s) && dem::forces_under_other(mm, s); },
+            {dem::forces_under_field(), fid::nbr_valid, fid::nbr_start}, {});
   b.light(stale);
   add_first_forces(b, stale, true);
   diagnose_dem(b);

@@ -7,6 +7,19 @@
 #include "linalg/vector_ops.hpp"
 
 namespace silt::linalg {
+namespace {
+
+// The held factor applied exactly (its solve() in double), whatever apply() reads.
+class ExactFactor final : public Preconditioner {
+ public:
+  explicit ExactFactor(const CholeskyFactor& f) : f_(f) {}
+  void apply(const Vector& r, Vector& z) const override { (void)f_.solve(r, z); }
+
+ private:
+  const CholeskyFactor& f_;
+};
+
+}  // namespace
 
 const char* status_name(SolveStatus s) {
   switch (s) {
@@ -129,16 +142,15 @@ SolveReport SpdSolver::solve(const SparseMatrix& a, const Vector& b, Vector& x, 
     factor_valid_ = false;
   }
   // A factor applied in single precision that still leaves the solve short (a matrix so badly
-  // conditioned that the rounding of its factor matters) is applied in double for what is left,
-  // and rounded again after (the same floats): each solve decides from its factor alone.
+  // conditioned that the rounding of its factor matters) is applied in double for what is left;
+  // its floats are kept for the next solve: each solve decides from its factor alone.
   if (!rep.ok() && rep.status != SolveStatus::kNotFinite && factor_.applies_single()) {
     const int spent = rep.iterations;
     if (!all_finite(x)) x.setZero();
     SolveOptions rest = s_.options;
     rest.max_iterations = std::max(0, s_.options.max_iterations - spent);
-    factor_.set_single_preconditioner(false);
-    rep = conjugate_gradient(op, b, x, rest, &factor_, &cg_);
-    factor_.set_single_preconditioner(true);
+    const ExactFactor exact(factor_);
+    rep = conjugate_gradient(op, b, x, rest, &exact, &cg_);
     rep.iterations += spent;
     ++double_retries_;
     if (rep.status == SolveStatus::kMaxIterations && rep.iterations >= s_.options.max_iterations)

@@ -415,7 +415,7 @@ TEST_CASE("a solve that a factor in single precision leaves short goes on in dou
     Vector x = Vector::Zero(n);
     const SolveReport r = solver.solve(a, b, x, true);
     retries = solver.double_retries();
-    CHECK(solver.factor().applies_single() == single);  // rounded again after the retry
+    CHECK(solver.factor().applies_single() == single);  // its floats kept through the retry
     return r;
   };
   int64_t retries = -1;
