@@ -67,12 +67,14 @@ void select_dim(const Model& m, State& s, DemWorkspace& sc) {
   sc.cand_strain = s.nbr_strain;
 }
 
-}  // namespace
-
-void select_candidates(const Model& m, State& s, DemWorkspace& w) {
+void choose(const Model& m, State& s, DemWorkspace& w) {
   if (m.dim == 2) select_dim<2>(m, s, w);
   else select_dim<3>(m, s, w);
 }
+
+}  // namespace
+
+void select_candidates(const Model& m, State& s, DemWorkspace& w) { choose(m, s, w); }
 
 void update_candidates(const Model& m, State& s, DemWorkspace& sc, bool rebuilt) {
   if (!rebuilt && sc.candidates_valid) {
@@ -80,7 +82,7 @@ void update_candidates(const Model& m, State& s, DemWorkspace& sc, bool rebuilt)
     sc.cand_travel += s.nbr_step_disp;
     if (2 * sc.cand_travel + (s.nbr_strain - sc.cand_strain) * m.interaction_range() <= m.contact_skin) return;
   }
-  select_candidates(m, s, sc);
+  choose(m, s, sc);
 }
 
 }  // namespace silt::dem

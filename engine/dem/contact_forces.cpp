@@ -293,7 +293,9 @@ template <int D, bool Hertz, bool Friction, bool Affine, bool Mat>
 void pair_forces(const Model& m, State& s, DemWorkspace& sc, const GrainBlockPass* then) {
   constexpr int R = kRotDim<D>;
   if (!sc.schedule_valid) sc.new_schedule(s.n, s.nbr_start, s.pair_j);
-  if (!sc.candidates_valid) select_candidates(m, s, sc);
+  // Chosen before, by update_neighbors or select_candidates: a choice here would clear springs
+  // after a caller kept them, and one call would differ from the next on the same state.
+  SILT_ASSERT(sc.candidates_valid, "contact_forces needs the contact candidates of its pair list");
   PairArgs<D> a{m.contact, PeriodicImage<D>(s.box), s.dt, m.limits.max_overlap, s.shear_rate,
                 m.contact.clip_attractive ? 0.0 : -std::numeric_limits<double>::infinity(), SVec<D>::Zero(), s.n,
                 s.particle_x.data(), s.particle_v.data(), s.particle_w.data(), s.particle_r.data(),

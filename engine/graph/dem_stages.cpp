@@ -9,6 +9,7 @@
 // update, when forces_stale finds them so.
 #include <memory>
 
+#include "dem/contact_candidates.hpp"
 #include "dem/forces_under.hpp"
 #include "dem/stages.hpp"
 #include "graph/adders.hpp"
@@ -165,12 +166,31 @@ void add_first_forces(GraphBuilder& b, int first, bool gated) {
   // A gated stage may leave what it writes as it was: it reads it too.
   auto reads = [gated](const Access& r, const Access& written) { return gated ? with(r, written) : r; };
   const Access springs = {fid::pair_hist, fid::wall_hist};
+  if (gated) {
+    // A state given or restored comes without contact candidates (its workspace invalidated):
+    // chosen here, before the springs are kept, as update_neighbors chooses them in a step. The
+    // choice clears a pair left out that still holds a spring (dem/contact_candidates.hpp), and
+    // its workspace carries them to the next call, so the access check runs it once.
+    const Access pair_state = {fid::pair_touch, fid::pair_f, fid::pair_hist};
+    const int choose = b.add(
+        "select_candidates",
+        [&w, on](const Model& mm, State& s) {
+          if (on() && !w.candidates_valid) dem::select_candidates(mm, s, w);
+        },
+        with({fid::box, fid::particle_x, fid::particle_r, fid::nbr_valid, fid::nbr_start, fid::pair_i, fid::pair_j,
+              fid::nbr_strain},
+             pair_state),
+        pair_state);
+    b.after(choose, first, "only when the forces are stale");
+    b.carries_workspace(choose);
+    first = choose;
+  }
   const int keep = b.add("keep_springs",
                          [&w, on](const Model&, State& s) {
                            if (on()) dem::keep_springs(s, w);
                          },
                          springs, {});
-  b.after(keep, first, gated ? "only when the forces are stale" : "the springs of the (possibly rebuilt) pair list");
+  b.after(keep, first, gated ? "the candidates' springs" : "the springs of the (possibly rebuilt) pair list");
   const int pairs = b.add(
       "contact_forces",
       [&w, on](const Model& mm, State& s) {

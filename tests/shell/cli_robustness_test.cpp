@@ -281,6 +281,9 @@ TEST_CASE("inputs the fuzzers found end in a clear message and the contract's ex
       // A state whose pair list is not valid, restored under other force parameters than its
       // own: the forces' refresh ran the contact forces without a list (an internal error).
       {shear + " --threads 1 --steps 3 --restore " + dir + "stale_forces_without_pair_list.ckpt", 0},
+      // Restored under other force parameters with a pair that cannot touch holding a spring: the
+      // access check found the refresh's pair loop choosing the contact candidates itself.
+      {pack + " --threads 1 --steps 3 --restore " + dir + "candidates_chosen_in_refresh.ckpt", 0},
       {"check " + dir + "region_far_outside.toml", 0},
       {"check " + dir + "fluid_with_shear_table.toml", 2},
       {"check " + scene_path("pack_2d") + " --set 'grains[].radius=0.1'", 2},
