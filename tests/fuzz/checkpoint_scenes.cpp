@@ -15,6 +15,11 @@ const std::vector<CheckpointScene>& checkpoint_scenes() {
        "scenes/shear3d_frictionless.toml",
        {{"grains[0].count", "40"}, {"prepare.compress", "false"}},
        {100}},
+      // The paste: an isotropic box at imposed pressure, and Lees-Edwards shear at a viscous number.
+      {"paste_iso", "scenes/paste_iso.toml", {{"grains[0].count", "40"}}, {20}},
+      {"paste_shear", "scenes/paste_shear.toml", {{"grains[0].count", "80"}}, {20}},
+      // The resolved fluid: a lid-driven cavity on a small grid.
+      {"cavity_2d", "scenes/cavity_2d.toml", {{"fluid.cells", "[16, 16]"}}, {20}},
   };
   return scenes;
 }

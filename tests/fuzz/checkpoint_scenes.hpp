@@ -1,6 +1,6 @@
 // The scenes whose checkpoints seed the checkpoint target, one per kind of state: 3D grains in
 // contact, a wall, a stress-controlled 2D box, Lees-Edwards shear in 2D and 3D, a module's own
-// fields (drag). Shipped scenes, made small where they are large: the target reads a file at some
+// fields (drag), a paste at imposed pressure and sheared, a resolved fluid. Shipped scenes, made small where they are large: the target reads a file at some
 // microseconds a hundred bytes under the sanitizers.
 #pragma once
 
