@@ -6,6 +6,7 @@
 #include <fstream>
 #include <set>
 #include <sstream>
+#include <utility>
 
 #include "checkpoint_scenes.hpp"
 #include "shell/command_parser.hpp"
@@ -96,6 +97,15 @@ int main(int argc, char** argv) {
   std::vector<silt::Model> models;
   for (const auto& s : silt::fuzz::checkpoint_scenes()) {
     silt::Simulation sim(silt::fuzz::compile_scene(s), 1);
+    if (sim.model().prepare.compress) {  // procedure O first, as silt run does (a paste needs touching grains)
+      silt::PreparationReport prep;
+      silt::State packed = silt::prepare_packing(sim.model(), 1, &prep);
+      if (prep.end == silt::RunEnd::kFailed) {
+        std::fprintf(stderr, "fuzz_seeds: %s: the preparation failed: %s\n", s.name.c_str(), prep.failure.c_str());
+        return 1;
+      }
+      sim.restore(std::move(packed));
+    }
     sim.prepare();
     for (const int64_t steps : s.steps) {
       while (sim.state().step < steps)
