@@ -324,14 +324,19 @@ std::string check_paste_state(const Model& m, const State& s) {
   }
   const auto& a = s.module_field(f.factor);
   if (a.empty() || a[0] != static_cast<double>(size)) return "";
-  if (a.size() < 2 || !(a[1] >= 0) || a[1] > 1e12 || a.size() != static_cast<size_t>(2 + (size + 1) + 2 * a[1]))
+  if (a.size() < 2 || !(a[1] >= 0) || a[1] > 1e12 || a[1] != std::floor(a[1]) ||
+      a.size() != static_cast<size_t>(2 + (size + 1) + 2 * a[1]))
     return "paste_factor is not a matrix of the paste's unknowns";
   const auto nnz = static_cast<int64_t>(a[1]);
   const double* col = a.data() + 2;
   const double* row = col + size + 1;
   if (col[0] != 0 || col[size] != static_cast<double>(nnz)) return "paste_factor's columns do not span its entries";
+  // Every column start bounded before any is used as an index (a start far past the entries,
+  // then smaller ones, would be read first).
+  for (int64_t k = 0; k < size; ++k)
+    if (!(col[k + 1] >= col[k] && col[k + 1] <= col[size]) || col[k + 1] != std::floor(col[k + 1]))
+      return "paste_factor's column starts decrease or are not whole numbers";
   for (int64_t k = 0; k < size; ++k) {
-    if (!(col[k + 1] >= col[k])) return "paste_factor's column starts decrease";
     for (auto p = static_cast<int64_t>(col[k]); p < static_cast<int64_t>(col[k + 1]); ++p)
       if (!(row[p] >= 0 && row[p] < static_cast<double>(size)) || (p > col[k] && !(row[p] > row[p - 1])))
         return "paste_factor's rows are out of range or out of order";

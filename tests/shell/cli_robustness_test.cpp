@@ -284,6 +284,11 @@ TEST_CASE("inputs the fuzzers found end in a clear message and the contract's ex
       // Restored under other force parameters with a pair that cannot touch holding a spring: the
       // access check found the refresh's pair loop choosing the contact candidates itself.
       {pack + " --threads 1 --steps 3 --restore " + dir + "candidates_chosen_in_refresh.ckpt", 0},
+      // A stored factor whose column start lies far past its entries, then smaller ones: read as
+      // an index before the later starts were seen (UBSan float-cast-overflow). Refused.
+      {"run " + scene_path("paste_shear") + " --quiet --set grains.0.count=80 --threads 1 --steps 3 --restore " + dir +
+           "paste_factor_column_far.ckpt",
+       4},
       {"check " + dir + "region_far_outside.toml", 0},
       {"check " + dir + "fluid_with_shear_table.toml", 2},
       {"check " + scene_path("pack_2d") + " --set 'grains[].radius=0.1'", 2},
