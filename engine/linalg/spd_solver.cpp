@@ -3,6 +3,7 @@
 // direct solve every time.
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "linalg/vector_ops.hpp"
 
@@ -121,21 +122,27 @@ SolveReport SpdSolver::solve(const SparseMatrix& a, const Vector& b, Vector& x, 
   else if (factor_.applies_single()) first.max_iterations = std::min(first.max_iterations, threshold);
   SolveReport rep = conjugate_gradient(op, b, x, first, m, &cg_);
   ++solves_since_factor_;
+  // The solve again from where `so_far` left it, preconditioned by p, for what is left of its
+  // iterations (options.max_iterations bounds the whole solve) and at most `cap`; a failure's
+  // message names both parts (`how`: what the first part used, then the second).
+  auto go_on = [&](const SolveReport& so_far, const Preconditioner* p, int cap, const char* how) {
+    const int spent = so_far.iterations;
+    if (!all_finite(x)) x.setZero();
+    SolveOptions rest = s_.options;
+    rest.max_iterations = std::min(cap, std::max(0, s_.options.max_iterations - spent));
+    SolveReport r = conjugate_gradient(op, b, x, rest, p, &cg_);
+    r.iterations += spent;
+    if (r.status == SolveStatus::kMaxIterations && r.iterations >= s_.options.max_iterations)
+      r.message = "no convergence in " + std::to_string(s_.options.max_iterations) + " iterations (" +
+                  std::to_string(spent) + how + "; relative residual " + std::to_string(r.residual) + ", tolerance " +
+                  std::to_string(s_.options.tolerance) + ")";
+    return r;
+  };
   if (!rep.ok() && (corrected || (stale && rep.status != SolveStatus::kNotFinite))) {
-    const int spent = rep.iterations;
     if (stale)
       if (SolveReport f = refactor(); !f.ok()) return f;
-    if (!all_finite(x)) x.setZero();
-    // What is left of the solve's iterations (options.max_iterations bounds the whole solve).
-    SolveOptions rest = s_.options;
-    rest.max_iterations = std::max(0, s_.options.max_iterations - spent);
-    if (factor_.applies_single()) rest.max_iterations = std::min(rest.max_iterations, threshold);
-    rep = conjugate_gradient(op, b, x, rest, &factor_, &cg_);
-    rep.iterations += spent;
-    if (rep.status == SolveStatus::kMaxIterations && rep.iterations >= s_.options.max_iterations)
-      rep.message = "no convergence in " + std::to_string(s_.options.max_iterations) + " iterations (" +
-                    std::to_string(spent) + " with the old factor, then a fresh one; relative residual " +
-                    std::to_string(rep.residual) + ", tolerance " + std::to_string(s_.options.tolerance) + ")";
+    rep = go_on(rep, &factor_, factor_.applies_single() ? threshold : std::numeric_limits<int>::max(),
+                " with the old factor, then a fresh one");
     coarse_columns_ = 0;
     ++solves_since_factor_;
   } else if (rep.iterations > s_.refactor_iterations) {
@@ -145,18 +152,9 @@ SolveReport SpdSolver::solve(const SparseMatrix& a, const Vector& b, Vector& x, 
   // conditioned that the rounding of its factor matters) is applied in double for what is left;
   // its floats are kept for the next solve: each solve decides from its factor alone.
   if (!rep.ok() && rep.status != SolveStatus::kNotFinite && factor_.applies_single()) {
-    const int spent = rep.iterations;
-    if (!all_finite(x)) x.setZero();
-    SolveOptions rest = s_.options;
-    rest.max_iterations = std::max(0, s_.options.max_iterations - spent);
     const ExactFactor exact(factor_);
-    rep = conjugate_gradient(op, b, x, rest, &exact, &cg_);
-    rep.iterations += spent;
+    rep = go_on(rep, &exact, std::numeric_limits<int>::max(), " with the factor in single precision, then in double");
     ++double_retries_;
-    if (rep.status == SolveStatus::kMaxIterations && rep.iterations >= s_.options.max_iterations)
-      rep.message = "no convergence in " + std::to_string(s_.options.max_iterations) + " iterations (" +
-                    std::to_string(spent) + " with the factor in single precision, then in double; relative residual " +
-                    std::to_string(rep.residual) + ", tolerance " + std::to_string(s_.options.tolerance) + ")";
   }
   return rep;
 }
