@@ -199,8 +199,9 @@ void add_first_forces(GraphBuilder& b, int first, bool gated) {
       reads(contact_reads(m), contact_writes()), contact_writes());
   if (!gated) b.after(pairs, first, "iterates the (possibly rebuilt) pair list");
   b.after(pairs, keep, "stretches the springs kept");
+  int wf = -1;
   if (walls) {
-    const int wf = b.add(
+    wf = b.add(
         "wall_forces",
         [on](const Model& mm, State& s) {
           if (on()) dem::wall_forces(mm, s);
@@ -224,7 +225,7 @@ void add_first_forces(GraphBuilder& b, int first, bool gated) {
       },
       reads({}, springs), springs);
   b.after(restore, pairs, "puts back the springs the evaluation stretched");
-  if (walls) b.after(restore, b.find("wall_forces"), "puts back the springs the evaluation stretched");
+  if (walls) b.after(restore, wf, "puts back the springs the evaluation stretched");
   const FieldId under = dem::forces_under_field();
   const int record = b.add("record_forces_under",
                            [on](const Model& mm, State& s) {
