@@ -123,6 +123,24 @@ TEST_CASE("fluid: a checkpoint of another grid is refused naming the cells, not 
   std::filesystem::remove(path);
 }
 
+TEST_CASE("fluid: a checkpoint whose velocity or pressure is not finite is refused naming the entry") {
+  const std::string path = (std::filesystem::temp_directory_path() / "silt_fluid_not_finite.ckpt").string();
+  auto a = test::simulation_from(cavity(2, 8));
+  for (int s = 0; s < 3; ++s) REQUIRE(a->step());
+  write_checkpoint(path, a->model(), a->state());
+  CHECK_NOTHROW(read_checkpoint(path, a->model()));
+  const auto refused = [&](const std::string& field) {
+    State st = a->state();
+    st.module_field(field == "p" ? fluid_fields().p : fluid_fields().u[1])[20] = std::nan("");
+    write_checkpoint(path, a->model(), st);
+    const std::string why = "is corrupt: fluid_" + field + "[20] is not finite";
+    CHECK_THROWS_WITH_AS(read_checkpoint(path, a->model()), doctest::Contains(why.c_str()), IoError);
+  };
+  refused("p");
+  refused("v");
+  std::filesystem::remove(path);
+}
+
 TEST_CASE("fluid: steering the viscosity mid-run changes the decay rate from then on") {
   // Taylor-Green: the energy decays as exp(-4 nu k^2 t); nu 0.01 for t in [0, 0.3], then 0.03.
   const std::string scene =
