@@ -34,11 +34,12 @@ cp "$1"/fuzz_seeds/*.dict "$out/"
 cp tests/fuzz/crashes/*.session "$out/session/"
 cp tests/fuzz/crashes/*.keys "$out/repl/"
 
-# Sessions: the first byte picks the scene loaded first (pack_2d, bounce_dry, collision_normal,
-# none), the rest are the lines of a script; on a terminal the same lines typed, and some keys.
+# Sessions: the first byte picks the scene loaded first (0 to 3: pack_2d, bounce_dry,
+# collision_normal, none; 7 paste_iso, 11 cavity_2d), the rest are the lines of a script; on a
+# terminal the same lines typed, and some keys.
 for f in scenes/*.silt tests/fuzz/seeds/*.silt; do
-  for s in 0 1 2 3; do
-    { printf "\\x0$s"; cat "$f"; } > "$out/session/seed_${s}_$(basename "$f" .silt)"
+  for s in 00 01 02 03 07 0b; do
+    { printf "\\x$s"; cat "$f"; } > "$out/session/seed_${s}_$(basename "$f" .silt)"
     cp "$out/session/seed_${s}_$(basename "$f" .silt)" "$out/repl/"
   done
 done

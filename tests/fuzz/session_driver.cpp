@@ -18,7 +18,16 @@ namespace {
 namespace fs = std::filesystem;
 constexpr const char* kFiles = "session_files";  // in the scratch directory
 constexpr const char* kWork = "session";
-constexpr const char* kScenes[] = {"pack_2d", "bounce_dry", "collision_normal"};
+constexpr const char* kScenes[] = {"pack_2d", "bounce_dry", "collision_normal", "paste_iso", "cavity_2d"};
+
+// The scene an input's first byte loads: selector % 4 = 0, 1, 2 the first three (as before the
+// paste and the fluid, so that the inputs found then still load what they did); 3 nothing, the
+// paste or the fluid as (selector / 4) % 3 = 0, 1, 2.
+const char* scene_of(uint8_t selector) {
+  if (selector % 4 < 3) return kScenes[selector % 4];
+  const int k = selector / 4 % 3;
+  return k == 0 ? nullptr : kScenes[2 + k];
+}
 
 // Interrupts the line being executed, as Ctrl-C does, once it has taken longer than its budget:
 // what bounded_line cannot cut (a run of many grains, a preparation) stays short.
@@ -60,15 +69,26 @@ class Watchdog {
 Watchdog* g_watchdog = nullptr;
 
 // A shipped scene made quick: small frames, short runs of its own length (`run` alone) and
-// preparation, and pack_2d's 224 disks 60 in a box to match (it loads in a millisecond; as long
-// as the file says what these patterns look for, which only makes inputs slower otherwise).
+// preparation, pack_2d's and paste_iso's 224 disks 60 in a box to match, and the cavity on 16 x 16
+// cells (it loads in a millisecond; as long as the file says what these patterns look for, which
+// only makes inputs slower otherwise).
 std::string small_scene(const std::string& text) {
   static const std::regex length(R"((^|\n)(steps|time) = [^\n]*)"), count(R"(\ncount = 224\n)"),
-      box(R"(\nhi = \[19\.5, 19\.5\]\n)");
+      box(R"(\nhi = \[19\.5, 19\.5\]\n)"), paste_box(R"(\nhi = \[17\.0, 17\.0\]\n)"),
+      cells(R"(\ncells = \[128, 128\]\n)"), size(R"(\nwidth = [0-9]+\nheight = [0-9]+\n)");
   std::string out = std::regex_replace(text, length, "$1steps = " + std::to_string(kFuzzRunSteps));
   out = std::regex_replace(std::regex_replace(out, count, "\ncount = 60\n"), box, "\nhi = [10.0, 10.0]\n");
-  return out + "\n[render]\nwidth = 160\nheight = 120\n\n[prepare]\nmax_steps = " + std::to_string(kFuzzRunSteps) +
-         "\n";
+  out = std::regex_replace(std::regex_replace(out, paste_box, "\nhi = [8.8, 8.8]\n"), cells, "\ncells = [16, 16]\n");
+  out = std::regex_replace(out, size, "\n");
+  // Keys into the scene's own table (paste_iso's [prepare], cavity_2d's [render]) or one added.
+  const auto put = [&out](const std::string& table, const std::string& keys) {
+    const std::string header = "\n[" + table + "]\n";
+    if (const size_t at = out.find(header); at != std::string::npos) out.insert(at + header.size(), keys);
+    else out += header + keys;
+  };
+  put("prepare", "max_steps = " + std::to_string(kFuzzRunSteps) + "\n");
+  put("render", "width = 160\nheight = 120\n");
+  return out;
 }
 
 // The session's directory, a fresh copy of the files. libFuzzer's timer (SIGALRM, for -timeout)
@@ -106,7 +126,7 @@ SessionDriver::SessionDriver(uint8_t selector) {
   fresh_work_dir();
   if (::chdir(kWork) != 0) bug("cannot enter the session directory");
   session_.emplace(out_, err_, 1);
-  if (selector % 4 < 3) session_->execute(std::string("load ") + kScenes[selector % 4] + ".toml");
+  if (const char* scene = scene_of(selector)) session_->execute(std::string("load ") + scene + ".toml");
   check_output();
 }
 

@@ -25,7 +25,8 @@ void prepare_sessions();
 class SessionDriver {
  public:
   // In a fresh copy of the files, a session with pack_2d, bounce_dry or collision_normal loaded
-  // (selector % 4 = 0, 1, 2) or nothing (3).
+  // (selector % 4 = 0, 1, 2), or with nothing, paste_iso or cavity_2d (selector % 4 = 3 and
+  // (selector / 4) % 3 = 0, 1, 2).
   explicit SessionDriver(uint8_t selector);
   // Quits the session (joining a background run) and leaves the directory.
   ~SessionDriver();
