@@ -86,7 +86,8 @@ std::string small_scene(const std::string& text) {
     if (const size_t at = out.find(header); at != std::string::npos) out.insert(at + header.size(), keys);
     else out += header + keys;
   };
-  put("prepare", "max_steps = " + std::to_string(kFuzzRunSteps) + "\n");
+  if (out.find("[[grains]]") != std::string::npos)
+    put("prepare", "max_steps = " + std::to_string(kFuzzRunSteps) + "\n");
   put("render", "width = 160\nheight = 120\n");
   return out;
 }
