@@ -3,6 +3,7 @@
 // every gap below h_max and by the DEM's elastic frictional contacts, their velocities solved
 // at once every step from one sparse symmetric positive definite system (paste/solve.hpp).
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <sstream>
 
@@ -299,6 +300,10 @@ std::string check_paste_state(const Model& m, const State& s) {
   // A checkpoint written before the coarse correction holds one stat fewer.
   if (!stats.empty() && stats.size() != kSolverStats && stats.size() != kCoarseColumns)
     return "paste_solver has the wrong length";
+  // The solves the held factor has served, the solver's int (-1: none held).
+  if (!stats.empty() && (!(stats[kFactorAge] >= -1 && stats[kFactorAge] <= std::numeric_limits<int>::max()) ||
+                         stats[kFactorAge] != std::floor(stats[kFactorAge])))
+    return "paste_solver's factor age is not a whole number of solves";
   const auto& dt = s.module_field(f.dt);
   if (dt.size() != 1 || !(dt[0] >= 0)) return "paste_dt is not a time step";
   if (const size_t k = s.module_field(f.pair_f_implicit).size();

@@ -289,6 +289,11 @@ TEST_CASE("inputs the fuzzers found end in a clear message and the contract's ex
       {"run " + scene_path("paste_shear") + " --quiet --set grains.0.count=80 --threads 1 --steps 3 --restore " + dir +
            "paste_factor_column_far.ckpt",
        4},
+      // The solves its stored factor has served given as 1e308: cast to int when the factor was
+      // made again (UBSan float-cast-overflow). Refused.
+      {"run " + scene_path("paste_shear") + " --quiet --set grains.0.count=80 --threads 1 --steps 3 --restore " + dir +
+           "paste_factor_age_far.ckpt",
+       4},
       {"check " + dir + "region_far_outside.toml", 0},
       {"check " + dir + "fluid_with_shear_table.toml", 2},
       {"check " + scene_path("pack_2d") + " --set 'grains[].radius=0.1'", 2},
