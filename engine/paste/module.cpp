@@ -294,6 +294,9 @@ std::string steer_paste(Model& m, const Model& fresh) {
   return "";
 }
 
+// A stored count or index: a whole number from lo to hi (false for NaN).
+bool whole_in(double v, double lo, double hi) { return v >= lo && v <= hi && v == std::floor(v); }
+
 std::string check_paste_state(const Model& m, const State& s) {
   const PasteFields f = paste_fields();
   const auto& stats = s.module_field(f.solver);
@@ -301,8 +304,7 @@ std::string check_paste_state(const Model& m, const State& s) {
   if (!stats.empty() && stats.size() != kSolverStats && stats.size() != kCoarseColumns)
     return "paste_solver has the wrong length";
   // The solves the held factor has served, the solver's int (-1: none held).
-  if (!stats.empty() && (!(stats[kFactorAge] >= -1 && stats[kFactorAge] <= std::numeric_limits<int>::max()) ||
-                         stats[kFactorAge] != std::floor(stats[kFactorAge])))
+  if (!stats.empty() && !whole_in(stats[kFactorAge], -1, std::numeric_limits<int>::max()))
     return "paste_solver's factor age is not a whole number of solves";
   const auto& dt = s.module_field(f.dt);
   if (dt.size() != 1 || !(dt[0] >= 0)) return "paste_dt is not a time step";
@@ -316,21 +318,18 @@ std::string check_paste_state(const Model& m, const State& s) {
   if (!alone.empty()) {
     if (alone[0] != 0 && alone[0] != 1) return "paste_alone's flag is neither 0 nor 1";
     for (size_t k = 1; k < alone.size(); ++k)
-      if (!(alone[k] >= 0 && alone[k] < static_cast<double>(s.n)) || alone[k] != std::floor(alone[k]) ||
-          (k > 1 && !(alone[k] > alone[k - 1])))
+      if (!whole_in(alone[k], 0, static_cast<double>(s.n) - 1) || (k > 1 && !(alone[k] > alone[k - 1])))
         return "paste_alone's grain ids are out of range or out of order";
   }
   const auto& order = s.module_field(f.coarse_order);
   if (!order.empty()) {
     if (!(order[0] >= 0 && order[0] < 1e12)) return "paste_coarse_order's fill-in is not a ratio";
     for (size_t k = 1; k < order.size(); ++k)
-      if (!(order[k] >= 0 && order[k] < 0x1p53) || order[k] != std::floor(order[k]))
-        return "paste_coarse_order's keys are not whole numbers in range";
+      if (!whole_in(order[k], 0, 0x1p53 - 1)) return "paste_coarse_order's keys are not whole numbers in range";
   }
   const auto& a = s.module_field(f.factor);
   if (a.empty() || a[0] != static_cast<double>(size)) return "";
-  if (a.size() < 2 || !(a[1] >= 0) || a[1] > 1e12 || a[1] != std::floor(a[1]) ||
-      a.size() != static_cast<size_t>(2 + (size + 1) + 2 * a[1]))
+  if (a.size() < 2 || !whole_in(a[1], 0, 1e12) || a.size() != static_cast<size_t>(2 + (size + 1) + 2 * a[1]))
     return "paste_factor is not a matrix of the paste's unknowns";
   const auto nnz = static_cast<int64_t>(a[1]);
   const double* col = a.data() + 2;
@@ -339,7 +338,7 @@ std::string check_paste_state(const Model& m, const State& s) {
   // Every column start bounded before any is used as an index (a start far past the entries,
   // then smaller ones, would be read first).
   for (int64_t k = 0; k < size; ++k)
-    if (!(col[k + 1] >= col[k] && col[k + 1] <= col[size]) || col[k + 1] != std::floor(col[k + 1]))
+    if (!whole_in(col[k + 1], col[k], col[size]))
       return "paste_factor's column starts decrease or are not whole numbers";
   for (int64_t k = 0; k < size; ++k) {
     for (auto p = static_cast<int64_t>(col[k]); p < static_cast<int64_t>(col[k + 1]); ++p)
