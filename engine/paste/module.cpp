@@ -344,7 +344,7 @@ std::string check_paste_state(const Model& m, const State& s) {
       return "paste_factor's column starts decrease or are not whole numbers";
   for (int64_t k = 0; k < size; ++k) {
     for (auto p = static_cast<int64_t>(col[k]); p < static_cast<int64_t>(col[k + 1]); ++p)
-      if (!(row[p] >= 0 && row[p] < static_cast<double>(size)) || (p > col[k] && !(row[p] > row[p - 1])))
+      if (!whole_in(row[p], 0, static_cast<double>(size) - 1) || (p > col[k] && !(row[p] > row[p - 1])))
         return "paste_factor's rows are out of range or out of order";
   }
   return "";

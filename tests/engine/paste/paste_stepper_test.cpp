@@ -229,6 +229,32 @@ TEST_CASE("paste: the same bits on 1, 2 and 4 threads, and a restart continues t
   }
 }
 
+TEST_CASE("paste: a checkpoint whose stored factor's indices or age are not whole numbers is refused") {
+  // The stored matrix's rows and the factor's age are cast to integers when the preconditioner is
+  // made again after a restore: a fractional row would become its neighbour's (two entries of one
+  // row in a column), an age beyond an int undefined.
+  auto a = test::simulation_from(paste_scene(120, 12), 1);
+  for (int k = 0; k < 3; ++k) REQUIRE(step(*a));
+  const std::string path = "paste_whole_numbers_test.ckpt";
+  write_checkpoint(path, a->model(), a->state());
+  CHECK_NOTHROW(read_checkpoint(path, a->model()));
+  const auto refused = [&](const auto& spoil, const char* why) {
+    State st = a->state();
+    spoil(st);
+    write_checkpoint(path, a->model(), st);
+    CHECK_THROWS_WITH_AS(read_checkpoint(path, a->model()), doctest::Contains(why), IoError);
+  };
+  const std::vector<double>& factor = a->state().module_field(paste::paste_fields().factor);
+  REQUIRE(factor.size() > 4);
+  const auto rows_at = static_cast<size_t>(2 + (factor[0] + 1));  // after n, nnz and the column starts
+  refused([&](State& st) { st.module_field(paste::paste_fields().factor)[rows_at + 1] += 0.5; },
+          "paste_factor's rows are out of range or out of order");
+  for (double age : {2.5, -2.0, 1e308})
+    refused([&](State& st) { st.module_field(paste::paste_fields().solver)[paste::kFactorAge] = age; },
+            "paste_solver's factor age is not a whole number of solves");
+  std::remove(path.c_str());
+}
+
 TEST_CASE("paste: a box that no lubricated gap holds is a clear failure, not a NaN") {
   // Grains farther apart than h_max under a pressure: nothing resists the box's strain rates.
   auto sim = test::simulation_from(paste_scene(20, 16), 1);
