@@ -20,6 +20,11 @@
 namespace silt::paste {
 namespace {
 
+// lubrication.coarse_ratio's default in 3D: above a contact's xi_N / xi_T at h_min/a = 1e-4, 1.5e3
+// for equal grains, where correcting it cost more than it saved; below that at 1e-5, 1.2e4, where
+// it pays. (2D: none.)
+constexpr int kCoarseRatio3d = 3000;
+
 std::vector<KeySpec> paste_keys() {
   using K = KeyType;
   using S = std::vector<std::string>;
@@ -36,7 +41,7 @@ std::vector<KeySpec> paste_keys() {
       {"lubrication.refactor_iterations", K::kInt, std::nullopt, Range::closed(1, 1e6), "", true, {}, "factor_pcg: a solve that took more iterations has Xi refactorised for the next (default 15 with factor_rotations = whole, 30 with own, whose fresh factor already takes about 20)."},
       {"lubrication.factor_gap_over_a", K::kReal, Value(0.5), Range::non_negative(), "", true, {}, "factor_pcg: connections with a gap below this (in units of a) enter the Cholesky factor whole, the others by their diagonal blocks only: a sparser factor, cheaper to make and to apply, for a few more iterations. h_max / a or more: the whole Xi."},
       {"lubrication.factor_rotations", K::kString, std::nullopt, Range::any(), "", true, S{"whole", "own"}, "factor_pcg (default own in 3D, whole in 2D): whole, the factor is of Xi (or of its stiff connections, factor_gap_over_a); own, of Xi without the couplings of each grain's rotation but its own diagonal block: in 3D a factor a quarter the size, about 4 times cheaper to make, for 2.3 to 3.6 times the CG iterations (the rotations' coupling is then the CG's)."},
-      {"lubrication.coarse_ratio", K::kReal, std::nullopt, Range::non_negative(), "", true, {}, "factor_pcg (default 3000 in 3D, 0 in 2D, where it was measured not to pay): the directions along which a connection resists more than this many times its tangential lubrication (the normal of a contact at small h_min; with implicit contacts, a sticking contact's tangents too) are solved exactly at each solve beside the factor (a coarse correction), so the factor stays good while those stiff pairs turn as the grains roll. 0: off."},
+      {"lubrication.coarse_ratio", K::kReal, std::nullopt, Range::non_negative(), "", true, {}, "factor_pcg (default " + std::to_string(kCoarseRatio3d) + " in 3D, 0 in 2D, where it was measured not to pay): the directions along which a connection resists more than this many times its tangential lubrication (the normal of a contact at small h_min; with implicit contacts, a sticking contact's tangents too) are solved exactly at each solve beside the factor (a coarse correction), so the factor stays good while those stiff pairs turn as the grains roll. 0: off."},
       {"lubrication.coarse_drop", K::kReal, Value(1e-4), Range::closed(0, 1), "", true, {}, "factor_pcg with coarse_ratio: the couplings of the coarse correction's E = W^T Xi W weaker than this times the geometric mean of their two diagonal entries are moved onto the diagonal (which keeps the preconditioner definite): on a paste's contacts E's factor is then about 3 times smaller for the same iterations. 0: E exact."},
       {"lubrication.factor_precision", K::kString, Value(std::string("single")), Range::any(), "", true, S{"single", "double"}, "factor_pcg: the Cholesky factor applied as the preconditioner with its values rounded to floats (its triangular solves, most of a step's time, read half the bytes; the sums stay in double and the solve's tolerance is the same) or as CHOLMOD made it. A factor with a value a float cannot hold is applied in double."},
       {"lubrication.refactor_every", K::kInt, Value(int64_t{0}), Range::closed(0, 1e9), "", true, {}, "factor_pcg: also refactorise every N solves (0: only on the iteration threshold)."},
@@ -79,10 +84,8 @@ void compile_steerable(const SceneDesc& d, PasteParams& p) {
   p.solver.coarse_drop = d.real("lubrication.coarse_drop");
   p.solver.single_factor = d.string("lubrication.factor_precision") == "single";
   p.factor_gap_over_a = d.real("lubrication.factor_gap_over_a");
-  // (3000 in 3D: above a contact's xi_N / xi_T at h_min/a = 1e-4, 1.5e3 for equal grains, where
-  // correcting it cost more than it saved; below that at 1e-5, 1.2e4, where it pays)
   p.coarse_ratio = d.has("lubrication.coarse_ratio")   ? d.real("lubrication.coarse_ratio")
-                   : d.integer("scene.dimension") == 3 ? 3000.0
+                   : d.integer("scene.dimension") == 3 ? kCoarseRatio3d
                                                        : 0.0;
   p.implicit_contacts = d.string("lubrication.contacts") == "implicit";
   p.dt_growth = d.real("lubrication.dt_growth");
