@@ -96,7 +96,7 @@ SolveReport conjugate_gradient(const LinearOperator& a, const Vector& b, Vector&
     rep.status = SolveStatus::kNotFinite;
     rep.message = "the solution is not finite";
   } else if (rep.status == SolveStatus::kConverged && rep.residual > opt.tolerance) {
-    rep.status = SolveStatus::kMaxIterations;
+    rep.status = SolveStatus::kStagnated;
     rep.message = "the residual stagnated at " + std::to_string(rep.residual) + " (tolerance " +
                   std::to_string(opt.tolerance) + "): below what round-off allows for this system";
   } else if (rep.status == SolveStatus::kMaxIterations) {

@@ -28,6 +28,7 @@ const char* status_name(SolveStatus s) {
     case SolveStatus::kMaxIterations: return "max_iterations";
     case SolveStatus::kNotPositive: return "not_positive_definite";
     case SolveStatus::kNotFinite: return "not_finite";
+    case SolveStatus::kStagnated: return "stagnated";
   }
   return "?";
 }
@@ -54,8 +55,37 @@ SolveReport SpdSolver::restore_factor(const SparseMatrix& source, int solves_sin
 }
 
 SolveReport SpdSolver::solve(const SparseMatrix& a, const Vector& b, Vector& x, bool pattern_changed) {
+  const double big = b.size() > 0 ? b.cwiseAbs().maxCoeff() : 0.0;
+  if (!(big > 0) || big >= 0x1p-200) return solve_scaled(a, b, x, pattern_changed);
+  // 2^e times b (and x) with its largest entry in [1, 2): each entry scaled exactly (ldexp, no
+  // power of two formed, which 2^1074 would not be); x back by 2^-e, exactly but where the
+  // solution itself falls below a double's range.
+  const int e = -std::ilogb(big);
+  auto scale = [](const Vector& v, int by) {
+    return Vector(v.unaryExpr([by](double y) { return std::ldexp(y, by); }));
+  };
+  const Vector bs = scale(b, e);
+  Vector xs = scale(x, e);
+  SolveReport rep = solve_scaled(a, bs, xs, pattern_changed);
+  x = scale(xs, -e);
+  return rep;
+}
+
+SolveReport SpdSolver::solve_scaled(const SparseMatrix& a, const Vector& b, Vector& x, bool pattern_changed) {
   const SparseOperator op(a);
   if (s_.method == Method::kCg) {
+    // A diagonal entry that is not positive makes the matrix not positive definite at that unknown
+    // (nothing resists it), which CG would find, if at all, only as a NaN or a breakdown: named
+    // here, as a factorisation names the column where it fails.
+    const Vector d = a.diagonal();
+    for (int64_t i = 0; i < d.size(); ++i)
+      if (!(d[i] > 0) || !std::isfinite(d[i])) {
+        SolveReport rep;
+        rep.status = std::isfinite(d[i]) ? SolveStatus::kNotPositive : SolveStatus::kNotFinite;
+        rep.column = rep.status == SolveStatus::kNotPositive ? i : -1;
+        rep.message = "diagonal entry " + std::to_string(i) + " is " + std::to_string(d[i]);
+        return rep;
+      }
     const JacobiPreconditioner jacobi(a);
     return conjugate_gradient(op, b, x, s_.options, &jacobi, &cg_);
   }

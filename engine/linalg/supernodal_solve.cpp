@@ -93,6 +93,7 @@ bool SupernodalSolver::plan(const SupernodalView& f) {
   ranges_.clear();
   task_start_.assign(1, 0);
   top_.clear();
+  alone_.clear();
   const int64_t ns = f.nsuper, n = f.n;
   std::vector<int> col_super(static_cast<size_t>(n));
   for (int64_t sn = 0; sn < ns; ++sn)
@@ -127,15 +128,21 @@ bool SupernodalSolver::plan(const SupernodalView& f) {
   }
   std::vector<std::vector<int64_t>> children(static_cast<size_t>(ns));
   std::vector<int64_t> open;  // subtrees not yet cut
+  std::vector<char> is_alone(static_cast<size_t>(ns), 0);
   for (int64_t sn = 0; sn < ns; ++sn) {
     if (parent[static_cast<size_t>(sn)] >= 0)
       children[static_cast<size_t>(parent[static_cast<size_t>(sn)])].push_back(sn);
-    else open.push_back(sn);
+    else if (count[static_cast<size_t>(sn)] == 1 && f.pi[sn + 1] - f.pi[sn] <= kCols) {
+      is_alone[static_cast<size_t>(sn)] = 1;  // no child (a subtree of one), no row below, one block
+      alone_.push_back(sn);
+    } else {
+      open.push_back(sn);
+    }
   }
   std::vector<char> in_top(static_cast<size_t>(ns), 0);
   if (total < kParallelEntries) {
     open.clear();
-    std::fill(in_top.begin(), in_top.end(), 1);
+    for (int64_t sn = 0; sn < ns; ++sn) in_top[static_cast<size_t>(sn)] = !is_alone[static_cast<size_t>(sn)];
   }
   // Cut the largest open subtree at its root until each is small enough.
   while (!open.empty()) {
@@ -154,6 +161,7 @@ bool SupernodalSolver::plan(const SupernodalView& f) {
     return wa != wb ? wa > wb : a < b;
   });
   int64_t in_tasks = 0, bundle = 0;
+  for (int64_t sn : alone_) in_tasks += entries[static_cast<size_t>(sn)];
   task_start_.assign(1, 0);
   for (int64_t root : open) {
     const int64_t w = subtree[static_cast<size_t>(root)];
@@ -176,7 +184,8 @@ bool SupernodalSolver::plan(const SupernodalView& f) {
       if (split_[static_cast<size_t>(sn)]) shared += entries[static_cast<size_t>(sn)];
     }
   const double all = static_cast<double>(std::max<int64_t>(total, 1));
-  split_share_ = {tasks(), static_cast<double>(in_tasks) / all, static_cast<double>(shared) / all};
+  split_share_ = {tasks(), static_cast<int64_t>(alone_.size()), static_cast<double>(in_tasks) / all,
+                  static_cast<double>(shared) / all};
   // Where each row below a diagonal block is updated: the unknown itself, or, for a task's
   // update of the top, that task's buffer entry for the unknown.
   target_.assign(f.s, f.s + f.pi[ns]);
@@ -191,7 +200,9 @@ bool SupernodalSolver::plan(const SupernodalView& f) {
       subtree_of[static_cast<size_t>(sn)] = static_cast<int64_t>(r);
   for (int64_t sn = 0; sn < ns; ++sn)
     for (int64_t k = f.pi[sn] + (f.super[sn + 1] - f.super[sn]); k < f.pi[sn + 1]; ++k) {
-      const int64_t owner = subtree_of[static_cast<size_t>(col_super[static_cast<size_t>(f.s[k])])];
+      const auto r = static_cast<size_t>(col_super[static_cast<size_t>(f.s[k])]);
+      if (is_alone[r]) return false;  // (a row of it would make it an ancestor)
+      const int64_t owner = subtree_of[r];
       if (owner >= 0 && owner != subtree_of[static_cast<size_t>(sn)]) return false;
     }
   std::vector<int> slot(static_cast<size_t>(n), -1);
@@ -379,6 +390,21 @@ void SupernodalSolver::backward(const T* values, int64_t sn, double* t, bool spl
   std::copy(t, t + nc, w + k0);
 }
 
+// A supernode alone in its tree, forward then back in place: what forward() and backward() do to it
+// (its columns in one block, no row below: no update to add, and each column's dot with the rows
+// after the block a sum of nothing, 0, which leaves the difference it is taken from as it is).
+template <class T>
+void SupernodalSolver::alone(const T* values, int64_t sn) const {
+  const int64_t k0 = f_.super[sn], nc = f_.super[sn + 1] - k0;
+  const T* l = values + f_.px[sn];
+  double* t = work_.data() + k0;
+  block_triangle(l, nc, 0, nc, t);
+  for (int64_t j = nc - 1; j >= 0; --j) {
+    const T* c = l + j * nc;
+    t[j] = (t[j] - dot(c + j + 1, t + j + 1, nc - j - 1)) / c[j];
+  }
+}
+
 void SupernodalSolver::solve(const double* b, double* x, bool single) const {
   if (single && !single_.empty()) solve_with(single_.data(), b, x);
   else solve_with(f_.x, b, x);
@@ -391,11 +417,19 @@ void SupernodalSolver::solve_with(const T* values, const double* b, double* x) c
   for (int64_t k = 0; k < n; ++k) w[k] = b[f_.perm ? f_.perm[k] : k];
   std::fill(w + n, w + buffer_start_.back(), 0.0);
   double* top_scratch = scratch_.data() + scratch_start_[static_cast<size_t>(tasks)];
+  // The supernodes alone in their trees are one more forward task, the last.
+  const bool with_alone = !alone_.empty();
   auto each_task = [&](bool reverse) {
     tbb::parallel_for(
-        tbb::blocked_range<int64_t>(0, tasks, 1),
+        tbb::blocked_range<int64_t>(0, tasks + (reverse ? 0 : with_alone), 1),
         [&](const tbb::blocked_range<int64_t>& r) {
           for (int64_t t = r.begin(); t < r.end(); ++t) {
+            if (t == tasks) {
+              run_simd([&] {
+                for (int64_t sn : alone_) alone(values, sn);
+              });
+              continue;
+            }
             double* scratch = scratch_.data() + scratch_start_[static_cast<size_t>(t)];
             run_simd([&] {
               for_task(t, reverse, [&](int64_t sn) {

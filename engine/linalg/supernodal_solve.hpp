@@ -19,6 +19,12 @@
 // column's dot with the rows after the block, then the block's triangle on one thread). Which
 // thread runs what changes no rounding. In the backward solve the top runs first, and each
 // subtree then reads its ancestors' finished values.
+//
+// A supernode alone in its tree (no parent, no child, no row below its diagonal block: in 3D the
+// 3 x 3 block of a grain's rotation when the factor keeps only the rotations' own blocks) is
+// solved forward and back at once, all of them in one task beside the subtrees' forward tasks,
+// with the operations it would take in a tree: thousands of them would otherwise each take a
+// supernode's set-up twice.
 #pragma once
 
 #include <cstddef>
@@ -67,6 +73,8 @@ class SupernodalSolver {
   void forward(const T* values, int64_t sn, double* scratch, bool split) const;
   template <class T>
   void backward(const T* values, int64_t sn, double* scratch, bool split) const;
+  template <class T>
+  void alone(const T* values, int64_t sn) const;
   // f(supernode) over task t's subtrees, each in order (or in reverse order, the last first).
   template <class F>
   void for_task(int64_t t, bool reverse, F&& f) const {
@@ -83,6 +91,7 @@ class SupernodalSolver {
 
   SupernodalView f_;
   std::vector<int64_t> top_;                         // supernodes of the top, in order
+  std::vector<int64_t> alone_;                       // supernodes alone in their trees
   std::vector<std::pair<int64_t, int64_t>> ranges_;  // subtrees: first and last supernode
   std::vector<int64_t> task_start_;                  // [tasks + 1] each task's subtrees in ranges_
   std::vector<char> split_;                          // a top supernode shared among the threads

@@ -34,6 +34,8 @@ enum class SolveStatus {
   kMaxIterations,  // the iteration limit came first
   kNotPositive,    // the matrix (or the operator along a search direction) is not positive definite
   kNotFinite,      // a NaN or an infinity in b, in the matrix, or appearing during the solve
+  kStagnated,      // CG's recurrence reached the tolerance, the true residual stayed above it after
+                   // restarts from it: the round-off of an ill-conditioned system, whatever the limit
 };
 const char* status_name(SolveStatus s);
 
@@ -128,9 +130,11 @@ FactorSize block_factor_size(const SparseMatrix& pattern, int block);
 
 // How silt's triangular solves with a factor are shared among threads: the parallel tasks (the
 // elimination tree's subtrees), and the shares of the factor's entries in them and in the top's
-// supernodes whose blocks are shared (the rest of the top runs on one thread).
+// supernodes whose blocks are shared (the rest of the top runs on one thread). `alone`: the
+// supernodes alone in their trees (no parent, no child), solved together in one more task and
+// counted in in_tasks.
 struct SolveSplit {
-  int64_t tasks = 0;
+  int64_t tasks = 0, alone = 0;
   double in_tasks = 0, shared = 0;
 };
 
@@ -295,7 +299,11 @@ class SpdSolver {
   SpdSolver& operator=(const SpdSolver&) = delete;
 
   // Solves a x = b from x. `pattern_changed`: the sparsity of a differs from the last call's
-  // (connections made or broken), so a stored factor cannot precondition it.
+  // (connections made or broken), so a stored factor cannot precondition it. A b whose largest
+  // entry is below 2^-200 (the paste under a pressure of 1e-200) is solved scaled by a power of
+  // two, b and x alike, which changes no bit but keeps CG's products of residuals (squares of b's
+  // scale) from underflowing to 0: such a b read as zero, and x as 0. (A b beyond 2^200 is left to
+  // overflow, and its solve to fail naming the loads: forces so large overflow further on anyway.)
   SolveReport solve(const SparseMatrix& a, const Vector& b, Vector& x, bool pattern_changed);
   const SolverSettings& settings() const { return s_; }
   void set_settings(const SolverSettings& s) {
@@ -328,6 +336,8 @@ class SpdSolver {
   void set_coarse_order(CoarseCorrection::OrderMemory m) { coarse_.set_order_memory(std::move(m)); }
 
  private:
+  SolveReport solve_scaled(const SparseMatrix& a, const Vector& b, Vector& x, bool pattern_changed);
+
   SolverSettings s_;
   CholeskyFactor factor_;
   bool factor_valid_ = false;

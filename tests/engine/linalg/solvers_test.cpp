@@ -4,6 +4,9 @@
 #include <doctest/doctest.h>
 #include <tbb/task_arena.h>
 
+#include <Eigen/Dense>
+
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstring>
@@ -249,6 +252,51 @@ TEST_CASE("the direct solve of a numerically singular matrix fails instead of re
   CHECK(bad.message.find("numerically singular") != std::string::npos);
 }
 
+TEST_CASE("a right-hand side far below 1 is solved to the same bits, scaled (not read as zero)") {
+  // A paste under a pressure of 1e-200: |b|^2 underflowed to 0, CG returned x = 0 as converged,
+  // and the grains stood still with every stress reading 0.
+  const SparseMatrix a = grid(20, 9);
+  const Vector b = gaussian_vector(a.rows(), 10);
+  const Vector tiny = b.unaryExpr([](double v) { return std::ldexp(v, -700); });  // about 1e-211
+  for (Method m : {Method::kCg, Method::kFactorPcg, Method::kDirect}) {
+    const std::string name = method_name(m);
+    CAPTURE(name);
+    SolverSettings settings;
+    settings.method = m;
+    Vector x = Vector::Zero(a.rows()), y = Vector::Zero(a.rows());
+    REQUIRE(SpdSolver(settings).solve(a, b, x, true).ok());
+    const SolveReport r = SpdSolver(settings).solve(a, tiny, y, true);
+    REQUIRE(r.ok());
+    CHECK(y.cwiseAbs().maxCoeff() > 0);  // (its norm would underflow)
+    const Vector back = y.unaryExpr([](double v) { return std::ldexp(v, 700); });
+    CHECK(std::memcmp(back.data(), x.data(), sizeof(double) * x.size()) == 0);
+  }
+}
+
+TEST_CASE("CG that cannot go below round-off says it stagnated, and a diagonal entry of 0 is named") {
+  // The grid's Laplacian shifted by 1e-10: condition near 1e14, so 1e-14 is out of reach.
+  SparseMatrix a = grid(12, 5);
+  for (int k = 0; k < a.rows(); ++k) a.coeffRef(k, k) += 1e-10 - 1e-2;
+  Vector x = Vector::Zero(a.rows());
+  const SolveReport r = conjugate_gradient(SparseOperator(a), gaussian_vector(a.rows(), 3), x, {1e-14, 100000});
+  CHECK(r.status == SolveStatus::kStagnated);
+  CHECK(r.iterations < 100000);  // not the limit
+  CHECK(r.residual > 1e-14);
+  CHECK(std::string(status_name(r.status)) == "stagnated");
+  // Nothing resists unknown 17: Jacobi CG would divide by it; named, as a factorisation names its column.
+  SparseMatrix z = grid(10, 3);
+  for (SparseMatrix::InnerIterator it(z, 17); it; ++it) it.valueRef() = 0;
+  for (int k = 0; k < z.outerSize(); ++k)
+    for (SparseMatrix::InnerIterator it(z, k); it; ++it)
+      if (it.row() == 17) it.valueRef() = 0;
+  SolverSettings cg;
+  cg.method = Method::kCg;
+  Vector y = Vector::Zero(z.rows());
+  const SolveReport c = SpdSolver(cg).solve(z, gaussian_vector(z.rows(), 4), y, true);
+  CHECK(c.status == SolveStatus::kNotPositive);
+  CHECK(c.column == 17);
+}
+
 TEST_CASE("a solve gives the same bits on 1, 2 and 4 threads") {
   const SparseMatrix a = grid(90, 11);  // 8,100 unknowns: more than one reduction block
   const Vector b = gaussian_vector(a.rows(), 12);
@@ -335,6 +383,66 @@ TEST_CASE("silt's supernodal solves agree with CHOLMOD's and give the same bits 
   for (int threads : {2, 4}) {
     const Vector other = solve_on(threads);
     CHECK(std::memcmp(one.data(), other.data(), sizeof(double) * one.size()) == 0);
+  }
+}
+
+// A 3D grid Laplacian and, after its unknowns, blocks of three coupled to nothing else (random
+// symmetric positive definite 3 x 3: a grain's rotation in a factor that keeps only the rotations'
+// own blocks), each alone in the elimination tree.
+TEST_CASE("supernodes alone in their trees are solved apart, exactly, with the same bits on 1, 2 and 4 threads") {
+  const SparseMatrix g = grid_3d(22, 5);
+  const int64_t n0 = g.rows(), blocks = 2000, n = n0 + 3 * blocks;
+  std::vector<Eigen::Triplet<double>> t;
+  for (int k = 0; k < g.outerSize(); ++k)
+    for (SparseMatrix::InnerIterator it(g, k); it; ++it) t.emplace_back(it.row(), it.col(), it.value());
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> u(-1, 1);
+  std::vector<Eigen::Matrix3d> own(blocks);
+  for (int64_t b = 0; b < blocks; ++b) {
+    Eigen::Matrix3d m;
+    for (int i = 0; i < 9; ++i) m(i / 3, i % 3) = u(rng);
+    own[b] = m * m.transpose() + std::pow(10.0, 3 * u(rng)) * Eigen::Matrix3d::Identity();
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) t.emplace_back(n0 + 3 * b + i, n0 + 3 * b + j, own[b](i, j));
+  }
+  const SparseMatrix a = from_triplets(n, t);
+  const Vector rhs = gaussian_vector(n, 7);
+  CholeskyFactor f;
+  REQUIRE(f.factorize(a).ok());
+  const SolveSplit split = f.solve_split();
+  CHECK(split.alone == blocks);
+  CHECK(split.tasks > 2);  // the grid's subtrees as before
+  CHECK(split.in_tasks + split.shared <= 1.0);
+  Vector reference;
+  f.use_cholmod_solve(true);
+  REQUIRE(f.solve(rhs, reference).ok());
+  f.use_cholmod_solve(false);
+  for (bool single : {false, true}) {
+    CAPTURE(single);
+    f.set_single_preconditioner(single);
+    auto on = [&](int threads) {
+      tbb::task_arena arena(threads);
+      Vector x;
+      arena.execute([&] {
+        if (single) f.apply(rhs, x);
+        else REQUIRE(f.solve(rhs, x).ok());
+      });
+      return x;
+    };
+    const Vector one = on(1);
+    // Each block's solution against Eigen's: a 3 x 3 system of condition at most about 1e4, to
+    // round-off in double; in single precision to the rounding of the factor (2^-24) times that.
+    double worst = 0;
+    for (int64_t b = 0; b < blocks; ++b) {
+      const Eigen::Vector3d want = own[b].llt().solve(rhs.segment<3>(n0 + 3 * b));
+      worst = std::max(worst, (one.segment<3>(n0 + 3 * b) - want).norm() / want.norm());
+    }
+    CHECK(worst < (single ? 1e-4 : 1e-12));
+    CHECK(rel_diff(one.head(n0), reference.head(n0)) < (single ? 1e-5 : 1e-10));
+    for (int threads : {2, 4}) {
+      const Vector other = on(threads);
+      CHECK(std::memcmp(one.data(), other.data(), sizeof(double) * one.size()) == 0);
+    }
   }
 }
 
