@@ -72,37 +72,50 @@ void diagnose_paste(GraphBuilder& b) {
       const auto status = static_cast<linalg::SolveStatus>(e.first());
       const double iters = stats.size() == paste::kSolverStats ? stats[paste::kLastIterations] : 0;
       f.stage = stage;
+      // A direct solve past the tolerance, or CG whose true residual stayed above it (kStagnated):
+      // below 1e-4, the round-off of an ill-conditioned Xi (the solution is near, the tolerance the
+      // knob); above, a nearly singular Xi solved inaccurately.
+      auto residual_left = [&](const std::string& what) {
+        const bool round_off = e.value() < 1e-4;
+        f.parameter = round_off ? "lubrication.tolerance" : "lubrication.h_max_over_a";
+        f.message = what + format_number(e.value(), 4) +
+                    ", above lubrication.tolerance = " + format_number(p.solver.options.tolerance, 4) +
+                    (round_off ? ": more iterations do not lower it, the round-off of so ill-conditioned a Xi "
+                                 "(h_min/a = " +
+                                     format_number(p.h_min_over_a, 4) +
+                                     "); raise lubrication.tolerance or lubrication.h_min_over_a"
+                               : ": Xi is numerically singular (something moves with almost no lubricated "
+                                 "gap resisting it); compress the grains first (prepare.compress), raise "
+                                 "lubrication.h_max_over_a, or set lubrication.stokes_drag = true");
+      };
       switch (status) {
         case linalg::SolveStatus::kMaxIterations: {
           if (p.solver.method == linalg::Method::kDirect) {
-            // Below 1e-4, round-off in an ill-conditioned Xi: the solution is near, the tolerance
-            // the knob. Above, its factor solved a nearly singular Xi inaccurately.
-            const bool round_off = e.value() < 1e-4;
-            f.parameter = round_off ? "lubrication.tolerance" : "lubrication.h_max_over_a";
-            f.message = "the direct lubrication solve left a relative residual of " + format_number(e.value(), 4) +
-                        ", above lubrication.tolerance = " + format_number(p.solver.options.tolerance, 4) +
-                        (round_off ? ": the round-off of so ill-conditioned a Xi; raise lubrication.tolerance"
-                                   : ": Xi is numerically singular (something moves with almost no lubricated "
-                                     "gap resisting it); compress the grains first (prepare.compress), raise "
-                                     "lubrication.h_max_over_a, or set lubrication.stokes_drag = true");
+            residual_left("the direct lubrication solve left a relative residual of ");
             break;
           }
-          // A residual that reached round-off (1e-12 and below) stalled there: the tolerance is the knob.
+          // The iteration limit came first. A residual that reached round-off (1e-12 and below)
+          // stalled there: the tolerance is the knob.
           const bool stalled = e.value() < 1e-12;
           f.parameter = stalled ? "lubrication.tolerance" : "lubrication.max_iterations";
           f.message = "the lubrication solve did not converge: relative residual " + format_number(e.value(), 4) +
                       " after " + format_number(iters, 4) +
-                      " iterations, above lubrication.tolerance = " + format_number(p.solver.options.tolerance, 4) +
+                      " iterations (lubrication.max_iterations = " + format_number(p.solver.options.max_iterations, 4) +
+                      "), above lubrication.tolerance = " + format_number(p.solver.options.tolerance, 4) +
                       (stalled ? "; the residual stalls at round-off there: raise lubrication.tolerance"
                                : "; raise lubrication.max_iterations, or use lubrication.solver = \"direct\"");
           break;
         }
+        case linalg::SolveStatus::kStagnated:
+          residual_left("the lubrication solve stalled after " + format_number(iters, 4) +
+                        " iterations at a relative residual of ");
+          break;
         case linalg::SolveStatus::kNotPositive: {
           // Which unknown: a grain's (by its id) or a box length's.
           const int pg = m.dim == 2 ? 3 : 6;
           const auto col = static_cast<int64_t>(e.value());
-          const bool factor = p.solver.method != linalg::Method::kCg && col >= 0 && col < s.n * pg + m.dim;
-          if (factor && col >= s.n * pg) {
+          const bool at_unknown = col >= 0 && col < s.n * pg + m.dim;
+          if (at_unknown && col >= s.n * pg) {
             f.parameter = "box.pressure";
             f.message =
                 "no lubricated gap resists the box's pressure (Xi is singular at a box strain rate): the "
@@ -110,10 +123,10 @@ void diagnose_paste(GraphBuilder& b) {
                 "lubrication.h_max_over_a";
             break;
           }
-          if (factor) f.particle = s.particle_id[col / pg];
+          if (at_unknown) f.particle = s.particle_id[col / pg];
           f.parameter = "lubrication.stokes_drag";
           f.message = std::string("the resistance matrix is not positive definite") +
-                      (factor ? " at grain " + std::to_string(f.particle) : std::string()) +
+                      (at_unknown ? " at grain " + std::to_string(f.particle) : std::string()) +
                       ": something moves without any lubricated gap changing; set lubrication.stokes_drag = true";
           break;
         }

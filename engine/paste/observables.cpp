@@ -36,6 +36,15 @@ std::string needs_sheared(const Model& m, const ObservableArgs&) {
   return m.shear.on ? "" : "it applies to a sheared paste (shear.viscous_number or shear.rate with [lubrication])";
 }
 
+// eta_eff divides by the rate: none at an imposed rate of 0 (under an imposed shear stress the rate
+// starts at 0 and the first samples have no value, nan in the stats, null in the summary).
+std::string needs_rate(const Model& m, const ObservableArgs&) {
+  if (std::string why = needs_sheared(m, {}); !why.empty()) return why;
+  return m.shear.stress_controlled || m.shear.rate != 0
+             ? ""
+             : "it divides by the shear rate, which is 0 here (shear.rate): it has no value; leave it out";
+}
+
 std::string needs_shear(const Model& m, const ObservableArgs&) {
   if (std::string why = needs_sheared(m, {}); !why.empty()) return why;
   return needs_pressure(m, {});
@@ -171,7 +180,7 @@ std::vector<ObservableSpec> paste_observables() {
   o[0].check = needs_shear;
   o[2].check = needs_pressure;
   o[3].check = needs_pressure;
-  o[4].check = needs_sheared;  // eta_eff: a rate, at an imposed pressure or a fixed volume
+  o[4].check = needs_rate;  // eta_eff: a rate, at an imposed pressure or a fixed volume
   return o;
 }
 

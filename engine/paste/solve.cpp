@@ -128,7 +128,19 @@ double fastest_rate(const State& s) {
     for (int a = 0; a < D; ++a) v2 += s.particle_v[D * i + a] * s.particle_v[D * i + a];
     top = std::max(top, v2 / (s.particle_r[i] * s.particle_r[i]));
   }
-  return std::sqrt(top);
+  if (top >= 0x1p-900) return std::sqrt(top);
+  // Velocities so small that their squares fall below a double's range (a paste under a pressure
+  // of 1e-200): each scaled by its largest component first. (The squares read 0, and the drift
+  // bound let the step grow until the grains overlapped.)
+  top = 0;
+  for (int64_t i = 0; i < s.n; ++i) {
+    double big = 0, v2 = 0;
+    for (int a = 0; a < D; ++a) big = std::max(big, std::abs(s.particle_v[D * i + a]));
+    if (big == 0) continue;
+    for (int a = 0; a < D; ++a) v2 += (s.particle_v[D * i + a] / big) * (s.particle_v[D * i + a] / big);
+    top = std::max(top, big * std::sqrt(v2) / s.particle_r[i]);
+  }
+  return top;
 }
 
 PasteFields paste_fields() {
@@ -484,10 +496,11 @@ void solve_paste(const Model& m, State& s, PasteWorkspace& w, SolveAt at) {
   stats[kCoarseColumns] = static_cast<double>(w.solver.coarse_columns());
   if (!w.solver.factor_valid()) factor.clear();
   if (!rep.ok()) {
-    // The value: the residual, or for a failed factorisation the unknown where it failed.
-    const bool at_column = rep.status == linalg::SolveStatus::kNotPositive && rep.column >= 0;
+    // The value: the residual, or for a matrix not positive definite the unknown where a
+    // factorisation (or the diagonal) showed it, -1 where CG met it along a search direction.
+    const bool definite = rep.status == linalg::SolveStatus::kNotPositive;
     s.events[at == SolveAt::kAgain ? resolve_event() : solve_event()].raise(
-        static_cast<int64_t>(rep.status), at_column ? static_cast<double>(rep.column) : rep.residual);
+        static_cast<int64_t>(rep.status), definite ? static_cast<double>(rep.column) : rep.residual);
     return;
   }
 
