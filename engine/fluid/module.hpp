@@ -20,6 +20,12 @@ void compile_fluid(const SceneDesc& d, Model& m);
 void finish_fluid(const SceneDesc& d, Model& m);
 std::string describe_fluid(const Model& m);
 std::string steer_fluid(Model& m, const Model& fresh);
+// At a step of dt: that the grid resolves no viscous layer (L Re^-1/2 below a cell), that a flow
+// time L / U takes more than kManySteps steps, and that the steady stop cannot fire as the
+// rounding of the velocity's change over one step exceeds run.steady_tol; "" when none (said by
+// `silt check` and at the start of a run).
+inline constexpr double kManySteps = 1e6;
+std::string fluid_note(const Model& m, double dt);
 
 // Measurements of the velocity field of a state (fluid/measure.cpp).
 double kinetic_energy(const FluidParams& p, const State& s);  // (rho / 2) integral |u|^2 [J, J/m in 2D]

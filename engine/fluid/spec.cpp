@@ -90,6 +90,7 @@ std::string describe_fluid(const Model& m) {
   if (p.drive == Drive::kFlowRate)
     o << "             driven at a bulk velocity " << p.bulk_velocity << m.unit("m/s") << " along "
       << "xyz"[p.drive_axis] << "\n";
+  if (const std::string note = fluid_note(m, p.dt); !note.empty()) o << "             note: " << note << "\n";
   return o.str();
 }
 
@@ -129,6 +130,8 @@ const ModuleSpec& module() {
     s.finish = finish_fluid;
     s.describe = describe_fluid;
     s.steer = steer_fluid;
+    // Said once, before the first step (the adaptive step where the run starts).
+    s.notice = [](const Model& m, const State& st) { return st.step == 0 ? fluid_note(m, st.dt) : std::string(); };
     s.memory_bytes = fluid_memory_bytes;
     s.check_state = [](const Model&, const State& st) -> std::string {
       // kStatCount - 1: a checkpoint written before kChangeRate (fluid_load appends it).

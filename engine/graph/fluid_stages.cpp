@@ -61,9 +61,10 @@ void diagnose_fluid(GraphBuilder& b) {
   b.diagnose(fluid::solve_event(), [](const Model& m, const State&, const EventSlot& e, StepFailure& f) {
     const auto& p = m.params.get<fluid::FluidParams>();
     f.stage = "fluid_pressure";
-    // A residual that reached round-off (1e-12 and below, which grows with the grid) stalled there:
-    // more iterations do not lower it, the tolerance is the knob.
-    const bool stalled = e.value() < 1e-12;
+    // A residual that stagnated, or reached round-off (1e-12 and below, which grows with the grid)
+    // with the limit: more iterations do not lower it, the tolerance is the knob.
+    const bool stalled =
+        static_cast<linalg::SolveStatus>(e.first()) == linalg::SolveStatus::kStagnated || e.value() < 1e-12;
     f.parameter = stalled ? "fluid.tolerance" : "fluid.max_iterations";
     f.message = "the pressure solve (multigrid CG) did not converge: relative residual " + format_number(e.value(), 4) +
                 " above fluid.tolerance = " + format_number(p.tolerance, 4) +

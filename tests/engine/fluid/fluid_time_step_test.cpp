@@ -266,3 +266,55 @@ TEST_CASE("fluid: a density, viscosity, flow time or domain that double precisio
         std::string::npos);
   CHECK(test::scene_error(sized("1e150", 1.0)) == "");
 }
+
+TEST_CASE("fluid: a step that makes a flow time millions of steps, or the steady stop unreachable, is said") {
+  // Re = 1e-9 with Crank-Nicolson: a step of 1e-10 L / U set by the viscous limit, 1e10 steps a
+  // flow time, and the rounding of the velocity's change per step (2 eps L / (U dt), 4e-6) above
+  // run.steady_tol: the run went on for hours without a word, and could never stop as steady.
+  const std::string cavity = lid_cavity(1.0, 1.0, "");
+  auto slow = test::simulation_from(with_fluid_keys(cavity, "reynolds = 1e-9") +
+                                    "[run]\nstop_when_steady = true\nsteady_tol = 1e-6\n");
+  slow->prepare();
+  const std::vector<std::string> notes = slow->take_notices();
+  REQUIRE(notes.size() == 1);
+  CHECK(notes[0].find("step 0: a flow time L / U") != std::string::npos);
+  CHECK(notes[0].find("backward_euler") != std::string::npos);
+  CHECK(notes[0].find("the steady stop cannot fire") != std::string::npos);
+  REQUIRE(slow->step());
+  CHECK(slow->take_notices().empty());                                       // said once
+  CHECK(fluid_note(slow->model(), slow->state().dt) == notes[0].substr(8));  // as `silt check` says it
+  // Backward Euler: no viscous limit, no note; nor for the cavity at Re = 100.
+  auto euler = test::simulation_from(with_fluid_keys(cavity, "reynolds = 1e-9\nviscous = \"backward_euler\""));
+  euler->prepare();
+  CHECK(euler->take_notices().empty());
+  auto plain = test::simulation_from(cavity);
+  plain->prepare();
+  CHECK(plain->take_notices().empty());
+  // Re = 1e12 on 24 cells: viscous layers of 1e-6 L, a cell 0.04 L.
+  auto thin = test::simulation_from(with_fluid_keys(cavity, "reynolds = 1e12"));
+  thin->prepare();
+  const std::vector<std::string> thin_notes = thin->take_notices();
+  REQUIRE(thin_notes.size() == 1);
+  CHECK(thin_notes[0].find("thinner than a cell") != std::string::npos);
+}
+
+TEST_CASE("fluid: an inflow whose velocity leaves the box is refused, in the scene and steered") {
+  // Its flow out at a set rate, with the outflow face drawing fluid in, grew without bound.
+  const std::string channel =
+      "[scene]\ndimension = 2\n[domain]\nlo = [0.0, 0.0]\nhi = [2.0, 1.0]\n[fluid]\ncells = [16, 8]\n"
+      "reynolds = 100.0\n[fluid.boundary]\nx_lo = \"inflow\"\nx_lo_velocity = [1.0, 0.0]\nx_hi = \"outflow\"\n";
+  auto sim = test::simulation_from(channel);
+  REQUIRE(sim->step());
+  std::string outward = channel;
+  outward.replace(outward.find("[1.0, 0.0]"), 10, "[-1.0, 0.0]");
+  const std::string err = test::scene_error(outward);
+  CHECK(err.find("an inflow's normal component enters the box (> 0 on a low face), here -1") != std::string::npos);
+  INFO(err);
+  CHECK(err.rfind("bad.toml:11:17:", 0) == 0);  // at the velocity
+  const std::string along = test::scene_error(outward.replace(outward.find("[-1.0, 0.0]"), 11, "[0.0, 1.0]"));
+  CHECK(along.find("enters the box") != std::string::npos);  // along the face only: no inflow
+  CHECK(
+      steer(sim->model_for_steering(), parse_override("fluid.boundary.x_lo_velocity=[-3, 0]")).find("enters the box") !=
+      std::string::npos);
+  REQUIRE(sim->step());
+}
