@@ -12,9 +12,14 @@ int main(int argc, char** argv) {
   CLI::App app{"silt: dense granular matter in a viscous fluid"};
   app.set_version_flag("--version", std::string("silt ") + SILT_VERSION);
   app.require_subcommand(1);
+  const std::string codes =
+      "\nExit codes: 0 success, 1 usage error, 2 scene or script error (FILE:LINE:COL: message), 3 numerical "
+      "failure (the step, the stage and the parameter to change; the last good state kept), 4 I/O error.";
+  app.footer(codes);
 
   RunArgs run;
   auto* r = app.add_subcommand("run", "Run a scene headless (the main job)");
+  r->footer(codes);
   r->add_option("scene", run.scene, "Scene file (TOML)")->required();
   r->add_option("--set", run.sets, "Override a scene value: KEY=VALUE (dotted TOML path); repeatable")
       ->check(key_value());
@@ -52,6 +57,7 @@ int main(int argc, char** argv) {
 
   CheckArgs check;
   auto* c = app.add_subcommand("check", "Validate a scene and print the compiled model");
+  c->footer(codes);
   c->add_option("scene", check.scene, "Scene file (TOML)")->required();
   c->add_option("--set", check.sets, "Override a scene value: KEY=VALUE; repeatable")->check(key_value());
   c->add_option("--threads", check.threads, "Threads used to build the neighbour list")
@@ -60,6 +66,7 @@ int main(int argc, char** argv) {
   std::string shell_scene;
   int shell_threads = 0;
   auto* sh = app.add_subcommand("shell", "Interactive shell: load, run, steer, render, save");
+  sh->footer(codes);
   sh->add_option("scene", shell_scene, "Scene file to load first");
   sh->add_option("--threads", shell_threads, "Worker threads (default: all cores)")
       ->transform(whole_number(1, kMaxThreads));
@@ -68,6 +75,7 @@ int main(int argc, char** argv) {
   bool keep_going = false;
   int play_threads = 0;
   auto* pl = app.add_subcommand("play", "Play a script of shell commands, non-interactively");
+  pl->footer(codes);
   pl->add_option("script", script, "Script (.silt): one command per line, # comments")->required();
   pl->add_flag("--keep-going", keep_going, "Go on after an error (at the end, the highest exit code of its errors)");
   pl->add_option("--threads", play_threads, "Worker threads (default: all cores)")

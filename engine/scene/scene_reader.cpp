@@ -1,10 +1,13 @@
 // TOML text -> SceneDesc: every value checked against the schema and kept with its location.
 #include <toml++/toml.h>
 
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <sstream>
+#include <string_view>
+#include <system_error>
 
 #include "silt/input_files.hpp"
 #include "silt/scene.hpp"
@@ -36,8 +39,12 @@ std::string convert(const toml::node& n, const KeySpec& spec, const std::string&
     std::ostringstream o;
     // nan and inf are TOML numbers, and no quantity of a scene.
     if (!std::isfinite(x)) return "'" + path + "' = " + (std::isnan(x) ? "nan" : "inf") + " is not a finite number";
-    o << "'" << path << "' = " << x << " is out of range " << spec.range.str()
-      << (spec.unit.empty() ? "" : " " + spec.unit);
+    // The value in full (its shortest exact form): 10000001 printed to six digits reads 1e+07,
+    // as if it were the bound it exceeds.
+    char full[32];
+    const auto [end, ec] = std::to_chars(full, full + sizeof full, x);
+    o << "'" << path << "' = " << std::string_view(full, ec == std::errc() ? end - full : 0) << " is out of range "
+      << spec.range.str() << (spec.unit.empty() ? "" : " " + spec.unit);
     return o.str();
   };
   auto check_choice = [&](const std::string& s, const toml::node& at) -> std::string {
