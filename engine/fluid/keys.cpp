@@ -75,7 +75,7 @@ std::vector<KeySpec> fluid_keys() {
          "m/s",
          true,
          {},
-         "no_slip: the wall's tangential velocity (a lid); inflow: the inflow velocity (its peak when parabolic)."});
+         "no_slip: the wall's tangential velocity (a lid); inflow: the inflow velocity (its peak when parabolic), its normal component into the box."});
     s.push_back({b + "_profile", K::kString, Value(std::string("plug")), Range::any(), "", false,
                  S{"plug", "parabolic"},
                  "inflow: a uniform velocity, or a parabola vanishing on the walls of the other axes."});
