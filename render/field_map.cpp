@@ -89,7 +89,10 @@ bool plane_extent(const GridField& g, const Vec3& n, double p, const Vec3& u, co
       if (sb == 0) add(b);
       if ((sa < 0 && sb > 0) || (sa > 0 && sb < 0)) add(a + sa / (sa - sb) * (b - a));
     }
-  return hit && ext[1] > ext[0] && ext[3] > ext[2];
+  // A plane through a corner or along an edge, to round-off, cuts a sliver of 1e-16: no slice
+  // (it drew a blank frame without a warning).
+  const double sliver = 1e-9 * std::max({n_cells[0] * g.h[0], n_cells[1] * g.h[1], n_cells[2] * g.h[2]});
+  return hit && ext[1] - ext[0] > sliver && ext[3] - ext[2] > sliver;
 }
 
 }  // namespace

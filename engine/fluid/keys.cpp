@@ -67,15 +67,15 @@ std::vector<KeySpec> fluid_keys() {
          S{"periodic", "no_slip", "free_slip", "inflow", "outflow"},
          "Condition on this face (default: periodic along a periodic axis, else no_slip). inflow: the velocity of " +
              b + "_velocity; outflow: zero normal gradient and p = 0 (on the high faces only)."});
-    s.push_back(
-        {b + "_velocity",
-         K::kRealList,
-         std::nullopt,
-         Range::any(),
-         "m/s",
-         true,
-         {},
-         "no_slip: the wall's tangential velocity (a lid); inflow: the inflow velocity (its peak when parabolic), its normal component into the box."});
+    s.push_back({b + "_velocity",
+                 K::kRealList,
+                 std::nullopt,
+                 Range::any(),
+                 "m/s",
+                 true,
+                 {},
+                 "no_slip: the wall's tangential velocity (a lid); inflow: the inflow velocity (its peak when "
+                 "parabolic), its normal component into the box."});
     s.push_back({b + "_profile", K::kString, Value(std::string("plug")), Range::any(), "", false,
                  S{"plug", "parabolic"},
                  "inflow: a uniform velocity, or a parabola vanishing on the walls of the other axes."});

@@ -10,7 +10,10 @@ std::string describe(const Model& m) {
   o.precision(5);
   for (const Module& mod : modules())
     if (mod.spec->describe && m.module_on(mod.spec->name)) o << mod.spec->describe(m);
-  if (m.adaptive_dt && m.run_time >= 0)
+  if (!m.gives_run_length())
+    o << "run          no run length ([run] steps or time): silt run needs --steps or --time (the shell: run N, "
+         "run Ts)";
+  else if (m.adaptive_dt && m.run_time >= 0)
     o << "run          until t = " << m.run_time << m.unit("s") << " (adaptive time step)";
   else if (m.adaptive_dt)
     o << "run          " << m.run_steps << " steps (adaptive time step: the first " << m.dt << m.unit("s") << ")";

@@ -155,6 +155,12 @@ TEST_CASE("an oblique slice samples the field on its plane, and nothing off the 
   CHECK(miss.fields.empty());
   REQUIRE(miss.warnings.size() == 1);
   CHECK(miss.warnings[0].find("misses") != std::string::npos);
+  // Through the far corner (4, 4, 4) only, to round-off: the same (a sliver of 1e-16 was drawn, blank).
+  v.slice_position = 12 / s3;
+  const RenderScene corner = build_render_scene(sim->model(), sim->state(), v, &w);
+  CHECK(corner.fields.empty());
+  REQUIRE(corner.warnings.size() == 1);
+  CHECK(corner.warnings[0].find("misses") != std::string::npos);
 }
 
 TEST_CASE("[render] slice_normal: any direction, normalised, through the domain centre by default") {
