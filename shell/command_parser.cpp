@@ -146,7 +146,10 @@ const std::vector<CommandSpec>& command_specs() {
        "Writes a checkpoint of the current state (atomically: a temporary file renamed).", 1, 1, ArgKind::kFile},
       {"restore", "restore FILE", "read a checkpoint", "Continues from a checkpoint of the same system.", 1, 1,
        ArgKind::kFile},
-      {"reset", "reset", "back to t = 0", "Returns to the scene's initial state.", 0, 0, ArgKind::kNone},
+      {"reset", "reset", "back to t = 0",
+       "Returns to the scene's initial state as it stands: the values given by set, and the grains frozen, are kept "
+       "(reload reads the file again).",
+       0, 0, ArgKind::kNone},
       {"freeze", "freeze AXIS < VALUE | freeze AXIS > VALUE", "freeze grains",
        "Freezes the free grains whose centre is below (or above) VALUE along AXIS (x, y or z): they stop for good. "
        "A checkpoint saved then makes a rough base for another scene ([[grains]] frozen_from = FILE).",

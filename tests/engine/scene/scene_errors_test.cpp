@@ -168,3 +168,21 @@ TEST_CASE("a missing key, or none of its alternatives, is reported where it belo
   // Without its table: at the start of the file.
   CHECK(test::scene_error(with("[[grains]]\ncount = 10\nradius = 0.5\n", "")).rfind("bad.toml:1:1: ", 0) == 0);
 }
+
+TEST_CASE("a wall normal of any length is a direction: 1e200 and 1e-300 along y give the wall along y") {
+  // Its norm was taken from its squares: [0, 1e200, 0] became a wall of normal (0, inf, 0), whose
+  // one grain read an overlap of 100 % 4.5 radii above it; [0, 1e-300, 0] was "zero".
+  for (const char* n : {"[0, 1, 0]", "[0, 1e200, 0]", "[0, 1e-300, 0]", "[0, 3e-310, 0]"}) {
+    CAPTURE(n);
+    const Model m = test::model_from(std::string(kGood) + "[[walls]]\npoint = [0, 0, 0]\nnormal = " + n + "\n");
+    REQUIRE(m.walls.size() == 1);
+    CHECK(m.walls[0].normal[0] == 0);
+    CHECK(m.walls[0].normal[1] == 1);
+    CHECK(m.walls[0].normal[2] == 0);
+  }
+  const Model m = test::model_from(std::string(kGood) + "[[walls]]\npoint = [0, 0, 0]\nnormal = [0, 3e200, 4e200]\n");
+  CHECK(m.walls[0].normal[1] == doctest::Approx(0.6));
+  CHECK(m.walls[0].normal[2] == doctest::Approx(0.8));
+  CHECK(test::scene_error(std::string(kGood) + "[[walls]]\npoint = [0, 0, 0]\nnormal = [0, 0, 0]\n").find("zero") !=
+        std::string::npos);
+}
