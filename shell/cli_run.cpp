@@ -24,7 +24,7 @@ namespace {
 
 std::atomic<bool> g_interrupt{false};
 // Runs of more steps than this are said before they start.
-constexpr int64_t kManySteps = 100'000'000;
+constexpr int64_t kLongRunSteps = 100'000'000;
 
 std::vector<std::string> split_names(const std::string& list) {
   std::vector<std::string> out;
@@ -201,7 +201,7 @@ int run_command(const RunArgs& a) {
   for (const std::string& w : restore_warnings) job->add_warning(w);
   // A fixed step that makes the run hundreds of millions of steps (a contact time of 1e-12 s took
   // 1e11 steps, and wrote 860 MB of stats in its first minute, without a word): said before it starts.
-  if (const int64_t planned = sim.steps_for(opt); planned > kManySteps && planned != Simulation::kAdaptiveSteps) {
+  if (const int64_t planned = sim.steps_for(opt); planned > kLongRunSteps && planned != Simulation::kAdaptiveSteps) {
     const std::string w = "the run is " + format_number(static_cast<double>(planned), 3) +
                           " steps of dt = " + format_number(model.dt, 4) + model.unit("s") +
                           ": give fewer with --steps or --time, or a longer step";

@@ -29,15 +29,11 @@ void setup_walls(const SceneDesc& d, Model& m) {
       wall.normal[k] = nr[k];
     }
     // A normal whose squares leave a double's range ([0, 1e200] read as a wall of infinite normal,
-    // [0, 1e-300] as a zero one) scaled by its largest entry first; others as they are (their bits).
-    if (const double len = wall.normal.norm(); std::isfinite(len) && len > 1e-150) {
-      wall.normal /= len;
-    } else {
-      const double big = wall.normal.cwiseAbs().maxCoeff();
-      if (!(big > 0)) d.fail(p + "normal", "the wall normal is zero");
-      wall.normal /= big;
-      wall.normal.normalize();
-    }
+    // [0, 1e-300] as a zero one) by hypot, which does not square; others as before (their bits).
+    double len = wall.normal.norm();
+    if (!(std::isfinite(len) && len > 1e-150)) len = std::hypot(wall.normal[0], wall.normal[1], wall.normal[2]);
+    if (!(len > 0)) d.fail(p + "normal", "the wall normal is zero");
+    wall.normal /= len;
     for (int k = 0; k < m.dim; ++k)
       if (m.box.periodic[k] && std::abs(wall.normal[k]) > 1e-12)
         d.fail(p + "normal", "a wall cannot cut a periodic direction (axis " + std::string(1, "xyz"[k]) + ")");

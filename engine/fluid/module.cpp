@@ -233,33 +233,33 @@ void check_tiny_step(const SceneDesc& d, const FluidParams& p) {
 std::string fluid_note(const Model& m, double dt) {
   const FluidParams& p = m.params.get<FluidParams>();
   if (!(dt > 0)) return "";
-  const double flow_time = p.length_scale / p.velocity_scale, per_flow_time = flow_time / dt;
   std::string note;
-  if (per_flow_time > kManySteps) {
-    const bool viscous = !p.dt_fixed && viscous_dt_limit(p) <= dt * (1 + 1e-12);
-    note = "a flow time L / U = " + format_number(flow_time, 4) + m.unit("s") + " takes " +
-           format_number(per_flow_time, 3) + " fluid steps of " + format_number(dt, 4) + m.unit("s") +
-           (viscous ? std::string(", the viscous limit of so viscous a fluid (") +
-                          (p.dimensionless ? "fluid.reynolds" : "fluid.viscosity") +
-                          "); fluid.viscous = \"backward_euler\" has none"
-                    : std::string());
-  }
-  // max |u(t + dt) - u(t)| is at least the rounding of u, about 2 eps max |u|: the change rate
-  // (per unit time L / U) cannot fall below 2 eps L / (U dt), measured 2.2e-6 at dt = 1e-10 L / U.
-  const double floor = 2 * std::numeric_limits<double>::epsilon() * per_flow_time;
+  auto add = [&note](const std::string& part) { note += (note.empty() ? "" : "; ") + part; };
   // A viscous layer (a boundary layer, L Re^-1/2 thick; the dissipative scale of turbulence is
   // finer still) thinner than a cell: the grid resolves none, and the energy-conserving advection
   // has no dissipation of its own to stand in (Re = 1e12 on 32 cells ran on without a word).
   const double re = p.nu() > 0 ? p.velocity_scale * p.length_scale / p.nu() : HUGE_VAL;
   if (const double layer = p.length_scale / std::sqrt(re); layer < p.grid.h[0])
-    note = "Re = " + format_number(re, 3) + ": viscous layers about L Re^-1/2 = " + format_number(layer, 3) +
-           m.unit("m") + " thick are thinner than a cell (h = " + format_number(p.grid.h[0], 3) + m.unit("m") +
-           "), which the grid does not resolve; use more fluid.cells or a lower Reynolds number" +
-           (note.empty() ? "" : "; " + note);
-  if (p.stop_when_steady && floor > p.steady_tol)
-    note += (note.empty() ? "" : "; ") + std::string("run.steady_tol = ") + format_number(p.steady_tol, 3) +
-            " is below the rounding of the velocity's change over one step (about " + format_number(floor, 3) +
-            " per L / U at this step): the steady stop cannot fire; raise run.steady_tol";
+    add("Re = " + format_number(re, 3) + ": viscous layers about L Re^-1/2 = " + format_number(layer, 3) + m.unit("m") +
+        " thick are thinner than a cell (h = " + format_number(p.grid.h[0], 3) + m.unit("m") +
+        "), which the grid does not resolve; use more fluid.cells or a lower Reynolds number");
+  const double flow_time = p.length_scale / p.velocity_scale, per_flow_time = flow_time / dt;
+  if (per_flow_time > kManySteps) {
+    const bool viscous = !p.dt_fixed && viscous_dt_limit(p) <= dt * (1 + 1e-12);
+    add("a flow time L / U = " + format_number(flow_time, 4) + m.unit("s") + " takes " +
+        format_number(per_flow_time, 3) + " fluid steps of " + format_number(dt, 4) + m.unit("s") +
+        (viscous ? std::string(", the viscous limit of so viscous a fluid (") +
+                       (p.dimensionless ? "fluid.reynolds" : "fluid.viscosity") +
+                       "); fluid.viscous = \"backward_euler\" has none"
+                 : std::string()));
+  }
+  // max |u(t + dt) - u(t)| is at least the rounding of u, about 2 eps max |u|: the change rate
+  // (per unit time L / U) cannot fall below 2 eps L / (U dt), measured 2.2e-6 at dt = 1e-10 L / U.
+  if (const double floor = 2 * std::numeric_limits<double>::epsilon() * per_flow_time;
+      p.stop_when_steady && floor > p.steady_tol)
+    add("run.steady_tol = " + format_number(p.steady_tol, 3) +
+        " is below the rounding of the velocity's change over one step (about " + format_number(floor, 3) +
+        " per L / U at this step): the steady stop cannot fire; raise run.steady_tol");
   return note;
 }
 

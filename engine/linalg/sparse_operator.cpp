@@ -6,6 +6,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -124,7 +125,14 @@ void transpose_times(const SparseMatrix& a, const Vector& x, Vector& y) {
 
 JacobiPreconditioner::JacobiPreconditioner(const SparseMatrix& a) : inv_diag_(a.rows()) {
   const Vector d = a.diagonal();
-  for (int64_t i = 0; i < d.size(); ++i) inv_diag_[i] = d[i] > 0 ? 1 / d[i] : 1.0;
+  for (int64_t i = 0; i < d.size(); ++i) {
+    const bool good = d[i] > 0 && std::isfinite(d[i]);
+    inv_diag_[i] = good ? 1 / d[i] : 1.0;
+    if (!good && first_bad_ < 0) {
+      first_bad_ = i;
+      first_bad_value_ = d[i];
+    }
+  }
 }
 
 void JacobiPreconditioner::apply(const Vector& r, Vector& z) const { z = r.cwiseProduct(inv_diag_); }

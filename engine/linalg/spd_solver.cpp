@@ -77,16 +77,15 @@ SolveReport SpdSolver::solve_scaled(const SparseMatrix& a, const Vector& b, Vect
     // A diagonal entry that is not positive makes the matrix not positive definite at that unknown
     // (nothing resists it), which CG would find, if at all, only as a NaN or a breakdown: named
     // here, as a factorisation names the column where it fails.
-    const Vector d = a.diagonal();
-    for (int64_t i = 0; i < d.size(); ++i)
-      if (!(d[i] > 0) || !std::isfinite(d[i])) {
-        SolveReport rep;
-        rep.status = std::isfinite(d[i]) ? SolveStatus::kNotPositive : SolveStatus::kNotFinite;
-        rep.column = rep.status == SolveStatus::kNotPositive ? i : -1;
-        rep.message = "diagonal entry " + std::to_string(i) + " is " + std::to_string(d[i]);
-        return rep;
-      }
     const JacobiPreconditioner jacobi(a);
+    if (const int64_t i = jacobi.first_bad(); i >= 0) {
+      const double d = jacobi.first_bad_value();
+      SolveReport rep;
+      rep.status = std::isfinite(d) ? SolveStatus::kNotPositive : SolveStatus::kNotFinite;
+      rep.column = rep.status == SolveStatus::kNotPositive ? i : -1;
+      rep.message = "diagonal entry " + std::to_string(i) + " is " + std::to_string(d);
+      return rep;
+    }
     return conjugate_gradient(op, b, x, s_.options, &jacobi, &cg_);
   }
   if (s_.method == Method::kDirect) {

@@ -130,15 +130,12 @@ double fastest_rate(const State& s) {
   }
   if (top >= 0x1p-900) return std::sqrt(top);
   // Velocities so small that their squares fall below a double's range (a paste under a pressure
-  // of 1e-200): each scaled by its largest component first. (The squares read 0, and the drift
-  // bound let the step grow until the grains overlapped.)
+  // of 1e-200): by hypot, which does not square. (The squares read 0, and the drift bound let the
+  // step grow until the grains overlapped.)
   top = 0;
   for (int64_t i = 0; i < s.n; ++i) {
-    double big = 0, v2 = 0;
-    for (int a = 0; a < D; ++a) big = std::max(big, std::abs(s.particle_v[D * i + a]));
-    if (big == 0) continue;
-    for (int a = 0; a < D; ++a) v2 += (s.particle_v[D * i + a] / big) * (s.particle_v[D * i + a] / big);
-    top = std::max(top, big * std::sqrt(v2) / s.particle_r[i]);
+    const double* v = &s.particle_v[D * i];
+    top = std::max(top, std::hypot(v[0], v[1], D == 3 ? v[2] : 0.0) / s.particle_r[i]);
   }
   return top;
 }

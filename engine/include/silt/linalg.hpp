@@ -97,9 +97,15 @@ class JacobiPreconditioner final : public Preconditioner {
  public:
   explicit JacobiPreconditioner(const SparseMatrix& a);
   void apply(const Vector& r, Vector& z) const override;
+  // The first diagonal entry that is not a positive finite number (its inverse taken as 1), -1
+  // when none: where the matrix is not positive definite (or not finite).
+  int64_t first_bad() const { return first_bad_; }
+  double first_bad_value() const { return first_bad_value_; }
 
  private:
   Vector inv_diag_;
+  int64_t first_bad_ = -1;
+  double first_bad_value_ = 0;
 };
 
 // The vectors conjugate_gradient works in, kept by a caller that solves again and again (a time
