@@ -128,15 +128,22 @@ void refresh_frozen(Model& m) {
   setup_energy_scale(m);
 }
 
-// The time step against the velocity-Verlet stability limit of the stiffest contact, at the key
-// that set it.
+// The time step against the velocity-Verlet stability limit of the fastest contact mode, at the key
+// that set it (and, for a tangential spring's mode, the ratio that made it the faster).
 void check_time_step(const SceneDesc& d, const Model& m) {
   if (!(m.dt > m.dt_stable)) return;
   const std::string key = d.has("run.dt") ? "run.dt" : "run.dt_over_tc";
+  const std::string mode = m.dt_stable_tangential
+                               ? " of the stiffest contact's tangential spring (reduced mass " +
+                                     format_number(m.m_eff_stable) +
+                                     ", stiffness k_t (1 + m r^2 / I) = " + format_number(m.kt_stable) +
+                                     ", normal stiffness " + format_number(m.k_max) + ")"
+                               : " of the stiffest contact (reduced mass " + format_number(m.m_eff_min) +
+                                     ", stiffness " + format_number(m.k_max) + ")";
   d.fail(key, "time step " + format_number(m.dt) + m.unit("s") + " exceeds the velocity-Verlet stability limit " +
-                  format_number(m.dt_stable) + m.unit("s") + " of the stiffest contact (reduced mass " +
-                  format_number(m.m_eff_min) + ", stiffness " + format_number(m.k_max) + "); reduce " + key +
-                  " (run.dt_over_tc <= " + format_number(m.dt_stable / m.t_contact) + ")");
+                  format_number(m.dt_stable) + m.unit("s") + mode + "; reduce " + key +
+                  " (run.dt_over_tc <= " + format_number(m.dt_stable / m.t_contact) + ")" +
+                  (m.dt_stable_tangential ? " or contact.kt_over_kn" : ""));
 }
 
 // A weight that alone presses a grain into what it rests on beyond limits.max_overlap (linear

@@ -154,9 +154,29 @@ void derive_contact_scales(const SceneDesc& d, Model& m) {
     zeta = kc.c / (2.0 * std::sqrt(kc.k * m.m_eff_min));
   }
   m.zeta_max = zeta;
-  m.dt_stable = verlet_stability_limit(std::sqrt(m.k_max / m.m_eff_min), zeta);
+  double normal_limit = verlet_stability_limit(std::sqrt(m.k_max / m.m_eff_min), zeta);
   check_scales(d, {m.m_eff_min, m.k_max, zeta, mass_key, law_keys(d, c.law)},
-               {{"contact time", m.t_contact}, {"stability limit of the time step", m.dt_stable}});
+               {{"contact time", m.t_contact}, {"stability limit of the time step", normal_limit}});
+  m.dt_stable = normal_limit;
+  m.dt_stable_tangential = false;
+  // The tangential spring of a contact that can hold one: its mode moves the grains and turns them,
+  // stiffness k_t (1 + m r^2 / I) for a reduced mass m* (3 k_t for disks, 3.5 k_t for spheres, any
+  // sizes), damping ratio sqrt(1 + m r^2 / I) zeta_t. With k_t / k_n above 1/3 (disks) or 2/7
+  // (spheres) it can be the faster mode.
+  const double turn = 1.0 + 1.0 / (m.dim == 3 ? 0.4 : 0.5);  // 1 + m r^2 / I
+  auto tangential = [&](const ContactParams& p, double k, double m_eff, const std::string& m_key, const LawKeys& keys) {
+    if (!(p.friction > 0) || !(p.kt_ratio > 0)) return;
+    const double kt = turn * p.kt_ratio * k, zt = std::sqrt(turn) * std::max(p.zeta_t, 0.0);
+    const double limit = verlet_stability_limit(std::sqrt(kt / m_eff), zt);
+    check_scales(d, {m_eff, kt, zt, m_key, keys}, {{"stability limit of the time step", limit}});
+    if (limit < m.dt_stable) {
+      m.dt_stable = limit;
+      m.dt_stable_tangential = true;
+      m.kt_stable = kt;
+      m.m_eff_stable = m_eff;
+    }
+  };
+  tangential(c, m.k_max, m.m_eff_min, mass_key, law_keys(d, c.law));
   // Other materials (dem/materials.hpp): the stiffest of their laws with the lightest grains, a
   // grain against a wall (m* = m, R_eq = 2 r) included, may lower the limit; t_c stays the scene
   // material's (the unit of run.dt_over_tc).
@@ -172,11 +192,16 @@ void derive_contact_scales(const SceneDesc& d, Model& m) {
     }
     const double limit = verlet_stability_limit(std::sqrt(k / m_eff), z);
     check_scales(d, {m_eff, k, z, m_key, keys}, {{"stability limit of the time step", limit}});
-    if (limit < m.dt_stable) {
-      m.dt_stable = limit;
+    if (limit < normal_limit) {
+      normal_limit = limit;
       m.k_max = k;
       m.zeta_max = z;
     }
+    if (limit < m.dt_stable) {
+      m.dt_stable = limit;
+      m.dt_stable_tangential = false;
+    }
+    tangential(p, k, m_eff, m_key, keys);
   };
   const int groups = d.group_count("grains");
   auto group = [](int g) { return "grains[" + std::to_string(g) + "]."; };

@@ -96,7 +96,8 @@ std::string describe_dem(const Model& m) {
   o << "time         t_c = " << m.t_contact << s << " (" << tc_meaning << "; lightest pair m* = " << m.m_eff_min
     << m.unit("kg") << ", " << damping << ")\n";
   o << "             dt = " << m.dt << s << " = t_c/" << m.t_contact / m.dt << "; stability limit " << m.dt_stable << s
-    << " for one contact (dt/limit = " << m.dt / m.dt_stable << ")\n";
+    << " for one contact" << (m.dt_stable_tangential ? ", its tangential spring" : "")
+    << " (dt/limit = " << m.dt / m.dt_stable << ")\n";
   o << "             a grain held by z contacts is stable below about limit/sqrt(z): " << m.dt_stable / std::sqrt(6.0)
     << s << " at z = 6\n";
   if (m.dt > 0.1 * m.t_contact)

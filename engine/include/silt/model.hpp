@@ -289,11 +289,15 @@ struct Model {
   // enabled modules propose (propose_dt: the DEM 0.02 t_c, a fluid its own step).
   double default_dt = 0;
   void propose_dt(double step) { default_dt = default_dt > 0 ? std::min(default_dt, step) : step; }
-  double t_contact = 0;   // contact time of the lightest, stiffest pair [s]: the given t_c
-                          // (spring_dashpot), else the elastic time pi sqrt(m*/k) (Hertz: at
-                          // contact.hertz_ref_overlap)
-  double zeta_max = 0;    // damping ratio of that pair
-  double dt_stable = 0;   // velocity-Verlet stability limit of that pair [s]
+  double t_contact = 0;  // contact time of the lightest, stiffest pair [s]: the given t_c
+                         // (spring_dashpot), else the elastic time pi sqrt(m*/k) (Hertz: at
+                         // contact.hertz_ref_overlap)
+  double zeta_max = 0;   // damping ratio of that pair
+  double dt_stable = 0;  // velocity-Verlet stability limit of the fastest contact mode [s]
+  // Whether that mode is a tangential spring's (friction, k_t / k_n above 1/3 for disks, 2/7 for
+  // spheres): then its stiffness k_t (1 + m r^2 / I) and reduced mass.
+  bool dt_stable_tangential = false;
+  double kt_stable = 0, m_eff_stable = 0;
   double m_eff_min = 0;   // lightest reduced mass of a possible contact [kg]
   double k_max = 0;       // stiffest normal contact (Hertz: at the largest allowed overlap)
   int64_t run_steps = 0;  // from [run] (steps or time / dt), overridable on the command line

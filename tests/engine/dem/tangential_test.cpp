@@ -1,9 +1,11 @@
 // Tangential spring with Coulomb cap: stick then slip, and grains on a plane.
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "dem/contact_laws.hpp"
+#include "silt/text.hpp"
 #include "support/scenes.hpp"
 
 using namespace silt;
@@ -94,14 +96,14 @@ velocities = VEL
 dt = 1e-6
 )";
 
-std::unique_ptr<Simulation> incline(int dim, double angle, double mu, double v0) {
+std::string incline_scene(int dim, double angle, double mu, double v0) {
   const double r = 0.005;
   // Start resting on the wall: the weight overlap m g / k_n is about 1e-7 r here.
   std::string s = test::fill(kIncline, {{"angle", angle}, {"mu", mu}});
   s.replace(s.find("dimension = {dim}"), 17, "dimension = " + std::to_string(dim));
   auto put = [&](const char* key, const std::string& v) { s.replace(s.find(key), std::string(key).size(), v); };
   const std::string z = std::to_string(r - 1e-9);
-  const std::string vx = std::to_string(v0);
+  const std::string vx = format_number(v0, 17);
   if (dim == 3) {
     put("LO", "[-10, -1, 0]");
     put("HI", "[10, 1, 1]");
@@ -117,7 +119,11 @@ std::unique_ptr<Simulation> incline(int dim, double angle, double mu, double v0)
     put("POS", "[[0, " + z + "]]");
     put("VEL", "[[" + vx + ", 0]]");
   }
-  return test::simulation_from(s);
+  return s;
+}
+
+std::unique_ptr<Simulation> incline(int dim, double angle, double mu, double v0) {
+  return test::simulation_from(incline_scene(dim, angle, mu, v0));
 }
 
 }  // namespace
@@ -172,5 +178,46 @@ TEST_CASE("a grain launched sliding on a flat wall slips, then rolls at v0 / (1 
     // Rolling after t = v0 k / ((1 + k) mu g) ~ 0.02 s.
     for (int i = 0; i < 100000; ++i) REQUIRE(sim->step());
     CHECK(sim->state().particle_v[0] == doctest::Approx(v0 / (1 + k)).epsilon(2e-3));
+  }
+}
+
+TEST_CASE("the time step's stability limit is the tangential spring's when it is the faster mode") {
+  // A grain stuck to a wall by friction (mu = 10) with k_t = 10 k_n: the tangential spring moves it
+  // and turns it, stiffness k_t (1 + m r^2 / I), 3 k_t for a disk and 3.5 k_t for a sphere. Its
+  // limit 2 / sqrt(that / m) is sqrt(30) or sqrt(35) times shorter than the normal spring's. Nudged
+  // along the wall by 1e-7 m/s, the grain oscillates at that speed 10 % under the limit, and the
+  // oscillation grows without bound 10 % over it (by 2.4 a step; the Coulomb cap stops it at about
+  // mu g dt (1 + m r^2 / I) ~ 1e-3 m/s).
+  for (int dim : {2, 3}) {
+    CAPTURE(dim);
+    const double turn = dim == 2 ? 3.0 : 3.5, v0 = 1e-7, r = 0.005;
+    std::string s = incline_scene(dim, 0, 10, v0);
+    s.replace(s.find("kt_over_kn = 0.5"), 16, "kt_over_kn = 10");
+    auto sim = test::simulation_from(s);
+    const Model& m = sim->model();
+    REQUIRE(m.dt_stable_tangential);
+    const double k = dem::spring_dashpot_rates(0.5, 1e-4).k;  // k_n / m*
+    CHECK(m.dt_stable == doctest::Approx(2 / std::sqrt(turn * 10 * k)).epsilon(1e-12));
+    CHECK(describe(m).find("its tangential spring") != std::string::npos);
+    for (double f : {0.9, 1.1}) {
+      CAPTURE(f);
+      auto run = test::simulation_from(s);
+      run->model_for_steering().dt = f * m.dt_stable;
+      double largest = 0;
+      for (int i = 0; i < 400; ++i) {
+        REQUIRE(run->step());
+        const State& st = run->state();
+        const double spin = dim == 3 ? st.particle_w[1] : -st.particle_w[0];
+        largest = std::max(largest, std::abs(st.particle_v[0] - spin * r));  // the contact point's slip
+      }
+      if (f < 1) CHECK(largest < 10 * v0);
+      else CHECK(largest > 1000 * v0);
+    }
+    // A scene asking for a step past it is refused, naming the ratio that made the mode the faster.
+    std::string past = s;
+    past.replace(past.find("dt = 1e-6"), 9, "dt = " + format_number(1.1 * m.dt_stable, 17));
+    const std::string err = test::scene_error(past);
+    CHECK(err.find("tangential spring") != std::string::npos);
+    CHECK(err.find("contact.kt_over_kn") != std::string::npos);
   }
 }
