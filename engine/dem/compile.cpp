@@ -37,6 +37,20 @@ void setup_walls(const SceneDesc& d, Model& m) {
     for (int k = 0; k < m.dim; ++k)
       if (m.box.periodic[k] && std::abs(wall.normal[k]) > 1e-12)
         d.fail(p + "normal", "a wall cannot cut a periodic direction (axis " + std::string(1, "xyz"[k]) + ")");
+    // The grains' side, where the normal points, must hold some of the domain: a normal turned
+    // outward left every grain behind the wall ("could not place grain 1 at random", or a grain
+    // overlapping the wall at t = 0).
+    double reach = -HUGE_VAL;  // the farthest a corner of the domain is in front of the wall
+    for (int corner = 0; corner < (1 << m.dim); ++corner) {
+      double ahead = 0;
+      for (int k = 0; k < m.dim; ++k)
+        ahead += wall.normal[k] * (m.box.lo[k] + ((corner >> k) & 1) * m.box.len[k] - wall.point[k]);
+      reach = std::max(reach, ahead);
+    }
+    if (!(reach > 0))
+      d.fail(p + "normal",
+             "the normal points out of the domain: all of the domain is behind the wall, and grains "
+             "live on the side the normal points to; turn the normal around");
     wall.friction = d.has(p + "friction") ? d.real(p + "friction") : m.contact.friction;
     m.walls.push_back(wall);
   }
@@ -155,14 +169,33 @@ void check_weight(const SceneDesc& d, const Model& m) {
   // (with nothing to rest on, no wall nor frozen grain, a grain falls freely whatever its weight)
   if (!(g > 0) || m.k_max <= 0 || m.n_grains == m.n_frozen || (m.walls.empty() && m.n_frozen == 0)) return;
   const double overlap = m.m_mean * g / (m.k_max * m.r_mean);
-  if (overlap <= m.limits.max_overlap) return;
-  d.fail(d.first_given({"gravity.magnitude", "gravity.vector"}, "gravity.magnitude"),
-         "a grain's weight alone (m g = " + format_number(m.m_mean * g, 4) + m.unit("N") +
-             ") presses it into what it rests on by " + format_number(overlap, 3) +
-             " of its radius (m g / (k_n r)), beyond limits.max_overlap = " + format_number(m.limits.max_overlap, 3) +
-             ", where the run fails: reduce the gravity below " +
-             format_number(m.limits.max_overlap * m.k_max * m.r_mean / m.m_mean, 4) + m.unit("m/s^2") +
-             " or stiffen the contacts");
+  if (overlap > m.limits.max_overlap)
+    d.fail(d.first_given({"gravity.magnitude", "gravity.vector"}, "gravity.magnitude"),
+           "a grain's weight alone (m g = " + format_number(m.m_mean * g, 4) + m.unit("N") +
+               ") presses it into what it rests on by " + format_number(overlap, 3) +
+               " of its radius (m g / (k_n r)), beyond limits.max_overlap = " + format_number(m.limits.max_overlap, 3) +
+               ", where the run fails: reduce the gravity below " +
+               format_number(m.limits.max_overlap * m.k_max * m.r_mean / m.m_mean, 4) + m.unit("m/s^2") +
+               " or stiffen the contacts");
+  // A wall of its own, softer material under the weight (its normal against gravity): the grain
+  // resting on it. A wall's young_modulus = 1e-300 passed, and the run failed when the first grain
+  // landed, advising a larger contact.young_modulus.
+  const int groups = static_cast<int>(m.materials.size());
+  for (size_t q = 0; q < m.wall_contact.size(); ++q) {
+    const int w = static_cast<int>(q) / groups, grp = static_cast<int>(q) % groups;
+    const double press = -m.walls[w].normal.dot(m.gravity) / g;  // the weight's part along the normal
+    if (!(press > 0)) continue;
+    const double k = stiffness_at_largest_overlap(m.wall_contact[q], m, m.m_mean, 2.0 * m.r_mean);
+    const double on_wall = press * m.m_mean * g / (k * m.r_mean);
+    if (on_wall <= m.limits.max_overlap) continue;
+    const std::string wall = "walls[" + std::to_string(w) + "].", group = "grains[" + std::to_string(grp) + "].";
+    const std::string key = stiffness_key(d, m.wall_contact[q].law, {wall, group});
+    d.fail(key, "a grain's weight alone presses it into walls[" + std::to_string(w) + "] by " +
+                    format_number(on_wall, 3) + " of its radius (m g / (k r), with k = " + format_number(k, 4) +
+                    m.unit("N/m") + " the stiffness of that wall's law with grains[" + std::to_string(grp) +
+                    "]), beyond limits.max_overlap = " + format_number(m.limits.max_overlap, 3) +
+                    ", where the run fails: stiffen that contact (" + key + ")");
+  }
 }
 
 // Initial velocities no scene can have: a grain that crosses the whole domain in one time step

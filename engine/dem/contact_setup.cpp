@@ -88,6 +88,19 @@ LawKeys law_keys(const SceneDesc& d, NormalLaw law, std::initializer_list<std::s
   return keys;
 }
 
+}  // namespace
+
+std::string stiffness_key(const SceneDesc& d, NormalLaw law, std::initializer_list<std::string> prefixes) {
+  return law_keys(d, law, prefixes).stiffness;
+}
+
+double stiffness_at_largest_overlap(const ContactParams& p, const Model& m, double m_eff, double r_eq) {
+  if (p.law == NormalLaw::kHertz) return 0.5 * p.e_tilde * std::sqrt(2.0 * r_eq * m.limits.max_overlap * m.r_min);
+  return linear_coeffs(p, m_eff).k;
+}
+
+namespace {
+
 // The numbers a contact's scales are made of, each with the key that set it. Numbers at the ends of
 // the doubles' range (a tiny radius, a huge modulus) can make a scale 0, infinite or NaN: a scene
 // that cannot be integrated, refused at the key of the number that took it out of the range.
@@ -181,13 +194,10 @@ void derive_contact_scales(const SceneDesc& d, Model& m) {
   // grain against a wall (m* = m, R_eq = 2 r) included, may lower the limit; t_c stays the scene
   // material's (the unit of run.dt_over_tc).
   auto limit_of = [&](const ContactParams& p, double m_eff, double req, const std::string& m_key, const LawKeys& keys) {
-    double k = 0, z = 0;
-    if (p.law == NormalLaw::kHertz) {
-      k = 0.5 * p.e_tilde * std::sqrt(2.0 * req * m.limits.max_overlap * m.r_min);
-      z = p.zeta;
-    } else {
+    const double k = stiffness_at_largest_overlap(p, m, m_eff, req);
+    double z = p.zeta;
+    if (p.law != NormalLaw::kHertz) {
       const LinearCoeffs kc = linear_coeffs(p, m_eff);
-      k = kc.k;
       z = kc.c / (2.0 * std::sqrt(kc.k * m_eff));
     }
     const double limit = verlet_stability_limit(std::sqrt(k / m_eff), z);

@@ -1,6 +1,9 @@
 // Contact-law part of compile(): parameters, contact time and the time-step stability bound.
 #pragma once
 
+#include <initializer_list>
+#include <string>
+
 #include "silt/model.hpp"
 
 namespace silt::dem {
@@ -15,5 +18,13 @@ void derive_contact_scales(const SceneDesc& d, Model& m);
 // Duration of a binary collision for the scene's law, between grains of reduced mass m_eff and
 // reduced radius r_eq; Hertz needs the largest overlap reached (its contact time depends on it).
 double contact_time(const ContactParams& p, double m_eff, double r_eq, double max_overlap);
+
+// The key that sets a law's stiffness (modulus, k_n or contact time): the first of the tables
+// `prefixes` ("walls[1].", "grains[0].") that gives its own, else [contact]'s.
+std::string stiffness_key(const SceneDesc& d, NormalLaw law, std::initializer_list<std::string> prefixes = {});
+
+// A law's normal stiffness for reduced mass m_eff and reduced radius r_eq; Hertz's at the largest
+// allowed overlap (limits.max_overlap r_min), where it is stiffest.
+double stiffness_at_largest_overlap(const ContactParams& p, const Model& m, double m_eff, double r_eq);
 
 }  // namespace silt::dem

@@ -295,17 +295,33 @@ void place_random(const SceneDesc& d, Model& m, int g, const Group& G, int64_t f
       if (hi[k] < lo[k]) d.fail(key(g, "region_hi"), "the placement region is narrower than a grain diameter");
     }
     bool placed = false;
-    for (int attempt = 0; attempt < 20000 && !placed; ++attempt) {
+    constexpr int kAttempts = 20000;
+    std::vector<int> behind(m.walls.size(), 0);  // attempts a wall refused, the first that did
+    for (int attempt = 0; attempt < kAttempts && !placed; ++attempt) {
       double p[3];
       for (int k = 0; k < D; ++k) p[k] = rng.uniform(lo[k], hi[k]);
       if (grid.worst_overlap(p, r, xs, rs) > 0) continue;
       bool clear = true;
-      for (const Wall& w : m.walls)
-        if (w.gap(m.dim, p, r) < 0) clear = false;
+      for (size_t w = 0; w < m.walls.size() && clear; ++w)
+        if (m.walls[w].gap(m.dim, p, r) < 0) {
+          clear = false;
+          ++behind[w];
+        }
       if (!clear) continue;
       for (int k = 0; k < D; ++k) xs[D * i + k] = p[k];
       grid.insert(i, p);
       placed = true;
+    }
+    // Mostly behind a wall: the region reaches past the walls (a domain far larger than the
+    // walled space, the region's own keys), whatever it holds.
+    const auto most = std::max_element(behind.begin(), behind.end());
+    if (!placed && most != behind.end() && 2 * *most > kAttempts) {
+      const std::string region = d.has(key(g, "region_lo")) ? key(g, "region_lo") : key(g, "count");
+      d.fail(region, "could not place grain " + std::to_string(q + 1) + " of " + std::to_string(G.count) +
+                         " at random: " + std::to_string(*most) + " of " + std::to_string(kAttempts) +
+                         " random positions in its region (the domain unless region_lo and region_hi are given) "
+                         "were behind walls[" +
+                         std::to_string(most - behind.begin()) + "]; give the group a region between the walls");
     }
     if (!placed) {
       double vol = 1, solid = 0;

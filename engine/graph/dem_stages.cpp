@@ -10,6 +10,7 @@
 #include <memory>
 
 #include "dem/contact_candidates.hpp"
+#include "dem/contact_setup.hpp"
 #include "dem/forces_under.hpp"
 #include "dem/stages.hpp"
 #include "graph/adders.hpp"
@@ -103,13 +104,23 @@ void diagnose_dem(GraphBuilder& b) {
     f.step = s.step - 1;
   });
   b.diagnose(event::kOverlap, [](const Model& m, const State& s, const EventSlot& e, StepFailure& f) {
-    const int64_t id = s.particle_id[e.first()];
+    const int64_t i = e.first(), id = s.particle_id[i];
+    // The wall the grain overlaps beyond the limit, if one does, and its overlap: the key of that
+    // contact's law is the one to name (a wall of young_modulus 1e-300 was reported against
+    // contact.young_modulus, as "a neighbour or a wall").
+    int wall = -1;
+    double wall_overlap = 0;
+    for (int w = 0; w < s.n_walls && wall < 0; ++w) {
+      wall_overlap = -m.walls[w].gap(m.dim, &s.particle_x[m.dim * i], s.particle_r[i]) / s.particle_r[i];
+      if (wall_overlap > m.limits.max_overlap) wall = w;
+    }
     const std::string what =
         "grain " + std::to_string(id) +
-        (s.n_walls ? " overlaps a neighbour or a wall by " : " overlaps a neighbour by ") +
-        format_number(100 * e.value(), 4) +
-        "% of the smaller radius, beyond limits.max_overlap = " + format_number(m.limits.max_overlap, 4);
-    f.stage = s.n_walls ? "contact_forces/wall_forces" : "contact_forces";
+        (wall >= 0 ? " overlaps walls[" + std::to_string(wall) + "] by " + format_number(100 * wall_overlap, 4) +
+                         "% of its radius"
+                   : " overlaps a neighbour by " + format_number(100 * e.value(), 4) + "% of the smaller radius") +
+        ", beyond limits.max_overlap = " + format_number(m.limits.max_overlap, 4);
+    f.stage = wall >= 0 ? "wall_forces" : "contact_forces";
     f.particle = id;
     if (m.velocities_solved) {
       // The step moved the grains with solved velocities: the DEM's inertial limit is not theirs.
@@ -122,11 +133,16 @@ void diagnose_dem(GraphBuilder& b) {
       f.message = what + ": the time step " + format_number(s.dt, 4) + m.unit("s") + " exceeds the stability limit " +
                   format_number(m.dt_stable, 4) + m.unit("s") + "; reduce run.dt";
     } else {
-      f.parameter = stiffness_key(m);
+      const int groups = static_cast<int>(m.materials.size()), g = s.particle_group[i];
+      f.parameter =
+          wall >= 0 && groups > 0
+              ? dem::stiffness_key(m.desc, m.wall_contact[wall * groups + g].law,
+                                   {"walls[" + std::to_string(wall) + "].", "grains[" + std::to_string(g) + "]."})
+              : stiffness_key(m);
       // A shorter contact time is a stiffer spring (k ~ 1 / t_c^2); a larger modulus or k_n is.
       const bool by_time = m.contact.law == NormalLaw::kSpringDashpot;
       f.message = what + ": the contacts are too soft for the loads or the impacts; " +
-                  (by_time ? "decrease " : "increase ") + stiffness_key(m) + " (stiffer contacts) or reduce the loads";
+                  (by_time ? "decrease " : "increase ") + f.parameter + " (stiffer contacts) or reduce the loads";
     }
   });
   b.diagnose(event::kRunaway, [step_advice](const Model& m, const State&, const EventSlot& e, StepFailure& f) {

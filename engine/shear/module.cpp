@@ -200,27 +200,35 @@ void check_box_mass(const SceneDesc& d, const Model& m) {
              "): raise box.mass_factor to at least " + format_number(least, 3) + " or reduce the time step");
 }
 
-// A pressure that presses the contacts by more than a diameter: a stiffness number below 1 (the
-// deflection is about a / kappa, Peyneau eq. 1.32), where a run fails at limits.max_overlap, a
-// fifth of a radius by default. box.pressure = 1e10 on contacts of k_n = 1e4 failed at step 1 with
-// a non-finite velocity, advising a shorter step.
+// A pressure or an imposed shear stress that presses the contacts by more than a diameter: a
+// stiffness number below 1 (the deflection is about a / kappa, Peyneau eq. 1.32), where a run fails
+// at limits.max_overlap, a fifth of a radius by default. box.pressure = 1e10 on contacts of
+// k_n = 1e4 failed at step 1 with a non-finite velocity, advising a shorter step; shear.stress =
+// 1e300 at step 1 advising a larger k_n.
+void check_stress_against_contacts(const SceneDesc& d, const Model& m, const std::string& key, const char* name,
+                                   double stress) {
+  if (!(stress > 0)) return;
+  const double kappa = stiffness_number(m, stress);
+  if (kappa >= 1) return;
+  const bool hertz = m.contact.law == NormalLaw::kHertz;
+  const double most = hertz ? stress * std::pow(kappa, 1.5) : stress * kappa;
+  d.fail(key, std::string(name) + " " + format_number(stress, 4) + m.unit("Pa") +
+                  " gives a stiffness number kappa = " + format_number(kappa, 3) +
+                  " below 1: it presses each contact by about a / kappa, more than a diameter, where a run fails at "
+                  "limits.max_overlap = " +
+                  format_number(m.limits.max_overlap, 3) + " of a radius: lower it (kappa is 1 at " +
+                  format_number(most, 4) + m.unit("Pa") +
+                  "; packings are run at kappa 1e3 and more) or stiffen the "
+                  "contacts");
+}
+
 void check_box_pressure(const SceneDesc& d, const Model& m) {
   const double pressure =
       m.box_control.on ? m.box_control.pressure : (m.prepare.compress ? preparation_pressure(m) : 0.0);
-  if (!(pressure > 0)) return;
-  const double kappa = stiffness_number(m, pressure);
-  if (kappa >= 1) return;
-  const bool hertz = m.contact.law == NormalLaw::kHertz;
-  const double most = hertz ? pressure * std::pow(kappa, 1.5) : pressure * kappa;
-  d.fail(d.first_given({"box.pressure", "prepare.pressure"}, "box.pressure"),
-         "the pressure " + format_number(pressure, 4) + m.unit("Pa") +
-             " gives a stiffness number kappa = " + format_number(kappa, 3) +
-             " below 1: it presses each contact by about a / kappa, more than a diameter, where a run fails at "
-             "limits.max_overlap = " +
-             format_number(m.limits.max_overlap, 3) + " of a radius: lower it (kappa is 1 at " +
-             format_number(most, 4) + m.unit("Pa") +
-             "; packings are run at kappa 1e3 and more) or stiffen the "
-             "contacts");
+  check_stress_against_contacts(d, m, d.first_given({"box.pressure", "prepare.pressure"}, "box.pressure"),
+                                "the pressure", pressure);
+  if (m.shear.on && m.shear.stress_controlled)
+    check_stress_against_contacts(d, m, "shear.stress", "the shear stress", std::abs(m.shear.stress));
 }
 
 void check_shear_step(const SceneDesc& d, const Model& m) {

@@ -97,6 +97,11 @@ TEST_CASE("values no scene can supply are refused at their key") {
                                    "box.pressure=1e10",
                                    {"--set:1:14: the pressure 1e+10 N/m gives a stiffness number kappa = 1e-06 below 1",
                                     "kappa is 1 at 1e+04 N/m"}},
+                           // (an imposed shear stress alike: it failed at step 1 advising a larger k_n)
+                           Refused{"shear2d_dry",
+                                   "shear.stress=1e300",
+                                   {"--set:1:14: the shear stress 1e+300 N/m gives a stiffness number kappa = 1e-296",
+                                    "kappa is 1 at 1e+04 N/m"}},
                            Refused{"shear3d_frictionless", "contact.poisson_ratio=-1", {"(-1, 0.5)"}}}) {
     CAPTURE(c.set);
     r = silt_cli("check " + scene_path(c.scene) + " --set " + c.set);
@@ -161,6 +166,49 @@ TEST_CASE("a contact scale out of the numbers' range is refused at the key that 
   CHECK(r.code == 2);
   CHECK(contains(r.out, "--set:2:"));
   CHECK(contains(r.out, "the contacts' reduced mass is 0"));
+}
+
+TEST_CASE("a wall softer than the grains is named: its weight check at load, its overlap in a run") {
+  // A grain of 524 kg on a wall whose spring (in series with the grains' 1e6 N/m) is the soft one.
+  // The weight was checked against the grains' law alone, and an overlap with the wall was
+  // reported as "a neighbour or a wall", advising contact.k_n.
+  const char* scene = R"([scene]
+dimension = 3
+[domain]
+lo = [-5, -5, 0]
+hi = [5, 5, 5]
+[gravity]
+magnitude = 9.81
+[contact]
+model = "hooke"
+k_n = 1e6
+[[walls]]
+point = [0, 0, 0]
+normal = [0, 0, 1]
+k_n = {wall_k}
+[[grains]]
+radius = 0.5
+density = 1000
+placement = "explicit"
+positions = [[0, 0, 1.5]]
+velocity = "explicit"
+velocities = [[0, 0, -10]]
+[run]
+dt = 1e-4
+steps = 20000
+)";
+  silt::test::TempDir dir;
+  // 1e3 N/m (2e3 with the grains' spring, as two moduli mix): the weight presses the grain 5 radii in.
+  Result r = silt_cli("check " + write_file(dir / "soft.toml", silt::test::fill(scene, {{"wall_k", 1e3}})));
+  CHECK(r.code == 2);
+  CHECK(contains(r.out, "soft.toml:14:7: a grain's weight alone presses it into walls[0] by 5.14 of its radius"));
+  // 1e5 N/m holds the weight (0.06 of a radius) but not the impact at 10 m/s.
+  const std::string run = write_file(dir / "impact.toml", silt::test::fill(scene, {{"wall_k", 1e5}}));
+  CHECK(silt_cli("check " + run).code == 0);
+  r = silt_cli("run " + run + " --threads 1 --quiet");
+  CHECK(r.code == 3);
+  CHECK(contains(r.out, "stage wall_forces: grain 0 overlaps walls[0] by"));
+  CHECK(contains(r.out, "increase walls[0].k_n (stiffer contacts)"));
 }
 
 TEST_CASE("only regular files of a sane size are read") {

@@ -199,7 +199,7 @@ TEST_CASE("silt play: a stats file that can no longer be written is reported whe
   // The impact's overlap, as `silt run --set gravity.magnitude=5e5` fails: the energy check had
   // kept the supply of the scene's 9.81 and failed first (and 1e7, which this test set before, is
   // refused now: the grain's weight alone would overlap it with the wall beyond the limit).
-  CHECK(contains(out, "step 450, stage contact_forces/wall_forces"));
+  CHECK(contains(out, "step 450, stage wall_forces: grain 0 overlaps walls[0] by 20.79% of its radius"));
   CHECK(contains(out, "the run's output: stats file s.csv no longer written"));
 }
 

@@ -186,3 +186,29 @@ TEST_CASE("a wall normal of any length is a direction: 1e200 and 1e-300 along y 
   CHECK(test::scene_error(std::string(kGood) + "[[walls]]\npoint = [0, 0, 0]\nnormal = [0, 0, 0]\n").find("zero") !=
         std::string::npos);
 }
+
+TEST_CASE("a wall whose normal points out of the domain is refused at its normal") {
+  // All of the domain behind it: random placement said "could not place grain 1 at random", a
+  // lattice "grain 0 overlaps wall 0".
+  const std::string wall = std::string(kGood) + "[[walls]]\npoint = [0, 0, 0]\nnormal = [0, -1, 0]\n";
+  const std::string e = test::scene_error(wall);
+  CHECK(e.rfind("bad.toml:16:10: ", 0) == 0);
+  CHECK(e.find("points out of the domain") != std::string::npos);
+  // A wall at the far face facing in, and one inside the domain facing out of its part, are fine.
+  CHECK(test::scene_error(std::string(kGood) + "[[walls]]\npoint = [0, 10, 0]\nnormal = [0, -1, 0]\n").empty());
+  CHECK(test::scene_error(std::string(kGood) + "[[walls]]\npoint = [0, -5, 0]\nnormal = [0, 1, 1]\n").empty());
+  // On the far face facing out: nothing of the domain in front of it.
+  CHECK(test::scene_error(std::string(kGood) + "[[walls]]\npoint = [0, 10, 0]\nnormal = [0, 1, 0]\n")
+            .find("points out of the domain") != std::string::npos);
+}
+
+TEST_CASE("random placement that the walls leave no room for names the wall, not the packing fraction") {
+  // The region (here the domain) reaches past a wall at x = 0.6 facing -x: every position of a grain
+  // of radius 0.5 is behind it. It said the group "fills 0.052 of its region".
+  const std::string e = test::scene_error(std::string(kGood) + "[[walls]]\npoint = [0.6, 0, 0]\nnormal = [-1, 0, 0]\n");
+  CHECK(e.find("20000 of 20000 random positions") != std::string::npos);
+  CHECK(e.find("behind walls[0]") != std::string::npos);
+  // Too many grains for the room between the walls is still the packing's message.
+  const std::string full = test::scene_error(with("count = 10", "count = 5000"));
+  CHECK(full.find("random addition jams") != std::string::npos);
+}
