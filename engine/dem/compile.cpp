@@ -216,6 +216,17 @@ void check_initial_speeds(const SceneDesc& d, const Model& m) {
                  ": it would cross the whole domain (" + format_number(extent) + m.unit("m") +
                  ") in one time step of " + format_number(m.dt) + m.unit("s") + ": reduce its speed or run.dt");
     }
+    // A spin alike: the surface speed w r ([[1e300]] was reported at the file's first line, as an
+    // energy the scene cannot supply).
+    const double* wi = &m.init.w[m.rot * i];
+    const double w = m.rot == 3 ? std::hypot(wi[0], wi[1], wi[2]) : std::abs(wi[0]);
+    if (!(w * m.init.radius[i] * m.dt <= extent)) {
+      const std::string p = "grains[" + std::to_string(m.init.group[i]) + "].";
+      d.fail(d.has(p + "angular_velocities") ? p + "angular_velocities" : "run.dt",
+             "grain " + std::to_string(i) + " starts spinning at " + format_number(w) + m.unit("rad/s") +
+                 ": its surface would travel farther than the whole domain (" + format_number(extent) + m.unit("m") +
+                 ") in one time step of " + format_number(m.dt) + m.unit("s") + ": reduce its spin or run.dt");
+    }
   }
 }
 

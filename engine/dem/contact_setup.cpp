@@ -144,14 +144,15 @@ void check_scales(const SceneDesc& d, const ScaleInputs& in,
 void derive_contact_scales(const SceneDesc& d, Model& m) {
   // Lightest pair: the two lightest free grains, or one free grain against a wall or a frozen
   // grain (m* = m) when it is alone.
-  std::vector<std::pair<double, int>> free_mass;  // mass, group
+  std::vector<std::pair<double, int64_t>> free_mass;  // mass, grain
   for (int64_t i = 0; i < m.n_grains; ++i)
-    if (!m.init.frozen[i]) free_mass.emplace_back(m.init.mass[i], m.init.group[i]);
-  if (free_mass.empty()) free_mass.emplace_back(m.init.mass[0], m.init.group[0]);
+    if (!m.init.frozen[i]) free_mass.emplace_back(m.init.mass[i], i);
+  if (free_mass.empty()) free_mass.emplace_back(m.init.mass[0], 0);
   std::partial_sort(free_mass.begin(), free_mass.begin() + std::min<size_t>(2, free_mass.size()), free_mass.end());
   const double m0 = free_mass[0].first;
   m.m_eff_min = free_mass.size() >= 2 ? m0 * free_mass[1].first / (m0 + free_mass[1].first) : m0;
-  const std::string mass_key = grain_size_key(d, free_mass[0].second);  // the lightest grain's
+  const int64_t lightest = free_mass[0].second;
+  const std::string mass_key = grain_mass_key(d, m.init.group[lightest], m.dim, m.init.radius[lightest]);
   const ContactParams& c = m.contact;
   const double r_eq = m.r_min;  // reduced radius of two of the smallest grains
   double zeta = 0;

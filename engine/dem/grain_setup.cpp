@@ -447,6 +447,12 @@ std::string grain_size_key(const SceneDesc& d, int g) {
   return prefix + "radius";
 }
 
+std::string grain_mass_key(const SceneDesc& d, int g, int dim, double r) {
+  const std::string density = "grains[" + std::to_string(g) + "].density";
+  if (d.has(density) && std::abs(std::log(d.real(density))) > dim * std::abs(std::log(r))) return density;
+  return grain_size_key(d, g);
+}
+
 void setup_grains(const SceneDesc& d, Model& m) {
   const int n_groups = d.group_count("grains");
   if (n_groups == 0) throw SceneError(FileLoc{d.file, 1, 1}, "the scene has no [[grains]] table");
@@ -490,13 +496,13 @@ void setup_grains(const SceneDesc& d, Model& m) {
   for (int g = 0; g < n_groups; ++g) {
     const Group& G = groups[g];
     // A radius or a density at the ends of the doubles' range makes a mass of 0 or infinity.
-    const std::string size_key = grain_size_key(d, g);
     for (double r : G.radius) {
       const double mass = G.density * grain_volume(D, r), inertia = mass * r * r;
       if (!(mass > 0) || !std::isfinite(mass) || !(inertia > 0) || !std::isfinite(inertia))
-        d.fail(size_key, "a grain of radius " + format_number(r) + " and density " + format_number(G.density) +
-                             " has a mass of " + format_number(mass) + " kg and a moment of inertia of " +
-                             format_number(inertia) + ": both must be finite and positive");
+        d.fail(grain_mass_key(d, g, D, r), "a grain of radius " + format_number(r) + " and density " +
+                                               format_number(G.density) + " has a mass of " + format_number(mass) +
+                                               " kg and a moment of inertia of " + format_number(inertia) +
+                                               ": both must be finite and positive");
       I.radius.push_back(r);
       I.mass.push_back(mass);
       I.inertia.push_back(D == 3 ? 0.4 * mass * r * r : 0.5 * mass * r * r);  // sphere, disk

@@ -13,6 +13,11 @@ void setup_grains(const SceneDesc& d, Model& m);
 // them is refused.
 std::string grain_size_key(const SceneDesc& d, int g);
 
+// The key to blame for a mass out of the numbers' range made of a radius r and group g's density:
+// the density when it is the factor farther from 1 (a density of 1e-300 by --set was located at
+// the scene's radius line), else the sizes' key.
+std::string grain_mass_key(const SceneDesc& d, int g, int dim, double r);
+
 // Refuse overlaps beyond limits.max_overlap at t = 0 (grain-grain and grain-wall).
 void check_initial_overlaps(const Model& m);
 

@@ -65,6 +65,12 @@ TEST_CASE("values no scene can supply are refused at their key") {
   CHECK(contains(r.out, "cross the whole domain"));
   // The speed is computed without squaring it (1e308^2 overflows): the message gives it.
   CHECK(contains(r.out, "grain 0 starts at 1e+308 m/s"));
+  // A spin alike, at its key (it was an energy "not finite" at the file's first line).
+  r = silt_cli("check " + scene_path("collision_normal") +
+               " --set 'grains.0.angular_velocities=[[0, 1e300, 0], [0, 0, 0]]'");
+  CHECK(r.code == 2);
+  CHECK(contains(r.out, "--set:1:"));
+  CHECK(contains(r.out, "grain 0 starts spinning at 1e+300 rad/s"));
   r = silt_cli("check " + scene_path("collision_normal") +
                " --set 'grains.0.velocities=[[3e200, 4e200, 0], [0, 0, 0]]'");
   CHECK(r.code == 2);
@@ -163,6 +169,11 @@ TEST_CASE("a contact scale out of the numbers' range is refused at the key that 
   CHECK(contains(r.out, "contact time is inf"));
   // Grains of 1e-56 m: each mass is a number, the product of two in the reduced mass is not.
   r = silt_cli("check " + scene_path("collision_normal") + " --set contact.friction=0.2 --set grains.0.radius=1e-56");
+  CHECK(r.code == 2);
+  CHECK(contains(r.out, "--set:2:"));
+  CHECK(contains(r.out, "the contacts' reduced mass is 0"));
+  // A density of 1e-300 alike, at the density (it was located at the scene's radius line).
+  r = silt_cli("check " + scene_path("collision_normal") + " --set contact.friction=0.2 --set grains.0.density=1e-300");
   CHECK(r.code == 2);
   CHECK(contains(r.out, "--set:2:"));
   CHECK(contains(r.out, "the contacts' reduced mass is 0"));
