@@ -14,6 +14,16 @@ bool RenderSettings::wants(const std::string& item) const {
 }
 
 namespace scene {
+namespace {
+
+// A colour span hi - lo out of the doubles' range ([-1e308, 1e308]) maps every value to its lower
+// end: a frame of one colour.
+void check_span(const SceneDesc& d, const char* key, const std::vector<double>& v) {
+  if (!std::isfinite(v[1] - v[0]))
+    d.fail(key, "the span hi - lo = " + format_number(v[1] - v[0]) + " is not a finite number: give a narrower range");
+}
+
+}  // namespace
 
 void read_render_settings(const SceneDesc& d, Model& m) {
   RenderSettings& r = m.render;
@@ -34,6 +44,7 @@ void read_render_settings(const SceneDesc& d, Model& m) {
   if (d.has("render.range")) {
     const auto v = d.reals("render.range");
     if (v.size() != 2 || !(v[1] > v[0])) d.fail("render.range", "needs [lo, hi] with hi > lo");
+    check_span(d, "render.range", v);
     r.range_auto = false;
     r.range[0] = v[0];
     r.range[1] = v[1];
@@ -58,13 +69,20 @@ void read_render_settings(const SceneDesc& d, Model& m) {
     vec("render.slab_center", r.slab_center);
     r.slab_center_auto = false;
   }
-  if (d.has("render.slab_normal")) vec("render.slab_normal", r.slab_normal);
+  if (d.has("render.slab_normal")) {
+    vec("render.slab_normal", r.slab_normal);
+    // (a zero normal put every grain in the slab without a word)
+    const double len = std::hypot(r.slab_normal[0], r.slab_normal[1], r.slab_normal[2]);
+    if (!(len > 0) || !std::isfinite(len)) d.fail("render.slab_normal", "needs a non-zero finite vector");
+    for (double& c : r.slab_normal) c /= len;  // (its squares' sum underflowed at [0, 1e-300, 0])
+  }
   // Unset (-1): opaque, or 0.25 in 3D when chains are drawn (decided by the renderer).
   r.grain_opacity = d.has("render.grain_opacity") ? d.real("render.grain_opacity") : -1.0;
   r.field = d.string("render.field");
   if (d.has("render.field_range")) {
     const auto v = d.reals("render.field_range");
     if (v.size() != 2 || !(v[1] > v[0])) d.fail("render.field_range", "needs [lo, hi] with hi > lo");
+    check_span(d, "render.field_range", v);
     r.field_range_auto = false;
     r.field_range[0] = v[0];
     r.field_range[1] = v[1];

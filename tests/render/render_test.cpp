@@ -268,6 +268,36 @@ TEST_CASE("a frame above 64 Mpx is a scene error at render.width, with its file:
   CHECK(test::scene_error(std::string(kRow) + "[render]\nheight = 8193\nwidth = 8192\n").find("bad.toml:18:9: ") == 0);
 }
 
+TEST_CASE("colour ranges whose span overflows and zero slab normals are refused at their keys") {
+  // [-1e308, 1e308]: hi - lo is inf, every value mapped to the low end (a frame of one colour).
+  const std::string e = test::scene_error(std::string(test::kRow) + "[render]\nrange = [-1e308, 1e308]\n");
+  CHECK(e.find("bad.toml:17:9: the span hi - lo = inf") == 0);
+  CHECK(test::scene_error(std::string(test::kRow) + "[render]\nfield_range = [-1e308, 1e308]\n").find("span") !=
+        std::string::npos);
+  CHECK(test::scene_error(std::string(test::kRow) + "[render]\nrange = [-1e307, 1e307]\n").empty());
+  // A zero slab normal put every grain in the slab; a tiny one is a direction.
+  const std::string cube = R"([scene]
+dimension = 3
+[domain]
+lo = [0, 0, 0]
+hi = [4, 4, 4]
+[contact]
+model = "hooke"
+k_n = 1e5
+[[grains]]
+count = 4
+radius = 0.5
+[run]
+dt = 1e-4
+[render]
+)";
+  CHECK(test::scene_error(cube + "slab_normal = [0, 0, 0]\n").find("non-zero finite") != std::string::npos);
+  const Model m = test::model_from(cube + "slab_normal = [0, 1e-300, 0]\n");
+  CHECK(m.render.slab_normal[0] == 0);
+  CHECK(m.render.slab_normal[1] == 1);
+  CHECK(m.render.slab_normal[2] == 0);
+}
+
 TEST_CASE("3D: chains in a slab, a field slice with the grains it cuts") {
   const char* bed = R"(
 [scene]
