@@ -23,8 +23,6 @@ namespace silt::cli {
 namespace {
 
 std::atomic<bool> g_interrupt{false};
-// Runs of more steps than this are said before they start.
-constexpr int64_t kLongRunSteps = 100'000'000;
 
 std::vector<std::string> split_names(const std::string& list) {
   std::vector<std::string> out;

@@ -28,6 +28,21 @@ class RunFailure : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// The fewest steps `until` takes at a fixed step dt from time t and step `step`, when its clauses
+// are all joined by `and` and one of them asks t or step to reach a value: the run cannot stop
+// before it. 0 when nothing bounds it so (`or`, other observables).
+double until_steps_at_least(const Condition& c, double t, int64_t step, double dt) {
+  for (bool joined : c.joined_by_and)
+    if (!joined) return 0;
+  double least = 0;
+  for (const Clause& k : c.clauses) {
+    if (k.op != ">=" && k.op != ">" && k.op != "==") continue;
+    if (k.observable == "t") least = std::max(least, (k.value - t) / dt);
+    if (k.observable == "step") least = std::max(least, k.value - static_cast<double>(step));
+  }
+  return least;
+}
+
 }  // namespace
 
 std::string input_file_problem(const std::string& path) {
@@ -331,7 +346,20 @@ RunOptions Session::run_options(const RunLength& len, bool background) {
         throw std::runtime_error("run " + format_number(len.time) + "s: " + too_many_steps(m.dt));
       break;
     }
-    case RunLength::kUntil: opt.steps = kForever; break;
+    case RunLength::kUntil: {
+      opt.steps = kForever;
+      // (`run until t >= 1e300` ran until killed: as `run 1e300s`, refused)
+      if (m.adaptive_dt) break;
+      const double least = until_steps_at_least(len.until, s.state().t, s.state().step, m.dt);
+      if (least > static_cast<double>(kMaxRunSteps))
+        throw std::runtime_error("run until: the condition cannot hold before " + format_number(least, 3) +
+                                 " steps: " + too_many_steps(m.dt));
+      if (least > static_cast<double>(kLongRunSteps))
+        say("warning: the run takes at least " + format_number(least, 3) + " steps of dt = " + format_number(m.dt, 4) +
+                m.unit("s") + " before its condition can hold",
+            background);
+      break;
+    }
     case RunLength::kStatic:
       if (!m.box_control.on)
         throw std::runtime_error(
@@ -366,6 +394,13 @@ RunOptions Session::run_options(const RunLength& len, bool background) {
       break;
     }
   }
+  // A fixed step that makes the run hundreds of millions of steps: said before it starts, as by
+  // `silt run` (Ctrl-C pauses it).
+  if (len.kind == RunLength::kSteps || len.kind == RunLength::kTime || len.kind == RunLength::kScene)
+    if (const int64_t planned = s.steps_for(opt); planned > kLongRunSteps && planned != Simulation::kAdaptiveSteps)
+      say("warning: the run is " + format_number(static_cast<double>(planned), 3) +
+              " steps of dt = " + format_number(m.dt, 4) + m.unit("s"),
+          background);
   opt.interrupt = &interrupt_;
   opt.on_notice = [this, background](const std::string& n) { say("warning: " + n, background); };
   opt.boundary_wanted = [this] { return has_requests_.load(); };

@@ -26,6 +26,18 @@ std::string join_words(const std::vector<std::string>& words) {
   return out;
 }
 
+// The values compile() chose for keys the scene does not give (fluid.viscosity from
+// fluid.reynolds, neighbor.skin, ...), but the run's length and step (said on their own).
+std::vector<std::pair<std::string, std::string>> computed_values(const Model& m) {
+  std::vector<std::pair<std::string, std::string>> out;
+  for (const auto& [key, given] : scene_parameters(m.desc)) {  // (the keys `params` shows)
+    const KeySpec* k = find_key_spec(key);
+    if (k->computed && key.rfind("run.", 0) != 0 && !m.desc.has(key))
+      if (std::string v = k->computed(m); !v.empty()) out.emplace_back(key, std::move(v));
+  }
+  return out;
+}
+
 }  // namespace
 
 void Session::cmd_load(const Command& c) {
@@ -148,6 +160,9 @@ void Session::cmd_set(const Command& c) {
   std::vector<Override> next = overrides_;
   // (and the values of the keys it is an alternative to: fluid.reynolds replaces fluid.viscosity)
   const std::vector<std::string> replaced = alternatives_of(change.key);
+  const auto replaced_by = [&](const std::string& key) {
+    return std::find(replaced.begin(), replaced.end(), key) != replaced.end();
+  };
   next.erase(std::remove_if(next.begin(), next.end(),
                             [&](const Override& o) {
                               return o.key == change.key ||
@@ -159,8 +174,19 @@ void Session::cmd_set(const Command& c) {
   // its fluid.dt read in units of L / U, and a channel's step doubled without a word).
   const bool was_fixed = !s.model().adaptive_dt;
   const double dt_was = s.model().dt;
+  const auto computed_was = computed_values(s.model());
   const auto note_step = [&] {
     const Model& m = sim().model();  // (a recompile installs another simulation than `s`)
+    // A value computed from the one set, changed with it (a lid's speed set in a scene given by
+    // fluid.reynolds changed the viscosity, and the shell said only the speed).
+    for (const auto& [key, value] : computed_values(m)) {
+      const auto was =
+          std::find_if(computed_was.begin(), computed_was.end(), [&](const auto& kv) { return kv.first == key; });
+      if (was == computed_was.end() || was->second == value || key == change.key || replaced_by(key)) continue;
+      const std::string unit = key_unit(*find_key_spec(key), m);
+      out_ << "note: " << key << " is now " << value << (unit.empty() ? "" : " " + unit) << " (it was " << was->second
+           << "), computed from the scene as it now reads\n";
+    }
     // (not for the key that sets the step, nor its alternative: run.dt_over_tc is run.dt's)
     const std::vector<std::string> sets_step = alternatives_of(m.dt_key);
     if (was_fixed && !m.adaptive_dt && m.dt != dt_was && change.key != m.dt_key &&
@@ -211,7 +237,19 @@ void Session::cmd_set(const Command& c) {
   // scene as changed (its positions, velocities, seed, a fluid's initial field), unless it was
   // given: a prepared packing (kPreparationKept) or a restored checkpoint (as `silt run --restore
   // X --set K=V`).
-  Model m = compile(scene_with(next));
+  // A refusal located at another key than the one typed (a value set before, the file's) says
+  // which was typed: `set render.height 8193` answered "set render.width: ... 9000 x 8193", `set
+  // fluid.reynolds 0.01` "set fluid.dt: ...".
+  const auto compiled = [&] {
+    try {
+      return compile(scene_with(next));
+    } catch (const SceneError& e) {
+      if (e.loc().file == "set " + change.key) throw;
+      throw std::runtime_error("set " + change.key + " " + c.args[1].text + ": refused with the value at " +
+                               e.loc().str() + ": " + e.message());
+    }
+  };
+  Model m = compiled();
   // (grains frozen by `freeze` are kept frozen: the state was discarded as of other grains)
   const Simulation::Recompile how = s.after_recompile(m);
   const bool same = how == Simulation::Recompile::kStateKept;

@@ -390,7 +390,10 @@ const ModuleSpec& module() {
     s.keys = paste_keys();
     for (KeySpec& k : s.keys)
       if (k.path == "lubrication.coarse_ratio")
-        k.computed = [](const Model& m) { return format_number(m.params.get<PasteParams>().coarse_ratio); };
+        k.computed = [](const Model& m) {
+          // (without the paste there is none: `params` on a dry scene failed on the missing block)
+          return m.module_on("paste") ? format_number(m.params.get<PasteParams>().coarse_ratio) : std::string();
+        };
     s.fields = {
         {"pair_f_lub", Extent::kPairVec, "N",
          "lubrication force on i from j (eq. 2.24), 0 beyond h_max; lubrication_solve"},

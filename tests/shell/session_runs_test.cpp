@@ -242,6 +242,29 @@ TEST_CASE("a value set over the one that replaced its alternatives gives the fil
   }
 }
 
+TEST_CASE("a value compile() computes from the one set is said when it changes, and params works on a dry scene") {
+  Fixture f;
+  REQUIRE(f.run("load " + test::scene_path("cavity_2d")));  // fluid.reynolds = 100
+  REQUIRE(f.run("run 10"));
+  f.take_out();
+  // The lid twice as fast at the same Re: the viscosity doubles (the shell said only the speed).
+  REQUIRE(f.run("set fluid.boundary.y_hi_velocity [2.0, 0.0]"));
+  const std::string out = f.take_out();
+  CHECK(contains(out, "note: fluid.viscosity is now 0.02 Pa s (it was 0.01)"));
+  CHECK(contains(out, "note: fluid.velocity_scale is now 2 m/s (it was 1)"));
+  // The key set, and those it replaces, are not noted.
+  REQUIRE(f.run("set fluid.reynolds 200"));
+  CHECK_FALSE(contains(f.take_out(), "fluid.viscosity is now"));
+  // `params` with no prefix on a scene without the paste: the paste's computed coarse_ratio read
+  // a block the model does not have ("no parameters of this module in the model").
+  Fixture dry;
+  REQUIRE(dry.run("load " + test::scene_path("collision_normal")));
+  REQUIRE(dry.run("params"));
+  CHECK(contains(dry.take_out(), "lubrication.coarse_ratio"));
+  REQUIRE(dry.run("set contact.friction 0.3"));
+  CHECK_FALSE(contains(dry.take_out(), "note:"));
+}
+
 TEST_CASE("a field's colour range is said to apply to the field set after it, and refused for a magnitude below 0") {
   // The cavity's render.field_range = [-5, 5] is its vorticity's: |u| drawn on the sequential map
   // from -5 came out one colour.

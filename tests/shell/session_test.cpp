@@ -86,6 +86,15 @@ TEST_CASE("non-steerable values recompile the scene, keeping the state when the 
   REQUIRE(w.run("set walls[0].point [0, 0, 0.01]"));
   CHECK(w.take_out().find("state kept") != std::string::npos);
   REQUIRE(w.run("run 10"));
+  // A value refused because of another, set before: the refusal names the one typed, then where
+  // the check is ("set render.width: ... 9000 x 8193" answered `set render.height 8193`).
+  REQUIRE(w.run("set render.width 9000"));
+  CHECK_FALSE(w.run("set render.height 8193"));
+  CHECK(w.take_err().find("error: set render.height 8193: refused with the value at set render.width: render.width "
+                          "x render.height = 9000 x 8193") != std::string::npos);
+  REQUIRE(w.run("set render.height 7000"));     // 63 Mpx
+  CHECK_FALSE(w.run("set render.width 9600"));  // refused at the key typed: as it was
+  CHECK(w.take_err().find("error: set render.width: render.width x render.height = 9600 x 7000") != std::string::npos);
 }
 
 TEST_CASE("save, restore and reset: a restored run is bitwise the uninterrupted one") {
@@ -191,6 +200,14 @@ TEST_CASE("run lengths: steps, time, until a condition") {
   CHECK_FALSE(f.run("frames x every 1e300"));
   CHECK_FALSE(f.run("run 1e19"));
   CHECK(f.value("step") == 900);
+  // So is a condition that cannot hold before as many steps (`run until t >= 1e300` ran until
+  // killed), when its clauses are joined by `and`; with `or` the other clause may end it.
+  CHECK_FALSE(f.run("run until t >= 1e300"));
+  CHECK(contains(f.take_err(), "cannot hold before 1e+306 steps: too long"));
+  CHECK_FALSE(f.run("run until ke >= 0 and step > 1e19"));
+  CHECK(contains(f.take_err(), "too long"));
+  REQUIRE(f.run("run until t >= 1e300 or step >= 950"));
+  CHECK(f.value("step") == 950);
 }
 
 TEST_CASE("a background run keeps the prompt, set acts at the next step boundary, stop pauses") {

@@ -11,5 +11,7 @@ namespace silt {
 inline constexpr int64_t kMaxRunSteps = 9'000'000'000'000'000'000;
 // How messages write it.
 inline constexpr const char* kMaxRunStepsText = "9e18";
+// Runs of more fixed steps than this are said before they start (`silt run`, the shell's `run`).
+inline constexpr int64_t kLongRunSteps = 100'000'000;
 
 }  // namespace silt
