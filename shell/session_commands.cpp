@@ -179,7 +179,9 @@ void Session::cmd_set(const Command& c) {
     const Model& m = sim().model();  // (a recompile installs another simulation than `s`)
     // A value computed from the one set, changed with it (a lid's speed set in a scene given by
     // fluid.reynolds changed the viscosity, and the shell said only the speed).
-    for (const auto& [key, value] : computed_values(m)) {
+    for (const auto& now : computed_values(m)) {
+      const std::string& key = now.first;
+      const std::string& value = now.second;
       const auto was =
           std::find_if(computed_was.begin(), computed_was.end(), [&](const auto& kv) { return kv.first == key; });
       if (was == computed_was.end() || was->second == value || key == change.key || replaced_by(key)) continue;
