@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "core/rng.hpp"
+#include "dem/contact_laws.hpp"
 #include "dem/contact_setup.hpp"
 #include "dem/grain_setup.hpp"
 #include "dem/materials.hpp"
@@ -178,23 +179,37 @@ void check_weight(const SceneDesc& d, const Model& m) {
                format_number(m.limits.max_overlap * m.k_max * m.r_mean / m.m_mean, 4) + m.unit("m/s^2") +
                " or stiffen the contacts");
   // A wall of its own, softer material under the weight (its normal against gravity): the grain
-  // resting on it. A wall's young_modulus = 1e-300 passed, and the run failed when the first grain
-  // landed, advising a larger contact.young_modulus.
+  // resting on it, each free grain with its group's law (the heaviest for its size presses most),
+  // Hertz by its static overlap (F = (E~/3) sqrt(2 R) h^(3/2), R = 2 r against a wall). A wall's
+  // young_modulus = 1e-300 passed, and the run failed when the first grain landed, advising a
+  // larger contact.young_modulus.
   const int groups = static_cast<int>(m.materials.size());
-  for (size_t q = 0; q < m.wall_contact.size(); ++q) {
-    const int w = static_cast<int>(q) / groups, grp = static_cast<int>(q) % groups;
-    const double press = -m.walls[w].normal.dot(m.gravity) / g;  // the weight's part along the normal
+  for (size_t w = 0; w < m.walls.size(); ++w) {
+    const double press = -m.walls[w].normal.dot(m.gravity);  // the weight's part along the normal, per mass
     if (!(press > 0)) continue;
-    const double k = stiffness_at_largest_overlap(m.wall_contact[q], m, m.m_mean, 2.0 * m.r_mean);
-    const double on_wall = press * m.m_mean * g / (k * m.r_mean);
-    if (on_wall <= m.limits.max_overlap) continue;
-    const std::string wall = "walls[" + std::to_string(w) + "].", group = "grains[" + std::to_string(grp) + "].";
-    const std::string key = stiffness_key(d, m.wall_contact[q].law, {wall, group});
-    d.fail(key, "a grain's weight alone presses it into walls[" + std::to_string(w) + "] by " +
-                    format_number(on_wall, 3) + " of its radius (m g / (k r), with k = " + format_number(k, 4) +
-                    m.unit("N/m") + " the stiffness of that wall's law with grains[" + std::to_string(grp) +
-                    "]), beyond limits.max_overlap = " + format_number(m.limits.max_overlap, 3) +
-                    ", where the run fails: stiffen that contact (" + key + ")");
+    double worst = 0;
+    int64_t worst_grain = -1;
+    for (int64_t i = 0; i < m.n_grains; ++i) {
+      if (m.init.frozen[i]) continue;
+      const ContactParams& p = m.wall_contact[w * groups + m.init.group[i]];
+      const double r = m.init.radius[i], weight = m.init.mass[i] * press;
+      const double h = p.law == NormalLaw::kHertz ? std::pow(weight / (p.e_tilde / 3.0 * std::sqrt(4.0 * r)), 2.0 / 3.0)
+                                                  : weight / linear_coeffs(p, m.init.mass[i]).k;
+      if (h / r > worst) {
+        worst = h / r;
+        worst_grain = i;
+      }
+    }
+    if (!(worst > m.limits.max_overlap) || worst_grain < 0) continue;
+    const int grp = m.init.group[worst_grain];
+    const std::string key =
+        stiffness_key(d, m.wall_contact[w * groups + grp].law,
+                      {"walls[" + std::to_string(w) + "].", "grains[" + std::to_string(grp) + "]."});
+    d.fail(key, "the weight of grain " + std::to_string(worst_grain) + " (of grains[" + std::to_string(grp) +
+                    "]) alone presses it into walls[" + std::to_string(w) + "] by " + format_number(worst, 3) +
+                    " of its radius under the law of that wall with its group, beyond limits.max_overlap = " +
+                    format_number(m.limits.max_overlap, 3) + ", where the run fails: stiffen that contact (" + key +
+                    ")");
   }
 }
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include "dem/contact_laws.hpp"
@@ -171,7 +172,8 @@ void derive_contact_scales(const SceneDesc& d, Model& m) {
   double normal_limit = verlet_stability_limit(std::sqrt(m.k_max / m.m_eff_min), zeta);
   check_scales(d, {m.m_eff_min, m.k_max, zeta, mass_key, law_keys(d, c.law)},
                {{"contact time", m.t_contact}, {"stability limit of the time step", normal_limit}});
-  m.dt_stable = normal_limit;
+  // (where the groups have laws of their own, the scene's is no pair's: theirs set the limit below)
+  m.dt_stable = m.pair_contact.empty() ? normal_limit : std::numeric_limits<double>::infinity();
   m.dt_stable_tangential = false;
   // The tangential spring of a contact that can hold one: its mode moves the grains and turns them,
   // stiffness k_t (1 + m r^2 / I) for a reduced mass m* (3 k_t for disks, 3.5 k_t for spheres, any
@@ -190,7 +192,10 @@ void derive_contact_scales(const SceneDesc& d, Model& m) {
       m.m_eff_stable = m_eff;
     }
   };
-  tangential(c, m.k_max, m.m_eff_min, mass_key, law_keys(d, c.law));
+  // (the scene's law, where it is every pair's, and some pair can form: two free grains, or one
+  // and a frozen grain; a law of its own per pair of groups is taken below)
+  const bool pairs_form = free_mass.size() >= 2 || m.n_frozen > 0;
+  if (m.pair_contact.empty() && pairs_form) tangential(c, m.k_max, m.m_eff_min, mass_key, law_keys(d, c.law));
   // Other materials (dem/materials.hpp): the stiffest of their laws with the lightest grains, a
   // grain against a wall (m* = m, R_eq = 2 r) included, may lower the limit; t_c stays the scene
   // material's (the unit of run.dt_over_tc).
@@ -214,16 +219,47 @@ void derive_contact_scales(const SceneDesc& d, Model& m) {
     }
     tangential(p, k, m_eff, m_key, keys);
   };
+  // Each pair of groups with the lightest pair it can make (two free grains, or a free one and a
+  // frozen one), each wall with its group's lightest free grain: a law of its own is not paired
+  // with the masses of grains it never touches (a stiff group of heavy grains was checked with
+  // the m* of a light group of soft ones, 30 times too strictly).
   const int groups = d.group_count("grains");
   auto group = [](int g) { return "grains[" + std::to_string(g) + "]."; };
+  const double inf = std::numeric_limits<double>::infinity();
+  std::vector<double> light(groups, inf), light2(groups, inf), r_small(groups, inf);
+  std::vector<char> frozen(groups, 0);
+  std::vector<int64_t> light_grain(groups, -1);
+  for (int64_t i = 0; i < m.n_grains; ++i) {
+    const int g = m.init.group[i];
+    r_small[g] = std::min(r_small[g], m.init.radius[i]);
+    if (m.init.frozen[i]) {
+      frozen[g] = 1;
+    } else if (const double mi = m.init.mass[i]; mi < light[g]) {
+      light2[g] = light[g];
+      light[g] = mi;
+      light_grain[g] = i;
+    } else {
+      light2[g] = std::min(light2[g], mi);
+    }
+  }
+  auto reduced = [](double a, double b) { return a * b / (a + b); };
   for (size_t q = 0; q < m.pair_contact.size(); ++q) {
     const int gi = static_cast<int>(q) / groups, gj = static_cast<int>(q) % groups;
-    limit_of(m.pair_contact[q], m.m_eff_min, r_eq, mass_key, law_keys(d, c.law, {group(gi), group(gj)}));
+    double m_eff = inf;
+    if (gi == gj && light2[gi] < inf) m_eff = reduced(light[gi], light2[gi]);
+    if (gi != gj && light[gi] < inf && light[gj] < inf) m_eff = reduced(light[gi], light[gj]);
+    if (frozen[gj] && light[gi] < inf) m_eff = std::min(m_eff, light[gi]);
+    if (frozen[gi] && light[gj] < inf) m_eff = std::min(m_eff, light[gj]);
+    if (!(m_eff < inf)) continue;  // no such pair can form
+    const int64_t i = light[gi] <= light[gj] ? light_grain[gi] : light_grain[gj];
+    limit_of(m.pair_contact[q], m_eff, 2.0 * reduced(r_small[gi], r_small[gj]),
+             grain_mass_key(d, m.init.group[i], m.dim, m.init.radius[i]), law_keys(d, c.law, {group(gi), group(gj)}));
   }
-  const double m_free = m0;  // the lightest free grain against a wall
   for (size_t q = 0; q < m.wall_contact.size(); ++q) {
     const int w = static_cast<int>(q) / groups, g = static_cast<int>(q) % groups;
-    limit_of(m.wall_contact[q], m_free, 2.0 * m.r_min, mass_key,
+    if (light_grain[g] < 0) continue;  // a group of frozen grains does not touch a wall
+    const int64_t i = light_grain[g];
+    limit_of(m.wall_contact[q], light[g], 2.0 * r_small[g], grain_mass_key(d, g, m.dim, m.init.radius[i]),
              law_keys(d, c.law, {"walls[" + std::to_string(w) + "].", group(g)}));
   }
 }

@@ -212,7 +212,9 @@ steps = 20000
   // 1e3 N/m (2e3 with the grains' spring, as two moduli mix): the weight presses the grain 5 radii in.
   Result r = silt_cli("check " + write_file(dir / "soft.toml", silt::test::fill(scene, {{"wall_k", 1e3}})));
   CHECK(r.code == 2);
-  CHECK(contains(r.out, "soft.toml:14:7: a grain's weight alone presses it into walls[0] by 5.14 of its radius"));
+  CHECK(contains(
+      r.out,
+      "soft.toml:14:7: the weight of grain 0 (of grains[0]) alone presses it into walls[0] by 5.14 of its radius"));
   // 1e5 N/m holds the weight (0.06 of a radius) but not the impact at 10 m/s.
   const std::string run = write_file(dir / "impact.toml", silt::test::fill(scene, {{"wall_k", 1e5}}));
   CHECK(silt_cli("check " + run).code == 0);

@@ -204,3 +204,116 @@ TEST_CASE("materials: a frozen grain on a wall is no contact (the wall exerts no
   CHECK(v[0] == 0);
   CHECK(v[1] == 0);
 }
+
+namespace {
+
+// Two groups of their own springs and sizes on a floor: "big" (radius {rb}, k_n {kb}, friction
+// {mub}) and "small" (radius 0.1, k_n {ks}, friction {mus}); the floor's spring {kw}.
+const char* kTwoGroups = R"(
+[scene]
+dimension = 3
+[domain]
+lo = [-10, -10, 0]
+hi = [10, 10, 10]
+[gravity]
+magnitude = {g}
+[contact]
+model = "linear"
+k_n = 1e4
+damping = 0.1
+friction = 0.5
+kt_over_kn = 1.0
+[[walls]]
+point = [0, 0, 0]
+normal = [0, 0, 1]
+k_n = {kw}
+[[grains]]
+radius = {rb}
+density = 1000
+k_n = {kb}
+friction = {mub}
+placement = "explicit"
+positions = [[-5, 0, 5], [-2, 0, 5]]
+[[grains]]
+radius = 0.1
+density = 1000
+k_n = {ks}
+friction = {mus}
+placement = "explicit"
+positions = [[3, 0, 5], [5, 0, 5]]
+[run]
+dt = 1e-5
+)";
+
+// The velocity-Verlet limit of a spring k on a reduced mass m* with damping ratio zeta.
+double limit(double k, double m_eff, double zeta) { return 2 / std::sqrt(k / m_eff) / (std::hypot(1.0, zeta) + zeta); }
+
+}  // namespace
+
+TEST_CASE("materials: each pair of groups' stability limit is of its own law and its own lightest pair") {
+  const double m_big = 1000 * 4.0 / 3 * std::numbers::pi;
+  // A stiff group of heavy grains and a soft one of light grains: the limit was the stiff law
+  // with the light pair's m*, about 30 times too short. Each pair's own: big-big's tangential mode
+  // (k_t = k_n, 3.5 k_t on m* = m / 2, no tangential dashpot) is the shortest here.
+  Model m = test::model_from(test::fill(
+      kTwoGroups, {{"g", 0.0}, {"rb", 1.0}, {"kb", 1e6}, {"mub", 0.5}, {"ks", 1e2}, {"mus", 0.5}, {"kw", 1e9}}));
+  CHECK(m.dt_stable_tangential);
+  CHECK(m.dt_stable == doctest::Approx(limit(3.5e6, m_big / 2, 0)).epsilon(1e-9));
+  // Frictionless groups (friction 0 on both, the scene's 0.5 applying to no pair): no tangential
+  // mode; the shortest normal one, big-big's (its dashpot 0.1 of critical).
+  m = test::model_from(test::fill(
+      kTwoGroups, {{"g", 0.0}, {"rb", 1.0}, {"kb", 1e6}, {"mub", 0.0}, {"ks", 1e2}, {"mus", 0.0}, {"kw", 1e9}}));
+  CHECK_FALSE(m.dt_stable_tangential);
+  CHECK(m.dt_stable == doctest::Approx(limit(1e6, m_big / 2, 0.1)).epsilon(1e-9));
+}
+
+TEST_CASE("materials: a floor's weight check takes each grain with its own group's law") {
+  // The heavy group alone overlaps a soft floor: named, with its grain (the mean mass of both
+  // groups, checked before, let it pass, and the run failed when the heavy grains landed).
+  const std::string e = test::scene_error(test::fill(
+      kTwoGroups, {{"g", 9.81}, {"rb", 1.0}, {"kb", 1e6}, {"mub", 0.5}, {"ks", 1e6}, {"mus", 0.5}, {"kw", 5e4}}));
+  CHECK(e.find("the weight of grain 0 (of grains[0]) alone presses it into walls[0]") != std::string::npos);
+  CHECK(e.find("walls[0].k_n") != std::string::npos);
+  // The same floor under grains of the light size alone holds (0.004 of a radius).
+  std::string light = test::fill(
+      kTwoGroups, {{"g", 9.81}, {"rb", 0.1}, {"kb", 1e6}, {"mub", 0.5}, {"ks", 1e6}, {"mus", 0.5}, {"kw", 5e4}});
+  CHECK(test::scene_error(light).empty());
+}
+
+TEST_CASE("materials: a Hertz wall's weight check is the static overlap, (3 m g / (E~ sqrt(4 r)))^(2/3)") {
+  // A sphere of radius 5 mm and 2,500 kg/m^3 resting on a soft wall of modulus E_w: the overlap
+  // reaches 0.2 r (limits.max_overlap) at E~ = 3 m g / (sqrt(4 r) (0.2 r)^(3/2)); E~ of the pair
+  // 2 / ((1 - nu_g^2) / E_g + (1 - nu_w^2) / E_w), nu = 0.3 for both.
+  const double pi = std::numbers::pi, r = 5e-3, mass = 2500 * 4.0 / 3 * pi * r * r * r, g = 9.81;
+  const double e_pair = 3 * mass * g / (std::sqrt(4 * r) * std::pow(0.2 * r, 1.5));
+  const double e_g = 7e10, nu2 = 0.09;
+  const double e_wall = (1 - nu2) / (2 / e_pair - (1 - nu2) / e_g);  // the wall modulus that gives it
+  const char* scene = R"(
+[scene]
+dimension = 3
+[domain]
+lo = [0, 0, 0]
+hi = [0.1, 0.1, 0.1]
+[gravity]
+magnitude = 9.81
+[contact]
+model = "hertz"
+young_modulus = 7e10
+poisson_ratio = 0.3
+[[walls]]
+point = [0, 0, 0]
+normal = [0, 0, 1]
+young_modulus = {ew}
+poisson_ratio = 0.3
+[[grains]]
+radius = 5e-3
+density = 2500
+placement = "explicit"
+positions = [[0.05, 0.05, 0.05]]
+[run]
+dt = 1e-7
+)";
+  CHECK(test::scene_error(test::fill(scene, {{"ew", 1.02 * e_wall}})).empty());
+  CHECK(test::scene_error(test::fill(scene, {{"ew", 0.98 * e_wall}})).find("walls[0].young_modulus") !=
+        std::string::npos);
+}
