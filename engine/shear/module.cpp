@@ -206,17 +206,18 @@ void check_box_mass(const SceneDesc& d, const Model& m) {
 // k_n = 1e4 failed at step 1 with a non-finite velocity, advising a shorter step; shear.stress =
 // 1e300 at step 1 advising a larger k_n.
 void check_stress_against_contacts(const SceneDesc& d, const Model& m, const std::string& key, const char* name,
-                                   double stress) {
+                                   double signed_stress) {
+  const double stress = std::abs(signed_stress);
   if (!(stress > 0)) return;
   const double kappa = stiffness_number(m, stress);
   if (kappa >= 1) return;
   const bool hertz = m.contact.law == NormalLaw::kHertz;
   const double most = hertz ? stress * std::pow(kappa, 1.5) : stress * kappa;
-  d.fail(key, std::string(name) + " " + format_number(stress, 4) + m.unit("Pa") +
+  d.fail(key, std::string(name) + " " + format_number(signed_stress, 4) + m.unit("Pa") +
                   " gives a stiffness number kappa = " + format_number(kappa, 3) +
                   " below 1: it presses each contact by about a / kappa, more than a diameter, where a run fails at "
                   "limits.max_overlap = " +
-                  format_number(m.limits.max_overlap, 3) + " of a radius: lower it (kappa is 1 at " +
+                  format_number(m.limits.max_overlap, 3) + " of a radius: lower its magnitude (kappa is 1 at " +
                   format_number(most, 4) + m.unit("Pa") +
                   "; packings are run at kappa 1e3 and more) or stiffen the "
                   "contacts");
@@ -228,7 +229,7 @@ void check_box_pressure(const SceneDesc& d, const Model& m) {
   check_stress_against_contacts(d, m, d.first_given({"box.pressure", "prepare.pressure"}, "box.pressure"),
                                 "the pressure", pressure);
   if (m.shear.on && m.shear.stress_controlled)
-    check_stress_against_contacts(d, m, "shear.stress", "the shear stress", std::abs(m.shear.stress));
+    check_stress_against_contacts(d, m, "shear.stress", "the shear stress", m.shear.stress);
 }
 
 void check_shear_step(const SceneDesc& d, const Model& m) {
