@@ -158,7 +158,9 @@ void check_time_step(const SceneDesc& d, const Model& m) {
   d.fail(key, "time step " + format_number(m.dt) + m.unit("s") + " exceeds the velocity-Verlet stability limit " +
                   format_number(m.dt_stable) + m.unit("s") + mode + "; reduce " + key +
                   " (run.dt_over_tc <= " + format_number(m.dt_stable / m.t_contact) + ")" +
-                  (m.dt_stable_tangential ? " or contact.kt_over_kn" : ""));
+                  (m.dt_stable_tangential ? std::string(" or contact.kt_over_kn") +
+                                                (m.contact.zeta_t > 0 ? " or contact.tangential_damping" : "")
+                                          : std::string()));
 }
 
 // A weight that alone presses a grain into what it rests on beyond limits.max_overlap (linear
@@ -203,8 +205,8 @@ void check_weight(const SceneDesc& d, const Model& m) {
     if (!(worst > m.limits.max_overlap) || worst_grain < 0) continue;
     const int grp = m.init.group[worst_grain];
     const std::string key =
-        stiffness_key(d, m.wall_contact[w * groups + grp].law,
-                      {"walls[" + std::to_string(w) + "].", "grains[" + std::to_string(grp) + "]."});
+        softer_stiffness_key(d, m.wall_contact[w * groups + grp].law,
+                             {"walls[" + std::to_string(w) + "].", "grains[" + std::to_string(grp) + "]."});
     d.fail(key, "the weight of grain " + std::to_string(worst_grain) + " (of grains[" + std::to_string(grp) +
                     "]) alone presses it into walls[" + std::to_string(w) + "] by " + format_number(worst, 3) +
                     " of its radius under the law of that wall with its group, beyond limits.max_overlap = " +

@@ -91,8 +91,20 @@ LawKeys law_keys(const SceneDesc& d, NormalLaw law, std::initializer_list<std::s
 
 }  // namespace
 
-std::string stiffness_key(const SceneDesc& d, NormalLaw law, std::initializer_list<std::string> prefixes) {
-  return law_keys(d, law, prefixes).stiffness;
+std::string softer_stiffness_key(const SceneDesc& d, NormalLaw law, std::initializer_list<std::string> prefixes) {
+  const std::string base = law_keys(d, law).stiffness;  // [contact]'s (a contact time: no material's own)
+  if (law == NormalLaw::kSpringDashpot) return base;
+  const std::string own = law == NormalLaw::kHertz ? "young_modulus" : "k_n";
+  std::string key = base;
+  double softest = HUGE_VAL;
+  for (const std::string& prefix : prefixes) {
+    const std::string k = d.has(prefix + own) ? prefix + own : base;
+    if (const double v = d.real(k); v < softest) {
+      softest = v;
+      key = k;
+    }
+  }
+  return key;
 }
 
 double stiffness_at_largest_overlap(const ContactParams& p, const Model& m, double m_eff, double r_eq) {

@@ -19,9 +19,11 @@ void derive_contact_scales(const SceneDesc& d, Model& m);
 // reduced radius r_eq; Hertz needs the largest overlap reached (its contact time depends on it).
 double contact_time(const ContactParams& p, double m_eff, double r_eq, double max_overlap);
 
-// The key that sets a law's stiffness (modulus, k_n or contact time): the first of the tables
-// `prefixes` ("walls[1].", "grains[0].") that gives its own, else [contact]'s.
-std::string stiffness_key(const SceneDesc& d, NormalLaw law, std::initializer_list<std::string> prefixes = {});
+// The key to stiffen a contact between the materials of the tables `prefixes` ("walls[1].",
+// "grains[0]."): the softer one's modulus or k_n, each the table's own or else [contact]'s (a wall
+// of k_n 1e9 against grains of [contact]'s 1e4 is contact.k_n: the spring in series is at most
+// twice the softer); [contact]'s contact time for the spring-dashpot.
+std::string softer_stiffness_key(const SceneDesc& d, NormalLaw law, std::initializer_list<std::string> prefixes);
 
 // A law's normal stiffness for reduced mass m_eff and reduced radius r_eq; Hertz's at the largest
 // allowed overlap (limits.max_overlap r_min), where it is stiffest.

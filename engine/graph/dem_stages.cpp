@@ -134,11 +134,10 @@ void diagnose_dem(GraphBuilder& b) {
                   format_number(m.dt_stable, 4) + m.unit("s") + "; reduce run.dt";
     } else {
       const int groups = static_cast<int>(m.materials.size()), g = s.particle_group[i];
-      f.parameter =
-          wall >= 0 && groups > 0
-              ? dem::stiffness_key(m.desc, m.wall_contact[wall * groups + g].law,
-                                   {"walls[" + std::to_string(wall) + "].", "grains[" + std::to_string(g) + "]."})
-              : stiffness_key(m);
+      f.parameter = wall >= 0 && groups > 0 ? dem::softer_stiffness_key(m.desc, m.wall_contact[wall * groups + g].law,
+                                                                        {"walls[" + std::to_string(wall) + "].",
+                                                                         "grains[" + std::to_string(g) + "]."})
+                                            : stiffness_key(m);
       // A shorter contact time is a stiffer spring (k ~ 1 / t_c^2); a larger modulus or k_n is.
       const bool by_time = m.contact.law == NormalLaw::kSpringDashpot;
       f.message = what + ": the contacts are too soft for the loads or the impacts; " +

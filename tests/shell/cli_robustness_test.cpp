@@ -222,6 +222,13 @@ steps = 20000
   CHECK(r.code == 3);
   CHECK(contains(r.out, "stage wall_forces: grain 0 overlaps walls[0] by"));
   CHECK(contains(r.out, "increase walls[0].k_n (stiffer contacts)"));
+  // A wall far stiffer than the grains: the grains' spring is the one to stiffen (the series spring
+  // is at most twice it), not the wall's, which the message named.
+  const std::string hard = write_file(dir / "hard.toml", silt::test::fill(scene, {{"wall_k", 1e9}}));
+  r = silt_cli("run " + hard + " --threads 1 --quiet");
+  CHECK(r.code == 3);
+  CHECK(contains(r.out, "stage wall_forces: grain 0 overlaps walls[0] by"));
+  CHECK(contains(r.out, "increase contact.k_n (stiffer contacts)"));
 }
 
 TEST_CASE("only regular files of a sane size are read") {
