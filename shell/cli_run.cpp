@@ -197,12 +197,8 @@ int run_command(const RunArgs& a) {
                    }});
   if (!prep_warning.empty()) job->add_warning(prep_warning);
   for (const std::string& w : restore_warnings) job->add_warning(w);
-  // A fixed step that makes the run hundreds of millions of steps (a contact time of 1e-12 s took
-  // 1e11 steps, and wrote 860 MB of stats in its first minute, without a word): said before it starts.
-  if (const int64_t planned = sim.steps_for(opt); planned > kLongRunSteps && planned != Simulation::kAdaptiveSteps) {
-    const std::string w = "the run is " + format_number(static_cast<double>(planned), 3) +
-                          " steps of dt = " + format_number(model.dt, 4) + model.unit("s") +
-                          ": give fewer with --steps or --time, or a longer step";
+  if (std::string w = sim.long_run_note(opt); !w.empty()) {
+    w += ": give fewer with --steps or --time, or a longer step";
     std::cerr << "silt: warning: " << w << "\n";
     job->add_warning(w);
   }

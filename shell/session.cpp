@@ -397,10 +397,7 @@ RunOptions Session::run_options(const RunLength& len, bool background) {
   // A fixed step that makes the run hundreds of millions of steps: said before it starts, as by
   // `silt run` (Ctrl-C pauses it).
   if (len.kind == RunLength::kSteps || len.kind == RunLength::kTime || len.kind == RunLength::kScene)
-    if (const int64_t planned = s.steps_for(opt); planned > kLongRunSteps && planned != Simulation::kAdaptiveSteps)
-      say("warning: the run is " + format_number(static_cast<double>(planned), 3) +
-              " steps of dt = " + format_number(m.dt, 4) + m.unit("s"),
-          background);
+    if (const std::string w = s.long_run_note(opt); !w.empty()) say("warning: " + w, background);
   opt.interrupt = &interrupt_;
   opt.on_notice = [this, background](const std::string& n) { say("warning: " + n, background); };
   opt.boundary_wanted = [this] { return has_requests_.load(); };

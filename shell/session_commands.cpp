@@ -164,10 +164,7 @@ void Session::cmd_set(const Command& c) {
     return std::find(replaced.begin(), replaced.end(), key) != replaced.end();
   };
   next.erase(std::remove_if(next.begin(), next.end(),
-                            [&](const Override& o) {
-                              return o.key == change.key ||
-                                     std::find(replaced.begin(), replaced.end(), o.key) != replaced.end();
-                            }),
+                            [&](const Override& o) { return o.key == change.key || replaced_by(o.key); }),
              next.end());
   next.push_back(change);
   // A fixed step that another key changes: said (fluid.reynolds over a scene's fluid.viscosity makes

@@ -41,14 +41,8 @@ void setup_walls(const SceneDesc& d, Model& m) {
     // The grains' side, where the normal points, must hold some of the domain: a normal turned
     // outward left every grain behind the wall ("could not place grain 1 at random", or a grain
     // overlapping the wall at t = 0).
-    double reach = -HUGE_VAL;  // the farthest a corner of the domain is in front of the wall
-    for (int corner = 0; corner < (1 << m.dim); ++corner) {
-      double ahead = 0;
-      for (int k = 0; k < m.dim; ++k)
-        ahead += wall.normal[k] * (m.box.lo[k] + ((corner >> k) & 1) * m.box.len[k] - wall.point[k]);
-      reach = std::max(reach, ahead);
-    }
-    if (!(reach > 0))
+    // (the farthest a corner of the domain is in front of the wall)
+    if (!(m.box.span_along(wall.normal.data(), m.dim)[1] > wall.normal.dot(wall.point)))
       d.fail(p + "normal",
              "the normal points out of the domain: all of the domain is behind the wall, and grains "
              "live on the side the normal points to; turn the normal around");
@@ -193,10 +187,9 @@ void check_weight(const SceneDesc& d, const Model& m) {
     int64_t worst_grain = -1;
     for (int64_t i = 0; i < m.n_grains; ++i) {
       if (m.init.frozen[i]) continue;
-      const ContactParams& p = m.wall_contact[w * groups + m.init.group[i]];
-      const double r = m.init.radius[i], weight = m.init.mass[i] * press;
-      const double h = p.law == NormalLaw::kHertz ? std::pow(weight / (p.e_tilde / 3.0 * std::sqrt(4.0 * r)), 2.0 / 3.0)
-                                                  : weight / linear_coeffs(p, m.init.mass[i]).k;
+      const double r = m.init.radius[i];
+      const double h =
+          static_overlap(m.wall_contact[w * groups + m.init.group[i]], m.init.mass[i], 2.0 * r, m.init.mass[i] * press);
       if (h / r > worst) {
         worst = h / r;
         worst_grain = i;
@@ -205,8 +198,8 @@ void check_weight(const SceneDesc& d, const Model& m) {
     if (!(worst > m.limits.max_overlap) || worst_grain < 0) continue;
     const int grp = m.init.group[worst_grain];
     const std::string key =
-        softer_stiffness_key(d, m.wall_contact[w * groups + grp].law,
-                             {"walls[" + std::to_string(w) + "].", "grains[" + std::to_string(grp) + "]."});
+        stiffness_key(d, m.wall_contact[w * groups + grp].law,
+                      {"walls[" + std::to_string(w) + "].", "grains[" + std::to_string(grp) + "]."});
     d.fail(key, "the weight of grain " + std::to_string(worst_grain) + " (of grains[" + std::to_string(grp) +
                     "]) alone presses it into walls[" + std::to_string(w) + "] by " + format_number(worst, 3) +
                     " of its radius under the law of that wall with its group, beyond limits.max_overlap = " +

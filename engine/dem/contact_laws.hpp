@@ -46,6 +46,9 @@ inline NormalForce linear_normal(const LinearCoeffs& kc, double overlap, double 
   return {kc.k * overlap + kc.c * overlap_rate, kc.k};
 }
 
+// Hertz's elastic coefficient k_h of F_e = k_h h^(3/2): (E~/3) sqrt(2 R_eq).
+inline double hertz_coefficient(double e_tilde, double r_eq) { return e_tilde / 3.0 * std::sqrt(2.0 * r_eq); }
+
 // Hertz with a viscous dashpot, Peyneau (2009) eq. 1.22 and 3.1-3.3:
 //   F_e = (E~/3) sqrt(2 R_eq) h^(3/2),   K_N = dF_e/dh = (E~/2) sqrt(2 R_eq h),
 //   F_v = zeta sqrt(2 m K_N) dh/dt  for two grains of mass m, i.e. 2 zeta sqrt(m* K_N) dh/dt,
@@ -97,6 +100,13 @@ inline double normal_elastic_energy(const ContactParams& p, double m_eff, double
   if (!(overlap > 0)) return 0.0;
   if (p.law == NormalLaw::kHertz) return 2.0 / 15.0 * p.e_tilde * std::sqrt(2.0 * r_eq) * std::pow(overlap, 2.5);
   return 0.5 * linear_coeffs(p, m_eff).k * overlap * overlap;
+}
+
+// The overlap at which the elastic force holds a static load `force` [m]: force / k_n, Hertz's
+// (force / k_h)^(2/3).
+inline double static_overlap(const ContactParams& p, double m_eff, double r_eq, double force) {
+  if (p.law == NormalLaw::kHertz) return std::pow(force / hertz_coefficient(p.e_tilde, r_eq), 2.0 / 3.0);
+  return force / linear_coeffs(p, m_eff).k;
 }
 
 // Normal stiffness dF/dh at this overlap (Hertz: K_N = (E~/2) sqrt(2 R_eq h)), of which the

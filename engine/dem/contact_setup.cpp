@@ -56,7 +56,7 @@ double contact_time(const ContactParams& p, double m_eff, double r_eq, double ma
     // Undamped Hertz collision reaching overlap h_m: 1/2 m* v^2 = (2/5) k_h h_m^(5/2) with
     // F = k_h h^(3/2), k_h = (E~/3) sqrt(2 R_eq); duration kHertzDuration (m*/k_h)^(2/5) v^(-1/5)
     // (Johnson 1985, sec. 11.4; contact_laws.hpp).
-    const double kh = p.e_tilde / 3.0 * std::sqrt(2.0 * r_eq);
+    const double kh = hertz_coefficient(p.e_tilde, r_eq);
     const double v = std::sqrt(0.8 * kh * std::pow(max_overlap, 2.5) / m_eff);
     return hertz_duration() * std::pow(m_eff / kh, 0.4) * std::pow(v, -0.2);
   }
@@ -91,7 +91,7 @@ LawKeys law_keys(const SceneDesc& d, NormalLaw law, std::initializer_list<std::s
 
 }  // namespace
 
-std::string softer_stiffness_key(const SceneDesc& d, NormalLaw law, std::initializer_list<std::string> prefixes) {
+std::string stiffness_key(const SceneDesc& d, NormalLaw law, std::initializer_list<std::string> prefixes) {
   const std::string base = law_keys(d, law).stiffness;  // [contact]'s (a contact time: no material's own)
   if (law == NormalLaw::kSpringDashpot) return base;
   const std::string own = law == NormalLaw::kHertz ? "young_modulus" : "k_n";
@@ -107,12 +107,19 @@ std::string softer_stiffness_key(const SceneDesc& d, NormalLaw law, std::initial
   return key;
 }
 
-double stiffness_at_largest_overlap(const ContactParams& p, const Model& m, double m_eff, double r_eq) {
-  if (p.law == NormalLaw::kHertz) return 0.5 * p.e_tilde * std::sqrt(2.0 * r_eq * m.limits.max_overlap * m.r_min);
-  return linear_coeffs(p, m_eff).k;
-}
-
 namespace {
+
+// A law's normal mode for reduced mass m_eff and reduced radius r_eq: its stiffness (Hertz's at
+// the largest allowed overlap, limits.max_overlap r_min, where it is stiffest) and damping ratio.
+struct NormalMode {
+  double k, zeta;
+};
+NormalMode normal_mode(const ContactParams& p, const Model& m, double m_eff, double r_eq) {
+  if (p.law == NormalLaw::kHertz)
+    return {0.5 * p.e_tilde * std::sqrt(2.0 * r_eq * m.limits.max_overlap * m.r_min), p.zeta};
+  const LinearCoeffs kc = linear_coeffs(p, m_eff);
+  return {kc.k, kc.c / (2.0 * std::sqrt(kc.k * m_eff))};
+}
 
 // The numbers a contact's scales are made of, each with the key that set it. Numbers at the ends of
 // the doubles' range (a tiny radius, a huge modulus) can make a scale 0, infinite or NaN: a scene
@@ -168,19 +175,11 @@ void derive_contact_scales(const SceneDesc& d, Model& m) {
   const std::string mass_key = grain_mass_key(d, m.init.group[lightest], m.dim, m.init.radius[lightest]);
   const ContactParams& c = m.contact;
   const double r_eq = m.r_min;  // reduced radius of two of the smallest grains
-  double zeta = 0;
-  if (c.law == NormalLaw::kHertz) {
-    // Quoted at the reference overlap; stability checked at the largest allowed overlap.
-    m.t_contact = contact_time(c, m.m_eff_min, r_eq, c.hertz_ref_overlap * r_eq);
-    m.k_max = 0.5 * c.e_tilde * std::sqrt(2.0 * r_eq * m.limits.max_overlap * m.r_min);
-    zeta = c.zeta;
-  } else {
-    const dem::LinearCoeffs kc = dem::linear_coeffs(c, m.m_eff_min);
-    m.t_contact = contact_time(c, m.m_eff_min, r_eq, 0);
-    m.k_max = kc.k;
-    zeta = kc.c / (2.0 * std::sqrt(kc.k * m.m_eff_min));
-  }
-  m.zeta_max = zeta;
+  // t_c quoted at Hertz's reference overlap; stability checked at the largest allowed overlap.
+  m.t_contact = contact_time(c, m.m_eff_min, r_eq, c.law == NormalLaw::kHertz ? c.hertz_ref_overlap * r_eq : 0.0);
+  const NormalMode scene_mode = normal_mode(c, m, m.m_eff_min, r_eq);
+  m.k_max = scene_mode.k;
+  const double zeta = m.zeta_max = scene_mode.zeta;
   double normal_limit = verlet_stability_limit(std::sqrt(m.k_max / m.m_eff_min), zeta);
   check_scales(d, {m.m_eff_min, m.k_max, zeta, mass_key, law_keys(d, c.law)},
                {{"contact time", m.t_contact}, {"stability limit of the time step", normal_limit}});
@@ -191,7 +190,7 @@ void derive_contact_scales(const SceneDesc& d, Model& m) {
   // stiffness k_t (1 + m r^2 / I) for a reduced mass m* (3 k_t for disks, 3.5 k_t for spheres, any
   // sizes), damping ratio sqrt(1 + m r^2 / I) zeta_t. With k_t / k_n above 1/3 (disks) or 2/7
   // (spheres) it can be the faster mode.
-  const double turn = 1.0 + 1.0 / (m.dim == 3 ? 0.4 : 0.5);  // 1 + m r^2 / I
+  const double turn = 1.0 + 1.0 / inertia_factor(m.dim);  // 1 + m r^2 / I
   auto tangential = [&](const ContactParams& p, double k, double m_eff, const std::string& m_key, const LawKeys& keys) {
     if (!(p.friction > 0) || !(p.kt_ratio > 0)) return;
     const double kt = turn * p.kt_ratio * k, zt = std::sqrt(turn) * std::max(p.zeta_t, 0.0);
@@ -212,12 +211,8 @@ void derive_contact_scales(const SceneDesc& d, Model& m) {
   // grain against a wall (m* = m, R_eq = 2 r) included, may lower the limit; t_c stays the scene
   // material's (the unit of run.dt_over_tc).
   auto limit_of = [&](const ContactParams& p, double m_eff, double req, const std::string& m_key, const LawKeys& keys) {
-    const double k = stiffness_at_largest_overlap(p, m, m_eff, req);
-    double z = p.zeta;
-    if (p.law != NormalLaw::kHertz) {
-      const LinearCoeffs kc = linear_coeffs(p, m_eff);
-      z = kc.c / (2.0 * std::sqrt(kc.k * m_eff));
-    }
+    const NormalMode mode = normal_mode(p, m, m_eff, req);
+    const double k = mode.k, z = mode.zeta;
     const double limit = verlet_stability_limit(std::sqrt(k / m_eff), z);
     check_scales(d, {m_eff, k, z, m_key, keys}, {{"stability limit of the time step", limit}});
     if (limit < normal_limit) {

@@ -22,11 +22,8 @@ double contact_time(const ContactParams& p, double m_eff, double r_eq, double ma
 // The key to stiffen a contact between the materials of the tables `prefixes` ("walls[1].",
 // "grains[0]."): the softer one's modulus or k_n, each the table's own or else [contact]'s (a wall
 // of k_n 1e9 against grains of [contact]'s 1e4 is contact.k_n: the spring in series is at most
-// twice the softer); [contact]'s contact time for the spring-dashpot.
-std::string softer_stiffness_key(const SceneDesc& d, NormalLaw law, std::initializer_list<std::string> prefixes);
-
-// A law's normal stiffness for reduced mass m_eff and reduced radius r_eq; Hertz's at the largest
-// allowed overlap (limits.max_overlap r_min), where it is stiffest.
-double stiffness_at_largest_overlap(const ContactParams& p, const Model& m, double m_eff, double r_eq);
+// twice the softer); [contact]'s contact time for the spring-dashpot; [contact]'s key without
+// tables.
+std::string stiffness_key(const SceneDesc& d, NormalLaw law, std::initializer_list<std::string> prefixes = {});
 
 }  // namespace silt::dem

@@ -53,7 +53,7 @@ std::string restitution_text(const Model& m) {
   if (c.law == NormalLaw::kHertz) {
     // The speed whose undamped collision reaches the reference overlap, where t_c is quoted:
     // 1/2 m* v^2 = (2/5) k_h h^(5/2).
-    const double kh = c.e_tilde / 3.0 * std::sqrt(2.0 * r_eq), h = c.hertz_ref_overlap * r_eq;
+    const double kh = dem::hertz_coefficient(c.e_tilde, r_eq), h = c.hertz_ref_overlap * r_eq;
     v = std::sqrt(0.8 * kh * std::pow(h, 2.5) / m.m_eff_min);
   }
   const double e = binary_restitution(c, m.m_eff_min, r_eq, v, m.t_contact);

@@ -284,6 +284,8 @@ void place_random(const SceneDesc& d, Model& m, int g, const Group& G, int64_t f
   const int D = m.dim;
   auto& xs = m.init.x;
   const auto& rs = m.init.radius;
+  constexpr int kAttempts = 20000;
+  std::vector<int> behind(m.walls.size());  // attempts a wall refused, the first that did
   for (int64_t q = 0; q < G.count; ++q) {
     const int64_t i = first + q;
     const double r = rs[i];
@@ -295,8 +297,7 @@ void place_random(const SceneDesc& d, Model& m, int g, const Group& G, int64_t f
       if (hi[k] < lo[k]) d.fail(key(g, "region_hi"), "the placement region is narrower than a grain diameter");
     }
     bool placed = false;
-    constexpr int kAttempts = 20000;
-    std::vector<int> behind(m.walls.size(), 0);  // attempts a wall refused, the first that did
+    std::fill(behind.begin(), behind.end(), 0);
     for (int attempt = 0; attempt < kAttempts && !placed; ++attempt) {
       double p[3];
       for (int k = 0; k < D; ++k) p[k] = rng.uniform(lo[k], hi[k]);
@@ -505,7 +506,7 @@ void setup_grains(const SceneDesc& d, Model& m) {
                                                ": both must be finite and positive");
       I.radius.push_back(r);
       I.mass.push_back(mass);
-      I.inertia.push_back(D == 3 ? 0.4 * mass * r * r : 0.5 * mass * r * r);  // sphere, disk
+      I.inertia.push_back(inertia_factor(D) * mass * r * r);
       I.frozen.push_back(G.frozen ? 1 : 0);
       I.group.push_back(g);
     }

@@ -20,15 +20,6 @@
 namespace silt::graph {
 namespace {
 
-// The key a user changes to stiffen contacts under the scene's law.
-std::string stiffness_key(const Model& m) {
-  switch (m.contact.law) {
-    case NormalLaw::kSpringDashpot: return "contact.contact_time";
-    case NormalLaw::kHertz: return "contact.young_modulus";
-    default: return "contact.k_n";
-  }
-}
-
 // What each stage reads and writes (their contracts in dem/stages.hpp).
 const Access kGrainConst = {fid::particle_r, fid::particle_inv_m, fid::particle_inv_i, fid::particle_frozen};
 
@@ -134,10 +125,11 @@ void diagnose_dem(GraphBuilder& b) {
                   format_number(m.dt_stable, 4) + m.unit("s") + "; reduce run.dt";
     } else {
       const int groups = static_cast<int>(m.materials.size()), g = s.particle_group[i];
-      f.parameter = wall >= 0 && groups > 0 ? dem::softer_stiffness_key(m.desc, m.wall_contact[wall * groups + g].law,
-                                                                        {"walls[" + std::to_string(wall) + "].",
-                                                                         "grains[" + std::to_string(g) + "]."})
-                                            : stiffness_key(m);
+      f.parameter =
+          wall >= 0 && groups > 0
+              ? dem::stiffness_key(m.desc, m.wall_contact[wall * groups + g].law,
+                                   {"walls[" + std::to_string(wall) + "].", "grains[" + std::to_string(g) + "]."})
+              : dem::stiffness_key(m.desc, m.contact.law);
       // A shorter contact time is a stiffer spring (k ~ 1 / t_c^2); a larger modulus or k_n is.
       const bool by_time = m.contact.law == NormalLaw::kSpringDashpot;
       f.message = what + ": the contacts are too soft for the loads or the impacts; " +

@@ -401,6 +401,13 @@ int64_t Simulation::steps_for(const RunOptions& opt) const {
   return opt.time >= 0 ? steps_in(opt.time, model_.dt) : opt.steps;
 }
 
+std::string Simulation::long_run_note(const RunOptions& opt) const {
+  const int64_t planned = steps_for(opt);
+  if (planned <= kLongRunSteps || planned == kAdaptiveSteps) return "";
+  return "the run is " + format_number(static_cast<double>(planned), 3) +
+         " steps of dt = " + format_number(model_.dt, 4) + model_.unit("s");
+}
+
 RunOptions Simulation::scene_run_left() const {
   RunOptions opt;
   opt.steps = 0;

@@ -1,5 +1,6 @@
 // [render] of a scene -> RenderSettings (the renderer draws from these; no GL in the engine).
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <string>
 
@@ -103,13 +104,7 @@ void read_render_settings(const SceneDesc& d, Model& m) {
     for (int k = 0; k < 3; ++k) centre += n[k] * (m.box.lo[k] + 0.5 * m.box.len[k]);
     r.slice_position = d.has("render.slice_position") ? d.real("render.slice_position") : centre;
     // A plane that misses the domain draws nothing but the box and the colour bar.
-    double span[2] = {centre, centre};
-    for (int corner = 0; corner < 8; ++corner) {
-      double at = 0;
-      for (int k = 0; k < 3; ++k) at += n[k] * (m.box.lo[k] + ((corner >> k) & 1) * m.box.len[k]);
-      span[0] = std::min(span[0], at);
-      span[1] = std::max(span[1], at);
-    }
+    const std::array<double, 2> span = m.box.span_along(n, 3);
     if (!(r.slice_position >= span[0] && r.slice_position <= span[1]))
       d.fail("render.slice_position", "the slice n . x = " + format_number(r.slice_position, 4) +
                                           " misses the domain, where n . x spans [" + format_number(span[0], 4) + ", " +

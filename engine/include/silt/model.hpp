@@ -91,6 +91,17 @@ struct Box {
     for (int k = 0; k < dim; ++k)
       if (periodic[k]) d[k] -= len[k] * std::nearbyint(d[k] / len[k]);
   }
+  // The range [min, max] of n . x over the corners of the box's first dim axes.
+  std::array<double, 2> span_along(const double* n, int dim) const {
+    std::array<double, 2> span{HUGE_VAL, -HUGE_VAL};
+    for (int corner = 0; corner < (1 << dim); ++corner) {
+      double at = 0;
+      for (int k = 0; k < dim; ++k) at += n[k] * (lo[k] + ((corner >> k) & 1) * len[k]);
+      span[0] = std::min(span[0], at);
+      span[1] = std::max(span[1], at);
+    }
+    return span;
+  }
 };
 
 // Stress-controlled box lengths (Peyneau 2009 eq. 3.11): M d2L/dt2 = (Omega/L)(sigma - P).
@@ -167,6 +178,9 @@ struct GrainInit {
 inline double grain_volume(int dim, double r) {
   return dim == 3 ? 4.0 / 3.0 * std::numbers::pi * r * r * r : std::numbers::pi * r * r;
 }
+
+// A grain's moment of inertia over m r^2: a solid sphere's 2/5, a disk's 1/2.
+inline double inertia_factor(int dim) { return dim == 3 ? 0.4 : 0.5; }
 
 struct RunLimits {
   double max_overlap = 0.2;    // fraction of the smaller radius
