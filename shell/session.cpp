@@ -442,17 +442,24 @@ RunOptions Session::run_options(const RunLength& len, bool background) {
                          }});
   }
   if (len.kind == RunLength::kUntil) {
+    // Each observable sampled once, however many clauses name it ("step >= 5 or step >= 10").
     std::vector<std::string> names;
+    std::vector<size_t> column;  // clause k reads names[column[k]]
     bool cheap = true;
     for (const Clause& c : len.until.clauses) {
-      names.push_back(c.observable);
+      const auto at = std::find(names.begin(), names.end(), c.observable);
+      column.push_back(static_cast<size_t>(at - names.begin()));
+      if (at == names.end()) names.push_back(c.observable);
       cheap = cheap && (c.observable == "t" || c.observable == "step" || c.observable == "dt");
     }
     auto obs = std::make_shared<Observer>(m, names);
     const Condition cond = len.until;
     // Cheap observables are tested at every step; the others every 10 steps.
-    opt.hooks.push_back({cheap ? 1 : 10, [this, obs, cond](const State& st) {
-                           if (cond.holds(obs->sample(sim_->model(), st))) {
+    opt.hooks.push_back({cheap ? 1 : 10, [this, obs, cond, column](const State& st) {
+                           const std::vector<double> sampled = obs->sample(sim_->model(), st);
+                           std::vector<double> values(column.size());
+                           for (size_t k = 0; k < column.size(); ++k) values[k] = sampled[column[k]];
+                           if (cond.holds(values)) {
                              until_met_ = true;
                              interrupt_ = true;
                            }

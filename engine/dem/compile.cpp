@@ -141,7 +141,17 @@ void refresh_frozen(Model& m) {
 // that set it (and, for a tangential spring's mode, the ratio that made it the faster).
 void check_time_step(const SceneDesc& d, const Model& m) {
   if (!(m.dt > m.dt_stable)) return;
+  const bool given = d.has("run.dt") || d.has("run.dt_over_tc");
   const std::string key = d.has("run.dt") ? "run.dt" : "run.dt_over_tc";
+  // The default step (0.02 t_c) exceeds the limit only where a dashpot or k_t / k_n has shortened
+  // it: the refusal is located there (it was at the [run] table that gives no step).
+  const char* normal_damping = m.contact.law == NormalLaw::kHooke           ? "contact.gamma_n"
+                               : m.contact.law == NormalLaw::kSpringDashpot ? "contact.restitution"
+                                                                            : "contact.damping";
+  const std::string at = given                     ? key
+                         : !m.dt_stable_tangential ? normal_damping
+                         : m.contact.zeta_t > 1    ? "contact.tangential_damping"
+                                                   : "contact.kt_over_kn";
   const std::string mode = m.dt_stable_tangential
                                ? " of the stiffest contact's tangential spring (reduced mass " +
                                      format_number(m.m_eff_stable) +
@@ -149,12 +159,13 @@ void check_time_step(const SceneDesc& d, const Model& m) {
                                      ", normal stiffness " + format_number(m.k_max) + ")"
                                : " of the stiffest contact (reduced mass " + format_number(m.m_eff_min) +
                                      ", stiffness " + format_number(m.k_max) + ")";
-  d.fail(key, "time step " + format_number(m.dt) + m.unit("s") + " exceeds the velocity-Verlet stability limit " +
-                  format_number(m.dt_stable) + m.unit("s") + mode + "; reduce " + key +
-                  " (run.dt_over_tc <= " + format_number(m.dt_stable / m.t_contact) + ")" +
-                  (m.dt_stable_tangential ? std::string(" or contact.kt_over_kn") +
-                                                (m.contact.zeta_t > 0 ? " or contact.tangential_damping" : "")
-                                          : std::string()));
+  d.fail(at, "time step " + format_number(m.dt) + m.unit("s") + (given ? "" : " (the default)") +
+                 " exceeds the velocity-Verlet stability limit " + format_number(m.dt_stable) + m.unit("s") + mode +
+                 "; " + (given ? "reduce " + key + " (" : "give ") +
+                 "run.dt_over_tc <= " + format_number(m.dt_stable / m.t_contact) + (given ? ")" : "") +
+                 (m.dt_stable_tangential ? std::string(" or reduce contact.kt_over_kn") +
+                                               (m.contact.zeta_t > 0 ? " or contact.tangential_damping" : "")
+                                         : std::string()));
 }
 
 // A weight that alone presses a grain into what it rests on beyond limits.max_overlap (linear

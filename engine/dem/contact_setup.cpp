@@ -51,14 +51,21 @@ void read_contact_law(const SceneDesc& d, Model& m) {
   c.zeta_t = d.real("contact.tangential_damping");
 }
 
+double hertz_speed_to(const ContactParams& p, double m_eff, double r_eq, double overlap) {
+  return std::sqrt(0.8 * hertz_coefficient(p.e_tilde, r_eq) * std::pow(overlap, 2.5) / m_eff);
+}
+
+double reference_contact_time(const ContactParams& p, double m_eff, double r_eq) {
+  return contact_time(p, m_eff, r_eq, p.law == NormalLaw::kHertz ? p.hertz_ref_overlap * r_eq : 0.0);
+}
+
 double contact_time(const ContactParams& p, double m_eff, double r_eq, double max_overlap) {
   if (p.law == NormalLaw::kHertz) {
     // Undamped Hertz collision reaching overlap h_m: 1/2 m* v^2 = (2/5) k_h h_m^(5/2) with
     // F = k_h h^(3/2), k_h = (E~/3) sqrt(2 R_eq); duration kHertzDuration (m*/k_h)^(2/5) v^(-1/5)
     // (Johnson 1985, sec. 11.4; contact_laws.hpp).
     const double kh = hertz_coefficient(p.e_tilde, r_eq);
-    const double v = std::sqrt(0.8 * kh * std::pow(max_overlap, 2.5) / m_eff);
-    return hertz_duration() * std::pow(m_eff / kh, 0.4) * std::pow(v, -0.2);
+    return hertz_duration() * std::pow(m_eff / kh, 0.4) * std::pow(hertz_speed_to(p, m_eff, r_eq, max_overlap), -0.2);
   }
   if (p.law == NormalLaw::kSpringDashpot) return p.contact_time_given;
   // Damping-ratio laws: the elastic (undamped) contact time pi / w0. It is the time unit of
@@ -176,10 +183,13 @@ void derive_contact_scales(const SceneDesc& d, Model& m) {
   const ContactParams& c = m.contact;
   const double r_eq = m.r_min;  // reduced radius of two of the smallest grains
   // t_c quoted at Hertz's reference overlap; stability checked at the largest allowed overlap.
-  m.t_contact = contact_time(c, m.m_eff_min, r_eq, c.law == NormalLaw::kHertz ? c.hertz_ref_overlap * r_eq : 0.0);
+  m.t_contact = reference_contact_time(c, m.m_eff_min, r_eq);
+  m.tc_pair = {c, m.m_eff_min, r_eq, -1, -1};
   const NormalMode scene_mode = normal_mode(c, m, m.m_eff_min, r_eq);
   m.k_max = scene_mode.k;
   const double zeta = m.zeta_max = scene_mode.zeta;
+  const bool hertz = c.law == NormalLaw::kHertz;
+  m.kappa_stiffness_min = m.kappa_stiffness_max = hertz ? c.e_tilde : scene_mode.k;
   double normal_limit = verlet_stability_limit(std::sqrt(m.k_max / m.m_eff_min), zeta);
   check_scales(d, {m.m_eff_min, m.k_max, zeta, mass_key, law_keys(d, c.law)},
                {{"contact time", m.t_contact}, {"stability limit of the time step", normal_limit}});
@@ -208,8 +218,7 @@ void derive_contact_scales(const SceneDesc& d, Model& m) {
   const bool pairs_form = free_mass.size() >= 2 || m.n_frozen > 0;
   if (m.pair_contact.empty() && pairs_form) tangential(c, m.k_max, m.m_eff_min, mass_key, law_keys(d, c.law));
   // Other materials (dem/materials.hpp): the stiffest of their laws with the lightest grains, a
-  // grain against a wall (m* = m, R_eq = 2 r) included, may lower the limit; t_c stays the scene
-  // material's (the unit of run.dt_over_tc).
+  // grain against a wall (m* = m, R_eq = 2 r) included, may lower the limit.
   auto limit_of = [&](const ContactParams& p, double m_eff, double req, const std::string& m_key, const LawKeys& keys) {
     const NormalMode mode = normal_mode(p, m, m_eff, req);
     const double k = mode.k, z = mode.zeta;
@@ -218,7 +227,6 @@ void derive_contact_scales(const SceneDesc& d, Model& m) {
     if (limit < normal_limit) {
       normal_limit = limit;
       m.k_max = k;
-      m.zeta_max = z;
     }
     if (limit < m.dt_stable) {
       m.dt_stable = limit;
@@ -250,6 +258,11 @@ void derive_contact_scales(const SceneDesc& d, Model& m) {
     }
   }
   auto reduced = [](double a, double b) { return a * b / (a + b); };
+  // Where the groups have laws of their own, t_c (the unit of run.dt_over_tc) is the shortest
+  // collision of the pairs of groups that can meet, and kappa's stiffness spans their laws: the
+  // scene's [contact] law may be no pair's (every group giving its own k_n, t_c was that of a
+  // spring no contact had).
+  bool pair_seen = false;
   for (size_t q = 0; q < m.pair_contact.size(); ++q) {
     const int gi = static_cast<int>(q) / groups, gj = static_cast<int>(q) % groups;
     double m_eff = inf;
@@ -258,9 +271,24 @@ void derive_contact_scales(const SceneDesc& d, Model& m) {
     if (frozen[gj] && light[gi] < inf) m_eff = std::min(m_eff, light[gi]);
     if (frozen[gi] && light[gj] < inf) m_eff = std::min(m_eff, light[gj]);
     if (!(m_eff < inf)) continue;  // no such pair can form
+    const ContactParams& p = m.pair_contact[q];
+    const double req = 2.0 * reduced(r_small[gi], r_small[gj]);
     const int64_t i = light[gi] <= light[gj] ? light_grain[gi] : light_grain[gj];
-    limit_of(m.pair_contact[q], m_eff, 2.0 * reduced(r_small[gi], r_small[gj]),
-             grain_mass_key(d, m.init.group[i], m.dim, m.init.radius[i]), law_keys(d, c.law, {group(gi), group(gj)}));
+    const std::string m_key = grain_mass_key(d, m.init.group[i], m.dim, m.init.radius[i]);
+    const LawKeys keys = law_keys(d, c.law, {group(gi), group(gj)});
+    limit_of(p, m_eff, req, m_key, keys);
+    const double tc = reference_contact_time(p, m_eff, req);
+    const NormalMode mode = normal_mode(p, m, m_eff, req);
+    check_scales(d, {m_eff, mode.k, mode.zeta, m_key, keys}, {{"contact time", tc}});
+    const double stiffness = hertz ? p.e_tilde : mode.k;
+    if (!pair_seen || tc < m.t_contact) {
+      m.t_contact = tc;
+      m.tc_pair = {p, m_eff, req, gi, gj};
+      m.zeta_max = mode.zeta;
+    }
+    m.kappa_stiffness_min = pair_seen ? std::min(m.kappa_stiffness_min, stiffness) : stiffness;
+    m.kappa_stiffness_max = pair_seen ? std::max(m.kappa_stiffness_max, stiffness) : stiffness;
+    pair_seen = true;
   }
   for (size_t q = 0; q < m.wall_contact.size(); ++q) {
     const int w = static_cast<int>(q) / groups, g = static_cast<int>(q) % groups;

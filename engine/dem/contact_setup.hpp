@@ -18,6 +18,10 @@ void derive_contact_scales(const SceneDesc& d, Model& m);
 // Duration of a binary collision for the scene's law, between grains of reduced mass m_eff and
 // reduced radius r_eq; Hertz needs the largest overlap reached (its contact time depends on it).
 double contact_time(const ContactParams& p, double m_eff, double r_eq, double max_overlap);
+// The contact time t_c is quoted at: Hertz's at the law's reference overlap (hertz_ref_overlap r_eq).
+double reference_contact_time(const ContactParams& p, double m_eff, double r_eq);
+// Hertz: the impact speed whose undamped collision reaches `overlap`, 1/2 m* v^2 = (2/5) k_h h^(5/2).
+double hertz_speed_to(const ContactParams& p, double m_eff, double r_eq, double overlap);
 
 // The key to stiffen a contact between the materials of the tables `prefixes` ("walls[1].",
 // "grains[0]."): the softer one's modulus or k_n, each the table's own or else [contact]'s (a wall

@@ -1,8 +1,10 @@
 // The DEM's part of `silt check`: grains, walls, contact law, time step, neighbour search.
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
 #include "dem/contact_laws.hpp"
+#include "dem/contact_setup.hpp"
 #include "dem/module.hpp"
 #include "silt/text.hpp"
 
@@ -45,21 +47,37 @@ double binary_restitution(const ContactParams& p, double m_eff, double r_eq, dou
   return -1;
 }
 
-// The restitution of the lightest pair, as `check` prints it.
+// The restitution of the pair of t_c, as `check` prints it.
 std::string restitution_text(const Model& m) {
-  const ContactParams& c = m.contact;
-  const double r_eq = m.r_min;
-  double v = 1;
-  if (c.law == NormalLaw::kHertz) {
-    // The speed whose undamped collision reaches the reference overlap, where t_c is quoted:
-    // 1/2 m* v^2 = (2/5) k_h h^(5/2).
-    const double kh = dem::hertz_coefficient(c.e_tilde, r_eq), h = c.hertz_ref_overlap * r_eq;
-    v = std::sqrt(0.8 * kh * std::pow(h, 2.5) / m.m_eff_min);
-  }
-  const double e = binary_restitution(c, m.m_eff_min, r_eq, v, m.t_contact);
+  const Model::ContactTimePair& pair = m.tc_pair;
+  const ContactParams& c = pair.law;
+  // (Hertz: at the speed whose undamped collision reaches the reference overlap, where t_c is quoted)
+  const double v =
+      c.law == NormalLaw::kHertz ? dem::hertz_speed_to(c, pair.m_eff, pair.r_eq, c.hertz_ref_overlap * pair.r_eq) : 1.0;
+  const double e = binary_restitution(c, pair.m_eff, pair.r_eq, v, m.t_contact);
   const std::string how = c.law == NormalLaw::kHertz ? ", any impact speed" : "";
   if (e < 0) return "restitution 0 (the dashpot holds the grains until the overlap vanishes" + how + ")";
   return "restitution " + format_number(e, 4) + " (one collision integrated" + how + ")";
+}
+
+// A group as check names it: "grains[1] (\"big\")", or "grains[1]" without a name of its own.
+std::string group_name(const Model& m, int g) {
+  const std::string index = std::to_string(g);
+  const bool named = static_cast<size_t>(g) < m.group_names.size() && m.group_names[g] != "group" + index;
+  return "grains[" + index + "]" + (named ? " (\"" + m.group_names[g] + "\")" : "");
+}
+
+// The grains' friction: the scene's, or the range of the pairs of groups with frictions of their own.
+std::string friction_text(const Model& m) {
+  if (m.pair_contact.empty()) return "mu = " + format_number(m.contact.friction, 5);
+  double lo = m.pair_contact[0].friction, hi = lo;
+  for (const ContactParams& p : m.pair_contact) {
+    lo = std::min(lo, p.friction);
+    hi = std::max(hi, p.friction);
+  }
+  if (lo == hi) return "mu = " + format_number(lo, 5);
+  return "mu = " + format_number(lo, 5) + " to " + format_number(hi, 5) +
+         " by pair of groups (the smaller of the two groups')";
 }
 
 }  // namespace
@@ -76,8 +94,8 @@ std::string describe_dem(const Model& m) {
   o << "radii        " << m.r_min << " .. " << m.r_max << " (mean " << m.r_mean << ")\n";
   o << "walls        " << m.walls.size() << "\n";
   o << "contact      " << normal_law_name(m.contact.law) << "\n";
-  o << "friction     mu = " << m.contact.friction << ", k_t/k_n = " << m.contact.kt_ratio
-    << (m.contact.friction > 0 ? "" : " (frictionless: no tangential stage work)") << "\n";
+  o << "friction     " << friction_text(m) << ", k_t/k_n = " << m.contact.kt_ratio
+    << (m.pair_friction() ? "" : " (frictionless: no tangential stage work)") << "\n";
   const bool hertz = m.contact.law == NormalLaw::kHertz;
   const char* tc_meaning =
       m.contact.law == NormalLaw::kSpringDashpot
@@ -93,7 +111,11 @@ std::string describe_dem(const Model& m) {
                                         " in the dry preparation; the paste's contacts have no "
                                         "dashpot (the liquid dissipates)"
                                   : "damping ratio " + format_number(zeta, 5) + ", " + restitution_text(m);
-  o << "time         t_c = " << m.t_contact << s << " (" << tc_meaning << "; lightest pair m* = " << m.m_eff_min
+  const Model::ContactTimePair& pair = m.tc_pair;
+  const std::string groups = pair.group_i < 0 ? "lightest pair"
+                                              : "shortest collision: " + group_name(m, pair.group_i) + " on " +
+                                                    group_name(m, pair.group_j) + ", lightest pair";
+  o << "time         t_c = " << m.t_contact << s << " (" << tc_meaning << "; " << groups << " m* = " << pair.m_eff
     << m.unit("kg") << ", " << damping << ")\n";
   o << "             dt = " << m.dt << s << " = t_c/" << m.t_contact / m.dt << "; stability limit " << m.dt_stable << s
     << " for one contact" << (m.dt_stable_tangential ? ", its tangential spring" : "")

@@ -2,6 +2,7 @@
 #include <cmath>
 
 #include "silt/observables.hpp"
+#include "silt/text.hpp"
 
 namespace silt {
 
@@ -10,10 +11,17 @@ double inertial_number(const Model& m, double shear_rate, double pressure) {
   return std::abs(shear_rate) * std::sqrt(m.m_a / (std::pow(m.a_max, m.dim - 2) * pressure));
 }
 
-double stiffness_number(const Model& m, double pressure) {
+double stiffness_number(const Model& m, double pressure, bool stiffest) {
   if (!(pressure > 0)) return 0;
-  if (m.contact.law == NormalLaw::kHertz) return std::pow(m.contact.e_tilde / pressure, 2.0 / 3.0);
-  return m.k_max / (pressure * std::pow(m.a_max, m.dim - 2));
+  const double k = stiffest ? m.kappa_stiffness_max : m.kappa_stiffness_min;
+  if (m.contact.law == NormalLaw::kHertz) return std::pow(k / pressure, 2.0 / 3.0);
+  return k / (pressure * std::pow(m.a_max, m.dim - 2));
+}
+
+std::string stiffness_number_text(const Model& m, double pressure) {
+  const double soft = stiffness_number(m, pressure), stiff = stiffness_number(m, pressure, true);
+  if (soft == stiff) return format_number(soft, 5);
+  return format_number(soft, 5) + " to " + format_number(stiff, 5) + " by pair of groups";
 }
 
 double viscous_stress(const Model& m, double eta, double rate) {

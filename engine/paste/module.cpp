@@ -258,7 +258,7 @@ std::string describe_paste(const Model& m) {
   const char* vi = m.dim == 2 ? "Vi = eta gammadot a / P = " : "Vi = eta gammadot / P = ";
   if (pressure) {
     const double P = m.box_control.pressure;
-    o << "             kappa = " << stiffness_number(m, P) << "; ";
+    o << "             kappa = " << stiffness_number_text(m, P) << "; ";
     if (rate > 0) {
       o << vi << viscous_number(m, p.eta, rate, P) << "; St = m gammadot / (eta a) = " << stokes(rate);
     } else if (m.box_control.cycle != StressCycle::kNone) {
@@ -274,7 +274,7 @@ std::string describe_paste(const Model& m) {
     o << "\n";
   } else if (rate > 0) {
     const double viscous = viscous_stress(m, p.eta, rate);
-    o << "             kappa at the viscous stress eta gammadot = " << stiffness_number(m, viscous)
+    o << "             kappa at the viscous stress eta gammadot = " << stiffness_number_text(m, viscous)
       << "; St = m gammadot / (eta a) = " << stokes(rate) << " (no imposed pressure: no Vi)\n";
   }
   const PasteMemory& e = p.memory;

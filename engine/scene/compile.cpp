@@ -16,6 +16,9 @@ namespace {
 void setup_time(const SceneDesc& d, Model& m) {
   const bool abs = d.has("run.dt"), rel = d.has("run.dt_over_tc");
   m.dt = abs ? d.real("run.dt") : (rel ? d.real("run.dt_over_tc") * m.t_contact : m.default_dt);
+  // (the key a failure and the shell's notes name: the step a stiffer contact shortened comes
+  // from run.dt_over_tc, not from a run.dt the scene does not give)
+  if (rel && m.dt_key == "run.dt") m.dt_key = "run.dt_over_tc";
   if (!(m.dt > 0) || !std::isfinite(m.dt))
     d.fail(abs ? "run.dt" : "run.dt_over_tc",
            "the time step is " + format_number(m.dt) + " s: it must be finite and positive");
@@ -28,7 +31,7 @@ void setup_time(const SceneDesc& d, Model& m) {
     if (m.run_steps < 0)
       d.fail("run.time",
              "run.time is " + too_many_steps(m.dt) +
-                 (m.dt_key != "run.dt" ? " (the step set by " + m.dt_key + " and the scene's speeds)" : ""));
+                 (m.dt_key.rfind("run.", 0) != 0 ? " (the step set by " + m.dt_key + " and the scene's speeds)" : ""));
   }
   m.until_static.on = d.boolean("run.stop_when_static");
   m.until_static.force_tol = d.real("run.static_force_tol");

@@ -43,8 +43,10 @@ std::string convert(const toml::node& n, const KeySpec& spec, const std::string&
     // as if it were the bound it exceeds.
     char full[32];
     const auto [end, ec] = std::to_chars(full, full + sizeof full, x);
-    o << "'" << path << "' = " << std::string_view(full, ec == std::errc() ? end - full : 0) << " is out of range "
-      << spec.range.str() << (spec.unit.empty() ? "" : " " + spec.unit);
+    o << "'" << path << "' = " << std::string_view(full, ec == std::errc() ? end - full : 0);
+    // A scene's numbers stop at 1e308 in magnitude, whatever the key's own range.
+    if (std::abs(x) > 1e308) o << " is beyond 1e308, the largest magnitude a scene takes";
+    else o << " is out of range " << spec.range.str() << (spec.unit.empty() ? "" : " " + spec.unit);
     return o.str();
   };
   auto check_choice = [&](const std::string& s, const toml::node& at) -> std::string {

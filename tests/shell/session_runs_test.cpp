@@ -263,6 +263,20 @@ TEST_CASE("a value compile() computes from the one set is said when it changes, 
   CHECK(contains(dry.take_out(), "lubrication.coarse_ratio"));
   REQUIRE(dry.run("set contact.friction 0.3"));
   CHECK_FALSE(contains(dry.take_out(), "note:"));
+  // A step given in units of the contact time is said to come from that key (it read "from
+  // run.dt", which the scene does not give).
+  REQUIRE(dry.run("set contact.contact_time 5e-5"));
+  CHECK(contains(dry.take_out(), "), from run.dt_over_tc as the scene now reads it"));
+}
+
+TEST_CASE("run until samples an observable once however many clauses name it") {
+  // It refused "step >= 5 or step >= 10" as "'step' is listed twice".
+  Fixture f;
+  REQUIRE(f.run("load " + test::scene_path("collision_normal")));
+  REQUIRE(f.run("run until step >= 5 or step >= 10"));
+  CHECK(f.value("step") == 5);
+  REQUIRE(f.run("run until step >= 20 and t > 0 and step >= 12"));
+  CHECK(f.value("step") == 20);
 }
 
 TEST_CASE("a field's colour range is said to apply to the field set after it, and refused for a magnitude below 0") {

@@ -307,6 +307,18 @@ struct Model {
                          // (spring_dashpot), else the elastic time pi sqrt(m*/k) (Hertz: at
                          // contact.hertz_ref_overlap)
   double zeta_max = 0;   // damping ratio of that pair
+  // That pair: the scene's law between its two lightest grains or, where the groups have laws of
+  // their own, the pair of groups whose collision is the shortest (group_i, group_j; -1 for the
+  // scene's law).
+  struct ContactTimePair {
+    ContactParams law;
+    double m_eff = 0, r_eq = 0;
+    int group_i = -1, group_j = -1;
+  };
+  ContactTimePair tc_pair;
+  // The stiffness of kappa (Peyneau eq. 1.32-1.33): k_n, or E~ for Hertz, of the softest and the
+  // stiffest law that grain pairs use (walls apart).
+  double kappa_stiffness_min = 0, kappa_stiffness_max = 0;
   double dt_stable = 0;  // velocity-Verlet stability limit of the fastest contact mode [s]
   // Whether that mode is a tangential spring's (friction, k_t / k_n above 1/3 for disks, 2/7 for
   // spheres): then its stiffness k_t (1 + m r^2 / I) and reduced mass.

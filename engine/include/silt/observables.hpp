@@ -65,7 +65,11 @@ VelocityProfile velocity_profile(const Model& m, const State& s, int n_slabs, in
 double inertial_number(const Model& m, double shear_rate, double pressure);
 // Stiffness number kappa: (E~/P)^(2/3) for Hertz contacts (Peyneau eq. 1.31), k_n / (a^(d-2) P)
 // for the linear laws (eq. 1.33; k_n of the lightest pair for the damping-ratio laws); 0 when P <= 0.
-double stiffness_number(const Model& m, double pressure);
+// Where groups have laws of their own, the softest pair's (the stiffest's with `stiffest`).
+double stiffness_number(const Model& m, double pressure, bool stiffest = false);
+// kappa as `silt check` prints it: one number, or "K1 to K2 by pair of groups" (the softest pair's
+// to the stiffest's) where the groups' laws differ.
+std::string stiffness_number_text(const Model& m, double pressure);
 // The viscous time eta a^(3-d) / P of lubricated grains: the time unit of a paste (Peyneau 2009
 // Table 2.2 reports T P / eta). The resistances are the spheres' in 2D too (the thesis applies
 // them to disks), of order eta a, while P is a force per length in 2D: there it is eta a / P, and

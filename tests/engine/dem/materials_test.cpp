@@ -7,6 +7,7 @@
 
 #include "dem/contact_laws.hpp"
 #include "dem/materials.hpp"
+#include "dem/module.hpp"
 #include "silt/observables.hpp"
 #include "support/scenes.hpp"
 
@@ -316,4 +317,56 @@ dt = 1e-7
   CHECK(test::scene_error(test::fill(scene, {{"ew", 1.02 * e_wall}})).empty());
   CHECK(test::scene_error(test::fill(scene, {{"ew", 0.98 * e_wall}})).find("walls[0].young_modulus") !=
         std::string::npos);
+}
+
+TEST_CASE("materials: t_c is the shortest collision of the groups' laws, kappa and friction their ranges") {
+  // Every group gives its own spring: [contact]'s k_n = 1e4 is no pair's. t_c (run.dt_over_tc's
+  // unit) was that spring's with the lightest m*, pi sqrt(m_small / 2 / 1e4) = 0.045 s, three times
+  // shorter than any collision of the scene; it is now big on big's, the shortest of the three.
+  const double pi = std::numbers::pi, m_big = 1000 * 4.0 / 3 * pi, m_small = m_big / 1000;
+  const Model m = test::model_from(test::fill(
+      kTwoGroups, {{"g", 0.0}, {"rb", 1.0}, {"kb", 1e6}, {"mub", 0.5}, {"ks", 1e2}, {"mus", 0.2}, {"kw", 1e9}}));
+  const double big_big = pi * std::sqrt(m_big / 2 / 1e6), small_small = pi * std::sqrt(m_small / 2 / 1e2);
+  const double k_mixed = 2 * 1e6 * 1e2 / (1e6 + 1e2);
+  const double big_small = pi * std::sqrt(m_big * m_small / (m_big + m_small) / k_mixed);
+  REQUIRE(big_big < std::min(small_small, big_small));
+  CHECK(m.t_contact == doctest::Approx(big_big).epsilon(1e-12));
+  CHECK(m.tc_pair.group_i == 0);
+  CHECK(m.tc_pair.group_j == 0);
+  CHECK(m.dt == doctest::Approx(1e-5));  // (given as run.dt here)
+  // kappa = k_n / (a P), a = 2: the softest pair (small on small) to the stiffest (big on big).
+  CHECK(stiffness_number(m, 1.0) == doctest::Approx(1e2 / 2).epsilon(1e-12));
+  CHECK(stiffness_number(m, 1.0, true) == doctest::Approx(1e6 / 2).epsilon(1e-12));
+  const std::string text = dem::describe_dem(m);
+  CHECK(text.find("mu = 0.2 to 0.5 by pair of groups") != std::string::npos);
+  CHECK(text.find("shortest collision: grains[0] on grains[0]") != std::string::npos);
+}
+
+TEST_CASE("materials: a pressure is checked against the softest pair of groups' kappa") {
+  // [contact]'s k_n = 1e4 passed a pressure of 1 (kappa 1e4), while a group of springs of 0.5 is
+  // pressed by two diameters (kappa 0.5) and the run failed at its first overlap.
+  const char* scene = R"(
+[scene]
+dimension = 2
+[domain]
+lo = [0, 0]
+hi = [20, 20]
+periodic = [true, true]
+[box]
+pressure = 1.0
+[contact]
+model = "linear"
+k_n = 1e4
+damping = 0.5
+[[grains]]
+count = 20
+radius = 0.5
+[[grains]]
+count = 20
+radius = 0.5
+k_n = {k}
+)";
+  const std::string e = test::scene_error(test::fill(scene, {{"k", 0.5}}));
+  CHECK(e.find("kappa = 0.5 below 1") != std::string::npos);
+  CHECK(test::scene_error(test::fill(scene, {{"k", 5.0}})).empty());
 }

@@ -219,5 +219,14 @@ TEST_CASE("the time step's stability limit is the tangential spring's when it is
     const std::string err = test::scene_error(past);
     CHECK(err.find("tangential spring") != std::string::npos);
     CHECK(err.find("contact.kt_over_kn") != std::string::npos);
+    // The default step (no run.dt) past a limit that a strong tangential dashpot shortened: located
+    // at the dashpot (it was at the [run] table, which gives no step).
+    std::string damped = incline_scene(dim, 0, 10, v0);
+    damped.replace(damped.find("kt_over_kn = 0.5"), 16, "kt_over_kn = 0.5\ntangential_damping = 10");
+    damped.replace(damped.find("dt = 1e-6"), 9, "steps = 1");
+    const std::string at = test::scene_error(damped);
+    CHECK(at.find(":16:22: time step") != std::string::npos);
+    CHECK(at.find("(the default) exceeds") != std::string::npos);
+    CHECK(at.find("give run.dt_over_tc <= ") != std::string::npos);
   }
 }

@@ -94,6 +94,9 @@ TEST_CASE("out of range: the range and unit are named") {
   // An integer past int64's reach is past the key's range too (it read "must be an integer").
   CHECK(test::scene_error(with("dimension = 3", "dimension = 9223372036854775807")).find("is out of range [2, 3]") !=
         std::string::npos);
+  // Past 1e308 the key's own range is not the reason (it read "is out of range any").
+  CHECK(test::scene_error(with("k_n = 1e5", "k_n = 1.5e308")).find("k_n' = 1.5e+308 is beyond 1e308") !=
+        std::string::npos);
   const std::string c = test::scene_error(with("model = \"hooke\"", "model = \"hookean\""));
   CHECK(c.find("bad.toml:7:9") != std::string::npos);
   CHECK(c.find("is not one of: spring_dashpot hooke hertz linear") != std::string::npos);
