@@ -110,11 +110,13 @@ const std::vector<CommandSpec>& command_specs() {
        "Waits until a background run ends at its length or condition (Ctrl-C pauses it), so that a script that starts "
        "a run and then looks at its end does the same however fast the machine is.",
        0, 0, ArgKind::kNone},
-      {"set", "set KEY VALUE", "change a scene value",
+      {"set", "set KEY VALUE [KEY VALUE...]", "change scene values",
        "Changes a value of the scene (dotted key, TOML value). Steerable values (params shows them) act at the next "
        "step boundary, even while a run goes on; the others are refused while running, and otherwise recompile the "
-       "scene (the state is kept when the grains are the same).",
-       2, 2, ArgKind::kKey},
+       "scene (the state is kept when the grains are the same). Several pairs are one change, compiled once, for "
+       "values valid only together (\"set domain.hi [2.0, 1.0] fluid.cells [128, 64]\"); it recompiles, so it needs "
+       "the run stopped.",
+       2, -1, ArgKind::kKey},
       {"get", "get KEY", "show a scene value", "Prints the value of a scene key (given or default), with its unit.", 1,
        1, ArgKind::kKey},
       {"params", "params [PREFIX]", "list the scene keys",

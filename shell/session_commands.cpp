@@ -151,22 +151,40 @@ bool enters_preparation(const std::string& key) {
 
 void Session::cmd_set(const Command& c) {
   Simulation& s = sim();
-  const Override change{canonical_key(c.args[0].text), c.args[1].text};
-  const KeySpec* spec = find_key_spec(normalise_key(change.key));
-  if (!spec) {
-    throw std::runtime_error(unknown_key_message(change.key));
+  // KEY VALUE, or several pairs taken as one change: values valid only together (a fluid's domain
+  // and its cells, whose spacing must be the same along every axis) could not be set one at a time.
+  if (c.args.size() % 2 != 0)
+    throw std::runtime_error("set takes KEY VALUE pairs: '" + c.args.back().text + "' has no value");
+  std::vector<Override> changes;
+  std::string typed = "set";  // (as typed, for messages)
+  for (size_t k = 0; k < c.args.size(); k += 2) {
+    changes.push_back({canonical_key(c.args[k].text), c.args[k + 1].text});
+    if (!find_key_spec(normalise_key(changes.back().key)))
+      throw std::runtime_error(unknown_key_message(changes.back().key));
+    for (size_t j = 0; j + 1 < changes.size(); ++j)
+      if (changes[j].key == changes.back().key)
+        throw std::runtime_error("set: '" + changes.back().key + "' is given twice");
+    typed += " " + changes.back().key + " " + c.args[k + 1].text;
   }
-  // The changes typed so far, with this one last (replacing an earlier value of its key).
+  const Override& change = changes.front();
+  const bool several = changes.size() > 1;
+  const KeySpec* spec = find_key_spec(normalise_key(change.key));
+  // The changes typed so far, with these last (each replacing an earlier value of its key, and
+  // the values of the keys it is an alternative to: fluid.reynolds replaces fluid.viscosity).
   std::vector<Override> next = overrides_;
-  // (and the values of the keys it is an alternative to: fluid.reynolds replaces fluid.viscosity)
-  const std::vector<std::string> replaced = alternatives_of(change.key);
+  std::vector<std::string> replaced;
+  for (const Override& o : changes)
+    for (const std::string& k : alternatives_of(o.key)) replaced.push_back(k);
   const auto replaced_by = [&](const std::string& key) {
     return std::find(replaced.begin(), replaced.end(), key) != replaced.end();
   };
+  const auto typed_now = [&](const std::string& key) {
+    return std::any_of(changes.begin(), changes.end(), [&](const Override& o) { return o.key == key; });
+  };
   next.erase(std::remove_if(next.begin(), next.end(),
-                            [&](const Override& o) { return o.key == change.key || replaced_by(o.key); }),
+                            [&](const Override& o) { return typed_now(o.key) || replaced_by(o.key); }),
              next.end());
-  next.push_back(change);
+  next.insert(next.end(), changes.begin(), changes.end());
   // A fixed step that another key changes: said (fluid.reynolds over a scene's fluid.viscosity makes
   // its fluid.dt read in units of L / U, and a channel's step doubled without a word).
   const bool was_fixed = !s.model().adaptive_dt;
@@ -181,19 +199,24 @@ void Session::cmd_set(const Command& c) {
       const std::string& value = now.second;
       const auto was =
           std::find_if(computed_was.begin(), computed_was.end(), [&](const auto& kv) { return kv.first == key; });
-      if (was == computed_was.end() || was->second == value || key == change.key || replaced_by(key)) continue;
+      if (was == computed_was.end() || was->second == value || typed_now(key) || replaced_by(key)) continue;
       const std::string unit = key_unit(*find_key_spec(key), m);
       out_ << "note: " << key << " is now " << value << (unit.empty() ? "" : " " + unit) << " (it was " << was->second
            << "), computed from the scene as it now reads\n";
     }
     // (not for the key that sets the step, nor its alternative: run.dt_over_tc is run.dt's)
     const std::vector<std::string> sets_step = alternatives_of(m.dt_key);
-    if (was_fixed && !m.adaptive_dt && m.dt != dt_was && change.key != m.dt_key &&
-        std::find(sets_step.begin(), sets_step.end(), change.key) == sets_step.end())
+    const bool step_typed = typed_now(m.dt_key) || std::any_of(sets_step.begin(), sets_step.end(), typed_now);
+    if (was_fixed && !m.adaptive_dt && m.dt != dt_was && !step_typed)
       out_ << "note: the time step is now " << format_number(m.dt) << m.unit("s") << " (it was "
            << format_number(dt_was) << m.unit("s") << "), from " << m.dt_key << " as the scene now reads it\n";
   };
-  if (spec->steerable) {
+  const auto preparation_note = [&](const State& st) {
+    if (st.step == 0 && sim().model().prepare.compress &&
+        std::any_of(changes.begin(), changes.end(), [](const Override& o) { return enters_preparation(o.key); }))
+      out_ << kPreparationKept;
+  };
+  if (spec->steerable && !several) {
     // The scene as the file and the values typed make it: a key's alternatives come back from the
     // file when it replaces the value that had replaced them (`set gravity.vector V` then `set
     // gravity.magnitude G` dropped the file's gravity.angle: the model's own scene had lost it,
@@ -210,15 +233,14 @@ void Session::cmd_set(const Command& c) {
     } else {
       const Simulation::SteerOutcome outcome = s.steer_stopped(change, as_set);
       if (!outcome.refused.empty())
-        throw std::runtime_error("set " + change.key + " " + c.args[1].text +
-                                 ": refused, the state cannot be solved under it (" + outcome.refused + ")");
+        throw std::runtime_error(typed + ": refused, the state cannot be solved under it (" + outcome.refused + ")");
       error = outcome.cannot;
     }
     if (error.empty()) {
       overrides_ = std::move(next);
-      out_ << change.key << " = " << c.args[1].text << (running() ? " (from the next step)" : "") << "\n";
+      out_ << change.key << " = " << change.value << (running() ? " (from the next step)" : "") << "\n";
       note_step();
-      if (s.state().step == 0 && s.model().prepare.compress && enters_preparation(change.key)) out_ << kPreparationKept;
+      preparation_note(s.state());
       if (const RenderSettings& r = s.model().render; change.key == "render.field" && !r.field_range_auto)
         out_ << "note: render.field_range = [" << format_number(r.field_range[0]) << ", "
              << format_number(r.field_range[1]) << "] colours it too (set render.field_range for " << r.field << ")\n";
@@ -229,9 +251,10 @@ void Session::cmd_set(const Command& c) {
     if (running()) throw std::runtime_error("set " + change.key + ": " + error);
   }
   if (running())
-    throw std::runtime_error("'" + change.key +
-                             "' cannot change while a run goes on (it is not steerable): stop first");
-  // Recompile with the new value; keep the state of a run under way when the grains, the domain
+    throw std::runtime_error(several ? "set with several keys recompiles the scene: stop first"
+                                     : "'" + change.key +
+                                           "' cannot change while a run goes on (it is not steerable): stop first");
+  // Recompile with the new values; keep the state of a run under way when the grains, the domain
   // and the fluid's grid are the same. Before the first step the state is made again from the
   // scene as changed (its positions, velocities, seed, a fluid's initial field), unless it was
   // given: a prepared packing (kPreparationKept) or a restored checkpoint (as `silt run --restore
@@ -243,9 +266,8 @@ void Session::cmd_set(const Command& c) {
     try {
       return compile(scene_with(next));
     } catch (const SceneError& e) {
-      if (e.loc().file == "set " + change.key) throw;
-      throw std::runtime_error("set " + change.key + " " + c.args[1].text + ": refused with the value at " +
-                               e.loc().str() + ": " + e.message());
+      if (!several && e.loc().file == "set " + change.key) throw;
+      throw std::runtime_error(typed + ": refused with the value at " + e.loc().str() + ": " + e.message());
     }
   };
   Model m = compiled();
@@ -256,7 +278,7 @@ void Session::cmd_set(const Command& c) {
   // 2,062 %, advising stiffer contacts)
   if (same)
     if (const std::string conflict = s.kept_state_conflict(m); !conflict.empty())
-      throw std::runtime_error("set " + change.key + " " + c.args[1].text + ": refused, " + conflict);
+      throw std::runtime_error(typed + ": refused, " + conflict);
   std::optional<State> keep;
   if (same) keep = s.state_to_carry();  // (the cycles go on from their phase: the state holds its origin)
   const State& was = s.state();
@@ -271,10 +293,11 @@ void Session::cmd_set(const Command& c) {
   discarded += ")";
   install(std::move(m), keep);
   overrides_ = std::move(next);
-  out_ << change.key << " = " << c.args[1].text << (same ? " (state kept)" : discarded) << "\n";
+  for (size_t k = 0; k < changes.size(); ++k)
+    out_ << changes[k].key << " = " << changes[k].value
+         << (k + 1 < changes.size() ? "" : (same ? " (state kept)" : discarded)) << "\n";
   note_step();
-  if (same && keep->step == 0 && sim().model().prepare.compress && enters_preparation(change.key))
-    out_ << kPreparationKept;
+  if (same) preparation_note(*keep);
 }
 
 void Session::cmd_get(const Command& c) {

@@ -315,14 +315,21 @@ void place_random(const SceneDesc& d, Model& m, int g, const Group& G, int64_t f
     }
     // Mostly behind a wall: the region reaches past the walls (a domain far larger than the
     // walled space, the region's own keys), whatever it holds.
-    const auto most = std::max_element(behind.begin(), behind.end());
-    if (!placed && most != behind.end() && 2 * *most > kAttempts) {
+    // (every wall that refused some: two walls facing each other each took under half of them)
+    int walled = 0;
+    std::string which;
+    for (size_t w = 0; w < behind.size(); ++w)
+      if (behind[w] > 0) {
+        walled += behind[w];
+        which += (which.empty() ? "" : ", ") + std::to_string(behind[w]) + " behind walls[" + std::to_string(w) + "]";
+      }
+    if (!placed && 2 * walled > kAttempts) {
       const std::string region = d.has(key(g, "region_lo")) ? key(g, "region_lo") : key(g, "count");
       d.fail(region, "could not place grain " + std::to_string(q + 1) + " of " + std::to_string(G.count) +
-                         " at random: " + std::to_string(*most) + " of " + std::to_string(kAttempts) +
+                         " at random: " + std::to_string(walled) + " of " + std::to_string(kAttempts) +
                          " random positions in its region (the domain unless region_lo and region_hi are given) "
-                         "were behind walls[" +
-                         std::to_string(most - behind.begin()) + "]; give the group a region between the walls");
+                         "were behind walls (" +
+                         which + "); give the group a region between the walls");
     }
     if (!placed) {
       double vol = 1, solid = 0;

@@ -330,3 +330,26 @@ TEST_CASE("run alone goes to the scene's run.time after the step changed, and ch
   CHECK_FALSE(f.run("run"));
   CHECK(f.take_err().find("the scene's run length is reached (t = 0.001 s)") != std::string::npos);
 }
+
+TEST_CASE("set with several pairs is one change: a fluid's domain and cells valid only together") {
+  // A 2:1 cavity could not be reached one key at a time: each alone breaks the equal spacing.
+  Fixture f;
+  REQUIRE(f.run("load " + test::scene_path("cavity_2d")));
+  CHECK_FALSE(f.run("set domain.hi [2.0, 1.0]"));
+  CHECK_FALSE(f.run("set fluid.cells [128, 64]"));
+  f.take_err();
+  REQUIRE(f.run("set domain.hi [2.0, 1.0] fluid.cells [128, 64]"));
+  CHECK(contains(f.take_out(), "domain.hi = [2.0, 1.0]\nfluid.cells = [128, 64] (the domain or the fluid's grid"));
+  REQUIRE(f.run("run 2"));
+  CHECK(f.value("step") == 2);
+  // A refusal names the whole change; a key twice, a key without a value and a run going on are refused.
+  CHECK_FALSE(f.run("set fluid.reynolds 200 fluid.cells [129, 64]"));
+  CHECK(contains(f.take_err(),
+                 "set fluid.reynolds 200 fluid.cells [129, 64]: refused with the value at set fluid.cells"));
+  CHECK(f.run("get fluid.reynolds"));
+  CHECK(contains(f.take_out(), "fluid.reynolds = 100"));  // nothing of a refused change is kept
+  CHECK_FALSE(f.run("set fluid.reynolds 200 fluid.reynolds 300"));
+  CHECK(contains(f.take_err(), "'fluid.reynolds' is given twice"));
+  CHECK_FALSE(f.run("set fluid.reynolds 200 fluid.cfl"));
+  CHECK(contains(f.take_err(), "'fluid.cfl' has no value"));
+}

@@ -211,6 +211,15 @@ TEST_CASE("random placement that the walls leave no room for names the wall, not
   const std::string e = test::scene_error(std::string(kGood) + "[[walls]]\npoint = [0.6, 0, 0]\nnormal = [-1, 0, 0]\n");
   CHECK(e.find("20000 of 20000 random positions") != std::string::npos);
   CHECK(e.find("behind walls[0]") != std::string::npos);
+  // Two walls facing each other closer than a diameter: each refuses part of the positions, and
+  // both are named (the one that refused more was named alone, and neither when both refused
+  // under half).
+  const std::string two = test::scene_error(std::string(kGood) +
+                                            "[[walls]]\npoint = [4, 0, 0]\nnormal = [1, 0, 0]\n"
+                                            "[[walls]]\npoint = [4.8, 0, 0]\nnormal = [-1, 0, 0]\n");
+  CHECK(two.find("20000 of 20000 random positions") != std::string::npos);
+  CHECK(two.find(" behind walls[0], ") != std::string::npos);
+  CHECK(two.find(" behind walls[1]);") != std::string::npos);
   // Too many grains for the room between the walls is still the packing's message.
   const std::string full = test::scene_error(with("count = 10", "count = 5000"));
   CHECK(full.find("random addition jams") != std::string::npos);
