@@ -18,7 +18,8 @@ std::optional<std::vector<std::string>> Session::complete(const std::string& bef
     if (!s) return pool;
     switch (s->completes) {
       case ArgKind::kKey:
-        if (!c->args.empty()) break;  // "grains[0].radius": the keys, with the loaded scene's tables
+        // "grains[0].radius": the keys, with the loaded scene's tables (set's later pairs too)
+        if (!(c->args.empty() || (c->name == "set" && c->args.size() % 2 == 0))) break;
         for (const auto& [key, value] : scene_parameters(sim_ ? sim_->model().desc : kNoScene)) pool.push_back(key);
         break;
       case ArgKind::kObservable:

@@ -306,6 +306,7 @@ TEST_CASE("completion: commands, keys, observables, and file names only for file
   REQUIRE(f.run("load " + test::scene_path("silo")));
   CHECK(has(f.s.complete("set ", "contact.fr"), "contact.friction"));
   CHECK(has(f.s.complete("set ", "walls[4]"), "walls[4].friction"));
+  CHECK(has(f.s.complete("set contact.friction 0.3 ", "walls[4]"), "walls[4].friction"));  // a second pair
   CHECK(has(f.s.complete("print t ", "wall[4].f"), "wall[4].fz"));
   CHECK(has(f.s.complete("help ", "wa"), "watch"));
   CHECK_FALSE(f.s.complete("load ", "sce").has_value());  // files: left to the line editor
