@@ -92,7 +92,8 @@ const std::vector<CommandSpec>& command_specs() {
        ArgKind::kNone},
       {"run", "run [N | Ts | until EXPR | until static | until steady]", "run in the foreground",
        "Runs N steps, or T seconds of simulated time (\"run 0.5s\"), or until a condition on observables holds (\"run "
-       "until t >= 1 and ke < 1e-6\", blanks optional: \"run until t>=1\"; tested at every step when it reads only t, "
+       "until t >= 1 and ke < 1e-6\", blanks optional: \"run until t>=1\"; \"and\" binds tighter than \"or\"; tested "
+       "at every step when it reads only t, "
        "step "
        "and dt, else every 10 steps: the run then stops up to 9 steps after it first holds), or until the packing is "
        "static (the "
@@ -249,9 +250,18 @@ bool Condition::holds(const std::vector<double>& values) const {
     if (c.op == "==") return v == c.value;
     return v != c.value;
   };
-  bool result = eval(0);
-  for (size_t k = 1; k < clauses.size(); ++k) result = joined_by_and[k - 1] ? (result && eval(k)) : (result || eval(k));
-  return result;
+  // "and" binds tighter than "or": a or b and c is a or (b and c) (it was read left to right, (a or
+  // b) and c, and "step >= 60 or t < 0 and dt < 0" never stopped).
+  bool term = eval(0);
+  for (size_t k = 1; k < clauses.size(); ++k) {
+    if (joined_by_and[k - 1]) {
+      term = term && eval(k);
+    } else {
+      if (term) return true;
+      term = eval(k);
+    }
+  }
+  return term;
 }
 
 std::vector<Token> expand_list(const Token& t) {

@@ -209,7 +209,11 @@ void Session::cmd_set(const Command& c) {
     const bool step_typed = typed_now(m.dt_key) || std::any_of(sets_step.begin(), sets_step.end(), typed_now);
     if (was_fixed && !m.adaptive_dt && m.dt != dt_was && !step_typed)
       out_ << "note: the time step is now " << format_number(m.dt) << m.unit("s") << " (it was "
-           << format_number(dt_was) << m.unit("s") << "), from " << m.dt_key << " as the scene now reads it\n";
+           << format_number(dt_was) << m.unit("s") << "), "
+           << (m.dt_key == "run.dt" && !m.desc.has("run.dt")
+                   ? std::string("the default step (0.02 t_c) of the scene as it now reads")
+                   : "from " + m.dt_key + " as the scene now reads it")
+           << "\n";
   };
   const auto preparation_note = [&](const State& st) {
     if (st.step == 0 && sim().model().prepare.compress &&

@@ -155,14 +155,15 @@ void check_time_step(const SceneDesc& d, const Model& m) {
   const std::string mode = m.dt_stable_tangential
                                ? " of the stiffest contact's tangential spring (reduced mass " +
                                      format_number(m.m_eff_stable) +
-                                     ", stiffness k_t (1 + m r^2 / I) = " + format_number(m.kt_stable) +
-                                     ", normal stiffness " + format_number(m.k_max) + ")"
-                               : " of the stiffest contact (reduced mass " + format_number(m.m_eff_min) +
-                                     ", stiffness " + format_number(m.k_max) + ")";
+                                     ", stiffness k_t (1 + m r^2 / I) = " + format_number(m.k_stable) + ")"
+                               : " of the stiffest contact (reduced mass " + format_number(m.m_eff_stable) +
+                                     ", stiffness " + format_number(m.k_stable) + ")";
   d.fail(at, "time step " + format_number(m.dt) + m.unit("s") + (given ? "" : " (the default)") +
                  " exceeds the velocity-Verlet stability limit " + format_number(m.dt_stable) + m.unit("s") + mode +
-                 "; " + (given ? "reduce " + key + " (" : "give ") +
-                 "run.dt_over_tc <= " + format_number(m.dt_stable / m.t_contact) + (given ? ")" : "") +
+                 "; " +
+                 (key == "run.dt" ? "reduce run.dt to below " + format_number(m.dt_stable) + m.unit("s")
+                                  : (given ? "reduce " : "give ") + std::string("run.dt_over_tc below ") +
+                                        format_number(m.dt_stable / m.t_contact)) +
                  (m.dt_stable_tangential ? std::string(" or reduce contact.kt_over_kn") +
                                                (m.contact.zeta_t > 0 ? " or contact.tangential_damping" : "")
                                          : std::string()));

@@ -77,6 +77,15 @@ double contact_time(const ContactParams& p, double m_eff, double r_eq, double ma
 
 namespace {
 
+// a b / (a + b); where that overflows or underflows (masses of 1e300 or 1e-200), as
+// lo / (1 + lo / hi); the same bits elsewhere.
+double reduced_mass(double a, double b) {
+  const double r = a * b / (a + b);
+  if (r > 0 && r < HUGE_VAL) return r;
+  const double lo = std::min(a, b), hi = std::max(a, b);
+  return lo / (1.0 + lo / hi);
+}
+
 // The keys that set a contact law's stiffness and its damping: a group's or a wall's own modulus
 // or spring (the tables under `prefixes`, in order) where it gives one, else [contact]'s.
 struct LawKeys {
@@ -157,9 +166,16 @@ void check_scales(const SceneDesc& d, const ScaleInputs& in,
                   std::initializer_list<std::pair<const char*, double>> times) {
   refuse_unless_finite(d, in.mass_key, "reduced mass", in.m_eff, false, in, 0);
   refuse_unless_finite(d, in.law.stiffness, "stiffness", in.k, false, in, 1);
-  refuse_unless_finite(d, in.law.damping, "damping ratio", in.zeta, true, in, 2);
   const double mass_far = std::abs(std::log(in.m_eff)), k_far = std::abs(std::log(in.k));
-  const double zeta_far = in.zeta > 1 ? std::log(in.zeta) : 0;
+  // (an infinite ratio from a dashpot of 1e308 is the dashpot's; from m* k underflowing, as a density
+  // of 1e-300 makes it, the mass's or the spring's)
+  const bool extreme = std::max(mass_far, k_far) > 600;
+  refuse_unless_finite(d,
+                       !extreme           ? in.law.damping
+                       : mass_far > k_far ? in.mass_key
+                                          : in.law.stiffness,
+                       "damping ratio", in.zeta, true, in, 2);
+  const double zeta_far = !(in.zeta > 1) ? 0.0 : std::isfinite(in.zeta) ? std::log(in.zeta) : extreme ? 0.0 : HUGE_VAL;
   const std::string& key = zeta_far > std::max(mass_far, k_far) ? in.law.damping
                            : mass_far > k_far                   ? in.mass_key
                                                                 : in.law.stiffness;
@@ -177,7 +193,7 @@ void derive_contact_scales(const SceneDesc& d, Model& m) {
   if (free_mass.empty()) free_mass.emplace_back(m.init.mass[0], 0);
   std::partial_sort(free_mass.begin(), free_mass.begin() + std::min<size_t>(2, free_mass.size()), free_mass.end());
   const double m0 = free_mass[0].first;
-  m.m_eff_min = free_mass.size() >= 2 ? m0 * free_mass[1].first / (m0 + free_mass[1].first) : m0;
+  m.m_eff_min = free_mass.size() >= 2 ? reduced_mass(m0, free_mass[1].first) : m0;
   const int64_t lightest = free_mass[0].second;
   const std::string mass_key = grain_mass_key(d, m.init.group[lightest], m.dim, m.init.radius[lightest]);
   const ContactParams& c = m.contact;
@@ -196,6 +212,8 @@ void derive_contact_scales(const SceneDesc& d, Model& m) {
   // (where the groups have laws of their own, the scene's is no pair's: theirs set the limit below)
   m.dt_stable = m.pair_contact.empty() ? normal_limit : std::numeric_limits<double>::infinity();
   m.dt_stable_tangential = false;
+  m.k_stable = m.k_max;
+  m.m_eff_stable = m.m_eff_min;
   // The tangential spring of a contact that can hold one: its mode moves the grains and turns them,
   // stiffness k_t (1 + m r^2 / I) for a reduced mass m* (3 k_t for disks, 3.5 k_t for spheres, any
   // sizes), damping ratio sqrt(1 + m r^2 / I) zeta_t. With k_t / k_n above 1/3 (disks) or 2/7
@@ -209,7 +227,7 @@ void derive_contact_scales(const SceneDesc& d, Model& m) {
     if (limit < m.dt_stable) {
       m.dt_stable = limit;
       m.dt_stable_tangential = true;
-      m.kt_stable = kt;
+      m.k_stable = kt;
       m.m_eff_stable = m_eff;
     }
   };
@@ -231,6 +249,8 @@ void derive_contact_scales(const SceneDesc& d, Model& m) {
     if (limit < m.dt_stable) {
       m.dt_stable = limit;
       m.dt_stable_tangential = false;
+      m.k_stable = k;
+      m.m_eff_stable = m_eff;
     }
     tangential(p, k, m_eff, m_key, keys);
   };
@@ -257,12 +277,13 @@ void derive_contact_scales(const SceneDesc& d, Model& m) {
       light2[g] = std::min(light2[g], mi);
     }
   }
-  auto reduced = [](double a, double b) { return a * b / (a + b); };
+  auto reduced = reduced_mass;
   // Where the groups have laws of their own, t_c (the unit of run.dt_over_tc) is the shortest
   // collision of the pairs of groups that can meet, and kappa's stiffness spans their laws: the
   // scene's [contact] law may be no pair's (every group giving its own k_n, t_c was that of a
   // spring no contact had).
   bool pair_seen = false;
+  m.pair_meets.assign(m.pair_contact.size(), 0);
   for (size_t q = 0; q < m.pair_contact.size(); ++q) {
     const int gi = static_cast<int>(q) / groups, gj = static_cast<int>(q) % groups;
     double m_eff = inf;
@@ -271,6 +292,7 @@ void derive_contact_scales(const SceneDesc& d, Model& m) {
     if (frozen[gj] && light[gi] < inf) m_eff = std::min(m_eff, light[gi]);
     if (frozen[gi] && light[gj] < inf) m_eff = std::min(m_eff, light[gj]);
     if (!(m_eff < inf)) continue;  // no such pair can form
+    m.pair_meets[q] = 1;
     const ContactParams& p = m.pair_contact[q];
     const double req = 2.0 * reduced(r_small[gi], r_small[gj]);
     const int64_t i = light[gi] <= light[gj] ? light_grain[gi] : light_grain[gj];
@@ -290,12 +312,26 @@ void derive_contact_scales(const SceneDesc& d, Model& m) {
     m.kappa_stiffness_max = pair_seen ? std::max(m.kappa_stiffness_max, stiffness) : stiffness;
     pair_seen = true;
   }
+  // Where no two grains can touch (one free grain, nothing frozen), t_c is the shortest of its
+  // collisions with the walls, each of the wall's and the group's materials (the [contact] law with
+  // the grain's mass gave a t_c 16 times shorter than the bounce on a wall softer than [contact]).
+  bool wall_seen = false;
   for (size_t q = 0; q < m.wall_contact.size(); ++q) {
     const int w = static_cast<int>(q) / groups, g = static_cast<int>(q) % groups;
     if (light_grain[g] < 0) continue;  // a group of frozen grains does not touch a wall
     const int64_t i = light_grain[g];
-    limit_of(m.wall_contact[q], light[g], 2.0 * r_small[g], grain_mass_key(d, g, m.dim, m.init.radius[i]),
+    const ContactParams& p = m.wall_contact[q];
+    const double req = 2.0 * r_small[g];
+    limit_of(p, light[g], req, grain_mass_key(d, g, m.dim, m.init.radius[i]),
              law_keys(d, c.law, {"walls[" + std::to_string(w) + "].", group(g)}));
+    if (pairs_form) continue;
+    const double tc = reference_contact_time(p, light[g], req);
+    if (!wall_seen || tc < m.t_contact) {
+      m.t_contact = tc;
+      m.tc_pair = {p, light[g], req, g, -1, w};
+      m.zeta_max = normal_mode(p, m, light[g], req).zeta;
+    }
+    wall_seen = true;
   }
 }
 

@@ -67,13 +67,17 @@ std::string group_name(const Model& m, int g) {
   return "grains[" + index + "]" + (named ? " (\"" + m.group_names[g] + "\")" : "");
 }
 
-// The grains' friction: the scene's, or the range of the pairs of groups with frictions of their own.
+// The grains' friction: the scene's, or the range over the pairs of groups that can touch, where
+// groups have frictions of their own.
 std::string friction_text(const Model& m) {
-  if (m.pair_contact.empty()) return "mu = " + format_number(m.contact.friction, 5);
-  double lo = m.pair_contact[0].friction, hi = lo;
-  for (const ContactParams& p : m.pair_contact) {
-    lo = std::min(lo, p.friction);
-    hi = std::max(hi, p.friction);
+  double lo = m.contact.friction, hi = lo;
+  bool seen = false;
+  for (size_t q = 0; q < m.pair_contact.size(); ++q) {
+    if (q < m.pair_meets.size() && !m.pair_meets[q]) continue;
+    const double f = m.pair_contact[q].friction;
+    lo = seen ? std::min(lo, f) : f;
+    hi = seen ? std::max(hi, f) : f;
+    seen = true;
   }
   if (lo == hi) return "mu = " + format_number(lo, 5);
   return "mu = " + format_number(lo, 5) + " to " + format_number(hi, 5) +
@@ -94,8 +98,13 @@ std::string describe_dem(const Model& m) {
   o << "radii        " << m.r_min << " .. " << m.r_max << " (mean " << m.r_mean << ")\n";
   o << "walls        " << m.walls.size() << "\n";
   o << "contact      " << normal_law_name(m.contact.law) << "\n";
+  bool wall_friction = false;
+  for (const ContactParams& w : m.wall_contact) wall_friction = wall_friction || w.friction > 0;
   o << "friction     " << friction_text(m) << ", k_t/k_n = " << m.contact.kt_ratio
-    << (m.pair_friction() ? "" : " (frictionless: no tangential stage work)") << "\n";
+    << (m.pair_friction() ? ""
+        : wall_friction   ? " (frictionless between grains; the walls' friction acts)"
+                          : " (frictionless: no tangential stage work)")
+    << "\n";
   const bool hertz = m.contact.law == NormalLaw::kHertz;
   const char* tc_meaning =
       m.contact.law == NormalLaw::kSpringDashpot
@@ -112,9 +121,12 @@ std::string describe_dem(const Model& m) {
                                         "dashpot (the liquid dissipates)"
                                   : "damping ratio " + format_number(zeta, 5) + ", " + restitution_text(m);
   const Model::ContactTimePair& pair = m.tc_pair;
-  const std::string groups = pair.group_i < 0 ? "lightest pair"
-                                              : "shortest collision: " + group_name(m, pair.group_i) + " on " +
-                                                    group_name(m, pair.group_j) + ", lightest pair";
+  const std::string groups = pair.wall >= 0
+                                 ? "no two grains can touch; shortest collision: " + group_name(m, pair.group_i) +
+                                       " on walls[" + std::to_string(pair.wall) + "], its lightest grain"
+                             : pair.group_i < 0 ? "lightest pair"
+                                                : "shortest collision: " + group_name(m, pair.group_i) + " on " +
+                                                      group_name(m, pair.group_j) + ", their lightest pair";
   o << "time         t_c = " << m.t_contact << s << " (" << tc_meaning << "; " << groups << " m* = " << pair.m_eff
     << m.unit("kg") << ", " << damping << ")\n";
   o << "             dt = " << m.dt << s << " = t_c/" << m.t_contact / m.dt << "; stability limit " << m.dt_stable << s

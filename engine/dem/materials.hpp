@@ -12,6 +12,8 @@
 // material: its groups share the scene's.
 #pragma once
 
+#include <cmath>
+
 #include <algorithm>
 
 #include "silt/model.hpp"
@@ -19,7 +21,14 @@
 namespace silt::dem {
 
 inline double hertz_pair_modulus(double ci, double cj) { return 2.0 / (ci + cj); }
-inline double series_stiffness(double ki, double kj) { return 2.0 * ki * kj / (ki + kj); }
+// (where 2 ki kj / (ki + kj) overflows or underflows, springs of 1e200 or 1e-200, as
+// lo (2 / (1 + lo / hi)); the same bits elsewhere)
+inline double series_stiffness(double ki, double kj) {
+  const double k = 2.0 * ki * kj / (ki + kj);
+  if (k > 0 && k < HUGE_VAL) return k;
+  const double lo = ki < kj ? ki : kj, hi = ki < kj ? kj : ki;
+  return lo * (2.0 / (1.0 + lo / hi));
+}
 inline double pair_friction(double a, double b) { return std::min(a, b); }
 
 // The contact law between two materials: the scene's, its modulus, stiffness and friction mixed.

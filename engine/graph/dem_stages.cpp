@@ -129,6 +129,8 @@ void diagnose_dem(GraphBuilder& b) {
           wall >= 0 && groups > 0
               ? dem::stiffness_key(m.desc, m.wall_contact[wall * groups + g].law,
                                    {"walls[" + std::to_string(wall) + "].", "grains[" + std::to_string(g) + "]."})
+          : groups > 0 && !m.pair_contact.empty()
+              ? dem::stiffness_key(m.desc, m.contact.law, {"grains[" + std::to_string(g) + "]."})
               : dem::stiffness_key(m.desc, m.contact.law);
       // A shorter contact time is a stiffer spring (k ~ 1 / t_c^2); a larger modulus or k_n is.
       const bool by_time = m.contact.law == NormalLaw::kSpringDashpot;

@@ -296,7 +296,8 @@ std::string describe_shear(const Model& m) {
     const bool hertz = m.contact.law == NormalLaw::kHertz;
     o << "groups       kappa = " << (hertz ? "(E~/P)^(2/3)" : "k_n / (a^(d-2) P)") << " = "
       << stiffness_number_text(m, P) << (hertz ? " (Peyneau eq. 1.31)\n" : " (Peyneau eq. 1.33)\n");
-    o << "             zeta = " << (m.zeta_max == 0 ? 0.0 : m.zeta_max) << " (damping ratio of the lightest pair)\n";
+    o << "             zeta = " << (m.zeta_max == 0 ? 0.0 : m.zeta_max) << " (damping ratio of the lightest pair"
+      << (m.tc_pair.group_i >= 0 ? " of the groups of t_c" : "") << ")\n";
     o << "             inertial time sqrt(m / (a^(d-2) P)) = " << std::sqrt(m.m_a / (std::pow(a, m.dim - 2) * P))
       << m.unit("s") << " (m = " << m.m_a << m.unit("kg") << ", a grain of diameter a = " << a << m.unit("m") << ")\n";
     if (m.shear.on && !m.shear.stress_controlled && !m.velocities_solved) {

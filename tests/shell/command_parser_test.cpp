@@ -74,6 +74,15 @@ TEST_CASE("run lengths: steps, simulated time, conditions") {
   CHECK(u.until.holds({2, 0, 0}));
   CHECK_FALSE(u.until.holds({2, 1, 0}));
   CHECK(u.until.holds({0, 1, 5}));
+  // "and" binds tighter than "or": a or (b and c), not (a or b) and c.
+  const RunLength p = len("run until step >= 60 or t < 0 and dt < 0");
+  CHECK(p.until.holds({60, 1, 1}));
+  CHECK_FALSE(p.until.holds({59, 1, -1}));
+  CHECK(p.until.holds({0, -1, -1}));
+  const RunLength q = len("run until t < 0 and dt < 0 or step >= 60 and ke < 1");
+  CHECK(q.until.holds({1, 1, 60, 0}));
+  CHECK_FALSE(q.until.holds({1, 1, 60, 2}));
+  CHECK(q.until.holds({-1, -1, 0, 2}));
   for (const char* bad : {"run -3", "run 1.5", "run abc", "run 0s", "run xs", "run 10 20", "run until t",
                           "run until t >= x", "run until t => 1", "run until t > 1 and", "run until t > 1 but x < 2"})
     CHECK_THROWS_AS(len(bad), ParseError);

@@ -309,11 +309,11 @@ struct Model {
   double zeta_max = 0;   // damping ratio of that pair
   // That pair: the scene's law between its two lightest grains or, where the groups have laws of
   // their own, the pair of groups whose collision is the shortest (group_i, group_j; -1 for the
-  // scene's law).
+  // scene's law); where no two grains can touch, a grain's collision with a wall (wall >= 0).
   struct ContactTimePair {
     ContactParams law;
     double m_eff = 0, r_eq = 0;
-    int group_i = -1, group_j = -1;
+    int group_i = -1, group_j = -1, wall = -1;
   };
   ContactTimePair tc_pair;
   // The stiffness of kappa (Peyneau eq. 1.32-1.33): k_n, or E~ for Hertz, of the softest and the
@@ -321,9 +321,12 @@ struct Model {
   double kappa_stiffness_min = 0, kappa_stiffness_max = 0;
   double dt_stable = 0;  // velocity-Verlet stability limit of the fastest contact mode [s]
   // Whether that mode is a tangential spring's (friction, k_t / k_n above 1/3 for disks, 2/7 for
-  // spheres): then its stiffness k_t (1 + m r^2 / I) and reduced mass.
+  // spheres), and the mode's stiffness (a tangential one's k_t (1 + m r^2 / I)) and reduced mass.
   bool dt_stable_tangential = false;
-  double kt_stable = 0, m_eff_stable = 0;
+  double k_stable = 0, m_eff_stable = 0;
+  // Whether grains of groups g_i and g_j can touch, [g_i * G + g_j] (two free grains, or a free
+  // one and a frozen one), beside pair_contact.
+  std::vector<char> pair_meets;
   double m_eff_min = 0;   // lightest reduced mass of a possible contact [kg]
   double k_max = 0;       // stiffest normal contact (Hertz: at the largest allowed overlap)
   int64_t run_steps = 0;  // from [run] (steps or time / dt), overridable on the command line

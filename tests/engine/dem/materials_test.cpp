@@ -370,3 +370,56 @@ k_n = {k}
   CHECK(e.find("kappa = 0.5 below 1") != std::string::npos);
   CHECK(test::scene_error(test::fill(scene, {{"k", 5.0}})).empty());
 }
+
+TEST_CASE("materials: with no two grains to touch, t_c is the grain's collision with a wall of its materials") {
+  // One disk of its own spring 300 on a rigid floor (2 x 300 in series' limit): t_c was [contact]'s
+  // spring of 1000 with the disk's mass, pi sqrt(m / 1000), where the bounce lasts pi sqrt(m / 600).
+  const char* scene = R"(
+[scene]
+dimension = 2
+[domain]
+lo = [-1, 0]
+hi = [1, 2]
+[contact]
+model = "linear"
+k_n = 1000
+[[walls]]
+point = [0, 0]
+normal = [0, 1]
+rigid = true
+[[grains]]
+radius = 0.1
+density = 100
+placement = "explicit"
+positions = [[0, 0.11]]
+k_n = 300
+[run]
+dt_over_tc = 0.01
+steps = 10
+)";
+  const double mass = 100 * std::numbers::pi * 0.01;
+  const Model m = test::model_from(scene);
+  CHECK(m.t_contact == doctest::Approx(std::numbers::pi * std::sqrt(mass / 600)).epsilon(1e-12));
+  CHECK(m.tc_pair.wall == 0);
+  CHECK(m.dt == doctest::Approx(0.01 * m.t_contact).epsilon(1e-12));
+  CHECK(dem::describe_dem(m).find("no two grains can touch; shortest collision: grains[0] on walls[0]") !=
+        std::string::npos);
+}
+
+TEST_CASE("materials: springs and masses at the ends of the doubles' range mix without overflow") {
+  // 2 k k / (k + k) overflowed for two groups of k_n = 1e200 ("the contacts' stiffness is inf"),
+  // where one group of it is accepted; m m / (m + m) for masses of 1e300.
+  for (double k : {1e200, 1e-200}) {
+    CAPTURE(k);
+    std::string s =
+        test::fill(kTwoGroups, {{"g", 0.0}, {"rb", 1.0}, {"kb", k}, {"mub", 0.5}, {"ks", k}, {"mus", 0.5}, {"kw", k}});
+    s.replace(s.find("dt = 1e-5"), 9, "dt_over_tc = 0.02");
+    const Model m = test::model_from(s);
+    CHECK(m.pair_contact[0].k0 == doctest::Approx(k).epsilon(1e-12));
+    CHECK(m.pair_contact[1].k0 == doctest::Approx(k).epsilon(1e-12));
+    CHECK(std::isfinite(m.t_contact));
+    CHECK(m.t_contact > 0);
+  }
+  CHECK(dem::series_stiffness(1e308, 1e308) == 1e308);
+  CHECK(dem::series_stiffness(2, 6) == 3);  // 2 * 2 * 6 / 8
+}

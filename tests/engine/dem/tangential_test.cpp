@@ -227,6 +227,6 @@ TEST_CASE("the time step's stability limit is the tangential spring's when it is
     const std::string at = test::scene_error(damped);
     CHECK(at.find(":16:22: time step") != std::string::npos);
     CHECK(at.find("(the default) exceeds") != std::string::npos);
-    CHECK(at.find("give run.dt_over_tc <= ") != std::string::npos);
+    CHECK(at.find("give run.dt_over_tc below ") != std::string::npos);
   }
 }
