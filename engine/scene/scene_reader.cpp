@@ -1,9 +1,12 @@
 // TOML text -> SceneDesc: every value checked against the schema and kept with its location.
 #include <toml++/toml.h>
 
+#include <algorithm>
+#include <cerrno>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <sstream>
 #include <string_view>
@@ -18,6 +21,32 @@ namespace {
 
 FileLoc loc_of(const toml::source_region& r, const std::string& file) {
   return FileLoc{file, static_cast<int>(r.begin.line), static_cast<int>(r.begin.column)};
+}
+
+// A number written past the doubles' range (1e309, -2e308): TOML reads no value from it.
+bool beyond_doubles(const std::string& token) {
+  if (token.empty()) return false;
+  errno = 0;
+  char* end = nullptr;
+  const double x = std::strtod(token.c_str(), &end);
+  return end == token.c_str() + token.size() && errno == ERANGE && std::isinf(x);
+}
+const char* const kBeyond = " is beyond 1e308, the largest magnitude a scene takes";
+
+// The parser's error, or for a number past the doubles' range what it is, at its first character
+// (the parser's report read "could not be interpreted as a value", one column past its end).
+SceneError parse_error(const toml::parse_error& e, const std::string& file) {
+  const std::string what(e.description());
+  FileLoc at = loc_of(e.source(), file);
+  const size_t open = what.find('\''), close = open == std::string::npos ? open : what.find('\'', open + 1);
+  if (close != std::string::npos) {
+    const std::string token = what.substr(open + 1, close - open - 1);
+    if (beyond_doubles(token)) {
+      at.col = std::max(1, at.col - static_cast<int>(token.size()));
+      return SceneError(at, token + kBeyond);
+    }
+  }
+  return SceneError(at, what);
 }
 
 std::optional<double> as_number(const toml::node& n) {
@@ -45,7 +74,7 @@ std::string convert(const toml::node& n, const KeySpec& spec, const std::string&
     const auto [end, ec] = std::to_chars(full, full + sizeof full, x);
     o << "'" << path << "' = " << std::string_view(full, ec == std::errc() ? end - full : 0);
     // A scene's numbers stop at 1e308 in magnitude, whatever the key's own range.
-    if (std::abs(x) > 1e308) o << " is beyond 1e308, the largest magnitude a scene takes";
+    if (std::abs(x) > 1e308) o << kBeyond;
     else o << " is out of range " << spec.range.str() << (spec.unit.empty() ? "" : " " + spec.unit);
     return o.str();
   };
@@ -199,6 +228,7 @@ void apply_override_at(SceneDesc& desc, const Override& o, int ordinal, bool bat
   if (!spec) throw SceneError(where, unknown_key_message(path));
   if (const std::string missing = desc.missing_entry(path); !missing.empty()) throw SceneError(where, missing);
   toml::table t;
+  if (beyond_doubles(o.value)) throw SceneError(where, "'" + path + "' = " + o.value + kBeyond);
   try {
     t = toml::parse(std::string_view("v = " + o.value), std::string_view("--set"));
   } catch (const toml::parse_error&) {
@@ -281,7 +311,7 @@ SceneDesc parse_scene(const std::string& text, const std::string& name, const st
   try {
     root = toml::parse(text, name);
   } catch (const toml::parse_error& e) {
-    throw SceneError(loc_of(e.source(), name), std::string(e.description()));
+    throw parse_error(e, name);
   }
   Reader(desc, name).table(root, "");
   int ordinal = 1;

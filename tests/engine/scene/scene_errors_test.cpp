@@ -94,6 +94,17 @@ TEST_CASE("out of range: the range and unit are named") {
   // An integer past int64's reach is past the key's range too (it read "must be an integer").
   CHECK(test::scene_error(with("dimension = 3", "dimension = 9223372036854775807")).find("is out of range [2, 3]") !=
         std::string::npos);
+  // Past the doubles' range TOML reads no value: said, at the number's first column (it read "could
+  // not be interpreted as a value", one column past its end), and on the command line (it read
+  // "must be a number").
+  const std::string past = test::scene_error(with("k_n = 1e5", "k_n = 1e309"));
+  CHECK(past.rfind("bad.toml:8:7: 1e309 is beyond 1e308", 0) == 0);
+  try {
+    (void)parse_scene(kGood, "good.toml", {Override{"contact.k_n", "1e400"}});
+    FAIL("accepted");
+  } catch (const SceneError& err) {
+    CHECK(std::string(err.what()).find("'contact.k_n' = 1e400 is beyond 1e308") != std::string::npos);
+  }
   // Past 1e308 the key's own range is not the reason (it read "is out of range any").
   CHECK(test::scene_error(with("k_n = 1e5", "k_n = 1.5e308")).find("k_n' = 1.5e+308 is beyond 1e308") !=
         std::string::npos);
