@@ -226,8 +226,13 @@ void check_stress_against_contacts(const SceneDesc& d, const Model& m, const std
 void check_box_pressure(const SceneDesc& d, const Model& m) {
   const double pressure =
       m.box_control.on ? m.box_control.pressure : (m.prepare.compress ? preparation_pressure(m) : 0.0);
+  // (a stress cycle presses the contacts hardest at its peak: P (1 + d) alternating, P (1 + 2 d) biaxial)
+  const BoxControl& b = m.box_control;
+  const bool cycles = b.on && b.cycle != StressCycle::kNone;
+  const double peak =
+      cycles ? pressure * (1 + (b.cycle == StressCycle::kBiaxial ? 2 : 1) * b.cycle_amplitude) : pressure;
   check_stress_against_contacts(d, m, d.first_given({"box.pressure", "prepare.pressure"}, "box.pressure"),
-                                "the pressure", pressure);
+                                cycles ? "the cycle's largest stress" : "the pressure", peak);
   if (m.shear.on && m.shear.stress_controlled)
     check_stress_against_contacts(d, m, "shear.stress", "the shear stress", m.shear.stress);
 }

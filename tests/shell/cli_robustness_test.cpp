@@ -108,6 +108,11 @@ TEST_CASE("values no scene can supply are refused at their key") {
                                    "shear.stress=1e300",
                                    {"--set:1:14: the shear stress 1e+300 N/m gives a stiffness number kappa = 1e-296",
                                     "kappa is 1 at 1e+04 N/m"}},
+                           // (a stress cycle at its peak, P (1 + 2 d) biaxial: kappa 1.11 at the mean passed)
+                           Refused{"paste_cyclic_biaxial",
+                                   "box.pressure=9000",
+                                   {"--set:1:14: the cycle's largest stress 1.08e+04 gives a stiffness number "
+                                    "kappa = 0.926 below 1"}},
                            Refused{"shear3d_frictionless", "contact.poisson_ratio=-1", {"(-1, 0.5)"}}}) {
     CAPTURE(c.set);
     r = silt_cli("check " + scene_path(c.scene) + " --set " + c.set);
