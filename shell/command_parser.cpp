@@ -64,6 +64,17 @@ std::optional<Command> parse_line(std::string_view line) {
       if (!closed) throw ParseError(t.col, "unterminated quote");
       if (i < n && line[i] != ' ' && line[i] != '\t' && line[i] != '#' && line[i] != '\r' && line[i] != '\n')
         throw ParseError(static_cast<int>(i) + 1, "a quoted word must be followed by a blank");
+    } else if (c == '\'') {
+      // A literal word, as TOML's 'single quotes': blanks inside, no escapes ('a b' was two words).
+      const size_t close = line.find('\'', i + 1);
+      if (close == std::string::npos) throw ParseError(t.col, "unterminated quote");
+      t.text = line.substr(i + 1, close - i - 1);
+      for (size_t k = i + 1; k < close; ++k)
+        if (static_cast<unsigned char>(line[k]) < 32 && line[k] != '\t')
+          throw ParseError(static_cast<int>(k) + 1, "control character");
+      i = close + 1;
+      if (i < n && line[i] != ' ' && line[i] != '\t' && line[i] != '#' && line[i] != '\r' && line[i] != '\n')
+        throw ParseError(static_cast<int>(i) + 1, "a quoted word must be followed by a blank");
     } else {
       while (i < n && line[i] != ' ' && line[i] != '\t' && line[i] != '\r' && line[i] != '\n') {
         if (line[i] == '"') throw ParseError(static_cast<int>(i) + 1, "a quote inside a word (quote the whole word)");
@@ -95,7 +106,8 @@ const std::vector<CommandSpec>& command_specs() {
        "until t >= 1 and ke < 1e-6\", blanks optional: \"run until t>=1\"; \"and\" binds tighter than \"or\"; tested "
        "at every step when it reads only t, "
        "step "
-       "and dt, else every 10 steps: the run then stops up to 9 steps after it first holds), or until the packing is "
+       "and dt or asks for a step exactly (step == N), else every 10 steps: the run then stops up to 9 steps after it "
+       "first holds), or until the packing is "
        "static (the "
        "scene's run.static_* criterion), or until the fluid is steady (run.steady_tol). Alone, it runs to the scene's "
        "end (run.steps or run.time), stopping when static or steady if the scene says run.stop_when_static or "

@@ -43,6 +43,40 @@ double until_steps_at_least(const Condition& c, double t, int64_t step, double d
   return least;
 }
 
+// Whether `until` can never hold however long the run: t and step only grow, so a term (clauses
+// joined by `and`) that asks one of them to be below where it is, or above a value and below a
+// smaller one, never holds ("step >= 10 and step < 5" ran without end). Only terms of t and step
+// clauses that certainly fail count; any other term may hold.
+bool until_never_holds(const Condition& c, double t, int64_t step) {
+  size_t k = 0;
+  while (k < c.clauses.size()) {
+    // One term: clauses k .. e - 1.
+    size_t e = k + 1;
+    while (e < c.clauses.size() && c.joined_by_and[e - 1]) ++e;
+    bool never = false;
+    for (const char* name : {"t", "step"}) {
+      double lo = name[0] == 't' ? t : static_cast<double>(step), hi = HUGE_VAL;
+      bool lo_strict = false, hi_strict = false;
+      for (size_t j = k; j < e; ++j) {
+        const Clause& cl = c.clauses[j];
+        if (cl.observable != name) continue;
+        if ((cl.op == ">=" || cl.op == ">" || cl.op == "==") && cl.value >= lo) {
+          lo_strict = cl.op == ">" || (cl.value == lo && lo_strict);
+          lo = cl.value;
+        }
+        if ((cl.op == "<" || cl.op == "<=" || cl.op == "==") && cl.value <= hi) {
+          hi_strict = cl.op == "<" || (cl.value == hi && hi_strict);
+          hi = cl.value;
+        }
+      }
+      never = never || lo > hi || (lo == hi && (lo_strict || hi_strict));
+    }
+    if (!never) return false;
+    k = e;
+  }
+  return true;
+}
+
 }  // namespace
 
 std::string input_file_problem(const std::string& path) {
@@ -348,6 +382,10 @@ RunOptions Session::run_options(const RunLength& len, bool background) {
     }
     case RunLength::kUntil: {
       opt.steps = kForever;
+      if (until_never_holds(len.until, s.state().t, s.state().step))
+        throw std::runtime_error(
+            "run until: the condition can never hold: t and step only grow, and it asks them to be below where they "
+            "are, or above a value and below a smaller one");
       // (`run until t >= 1e300` ran until killed: as `run 1e300s`, refused)
       if (m.adaptive_dt) break;
       const double least = until_steps_at_least(len.until, s.state().t, s.state().step, m.dt);
@@ -445,17 +483,19 @@ RunOptions Session::run_options(const RunLength& len, bool background) {
     // Each observable sampled once, however many clauses name it ("step >= 5 or step >= 10").
     std::vector<std::string> names;
     std::vector<size_t> column;  // clause k reads names[column[k]]
-    bool cheap = true;
+    bool cheap = true, exact = false;
     for (const Clause& c : len.until.clauses) {
       const auto at = std::find(names.begin(), names.end(), c.observable);
       column.push_back(static_cast<size_t>(at - names.begin()));
       if (at == names.end()) names.push_back(c.observable);
       cheap = cheap && (c.observable == "t" || c.observable == "step" || c.observable == "dt");
+      // (a step asked exactly holds at one step only: tested every 10 steps, "step == 7 or ke < 0" ran on)
+      exact = exact || (c.observable == "step" && c.op == "==");
     }
     auto obs = std::make_shared<Observer>(m, names);
     const Condition cond = len.until;
     // Cheap observables are tested at every step; the others every 10 steps.
-    opt.hooks.push_back({cheap ? 1 : 10, [this, obs, cond, column](const State& st) {
+    opt.hooks.push_back({cheap || exact ? 1 : 10, [this, obs, cond, column](const State& st) {
                            const std::vector<double> sampled = obs->sample(sim_->model(), st);
                            std::vector<double> values(column.size());
                            for (size_t k = 0; k < column.size(); ++k) values[k] = sampled[column[k]];

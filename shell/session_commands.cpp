@@ -161,9 +161,16 @@ void Session::cmd_set(const Command& c) {
     changes.push_back({canonical_key(c.args[k].text), c.args[k + 1].text});
     if (!find_key_spec(normalise_key(changes.back().key)))
       throw std::runtime_error(unknown_key_message(changes.back().key));
-    for (size_t j = 0; j + 1 < changes.size(); ++j)
+    // (a key and one it is an alternative to: the last had replaced the first, unsaid, where a
+    // scene file giving both is refused)
+    const std::vector<std::string> others = alternatives_of(changes.back().key);
+    for (size_t j = 0; j + 1 < changes.size(); ++j) {
       if (changes[j].key == changes.back().key)
         throw std::runtime_error("set: '" + changes.back().key + "' is given twice");
+      if (std::find(others.begin(), others.end(), changes[j].key) != others.end())
+        throw std::runtime_error("set: '" + changes[j].key + "' and '" + changes.back().key +
+                                 "' are alternatives: give one of them");
+    }
     typed += " " + changes.back().key + " " + c.args[k + 1].text;
   }
   const Override& change = changes.front();

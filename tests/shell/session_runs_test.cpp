@@ -277,6 +277,23 @@ TEST_CASE("run until samples an observable once however many clauses name it") {
   CHECK(f.value("step") == 5);
   REQUIRE(f.run("run until step >= 20 and t > 0 and step >= 12"));
   CHECK(f.value("step") == 20);
+  // "and" binds tighter than "or" (it stopped only when both sides of the last "and" held).
+  REQUIRE(f.run("run until step >= 25 or t < 0 and dt < 0"));
+  CHECK(f.value("step") == 25);
+  // A condition t and step can never meet, as they only grow, is refused (it ran without end); one
+  // term that can hold is enough.
+  for (const char* never : {"run until step >= 40 and step < 30", "run until step < 10", "run until t < 0 or step == 3",
+                            "run until step > 50 and step <= 50"}) {
+    CAPTURE(never);
+    CHECK_FALSE(f.run(never));
+    CHECK(contains(f.take_err(), "the condition can never hold"));
+  }
+  REQUIRE(f.run("run until step < 10 or step >= 30"));
+  CHECK(f.value("step") == 30);
+  // A step asked exactly beside an observable sampled every 10 steps: tested at every step (it was
+  // missed between two tests, and the run went on without end).
+  REQUIRE(f.run("run until step == 33 or ke < 0"));
+  CHECK(f.value("step") == 33);
 }
 
 TEST_CASE("a field's colour range is said to apply to the field set after it, and refused for a magnitude below 0") {
@@ -352,4 +369,11 @@ TEST_CASE("set with several pairs is one change: a fluid's domain and cells vali
   CHECK(contains(f.take_err(), "'fluid.reynolds' is given twice"));
   CHECK_FALSE(f.run("set fluid.reynolds 200 fluid.cfl"));
   CHECK(contains(f.take_err(), "'fluid.cfl' has no value"));
+  // Two alternatives in one change are refused, as a file giving both is (the last won, unsaid).
+  CHECK_FALSE(f.run("set fluid.reynolds 200 fluid.viscosity 0.1"));
+  CHECK(contains(f.take_err(), "'fluid.reynolds' and 'fluid.viscosity' are alternatives"));
+  // A value in single quotes is one word, as in TOML (it was two).
+  REQUIRE(f.run("set scene.name 'a b' run.time 6"));
+  REQUIRE(f.run("get scene.name"));
+  CHECK(contains(f.take_out(), "scene.name = \"a b\""));
 }
