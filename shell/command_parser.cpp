@@ -251,10 +251,10 @@ int64_t parse_every(const Token& t) {
   return *n;
 }
 
-bool Condition::holds(const std::vector<double>& values) const {
+bool Condition::holds(const std::vector<double>& values, const std::vector<size_t>* column) const {
   auto eval = [&](size_t k) {
     const Clause& c = clauses[k];
-    const double v = values[k];
+    const double v = values[column ? (*column)[k] : k];
     if (c.op == "<") return v < c.value;
     if (c.op == "<=") return v <= c.value;
     if (c.op == ">") return v > c.value;

@@ -71,8 +71,10 @@ struct Clause {
 struct Condition {
   std::vector<Clause> clauses;
   std::vector<bool> joined_by_and;  // between clause k and k+1
-  // True when the clauses hold for these values (same order as clauses).
-  bool holds(const std::vector<double>& values) const;
+  // True when the clauses hold for these values ("and" binding tighter than "or"): values[k] is
+  // clause k's observable, or values[column[k]] with a column map (an observable named by several
+  // clauses, sampled once).
+  bool holds(const std::vector<double>& values, const std::vector<size_t>* column = nullptr) const;
 };
 
 // How long `run` goes: N steps, a simulated time ("0.5s", "2e-3s"), until a condition, until

@@ -496,10 +496,7 @@ RunOptions Session::run_options(const RunLength& len, bool background) {
     const Condition cond = len.until;
     // Cheap observables are tested at every step; the others every 10 steps.
     opt.hooks.push_back({cheap || exact ? 1 : 10, [this, obs, cond, column](const State& st) {
-                           const std::vector<double> sampled = obs->sample(sim_->model(), st);
-                           std::vector<double> values(column.size());
-                           for (size_t k = 0; k < column.size(); ++k) values[k] = sampled[column[k]];
-                           if (cond.holds(values)) {
+                           if (cond.holds(obs->sample(sim_->model(), st), &column)) {
                              until_met_ = true;
                              interrupt_ = true;
                            }

@@ -145,11 +145,8 @@ void check_time_step(const SceneDesc& d, const Model& m) {
   const std::string key = d.has("run.dt") ? "run.dt" : "run.dt_over_tc";
   // The default step (0.02 t_c) exceeds the limit only where a dashpot or k_t / k_n has shortened
   // it: the refusal is located there (it was at the [run] table that gives no step).
-  const char* normal_damping = m.contact.law == NormalLaw::kHooke           ? "contact.gamma_n"
-                               : m.contact.law == NormalLaw::kSpringDashpot ? "contact.restitution"
-                                                                            : "contact.damping";
   const std::string at = given                     ? key
-                         : !m.dt_stable_tangential ? normal_damping
+                         : !m.dt_stable_tangential ? damping_key(m.contact.law)
                          : m.contact.zeta_t > 1    ? "contact.tangential_damping"
                                                    : "contact.kt_over_kn";
   const std::string mode = m.dt_stable_tangential

@@ -75,6 +75,16 @@ double contact_time(const ContactParams& p, double m_eff, double r_eq, double ma
   return std::numbers::pi / std::sqrt(kc.k / m_eff);
 }
 
+std::string damping_key(NormalLaw law) {
+  switch (law) {
+    case NormalLaw::kHooke: return "contact.gamma_n";
+    case NormalLaw::kSpringDashpot: return "contact.restitution";
+    case NormalLaw::kHertz:
+    case NormalLaw::kLinear: break;
+  }
+  return "contact.damping";
+}
+
 namespace {
 
 // a b / (a + b); where that overflows or underflows (masses of 1e300 or 1e-200), as
@@ -94,10 +104,10 @@ struct LawKeys {
 LawKeys law_keys(const SceneDesc& d, NormalLaw law, std::initializer_list<std::string> prefixes = {}) {
   LawKeys keys;
   switch (law) {
-    case NormalLaw::kHertz: keys = {"contact.young_modulus", "contact.damping"}; break;
-    case NormalLaw::kHooke: keys = {"contact.k_n", "contact.gamma_n"}; break;
-    case NormalLaw::kLinear: keys = {"contact.k_n", "contact.damping"}; break;
-    case NormalLaw::kSpringDashpot: return {"contact.contact_time", "contact.restitution"};
+    case NormalLaw::kHertz: keys = {"contact.young_modulus", damping_key(law)}; break;
+    case NormalLaw::kHooke: keys = {"contact.k_n", damping_key(law)}; break;
+    case NormalLaw::kLinear: keys = {"contact.k_n", damping_key(law)}; break;
+    case NormalLaw::kSpringDashpot: return {"contact.contact_time", damping_key(law)};
   }
   const std::string own = law == NormalLaw::kHertz ? "young_modulus" : "k_n";
   for (const std::string& prefix : prefixes)
@@ -237,7 +247,8 @@ void derive_contact_scales(const SceneDesc& d, Model& m) {
   if (m.pair_contact.empty() && pairs_form) tangential(c, m.k_max, m.m_eff_min, mass_key, law_keys(d, c.law));
   // Other materials (dem/materials.hpp): the stiffest of their laws with the lightest grains, a
   // grain against a wall (m* = m, R_eq = 2 r) included, may lower the limit.
-  auto limit_of = [&](const ContactParams& p, double m_eff, double req, const std::string& m_key, const LawKeys& keys) {
+  auto limit_of = [&](const ContactParams& p, double m_eff, double req, const std::string& m_key,
+                      const LawKeys& keys) -> NormalMode {
     const NormalMode mode = normal_mode(p, m, m_eff, req);
     const double k = mode.k, z = mode.zeta;
     const double limit = verlet_stability_limit(std::sqrt(k / m_eff), z);
@@ -253,6 +264,7 @@ void derive_contact_scales(const SceneDesc& d, Model& m) {
       m.m_eff_stable = m_eff;
     }
     tangential(p, k, m_eff, m_key, keys);
+    return mode;
   };
   // Each pair of groups with the lightest pair it can make (two free grains, or a free one and a
   // frozen one), each wall with its group's lightest free grain: a law of its own is not paired
@@ -277,37 +289,40 @@ void derive_contact_scales(const SceneDesc& d, Model& m) {
       light2[g] = std::min(light2[g], mi);
     }
   }
-  auto reduced = reduced_mass;
   // Where the groups have laws of their own, t_c (the unit of run.dt_over_tc) is the shortest
   // collision of the pairs of groups that can meet, and kappa's stiffness spans their laws: the
   // scene's [contact] law may be no pair's (every group giving its own k_n, t_c was that of a
   // spring no contact had).
   bool pair_seen = false;
   m.pair_meets.assign(m.pair_contact.size(), 0);
+  // t_c from `pair` when its collision is the shortest seen (`first`: the first seen); its duration.
+  auto take_shortest = [&](bool first, const Model::ContactTimePair& pair, double zeta_of_pair) {
+    const double tc = reference_contact_time(pair.law, pair.m_eff, pair.r_eq);
+    if (first || tc < m.t_contact) {
+      m.t_contact = tc;
+      m.tc_pair = pair;
+      m.zeta_max = zeta_of_pair;
+    }
+    return tc;
+  };
   for (size_t q = 0; q < m.pair_contact.size(); ++q) {
     const int gi = static_cast<int>(q) / groups, gj = static_cast<int>(q) % groups;
     double m_eff = inf;
-    if (gi == gj && light2[gi] < inf) m_eff = reduced(light[gi], light2[gi]);
-    if (gi != gj && light[gi] < inf && light[gj] < inf) m_eff = reduced(light[gi], light[gj]);
+    if (gi == gj && light2[gi] < inf) m_eff = reduced_mass(light[gi], light2[gi]);
+    if (gi != gj && light[gi] < inf && light[gj] < inf) m_eff = reduced_mass(light[gi], light[gj]);
     if (frozen[gj] && light[gi] < inf) m_eff = std::min(m_eff, light[gi]);
     if (frozen[gi] && light[gj] < inf) m_eff = std::min(m_eff, light[gj]);
     if (!(m_eff < inf)) continue;  // no such pair can form
     m.pair_meets[q] = 1;
     const ContactParams& p = m.pair_contact[q];
-    const double req = 2.0 * reduced(r_small[gi], r_small[gj]);
+    const double req = 2.0 * reduced_mass(r_small[gi], r_small[gj]);
     const int64_t i = light[gi] <= light[gj] ? light_grain[gi] : light_grain[gj];
     const std::string m_key = grain_mass_key(d, m.init.group[i], m.dim, m.init.radius[i]);
     const LawKeys keys = law_keys(d, c.law, {group(gi), group(gj)});
-    limit_of(p, m_eff, req, m_key, keys);
-    const double tc = reference_contact_time(p, m_eff, req);
-    const NormalMode mode = normal_mode(p, m, m_eff, req);
+    const NormalMode mode = limit_of(p, m_eff, req, m_key, keys);
+    const double tc = take_shortest(!pair_seen, {p, m_eff, req, gi, gj}, mode.zeta);
     check_scales(d, {m_eff, mode.k, mode.zeta, m_key, keys}, {{"contact time", tc}});
     const double stiffness = hertz ? p.e_tilde : mode.k;
-    if (!pair_seen || tc < m.t_contact) {
-      m.t_contact = tc;
-      m.tc_pair = {p, m_eff, req, gi, gj};
-      m.zeta_max = mode.zeta;
-    }
     m.kappa_stiffness_min = pair_seen ? std::min(m.kappa_stiffness_min, stiffness) : stiffness;
     m.kappa_stiffness_max = pair_seen ? std::max(m.kappa_stiffness_max, stiffness) : stiffness;
     pair_seen = true;
@@ -322,15 +337,10 @@ void derive_contact_scales(const SceneDesc& d, Model& m) {
     const int64_t i = light_grain[g];
     const ContactParams& p = m.wall_contact[q];
     const double req = 2.0 * r_small[g];
-    limit_of(p, light[g], req, grain_mass_key(d, g, m.dim, m.init.radius[i]),
-             law_keys(d, c.law, {"walls[" + std::to_string(w) + "].", group(g)}));
+    const NormalMode mode = limit_of(p, light[g], req, grain_mass_key(d, g, m.dim, m.init.radius[i]),
+                                     law_keys(d, c.law, {"walls[" + std::to_string(w) + "].", group(g)}));
     if (pairs_form) continue;
-    const double tc = reference_contact_time(p, light[g], req);
-    if (!wall_seen || tc < m.t_contact) {
-      m.t_contact = tc;
-      m.tc_pair = {p, light[g], req, g, -1, w};
-      m.zeta_max = normal_mode(p, m, light[g], req).zeta;
-    }
+    take_shortest(!wall_seen, {p, light[g], req, g, -1, w}, mode.zeta);
     wall_seen = true;
   }
 }

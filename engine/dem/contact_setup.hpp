@@ -29,5 +29,8 @@ double hertz_speed_to(const ContactParams& p, double m_eff, double r_eq, double 
 // twice the softer); [contact]'s contact time for the spring-dashpot; [contact]'s key without
 // tables.
 std::string stiffness_key(const SceneDesc& d, NormalLaw law, std::initializer_list<std::string> prefixes = {});
+// The key of a law's normal dashpot: contact.damping, contact.gamma_n (hooke) or contact.restitution
+// (spring_dashpot); no material has one of its own.
+std::string damping_key(NormalLaw law);
 
 }  // namespace silt::dem
