@@ -318,7 +318,7 @@ void place_random(const SceneDesc& d, Model& m, int g, const Group& G, int64_t f
     // (every wall that refused some: two walls facing each other each took under half of them)
     int walled = 0;
     std::string which;
-    for (size_t w = 0; w < behind.size(); ++w)
+    for (size_t w = 0; w < behind.size() && !placed; ++w)
       if (behind[w] > 0) {
         walled += behind[w];
         which += (which.empty() ? "" : ", ") + std::to_string(behind[w]) + " behind walls[" + std::to_string(w) + "]";
