@@ -97,9 +97,14 @@ void setup_neighbors(const SceneDesc& d, Model& m) {
 // Energy the scene can supply: initial kinetic energy, the potential energy of free grains
 // across the domain, the work of the imposed pressure, and one contact at the largest allowed
 // overlap per grain. A run whose kinetic energy exceeds a large multiple of this is unstable.
+// Gravity along a periodic axis has no bottom: the free grains' momentum p along it grows at most
+// as p0 + M g t, and g's work by time t is at most g (p0 t + M g t^2 / 2).
 void setup_energy_scale(Model& m) {
-  double e = 0, vol = 1;
-  for (int k = 0; k < m.dim; ++k) vol *= m.box.len[k];
+  double e = 0, vol = 1, g_periodic2 = 0, mass = 0, momentum = 0;
+  for (int k = 0; k < m.dim; ++k) {
+    vol *= m.box.len[k];
+    if (m.box.periodic[k]) g_periodic2 += m.gravity[k] * m.gravity[k];
+  }
   for (int64_t i = 0; i < m.n_grains; ++i) {
     if (m.init.frozen[i]) continue;
     double v2 = 0, w2 = 0, h = 0;
@@ -109,11 +114,15 @@ void setup_energy_scale(Model& m) {
     }
     for (int k = 0; k < m.rot; ++k) w2 += m.init.w[m.rot * i + k] * m.init.w[m.rot * i + k];
     e += 0.5 * m.init.mass[i] * v2 + 0.5 * m.init.inertia[i] * w2 + m.init.mass[i] * h;
+    mass += m.init.mass[i];
+    momentum += m.init.mass[i] * std::sqrt(v2);
   }
   const double dmax = m.limits.max_overlap * m.r_min;
   e += (m.n_grains - m.n_frozen) * 0.5 * m.k_max * dmax * dmax;
   if (m.box_control.on) e += m.box_control.pressure * vol;
   m.limits.energy_scale = e;
+  m.limits.energy_per_s = std::sqrt(g_periodic2) * momentum;
+  m.limits.energy_per_s2 = 0.5 * mass * g_periodic2;
 }
 
 }  // namespace

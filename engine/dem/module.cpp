@@ -18,6 +18,8 @@ std::string steer_dem(Model& m, const Model& fresh) {
   // most it has been: a grain falling under g = 5e5 set while running failed the energy check
   // against the 9.81's supply, where the same scene from its file failed on the impact's overlap.
   m.limits.energy_scale = std::max(m.limits.energy_scale, fresh.limits.energy_scale);
+  m.limits.energy_per_s = std::max(m.limits.energy_per_s, fresh.limits.energy_per_s);
+  m.limits.energy_per_s2 = std::max(m.limits.energy_per_s2, fresh.limits.energy_per_s2);
   return "";
 }
 

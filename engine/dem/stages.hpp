@@ -90,9 +90,10 @@ void sum_forces(const Model& m, State& s, const ForceSources& sources);
 void keep_springs(const State& s, DemWorkspace& w);
 void restore_springs(State& s, const DemWorkspace& w);
 
-// (step, particle_v, particle_w, inv_m, inv_i, frozen) => (events.runaway)
+// (step, t, dt, particle_v, particle_w, inv_m, inv_i, frozen) => (events.runaway)
 // Every limits.check_every steps (at the step that makes the count a multiple of it): the
-// kinetic energy against limits.energy_factor times what the scene can supply.
+// kinetic energy against limits.energy_factor times what the scene can have supplied by the end
+// of the step (limits.energy_supply).
 void energy_check(const Model& m, State& s);
 
 // Kinetic energy of the free grains, translation + rotation, and its rotational part, summed in

@@ -138,12 +138,12 @@ void diagnose_dem(GraphBuilder& b) {
                   (by_time ? "decrease " : "increase ") + f.parameter + " (stiffer contacts) or reduce the loads";
     }
   });
-  b.diagnose(event::kRunaway, [step_advice](const Model& m, const State&, const EventSlot& e, StepFailure& f) {
+  b.diagnose(event::kRunaway, [step_advice](const Model& m, const State& s, const EventSlot& e, StepFailure& f) {
     f.stage = "energy_check";
     f.parameter = m.dt_key;
     f.message = "kinetic energy " + format_number(e.value(), 4) + m.unit("J") + " exceeds " +
                 format_number(m.limits.energy_factor, 4) + " times the energy the scene can supply (" +
-                format_number(m.limits.energy_scale, 4) + m.unit("J") + "): the integration is unstable; " +
+                format_number(m.limits.energy_supply(s.t + s.dt), 4) + m.unit("J") + "): the integration is unstable; " +
                 step_advice(m);
   });
 }
@@ -364,7 +364,7 @@ void add_dem_stages(GraphBuilder& b) {
   b.sums_forces(kick);
   if (fold) b.sums_last_forces(drift);
   const int energy =
-      b.add("energy_check", &dem::energy_check, with({fid::step, fid::particle_v, fid::particle_w}, kGrainConst), {});
+      b.add("energy_check", &dem::energy_check, with({fid::step, fid::t, fid::dt, fid::particle_v, fid::particle_w}, kGrainConst), {});
   b.after(energy, kick, "the energy of the full-step velocities");
   b.light(energy);  // a pass over the grains once in limits.check_every steps
   diagnose_dem(b);

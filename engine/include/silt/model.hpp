@@ -186,7 +186,12 @@ struct RunLimits {
   double max_overlap = 0.2;    // fraction of the smaller radius
   double energy_factor = 100;  // runaway when ke > energy_factor * energy_scale
   double energy_scale = 0;     // energy the scene can supply [J], computed by compile()
+  // Gravity along a periodic axis supplies energy without end: by time t, at most
+  // energy_per_s t + energy_per_s2 t^2 more (the work of g on the free grains' momentum).
+  double energy_per_s = 0, energy_per_s2 = 0;
   int64_t check_every = 100;
+  // What the scene can have supplied by time t [J].
+  double energy_supply(double t) const { return energy_scale + t * (energy_per_s + t * energy_per_s2); }
 };
 
 // What a frame shows ([render] of the scene), read by the renderer; plain data, no GL here.
