@@ -18,6 +18,30 @@ double verlet_stability_limit(double w0, double zeta) { return 2.0 / w0 / (std::
 }  // namespace silt
 
 namespace silt::dem {
+namespace {
+
+// [contact]'s spring (k_n) or modulus (young_modulus): what a group or a wall that gives none of
+// its own has. Where every group gives its own and every wall its own or is rigid, no contact has
+// it and the scene may leave it out; it is then the first group's, so that a scene of one
+// material still has [contact]'s law exactly. Else it is required, and the refusal names who
+// needs it.
+double contact_or_own(const SceneDesc& d, const std::string& own) {
+  const std::string key = "contact." + own;
+  if (d.has(key) || d.group_count("grains") == 0) return d.real(key);
+  std::string without;
+  auto need = [&](const std::string& prefix, bool may_be_rigid) {
+    if (d.has(prefix + own) || (may_be_rigid && d.has(prefix + "rigid") && d.boolean(prefix + "rigid"))) return;
+    without += (without.empty() ? "" : ", ") + prefix.substr(0, prefix.size() - 1);
+  };
+  for (int g = 0; g < d.group_count("grains"); ++g) need("grains[" + std::to_string(g) + "].", false);
+  for (int w = 0; w < d.group_count("walls"); ++w) need("walls[" + std::to_string(w) + "].", true);
+  if (!without.empty())
+    d.fail(key, "missing required key '" + key + "': " + without + " give" + (without.find(',') == std::string::npos ? "s" : "") +
+                    " no " + own + " of " + (without.find(',') == std::string::npos ? "its" : "their") + " own");
+  return d.real("grains[0]." + own);
+}
+
+}  // namespace
 
 void read_contact_law(const SceneDesc& d, Model& m) {
   ContactParams& c = m.contact;
@@ -31,18 +55,22 @@ void read_contact_law(const SceneDesc& d, Model& m) {
     c.c1 = per_mass.c;  // Izard eq. 3.16 divided by m*
   } else if (model == "hooke") {
     c.law = NormalLaw::kHooke;
-    c.k0 = d.real("contact.k_n");
+    c.k0 = contact_or_own(d, "k_n");
     c.c1 = d.real("contact.gamma_n");
   } else if (model == "hertz") {
     c.law = NormalLaw::kHertz;
-    const double nu = d.real("contact.poisson_ratio");
-    c.e_tilde = d.real("contact.young_modulus") / (1.0 - nu * nu);
+    const double e = contact_or_own(d, "young_modulus");
+    // Without [contact]'s modulus, the first group's material: its own Poisson ratio where it gives one.
+    const double nu = !d.has("contact.young_modulus") && d.has("grains[0].poisson_ratio")
+                          ? d.real("grains[0].poisson_ratio")
+                          : d.real("contact.poisson_ratio");
+    c.e_tilde = e / (1.0 - nu * nu);
     c.zeta = d.real("contact.damping");
     c.hertz_ref_overlap = d.real("contact.hertz_ref_overlap");
     if (m.dim == 2) d.fail("contact.model", "hertz is the 3D sphere law; 2D disks use 'linear' (Peyneau eq. 1.23)");
   } else {
     c.law = NormalLaw::kLinear;
-    c.k0 = d.real("contact.k_n");
+    c.k0 = contact_or_own(d, "k_n");
     c.zeta = d.real("contact.damping");
   }
   c.clip_attractive = d.boolean("contact.clip_attractive");
@@ -124,6 +152,7 @@ std::string stiffness_key(const SceneDesc& d, NormalLaw law, std::initializer_li
   std::string key = base;
   double softest = HUGE_VAL;
   for (const std::string& prefix : prefixes) {
+    if (!d.has(prefix + own) && !d.has(base)) continue;  // a rigid wall, in a scene whose materials are all their own
     const std::string k = d.has(prefix + own) ? prefix + own : base;
     if (const double v = d.real(k); v < softest) {
       softest = v;

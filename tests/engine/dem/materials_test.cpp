@@ -423,3 +423,73 @@ TEST_CASE("materials: springs and masses at the ends of the doubles' range mix w
   CHECK(dem::series_stiffness(1e308, 1e308) == 1e308);
   CHECK(dem::series_stiffness(2, 6) == 3);  // 2 * 2 * 6 / 8
 }
+
+TEST_CASE("materials: [contact]'s spring or modulus may be left out where every group and wall gives its own") {
+  // Two groups of springs of their own and a rigid floor: no contact has [contact]'s k_n.
+  const std::string springs = R"(
+[scene]
+dimension = 2
+[domain]
+lo = [0, 0]
+hi = [1, 1]
+[contact]
+model = "hooke"
+[[walls]]
+point = [0, 0]
+normal = [0, 1]
+{wall}
+[[grains]]
+radius = 0.05
+k_n = 1e4
+placement = "explicit"
+positions = [[0.3, 0.5]]
+[[grains]]
+radius = 0.05
+{k2}
+placement = "explicit"
+positions = [[0.7, 0.5]]
+[run]
+dt = 1e-5
+)";
+  auto with = [&](const std::string& wall, const std::string& k2) {
+    std::string t = springs;
+    t.replace(t.find("{wall}"), 6, wall);
+    t.replace(t.find("{k2}"), 4, k2);
+    return t;
+  };
+  const Model m = test::model_from(with("rigid = true", "k_n = 3e4"));
+  REQUIRE(m.pair_contact.size() == 4);
+  CHECK(m.pair_contact[1].k0 == doctest::Approx(1.5e4).epsilon(1e-14));  // 1e4 and 3e4 in series
+  CHECK(m.wall_contact[0].k0 == 2e4);                                      // rigid: twice the grain's
+  CHECK(m.wall_contact[1].k0 == 6e4);
+  // The same scene with [contact]'s k_n given as the first group's: the same laws.
+  std::string given = with("rigid = true", "k_n = 3e4");
+  given.replace(given.find("model = \"hooke\""), 15, "model = \"hooke\"\nk_n = 1e4");
+  const Model same = test::model_from(given);
+  CHECK(same.t_contact == m.t_contact);
+  CHECK(same.dt_stable == m.dt_stable);
+  // Whoever has no spring of its own needs [contact]'s, and is named.
+  CHECK(test::scene_error(with("k_n = 5e4", "")) ==
+        "bad.toml:7:1: missing required key 'contact.k_n': grains[1] gives no k_n of its own");
+  CHECK(test::scene_error(with("", "")) ==
+        "bad.toml:7:1: missing required key 'contact.k_n': grains[1], walls[0] give no k_n of their own");
+  // Hertz: every group's own modulus (and Poisson ratio); [contact]'s is the first group's material.
+  const std::string hertz = R"(
+[scene]
+dimension = 3
+[domain]
+lo = [-1, -1, -1]
+hi = [1, 1, 1]
+[contact]
+model = "hertz"
+[[grains]]
+radius = 1e-3
+young_modulus = 7e10
+poisson_ratio = 0.2
+placement = "explicit"
+positions = [[0, 0, 0]]
+)";
+  const Model h = test::model_from(hertz);
+  CHECK(h.contact.e_tilde == doctest::Approx(7e10 / (1 - 0.04)).epsilon(1e-14));
+  CHECK(h.pair_contact.empty());  // one material: [contact]'s law itself
+}
