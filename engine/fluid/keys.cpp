@@ -49,6 +49,13 @@ std::vector<KeySpec> fluid_keys() {
   };
   for (KeySpec& k : s) {
     if (k.path == "fluid.viscosity") k.computed = chosen([](const FluidParams& p) { return p.viscosity; });
+    // (a scene given by its viscosity, or one whose fluid.reynolds a `set fluid.viscosity` replaced)
+    if (k.path == "fluid.reynolds")
+      k.computed = [](const Model& m) {
+        if (!m.module_on("fluid")) return std::string();
+        const FluidParams& p = m.params.get<FluidParams>();
+        return p.nu() > 0 ? format_number(p.velocity_scale * p.length_scale / p.nu()) : std::string("inf (inviscid)");
+      };
     if (k.path == "fluid.dt") k.computed = chosen([](const FluidParams& p) { return p.dt / p.time_unit(); });
     if (k.path == "fluid.dt_max") k.computed = chosen([](const FluidParams& p) { return p.dt_max / p.time_unit(); });
     // Times are in units of L / U where the scene gives fluid.reynolds (spec.cpp).

@@ -185,6 +185,10 @@ TEST_CASE("set replaces the keys a value is an alternative to, and errors name w
   // fluid.reynolds over the channel's fluid.viscosity: its fluid.dt = 0.01 is then in units of
   // L / U = 2 s, and the step doubled without a word.
   REQUIRE(f.run("load " + test::scene_path("channel")));
+  f.take_out();
+  // Its Reynolds number is computed from the viscosity the file gives (get answered "(not set)").
+  REQUIRE(f.run("get fluid.reynolds"));
+  CHECK(f.take_out() == "fluid.reynolds = (not set), computed 20\n");
   REQUIRE(f.run("run 2"));
   f.take_out();
   REQUIRE(f.run("set fluid.reynolds 20"));
