@@ -245,6 +245,7 @@ void derive_contact_scales(const SceneDesc& d, Model& m) {
   const double zeta = m.zeta_max = scene_mode.zeta;
   const bool hertz = c.law == NormalLaw::kHertz;
   m.kappa_stiffness_min = m.kappa_stiffness_max = hertz ? c.e_tilde : scene_mode.k;
+  m.kappa_softest_key = law_keys(d, c.law).stiffness;
   double normal_limit = verlet_stability_limit(std::sqrt(m.k_max / m.m_eff_min), zeta);
   check_scales(d, {m.m_eff_min, m.k_max, zeta, mass_key, law_keys(d, c.law)},
                {{"contact time", m.t_contact}, {"stability limit of the time step", normal_limit}});
@@ -352,7 +353,10 @@ void derive_contact_scales(const SceneDesc& d, Model& m) {
     const double tc = take_shortest(!pair_seen, {p, m_eff, req, gi, gj}, mode.zeta);
     check_scales(d, {m_eff, mode.k, mode.zeta, m_key, keys}, {{"contact time", tc}});
     const double stiffness = hertz ? p.e_tilde : mode.k;
-    m.kappa_stiffness_min = pair_seen ? std::min(m.kappa_stiffness_min, stiffness) : stiffness;
+    if (!pair_seen || stiffness < m.kappa_stiffness_min) {
+      m.kappa_stiffness_min = stiffness;
+      m.kappa_softest_key = stiffness_key(d, c.law, {group(gi), group(gj)});
+    }
     m.kappa_stiffness_max = pair_seen ? std::max(m.kappa_stiffness_max, stiffness) : stiffness;
     pair_seen = true;
   }

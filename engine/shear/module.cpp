@@ -219,8 +219,8 @@ void check_stress_against_contacts(const SceneDesc& d, const Model& m, const std
                   "limits.max_overlap = " +
                   format_number(m.limits.max_overlap, 3) + " of a radius: lower its magnitude (kappa is 1 at " +
                   format_number(most, 4) + m.unit("Pa") +
-                  "; packings are run at kappa 1e3 and more) or stiffen the "
-                  "contacts");
+                  "; packings are run at kappa 1e3 and more) or stiffen the contacts: " +
+                  (m.contact.law == NormalLaw::kSpringDashpot ? "shorten " : "raise ") + m.kappa_softest_key);
 }
 
 void check_box_pressure(const SceneDesc& d, const Model& m) {

@@ -324,6 +324,7 @@ struct Model {
   // The stiffness of kappa (Peyneau eq. 1.32-1.33): k_n, or E~ for Hertz, of the softest and the
   // stiffest law that grain pairs use (walls apart).
   double kappa_stiffness_min = 0, kappa_stiffness_max = 0;
+  std::string kappa_softest_key;  // the key that sets the softest (contact.k_n, grains[1].k_n, ...)
   double dt_stable = 0;  // velocity-Verlet stability limit of the fastest contact mode [s]
   // Whether that mode is a tangential spring's (friction, k_t / k_n above 1/3 for disks, 2/7 for
   // spheres), and the mode's stiffness (a tangential one's k_t (1 + m r^2 / I)) and reduced mass.

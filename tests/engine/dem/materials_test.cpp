@@ -368,6 +368,7 @@ k_n = {k}
 )";
   const std::string e = test::scene_error(test::fill(scene, {{"k", 0.5}}));
   CHECK(e.find("kappa = 0.5 below 1") != std::string::npos);
+  CHECK(e.find("or stiffen the contacts: raise grains[1].k_n") != std::string::npos);  // the softest pair's
   CHECK(test::scene_error(test::fill(scene, {{"k", 5.0}})).empty());
 }
 
