@@ -402,6 +402,25 @@ std::string quoted_word(std::string_view text) {
   return out + "\"";
 }
 
+std::string shown_word(std::string_view text) {
+  // (a list, [0, 0, -1], is one word with its blanks)
+  const bool list = text.size() >= 2 && text.front() == '[' && text.back() == ']';
+  const bool plain = !text.empty() && std::none_of(text.begin(), text.end(), [list](char ch) {
+    const auto c = static_cast<unsigned char>(ch);
+    return (c <= ' ' && !(list && ch == ' ')) || c == 0x7f || ch == '\'' || ch == '\\' || ch == '#' ||
+           (ch == '"' && !list);
+  });
+  if (plain) return std::string(text);
+  std::string out = "\"";
+  for (const char ch : text) {
+    const auto c = static_cast<unsigned char>(ch);
+    if (ch == '"' || ch == '\\') out += '\\';
+    if (c < 0x20 || c == 0x7f) out += '?';
+    else out += ch;
+  }
+  return out + "\"";
+}
+
 std::string printable_line(std::string_view line) {
   std::string out(line);
   for (char& ch : out)

@@ -35,6 +35,10 @@ std::optional<Command> parse_line(std::string_view line);
 // `text` as one word of a command line: in quotes, with its quotes and backslashes escaped (a
 // scene path given to `silt shell`, which the shell loads as `load WORD`).
 std::string quoted_word(std::string_view text);
+// A word as a message shows what was typed: as it is, or quoted where it would not read back as
+// one word (empty, blanks outside a [list], quotes, a backslash, a '#', control bytes); "x y" was
+// echoed as x y.
+std::string shown_word(std::string_view text);
 // A script's line without the byte order mark an editor may put at the start of a file (the
 // first command was then unknown).
 std::string_view without_bom(std::string_view line);

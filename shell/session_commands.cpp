@@ -67,7 +67,7 @@ void Session::cmd_reload(const Command&) {
   // (the values set were kept without a word: `get` then read them, not the file's)
   if (!overrides_.empty()) {
     out_ << ", with the value(s) set since it was loaded:";
-    for (const Override& o : overrides_) out_ << " " << o.key << " = " << o.value;
+    for (const Override& o : overrides_) out_ << " " << o.key << " = " << shown_word(o.value);
     out_ << " (load FILE reads the file alone)";
   }
   out_ << "\n";
@@ -171,7 +171,7 @@ void Session::cmd_set(const Command& c) {
         throw std::runtime_error("set: '" + changes[j].key + "' and '" + changes.back().key +
                                  "' are alternatives: give one of them");
     }
-    typed += " " + changes.back().key + " " + c.args[k + 1].text;
+    typed += " " + changes.back().key + " " + shown_word(c.args[k + 1].text);
   }
   const Override& change = changes.front();
   const bool several = changes.size() > 1;
@@ -249,7 +249,7 @@ void Session::cmd_set(const Command& c) {
     }
     if (error.empty()) {
       overrides_ = std::move(next);
-      out_ << change.key << " = " << change.value << (running() ? " (from the next step)" : "") << "\n";
+      out_ << change.key << " = " << shown_word(change.value) << (running() ? " (from the next step)" : "") << "\n";
       note_step();
       preparation_note(s.state());
       if (const RenderSettings& r = s.model().render; change.key == "render.field" && !r.field_range_auto)
@@ -305,7 +305,7 @@ void Session::cmd_set(const Command& c) {
   install(std::move(m), keep);
   overrides_ = std::move(next);
   for (size_t k = 0; k < changes.size(); ++k)
-    out_ << changes[k].key << " = " << changes[k].value
+    out_ << changes[k].key << " = " << shown_word(changes[k].value)
          << (k + 1 < changes.size() ? "" : (same ? " (state kept)" : discarded)) << "\n";
   note_step();
   if (same) preparation_note(*keep);

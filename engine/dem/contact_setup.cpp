@@ -36,8 +36,9 @@ double contact_or_own(const SceneDesc& d, const std::string& own) {
   for (int g = 0; g < d.group_count("grains"); ++g) need("grains[" + std::to_string(g) + "].", false);
   for (int w = 0; w < d.group_count("walls"); ++w) need("walls[" + std::to_string(w) + "].", true);
   if (!without.empty())
-    d.fail(key, "missing required key '" + key + "': " + without + " give" + (without.find(',') == std::string::npos ? "s" : "") +
-                    " no " + own + " of " + (without.find(',') == std::string::npos ? "its" : "their") + " own");
+    d.fail(key, "missing required key '" + key + "': " + without + " give" +
+                    (without.find(',') == std::string::npos ? "s" : "") + " no " + own + " of " +
+                    (without.find(',') == std::string::npos ? "its" : "their") + " own");
   return d.real("grains[0]." + own);
 }
 

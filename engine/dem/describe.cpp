@@ -64,7 +64,7 @@ std::string restitution_text(const Model& m) {
 std::string group_name(const Model& m, int g) {
   const std::string index = std::to_string(g);
   const bool named = static_cast<size_t>(g) < m.group_names.size() && m.group_names[g] != "group" + index;
-  return "grains[" + index + "]" + (named ? " (\"" + m.group_names[g] + "\")" : "");
+  return "grains[" + index + "]" + (named ? " (" + toml_quoted(m.group_names[g]) + ")" : "");
 }
 
 // The grains' friction: the scene's, or the range over the pairs of groups that can touch, where

@@ -120,7 +120,7 @@ std::string value_to_string(const Value& v) {
         using T = std::decay_t<decltype(x)>;
         if constexpr (std::is_same_v<T, bool>) o << (x ? "true" : "false");
         else if constexpr (std::is_same_v<T, int64_t> || std::is_same_v<T, double>) o << x;
-        else if constexpr (std::is_same_v<T, std::string>) o << '"' << x << '"';
+        else if constexpr (std::is_same_v<T, std::string>) o << toml_quoted(x);
         else if constexpr (std::is_same_v<T, std::vector<std::vector<double>>>) {
           o << "[";
           for (size_t i = 0; i < x.size(); ++i) {
@@ -133,7 +133,7 @@ std::string value_to_string(const Value& v) {
           o << "[";
           for (size_t i = 0; i < x.size(); ++i) {
             o << (i ? ", " : "");
-            if constexpr (std::is_same_v<T, std::vector<std::string>>) o << '"' << x[i] << '"';
+            if constexpr (std::is_same_v<T, std::vector<std::string>>) o << toml_quoted(x[i]);
             else if constexpr (std::is_same_v<T, std::vector<bool>>) o << (x[i] ? "true" : "false");
             else o << x[i];
           }

@@ -229,11 +229,18 @@ void apply_override_at(SceneDesc& desc, const Override& o, int ordinal, bool bat
   if (const std::string missing = desc.missing_entry(path); !missing.empty()) throw SceneError(where, missing);
   toml::table t;
   if (beyond_doubles(o.value)) throw SceneError(where, "'" + path + "' = " + o.value + kBeyond);
+  const auto parse = [](const std::string& text) {
+    return toml::parse(std::string_view("v = " + text), std::string_view("--set"));
+  };
   try {
-    t = toml::parse(std::string_view("v = " + o.value), std::string_view("--set"));
+    t = parse(o.value);
   } catch (const toml::parse_error&) {
-    try {  // a bare word is a string
-      t = toml::parse(std::string_view("v = \"" + o.value + "\""), std::string_view("--set"));
+  }
+  // A bare word is a string, as typed (its quotes and backslashes were read as escapes); so is any
+  // word for a key that takes a string (grains.0.name=5 was refused as not a string).
+  if (!t.get("v") || (spec->type == KeyType::kString && !t.get("v")->is_string())) {
+    try {
+      t = parse(toml_quoted(o.value));
     } catch (const toml::parse_error& e) {
       throw SceneError(where, "cannot read the value of " + o.key + ": " + std::string(e.description()));
     }

@@ -134,3 +134,21 @@ TEST_CASE("a condition needs no blanks around its comparisons, and until static 
   CHECK_THROWS_AS(parse_run_length(parse_line("run until t>=")->args), ParseError);
   CHECK_THROWS_AS(parse_run_length(parse_line("run until t=>1")->args), ParseError);
 }
+
+TEST_CASE("shown_word: a typed word as a message shows it, quoted where it would not read back as one word") {
+  CHECK(shown_word("0.3") == "0.3");
+  CHECK(shown_word("[0, 0, -1]") == "[0, 0, -1]");  // a list is one word with its blanks
+  CHECK(shown_word("[\"t\", \"ke\"]") == "[\"t\", \"ke\"]");
+  CHECK(shown_word("x y") == "\"x y\"");
+  CHECK(shown_word("") == "\"\"");
+  CHECK(shown_word("a\"b") == "\"a\\\"b\"");
+  CHECK(shown_word("#1") == "\"#1\"");
+  CHECK(shown_word("a\tb") == "\"a?b\"");
+  // What it shows reads back as the word (control bytes apart)
+  for (const char* w : {"x y", "a\"b", "c:\\d", "#1", "it's"}) {
+    const auto c = parse_line("set k " + shown_word(w));
+    REQUIRE(c);
+    REQUIRE(c->args.size() == 2);
+    CHECK(c->args[1].text == w);
+  }
+}

@@ -204,6 +204,21 @@ TEST_CASE("set replaces the keys a value is an alternative to, and errors name w
   CHECK(contains(f.take_out(), "L/U"));
 }
 
+TEST_CASE("a string set with quotes, backslashes or blanks is the string typed, and is echoed so") {
+  Fixture f;
+  REQUIRE(f.run("load " + test::scene_path("collision_normal")));
+  f.take_out();
+  // (a quote ended the TOML string the value was put in, and a backslash began an escape)
+  REQUIRE(f.run("set grains.0.name \"a \\\"b\\\" c:\\\\d\""));
+  CHECK(f.take_out() == "grains[0].name = \"a \\\"b\\\" c:\\\\d\" (the state at t = 0 made again)\n");
+  REQUIRE(f.run("get grains.0.name"));
+  CHECK(f.take_out() == "grains[0].name = \"a \\\"b\\\" c:\\\\d\"\n");
+  REQUIRE(f.run("set grains.0.name 5"));  // a word that reads as a number, for a key that takes a string
+  f.take_out();
+  REQUIRE(f.run("get grains.0.name"));
+  CHECK(f.take_out() == "grains[0].name = \"5\"\n");
+}
+
 TEST_CASE("a value set over the one that replaced its alternatives gives the file's others back, running or not") {
   // `set gravity.vector V` replaces the file's gravity.magnitude and gravity.angle; `set
   // gravity.magnitude G` after it replaced the vector and went on with the angle's default (0, not

@@ -25,3 +25,13 @@ TEST_CASE("edit distance: Levenshtein, and its bounded search gives min(distance
     CHECK(edit_distance(a, b, limit) == std::min(d, limit));
   }
 }
+
+TEST_CASE("toml_quoted: a TOML basic string that reads back as the text, on one line") {
+  using silt::toml_quoted;
+  CHECK(toml_quoted("ball") == "\"ball\"");
+  CHECK(toml_quoted("") == "\"\"");
+  CHECK(toml_quoted("a\"b\\c") == "\"a\\\"b\\\\c\"");
+  CHECK(toml_quoted("x\ny\tz\r") == "\"x\\ny\\tz\\r\"");
+  CHECK(toml_quoted(std::string("\x07\x1f\x7f", 3)) == "\"\\u0007\\u001F\\u007F\"");
+  CHECK(toml_quoted("caf\xc3\xa9") == "\"caf\xc3\xa9\"");  // UTF-8 as it is
+}

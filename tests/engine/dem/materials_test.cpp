@@ -461,7 +461,7 @@ dt = 1e-5
   const Model m = test::model_from(with("rigid = true", "k_n = 3e4"));
   REQUIRE(m.pair_contact.size() == 4);
   CHECK(m.pair_contact[1].k0 == doctest::Approx(1.5e4).epsilon(1e-14));  // 1e4 and 3e4 in series
-  CHECK(m.wall_contact[0].k0 == 2e4);                                      // rigid: twice the grain's
+  CHECK(m.wall_contact[0].k0 == 2e4);                                    // rigid: twice the grain's
   CHECK(m.wall_contact[1].k0 == 6e4);
   // The same scene with [contact]'s k_n given as the first group's: the same laws.
   std::string given = with("rigid = true", "k_n = 3e4");
