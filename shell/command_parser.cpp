@@ -352,25 +352,35 @@ RunLength parse_run_length(const std::vector<Token>& all) {
   if (first.text == "until") {
     const std::vector<Token> args = split_comparisons(all, 1);
     r.kind = RunLength::kUntil;
-    // OBS OP VALUE [and|or OBS OP VALUE]...
+    // OBS OP VALUE [and|or OBS OP VALUE]... Each error is at the word that is wrong or at the one a
+    // missing word should follow ("ke < 5 or or t > 1" blamed 't' as not a comparison).
+    static const char* ops[] = {"<", "<=", ">", ">=", "==", "!="};
+    const auto is_op = [](const std::string& w) {
+      return std::string_view("<>=!").find(w[0]) != std::string_view::npos;
+    };
+    if (args.empty())
+      throw ParseError(first.col, "expected: OBSERVABLE OP NUMBER (e.g. t >= 0.5), or static, or steady");
     size_t k = 0;
     for (;;) {
-      if (k + 2 >= args.size())
-        throw ParseError(k < args.size() ? args[k].col : (args.empty() ? first.col : args.back().col),
-                         "expected: OBSERVABLE OP NUMBER (e.g. t >= 0.5), or static, or steady");
+      const Token& obs = args[k];
+      if (is_op(obs.text) || obs.text == "and" || obs.text == "or")
+        throw ParseError(obs.col,
+                         "'" + obs.text + "' where an observable was expected (OBSERVABLE OP NUMBER, e.g. t >= 0.5)");
+      if (k + 1 == args.size()) throw ParseError(obs.col, "a comparison after '" + obs.text + "' (< <= > >= == !=)");
       Clause c;
-      c.observable = args[k].text;
+      c.observable = obs.text;
       c.op = args[k + 1].text;
-      static const char* ops[] = {"<", "<=", ">", ">=", "==", "!="};
       if (std::find(std::begin(ops), std::end(ops), c.op) == std::end(ops))
         throw ParseError(args[k + 1].col, "'" + c.op + "' is not a comparison (< <= > >= == !=)");
+      if (k + 2 == args.size()) throw ParseError(args[k + 1].col, "a number after '" + c.op + "'");
       const auto v = parse_number(args[k + 2].text);
       if (!v) throw ParseError(args[k + 2].col, "'" + args[k + 2].text + "' is not a number");
       c.value = *v;
       r.until.clauses.push_back(c);
       k += 3;
       if (k == args.size()) break;
-      if (args[k].text != "and" && args[k].text != "or") throw ParseError(args[k].col, "expected 'and' or 'or'");
+      if (args[k].text != "and" && args[k].text != "or")
+        throw ParseError(args[k].col, "'" + args[k].text + "' where 'and' or 'or' was expected");
       r.until.joined_by_and.push_back(args[k].text == "and");
       ++k;
       if (k == args.size()) throw ParseError(args[k - 1].col, "a condition after '" + args[k - 1].text + "'");

@@ -117,6 +117,27 @@ TEST_CASE("lists are one word, written as on the command line, and expand into t
   CHECK_THROWS_AS(expand_list(Token{"[a b]", 1}), ParseError);
 }
 
+TEST_CASE("a malformed condition is blamed at the word that is wrong, or the one a missing word follows") {
+  const auto error = [](const std::string& line) -> std::pair<int, std::string> {
+    try {
+      parse_run_length(parse_line(line)->args);
+    } catch (const ParseError& e) {
+      return {e.col, e.what()};
+    }
+    return {0, ""};
+  };
+  using E = std::pair<int, std::string>;
+  CHECK(error("run until ke") == E{11, "a comparison after 'ke' (< <= > >= == !=)"});
+  CHECK(error("run until ke <") == E{14, "a number after '<'"});
+  CHECK(error("run until ke 5") == E{14, "'5' is not a comparison (< <= > >= == !=)"});
+  CHECK(error("run until < 5") == E{11, "'<' where an observable was expected (OBSERVABLE OP NUMBER, e.g. t >= 0.5)"});
+  // (the second 'or' was read as an observable, and 't' blamed as not a comparison)
+  CHECK(error("run until ke < 5 or or t > 1").first == 21);
+  CHECK(error("run until ke<5 and >3").first == 20);
+  CHECK(error("run until ke < 5 xor t > 1") == E{18, "'xor' where 'and' or 'or' was expected"});
+  CHECK(error("run until ke < 5 and") == E{18, "a condition after 'and'"});
+}
+
 TEST_CASE("a condition needs no blanks around its comparisons, and until static and until steady parse") {
   const auto c = parse_line("run until t>=30 and ke<1e-3");
   REQUIRE(c);
