@@ -304,9 +304,10 @@ void Session::cmd_set(const Command& c) {
   discarded += ")";
   install(std::move(m), keep);
   overrides_ = std::move(next);
+  // (one line: what follows the values is of the change as a whole, not of its last key)
   for (size_t k = 0; k < changes.size(); ++k)
-    out_ << changes[k].key << " = " << shown_word(changes[k].value)
-         << (k + 1 < changes.size() ? "" : (same ? " (state kept)" : discarded)) << "\n";
+    out_ << (k ? ", " : "") << changes[k].key << " = " << shown_word(changes[k].value);
+  out_ << (same ? " (state kept)" : discarded) << "\n";
   note_step();
   if (same) preparation_note(*keep);
 }

@@ -375,7 +375,7 @@ TEST_CASE("set with several pairs is one change: a fluid's domain and cells vali
   CHECK_FALSE(f.run("set fluid.cells [128, 64]"));
   f.take_err();
   REQUIRE(f.run("set domain.hi [2.0, 1.0] fluid.cells [128, 64]"));
-  CHECK(contains(f.take_out(), "domain.hi = [2.0, 1.0]\nfluid.cells = [128, 64] (the domain or the fluid's grid"));
+  CHECK(contains(f.take_out(), "domain.hi = [2.0, 1.0], fluid.cells = [128, 64] (the domain or the fluid's grid"));
   REQUIRE(f.run("run 2"));
   CHECK(f.value("step") == 2);
   // A refusal names the whole change; a key twice, a key without a value and a run going on are refused.
