@@ -109,6 +109,14 @@ class Session {
   void cmd_help(const Command& c);
   void cmd_quit(const Command& c);
 
+  // `set`'s parts (session_set.cpp): the change read, steered, or compiled, and the notes after it.
+  struct SetChange;
+  SetChange read_set(const Command& c);
+  bool steer_set(const SetChange& ch);
+  void recompile_set(const SetChange& ch);
+  // (`kept`: the state kept through the change, or null)
+  void set_notes(const SetChange& ch, const State* kept);
+
   // Helpers.
   Simulation& sim();  // throws when no scene is loaded
   void require_stopped(const std::string& what) const;

@@ -1,0 +1,228 @@
+// The shell's `set`: one or several KEY VALUE pairs as one change, steered into the running model
+// where the key allows it, else compiled into a new one that keeps the state when it can.
+#include <algorithm>
+#include <optional>
+
+#include "shell/session.hpp"
+#include "silt/text.hpp"
+
+namespace silt::shell {
+namespace {
+
+// The values compile() chose for keys the scene does not give (fluid.viscosity from
+// fluid.reynolds, neighbor.skin, ...), but the run's length and step (said on their own).
+std::vector<std::pair<std::string, std::string>> computed_values(const Model& m) {
+  std::vector<std::pair<std::string, std::string>> out;
+  for (const auto& [key, given] : scene_parameters(m.desc)) {  // (the keys `params` shows)
+    const KeySpec* k = find_key_spec(key);
+    if (k->computed && key.rfind("run.", 0) != 0 && !m.desc.has(key))
+      if (std::string v = k->computed(m); !v.empty()) out.emplace_back(key, std::move(v));
+  }
+  return out;
+}
+
+// Whether a steerable key can change the dry compression that prepares a packing
+// (prepare.compress): not the keys of what the compression leaves out (the liquid, the shear, the
+// cycles) nor those of the output.
+const char* const kPreparationKept =
+    "note: the packing compressed at load is kept; `reset` compresses it again under this value, as `silt run "
+    "--set` does\n";
+
+bool enters_preparation(const std::string& key) {
+  // (the lubrication's range sets the neighbour list's, whose pairs the packing carries: the
+  // shell's kept packing and `silt run --set` parted by 1e-8 at their first solve)
+  if (key == "lubrication.h_max_over_a") return true;
+  for (const char* p : {"lubrication.", "shear.", "box.cycle", "output.", "render."})
+    if (key.rfind(p, 0) == 0) return false;
+  return true;
+}
+
+}  // namespace
+
+// One `set` as typed, and what the model was before it (for the notes after it).
+struct Session::SetChange {
+  std::vector<Override> changes;      // the pairs, keys canonical
+  std::string typed = "set";          // as typed, for messages
+  std::vector<Override> next;         // the changes typed so far, with these last
+  std::vector<std::string> replaced;  // the keys these are alternatives to
+  bool was_fixed = false;             // the step before: fixed, and its value
+  double dt_was = 0;
+  std::vector<std::pair<std::string, std::string>> computed_was;
+
+  bool typed_now(const std::string& key) const {
+    return std::any_of(changes.begin(), changes.end(), [&](const Override& o) { return o.key == key; });
+  }
+  bool replaced_by(const std::string& key) const {
+    return std::find(replaced.begin(), replaced.end(), key) != replaced.end();
+  }
+  bool several() const { return changes.size() > 1; }
+};
+
+// KEY VALUE, or several pairs taken as one change: values valid only together (a fluid's domain
+// and its cells, whose spacing must be the same along every axis) could not be set one at a time.
+Session::SetChange Session::read_set(const Command& c) {
+  if (c.args.size() % 2 != 0)
+    throw std::runtime_error("set takes KEY VALUE pairs: '" + c.args.back().text + "' has no value");
+  SetChange ch;
+  for (size_t k = 0; k < c.args.size(); k += 2) {
+    ch.changes.push_back({canonical_key(c.args[k].text), c.args[k + 1].text});
+    const std::string& key = ch.changes.back().key;
+    if (!find_key_spec(normalise_key(key))) throw std::runtime_error(unknown_key_message(key));
+    // (a key and one it is an alternative to: the last had replaced the first, unsaid, where a
+    // scene file giving both is refused)
+    const std::vector<std::string> others = alternatives_of(key);
+    for (size_t j = 0; j + 1 < ch.changes.size(); ++j) {
+      if (ch.changes[j].key == key) throw std::runtime_error("set: '" + key + "' is given twice");
+      if (std::find(others.begin(), others.end(), ch.changes[j].key) != others.end())
+        throw std::runtime_error("set: '" + ch.changes[j].key + "' and '" + key +
+                                 "' are alternatives: give one of them");
+    }
+    ch.typed += " " + key + " " + shown_word(c.args[k + 1].text);
+  }
+  // Each replaces an earlier value of its key, and the values of the keys it is an alternative to
+  // (fluid.reynolds replaces fluid.viscosity).
+  for (const Override& o : ch.changes)
+    for (const std::string& k : alternatives_of(o.key)) ch.replaced.push_back(k);
+  ch.next = overrides_;
+  ch.next.erase(std::remove_if(ch.next.begin(), ch.next.end(),
+                               [&](const Override& o) { return ch.typed_now(o.key) || ch.replaced_by(o.key); }),
+                ch.next.end());
+  ch.next.insert(ch.next.end(), ch.changes.begin(), ch.changes.end());
+  const Model& m = sim().model();
+  ch.was_fixed = !m.adaptive_dt;
+  ch.dt_was = m.dt;
+  ch.computed_was = computed_values(m);
+  return ch;
+}
+
+void Session::cmd_set(const Command& c) {
+  const SetChange ch = read_set(c);
+  const KeySpec* spec = find_key_spec(normalise_key(ch.changes.front().key));
+  if (spec->steerable && !ch.several() && steer_set(ch)) return;
+  if (running())
+    throw std::runtime_error(ch.several()
+                                 ? "set with several keys recompiles the scene: stop first"
+                                 : "'" + ch.changes.front().key +
+                                       "' cannot change while a run goes on (it is not steerable): stop first");
+  recompile_set(ch);
+}
+
+// A steerable key, into the model as it runs (or stands): false when the model cannot take it
+// stopped (a shear mode switched on or off, ...), which a recompile then does.
+bool Session::steer_set(const SetChange& ch) {
+  Simulation& s = sim();
+  const Override& change = ch.changes.front();
+  // The scene as the file and the values typed make it: a key's alternatives come back from the
+  // file when it replaces the value that had replaced them (`set gravity.vector V` then `set
+  // gravity.magnitude G` dropped the file's gravity.angle: the model's own scene had lost it,
+  // until a recompile or `reload` read it back). A value the scene refuses is left to steer().
+  std::optional<SceneDesc> scene;
+  try {
+    scene = scene_with(ch.next);
+  } catch (const SceneError&) {
+  }
+  const SceneDesc* as_set = scene ? &*scene : nullptr;
+  std::string error;
+  if (running()) {
+    at_boundary([&] { error = steer(s.model_for_steering(), change, as_set); });
+  } else {
+    const Simulation::SteerOutcome outcome = s.steer_stopped(change, as_set);
+    if (!outcome.refused.empty())
+      throw std::runtime_error(ch.typed + ": refused, the state cannot be solved under it (" + outcome.refused + ")");
+    error = outcome.cannot;
+  }
+  if (!error.empty()) {
+    if (running()) throw std::runtime_error("set " + change.key + ": " + error);
+    return false;
+  }
+  overrides_ = ch.next;
+  out_ << change.key << " = " << shown_word(change.value) << (running() ? " (from the next step)" : "") << "\n";
+  set_notes(ch, &s.state());
+  if (const RenderSettings& r = s.model().render; change.key == "render.field" && !r.field_range_auto)
+    out_ << "note: render.field_range = [" << format_number(r.field_range[0]) << ", " << format_number(r.field_range[1])
+         << "] colours it too (set render.field_range for " << r.field << ")\n";
+  return true;
+}
+
+// Recompile with the new values; keep the state of a run under way when the grains, the domain
+// and the fluid's grid are the same. Before the first step the state is made again from the
+// scene as changed (its positions, velocities, seed, a fluid's initial field), unless it was
+// given: a prepared packing (kPreparationKept) or a restored checkpoint (as `silt run --restore
+// X --set K=V`).
+void Session::recompile_set(const SetChange& ch) {
+  Simulation& s = sim();
+  // A refusal located at another key than the one typed (a value set before, the file's) says
+  // which was typed: `set render.height 8193` answered "set render.width: ... 9000 x 8193", `set
+  // fluid.reynolds 0.01` "set fluid.dt: ...".
+  const auto compiled = [&] {
+    try {
+      return compile(scene_with(ch.next));
+    } catch (const SceneError& e) {
+      if (!ch.several() && e.loc().file == "set " + ch.changes.front().key) throw;
+      throw std::runtime_error(ch.typed + ": refused with the value at " + e.loc().str() + ": " + e.message());
+    }
+  };
+  Model m = compiled();
+  // (grains frozen by `freeze` are kept frozen: the state was discarded as of other grains)
+  const Simulation::Recompile how = s.after_recompile(m);
+  const bool same = how == Simulation::Recompile::kStateKept;
+  // (a wall moved through the settled grains was taken, and the next step failed on an overlap of
+  // 2,062 %, advising stiffer contacts)
+  if (same)
+    if (const std::string conflict = s.kept_state_conflict(m); !conflict.empty())
+      throw std::runtime_error(ch.typed + ": refused, " + conflict);
+  std::optional<State> keep;
+  if (same) keep = s.state_to_carry();  // (the cycles go on from their phase: the state holds its origin)
+  const State& was = s.state();
+  const char* what = how == Simulation::Recompile::kGrainsChanged ? "the grains changed: back to t = 0"
+                     : how == Simulation::Recompile::kGridChanged
+                         ? "the domain or the fluid's grid changed: back to t = 0"
+                         : "the state at t = 0 made again";
+  std::string fate = same ? " (state kept)" : std::string(" (") + what;
+  if (!same && (was.step > 0 || stats_->rows().size() > 1))
+    fate += "; discarded: the run to t = " + format_number(was.t) + s.model().unit("s") + " (step " +
+            std::to_string(was.step) + ") and its " + std::to_string(stats_->rows().size()) + " sample(s)";
+  if (!same) fate += ")";
+  install(std::move(m), keep);
+  overrides_ = ch.next;
+  // (one line: what follows the values is of the change as a whole, not of its last key)
+  for (size_t k = 0; k < ch.changes.size(); ++k)
+    out_ << (k ? ", " : "") << ch.changes[k].key << " = " << shown_word(ch.changes[k].value);
+  out_ << fate << "\n";
+  set_notes(ch, same ? &*keep : nullptr);
+}
+
+// What changed with the values set besides them: a value compile() computes from them, a fixed step
+// that another key changed (fluid.reynolds over a scene's fluid.viscosity makes its fluid.dt read
+// in units of L / U, and a channel's step doubled without a word), a packing kept from before.
+void Session::set_notes(const SetChange& ch, const State* kept) {
+  const Model& m = sim().model();  // (a recompile installs another simulation)
+  // (a lid's speed set in a scene given by fluid.reynolds changed the viscosity, and the shell
+  // said only the speed)
+  for (const auto& now : computed_values(m)) {
+    const std::string& key = now.first;
+    const std::string& value = now.second;
+    const auto was =
+        std::find_if(ch.computed_was.begin(), ch.computed_was.end(), [&](const auto& kv) { return kv.first == key; });
+    if (was == ch.computed_was.end() || was->second == value || ch.typed_now(key) || ch.replaced_by(key)) continue;
+    const std::string unit = key_unit(*find_key_spec(key), m);
+    out_ << "note: " << key << " is now " << value << (unit.empty() ? "" : " " + unit) << " (it was " << was->second
+         << "), computed from the scene as it now reads\n";
+  }
+  // (not for the key that sets the step, nor its alternative: run.dt_over_tc is run.dt's)
+  const std::vector<std::string> sets_step = alternatives_of(m.dt_key);
+  const bool step_typed = ch.typed_now(m.dt_key) || std::any_of(sets_step.begin(), sets_step.end(),
+                                                                [&](const std::string& k) { return ch.typed_now(k); });
+  if (ch.was_fixed && !m.adaptive_dt && m.dt != ch.dt_was && !step_typed)
+    out_ << "note: the time step is now " << format_number(m.dt) << m.unit("s") << " (it was "
+         << format_number(ch.dt_was) << m.unit("s") << "), "
+         << (m.dt_key == "run.dt" && !m.desc.has("run.dt")
+                 ? std::string("the default step (0.02 t_c) of the scene as it now reads")
+                 : "from " + m.dt_key + " as the scene now reads it")
+         << "\n";
+  if (kept && kept->step == 0 && m.prepare.compress &&
+      std::any_of(ch.changes.begin(), ch.changes.end(), [](const Override& o) { return enters_preparation(o.key); }))
+    out_ << kPreparationKept;
+}
+
+}  // namespace silt::shell
