@@ -264,16 +264,19 @@ bool Condition::holds(const std::vector<double>& values, const std::vector<size_
   };
   // "and" binds tighter than "or": a or b and c is a or (b and c) (it was read left to right, (a or
   // b) and c, and "step >= 60 or t < 0 and dt < 0" never stopped).
-  bool term = eval(0);
-  for (size_t k = 1; k < clauses.size(); ++k) {
-    if (joined_by_and[k - 1]) {
-      term = term && eval(k);
-    } else {
-      if (term) return true;
-      term = eval(k);
-    }
+  for (size_t first = 0, last = 0; first < clauses.size(); first = last) {
+    last = term_end(first);
+    bool term = true;
+    for (size_t k = first; k < last && term; ++k) term = eval(k);
+    if (term) return true;
   }
-  return term;
+  return false;
+}
+
+size_t Condition::term_end(size_t k) const {
+  size_t e = k + 1;
+  while (e < clauses.size() && joined_by_and[e - 1]) ++e;
+  return e;
 }
 
 std::vector<Token> expand_list(const Token& t) {

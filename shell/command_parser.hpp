@@ -66,7 +66,8 @@ std::string suggest_command(std::string_view name);  // "" when nothing is close
 // arguments. Throws ParseError.
 const CommandSpec& check_command(const Command& c);
 
-// A condition of `run until`: observable comparisons joined by `and` / `or` (left to right).
+// A condition of `run until`: observable comparisons joined by `and` / `or`, `and` binding tighter:
+// an `or` of terms, each an `and` of clauses.
 struct Clause {
   std::string observable;
   std::string op;  // < <= > >= == !=
@@ -79,6 +80,8 @@ struct Condition {
   // clause k's observable, or values[column[k]] with a column map (an observable named by several
   // clauses, sampled once).
   bool holds(const std::vector<double>& values, const std::vector<size_t>* column = nullptr) const;
+  // The end of the term that clause k begins: its clauses are [k, term_end(k)).
+  size_t term_end(size_t k) const;
 };
 
 // How long `run` goes: N steps, a simulated time ("0.5s", "2e-3s"), until a condition, until

@@ -48,11 +48,8 @@ double until_steps_at_least(const Condition& c, double t, int64_t step, double d
 // smaller one, never holds ("step >= 10 and step < 5" ran without end). Only terms of t and step
 // clauses that certainly fail count; any other term may hold.
 bool until_never_holds(const Condition& c, double t, int64_t step) {
-  size_t k = 0;
-  while (k < c.clauses.size()) {
-    // One term: clauses k .. e - 1.
-    size_t e = k + 1;
-    while (e < c.clauses.size() && c.joined_by_and[e - 1]) ++e;
+  for (size_t k = 0, e = 0; k < c.clauses.size(); k = e) {
+    e = c.term_end(k);  // one term: clauses k .. e - 1
     bool never = false;
     for (const char* name : {"t", "step"}) {
       double lo = name[0] == 't' ? t : static_cast<double>(step), hi = HUGE_VAL;
@@ -72,7 +69,6 @@ bool until_never_holds(const Condition& c, double t, int64_t step) {
       never = never || lo > hi || (lo == hi && (lo_strict || hi_strict));
     }
     if (!never) return false;
-    k = e;
   }
   return true;
 }
