@@ -251,17 +251,36 @@ int64_t parse_every(const Token& t) {
   return *n;
 }
 
+namespace {
+
+bool compare(const Clause& c, double v) {
+  if (c.op == "<") return v < c.value;
+  if (c.op == "<=") return v <= c.value;
+  if (c.op == ">") return v > c.value;
+  if (c.op == ">=") return v >= c.value;
+  if (c.op == "==") return v == c.value;
+  return v != c.value;
+}
+
+}  // namespace
+
+bool Condition::exact_term_may_hold(double t, int64_t step) const {
+  for (size_t first = 0, last = 0; first < clauses.size(); first = last) {
+    last = term_end(first);
+    bool exact = false, clock_holds = true;
+    for (size_t k = first; k < last; ++k) {
+      const Clause& c = clauses[k];
+      exact = exact || (c.observable == "step" && c.op == "==");
+      if (c.observable == "t") clock_holds = clock_holds && compare(c, t);
+      if (c.observable == "step") clock_holds = clock_holds && compare(c, static_cast<double>(step));
+    }
+    if (exact && clock_holds) return true;
+  }
+  return false;
+}
+
 bool Condition::holds(const std::vector<double>& values, const std::vector<size_t>* column) const {
-  auto eval = [&](size_t k) {
-    const Clause& c = clauses[k];
-    const double v = values[column ? (*column)[k] : k];
-    if (c.op == "<") return v < c.value;
-    if (c.op == "<=") return v <= c.value;
-    if (c.op == ">") return v > c.value;
-    if (c.op == ">=") return v >= c.value;
-    if (c.op == "==") return v == c.value;
-    return v != c.value;
-  };
+  auto eval = [&](size_t k) { return compare(clauses[k], values[column ? (*column)[k] : k]); };
   // "and" binds tighter than "or": a or b and c is a or (b and c) (it was read left to right, (a or
   // b) and c, and "step >= 60 or t < 0 and dt < 0" never stopped).
   for (size_t first = 0, last = 0; first < clauses.size(); first = last) {

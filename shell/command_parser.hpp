@@ -80,6 +80,10 @@ struct Condition {
   // clause k's observable, or values[column[k]] with a column map (an observable named by several
   // clauses, sampled once).
   bool holds(const std::vector<double>& values, const std::vector<size_t>* column = nullptr) const;
+  // Whether a term that asks for a step exactly (step == N) has all its clauses on t and step
+  // holding at this time and step: where none has, the condition needs no other observable
+  // sampled between its regular tests.
+  bool exact_term_may_hold(double t, int64_t step) const;
   // The end of the term that clause k begins: its clauses are [k, term_end(k)).
   size_t term_end(size_t k) const;
 };

@@ -490,8 +490,12 @@ RunOptions Session::run_options(const RunLength& len, bool background) {
     }
     auto obs = std::make_shared<Observer>(m, names);
     const Condition cond = len.until;
-    // Cheap observables are tested at every step; the others every 10 steps.
-    opt.hooks.push_back({cheap || exact ? 1 : 10, [this, obs, cond, column](const State& st) {
+    // Cheap observables are tested at every step; the others every 10 steps, and in between only
+    // where a term asking for a step exactly may hold (sampling them at every step for "step ==
+    // 20000 or z_star > 100" made the chute's run 2.2 times as long).
+    const bool between = exact && !cheap;
+    opt.hooks.push_back({cheap || exact ? 1 : 10, [this, obs, cond, column, between](const State& st) {
+                           if (between && st.step % 10 != 0 && !cond.exact_term_may_hold(st.t, st.step)) return;
                            if (cond.holds(obs->sample(sim_->model(), st), &column)) {
                              until_met_ = true;
                              interrupt_ = true;

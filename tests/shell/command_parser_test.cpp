@@ -117,6 +117,17 @@ TEST_CASE("lists are one word, written as on the command line, and expand into t
   CHECK_THROWS_AS(expand_list(Token{"[a b]", 1}), ParseError);
 }
 
+TEST_CASE("a term asking for a step exactly may hold only where its clauses on t and step hold") {
+  const auto cond = [](const std::string& line) { return parse_run_length(parse_line(line)->args).until; };
+  const Condition c = cond("run until step == 7 and ke < 1 or z > 5");
+  CHECK(c.exact_term_may_hold(0.1, 7));
+  CHECK_FALSE(c.exact_term_may_hold(0.1, 8));  // the other observables need not be sampled at step 8
+  const Condition d = cond("run until z > 5 or t >= 1 and step == 20");
+  CHECK_FALSE(d.exact_term_may_hold(0.5, 20));
+  CHECK(d.exact_term_may_hold(1.0, 20));
+  CHECK_FALSE(cond("run until step >= 7 or ke < 1").exact_term_may_hold(0, 7));  // no exact step asked
+}
+
 TEST_CASE("a malformed condition is blamed at the word that is wrong, or the one a missing word follows") {
   const auto error = [](const std::string& line) -> std::pair<int, std::string> {
     try {
