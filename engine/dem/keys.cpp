@@ -19,7 +19,7 @@ std::vector<KeySpec> dem_keys() {
       {"contact.damping", K::kReal, Value(0.0), Range::closed(0, 10), "", false, {}, "hertz, linear: dashpot as a fraction zeta of critical damping, 2 zeta sqrt(m* K_N)."},
       {"contact.young_modulus", K::kReal, std::nullopt, Range::positive(), "Pa", false, {}, "hertz: Young modulus E; may be left out where every group and wall gives its own (or the wall is rigid)."},
       {"contact.poisson_ratio", K::kReal, Value(0.3), Range::open(-1, 0.5), "", false, {}, "hertz: Poisson ratio nu; E~ = E / (1 - nu^2)."},
-      {"contact.hertz_ref_overlap", K::kReal, Value(0.01), Range::open_closed(0, 0.5), "", false, {}, "hertz: overlap (fraction of the reduced radius) at which contact time and time step are quoted."},
+      {"contact.hertz_ref_overlap", K::kReal, Value(0.01), Range::open_closed(0, 0.5), "", false, {}, "hertz: overlap at which contact time and time step are quoted, a fraction of R_eq, 2/R_eq = 1/r_i + 1/r_j (Peyneau eq. 1.22: the radius itself for two like grains, not half of it)."},
       {"contact.clip_attractive", K::kBool, Value(false), Range::any(), "", false, {}, "Clip the normal force at zero so that the dashpot never attracts (Izard eq. 3.13)."},
       {"contact.friction", K::kReal, Value(0.0), Range::closed(0, 10), "", true, {}, "Coulomb friction coefficient mu between grains; 0 is frictionless."},
       {"contact.kt_over_kn", K::kReal, Value(2.0 / 7.0), Range::closed(0, 10), "", false, {}, "Tangential spring stiffness k_t / k_n."},
