@@ -27,7 +27,8 @@ namespace {
 // needs it.
 double contact_or_own(const SceneDesc& d, const std::string& own) {
   const std::string key = "contact." + own;
-  if (d.has(key) || d.group_count("grains") == 0) return d.real(key);
+  if (d.has(key)) return d.real(key);
+  if (d.group_count("grains") == 0) return 0;  // (refused for that by setup_grains; it blamed contact.k_n)
   std::string without;
   auto need = [&](const std::string& prefix, bool may_be_rigid) {
     if (d.has(prefix + own) || (may_be_rigid && d.has(prefix + "rigid") && d.boolean(prefix + "rigid"))) return;

@@ -143,8 +143,12 @@ std::string describe_dem(const Model& m) {
   const double g = m.gravity.norm();
   if (g > 0) {
     // Stiffness relative to a grain's weight: overlap under its own weight / radius.
+    // (of the softest pair of groups: the stiffest's, 1e-4 where the soft group's was 1e-3, read as
+    // every grain's)
     const double mg = m.m_mean * g;
-    o << "groups       weight overlap m g / (k_n r) = " << mg / (m.k_max * m.r_mean) << "\n";
+    const double softest = m.k_max * (m.kappa_stiffness_min / m.kappa_stiffness_max);
+    o << "groups       weight overlap m g / (k_n r) = " << mg / (softest * m.r_mean)
+      << (m.kappa_stiffness_min < m.kappa_stiffness_max ? " (the softest pair's)" : "") << "\n";
   }
   return o.str();
 }

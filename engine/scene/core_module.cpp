@@ -179,7 +179,12 @@ void finish_core(const SceneDesc& d, Model& m) {
 std::string describe_core(const Model& m) {
   std::ostringstream o;
   o.precision(5);
-  o << "scene        " << (m.scene_name.empty() ? m.scene_file : m.scene_name) << "\n";
+  // (quoted where it holds control characters, which went to the terminal as they were)
+  const std::string name = m.scene_name.empty() ? m.scene_file : m.scene_name;
+  const bool plain = std::none_of(name.begin(), name.end(), [](char c) {
+    return static_cast<unsigned char>(c) < 0x20 || c == 0x7f;
+  });
+  o << "scene        " << (plain ? name : toml_quoted(name)) << "\n";
   o << "dimension    " << m.dim << (m.dim == 2 ? " (disks)" : " (spheres)") << "\n";
   o << "modules     ";
   for (const std::string& name : m.modules) o << " " << name;

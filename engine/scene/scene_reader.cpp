@@ -225,8 +225,10 @@ void apply_override_at(SceneDesc& desc, const Override& o, int ordinal, bool bat
   const std::string path = canonical_key(o.key);
   const std::string norm = normalise_key(path);
   const KeySpec* spec = find_key_spec(norm);
-  if (!spec) throw SceneError(where, unknown_key_message(path));
-  if (const std::string missing = desc.missing_entry(path); !missing.empty()) throw SceneError(where, missing);
+  // (the key's errors at the key, column 1; the value's after "KEY=")
+  const FileLoc at_key{"--set", ordinal, 1};
+  if (!spec) throw SceneError(at_key, unknown_key_message(path));
+  if (const std::string missing = desc.missing_entry(path); !missing.empty()) throw SceneError(at_key, missing);
   toml::table t;
   if (beyond_doubles(o.value)) throw SceneError(where, "'" + path + "' = " + o.value + kBeyond);
   const auto parse = [](const std::string& text) {
