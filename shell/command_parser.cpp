@@ -262,19 +262,31 @@ bool compare(const Clause& c, double v) {
   return v != c.value;
 }
 
+// Whether the clauses of [first, last) on t and step hold at (t, step).
+bool clock_holds(const std::vector<Clause>& clauses, size_t first, size_t last, double t, int64_t step) {
+  bool holds = true;
+  for (size_t k = first; k < last && holds; ++k) {
+    const Clause& c = clauses[k];
+    if (c.observable == "t") holds = compare(c, t);
+    if (c.observable == "step") holds = compare(c, static_cast<double>(step));
+  }
+  return holds;
+}
+
 }  // namespace
 
-bool Condition::exact_term_may_hold(double t, int64_t step) const {
+bool Condition::has_window() const {
+  return std::any_of(clauses.begin(), clauses.end(), [](const Clause& c) {
+    return (c.observable == "t" || c.observable == "step") && (c.op == "<" || c.op == "<=" || c.op == "==");
+  });
+}
+
+bool Condition::window_closes(double t, int64_t step, double dt, int64_t ahead) const {
   for (size_t first = 0, last = 0; first < clauses.size(); first = last) {
     last = term_end(first);
-    bool exact = false, clock_holds = true;
-    for (size_t k = first; k < last; ++k) {
-      const Clause& c = clauses[k];
-      exact = exact || (c.observable == "step" && c.op == "==");
-      if (c.observable == "t") clock_holds = clock_holds && compare(c, t);
-      if (c.observable == "step") clock_holds = clock_holds && compare(c, static_cast<double>(step));
-    }
-    if (exact && clock_holds) return true;
+    if (clock_holds(clauses, first, last, t, step) &&
+        !clock_holds(clauses, first, last, t + static_cast<double>(ahead) * dt, step + ahead))
+      return true;
   }
   return false;
 }
@@ -385,12 +397,19 @@ RunLength parse_run_length(const std::vector<Token>& all) {
     size_t k = 0;
     for (;;) {
       const Token& obs = args[k];
+      for (size_t a = k; a < args.size() && a < k + 3; ++a)
+        if (args[a].text.find_first_of("()") != std::string::npos)
+          throw ParseError(args[a].col, "no parentheses in a condition: 'and' binds tighter than 'or'");
+      if (parse_number(obs.text))
+        throw ParseError(obs.col,
+                         "'" + obs.text + "' where an observable was expected: OBSERVABLE OP NUMBER (t >= 0.5)");
       if (is_op(obs.text) || obs.text == "and" || obs.text == "or")
         throw ParseError(obs.col,
                          "'" + obs.text + "' where an observable was expected (OBSERVABLE OP NUMBER, e.g. t >= 0.5)");
       if (k + 1 == args.size()) throw ParseError(obs.col, "a comparison after '" + obs.text + "' (< <= > >= == !=)");
       Clause c;
       c.observable = obs.text;
+      c.col = obs.col;
       c.op = args[k + 1].text;
       if (std::find(std::begin(ops), std::end(ops), c.op) == std::end(ops))
         throw ParseError(args[k + 1].col, "'" + c.op + "' is not a comparison (< <= > >= == !=)");

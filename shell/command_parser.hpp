@@ -72,6 +72,7 @@ struct Clause {
   std::string observable;
   std::string op;  // < <= > >= == !=
   double value = 0;
+  int col = 0;  // of the observable, for messages
 };
 struct Condition {
   std::vector<Clause> clauses;
@@ -80,10 +81,13 @@ struct Condition {
   // clause k's observable, or values[column[k]] with a column map (an observable named by several
   // clauses, sampled once).
   bool holds(const std::vector<double>& values, const std::vector<size_t>* column = nullptr) const;
-  // Whether a term that asks for a step exactly (step == N) has all its clauses on t and step
-  // holding at this time and step: where none has, the condition needs no other observable
-  // sampled between its regular tests.
-  bool exact_term_may_hold(double t, int64_t step) const;
+  // Whether a term bounds t or step from above (<, <=, ==): its window of time may close
+  // between two tests every 10 steps ("step == 57", "step > 56 and step < 58").
+  bool has_window() const;
+  // Whether a term's clauses on t and step all hold at (t, step) and not `ahead` steps of dt
+  // later: a window that closes before the next regular test, in which the term must be tested
+  // now. Where none does, the condition needs no other observable sampled before that test.
+  bool window_closes(double t, int64_t step, double dt, int64_t ahead) const;
   // The end of the term that clause k begins: its clauses are [k, term_end(k)).
   size_t term_end(size_t k) const;
 };

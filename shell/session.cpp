@@ -68,6 +68,10 @@ bool until_never_holds(const Condition& c, double t, int64_t step) {
       }
       never = never || lo > hi || (lo == hi && (lo_strict || hi_strict));
     }
+    // (a step count is whole: "step == 57.5" ran without end)
+    for (size_t j = k; j < e; ++j)
+      never = never || (c.clauses[j].observable == "step" && c.clauses[j].op == "==" &&
+                        c.clauses[j].value != std::floor(c.clauses[j].value));
     if (!never) return false;
   }
   return true;
@@ -381,7 +385,7 @@ RunOptions Session::run_options(const RunLength& len, bool background) {
       if (until_never_holds(len.until, s.state().t, s.state().step))
         throw std::runtime_error(
             "run until: the condition can never hold: t and step only grow, and it asks them to be below where they "
-            "are, or above a value and below a smaller one");
+            "are, above a value and below a smaller one, or a step that is not whole");
       // (`run until t >= 1e300` ran until killed: as `run 1e300s`, refused)
       if (m.adaptive_dt) break;
       const double least = until_steps_at_least(len.until, s.state().t, s.state().step, m.dt);
@@ -479,25 +483,30 @@ RunOptions Session::run_options(const RunLength& len, bool background) {
     // Each observable sampled once, however many clauses name it ("step >= 5 or step >= 10").
     std::vector<std::string> names;
     std::vector<size_t> column;  // clause k reads names[column[k]]
-    bool cheap = true, exact = false;
+    bool cheap = true;
     for (const Clause& c : len.until.clauses) {
       const auto at = std::find(names.begin(), names.end(), c.observable);
       column.push_back(static_cast<size_t>(at - names.begin()));
       if (at == names.end()) names.push_back(c.observable);
       cheap = cheap && (c.observable == "t" || c.observable == "step" || c.observable == "dt");
-      // (a step asked exactly holds at one step only: tested every 10 steps, "step == 7 or ke < 0" ran on)
-      exact = exact || (c.observable == "step" && c.op == "==");
     }
     auto obs = std::make_shared<Observer>(m, names);
     const Condition cond = len.until;
-    // Cheap observables are tested at every step; the others every 10 steps, and in between only
-    // where a term asking for a step exactly may hold (sampling them at every step for "step ==
-    // 20000 or z_star > 100" made the chute's run 2.2 times as long).
-    const bool between = exact && !cheap;
-    opt.hooks.push_back({cheap || exact ? 1 : 10, [this, obs, cond, column, between](const State& st) {
-                           if (between && st.step % 10 != 0 && !cond.exact_term_may_hold(st.t, st.step)) return;
+    // Cheap observables are tested at every step; the others every 10 steps, and in between where
+    // a term's window of t and step closes before the next test (tested every 10 steps, "step == 7
+    // or ke < 0" ran on; sampled at every step, "step == 20000 or z_star > 100" made the chute's
+    // run 2.2 times as long). A condition that t and step have made impossible ends the run
+    // ("t >= 0.001 and step == 90" ran on past step 90).
+    constexpr int64_t kEvery = 10;
+    const bool windows = !cheap && cond.has_window();
+    opt.hooks.push_back({cheap || windows ? 1 : kEvery, [this, obs, cond, column, cheap](const State& st) {
+                           const bool regular = cheap || st.step % kEvery == 0;
+                           if (!regular && !cond.window_closes(st.t, st.step, st.dt, kEvery - st.step % kEvery)) return;
                            if (cond.holds(obs->sample(sim_->model(), st), &column)) {
-                             until_met_ = true;
+                             until_end_ = UntilEnd::kMet;
+                             interrupt_ = true;
+                           } else if (regular && until_never_holds(cond, st.t, st.step)) {
+                             until_end_ = UntilEnd::kNeverHolds;
                              interrupt_ = true;
                            }
                          }});
@@ -512,8 +521,7 @@ void Session::run_for(const RunLength& len, bool background) {
                              "); restore a checkpoint, reset, or change the parameter and reset");
   if (len.kind == RunLength::kUntil)
     for (const Clause& c : len.until.clauses)
-      if (const std::string err = check_observable(c.observable, s.model()); !err.empty())
-        throw std::runtime_error(err);
+      if (const std::string err = check_observable(c.observable, s.model()); !err.empty()) throw ParseError(c.col, err);
   RunOptions opt = run_options(len, background);
   // Says how the run ended. After a failure the state goes back to the last good one (it can be
   // saved, or run again once the parameter is changed) and the failure's message is returned.
@@ -524,7 +532,11 @@ void Session::run_for(const RunLength& len, bool background) {
       case RunEnd::kDone: how = "done"; break;
       case RunEnd::kStatic: how = "static"; break;
       case RunEnd::kSteady: how = "steady"; break;
-      case RunEnd::kInterrupted: how = until_met_ ? "condition met" : "paused"; break;
+      case RunEnd::kInterrupted:
+        how = until_end_ == UntilEnd::kMet          ? "condition met"
+              : until_end_ == UntilEnd::kNeverHolds ? "the condition can no longer hold (t and step only grow)"
+                                                    : "paused";
+        break;
       case RunEnd::kFailed: failure = st.failure.message; break;
     }
     // A foreground failure is the command's error (on err); a background one has only this line.
@@ -540,7 +552,7 @@ void Session::run_for(const RunLength& len, bool background) {
     return failure;
   };
   interrupt_ = false;
-  until_met_ = false;
+  until_end_ = UntilEnd::kNone;
   if (!background) {
     std::optional<cli::Progress> bar;
     if (progress_) {
@@ -577,8 +589,9 @@ void Session::run_for(const RunLength& len, bool background) {
     if (frames_) frames_->finish();
     if (const std::string fresh = note_output_errors(); !fresh.empty()) say(fresh, true);
     shown_t_ = sim_->state().t;
-    background_end_step_ = sim_->state().step;                               // read after the join
-    background_interrupted_ = r.end == RunEnd::kInterrupted && !until_met_;  // (an `until` ends so too)
+    background_end_step_ = sim_->state().step;  // read after the join
+    background_interrupted_ =
+        r.end == RunEnd::kInterrupted && until_end_ == UntilEnd::kNone;  // (an `until` ends so too)
     serve_requests(true);  // the requests that came after the last step; no more after these
   });
   say("running in the background (stop pauses it)", false);

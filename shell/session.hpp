@@ -211,7 +211,9 @@ class Session {
   int64_t background_end_step_ = 0;              // where the last background run ended
   bool background_interrupted_ = false;          // and whether Ctrl-C ended it
   bool background_waited_ = false;               // the last `start` was followed by `wait`, not `stop`
-  std::atomic<bool> until_met_{false};
+  // How a `run until` ended the run: its condition met, or made impossible by t and step.
+  enum class UntilEnd : uint8_t { kNone, kMet, kNeverHolds };
+  std::atomic<UntilEnd> until_end_{UntilEnd::kNone};
   std::mutex mutex_;
   std::condition_variable cv_;
   std::deque<std::function<void()>> requests_;

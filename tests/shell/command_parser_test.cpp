@@ -117,15 +117,19 @@ TEST_CASE("lists are one word, written as on the command line, and expand into t
   CHECK_THROWS_AS(expand_list(Token{"[a b]", 1}), ParseError);
 }
 
-TEST_CASE("a term asking for a step exactly may hold only where its clauses on t and step hold") {
+TEST_CASE("a term is tested between regular tests where its window of t and step closes before the next") {
   const auto cond = [](const std::string& line) { return parse_run_length(parse_line(line)->args).until; };
   const Condition c = cond("run until step == 7 and ke < 1 or z > 5");
-  CHECK(c.exact_term_may_hold(0.1, 7));
-  CHECK_FALSE(c.exact_term_may_hold(0.1, 8));  // the other observables need not be sampled at step 8
-  const Condition d = cond("run until z > 5 or t >= 1 and step == 20");
-  CHECK_FALSE(d.exact_term_may_hold(0.5, 20));
-  CHECK(d.exact_term_may_hold(1.0, 20));
-  CHECK_FALSE(cond("run until step >= 7 or ke < 1").exact_term_may_hold(0, 7));  // no exact step asked
+  CHECK(c.has_window());
+  CHECK(c.window_closes(0.1, 7, 0.01, 3));
+  CHECK_FALSE(c.window_closes(0.1, 8, 0.01, 2));  // the other observables need not be sampled at step 8
+  const Condition w = cond("run until step > 56 and step < 58 and ke > 0");  // a window of one step
+  CHECK(w.window_closes(0, 57, 1, 3));
+  CHECK_FALSE(w.window_closes(0, 55, 1, 5));
+  const Condition d = cond("run until z > 5 or t < 1 and ke < 1e-3");
+  CHECK_FALSE(d.window_closes(0.5, 50, 0.01, 10));  // open at the next test: that test will do
+  CHECK(d.window_closes(0.95, 95, 0.01, 5));
+  CHECK_FALSE(cond("run until step >= 7 or ke < 1").has_window());  // no window closes
 }
 
 TEST_CASE("a malformed condition is blamed at the word that is wrong, or the one a missing word follows") {
@@ -147,6 +151,8 @@ TEST_CASE("a malformed condition is blamed at the word that is wrong, or the one
   CHECK(error("run until ke<5 and >3").first == 20);
   CHECK(error("run until ke < 5 xor t > 1") == E{18, "'xor' where 'and' or 'or' was expected"});
   CHECK(error("run until ke < 5 and") == E{18, "a condition after 'and'"});
+  CHECK(error("run until 1 >= t") == E{11, "'1' where an observable was expected: OBSERVABLE OP NUMBER (t >= 0.5)"});
+  CHECK(error("run until (t >= 1)") == E{11, "no parentheses in a condition: 'and' binds tighter than 'or'"});
 }
 
 TEST_CASE("a condition needs no blanks around its comparisons, and until static and until steady parse") {

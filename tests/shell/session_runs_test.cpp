@@ -302,7 +302,7 @@ TEST_CASE("run until samples an observable once however many clauses name it") {
   // A condition t and step can never meet, as they only grow, is refused (it ran without end); one
   // term that can hold is enough.
   for (const char* never : {"run until step >= 40 and step < 30", "run until step < 10", "run until t < 0 or step == 3",
-                            "run until step > 50 and step <= 50"}) {
+                            "run until step > 50 and step <= 50", "run until step == 57.5"}) {
     CAPTURE(never);
     CHECK_FALSE(f.run(never));
     CHECK(contains(f.take_err(), "the condition can never hold"));
@@ -313,6 +313,18 @@ TEST_CASE("run until samples an observable once however many clauses name it") {
   // missed between two tests, and the run went on without end).
   REQUIRE(f.run("run until step == 33 or ke < 0"));
   CHECK(f.value("step") == 33);
+  // A window of one step beside an observable sampled every 10 steps (it was missed, and the run
+  // went on without end).
+  REQUIRE(f.run("run until step > 36 and step < 38 and ke >= 0"));
+  CHECK(f.value("step") == 37);
+  // A condition that t and step make impossible as the run goes on ends it (it ran on past step 45).
+  f.take_out();
+  REQUIRE(f.run("run until step == 45 and ke < 0"));
+  CHECK(contains(f.take_out(), "the condition can no longer hold (t and step only grow)"));
+  CHECK(f.value("step") == 50);
+  // An unknown observable is located in the condition.
+  CHECK_FALSE(f.run("run until step > 60 or kee < 1"));
+  CHECK(contains(f.take_err(), "column 24: unknown observable 'kee'"));
 }
 
 TEST_CASE("a field's colour range is said to apply to the field set after it, and refused for a magnitude below 0") {
