@@ -62,6 +62,7 @@ std::optional<Command> parse_line(std::string_view line) {
         }
       }
       if (!closed) throw ParseError(t.col, "unterminated quote");
+      t.raw = line.substr(static_cast<size_t>(t.col) - 1, i - static_cast<size_t>(t.col) + 1);
       if (i < n && line[i] != ' ' && line[i] != '\t' && line[i] != '#' && line[i] != '\r' && line[i] != '\n')
         throw ParseError(static_cast<int>(i) + 1, "a quoted word must be followed by a blank");
     } else if (c == '\'') {
@@ -69,6 +70,7 @@ std::optional<Command> parse_line(std::string_view line) {
       const size_t close = line.find('\'', i + 1);
       if (close == std::string::npos) throw ParseError(t.col, "unterminated quote");
       t.text = line.substr(i + 1, close - i - 1);
+      t.raw = line.substr(i, close - i + 1);
       for (size_t k = i + 1; k < close; ++k)
         if (static_cast<unsigned char>(line[k]) < 32 && line[k] != '\t')
           throw ParseError(static_cast<int>(k) + 1, "control character");
@@ -454,12 +456,15 @@ std::string quoted_word(std::string_view text) {
 }
 
 std::string shown_word(std::string_view text) {
-  // (a list, [0, 0, -1], is one word with its blanks)
+  // (a list, [0, 0, -1] or ["a", 'b'], is one word with its blanks and quotes; a TOML string kept
+  // as typed, "a\tb" or 'c', is itself)
   const bool list = text.size() >= 2 && text.front() == '[' && text.back() == ']';
+  const bool typed = text.size() >= 2 && (text.front() == '"' || text.front() == '\'') && text.back() == text.front();
+  if (typed) return std::string(text);
   const bool plain = !text.empty() && std::none_of(text.begin(), text.end(), [list](char ch) {
     const auto c = static_cast<unsigned char>(ch);
-    return (c <= ' ' && !(list && ch == ' ')) || c == 0x7f || ch == '\'' || ch == '\\' || ch == '#' ||
-           (ch == '"' && !list);
+    return (c <= ' ' && !(list && ch == ' ')) || c == 0x7f || ch == '\\' || ch == '#' ||
+           ((ch == '"' || ch == '\'') && !list);
   });
   if (plain) return std::string(text);
   std::string out = "\"";

@@ -14,7 +14,8 @@ namespace silt::shell {
 
 struct Token {
   std::string text;
-  int col = 0;  // 1-based column of the token's first character
+  int col = 0;      // 1-based column of the token's first character
+  std::string raw;  // a quoted word as typed, its quotes included (a TOML string); "" for others
 };
 
 struct Command {
@@ -37,7 +38,7 @@ std::optional<Command> parse_line(std::string_view line);
 std::string quoted_word(std::string_view text);
 // A word as a message shows what was typed: as it is, or quoted where it would not read back as
 // one word (empty, blanks outside a [list], quotes, a backslash, a '#', control bytes); "x y" was
-// echoed as x y.
+// echoed as x y. A quoted word kept as typed (Token::raw) shows as it is.
 std::string shown_word(std::string_view text);
 // A script's line without the byte order mark an editor may put at the start of a file (the
 // first command was then unknown).

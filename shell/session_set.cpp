@@ -65,9 +65,13 @@ Session::SetChange Session::read_set(const Command& c) {
     throw std::runtime_error("set takes KEY VALUE pairs: '" + c.args.back().text + "' has no value");
   SetChange ch;
   for (size_t k = 0; k < c.args.size(); k += 2) {
-    ch.changes.push_back({canonical_key(c.args[k].text), c.args[k + 1].text});
-    const std::string& key = ch.changes.back().key;
-    if (!find_key_spec(normalise_key(key))) throw std::runtime_error(unknown_key_message(key));
+    const std::string key = canonical_key(c.args[k].text);
+    const KeySpec* spec = find_key_spec(normalise_key(key));
+    if (!spec) throw std::runtime_error(unknown_key_message(key));
+    // A quoted word for a key that takes a string is the TOML string typed, escapes and all
+    // ("tab\there" kept its backslash, where a scene file reads a tab).
+    const Token& value = c.args[k + 1];
+    ch.changes.push_back({key, spec->type == KeyType::kString && !value.raw.empty() ? value.raw : value.text});
     // (a key and one it is an alternative to: the last had replaced the first, unsaid, where a
     // scene file giving both is refused)
     const std::vector<std::string> others = alternatives_of(key);
@@ -77,7 +81,7 @@ Session::SetChange Session::read_set(const Command& c) {
         throw std::runtime_error("set: '" + ch.changes[j].key + "' and '" + key +
                                  "' are alternatives: give one of them");
     }
-    ch.typed += " " + key + " " + shown_word(c.args[k + 1].text);
+    ch.typed += " " + key + " " + shown_word(ch.changes.back().value);
   }
   // Each replaces an earlier value of its key, and the values of the keys it is an alternative to
   // (fluid.reynolds replaces fluid.viscosity).

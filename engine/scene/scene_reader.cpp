@@ -234,13 +234,19 @@ void apply_override_at(SceneDesc& desc, const Override& o, int ordinal, bool bat
   const auto parse = [](const std::string& text) {
     return toml::parse(std::string_view("v = " + text), std::string_view("--set"));
   };
+  // A value that begins as a TOML string, list or table is read as one, or refused ("unterminated
+  // was kept with its quote).
+  const bool toml_form = !o.value.empty() && std::string_view("\"'[{").find(o.value[0]) != std::string_view::npos;
   try {
     t = parse(o.value);
-  } catch (const toml::parse_error&) {
+  } catch (const toml::parse_error& e) {
+    if (toml_form) throw SceneError(where, "cannot read the value of " + o.key + ": " + std::string(e.description()));
   }
-  // A bare word is a string, as typed (its quotes and backslashes were read as escapes); so is any
-  // word for a key that takes a string (grains.0.name=5 was refused as not a string).
-  if (!t.get("v") || (spec->type == KeyType::kString && !t.get("v")->is_string())) {
+  // A bare word is a string, as typed (its quotes and backslashes were read as escapes); so is a
+  // word that reads as a number, a boolean or a date, for a key that takes a string
+  // (grains.0.name=5 was refused as not a string).
+  const toml::node* v = t.get("v");
+  if (!v || (spec->type == KeyType::kString && !toml_form && !v->is_string())) {
     try {
       t = parse(toml_quoted(o.value));
     } catch (const toml::parse_error& e) {

@@ -96,24 +96,28 @@ TEST_CASE("values no scene can supply are refused at their key") {
     const char* set;
     std::vector<const char*> says;
   };
-  for (const Refused& c : {Refused{"silo",
-                                   "gravity.magnitude=1e300",
-                                   {"--set:1:19: a grain's weight alone", "reduce the gravity below 4.081e+05 m/s^2"}},
-                           Refused{"pack_2d",
-                                   "box.pressure=1e10",
-                                   {"--set:1:14: the pressure 1e+10 N/m gives a stiffness number kappa = 1e-06 below 1",
-                                    "kappa is 1 at 1e+04 N/m"}},
-                           // (an imposed shear stress alike: it failed at step 1 advising a larger k_n)
-                           Refused{"shear2d_dry",
-                                   "shear.stress=1e300",
-                                   {"--set:1:14: the shear stress 1e+300 N/m gives a stiffness number kappa = 1e-296",
-                                    "kappa is 1 at 1e+04 N/m"}},
-                           // (a stress cycle at its peak, P (1 + 2 d) biaxial: kappa 1.11 at the mean passed)
-                           Refused{"paste_cyclic_biaxial",
-                                   "box.pressure=9000",
-                                   {"--set:1:14: the cycle's largest stress 1.08e+04 gives a stiffness number "
-                                    "kappa = 0.926 below 1"}},
-                           Refused{"shear3d_frictionless", "contact.poisson_ratio=-1", {"(-1, 0.5)"}}}) {
+  for (const Refused& c :
+       {Refused{"silo",
+                "gravity.magnitude=1e300",
+                {"--set:1:19: a grain's weight alone", "reduce the gravity below 4.081e+05 m/s^2"}},
+        Refused{"pack_2d",
+                "box.pressure=1e10",
+                {"--set:1:14: the pressure 1e+10 N/m gives a stiffness number kappa = 1e-06 below 1",
+                 "kappa is 1 at 1e+04 N/m"}},
+        // (an imposed shear stress alike: it failed at step 1 advising a larger k_n)
+        Refused{"shear2d_dry",
+                "shear.stress=1e300",
+                {"--set:1:14: the shear stress 1e+300 N/m gives a stiffness number kappa = 1e-296",
+                 "kappa is 1 at 1e+04 N/m"}},
+        // (a stress cycle at its peak, P (1 + 2 d) biaxial: kappa 1.11 at the mean passed)
+        Refused{"paste_cyclic_biaxial",
+                "box.pressure=9000",
+                {"--set:1:14: the cycle's largest stress 1.08e+04 gives a stiffness number "
+                 "kappa = 0.926 below 1"}},
+        Refused{"shear3d_frictionless", "contact.poisson_ratio=-1", {"(-1, 0.5)"}},
+        // (a value begun as a TOML string and left unfinished was kept, its quote included)
+        Refused{"chute", "'scene.name=\"unfinished'", {"--set:1:12: cannot read the value of scene.name"}},
+        Refused{"chute", "bogus.key=3", {"--set:1:1: unknown key 'bogus.key'"}}}) {
     CAPTURE(c.set);
     r = silt_cli("check " + scene_path(c.scene) + " --set " + c.set);
     CHECK(r.code == 2);

@@ -217,6 +217,18 @@ TEST_CASE("a string set with quotes, backslashes or blanks is the string typed, 
   f.take_out();
   REQUIRE(f.run("get grains.0.name"));
   CHECK(f.take_out() == "grains[0].name = \"5\"\n");
+  // A quoted word for a string key is a TOML string, escapes included, echoed as typed ("42" was
+  // echoed as 42, "tab\there" kept its backslash); one TOML refuses is refused.
+  REQUIRE(f.run("set grains.0.name \"tab\\there\""));
+  CHECK(f.take_out() == "grains[0].name = \"tab\\there\" (the state at t = 0 made again)\n");
+  REQUIRE(f.run("get grains.0.name"));
+  CHECK(f.take_out() == "grains[0].name = \"tab\\there\"\n");
+  REQUIRE(f.run("set grains.0.name '42'"));
+  CHECK(f.take_out() == "grains[0].name = '42' (the state at t = 0 made again)\n");
+  CHECK_FALSE(f.run("set grains.0.name \"a\\q\""));
+  CHECK(contains(f.take_err(), "unknown escape sequence"));
+  CHECK_FALSE(f.run("set grains.0.name [1, 2]"));  // a list is not a name
+  CHECK(contains(f.take_err(), "must be a string"));
 }
 
 TEST_CASE("a value set over the one that replaced its alternatives gives the file's others back, running or not") {
