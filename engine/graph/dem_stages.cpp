@@ -94,7 +94,7 @@ void diagnose_dem(GraphBuilder& b) {
     non_finite(m, s, e.first(), f);
     f.step = s.step - 1;
   });
-  b.diagnose(event::kOverlap, [](const Model& m, const State& s, const EventSlot& e, StepFailure& f) {
+  b.diagnose(event::kOverlap, [step_advice](const Model& m, const State& s, const EventSlot& e, StepFailure& f) {
     const int64_t i = e.first(), id = s.particle_id[i];
     // The wall the grain overlaps beyond the limit, if one does, and its overlap: the key of that
     // contact's law is the one to name (a wall of young_modulus 1e-300 was reported against
@@ -120,9 +120,20 @@ void diagnose_dem(GraphBuilder& b) {
       f.message = what + ": the step of " + format_number(s.dt, 4) + m.unit("s") +
                   " moved the grains into each other; lower " + f.parameter;
     } else if (s.dt > m.dt_stable) {
-      f.parameter = "run.dt";
+      f.parameter = m.dt_key;
       f.message = what + ": the time step " + format_number(s.dt, 4) + m.unit("s") + " exceeds the stability limit " +
-                  format_number(m.dt_stable, 4) + m.unit("s") + "; reduce run.dt";
+                  format_number(m.dt_stable, 4) + m.unit("s") + "; " + step_advice(m);
+    } else if (s.dt > 0.9 * m.dt_stable) {
+      // Near the limit the integration makes a contact softer than it is, and a grain held by z
+      // contacts is stable below about limit / sqrt(z): a step of 0.996 of one contact's limit
+      // failed a settling packing, which was told its contacts were too soft.
+      f.parameter = m.dt_key;
+      f.message = what + ": the time step " + format_number(s.dt, 4) + m.unit("s") + " is " +
+                  format_number(s.dt / m.dt_stable, 3) + " of one contact's stability limit " +
+                  format_number(m.dt_stable, 4) + m.unit("s") +
+                  ", where the integration softens the contacts (a grain held by z of them is stable below about "
+                  "limit/sqrt(z)); " +
+                  step_advice(m);
     } else {
       const int groups = static_cast<int>(m.materials.size()), g = s.particle_group[i];
       f.parameter =
@@ -143,8 +154,8 @@ void diagnose_dem(GraphBuilder& b) {
     f.parameter = m.dt_key;
     f.message = "kinetic energy " + format_number(e.value(), 4) + m.unit("J") + " exceeds " +
                 format_number(m.limits.energy_factor, 4) + " times the energy the scene can supply (" +
-                format_number(m.limits.energy_supply(s.t + s.dt), 4) + m.unit("J") + "): the integration is unstable; " +
-                step_advice(m);
+                format_number(m.limits.energy_supply(s.t + s.dt), 4) + m.unit("J") +
+                "): the integration is unstable; " + step_advice(m);
   });
 }
 
@@ -363,8 +374,8 @@ void add_dem_stages(GraphBuilder& b) {
   b.after(kick, pairs, "kicks with the pair forces of this step");
   b.sums_forces(kick);
   if (fold) b.sums_last_forces(drift);
-  const int energy =
-      b.add("energy_check", &dem::energy_check, with({fid::step, fid::t, fid::dt, fid::particle_v, fid::particle_w}, kGrainConst), {});
+  const int energy = b.add("energy_check", &dem::energy_check,
+                           with({fid::step, fid::t, fid::dt, fid::particle_v, fid::particle_w}, kGrainConst), {});
   b.after(energy, kick, "the energy of the full-step velocities");
   b.light(energy);  // a pass over the grains once in limits.check_every steps
   diagnose_dem(b);

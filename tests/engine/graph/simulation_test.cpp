@@ -259,6 +259,23 @@ TEST_CASE("a contact too soft under a spring-dashpot law asks for a shorter cont
   CHECK(f.message.find("decrease contact.contact_time") != std::string::npos);
 }
 
+TEST_CASE("an overlap at a step near the stability limit asks for a shorter step, not stiffer contacts") {
+  // dt = 0.986 of the limit: the integration softens the contact (a settling packing at 0.996 was
+  // told to stiffen its contacts).
+  const Model m =
+      compile(load_scene_file(test::scene_path("collision_normal"),
+                              {parse_override("run.dt_over_tc=0.6"), parse_override("limits.max_overlap=0.01")}));
+  REQUIRE(m.dt / m.dt_stable > 0.9);
+  Simulation sim(m, 1);
+  bool ok = true;
+  for (int k = 0; k < 1000 && ok; ++k) ok = sim.step();
+  REQUIRE_FALSE(ok);
+  const StepFailure& f = sim.state().failure;
+  CHECK(f.parameter == "run.dt_over_tc");
+  CHECK(f.message.find("of one contact's stability limit") != std::string::npos);
+  CHECK(f.message.find("reduce run.dt_over_tc") != std::string::npos);
+}
+
 TEST_CASE("a step lost in the rounding of the time stops the run at advance_clock") {
   // A paste at a viscosity of 1e-300 ran with t frozen, status ok; here the DEM's 1e-3 s step at
   // t = 1e16 s, below the spacing of doubles there (2 s).
