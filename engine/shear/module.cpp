@@ -233,6 +233,16 @@ void check_box_pressure(const SceneDesc& d, const Model& m) {
       cycles ? pressure * (1 + (b.cycle == StressCycle::kBiaxial ? 2 : 1) * b.cycle_amplitude) : pressure;
   check_stress_against_contacts(d, m, d.first_given({"box.pressure", "prepare.pressure"}, "box.pressure"),
                                 cycles ? "the cycle's largest stress" : "the pressure", peak);
+  // Gravity along a periodic length the pressure controls: nothing holds the grains, which fall
+  // through the box as a whole, and their fall counts as kinetic pressure (pack_2d under g = 1 grew
+  // its box from 19.5 to 177 along y and failed when x shrank below twice the range).
+  for (int k = 0; k < m.dim && pressure > 0; ++k)
+    if (m.box.periodic[k] && m.gravity[k] != 0 && (!b.on || b.controlled[k]))
+      d.fail(d.first_given({"gravity.vector", "gravity.magnitude"}, "gravity.magnitude"),
+             "gravity along " + std::string(1, "xyz"[k]) +
+                 ", a periodic length the pressure controls: nothing holds the grains, which fall through the box "
+                 "as a whole, their fall counted as pressure; give it no component along " +
+                 std::string(1, "xyz"[k]));
   if (m.shear.on && m.shear.stress_controlled)
     check_stress_against_contacts(d, m, "shear.stress", "the shear stress", m.shear.stress);
 }

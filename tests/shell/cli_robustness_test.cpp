@@ -117,7 +117,11 @@ TEST_CASE("values no scene can supply are refused at their key") {
         Refused{"shear3d_frictionless", "contact.poisson_ratio=-1", {"(-1, 0.5)"}},
         // (a value begun as a TOML string and left unfinished was kept, its quote included)
         Refused{"chute", "'scene.name=\"unfinished'", {"--set:1:12: cannot read the value of scene.name"}},
-        Refused{"chute", "bogus.key=3", {"--set:1:1: unknown key 'bogus.key'"}}}) {
+        Refused{"chute", "bogus.key=3", {"--set:1:1: unknown key 'bogus.key'"}},
+        // (the packing fell through its periodic box, its fall counted as pressure)
+        Refused{"pack_2d",
+                "gravity.magnitude=1",
+                {"--set:1:19: gravity along y, a periodic length the pressure controls"}}}) {
     CAPTURE(c.set);
     r = silt_cli("check " + scene_path(c.scene) + " --set " + c.set);
     CHECK(r.code == 2);
