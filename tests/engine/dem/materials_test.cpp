@@ -6,6 +6,7 @@
 #include <numbers>
 
 #include "dem/contact_laws.hpp"
+#include "dem/contact_setup.hpp"
 #include "dem/materials.hpp"
 #include "dem/module.hpp"
 #include "silt/observables.hpp"
@@ -405,6 +406,51 @@ steps = 10
   CHECK(m.dt == doctest::Approx(0.01 * m.t_contact).epsilon(1e-12));
   CHECK(dem::describe_dem(m).find("no two grains can touch; shortest collision: grains[0] on walls[0]") !=
         std::string::npos);
+}
+
+TEST_CASE("materials: a grain's collision with a wall competes for t_c where grains can touch too") {
+  // Two Hertz spheres on a rigid floor (E~ doubled, R_eq = 2 r against it): the bounce on the floor
+  // is shorter than their collision with each other, whose t_c made run.dt_over_tc's step 41 %
+  // longer than the bounce asked. A floor of the scene's law, not rigid, bounces longer than a pair.
+  const char* scene = R"(
+[scene]
+dimension = 3
+[domain]
+lo = [-0.02, -0.02, 0.0]
+hi = [0.02, 0.02, 0.1]
+[contact]
+model = "hertz"
+young_modulus = 1e9
+[[walls]]
+point = [0, 0, 0]
+normal = [0, 0, 1]
+{rigid}
+[[grains]]
+radius = 0.005
+density = 2500
+placement = "explicit"
+positions = [[0, 0, 0.0052], [0, 0, 0.03]]
+[run]
+dt_over_tc = 0.01
+steps = 10
+)";
+  const double r = 0.005, mass = 2500 * 4.0 / 3.0 * std::numbers::pi * r * r * r;
+  auto with = [&](const char* rigid) {
+    std::string t = scene;
+    t.replace(t.find("{rigid}"), 7, rigid);
+    return test::model_from(t);
+  };
+  const Model m = with("rigid = true");
+  const double floor = dem::reference_contact_time(m.wall_contact[0], mass, 2 * r);
+  const double pair = dem::reference_contact_time(m.contact, mass / 2, r);
+  CHECK(floor < pair / 1.1);
+  CHECK(m.t_contact == floor);
+  CHECK(m.tc_pair.wall == 0);
+  CHECK(dem::describe_dem(m).find("collision reaching contact.hertz_ref_overlap; shortest collision: grains[0] on "
+                                  "walls[0], its lightest grain") != std::string::npos);
+  const Model plain = with("");
+  CHECK(plain.t_contact == doctest::Approx(pair).epsilon(1e-15));
+  CHECK(plain.tc_pair.wall == -1);
 }
 
 TEST_CASE("materials: springs and masses at the ends of the doubles' range mix without overflow") {
