@@ -10,6 +10,19 @@
 
 namespace silt::shell {
 
+namespace {
+
+// The column of byte i of a line as a terminal shows it: characters, not bytes (after an 'é' the
+// columns were one too many).
+int column_of(std::string_view line, size_t i) {
+  int col = 1;
+  for (size_t k = 0; k < i && k < line.size(); ++k)
+    if ((static_cast<unsigned char>(line[k]) & 0xC0) != 0x80) ++col;
+  return col;
+}
+
+}  // namespace
+
 std::optional<Command> parse_line(std::string_view line) {
   std::vector<Token> words;
   size_t i = 0;
@@ -22,7 +35,8 @@ std::optional<Command> parse_line(std::string_view line) {
     }
     if (c == '#') break;
     Token t;
-    t.col = static_cast<int>(i) + 1;
+    t.col = column_of(line, i);
+    const size_t start = i;
     if (c == '[') {
       // A list, as on the command line and in TOML: ["grains", "chains"], blanks and quotes
       // inside, one word up to its closing bracket.
@@ -30,8 +44,7 @@ std::optional<Command> parse_line(std::string_view line) {
       bool quoted = false;
       while (i < n) {
         const char d = line[i];
-        if (static_cast<unsigned char>(d) < 32 && d != '\t')
-          throw ParseError(static_cast<int>(i) + 1, "control character");
+        if (static_cast<unsigned char>(d) < 32 && d != '\t') throw ParseError(column_of(line, i), "control character");
         t.text += d;
         ++i;
         if (quoted) {
@@ -45,7 +58,7 @@ std::optional<Command> parse_line(std::string_view line) {
       }
       if (depth != 0) throw ParseError(t.col, quoted ? "unterminated quote" : "a list without its closing ]");
       if (i < n && line[i] != ' ' && line[i] != '\t' && line[i] != '#' && line[i] != '\r' && line[i] != '\n')
-        throw ParseError(static_cast<int>(i) + 1, "a list must be followed by a blank");
+        throw ParseError(column_of(line, i), "a list must be followed by a blank");
     } else if (c == '"') {
       ++i;
       bool closed = false;
@@ -62,9 +75,9 @@ std::optional<Command> parse_line(std::string_view line) {
         }
       }
       if (!closed) throw ParseError(t.col, "unterminated quote");
-      t.raw = line.substr(static_cast<size_t>(t.col) - 1, i - static_cast<size_t>(t.col) + 1);
+      t.raw = line.substr(start, i - start);
       if (i < n && line[i] != ' ' && line[i] != '\t' && line[i] != '#' && line[i] != '\r' && line[i] != '\n')
-        throw ParseError(static_cast<int>(i) + 1, "a quoted word must be followed by a blank");
+        throw ParseError(column_of(line, i), "a quoted word must be followed by a blank");
     } else if (c == '\'') {
       // A literal word, as TOML's 'single quotes': blanks inside, no escapes ('a b' was two words).
       const size_t close = line.find('\'', i + 1);
@@ -73,14 +86,14 @@ std::optional<Command> parse_line(std::string_view line) {
       t.raw = line.substr(i, close - i + 1);
       for (size_t k = i + 1; k < close; ++k)
         if (static_cast<unsigned char>(line[k]) < 32 && line[k] != '\t')
-          throw ParseError(static_cast<int>(k) + 1, "control character");
+          throw ParseError(column_of(line, k), "control character");
       i = close + 1;
       if (i < n && line[i] != ' ' && line[i] != '\t' && line[i] != '#' && line[i] != '\r' && line[i] != '\n')
-        throw ParseError(static_cast<int>(i) + 1, "a quoted word must be followed by a blank");
+        throw ParseError(column_of(line, i), "a quoted word must be followed by a blank");
     } else {
       while (i < n && line[i] != ' ' && line[i] != '\t' && line[i] != '\r' && line[i] != '\n') {
-        if (line[i] == '"') throw ParseError(static_cast<int>(i) + 1, "a quote inside a word (quote the whole word)");
-        if (static_cast<unsigned char>(line[i]) < 32) throw ParseError(static_cast<int>(i) + 1, "control character");
+        if (line[i] == '"') throw ParseError(column_of(line, i), "a quote inside a word (quote the whole word)");
+        if (static_cast<unsigned char>(line[i]) < 32) throw ParseError(column_of(line, i), "control character");
         t.text += line[i++];
       }
     }
@@ -324,7 +337,7 @@ std::vector<Token> expand_list(const Token& t) {
     skip_blanks();
     if (i < w.size() && w[i] == ']' && out.empty()) break;  // []
     Token item;
-    item.col = t.col + static_cast<int>(i);
+    item.col = t.col + column_of(w, i) - 1;
     if (i < w.size() && w[i] == '"') {
       ++i;
       while (i < w.size() && w[i] != '"') {
@@ -344,7 +357,7 @@ std::vector<Token> expand_list(const Token& t) {
       continue;
     }
     if (i < w.size() && w[i] == ']') break;
-    throw ParseError(t.col + static_cast<int>(i), "expected , or ] in the list");
+    throw ParseError(t.col + column_of(w, i) - 1, "expected , or ] in the list");
   }
   return out;
 }
@@ -366,7 +379,7 @@ std::vector<Token> split_comparisons(const std::vector<Token>& args, size_t from
     size_t i = 0;
     while (i < w.size()) {
       Token t;
-      t.col = args[k].col + static_cast<int>(i);
+      t.col = args[k].col + column_of(w, i) - 1;
       const bool op = std::string_view("<>=!").find(w[i]) != std::string_view::npos;
       while (i < w.size() && (std::string_view("<>=!").find(w[i]) != std::string_view::npos) == op) t.text += w[i++];
       out.push_back(std::move(t));

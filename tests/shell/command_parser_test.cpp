@@ -151,6 +151,7 @@ TEST_CASE("a malformed condition is blamed at the word that is wrong, or the one
   CHECK(error("run until ke<5 and >3").first == 20);
   CHECK(error("run until ke < 5 xor t > 1") == E{18, "'xor' where 'and' or 'or' was expected"});
   CHECK(error("run until ke < 5 and") == E{18, "a condition after 'and'"});
+  CHECK(error("run until k\xc3\xa9 < 5 or x").first == 21);  // columns count characters, not bytes
   CHECK(error("run until 1 >= t") == E{11, "'1' where an observable was expected: OBSERVABLE OP NUMBER (t >= 0.5)"});
   CHECK(error("run until (t >= 1)") == E{11, "no parentheses in a condition: 'and' binds tighter than 'or'"});
 }
