@@ -78,7 +78,8 @@ KineticEnergy kinetic_energy(const State& s) {
 void energy_check(const Model& m, State& s) {
   if ((s.step + 1) % m.limits.check_every != 0) return;
   const double ke = kinetic_energy(s).total;
-  if (!std::isfinite(ke) || ke > m.limits.energy_factor * m.limits.energy_supply(s.t + s.dt)) s.events[event::kRunaway].raise(0, ke);
+  if (!std::isfinite(ke) || ke > m.limits.energy_factor * m.limits.energy_supply(s.t + s.dt))
+    s.events[event::kRunaway].raise(0, ke);
 }
 
 }  // namespace silt::dem

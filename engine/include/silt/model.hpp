@@ -325,7 +325,7 @@ struct Model {
   // stiffest law that grain pairs use (walls apart).
   double kappa_stiffness_min = 0, kappa_stiffness_max = 0;
   std::string kappa_softest_key;  // the key that sets the softest (contact.k_n, grains[1].k_n, ...)
-  double dt_stable = 0;  // velocity-Verlet stability limit of the fastest contact mode [s]
+  double dt_stable = 0;           // velocity-Verlet stability limit of the fastest contact mode [s]
   // Whether that mode is a tangential spring's (friction, k_t / k_n above 1/3 for disks, 2/7 for
   // spheres), and the mode's stiffness (a tangential one's k_t (1 + m r^2 / I)) and reduced mass.
   bool dt_stable_tangential = false;
