@@ -76,6 +76,8 @@ Outcome run(int dim, const std::string& flow, double mu, int threads, int steps,
   const std::string scene = test::with_lists(kMixed, d3 ? "[0, 0, 0]" : "[0, 0]", d3 ? "[9, 8, 7]" : "[30, 26]",
                                              d3 ? "[true, true, true]" : "[true, true]");
   std::string text = test::fill(scene, {{"dim", dim}, {"mu", mu}});
+  // (gravity along the length a pressure holds is refused: nothing would hold the grains)
+  if (flow == "stress" && !d3) text.replace(text.find("magnitude = 1\nangle = 30"), 24, "vector = [0.5, 0.0]");
   if (flow.empty()) text += kFrozen;
   else text += "[shear]\nrate = 0.7\n";
   if (flow == "stress")
