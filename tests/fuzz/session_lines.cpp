@@ -13,7 +13,7 @@ namespace {
 using shell::Command;
 using shell::Token;
 
-Token word(const std::string& text) { return Token{text, 0}; }
+Token word(const std::string& text) { return Token{text, 0, ""}; }
 
 // A word that the parser reads back as the same token.
 std::string quoted(const std::string& w) {

@@ -109,12 +109,12 @@ TEST_CASE("lists are one word, written as on the command line, and expand into t
   CHECK(items[1].col == 15);
   CHECK(items[2].text == "chains");
   CHECK(items[3].text == "box");
-  CHECK(expand_list(Token{"[t,step]", 1}).size() == 2);
-  CHECK(expand_list(Token{"[]", 1}).empty());
-  CHECK(expand_list(Token{"p[3].vx", 1})[0].text == "p[3].vx");  // not a list: it does not start with [
+  CHECK(expand_list(Token{"[t,step]", 1, ""}).size() == 2);
+  CHECK(expand_list(Token{"[]", 1, ""}).empty());
+  CHECK(expand_list(Token{"p[3].vx", 1, ""})[0].text == "p[3].vx");  // not a list: it does not start with [
   CHECK_THROWS_AS(parse_line("set render.draw [\"grains\""), ParseError);
-  CHECK_THROWS_AS(expand_list(Token{"[a,,b]", 1}), ParseError);
-  CHECK_THROWS_AS(expand_list(Token{"[a b]", 1}), ParseError);
+  CHECK_THROWS_AS(expand_list(Token{"[a,,b]", 1, ""}), ParseError);
+  CHECK_THROWS_AS(expand_list(Token{"[a b]", 1, ""}), ParseError);
 }
 
 TEST_CASE("a term is tested between regular tests where its window of t and step closes before the next") {
