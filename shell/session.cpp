@@ -66,12 +66,15 @@ bool until_never_holds(const Condition& c, double t, int64_t step) {
           hi = cl.value;
         }
       }
+      // A step count is whole: its bounds are the whole steps within them ("step == 57.5" ran without
+      // end, and so would "step > 56 and step < 57").
+      if (name[0] == 's') {
+        lo = lo_strict ? std::floor(lo) + 1 : std::ceil(lo);
+        hi = hi_strict ? std::ceil(hi) - 1 : std::floor(hi);
+        lo_strict = hi_strict = false;
+      }
       never = never || lo > hi || (lo == hi && (lo_strict || hi_strict));
     }
-    // (a step count is whole: "step == 57.5" ran without end)
-    for (size_t j = k; j < e; ++j)
-      never = never || (c.clauses[j].observable == "step" && c.clauses[j].op == "==" &&
-                        c.clauses[j].value != std::floor(c.clauses[j].value));
     if (!never) return false;
   }
   return true;

@@ -275,7 +275,7 @@ void derive_contact_scales(const SceneDesc& d, Model& m) {
   };
   // (the scene's law, where it is every pair's, and some pair can form: two free grains, or one
   // and a frozen grain; a law of its own per pair of groups is taken below)
-  const bool pairs_form = free_mass.size() >= 2 || m.n_frozen > 0;
+  const bool pairs_form = m.pairs_form();
   if (m.pair_contact.empty() && pairs_form) tangential(c, m.k_max, m.m_eff_min, mass_key, law_keys(d, c.law));
   // Other materials (dem/materials.hpp): the stiffest of their laws with the lightest grains, a
   // grain against a wall (m* = m, R_eq = 2 r) included, may lower the limit.

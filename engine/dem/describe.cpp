@@ -121,8 +121,7 @@ std::string describe_dem(const Model& m) {
                                         "dashpot (the liquid dissipates)"
                                   : "damping ratio " + format_number(zeta, 5) + ", " + restitution_text(m);
   const Model::ContactTimePair& pair = m.tc_pair;
-  const bool pairs_form = m.n_grains - m.n_frozen >= 2 || m.n_frozen > 0;
-  const std::string groups = pair.wall >= 0 ? std::string(pairs_form ? "" : "no two grains can touch; ") +
+  const std::string groups = pair.wall >= 0 ? std::string(m.pairs_form() ? "" : "no two grains can touch; ") +
                                                   "shortest collision: " + group_name(m, pair.group_i) + " on walls[" +
                                                   std::to_string(pair.wall) + "], its lightest grain"
                              : pair.group_i < 0 ? "lightest pair"

@@ -272,6 +272,8 @@ struct Model {
   int dim = 3;
   int rot = 3;  // rotational degrees of freedom per grain
   int64_t n_grains = 0, n_frozen = 0;
+  // Whether two grains can touch: two free ones, or a frozen one (with a free one, where any moves).
+  bool pairs_form() const { return n_grains - n_frozen >= 2 || n_frozen > 0; }
   std::vector<std::string> group_names;
   GrainInit init;
   double r_min = 0, r_max = 0, r_mean = 0, m_min = 0, m_mean = 0;
