@@ -37,28 +37,33 @@ std::optional<Command> parse_line(std::string_view line) {
     Token t;
     t.col = column_of(line, i);
     const size_t start = i;
-    if (c == '[') {
-      // A list, as on the command line and in TOML: ["grains", "chains"], blanks and quotes
-      // inside, one word up to its closing bracket.
+    if (c == '[' || c == '{') {
+      // A list or an inline table, as on the command line and in TOML: ["grains", "chains"],
+      // {a = 1}; blanks, quotes of both kinds and nested brackets inside, one word up to its
+      // closing bracket ({a = 1} was three words, and a ']' in 'single quotes' ended a list).
       int depth = 0;
-      bool quoted = false;
+      char quote = 0;
       while (i < n) {
         const char d = line[i];
         if (static_cast<unsigned char>(d) < 32 && d != '\t') throw ParseError(column_of(line, i), "control character");
         t.text += d;
         ++i;
-        if (quoted) {
-          if (d == '\\' && i < n) t.text += line[i++];
-          else if (d == '"') quoted = false;
+        if (quote != 0) {
+          if (quote == '"' && d == '\\' && i < n) t.text += line[i++];
+          else if (d == quote) quote = 0;
           continue;
         }
-        if (d == '"') quoted = true;
-        else if (d == '[') ++depth;
-        else if (d == ']' && --depth == 0) break;
+        if (d == '"' || d == '\'') quote = d;
+        else if (d == '[' || d == '{') ++depth;
+        else if ((d == ']' || d == '}') && --depth == 0) break;
       }
-      if (depth != 0) throw ParseError(t.col, quoted ? "unterminated quote" : "a list without its closing ]");
+      const bool list = c == '[';
+      if (depth != 0)
+        throw ParseError(t.col, quote != 0 ? "unterminated quote"
+                                : list     ? "a list without its closing ]"
+                                           : "a table without its closing }");
       if (i < n && line[i] != ' ' && line[i] != '\t' && line[i] != '#' && line[i] != '\r' && line[i] != '\n')
-        throw ParseError(column_of(line, i), "a list must be followed by a blank");
+        throw ParseError(column_of(line, i), list ? "a list must be followed by a blank" : "a table must be followed by a blank");
     } else if (c == '"') {
       ++i;
       bool closed = false;

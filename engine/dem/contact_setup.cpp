@@ -28,7 +28,14 @@ namespace {
 double contact_or_own(const SceneDesc& d, const std::string& own) {
   const std::string key = "contact." + own;
   if (d.has(key)) return d.real(key);
-  if (d.group_count("grains") == 0) return 0;  // (refused for that by setup_grains; it blamed contact.k_n)
+  // A scene without grains, or with a group of no explicit position, is refused for that by
+  // setup_grains; it was blamed on contact.k_n.
+  if (d.group_count("grains") == 0) return 0;
+  for (int g = 0; g < d.group_count("grains"); ++g) {
+    const std::string at = "grains[" + std::to_string(g) + "].";
+    if (d.string(at + "placement") == "explicit" && d.has(at + "positions") && d.matrix(at + "positions").empty())
+      return 0;
+  }
   std::string without;
   auto need = [&](const std::string& prefix, bool may_be_rigid) {
     if (d.has(prefix + own) || (may_be_rigid && d.has(prefix + "rigid") && d.boolean(prefix + "rigid"))) return;

@@ -117,6 +117,19 @@ TEST_CASE("lists are one word, written as on the command line, and expand into t
   CHECK_THROWS_AS(expand_list(Token{"[a b]", 1, ""}), ParseError);
 }
 
+TEST_CASE("an inline table is one word, and a bracket inside either quote does not end a list or a table") {
+  const auto c = parse_line(R"(set scene.name {a = 1, b = "}"} x ['a]b', "c]"])");
+  REQUIRE(c);
+  REQUIRE(c->args.size() == 4);
+  CHECK(c->args[1].text == R"({a = 1, b = "}"})");
+  CHECK(c->args[2].text == "x");
+  CHECK(c->args[3].text == R"(['a]b', "c]"])");
+  CHECK(c->args[3].col == 35);
+  CHECK_THROWS_WITH_AS(parse_line("set scene.name {a = 1"), "a table without its closing }", ParseError);
+  CHECK_THROWS_WITH_AS(parse_line("set scene.name {a = 1}x"), "a table must be followed by a blank", ParseError);
+  CHECK_THROWS_WITH_AS(parse_line("set x ['a]"), "unterminated quote", ParseError);
+}
+
 TEST_CASE("a term is tested between regular tests where its window of t and step closes before the next") {
   const auto cond = [](const std::string& line) { return parse_run_length(parse_line(line)->args).until; };
   const Condition c = cond("run until step == 7 and ke < 1 or z > 5");

@@ -520,6 +520,10 @@ dt = 1e-5
         "bad.toml:7:1: missing required key 'contact.k_n': grains[1] gives no k_n of its own");
   CHECK(test::scene_error(with("", "")) ==
         "bad.toml:7:1: missing required key 'contact.k_n': grains[1], walls[0] give no k_n of their own");
+  // A group of no position is refused for that, not for a spring no grain would use.
+  std::string empty = with("", "");
+  empty.replace(empty.find("positions = [[0.7, 0.5]]"), 24, "positions = []");
+  CHECK(test::scene_error(empty).ends_with("no positions given"));
   // Hertz: every group's own modulus (and Poisson ratio); [contact]'s is the first group's material.
   const std::string hertz = R"(
 [scene]
