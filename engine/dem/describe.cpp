@@ -142,13 +142,22 @@ std::string describe_dem(const Model& m) {
     << "\n";
   const double g = m.gravity.norm();
   if (g > 0) {
-    // Stiffness relative to a grain's weight: overlap under its own weight / radius.
-    // (of the softest pair of groups: the stiffest's, 1e-4 where the soft group's was 1e-3, read as
-    // every grain's)
+    // Stiffness relative to a grain's weight: overlap under its own weight / radius, of a mean
+    // grain on a like one and the softest pair of groups (the stiffest's, 1e-4 where the soft
+    // group's was 1e-3, was read as every grain's). Hertz by its own law: m g over the stiffest
+    // contact's stiffness at the largest allowed overlap was 25 times below it for spheres of 1 mm
+    // and 10 MPa.
     const double mg = m.m_mean * g;
-    const double softest = m.k_max * (m.kappa_stiffness_min / m.kappa_stiffness_max);
-    o << "groups       weight overlap m g / (k_n r) = " << mg / (softest * m.r_mean)
-      << (m.kappa_stiffness_min < m.kappa_stiffness_max ? " (the softest pair's)" : "") << "\n";
+    const char* softest = m.kappa_stiffness_min < m.kappa_stiffness_max ? " (the softest pair's)" : "";
+    if (m.contact.law == NormalLaw::kHertz) {
+      ContactParams p = m.contact;
+      p.e_tilde = m.kappa_stiffness_min;
+      o << "groups       weight overlap (m g / k_h)^(2/3) / r = " << static_overlap(p, 0, m.r_mean, mg) / m.r_mean
+        << softest << "\n";
+    } else {
+      o << "groups       weight overlap m g / (k_n r) = "
+        << mg / (m.k_max * (m.kappa_stiffness_min / m.kappa_stiffness_max) * m.r_mean) << softest << "\n";
+    }
   }
   return o.str();
 }

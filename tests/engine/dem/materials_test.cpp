@@ -320,6 +320,41 @@ dt = 1e-7
         std::string::npos);
 }
 
+TEST_CASE("check's weight overlap of Hertz spheres is their static overlap, (m g / k_h)^(2/3) / r") {
+  // Two spheres of radius 1 mm, 2,500 kg/m^3, E = 1e7 Pa, nu = 0.3: k_h = (E~ / 3) sqrt(2 r) for a
+  // sphere on a like one. The stiffest contact's stiffness at the largest allowed overlap gave
+  // m g / (k r) = 2.96e-5 here, 25 times below.
+  const double pi = std::numbers::pi, r = 1e-3, mass = 2500 * 4.0 / 3 * pi * r * r * r;
+  const double kh = 1e7 / (1 - 0.09) / 3 * std::sqrt(2 * r);
+  const double expected = std::pow(mass * 9.81 / kh, 2.0 / 3) / r;
+  const Model m = test::model_from(R"(
+[scene]
+dimension = 3
+[domain]
+lo = [-0.01, -0.01, -0.01]
+hi = [0.01, 0.01, 0.01]
+[contact]
+model = "hertz"
+young_modulus = 1e7
+poisson_ratio = 0.3
+[gravity]
+magnitude = 9.81
+[[walls]]
+point = [0, 0, -0.005]
+normal = [0, 0, 1]
+[[grains]]
+radius = 1e-3
+density = 2500
+placement = "explicit"
+positions = [[0, 0, 0], [0, 0, 0.003]]
+)");
+  const std::string text = describe(m);
+  const std::string label = "weight overlap (m g / k_h)^(2/3) / r = ";
+  const size_t at = text.find(label);
+  REQUIRE(at != std::string::npos);
+  CHECK(std::stod(text.substr(at + label.size())) == doctest::Approx(expected).epsilon(1e-4));
+}
+
 TEST_CASE("materials: t_c is the shortest collision of the groups' laws, kappa and friction their ranges") {
   // Every group gives its own spring: [contact]'s k_n = 1e4 is no pair's. t_c (run.dt_over_tc's
   // unit) was that spring's with the lightest m*, pi sqrt(m_small / 2 / 1e4) = 0.045 s, three times
