@@ -481,16 +481,14 @@ std::string shown_word(std::string_view text) {
   const bool typed = text.size() >= 2 && (text.front() == '"' || text.front() == '\'') && text.back() == text.front();
   if (typed) return std::string(text);
   const bool plain = !text.empty() && std::none_of(text.begin(), text.end(), [list](char ch) {
-    const auto c = static_cast<unsigned char>(ch);
-    return (c <= ' ' && !(list && ch == ' ')) || c == 0x7f || ch == '\\' || ch == '#' ||
+    return is_control(ch) || (ch == ' ' && !list) || ch == '\\' || ch == '#' ||
            ((ch == '"' || ch == '\'') && !list);
   });
   if (plain) return std::string(text);
   std::string out = "\"";
   for (const char ch : text) {
-    const auto c = static_cast<unsigned char>(ch);
     if (ch == '"' || ch == '\\') out += '\\';
-    if (c < 0x20 || c == 0x7f) out += '?';
+    if (is_control(ch)) out += '?';
     else out += ch;
   }
   return out + "\"";
@@ -499,7 +497,7 @@ std::string shown_word(std::string_view text) {
 std::string printable_line(std::string_view line) {
   std::string out(line);
   for (char& ch : out)
-    if ((static_cast<unsigned char>(ch) < 0x20 && ch != '\t') || ch == 0x7f) ch = '?';
+    if (is_control(ch) && ch != '\t') ch = '?';
   return out;
 }
 

@@ -73,7 +73,7 @@ std::string toml_quoted(std::string_view text) {
       case '\b': out += "\\b"; break;
       case '\f': out += "\\f"; break;
       default:
-        if (c < 0x20 || c == 0x7F) {
+        if (is_control(ch)) {
           static const char hex[] = "0123456789ABCDEF";
           out += "\\u00";
           out += hex[c >> 4];

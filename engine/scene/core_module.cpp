@@ -181,8 +181,7 @@ std::string describe_core(const Model& m) {
   o.precision(5);
   // (quoted where it holds control characters, which went to the terminal as they were)
   const std::string scene = m.scene_name.empty() ? m.scene_file : m.scene_name;
-  const bool plain = std::none_of(scene.begin(), scene.end(),
-                                  [](char c) { return static_cast<unsigned char>(c) < 0x20 || c == 0x7f; });
+  const bool plain = std::none_of(scene.begin(), scene.end(), is_control);
   o << "scene        " << (plain ? scene : toml_quoted(scene)) << "\n";
   o << "dimension    " << m.dim << (m.dim == 2 ? " (disks)" : " (spheres)") << "\n";
   o << "modules     ";

@@ -19,6 +19,12 @@ size_t edit_distance(std::string_view a, std::string_view b, size_t limit = SIZE
 // (overlong forms, surrogates and code points beyond U+10FFFF included), or npos.
 size_t first_invalid_utf8(std::string_view text);
 
+// A control character: below U+0020, or DEL (what a terminal acts on instead of showing).
+constexpr bool is_control(char ch) {
+  const auto c = static_cast<unsigned char>(ch);
+  return c < 0x20 || c == 0x7F;
+}
+
 // `text` as a TOML basic string: in double quotes, with quotes, backslashes and control
 // characters escaped (\", \\, \n, \t, \u0007), so that a name read from a scene prints as one
 // line and reads back as itself.
