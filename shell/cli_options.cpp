@@ -50,6 +50,12 @@ CLI::Validator observable_list() {
       "A,B,...", "observables");
 }
 
+CLI::Validator path_given() {
+  return CLI::Validator(
+      [](std::string& in) -> std::string { return in.empty() ? "an empty path: give a file or directory" : ""; },
+      "PATH", "path");
+}
+
 CLI::Validator finite_number() {
   return CLI::Validator(
       [](std::string& in) -> std::string {

@@ -17,6 +17,9 @@ CLI::Validator whole_number(int64_t least, int64_t most = kMaxRunSteps);
 CLI::Validator seconds();
 // A comma-separated list of observable names with no empty one.
 CLI::Validator observable_list();
+// A file or directory name that is not empty ("$OUT" of an unset variable wrote nothing, and an
+// empty --restore started from t = 0, without a word).
+CLI::Validator path_given();
 // Any finite number (no nan, no inf).
 CLI::Validator finite_number();
 // A scene override KEY=VALUE (its value is checked against the scene later, a scene error).

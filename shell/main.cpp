@@ -30,16 +30,17 @@ int main(int argc, char** argv) {
       ->transform(seconds());
   r->add_option("--threads", run.threads, "Worker threads (default: all cores; 1 = serial reference)")
       ->transform(whole_number(1, kMaxThreads));
-  r->add_option("--stats", run.stats, "Time series of observables (CSV)");
+  r->add_option("--stats", run.stats, "Time series of observables (CSV)")->check(path_given());
   r->add_option("--observe", run.observe, "Comma-separated observables (default: the scene's [output] list)")
       ->check(observable_list());
   r->add_option("--every", run.every, "Sample every N steps (default: the scene's)")->transform(whole_number(1));
-  r->add_option("--summary", run.summary, "Summary JSON written at the end");
+  r->add_option("--summary", run.summary, "Summary JSON written at the end")->check(path_given());
   r->add_option("--average-from", run.average_from, "Means and errors over samples with t >= T")
       ->transform(finite_number());
   r->add_flag("--quiet", run.quiet, "No progress line");
   auto* frames = r->add_option("--frames", run.frames,
-                               "Write PNG frames DIR/frame_000000.png, ... (the scene's [render] settings)");
+                               "Write PNG frames DIR/frame_000000.png, ... (the scene's [render] settings)")
+                    ->check(path_given());
   // (an interval without its output was ignored without a word)
   r->add_option("--frame-every", run.frame_every,
                 "One frame every N steps (default: render.every, else --every, else output.every)")
@@ -47,13 +48,15 @@ int main(int argc, char** argv) {
       ->needs(frames);
   auto* vtk = r->add_option(
       "--vtk", run.vtk,
-      "Write VTK files for ParaView/OVITO to DIR (grains .vtu, contacts .vtp, fluid fields .vti, index.pvd)");
+      "Write VTK files for ParaView/OVITO to DIR (grains .vtu, contacts .vtp, fluid fields .vti, index.pvd)")
+                 ->check(path_given());
   r->add_option("--vtk-every", run.vtk_every, "VTK files every N steps (default: --every, else output.every)")
       ->transform(whole_number(1))
       ->needs(vtk);
   r->add_option("--restore", run.restore,
-                "Start from a checkpoint of the same grains (a prepared packing, a .last_good.ckpt)");
-  r->add_option("--save", run.save, "Checkpoint of the final state (written atomically)");
+                "Start from a checkpoint of the same grains (a prepared packing, a .last_good.ckpt)")
+      ->check(path_given());
+  r->add_option("--save", run.save, "Checkpoint of the final state (written atomically)")->check(path_given());
 
   CheckArgs check;
   auto* c = app.add_subcommand("check", "Validate a scene and print the compiled model");

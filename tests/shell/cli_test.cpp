@@ -380,6 +380,17 @@ TEST_CASE("silt run: an observable list with an empty name, a name twice or noth
   CHECK(none.out.find("an empty list samples nothing") != std::string::npos);
 }
 
+TEST_CASE("silt run: an empty path for an output or a checkpoint is a usage error") {
+  // ("$OUT" of an unset variable: the run wrote nothing, and an empty --restore began at t = 0)
+  const std::string scene = silt::test::scene_path("collision_normal");
+  for (const char* option : {"--save", "--summary", "--stats", "--frames", "--vtk", "--restore"}) {
+    CAPTURE(option);
+    const Result r = silt_cli("run " + scene + " --steps 2 --quiet " + option + " ''");
+    CHECK(r.code == 1);
+    CHECK(r.out.find(std::string(option) + ": an empty path") != std::string::npos);
+  }
+}
+
 TEST_CASE("silt play echoes a sourced script's lines as its own, and a binary line without its control bytes") {
   const std::string inner = write_file("play_inner.silt", "print t\n# a comment\nprint step\n");
   const std::string outer =
