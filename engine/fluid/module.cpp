@@ -297,8 +297,12 @@ void compile_fluid(const SceneDesc& d, Model& m) {
     const std::string key = d.has("fluid.pressure_gradient") ? "fluid.pressure_gradient" : "fluid.bulk_velocity";
     p.drive = d.has("fluid.pressure_gradient") ? Drive::kPressure : Drive::kFlowRate;
     if (p.drive_axis >= m.dim) d.fail("fluid.drive_axis", "a " + std::to_string(m.dim) + "D scene has no axis " + axis);
+    // (blamed on the driver with the axis named, where the axis is the default; it said the axis
+    // was periodic, at the driver's line, for a drive_axis given along walls)
     if (!m.box.periodic[p.drive_axis])
-      d.fail(key, "the flow is driven along a periodic axis (fluid.drive_axis = " + axis + ")");
+      d.fail(d.has("fluid.drive_axis") ? "fluid.drive_axis" : key,
+             "a flow is driven only along a periodic axis, and " + axis + " is not periodic (" +
+                 (d.has("fluid.drive_axis") ? "" : "fluid.drive_axis = " + axis + "; ") + "domain.periodic)");
   }
   p.projection = d.string("fluid.projection") == "multigrid_cg" ? Projection::kMultigridCg : Projection::kFft;
   compile_steerable(d, m, p);

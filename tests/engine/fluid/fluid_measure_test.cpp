@@ -93,6 +93,19 @@ TEST_CASE("fluid bulk_velocity: the imposed flow rate along y reads back as impo
   CHECK(observe(*sim, "fluid.ke") == doctest::Approx(observe(*turned, "fluid.ke")).epsilon(1e-12));
 }
 
+TEST_CASE("fluid: a drive along an axis with walls is refused at the axis, or at the drive where the axis is the default") {
+  // (it said "the flow is driven along a periodic axis", at the drive's line, of an axis given along walls)
+  const std::string walls_y =
+      "[scene]\ndimension = 2\n[domain]\nlo = [0.0, 0.0]\nhi = [2.0, 1.0]\nperiodic = [true, false]\n"
+      "[fluid]\ncells = [32, 16]\nviscosity = 1.0\ndt = 1e-3\nbulk_velocity = 1.0\n";
+  CHECK(test::scene_error(walls_y + "drive_axis = \"y\"\n") ==
+        "bad.toml:12:14: a flow is driven only along a periodic axis, and y is not periodic (domain.periodic)");
+  const std::string walls_x = walls_y.substr(0, walls_y.find("[true, false]")) + "[false, true]" +
+                              walls_y.substr(walls_y.find("[true, false]") + 13);
+  CHECK(test::scene_error(walls_x) == "bad.toml:11:17: a flow is driven only along a periodic axis, and x is not "
+                                      "periodic (fluid.drive_axis = x; domain.periodic)");
+}
+
 TEST_CASE("fluid enstrophy: measured again, after other grids' measurements, the same to the bit") {
   // The padded copies behind fluid.enstrophy reuse one set of arrays for the grid they were
   // filled for and start afresh for another: a cavity's enstrophy (walls: the ghosts hold the
