@@ -333,10 +333,16 @@ void finish_fluid(const SceneDesc& d, Model& m) {
                            " (beyond 3.75 it turns over instead of decaying); reduce fluid.dt below " +
                            scene_step(m, p, FluidParams::kCnModeLimit / slowest_viscous_rate(p)) +
                            " or use fluid.viscous = \"backward_euler\"");
-  // The walls' and inflows' speeds alone set the first step's CFL number (the fluid between them
-  // may only add to it): a fixed step past the limit with them fails at its first step.
-  if (const double rate = boundary_rate(p.grid); p.dt_fixed && p.dt * rate > FluidParams::kCflLimit)
-    d.fail("fluid.dt", "the walls' and inflows' speeds alone give a CFL number dt sum |U|/h = " +
+  // The walls' and inflows' speeds, an imposed bulk velocity and the initial vortex bound the
+  // first steps' CFL number from below (the fluid may only add to it): a fixed step past the limit
+  // with them fails in its first two steps. (`check` said ok to a channel whose bulk velocity
+  // gave 6.4 at the limit 1.6, and to a vortex that failed at its first step.)
+  std::string what;
+  if (const double rate = known_rate(p, &what); p.dt_fixed && p.dt * rate > FluidParams::kCflLimit)
+    d.fail("fluid.dt", what + (what.find("speeds") != std::string::npos || what.find(", ") != std::string::npos
+                                   ? " alone give"
+                                   : " alone gives") +
+                           " a CFL number dt sum |U|/h = " +
                            format_number(p.dt * rate, 4) + " above " + format_number(FluidParams::kCflLimit, 4) +
                            ", the stability limit of RK3 advection; reduce fluid.dt below " +
                            scene_step(m, p, FluidParams::kCflLimit / rate) + ", or remove it for the adaptive step");

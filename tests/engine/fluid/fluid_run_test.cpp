@@ -164,6 +164,40 @@ TEST_CASE("fluid: steering the viscosity mid-run changes the decay rate from the
   CHECK(steer(cav->model_for_steering(), parse_override("fluid.cells=[8, 8]")) != "");
 }
 
+TEST_CASE("fluid: the rate known before any step is the vortex's own, and a bulk velocity's bound") {
+  // The Taylor-Green vortex on odd and even grids, a box with Lx != Ly, in 2D and 3D: its largest
+  // face values are the products of each axis's largest factor, exactly the first state's rate.
+  // (cells of 1/16 along every axis)
+  for (const auto& [cells, hi] : {std::pair{"[16, 16]", "[1.0, 1.0]"}, std::pair{"[15, 17]", "[0.9375, 1.0625]"},
+                                  std::pair{"[16, 12, 9]", "[1.0, 0.75, 0.5625]"}}) {
+    CAPTURE(cells);
+    const bool d3 = std::string(cells).size() > 8;
+    const std::string scene = std::string("[scene]\ndimension = ") + (d3 ? "3" : "2") + "\n[domain]\nlo = " +
+                              (d3 ? "[0.0, 0.0, 0.0]" : "[0.0, 0.0]") + "\nhi = " + hi + "\nperiodic = " +
+                              (d3 ? "[true, true, true]" : "[true, true]") + "\n[fluid]\ncells = " + cells +
+                              "\nviscosity = 0.01\ninitial = \"taylor_green\"\ninitial_velocity = 3.0\n";
+    auto sim = test::simulation_from(scene);
+    sim->prepare();  // the initial velocity
+    const FluidParams& p = sim->model().params.get<FluidParams>();
+    const double rate = cfl_number(p, sim->state(), 1.0);
+    CHECK(rate > 0);
+    CHECK(known_rate(p) == doctest::Approx(rate).epsilon(1e-14));
+    // A fixed step past the limit by it is refused, naming the vortex.
+    const double dt = 2.0 / known_rate(p);
+    const std::string e = test::scene_error(scene + "dt = " + std::to_string(dt) + "\n");
+    CHECK(e.find("the initial vortex (fluid.initial_velocity) alone gives a CFL number dt sum |U|/h = ") !=
+          std::string::npos);
+  }
+  // A bulk velocity: the mean of u over the faces after the first step, so at least it somewhere.
+  const std::string channel =
+      "[scene]\ndimension = 2\n[domain]\nlo = [0.0, 0.0]\nhi = [2.0, 1.0]\nperiodic = [true, false]\n"
+      "[fluid]\ncells = [32, 16]\nviscosity = 0.1\nbulk_velocity = 10.0\n";
+  CHECK(test::scene_error(channel + "dt = 0.02\n")
+            .find("the bulk velocity (fluid.bulk_velocity) alone gives a CFL number dt sum |U|/h = 3.2 above 1.6") !=
+        std::string::npos);
+  CHECK(test::scene_error(channel + "dt = 0.01\n").empty());  // 1.6 itself: the flow decides
+}
+
 TEST_CASE("fluid: a step beyond the CFL limit stops the run naming fluid.dt, the lid's speed counted") {
   // The fluid starts at rest, but the lid moves at once: a CFL number of 6.4 at the lid. The rate
   // of a state at rest was 0 and its first step ran, reported as CFL 0 and kept as the last good
