@@ -198,6 +198,17 @@ void compile_lines(const SceneDesc& d, const Model& m, FluidParams& p) {
     }
     if (probe.from == probe.to) d.fail(k + "to", "the probe's ends are the same point: a segment has two");
     probe.points = static_cast<int>(d.integer(k + "points"));
+    // (a hundred probes of a million points each passed check, then took 4.7 GB per ten of them
+    // as the summary was written after the run, which died of it without a summary)
+    int64_t total = probe.points;
+    for (const LineProbe& other : p.lines) total += other.points;
+    if (total > kMaxLinePoints)
+      d.fail(k + "points", "the line probes sample " + std::to_string(total) + " points in all, above " +
+                               std::to_string(kMaxLinePoints) +
+                               " (a summary of " + format_number(kMaxLinePoints * kSummaryBytesPerPoint / 1e6, 3) +
+                               " MB): use fewer; the grid has " +
+                               std::to_string(*std::max_element(p.grid.n.begin(), p.grid.n.end())) +
+                               " cells along its longest axis");
     for (const LineProbe& other : p.lines)
       if (other.name == probe.name) d.fail(k + "name", "two line probes are named '" + probe.name + "'");
     p.lines.push_back(probe);

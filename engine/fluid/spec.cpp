@@ -31,7 +31,9 @@ double padded_cells(const FluidParams& p) {
 
 double fluid_memory_bytes(const Model& m) {
   const FluidParams& p = m.params.get<FluidParams>();
-  return bytes_per_cell(p) * padded_cells(p);
+  double points = 0;
+  for (const LineProbe& l : p.lines) points += l.points;
+  return bytes_per_cell(p) * padded_cells(p) + points * kSummaryMemoryPerPoint;
 }
 
 }  // namespace
@@ -45,7 +47,10 @@ std::string describe_fluid(const Model& m) {
   for (int a = 1; a < m.dim; ++a) o << " x " << g.n[a];
   o << " cells of h = " << g.h[0] << m.unit("m") << " (" << static_cast<double>(g.cells()) << " cells, "
     << bytes_per_cell(p) * padded_cells(p) / static_cast<double>(g.cells()) << " bytes per cell, "
-    << fluid_memory_bytes(m) / (1 << 20) << " MiB)\n";
+    << bytes_per_cell(p) * padded_cells(p) / (1 << 20) << " MiB)\n";
+  if (const double probes = fluid_memory_bytes(m) - bytes_per_cell(p) * padded_cells(p); probes > 0)
+    o << "             line probes: " << std::llround(probes / kSummaryMemoryPerPoint) << " points, about "
+      << probes / (1 << 20) << " MiB as the summary is written\n";
   o << "             rho = " << p.density << m.unit("kg/m^3") << ", mu = " << p.viscosity << m.unit("Pa s")
     << " (nu = " << p.nu() << m.unit("m^2/s") << "); Re = U L / nu = "
     << (p.nu() > 0 ? format_number(p.velocity_scale * p.length_scale / p.nu()) : std::string("inf (inviscid)"))

@@ -290,6 +290,17 @@ TEST_CASE("fluid: scene errors are located at their key") {
   CHECK(probed("\"NAME\"", "\"\"").find("a line probe needs a name") != std::string::npos);
   CHECK(probed("[0.5, 0.9]", "[0.5, 0.1]").find("the probe's ends are the same point") != std::string::npos);
   CHECK(probed("NAME", "u_centreline") == "");
+  // A million points in all at most (a hundred probes of a million each passed, and the summary
+  // written after the run took 4.7 GB per ten of them); their summary's memory is in the estimate.
+  const std::string many = cavity(2, 8) + probe + "points = 600000\n" + probe + "points = 400001\n";
+  CHECK(test::scene_error(many).ends_with("the line probes sample 1000001 points in all, above 1000000 (a summary "
+                                          "of 125 MB): use fewer; the grid has 8 cells along its longest axis"));
+  std::string fewer = many;
+  fewer.replace(fewer.find("400001"), 6, "400000");
+  fewer.replace(fewer.rfind("NAME"), 4, "other");
+  const Model probed_model = test::model_from(fewer);
+  CHECK(estimated_memory_bytes(probed_model) - estimated_memory_bytes(test::model_from(cavity(2, 8))) ==
+        doctest::Approx(1e6 * 420));
   const std::string big = test::scene_error(cavity(3, 4000));
   INFO(big);
   CHECK(big.find("GiB") != std::string::npos);
