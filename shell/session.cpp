@@ -486,12 +486,13 @@ RunOptions Session::run_options(const RunLength& len, bool background) {
     // Each observable sampled once, however many clauses name it ("step >= 5 or step >= 10").
     std::vector<std::string> names;
     std::vector<size_t> column;  // clause k reads names[column[k]]
-    bool cheap = true;
+    bool cheap = true, of_last_step = false;
     for (const Clause& c : len.until.clauses) {
       const auto at = std::find(names.begin(), names.end(), c.observable);
       column.push_back(static_cast<size_t>(at - names.begin()));
       if (at == names.end()) names.push_back(c.observable);
       cheap = cheap && (c.observable == "t" || c.observable == "step" || c.observable == "dt");
+      of_last_step = of_last_step || observable_of_last_step(c.observable, m);
     }
     auto obs = std::make_shared<Observer>(m, names);
     const Condition cond = len.until;
@@ -502,7 +503,10 @@ RunOptions Session::run_options(const RunLength& len, bool background) {
     // ("t >= 0.001 and step == 90" ran on past step 90).
     constexpr int64_t kEvery = 10;
     const bool windows = !cheap && cond.has_window();
-    opt.hooks.push_back({cheap || windows ? 1 : kEvery, [this, obs, cond, column, cheap](const State& st) {
+    // A value of the last step is none before the first: the condition is not tested on a state
+    // no step has made (`run until fluid.change_rate < 1e-3` held at step 0, where it reads 0).
+    opt.hooks.push_back({cheap || windows ? 1 : kEvery, [this, obs, cond, column, cheap, of_last_step](const State& st) {
+                           if (of_last_step && st.step == 0) return;
                            const bool regular = cheap || st.step % kEvery == 0;
                            if (!regular && !cond.window_closes(st.t, st.step, st.dt, kEvery - st.step % kEvery)) return;
                            if (cond.holds(obs->sample(sim_->model(), st), &column)) {

@@ -15,7 +15,7 @@ const FluidParams& params(const ObservableContext& c) { return c.m.params.get<Fl
 }  // namespace
 
 std::vector<ObservableSpec> fluid_observables() {
-  return {
+  std::vector<ObservableSpec> specs = {
       {"fluid.ke", "J", "fluid kinetic energy (rho/2) integral |u|^2 (per unit depth in 2D)",
        [](const ObservableContext& c, const ObservableArgs&) { return kinetic_energy(params(c), c.s); }},
       {"fluid.enstrophy", "m^3/s^2", "(1/2) integral |omega|^2 (per unit depth in 2D)",
@@ -47,6 +47,11 @@ std::vector<ObservableSpec> fluid_observables() {
       {"solver.residual", "", "relative residual of the last pressure solve (0 for the fast transforms)",
        [](const ObservableContext& c, const ObservableArgs&) { return stat(c, kResidual); }},
   };
+  // (the driving gradient of a flow rate is the last step's too; an imposed one is the parameter)
+  for (ObservableSpec& o : specs)
+    o.of_last_step = o.pattern == "fluid.div_max" || o.pattern == "fluid.cfl" || o.pattern == "fluid.change_rate" ||
+                     o.pattern == "fluid.pressure_gradient" || o.pattern.starts_with("solver.");
+  return specs;
 }
 
 }  // namespace silt::fluid

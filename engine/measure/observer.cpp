@@ -175,6 +175,11 @@ int64_t ObservableContext::index_of(int64_t id) const {
 
 std::string check_observable(const std::string& name, const Model& m) { return find(name, m).error; }
 
+bool observable_of_last_step(const std::string& name, const Model& m) {
+  const Found f = find(name, m);
+  return f.spec && f.spec->of_last_step;
+}
+
 std::vector<std::pair<std::string, std::string>> observable_units(const Model& m) {
   std::vector<std::pair<std::string, std::string>> out;
   for (const Module& mod : modules()) {

@@ -136,6 +136,25 @@ TEST_CASE("silt play: run until steady, and a target CFL steered between runs") 
   CHECK(dry.out.find("no [fluid]") != std::string::npos);
 }
 
+TEST_CASE("silt play: run until on a value of the last step is not tested before the first step") {
+  // fluid.change_rate, fluid.cfl and fluid.div_max read 0 before any step: "run until
+  // fluid.change_rate < 1e-3" held at step 0. After a step it is tested as any other.
+  const std::string script = write_file(
+      "cli_fluid_until_last_step.silt", "load " + scene_path("cavity_2d") +
+                                            "\nset fluid.cells [16, 16]\nrun until fluid.change_rate < 1e3\nprint step\n"
+                                            "run until fluid.change_rate < 1e3\nprint step\nreset\n"
+                                            "run until fluid.ke >= 0\nprint step\n");
+  const Result r = silt_cli("play " + script);
+  INFO(r.out);
+  CHECK(r.code == 0);
+  const size_t first = r.out.find("condition met: 10 steps");  // tested every 10 steps
+  REQUIRE(first != std::string::npos);
+  const size_t again = r.out.find("condition met: 0 steps in", first);  // after a step: at once
+  REQUIRE(again != std::string::npos);
+  CHECK(r.out.find("step 10\n", again) != std::string::npos);
+  CHECK(r.out.find("now t = 0 s, step 0\n", again) != std::string::npos);  // a value of the state: at once
+}
+
 TEST_CASE("silt play: the shipped cavity_reynolds.silt plays, on a smaller grid and for less time") {
   // The script's own commands, with the grid, the frames' size and the times made small (its full
   // length is `silt play scenes/cavity_reynolds.silt`); each replaced line must be in it.

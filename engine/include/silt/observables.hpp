@@ -128,6 +128,9 @@ struct ObservableSpec {
   std::string k_what = "grain";
   int64_t k_listed = 1;
   std::string module;  // set when the table is assembled
+  // A value of the last step (a solve's iterations, a CFL number): none before the first, where it
+  // reads 0 (`run until fluid.change_rate < 1e-3` held at once).
+  bool of_last_step = false;
 };
 
 // A value of grain K, by id (p[K]...): f(context, the grain's index, args).
@@ -142,6 +145,8 @@ ObservableSpec grain_observable(std::string pattern, std::string unit, std::stri
 
 // Returns "" when `name` is an observable of this model, else the reason (with a suggestion).
 std::string check_observable(const std::string& name, const Model& m);
+// Whether `name` (an observable of this model) is a value of the last step (ObservableSpec::of_last_step).
+bool observable_of_last_step(const std::string& name, const Model& m);
 // Every observable name that applies to this model (families listed with their first indices),
 // and its unit: for help and completion.
 std::vector<std::string> observable_names(const Model& m);
