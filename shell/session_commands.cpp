@@ -26,6 +26,12 @@ std::string join_words(const std::vector<std::string>& words) {
   return out;
 }
 
+// Each word an observable of the model, or its error at that word (it was at the command's).
+void check_observable_words(const std::vector<Token>& words, const Model& m) {
+  for (const Token& t : words)
+    if (const std::string err = check_observable(t.text, m); !err.empty()) throw ParseError(t.col, err);
+}
+
 }  // namespace
 
 void Session::cmd_load(const Command& c) {
@@ -159,7 +165,9 @@ void Session::cmd_params(const Command& c) {
 
 void Session::cmd_print(const Command& c) {
   std::vector<std::string> names;
-  for (const Token& t : expand_lists(c.args)) names.push_back(t.text);
+  const std::vector<Token> words = expand_lists(c.args);
+  check_observable_words(words, sim().model());
+  for (const Token& t : words) names.push_back(t.text);
   std::optional<Observer> obs;
   try {
     obs.emplace(sim().model(), names);
@@ -185,8 +193,11 @@ void Session::cmd_watch(const Command& c) {
   if (n < 3 || c.args[n - 2].text != "every") throw ParseError(c.name_col, "usage: watch OBS... every N | watch off");
   const int64_t every = parse_every(c.args[n - 1]);
   Watch w;
-  for (size_t k = 0; k + 2 < n; ++k)
-    for (const Token& t : expand_list(c.args[k])) w.names.push_back(t.text);
+  for (size_t k = 0; k + 2 < n; ++k) {
+    const std::vector<Token> words = expand_list(c.args[k]);
+    check_observable_words(words, sim().model());
+    for (const Token& t : words) w.names.push_back(t.text);
+  }
   try {
     w.observer.emplace(sim().model(), w.names);
   } catch (const std::invalid_argument& e) {

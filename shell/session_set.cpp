@@ -42,6 +42,7 @@ bool enters_preparation(const std::string& key) {
 // One `set` as typed, and what the model was before it (for the notes after it).
 struct Session::SetChange {
   std::vector<Override> changes;      // the pairs, keys canonical
+  std::vector<std::pair<int, int>> cols;  // the columns of each pair's key and value
   std::string typed = "set";          // as typed, for messages
   std::vector<Override> next;         // the changes typed so far, with these last
   std::vector<std::string> replaced;  // the keys these are alternatives to
@@ -62,24 +63,25 @@ struct Session::SetChange {
 // and its cells, whose spacing must be the same along every axis) could not be set one at a time.
 Session::SetChange Session::read_set(const Command& c) {
   if (c.args.size() % 2 != 0)
-    throw std::runtime_error("set takes KEY VALUE pairs: '" + c.args.back().text + "' has no value");
+    throw ParseError(c.args.back().col, "set takes KEY VALUE pairs: '" + c.args.back().text + "' has no value");
   SetChange ch;
   for (size_t k = 0; k < c.args.size(); k += 2) {
     const std::string key = canonical_key(c.args[k].text);
     const KeySpec* spec = find_key_spec(normalise_key(key));
-    if (!spec) throw std::runtime_error(unknown_key_message(key));
+    if (!spec) throw ParseError(c.args[k].col, unknown_key_message(key));
     // A quoted word for a key that takes a string is the TOML string typed, escapes and all
     // ("tab\there" kept its backslash, where a scene file reads a tab).
     const Token& value = c.args[k + 1];
     ch.changes.push_back({key, spec->type == KeyType::kString && !value.raw.empty() ? value.raw : value.text});
+    ch.cols.push_back({c.args[k].col, value.col});
     // (a key and one it is an alternative to: the last had replaced the first, unsaid, where a
     // scene file giving both is refused)
     const std::vector<std::string> others = alternatives_of(key);
     for (size_t j = 0; j + 1 < ch.changes.size(); ++j) {
-      if (ch.changes[j].key == key) throw std::runtime_error("set: '" + key + "' is given twice");
+      if (ch.changes[j].key == key) throw ParseError(c.args[k].col, "set: '" + key + "' is given twice");
       if (std::find(others.begin(), others.end(), ch.changes[j].key) != others.end())
-        throw std::runtime_error("set: '" + ch.changes[j].key + "' and '" + key +
-                                 "' are alternatives: give one of them");
+        throw ParseError(c.args[k].col, "set: '" + ch.changes[j].key + "' and '" + key +
+                                            "' are alternatives: give one of them");
     }
     ch.typed += " " + key + " " + shown_word(ch.changes.back().value);
   }
@@ -136,7 +138,7 @@ bool Session::steer_set(const SetChange& ch) {
     error = outcome.cannot;
   }
   if (!error.empty()) {
-    if (running()) throw std::runtime_error("set " + change.key + ": " + error);
+    if (running()) throw ParseError(ch.cols.front().second, "set " + change.key + ": " + error);
     return false;
   }
   overrides_ = ch.next;
@@ -162,7 +164,12 @@ void Session::recompile_set(const SetChange& ch) {
     try {
       return compile(scene_with(ch.next));
     } catch (const SceneError& e) {
-      if (!ch.several() && e.loc().file == "set " + ch.changes.front().key) throw;
+      // (located at the value typed; it was at the command)
+      for (size_t k = 0; k < ch.changes.size(); ++k)
+        if (e.loc().file == "set " + ch.changes[k].key) {
+          if (!ch.several()) throw ParseError(ch.cols[k].second, e.what());
+          throw ParseError(ch.cols[k].second, ch.typed + ": " + e.message());
+        }
       throw std::runtime_error(ch.typed + ": refused with the value at " + e.loc().str() + ": " + e.message());
     }
   };

@@ -98,13 +98,16 @@ TEST_CASE("silt play: echoes each command with its line, stops at the first erro
   CHECK(code == 0);
   play(dir, "", "", &code);
   CHECK(code == 0);
-  // The column is the parser's, else the command's (INTERFACE.md: FILE:LINE:COL).
+  // The column is the parser's, or that of the word the error is about, else the command's
+  // (INTERFACE.md: FILE:LINE:COL).
   out = play(dir, "  print \"t\n", "", &code);
   CHECK(code == 2);
   CHECK(contains(out, "play.silt:1:9: "));
   out = play(dir, "load " + silt::test::scene_path("collision_normal") + "\n   set contact.k_n fast\n", "", &code);
   CHECK(code == 2);
-  CHECK(contains(out, "play.silt:2:4: "));
+  CHECK(contains(out, "play.silt:2:20: "));  // the value's (it was the command's)
+  out = play(dir, "load " + silt::test::scene_path("collision_normal") + "\n   print t nope\n", "", &code);
+  CHECK(contains(out, "play.silt:2:12: unknown observable 'nope'"));
   // A file that cannot be written or read is an I/O error, 4, as for `silt run`.
   out = play(dir, "load " + silt::test::scene_path("collision_normal") + "\nsave nodir/x.ckpt\n", "", &code);
   CHECK(code == 4);

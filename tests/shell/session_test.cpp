@@ -94,7 +94,8 @@ TEST_CASE("non-steerable values recompile the scene, keeping the state when the 
                           "x render.height = 9000 x 8193") != std::string::npos);
   REQUIRE(w.run("set render.height 7000"));     // 63 Mpx
   CHECK_FALSE(w.run("set render.width 9600"));  // refused at the key typed: as it was
-  CHECK(w.take_err().find("error: set render.width: render.width x render.height = 9600 x 7000") != std::string::npos);
+  CHECK(w.take_err().find("error: column 18: set render.width: render.width x render.height = 9600 x 7000") !=
+        std::string::npos);
 }
 
 TEST_CASE("save, restore and reset: a restored run is bitwise the uninterrupted one") {
