@@ -23,9 +23,10 @@ int main(int argc, char** argv) {
   r->add_option("scene", run.scene, "Scene file (TOML)")->required();
   r->add_option("--set", run.sets, "Override a scene value: KEY=VALUE (dotted TOML path); repeatable")
       ->check(key_value());
-  auto* steps = r->add_option("--steps", run.steps, "Run length in steps (overrides [run]): 1000, 1e3")
+  auto* steps = r->add_option("--steps", run.steps, "Run length in steps, from the restored state with --restore (overrides [run], whose steps and "
+                              "time are where the scene ends): 1000, 1e3")
                     ->transform(whole_number(0));
-  r->add_option("--time", run.time, "Run length in simulated seconds (overrides [run]): 0.5, 0.5s")
+  r->add_option("--time", run.time, "Run length in simulated seconds, from the restored state with --restore (overrides [run]): 0.5, 0.5s")
       ->excludes(steps)
       ->transform(seconds());
   r->add_option("--threads", run.threads, "Worker threads (default: all cores; 1 = serial reference)")
