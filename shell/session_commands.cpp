@@ -14,6 +14,7 @@
 #include "silt/input_files.hpp"
 #include "silt/module.hpp"
 #include "silt/observables.hpp"
+#include "silt/scene.hpp"
 #include "silt/text.hpp"
 
 namespace silt::shell {
@@ -251,6 +252,8 @@ void Session::cmd_render(const Command& c) {
         for (const std::string& choice : spec->choices) all += (all.empty() ? "" : " ") + choice;
         throw ParseError(args[k].col, "'" + item + "' is not something to draw (" + all + ")");
       }
+      // (a fluid's frame drew 'lubrication' as nothing, which render.draw refuses)
+      if (const std::string why = draw_refusal(s.model(), item); !why.empty()) throw ParseError(args[k].col, why);
       v.draw.push_back(item);
     }
   }

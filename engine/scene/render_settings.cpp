@@ -125,11 +125,8 @@ void read_render_settings(const SceneDesc& d, Model& m) {
   }
   r.periodic_images = d.boolean("render.periodic_images");
   r.every = d.has("render.every") ? d.integer("render.every") : 0;
-  // A fluid field needs the fluid module, lubrication forces the paste.
-  if (r.wants("field") && !m.module_on("fluid"))
-    d.fail("render.draw", "'field' draws a fluid field (" + r.field + "), but this scene has no fluid module");
-  if (r.wants("lubrication") && !m.module_on("paste"))
-    d.fail("render.draw", "'lubrication' draws a paste's lubrication forces, but this scene has no [lubrication]");
+  for (const std::string& item : r.draw)
+    if (const std::string why = draw_refusal(m, item); !why.empty()) d.fail("render.draw", why);
   // A magnitude is drawn on a sequential map from 0 (a vorticity's [-5, 5] kept for |u| painted the
   // cavity one colour).
   const bool magnitude = r.field == "velocity" && (D == 2 || r.slice_component == "magnitude");
@@ -140,6 +137,15 @@ void read_render_settings(const SceneDesc& d, Model& m) {
 }
 
 }  // namespace scene
+
+std::string draw_refusal(const Model& m, const std::string& item) {
+  if (item == "field" && !m.module_on("fluid"))
+    return "'field' draws a fluid field (" + m.render.field + "), but this scene has no fluid module";
+  if (item == "lubrication" && !m.module_on("paste"))
+    return "'lubrication' draws a paste's lubrication forces, but this scene has no [lubrication]";
+  return "";
+}
+
 namespace scene {
 namespace {
 

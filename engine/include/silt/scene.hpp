@@ -115,6 +115,9 @@ std::string unknown_key_message(std::string_view path);
 // "grains[0].count".
 std::string canonical_key(const std::string& key);
 std::string value_to_string(const Value& v);
+// Why this model cannot draw `item` (of render.draw), or "": a field needs the fluid, lubrication
+// forces the paste. For the scene's render.draw and the shell's `render FILE ITEMS` alike.
+std::string draw_refusal(const Model& m, const std::string& item);
 
 struct SceneEntry {
   Value value;
