@@ -1,7 +1,9 @@
 // PNG files through libpng: 8-bit RGB written, RGBA read.
 #include <png.h>
 
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
 #include <memory>
 
 #include "silt/errors.hpp"
@@ -12,7 +14,7 @@ namespace silt::render {
 void write_png(const std::string& path, const Image& image) {
   const std::string tmp = path + ".tmp";
   std::FILE* f = std::fopen(tmp.c_str(), "wb");
-  if (!f) throw IoError("cannot write '" + path + "'");
+  if (!f) throw IoError("cannot write '" + path + "': " + std::strerror(errno));
   png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
   png_infop info = png ? png_create_info_struct(png) : nullptr;
   if (!png || !info || setjmp(png_jmpbuf(png))) {

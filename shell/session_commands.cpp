@@ -12,6 +12,7 @@
 #include "shell/session.hpp"
 #include "shell/table.hpp"
 #include "silt/input_files.hpp"
+#include "silt/io.hpp"
 #include "silt/module.hpp"
 #include "silt/observables.hpp"
 #include "silt/scene.hpp"
@@ -257,13 +258,15 @@ void Session::cmd_render(const Command& c) {
       v.draw.push_back(item);
     }
   }
+  // (before drawing; a missing directory said only "cannot write", after the drawing)
+  check_not_open_file(c.args[0].text, "image");
+  check_not_restored(c.args[0].text, "image");
+  check_output_path(c.args[0].text, "image");
   render::RenderScene rs;
   at_boundary([&] { rs = render::build_render_scene(s.model(), s.state(), v); });
   if (!raster_) raster_ = std::make_unique<render::Rasterizer>();
   render::Image img = raster_->draw(rs);
   render::compose_overlays(rs, img);
-  check_not_open_file(c.args[0].text, "image");
-  check_not_restored(c.args[0].text, "image");
   render::write_png(c.args[0].text, img);
   out_ << "wrote " << c.args[0].text << " (" << img.width << " x " << img.height << ")\n";
   for (const std::string& w : rs.warnings) out_ << "warning: " << w << "\n";

@@ -34,7 +34,9 @@ TEST_CASE("the shell survives every mistake and keeps the previous scene") {
   CHECK(f.take_err().find("did you mean 'contact.friction'") != std::string::npos);
   CHECK_FALSE(f.run("restore no_such.ckpt"));
   CHECK_FALSE(f.run("source no_such.silt"));
+  f.take_err();
   CHECK_FALSE(f.run("render no_dir/x.png"));
+  CHECK(f.take_err().find("cannot write image 'no_dir/x.png': no directory 'no_dir'") != std::string::npos);
   CHECK_FALSE(f.run("watch t every zero"));
   CHECK_FALSE(f.run("stop"));
   CHECK_FALSE(f.run("run \"unterminated"));
