@@ -93,6 +93,12 @@ TEST_CASE("fluid bulk_velocity: the imposed flow rate along y reads back as impo
   CHECK(observe(*sim, "fluid.ke") == doctest::Approx(observe(*turned, "fluid.ke")).epsilon(1e-12));
 }
 
+TEST_CASE("fluid: a missing viscosity names the Reynolds number that may stand for it") {
+  CHECK(test::scene_error("[scene]\ndimension = 2\n[domain]\nlo = [0.0, 0.0]\nhi = [1.0, 1.0]\n[fluid]\n"
+                          "cells = [8, 8]\n") ==
+        "bad.toml:6:1: missing required key 'fluid.viscosity' (or 'fluid.reynolds')");
+}
+
 TEST_CASE("fluid: a drive along an axis with walls is refused at the axis, or at the drive where the axis is the default") {
   // (it said "the flow is driven along a periodic axis", at the drive's line, of an axis given along walls)
   const std::string walls_y =
