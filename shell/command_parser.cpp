@@ -63,7 +63,8 @@ std::optional<Command> parse_line(std::string_view line) {
                                 : list     ? "a list without its closing ]"
                                            : "a table without its closing }");
       if (i < n && line[i] != ' ' && line[i] != '\t' && line[i] != '#' && line[i] != '\r' && line[i] != '\n')
-        throw ParseError(column_of(line, i), list ? "a list must be followed by a blank" : "a table must be followed by a blank");
+        throw ParseError(column_of(line, i),
+                         list ? "a list must be followed by a blank" : "a table must be followed by a blank");
     } else if (c == '"') {
       ++i;
       bool closed = false;
@@ -482,8 +483,7 @@ std::string shown_word(std::string_view text) {
   const bool typed = text.size() >= 2 && (text.front() == '"' || text.front() == '\'') && text.back() == text.front();
   if (typed) return std::string(text);
   const bool plain = !text.empty() && std::none_of(text.begin(), text.end(), [list](char ch) {
-    return is_control(ch) || (ch == ' ' && !list) || ch == '\\' || ch == '#' ||
-           ((ch == '"' || ch == '\'') && !list);
+    return is_control(ch) || (ch == ' ' && !list) || ch == '\\' || ch == '#' || ((ch == '"' || ch == '\'') && !list);
   });
   if (plain) return std::string(text);
   std::string out = "\"";

@@ -23,10 +23,13 @@ int main(int argc, char** argv) {
   r->add_option("scene", run.scene, "Scene file (TOML)")->required();
   r->add_option("--set", run.sets, "Override a scene value: KEY=VALUE (dotted TOML path); repeatable")
       ->check(key_value());
-  auto* steps = r->add_option("--steps", run.steps, "Run length in steps, from the restored state with --restore (overrides [run], whose steps and "
-                              "time are where the scene ends): 1000, 1e3")
-                    ->transform(whole_number(0));
-  r->add_option("--time", run.time, "Run length in simulated seconds, from the restored state with --restore (overrides [run]): 0.5, 0.5s")
+  auto* steps =
+      r->add_option("--steps", run.steps,
+                    "Run length in steps, from the restored state with --restore (overrides [run], whose steps and "
+                    "time are where the scene ends): 1000, 1e3")
+          ->transform(whole_number(0));
+  r->add_option("--time", run.time,
+                "Run length in simulated seconds, from the restored state with --restore (overrides [run]): 0.5, 0.5s")
       ->excludes(steps)
       ->transform(seconds());
   r->add_option("--threads", run.threads, "Worker threads (default: all cores; 1 = serial reference)")
@@ -41,16 +44,17 @@ int main(int argc, char** argv) {
   r->add_flag("--quiet", run.quiet, "No progress line");
   auto* frames = r->add_option("--frames", run.frames,
                                "Write PNG frames DIR/frame_000000.png, ... (the scene's [render] settings)")
-                    ->check(path_given());
+                     ->check(path_given());
   // (an interval without its output was ignored without a word)
   r->add_option("--frame-every", run.frame_every,
                 "One frame every N steps (default: render.every, else --every, else output.every)")
       ->transform(whole_number(1))
       ->needs(frames);
-  auto* vtk = r->add_option(
-      "--vtk", run.vtk,
-      "Write VTK files for ParaView/OVITO to DIR (grains .vtu, contacts .vtp, fluid fields .vti, index.pvd)")
-                 ->check(path_given());
+  auto* vtk =
+      r->add_option(
+           "--vtk", run.vtk,
+           "Write VTK files for ParaView/OVITO to DIR (grains .vtu, contacts .vtp, fluid fields .vti, index.pvd)")
+          ->check(path_given());
   r->add_option("--vtk-every", run.vtk_every, "VTK files every N steps (default: --every, else output.every)")
       ->transform(whole_number(1))
       ->needs(vtk);

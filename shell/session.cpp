@@ -505,18 +505,19 @@ RunOptions Session::run_options(const RunLength& len, bool background) {
     const bool windows = !cheap && cond.has_window();
     // A value of the last step is none before the first: the condition is not tested on a state
     // no step has made (`run until fluid.change_rate < 1e-3` held at step 0, where it reads 0).
-    opt.hooks.push_back({cheap || windows ? 1 : kEvery, [this, obs, cond, column, cheap, of_last_step](const State& st) {
-                           if (of_last_step && st.step == 0) return;
-                           const bool regular = cheap || st.step % kEvery == 0;
-                           if (!regular && !cond.window_closes(st.t, st.step, st.dt, kEvery - st.step % kEvery)) return;
-                           if (cond.holds(obs->sample(sim_->model(), st), &column)) {
-                             until_end_ = UntilEnd::kMet;
-                             interrupt_ = true;
-                           } else if (regular && until_never_holds(cond, st.t, st.step)) {
-                             until_end_ = UntilEnd::kNeverHolds;
-                             interrupt_ = true;
-                           }
-                         }});
+    opt.hooks.push_back(
+        {cheap || windows ? 1 : kEvery, [this, obs, cond, column, cheap, of_last_step](const State& st) {
+           if (of_last_step && st.step == 0) return;
+           const bool regular = cheap || st.step % kEvery == 0;
+           if (!regular && !cond.window_closes(st.t, st.step, st.dt, kEvery - st.step % kEvery)) return;
+           if (cond.holds(obs->sample(sim_->model(), st), &column)) {
+             until_end_ = UntilEnd::kMet;
+             interrupt_ = true;
+           } else if (regular && until_never_holds(cond, st.t, st.step)) {
+             until_end_ = UntilEnd::kNeverHolds;
+             interrupt_ = true;
+           }
+         }});
   }
   return opt;
 }

@@ -41,12 +41,12 @@ bool enters_preparation(const std::string& key) {
 
 // One `set` as typed, and what the model was before it (for the notes after it).
 struct Session::SetChange {
-  std::vector<Override> changes;      // the pairs, keys canonical
+  std::vector<Override> changes;          // the pairs, keys canonical
   std::vector<std::pair<int, int>> cols;  // the columns of each pair's key and value
-  std::string typed = "set";          // as typed, for messages
-  std::vector<Override> next;         // the changes typed so far, with these last
-  std::vector<std::string> replaced;  // the keys these are alternatives to
-  bool was_fixed = false;             // the step before: fixed, and its value
+  std::string typed = "set";              // as typed, for messages
+  std::vector<Override> next;             // the changes typed so far, with these last
+  std::vector<std::string> replaced;      // the keys these are alternatives to
+  bool was_fixed = false;                 // the step before: fixed, and its value
   double dt_was = 0;
   std::vector<std::pair<std::string, std::string>> computed_was;
 
@@ -80,8 +80,8 @@ Session::SetChange Session::read_set(const Command& c) {
     for (size_t j = 0; j + 1 < ch.changes.size(); ++j) {
       if (ch.changes[j].key == key) throw ParseError(c.args[k].col, "set: '" + key + "' is given twice");
       if (std::find(others.begin(), others.end(), ch.changes[j].key) != others.end())
-        throw ParseError(c.args[k].col, "set: '" + ch.changes[j].key + "' and '" + key +
-                                            "' are alternatives: give one of them");
+        throw ParseError(c.args[k].col,
+                         "set: '" + ch.changes[j].key + "' and '" + key + "' are alternatives: give one of them");
     }
     ch.typed += " " + key + " " + shown_word(ch.changes.back().value);
   }

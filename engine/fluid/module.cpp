@@ -203,12 +203,11 @@ void compile_lines(const SceneDesc& d, const Model& m, FluidParams& p) {
     int64_t total = probe.points;
     for (const LineProbe& other : p.lines) total += other.points;
     if (total > kMaxLinePoints)
-      d.fail(k + "points", "the line probes sample " + std::to_string(total) + " points in all, above " +
-                               std::to_string(kMaxLinePoints) +
-                               " (a summary of " + format_number(kMaxLinePoints * kSummaryBytesPerPoint / 1e6, 3) +
-                               " MB): use fewer; the grid has " +
-                               std::to_string(*std::max_element(p.grid.n.begin(), p.grid.n.end())) +
-                               " cells along its longest axis");
+      d.fail(k + "points",
+             "the line probes sample " + std::to_string(total) + " points in all, above " +
+                 std::to_string(kMaxLinePoints) + " (a summary of " +
+                 format_number(kMaxLinePoints * kSummaryBytesPerPoint / 1e6, 3) + " MB): use fewer; the grid has " +
+                 std::to_string(*std::max_element(p.grid.n.begin(), p.grid.n.end())) + " cells along its longest axis");
     for (const LineProbe& other : p.lines)
       if (other.name == probe.name) d.fail(k + "name", "two line probes are named '" + probe.name + "'");
     p.lines.push_back(probe);
@@ -350,13 +349,14 @@ void finish_fluid(const SceneDesc& d, Model& m) {
   // gave 6.4 at the limit 1.6, and to a vortex that failed at its first step.)
   std::string what;
   if (const double rate = known_rate(p, &what); p.dt_fixed && p.dt * rate > FluidParams::kCflLimit)
-    d.fail("fluid.dt", what + (what.find("speeds") != std::string::npos || what.find(", ") != std::string::npos
-                                   ? " alone give"
-                                   : " alone gives") +
-                           " a CFL number dt sum |U|/h = " +
-                           format_number(p.dt * rate, 4) + " above " + format_number(FluidParams::kCflLimit, 4) +
-                           ", the stability limit of RK3 advection; reduce fluid.dt below " +
-                           scene_step(m, p, FluidParams::kCflLimit / rate) + ", or remove it for the adaptive step");
+    d.fail("fluid.dt",
+           what +
+               (what.find("speeds") != std::string::npos || what.find(", ") != std::string::npos ? " alone give"
+                                                                                                 : " alone gives") +
+               " a CFL number dt sum |U|/h = " + format_number(p.dt * rate, 4) + " above " +
+               format_number(FluidParams::kCflLimit, 4) +
+               ", the stability limit of RK3 advection; reduce fluid.dt below " +
+               scene_step(m, p, FluidParams::kCflLimit / rate) + ", or remove it for the adaptive step");
   const double need = estimated_memory_bytes(m), have = available_memory_bytes();
   if (need > 0.9 * have)
     d.fail("fluid.cells", "the fluid needs about " + format_number(need / (1 << 30), 3) + " GiB (" +

@@ -191,7 +191,8 @@ const Value* SceneDesc::lookup(std::string_view path, KeyType want) const {
   std::string instead;
   for (const std::string& other : alternatives_of(normalise_key(path)))
     instead += (instead.empty() ? " (or " : ", or ") + std::string("'") + other + "'";
-  throw SceneError(loc(path), "missing required key '" + std::string(path) + "'" + (instead.empty() ? "" : instead + ")"));
+  throw SceneError(loc(path),
+                   "missing required key '" + std::string(path) + "'" + (instead.empty() ? "" : instead + ")"));
 }
 
 bool SceneDesc::boolean(std::string_view p) const { return std::get<bool>(*lookup(p, KeyType::kBool)); }

@@ -139,11 +139,12 @@ TEST_CASE("silt play: run until steady, and a target CFL steered between runs") 
 TEST_CASE("silt play: run until on a value of the last step is not tested before the first step") {
   // fluid.change_rate, fluid.cfl and fluid.div_max read 0 before any step: "run until
   // fluid.change_rate < 1e-3" held at step 0. After a step it is tested as any other.
-  const std::string script = write_file(
-      "cli_fluid_until_last_step.silt", "load " + scene_path("cavity_2d") +
-                                            "\nset fluid.cells [16, 16]\nrun until fluid.change_rate < 1e3\nprint step\n"
-                                            "run until fluid.change_rate < 1e3\nprint step\nreset\n"
-                                            "run until fluid.ke >= 0\nprint step\n");
+  const std::string script =
+      write_file("cli_fluid_until_last_step.silt",
+                 "load " + scene_path("cavity_2d") +
+                     "\nset fluid.cells [16, 16]\nrun until fluid.change_rate < 1e3\nprint step\n"
+                     "run until fluid.change_rate < 1e3\nprint step\nreset\n"
+                     "run until fluid.ke >= 0\nprint step\n");
   const Result r = silt_cli("play " + script);
   INFO(r.out);
   CHECK(r.code == 0);

@@ -99,7 +99,8 @@ TEST_CASE("fluid: a missing viscosity names the Reynolds number that may stand f
         "bad.toml:6:1: missing required key 'fluid.viscosity' (or 'fluid.reynolds')");
 }
 
-TEST_CASE("fluid: a drive along an axis with walls is refused at the axis, or at the drive where the axis is the default") {
+TEST_CASE(
+    "fluid: a drive along an axis with walls is refused at the axis, or at the drive where the axis is the default") {
   // (it said "the flow is driven along a periodic axis", at the drive's line, of an axis given along walls)
   const std::string walls_y =
       "[scene]\ndimension = 2\n[domain]\nlo = [0.0, 0.0]\nhi = [2.0, 1.0]\nperiodic = [true, false]\n"
@@ -108,8 +109,9 @@ TEST_CASE("fluid: a drive along an axis with walls is refused at the axis, or at
         "bad.toml:12:14: a flow is driven only along a periodic axis, and y is not periodic (domain.periodic)");
   const std::string walls_x = walls_y.substr(0, walls_y.find("[true, false]")) + "[false, true]" +
                               walls_y.substr(walls_y.find("[true, false]") + 13);
-  CHECK(test::scene_error(walls_x) == "bad.toml:11:17: a flow is driven only along a periodic axis, and x is not "
-                                      "periodic (fluid.drive_axis = x; domain.periodic)");
+  CHECK(test::scene_error(walls_x) ==
+        "bad.toml:11:17: a flow is driven only along a periodic axis, and x is not "
+        "periodic (fluid.drive_axis = x; domain.periodic)");
 }
 
 TEST_CASE("fluid enstrophy: measured again, after other grids' measurements, the same to the bit") {

@@ -172,9 +172,10 @@ TEST_CASE("fluid: the rate known before any step is the vortex's own, and a bulk
                                   std::pair{"[16, 12, 9]", "[1.0, 0.75, 0.5625]"}}) {
     CAPTURE(cells);
     const bool d3 = std::string(cells).size() > 8;
-    const std::string scene = std::string("[scene]\ndimension = ") + (d3 ? "3" : "2") + "\n[domain]\nlo = " +
-                              (d3 ? "[0.0, 0.0, 0.0]" : "[0.0, 0.0]") + "\nhi = " + hi + "\nperiodic = " +
-                              (d3 ? "[true, true, true]" : "[true, true]") + "\n[fluid]\ncells = " + cells +
+    const std::string scene = std::string("[scene]\ndimension = ") + (d3 ? "3" : "2") +
+                              "\n[domain]\nlo = " + (d3 ? "[0.0, 0.0, 0.0]" : "[0.0, 0.0]") + "\nhi = " + hi +
+                              "\nperiodic = " + (d3 ? "[true, true, true]" : "[true, true]") +
+                              "\n[fluid]\ncells = " + cells +
                               "\nviscosity = 0.01\ninitial = \"taylor_green\"\ninitial_velocity = 3.0\n";
     auto sim = test::simulation_from(scene);
     sim->prepare();  // the initial velocity
@@ -293,8 +294,9 @@ TEST_CASE("fluid: scene errors are located at their key") {
   // A million points in all at most (a hundred probes of a million each passed, and the summary
   // written after the run took 4.7 GB per ten of them); their summary's memory is in the estimate.
   const std::string many = cavity(2, 8) + probe + "points = 600000\n" + probe + "points = 400001\n";
-  CHECK(test::scene_error(many).ends_with("the line probes sample 1000001 points in all, above 1000000 (a summary "
-                                          "of 125 MB): use fewer; the grid has 8 cells along its longest axis"));
+  CHECK(
+      test::scene_error(many).ends_with("the line probes sample 1000001 points in all, above 1000000 (a summary "
+                                        "of 125 MB): use fewer; the grid has 8 cells along its longest axis"));
   std::string fewer = many;
   fewer.replace(fewer.find("400001"), 6, "400000");
   fewer.replace(fewer.rfind("NAME"), 4, "other");
