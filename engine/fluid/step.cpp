@@ -276,52 +276,49 @@ double boundary_rate(const Grid& g) {
   return r;
 }
 
+double vortex_rate(const FluidParams& p) {
+  if (p.initial != Initial::kTaylorGreen) return 0;
+  const Grid& g = p.grid;
+  // Its largest |u| and |v| on their faces: a product of one factor per axis, each at its own
+  // index, so the largest of each 1D factor, sin at the faces along the component's axis and cos
+  // at the cell centres along the others.
+  std::array<double, 3> k{}, grid_k{};
+  for (int a = 0; a < g.dim; ++a) {
+    k[a] = 2 * std::numbers::pi / (g.n[a] * g.h[a]);
+    grid_k[a] = 2 * std::sin(k[a] * g.h[a] / 2) / g.h[a];
+  }
+  auto largest = [&](int axis, bool face) {
+    double best = 0;
+    for (int64_t i = 0; i < g.n[axis]; ++i) {
+      const double x = (static_cast<double>(i) + (face ? 0.0 : 0.5)) * g.h[axis];
+      best = std::max(best, std::abs(face ? std::sin(k[axis] * x) : std::cos(k[axis] * x)));
+    }
+    return best;
+  };
+  double rate = 0;
+  for (int a = 0; a < 2; ++a) {
+    double m = std::abs(p.initial_velocity) * (a == 0 ? 1.0 : std::abs(grid_k[0] / grid_k[1]));
+    for (int b = 0; b < g.dim; ++b) m *= largest(b, b == a);
+    rate += m / g.h[a];
+  }
+  return rate;
+}
+
 double known_rate(const FluidParams& p, std::string* what) {
   const Grid& g = p.grid;
-  // The vortex's largest |u| and |v| on their faces (initial_velocity): a product of one factor
-  // per axis, each at its own index, so the largest of each 1D factor, sin at the faces along the
-  // component's axis and cos at the cell centres along the others.
-  std::array<double, 3> vortex{};
-  if (p.initial == Initial::kTaylorGreen) {
-    std::array<double, 3> k{}, grid_k{};
-    for (int a = 0; a < g.dim; ++a) {
-      k[a] = 2 * std::numbers::pi / (g.n[a] * g.h[a]);
-      grid_k[a] = 2 * std::sin(k[a] * g.h[a] / 2) / g.h[a];
-    }
-    auto largest = [&](int axis, bool face) {
-      double best = 0;
-      for (int64_t i = 0; i < g.n[axis]; ++i) {
-        const double x = (static_cast<double>(i) + (face ? 0.0 : 0.5)) * g.h[axis];
-        best = std::max(best, std::abs(face ? std::sin(k[axis] * x) : std::cos(k[axis] * x)));
-      }
-      return best;
-    };
-    for (int a = 0; a < 2; ++a) {
-      double m = std::abs(p.initial_velocity) * (a == 0 ? 1.0 : std::abs(grid_k[0] / grid_k[1]));
-      for (int b = 0; b < g.dim; ++b) m *= largest(b, b == a);
-      vortex[a] = m;
-    }
-  }
   double rate = 0;
-  bool walls = false, drive = false, tg = false;
+  bool walls = false, drive = false;
   for (int a = 0; a < g.dim; ++a) {
     const double wall = boundary_speed(g, a);
     const double bulk = p.drive == Drive::kFlowRate && a == p.drive_axis ? std::abs(p.bulk_velocity) : 0.0;
-    const double speed = std::max({wall, bulk, vortex[a]});
-    rate += speed / g.h[a];
-    if (speed > 0) {
-      walls |= speed == wall;
-      drive |= speed == bulk && speed != wall;
-      tg |= speed == vortex[a] && speed != wall && speed != bulk;
-    }
+    rate += std::max(wall, bulk) / g.h[a];
+    walls |= wall > 0 && wall >= bulk;
+    drive |= bulk > wall;
   }
-  if (what) {
-    *what = "";
-    auto add = [what](const char* part) { *what += (what->empty() ? "" : ", ") + std::string(part); };
-    if (walls) add("the walls' and inflows' speeds");
-    if (drive) add("the bulk velocity (fluid.bulk_velocity)");
-    if (tg) add("the initial vortex (fluid.initial_velocity)");
-  }
+  if (what)
+    *what = walls && drive ? "the walls' and inflows' speeds and the bulk velocity (fluid.bulk_velocity)"
+            : drive        ? "the bulk velocity (fluid.bulk_velocity)"
+                           : "the walls' and inflows' speeds";
   return rate;
 }
 

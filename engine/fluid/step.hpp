@@ -140,12 +140,15 @@ double cfl_number(const FluidParams& p, const State& s, double dt);
 double boundary_speed(const Grid& g, int a);
 // sum_a boundary_speed(a) / h_a: the rate of a fluid at rest between its walls, lids and inflows.
 double boundary_rate(const Grid& g);
-// A lower bound of the rate sum_a max|u_a| / h_a of the first steps, known before any: per axis,
-// the largest of its boundaries' speed, the imposed bulk velocity along the drive axis (the mean
-// of u over the faces after the first step, so some face has at least it) and the Taylor-Green
-// vortex's largest value on the faces. A fixed step past the CFL limit with it fails in its first
-// two steps; `what` names those that set it.
+// A lower bound of the rate sum_a max|u_a| / h_a of the first steps from any state, known before
+// any: per axis, the larger of its boundaries' speed and the imposed bulk velocity along the
+// drive axis (the mean of u over the faces after the first step, so some face has at least it).
+// A fixed step past the CFL limit with it fails in its first two steps; `what` names those that
+// set it.
 double known_rate(const FluidParams& p, std::string* what = nullptr);
+// The rate of the initial Taylor-Green vortex (fluid.initial), exactly that of the first state
+// made from the scene; 0 for a fluid at rest. Not of a state restored or steered since.
+double vortex_rate(const FluidParams& p);
 // The rate a step from this state is held to: the state's own (kRate, stored by the last step or
 // the initial field) or its boundaries' as the parameters give them now (steered since), the
 // larger: a lid moving over a fluid still at rest limits the step as its flow will.
