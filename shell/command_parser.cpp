@@ -248,6 +248,9 @@ const CommandSpec& check_command(const Command& c) {
     const int col = n > s->max_args && s->max_args >= 0 ? c.args[s->max_args].col : c.name_col;
     throw ParseError(col, "usage: " + s->usage);
   }
+  // (`stats ""` said the samples went to a file and wrote none; `save ""` gave the system's words)
+  if (s->completes == ArgKind::kFile && n > 0 && c.args[0].text.empty())
+    throw ParseError(c.args[0].col, "an empty path: give a file or directory");
   return *s;
 }
 

@@ -37,6 +37,12 @@ TEST_CASE("the shell survives every mistake and keeps the previous scene") {
   f.take_err();
   CHECK_FALSE(f.run("render no_dir/x.png"));
   CHECK(f.take_err().find("cannot write image 'no_dir/x.png': no directory 'no_dir'") != std::string::npos);
+  // An empty path, to any command that takes one (`stats ""` said the samples went to a file).
+  for (const char* command : {"stats \"\"", "save ''", "frames \"\" every 5", "restore \"\"", "source ''"}) {
+    CAPTURE(command);
+    CHECK_FALSE(f.run(command));
+    CHECK(f.take_err().find("an empty path: give a file or directory") != std::string::npos);
+  }
   CHECK_FALSE(f.run("watch t every zero"));
   CHECK_FALSE(f.run("stop"));
   CHECK_FALSE(f.run("run \"unterminated"));
@@ -92,8 +98,8 @@ TEST_CASE("non-steerable values recompile the scene, keeping the state when the 
   // the check is ("set render.width: ... 9000 x 8193" answered `set render.height 8193`).
   REQUIRE(w.run("set render.width 9000"));
   CHECK_FALSE(w.run("set render.height 8193"));
-  CHECK(w.take_err().find("error: set render.height 8193: refused with the value at set render.width: render.width "
-                          "x render.height = 9000 x 8193") != std::string::npos);
+  CHECK(w.take_err().find("error: column 19: set render.height 8193: refused with the value of an earlier `set "
+                          "render.width`: render.width x render.height = 9000 x 8193") != std::string::npos);
   REQUIRE(w.run("set render.height 7000"));     // 63 Mpx
   CHECK_FALSE(w.run("set render.width 9600"));  // refused at the key typed: as it was
   CHECK(w.take_err().find("error: column 18: set render.width: render.width x render.height = 9600 x 7000") !=
