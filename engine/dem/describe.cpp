@@ -141,14 +141,18 @@ std::string describe_dem(const Model& m) {
                                 : std::string("every listed pair"))
     << "\n";
   const double g = m.gravity.norm();
-  if (g > 0) {
+  // (of grains on grains: where none can touch, a grain on a wall is check_weight's, whose law may
+  // be the grain's own; the line gave [contact]'s for a group of its own modulus, 21 times off)
+  if (g > 0 && m.pairs_form()) {
     // Stiffness relative to a grain's weight: overlap under its own weight / radius, of a mean
     // grain on a like one and the softest pair of groups (the stiffest's, 1e-4 where the soft
     // group's was 1e-3, was read as every grain's). Hertz by its own law: m g over the stiffest
     // contact's stiffness at the largest allowed overlap was 25 times below it for spheres of 1 mm
     // and 10 MPa.
     const double mg = m.m_mean * g;
-    const char* softest = m.kappa_stiffness_min < m.kappa_stiffness_max ? " (the softest pair's)" : "";
+    const char* softest = m.kappa_stiffness_min < m.kappa_stiffness_max
+                              ? " (a grain of mean mass and radius on a like one, the softest pair's law)"
+                              : " (a grain of mean mass and radius on a like one)";
     if (m.contact.law == NormalLaw::kHertz) {
       ContactParams p = m.contact;
       p.e_tilde = m.kappa_stiffness_min;

@@ -205,7 +205,7 @@ void compile_lines(const SceneDesc& d, const Model& m, FluidParams& p) {
     if (total > kMaxLinePoints)
       d.fail(k + "points",
              "the line probes sample " + std::to_string(total) + " points in all, above " +
-                 std::to_string(kMaxLinePoints) + " (a summary of " +
+                 std::to_string(kMaxLinePoints) + " (a summary of about " +
                  format_number(kMaxLinePoints * kSummaryBytesPerPoint / 1e6, 3) + " MB): use fewer; the grid has " +
                  std::to_string(*std::max_element(p.grid.n.begin(), p.grid.n.end())) + " cells along its longest axis");
     for (const LineProbe& other : p.lines)

@@ -33,7 +33,7 @@ double fluid_memory_bytes(const Model& m) {
   const FluidParams& p = m.params.get<FluidParams>();
   double points = 0;
   for (const LineProbe& l : p.lines) points += l.points;
-  return bytes_per_cell(p) * padded_cells(p) + points * kSummaryMemoryPerPoint;
+  return bytes_per_cell(p) * padded_cells(p) + points * summary_memory_per_point(p.grid.dim);
 }
 
 }  // namespace
@@ -49,7 +49,7 @@ std::string describe_fluid(const Model& m) {
     << bytes_per_cell(p) * padded_cells(p) / static_cast<double>(g.cells()) << " bytes per cell, "
     << bytes_per_cell(p) * padded_cells(p) / (1 << 20) << " MiB)\n";
   if (const double probes = fluid_memory_bytes(m) - bytes_per_cell(p) * padded_cells(p); probes > 0)
-    o << "             line probes: " << std::llround(probes / kSummaryMemoryPerPoint) << " points, about "
+    o << "             line probes: " << std::llround(probes / summary_memory_per_point(g.dim)) << " points, about "
       << probes / (1 << 20) << " MiB as the summary is written\n";
   o << "             rho = " << p.density << m.unit("kg/m^3") << ", mu = " << p.viscosity << m.unit("Pa s")
     << " (nu = " << p.nu() << m.unit("m^2/s") << "); Re = U L / nu = "

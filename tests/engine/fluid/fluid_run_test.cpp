@@ -164,7 +164,7 @@ TEST_CASE("fluid: steering the viscosity mid-run changes the decay rate from the
   CHECK(steer(cav->model_for_steering(), parse_override("fluid.cells=[8, 8]")) != "");
 }
 
-TEST_CASE("fluid: the initial vortex's rate is its first state's, a note past the limit; a bulk velocity's bound refuses") {
+TEST_CASE("fluid: the initial vortex's rate is its first state's and a note past the limit, a bulk velocity's bound refuses") {
   // The Taylor-Green vortex on odd and even grids, a box with Lx != Ly, in 2D and 3D: its largest
   // face values are the products of each axis's largest factor, exactly the first state's rate.
   // (cells of 1/16 along every axis)
@@ -303,13 +303,13 @@ TEST_CASE("fluid: scene errors are located at their key") {
   const std::string many = cavity(2, 8) + probe + "points = 600000\n" + probe + "points = 400001\n";
   CHECK(
       test::scene_error(many).ends_with("the line probes sample 1000001 points in all, above 1000000 (a summary "
-                                        "of 125 MB): use fewer; the grid has 8 cells along its longest axis"));
+                                        "of about 140 MB): use fewer; the grid has 8 cells along its longest axis"));
   std::string fewer = many;
   fewer.replace(fewer.find("400001"), 6, "400000");
   fewer.replace(fewer.rfind("NAME"), 4, "other");
   const Model probed_model = test::model_from(fewer);
   CHECK(estimated_memory_bytes(probed_model) - estimated_memory_bytes(test::model_from(cavity(2, 8))) ==
-        doctest::Approx(1e6 * 420));
+        doctest::Approx(1e6 * 420));  // (520 in 3D)
   const std::string big = test::scene_error(cavity(3, 4000));
   INFO(big);
   CHECK(big.find("GiB") != std::string::npos);
