@@ -30,8 +30,12 @@ std::string join_words(const std::vector<std::string>& words) {
 
 // Each word an observable of the model, or its error at that word (it was at the command's).
 void check_observable_words(const std::vector<Token>& words, const Model& m) {
-  for (const Token& t : words)
+  for (size_t k = 0; k < words.size(); ++k) {
+    const Token& t = words[k];
     if (const std::string err = check_observable(t.text, m); !err.empty()) throw ParseError(t.col, err);
+    for (size_t j = 0; j < k; ++j)
+      if (words[j].text == t.text) throw ParseError(t.col, "'" + t.text + "' is listed twice");
+  }
 }
 
 }  // namespace
@@ -195,11 +199,11 @@ void Session::cmd_watch(const Command& c) {
   if (n < 3 || c.args[n - 2].text != "every") throw ParseError(c.name_col, "usage: watch OBS... every N | watch off");
   const int64_t every = parse_every(c.args[n - 1]);
   Watch w;
-  for (size_t k = 0; k + 2 < n; ++k) {
-    const std::vector<Token> words = expand_list(c.args[k]);
-    check_observable_words(words, sim().model());
-    for (const Token& t : words) w.names.push_back(t.text);
-  }
+  std::vector<Token> words;
+  for (size_t k = 0; k + 2 < n; ++k)
+    for (const Token& t : expand_list(c.args[k])) words.push_back(t);
+  check_observable_words(words, sim().model());
+  for (const Token& t : words) w.names.push_back(t.text);
   try {
     w.observer.emplace(sim().model(), w.names);
   } catch (const std::invalid_argument& e) {

@@ -106,10 +106,10 @@ void Session::cmd_set(const Command& c) {
   const KeySpec* spec = find_key_spec(normalise_key(ch.changes.front().key));
   if (spec->steerable && !ch.several() && steer_set(ch)) return;
   if (running())
-    throw std::runtime_error(ch.several()
-                                 ? "set with several keys recompiles the scene: stop first"
-                                 : "'" + ch.changes.front().key +
-                                       "' cannot change while a run goes on (it is not steerable): stop first");
+    throw ParseError(ch.cols.front().first,
+                     ch.several() ? "set with several keys recompiles the scene: stop first"
+                                  : "'" + ch.changes.front().key +
+                                        "' cannot change while a run goes on (it is not steerable): stop first");
   recompile_set(ch);
 }
 

@@ -108,6 +108,8 @@ TEST_CASE("silt play: echoes each command with its line, stops at the first erro
   CHECK(contains(out, "play.silt:2:20: "));  // the value's (it was the command's)
   out = play(dir, "load " + silt::test::scene_path("collision_normal") + "\n   print t nope\n", "", &code);
   CHECK(contains(out, "play.silt:2:12: unknown observable 'nope'"));
+  out = play(dir, "load " + silt::test::scene_path("collision_normal") + "\nprint t step t\n", "", &code);
+  CHECK(contains(out, "play.silt:2:14: 't' is listed twice"));
   // A file that cannot be written or read is an I/O error, 4, as for `silt run`.
   out = play(dir, "load " + silt::test::scene_path("collision_normal") + "\nsave nodir/x.ckpt\n", "", &code);
   CHECK(code == 4);
