@@ -172,9 +172,8 @@ void Session::recompile_set(const SetChange& ch) {
         }
       // Another key's value refuses it: the file's (located there), or one set before in the shell
       // (its pseudo-file "set KEY" read as a location: "refused with the value at set fluid.dt").
-      const std::string other = e.loc().file.starts_with("set ")
-                                    ? "the value of an earlier `" + e.loc().file + "`"
-                                    : "the value at " + e.loc().str();
+      const std::string other = e.loc().file.starts_with("set ") ? "the value of an earlier `" + e.loc().file + "`"
+                                                                 : "the value at " + e.loc().str();
       throw ParseError(ch.cols.front().second, ch.typed + ": refused with " + other + ": " + e.message());
     }
   };

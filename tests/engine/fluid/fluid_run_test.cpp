@@ -164,7 +164,9 @@ TEST_CASE("fluid: steering the viscosity mid-run changes the decay rate from the
   CHECK(steer(cav->model_for_steering(), parse_override("fluid.cells=[8, 8]")) != "");
 }
 
-TEST_CASE("fluid: the initial vortex's rate is its first state's and a note past the limit, a bulk velocity's bound refuses") {
+TEST_CASE(
+    "fluid: the initial vortex's rate is its first state's and a note past the limit, a bulk velocity's bound "
+    "refuses") {
   // The Taylor-Green vortex on odd and even grids, a box with Lx != Ly, in 2D and 3D: its largest
   // face values are the products of each axis's largest factor, exactly the first state's rate.
   // (cells of 1/16 along every axis)
