@@ -357,8 +357,7 @@ void finish_fluid(const SceneDesc& d, Model& m) {
   // through a change is not it.
   std::string what;
   if (const double rate = known_rate(p, &what); p.dt_fixed && p.dt * rate > FluidParams::kCflLimit)
-    d.fail("fluid.dt", what + (what.find("speeds") != std::string::npos ? " alone give" : " alone gives") +
-                           " a CFL number dt sum |U|/h = " + format_number(p.dt * rate, 6) + " above " +
+    d.fail("fluid.dt", what + " a CFL number dt sum |U|/h = " + format_number(p.dt * rate, 6) + " above " +
                            format_number(FluidParams::kCflLimit, 4) +
                            ", the stability limit of RK3 advection; reduce fluid.dt below " +
                            scene_step(m, p, FluidParams::kCflLimit / rate) +

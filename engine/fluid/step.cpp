@@ -276,17 +276,30 @@ double boundary_rate(const Grid& g) {
   return r;
 }
 
+namespace {
+
+// The Taylor-Green vortex's wavenumbers k = 2 pi / L per axis, and the grid's derivative of
+// sin(k x), 2 sin(k h / 2) / h: for its field (initial_velocity) and its rate (vortex_rate).
+std::pair<std::array<double, 3>, std::array<double, 3>> vortex_wavenumbers(const Grid& g) {
+  std::array<double, 3> k{}, grid_k{};
+  for (int a = 0; a < g.dim; ++a) {
+    k[a] = 2 * std::numbers::pi / (g.n[a] * g.h[a]);
+    grid_k[a] = 2 * std::sin(k[a] * g.h[a] / 2) / g.h[a];
+  }
+  return {k, grid_k};
+}
+
+}  // namespace
+
 double vortex_rate(const FluidParams& p) {
   if (p.initial != Initial::kTaylorGreen) return 0;
   const Grid& g = p.grid;
   // Its largest |u| and |v| on their faces: a product of one factor per axis, each at its own
   // index, so the largest of each 1D factor, sin at the faces along the component's axis and cos
   // at the cell centres along the others.
-  std::array<double, 3> k{}, grid_k{};
-  for (int a = 0; a < g.dim; ++a) {
-    k[a] = 2 * std::numbers::pi / (g.n[a] * g.h[a]);
-    grid_k[a] = 2 * std::sin(k[a] * g.h[a] / 2) / g.h[a];
-  }
+  // (no structured bindings: the lambdas below capture these, which clang 14 refuses)
+  const auto wavenumbers = vortex_wavenumbers(g);
+  const std::array<double, 3>&k = wavenumbers.first, &grid_k = wavenumbers.second;
   auto largest = [&](int axis, bool face) {
     double best = 0;
     for (int64_t i = 0; i < g.n[axis]; ++i) {
@@ -316,9 +329,9 @@ double known_rate(const FluidParams& p, std::string* what) {
     drive |= bulk > wall;
   }
   if (what)
-    *what = walls && drive ? "the walls' and inflows' speeds and the bulk velocity (fluid.bulk_velocity)"
-            : drive        ? "the bulk velocity (fluid.bulk_velocity)"
-                           : "the walls' and inflows' speeds";
+    *what = walls && drive ? "the walls' and inflows' speeds and the bulk velocity (fluid.bulk_velocity) alone give"
+            : drive        ? "the bulk velocity (fluid.bulk_velocity) alone gives"
+                           : "the walls' and inflows' speeds alone give";
   return rate;
 }
 
@@ -348,11 +361,8 @@ void initial_velocity(const Model& m, State& s) {
   // and c = kx / ky (1 in a square box) as the grid has it: c = D_x / D_y, D_a = 2 sin(k_a h_a / 2) / h_a
   // the grid's derivative of sin(k_a x_a), so that the sampled field is divergence-free on the grid
   // (in a box with Lx != Ly too).
-  std::array<double, 3> k{}, grid_k{};
-  for (int a = 0; a < g.dim; ++a) {
-    k[a] = 2 * std::numbers::pi / (g.n[a] * g.h[a]);
-    grid_k[a] = 2 * std::sin(k[a] * g.h[a] / 2) / g.h[a];
-  }
+  const auto wavenumbers = vortex_wavenumbers(g);
+  const std::array<double, 3>&k = wavenumbers.first, &grid_k = wavenumbers.second;
   const double c = grid_k[0] / grid_k[1];
   for (int a = 0; a < 2; ++a) {
     auto& u = s.module_field(f.u[a]);

@@ -144,7 +144,7 @@ double boundary_rate(const Grid& g);
 // any: per axis, the larger of its boundaries' speed and the imposed bulk velocity along the
 // drive axis (the mean of u over the faces after the first step, so some face has at least it).
 // A fixed step past the CFL limit with it fails in its first two steps; `what` names those that
-// set it.
+// set it, with its verb ("... alone give").
 double known_rate(const FluidParams& p, std::string* what = nullptr);
 // The rate of the initial Taylor-Green vortex (fluid.initial), exactly that of the first state
 // made from the scene; 0 for a fluid at rest. Not of a state restored or steered since.
