@@ -41,24 +41,36 @@ std::optional<Command> parse_line(std::string_view line) {
       // A list or an inline table, as on the command line and in TOML: ["grains", "chains"],
       // {a = 1}; blanks, quotes of both kinds and nested brackets inside, one word up to its
       // closing bracket ({a = 1} was three words, and a ']' in 'single quotes' ended a list).
-      int depth = 0;
+      // A '#' outside quotes would start a TOML comment to the end of the line (the list then
+      // never ended), a closing bracket must be of the kind opened ([32, 32} passed), and a tab
+      // outside quotes is a blank (it was echoed as '?').
+      std::string open;
       char quote = 0;
       while (i < n) {
         const char d = line[i];
         if (static_cast<unsigned char>(d) < 32 && d != '\t') throw ParseError(column_of(line, i), "control character");
-        t.text += d;
+        t.text += quote == 0 && d == '\t' ? ' ' : d;
         ++i;
         if (quote != 0) {
           if (quote == '"' && d == '\\' && i < n) t.text += line[i++];
           else if (d == quote) quote = 0;
           continue;
         }
-        if (d == '"' || d == '\'') quote = d;
-        else if (d == '[' || d == '{') ++depth;
-        else if ((d == ']' || d == '}') && --depth == 0) break;
+        if (d == '"' || d == '\'') {
+          quote = d;
+        } else if (d == '#') {
+          throw ParseError(column_of(line, i - 1), "a '#' inside a list or table (quote it: a '#' starts a comment)");
+        } else if (d == '[' || d == '{') {
+          open += d;
+        } else if (d == ']' || d == '}') {
+          if ((d == ']') != (open.back() == '['))
+            throw ParseError(column_of(line, i - 1), std::string("a '") + d + "' closes a '" + open.back() + "'");
+          open.pop_back();
+          if (open.empty()) break;
+        }
       }
       const bool list = c == '[';
-      if (depth != 0)
+      if (!open.empty())
         throw ParseError(t.col, quote != 0 ? "unterminated quote"
                                 : list     ? "a list without its closing ]"
                                            : "a table without its closing }");
@@ -129,8 +141,8 @@ const std::vector<CommandSpec>& command_specs() {
        "step "
        "and dt, else every 10 steps (the run then stops up to 9 steps after it first holds) and in between where a "
        "term's window of t and step, such as step == N, closes before the next test; a condition that t and step have "
-       "made impossible ends the run; one that names a value of the last step, such as fluid.change_rate, is not "
-       "tested before the first step), or until the packing is "
+       "made impossible ends the run; a comparison of a value of the last step, such as fluid.change_rate, does "
+       "not hold before the first step), or until the packing is "
        "static (the "
        "scene's run.static_* criterion), or until the fluid is steady (run.steady_tol). Alone, it runs to the scene's "
        "end (run.steps or run.time), stopping when static or steady if the scene says run.stop_when_static or "
@@ -317,8 +329,11 @@ bool Condition::window_closes(double t, int64_t step, double dt, int64_t ahead) 
   return false;
 }
 
-bool Condition::holds(const std::vector<double>& values, const std::vector<size_t>* column) const {
-  auto eval = [&](size_t k) { return compare(clauses[k], values[column ? (*column)[k] : k]); };
+bool Condition::holds(const std::vector<double>& values, const std::vector<size_t>* column,
+                      const std::vector<bool>* unknown) const {
+  auto eval = [&](size_t k) {
+    return !(unknown && (*unknown)[k]) && compare(clauses[k], values[column ? (*column)[k] : k]);
+  };
   // "and" binds tighter than "or": a or b and c is a or (b and c) (it was read left to right, (a or
   // b) and c, and "step >= 60 or t < 0 and dt < 0" never stopped).
   for (size_t first = 0, last = 0; first < clauses.size(); first = last) {
@@ -387,6 +402,8 @@ std::vector<Token> split_comparisons(const std::vector<Token>& args, size_t from
   std::vector<Token> out;
   for (size_t k = from; k < args.size(); ++k) {
     const std::string& w = args[k].text;
+    if (!w.empty() && (w[0] == '[' || w[0] == '{') && args[k].raw.empty())
+      throw ParseError(args[k].col, "no brackets in a condition: OBSERVABLE OP NUMBER (t >= 0.5)");
     size_t i = 0;
     while (i < w.size()) {
       Token t;

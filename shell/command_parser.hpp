@@ -80,8 +80,10 @@ struct Condition {
   std::vector<bool> joined_by_and;  // between clause k and k+1
   // True when the clauses hold for these values ("and" binding tighter than "or"): values[k] is
   // clause k's observable, or values[column[k]] with a column map (an observable named by several
-  // clauses, sampled once).
-  bool holds(const std::vector<double>& values, const std::vector<size_t>* column = nullptr) const;
+  // clauses, sampled once). A clause k with unknown[k] does not hold, whatever its value (a value
+  // of the last step, before the first step).
+  bool holds(const std::vector<double>& values, const std::vector<size_t>* column = nullptr,
+             const std::vector<bool>* unknown = nullptr) const;
   // Whether a term bounds t or step from above (<, <=, ==): its window of time may close
   // between two tests every 10 steps ("step == 57", "step > 56 and step < 58").
   bool has_window() const;

@@ -130,6 +130,31 @@ TEST_CASE("an inline table is one word, and a bracket inside either quote does n
   CHECK_THROWS_WITH_AS(parse_line("set x ['a]"), "unterminated quote", ParseError);
 }
 
+TEST_CASE("a list's brackets match, a '#' inside it is refused where it stands, and its tabs are blanks") {
+  const auto at = [](const std::string& line) {
+    try {
+      parse_line(line);
+    } catch (const ParseError& e) {
+      return std::to_string(e.col) + ": " + e.what();
+    }
+    return std::string("accepted");
+  };
+  CHECK(at("set fluid.cells [32, 32}") == "24: a '}' closes a '['");
+  CHECK(at("set x {a = [1, 2}}") == "17: a '}' closes a '['");
+  CHECK(at("set x [{a = 1]]") == "14: a ']' closes a '{'");
+  CHECK(at("set render.draw [\"field\" # c]") == "26: a '#' inside a list or table (quote it: a '#' starts a "
+                                                    "comment)");
+  CHECK(at("set render.draw [\"field\"] # c") == "accepted");
+  CHECK(parse_line("set x [\"a#b\", 'c#']")->args[1].text == "[\"a#b\", 'c#']");
+  const auto tabs = parse_line("set fluid.cells [32,\t32] scene.name [\"a\tb\"]");
+  CHECK(tabs->args[1].text == "[32, 32]");
+  CHECK(tabs->args[3].text == "[\"a\tb\"]");  // inside quotes a tab is the string's
+  CHECK(shown_word(tabs->args[1].text) == "[32, 32]");
+  CHECK(at("run until [step >= 1]") == "accepted");
+  CHECK_THROWS_WITH_AS(parse_run_length(parse_line("run until [step >= 1]")->args),
+                       "no brackets in a condition: OBSERVABLE OP NUMBER (t >= 0.5)", ParseError);
+}
+
 TEST_CASE("a term is tested between regular tests where its window of t and step closes before the next") {
   const auto cond = [](const std::string& line) { return parse_run_length(parse_line(line)->args).until; };
   const Condition c = cond("run until step == 7 and ke < 1 or z > 5");
