@@ -292,6 +292,9 @@ std::string SceneDesc::missing_entry(const std::string& path) const {
   if (digits.empty() || digits.size() > 9 || digits.find_first_not_of("0123456789") != std::string::npos)
     return "'" + path + "': the index of " + group + "[...] must be a whole number";
   const int index = std::stoi(digits);
+  if (digits != std::to_string(index))  // [00] named no entry, and was "set but not used"
+    return "'" + path + "': write the index of " + group + "[...] without leading zeros (" + group + "[" +
+           std::to_string(index) + "])";
   if (index < group_count(group)) return "";
   return "no " + group + "[" + std::to_string(index) + "] in the scene (it has " + std::to_string(group_count(group)) +
          ")";
