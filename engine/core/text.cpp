@@ -1,6 +1,7 @@
 #include "silt/text.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <sstream>
 #include <vector>
 
@@ -11,6 +12,16 @@ std::string format_number(double x, int digits) {
   o.precision(digits);
   o << x;
   return o.str();
+}
+
+std::string format_bound_below(double x, int digits) {
+  if (!(x > 0) || !std::isfinite(x)) return format_number(x, digits);
+  const double unit = std::pow(10.0, std::floor(std::log10(x)) - (digits - 1));
+  double kept = std::floor(x / unit) * unit;
+  // (x / unit rounded up to the next whole number, or kept * unit above x by its rounding)
+  while (kept > x) kept -= unit;
+  const std::string shown = format_number(kept, digits);
+  return std::stod(shown) > x ? format_number(kept - unit, digits) : shown;
 }
 
 size_t edit_distance(std::string_view a, std::string_view b, size_t limit) {

@@ -216,7 +216,7 @@ void compile_lines(const SceneDesc& d, const Model& m, FluidParams& p) {
 
 // A bound on fluid.dt as the scene gives it: in units of L / U in the dimensionless form.
 std::string scene_step(const Model& m, const FluidParams& p, double seconds) {
-  return format_number(seconds / p.time_unit(), 4) + (p.dimensionless ? " L/U" : m.unit("s"));
+  return format_bound_below(seconds / p.time_unit(), 4) + (p.dimensionless ? " L/U" : m.unit("s"));
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 
 #include <limits>
 #include <sstream>
+#include <string>
 
 #include "shell/table.hpp"
 #include "silt/text.hpp"
@@ -29,6 +30,16 @@ TEST_CASE("numbers in significant digits and fixed decimals") {
   CHECK(format_number(63456) == "63456");
   CHECK(fixed(63.2254, 1) == "63.2");
   CHECK(fixed(0.5193, 3) == "0.519");
+}
+
+TEST_CASE("a bound not to be passed is printed rounded down, so that the value printed is below it") {
+  CHECK(format_bound_below(0.012346, 4) == "0.01234");  // to nearest: 0.01235, above the bound
+  CHECK(format_bound_below(0.05, 4) == "0.05");         // an exact bound stays itself
+  CHECK(format_bound_below(1.0 / 3.0, 4) == "0.3333");
+  CHECK(format_bound_below(2.0 / 3.0, 4) == "0.6666");
+  CHECK(format_bound_below(123456.7, 4) == "1.234e+05");
+  CHECK(format_bound_below(9.99999e-7, 4) == "9.999e-07");
+  for (double x = 1e-9; x < 1e9; x *= 1.37) CHECK(std::stod(format_bound_below(x, 4)) <= x);
 }
 
 TEST_CASE("a table aligns text on the left and numbers on the right") {

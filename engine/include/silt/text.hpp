@@ -10,6 +10,9 @@ namespace silt {
 
 // A number with `digits` significant digits ("0.0001", "2.5e+05").
 std::string format_number(double x, int digits = 6);
+// A positive bound to `digits` significant digits, rounded down: a value below the one printed
+// is below the bound ("reduce fluid.dt below 0.01235" for 0.012346 rounded up past it).
+std::string format_bound_below(double x, int digits);
 
 // Levenshtein distance (insertions, deletions, substitutions), or `limit` when it is at least
 // that: a search for the closest name stops early on names that cannot beat the best so far.
