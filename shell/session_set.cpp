@@ -57,6 +57,7 @@ struct Session::SetChange {
     return std::find(replaced.begin(), replaced.end(), key) != replaced.end();
   }
   bool several() const { return changes.size() > 1; }
+  ParseError located(const SceneError& e) const;
 };
 
 // KEY VALUE, or several pairs taken as one change: values valid only together (a fluid's domain
@@ -101,10 +102,31 @@ Session::SetChange Session::read_set(const Command& c) {
   return ch;
 }
 
+// A scene error of a `set` as the shell reports it: at the value typed when it is one of this
+// set's keys' (it was at the command), else naming what refused it.
+ParseError Session::SetChange::located(const SceneError& e) const {
+  for (size_t k = 0; k < changes.size(); ++k)
+    if (e.loc().file == "set " + changes[k].key)
+      return several() ? ParseError(cols[k].second, typed + ": " + e.message()) : ParseError(cols[k].second, e.what());
+  // Another key's value refuses it: the file's (located there), or one set before in the shell
+  // (its pseudo-file "set KEY" read as a location: "refused with the value at set fluid.dt").
+  const std::string other = e.loc().file.starts_with("set ") ? "the value of an earlier `" + e.loc().file + "`"
+                                                             : "the value at " + e.loc().str();
+  return ParseError(cols.front().second, typed + ": refused with " + other + ": " + e.message());
+}
+
 void Session::cmd_set(const Command& c) {
   const SetChange ch = read_set(c);
   const KeySpec* spec = find_key_spec(normalise_key(ch.changes.front().key));
   if (spec->steerable && !ch.several() && steer_set(ch)) return;
+  if (running() && ch.several()) {
+    // (a value out of its range was refused only as "stop first")
+    try {
+      scene_with(ch.next);
+    } catch (const SceneError& e) {
+      throw ch.located(e);
+    }
+  }
   if (running())
     throw ParseError(ch.cols.front().first,
                      ch.several() ? "set with several keys recompiles the scene: stop first"
@@ -164,17 +186,7 @@ void Session::recompile_set(const SetChange& ch) {
     try {
       return compile(scene_with(ch.next));
     } catch (const SceneError& e) {
-      // (located at the value typed; it was at the command)
-      for (size_t k = 0; k < ch.changes.size(); ++k)
-        if (e.loc().file == "set " + ch.changes[k].key) {
-          if (!ch.several()) throw ParseError(ch.cols[k].second, e.what());
-          throw ParseError(ch.cols[k].second, ch.typed + ": " + e.message());
-        }
-      // Another key's value refuses it: the file's (located there), or one set before in the shell
-      // (its pseudo-file "set KEY" read as a location: "refused with the value at set fluid.dt").
-      const std::string other = e.loc().file.starts_with("set ") ? "the value of an earlier `" + e.loc().file + "`"
-                                                                 : "the value at " + e.loc().str();
-      throw ParseError(ch.cols.front().second, ch.typed + ": refused with " + other + ": " + e.message());
+      throw ch.located(e);
     }
   };
   Model m = compiled();

@@ -230,6 +230,14 @@ TEST_CASE("a background run keeps the prompt, set acts at the next step boundary
   CHECK(f.take_out().find("from the next step") != std::string::npos);
   CHECK_FALSE(f.run("set grains[1].count 10"));
   CHECK(f.take_err().find("stop first") != std::string::npos);
+  // Several keys need the run stopped, but a value out of its range is said first, at the value.
+  CHECK_FALSE(f.run("set contact.friction 0.3 contact.restitution 7"));
+  const std::string range = f.take_err();
+  CHECK(contains(range, "column 46"));
+  CHECK(contains(range, "contact.restitution"));
+  CHECK_FALSE(contains(range, "stop first"));
+  CHECK_FALSE(f.run("set contact.friction 0.3 contact.restitution 0.5"));
+  CHECK(contains(f.take_err(), "set with several keys recompiles the scene: stop first"));
   CHECK_FALSE(f.run("reset"));
   const double t1 = f.value("t");  // served at a step boundary
   std::this_thread::sleep_for(std::chrono::milliseconds(300));
