@@ -486,13 +486,14 @@ RunOptions Session::run_options(const RunLength& len, bool background) {
     // Each observable sampled once, however many clauses name it ("step >= 5 or step >= 10").
     std::vector<std::string> names;
     std::vector<size_t> column;  // clause k reads names[column[k]]
-    bool cheap = true, of_last_step = false;
+    bool cheap = true;
+    std::vector<bool> of_last_step;  // clause k names a value of the last step
     for (const Clause& c : len.until.clauses) {
       const auto at = std::find(names.begin(), names.end(), c.observable);
       column.push_back(static_cast<size_t>(at - names.begin()));
       if (at == names.end()) names.push_back(c.observable);
       cheap = cheap && (c.observable == "t" || c.observable == "step" || c.observable == "dt");
-      of_last_step = of_last_step || observable_of_last_step(c.observable, m);
+      of_last_step.push_back(observable_of_last_step(c.observable, m));
     }
     auto obs = std::make_shared<Observer>(m, names);
     const Condition cond = len.until;
@@ -503,14 +504,14 @@ RunOptions Session::run_options(const RunLength& len, bool background) {
     // ("t >= 0.001 and step == 90" ran on past step 90).
     constexpr int64_t kEvery = 10;
     const bool windows = !cheap && cond.has_window();
-    // A value of the last step is none before the first: the condition is not tested on a state
-    // no step has made (`run until fluid.change_rate < 1e-3` held at step 0, where it reads 0).
+    // A value of the last step is none before the first: its clauses do not hold on a state no
+    // step has made (`run until fluid.change_rate < 1e-3` held at step 0, where it reads 0), and the
+    // others are tested there as always ("step >= 0 or fluid.cfl < 0.6" ran 10 steps).
     opt.hooks.push_back(
         {cheap || windows ? 1 : kEvery, [this, obs, cond, column, cheap, of_last_step](const State& st) {
-           if (of_last_step && st.step == 0) return;
            const bool regular = cheap || st.step % kEvery == 0;
            if (!regular && !cond.window_closes(st.t, st.step, st.dt, kEvery - st.step % kEvery)) return;
-           if (cond.holds(obs->sample(sim_->model(), st), &column)) {
+           if (cond.holds(obs->sample(sim_->model(), st), &column, st.step == 0 ? &of_last_step : nullptr)) {
              until_end_ = UntilEnd::kMet;
              interrupt_ = true;
            } else if (regular && until_never_holds(cond, st.t, st.step)) {
