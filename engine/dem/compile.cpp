@@ -128,6 +128,7 @@ void setup_energy_scale(Model& m) {
 }  // namespace
 
 void compile_dem(const SceneDesc& d, Model& m) {
+  check_explicit_positions(d, m.dim);
   read_contact_law(d, m);
   setup_walls(d, m);
   setup_grains(d, m);

@@ -28,18 +28,9 @@ namespace {
 double contact_or_own(const SceneDesc& d, const std::string& own) {
   const std::string key = "contact." + own;
   if (d.has(key)) return d.real(key);
-  // A scene without grains, or with a group of no explicit position or of positions of the wrong
-  // size, is refused for that by setup_grains; it was blamed on contact.k_n.
+  // A scene without grains is refused for that by setup_grains (it was blamed on contact.k_n),
+  // and explicit positions are checked before (check_explicit_positions).
   if (d.group_count("grains") == 0) return 0;
-  for (int g = 0; g < d.group_count("grains"); ++g) {
-    const std::string at = "grains[" + std::to_string(g) + "].";
-    if (d.string(at + "placement") != "explicit" || !d.has(at + "positions")) continue;
-    const auto positions = d.matrix(at + "positions");
-    if (positions.empty() || std::any_of(positions.begin(), positions.end(), [&](const std::vector<double>& p) {
-          return static_cast<int>(p.size()) != d.integer("scene.dimension");
-        }))
-      return 0;
-  }
   std::string without;
   auto need = [&](const std::string& prefix, bool may_be_rigid) {
     if (d.has(prefix + own) || (may_be_rigid && d.has(prefix + "rigid") && d.boolean(prefix + "rigid"))) return;

@@ -250,6 +250,17 @@ std::vector<double> draw_radii(const SceneDesc& d, const Model& m, int g, int64_
   return r;
 }
 
+// Group g's explicit positions, refused at their key when missing, empty, or not of dim
+// coordinates each.
+std::vector<std::vector<double>> explicit_positions(const SceneDesc& d, int g, int dim) {
+  const auto pos = d.matrix(key(g, "positions"));
+  for (const auto& p : pos)
+    if (static_cast<int>(p.size()) != dim)
+      d.fail(key(g, "positions"), "every position needs " + std::to_string(dim) + " coordinates");
+  if (pos.empty()) d.fail(key(g, "positions"), "no positions given");
+  return pos;
+}
+
 int64_t group_count(const SceneDesc& d, const Model& m, int g, Group& G) {
   const bool given = d.has(key(g, "count"));
   const int64_t count = given ? d.integer(key(g, "count")) : -1;
@@ -263,13 +274,9 @@ int64_t group_count(const SceneDesc& d, const Model& m, int g, Group& G) {
     return n;
   }
   if (G.placement == "explicit") {
-    const auto pos = d.matrix(key(g, "positions"));
-    for (const auto& p : pos)
-      if (static_cast<int>(p.size()) != m.dim)
-        d.fail(key(g, "positions"), "every position needs " + std::to_string(m.dim) + " coordinates");
+    const auto pos = explicit_positions(d, g, m.dim);
     for (const auto& p : pos) G.sites.insert(G.sites.end(), p.begin(), p.end());
     const int64_t n = static_cast<int64_t>(pos.size());
-    if (n == 0) d.fail(key(g, "positions"), "no positions given");
     if (given && count != n)
       d.fail(key(g, "count"),
              "count = " + std::to_string(count) + " but " + std::to_string(n) + " positions are given");
@@ -446,6 +453,11 @@ void grains_from_checkpoint(const SceneDesc& d, Model& m, int g, Group& G) {
   }
   G.count = static_cast<int64_t>(G.radius.size());
   if (G.count == 0) d.fail(k, "no grain of '" + path + "' lies in the group's region");
+}
+
+void check_explicit_positions(const SceneDesc& d, int dim) {
+  for (int g = 0; g < d.group_count("grains"); ++g)
+    if (d.string(key(g, "placement")) == "explicit") explicit_positions(d, g, dim);
 }
 
 std::string grain_size_key(const SceneDesc& d, int g) {

@@ -9,6 +9,11 @@ namespace silt::dem {
 // Requires m.dim, m.box and m.walls. Throws SceneError at the offending key.
 void setup_grains(const SceneDesc& d, Model& m);
 
+// Refuses, at its key, a group placed "explicit" whose positions are missing, empty or not of dim
+// coordinates each. Before the contact law is read: a scene that gives no contact.k_n of its own
+// then needs its grains' (such a scene was refused as missing contact.k_n).
+void check_explicit_positions(const SceneDesc& d, int dim);
+
 // The key that gives group g's sizes (radius, radius_min, ..., frozen_from): where a mass made of
 // them is refused.
 std::string grain_size_key(const SceneDesc& d, int g);
