@@ -62,7 +62,9 @@ std::string convert(const toml::node& n, const KeySpec& spec, const std::string&
     const std::string type = key_type_name(spec.type);
     return "'" + path + "' must be " + (type[0] == 'i' ? "an " : "a ") + type;
   };
-  auto check_range = [&](double x, const toml::node& at) -> std::string {
+  // (shown: an integer as given, which its double rounds past 2^53: 9223372036854775807 read
+  // ...808)
+  auto check_range = [&](double x, const toml::node& at, std::string_view shown = {}) -> std::string {
     if (spec.range.contains(x)) return "";
     where = loc_of(at.source(), file);
     std::ostringstream o;
@@ -72,7 +74,7 @@ std::string convert(const toml::node& n, const KeySpec& spec, const std::string&
     // as if it were the bound it exceeds.
     char full[32];
     const auto [end, ec] = std::to_chars(full, full + sizeof full, x);
-    o << "'" << path << "' = " << std::string_view(full, ec == std::errc() ? end - full : 0);
+    o << "'" << path << "' = " << (shown.empty() ? std::string_view(full, ec == std::errc() ? end - full : 0) : shown);
     // A scene's numbers stop at 1e308 in magnitude, whatever the key's own range.
     if (std::abs(x) > 1e308) o << kBeyond;
     else o << " is out of range " << spec.range.str() << (spec.unit.empty() ? "" : " " + spec.unit);
@@ -98,12 +100,13 @@ std::string convert(const toml::node& n, const KeySpec& spec, const std::string&
       if (!x || !std::isfinite(*x) || *x != std::floor(*x)) return type_error();
       // (an integer past the key's range and int64's, 2^63 - 1 points, is out of that range: it
       // read "must be an integer")
+      const std::string shown = n.is_integer() ? std::to_string(*n.value<int64_t>()) : std::string();
       if (!(std::abs(*x) < 9.2e18)) {
-        const std::string range = check_range(*x, n);
+        const std::string range = check_range(*x, n, shown);
         return range.empty() ? type_error() : range;
       }
       out = static_cast<int64_t>(*x);
-      return check_range(*x, n);
+      return check_range(*x, n, shown);
     }
     case KeyType::kReal: {
       auto x = as_number(n);

@@ -94,6 +94,11 @@ TEST_CASE("out of range: the range and unit are named") {
   // An integer past int64's reach is past the key's range too (it read "must be an integer").
   CHECK(test::scene_error(with("dimension = 3", "dimension = 9223372036854775807")).find("is out of range [2, 3]") !=
         std::string::npos);
+  // An integer is shown as given, not as its double (which read 9223372036854775808 and, past 2^53,
+  // 9007199254740992 for 9007199254740993).
+  for (const char* n : {"9223372036854775807", "9007199254740993", "-9223372036854775807"})
+    CHECK(test::scene_error(with("dimension = 3", std::string("dimension = ") + n))
+              .find(std::string("'scene.dimension' = ") + n + " is out of range") != std::string::npos);
   // Past the doubles' range TOML reads no value: said, at the number's first column (it read "could
   // not be interpreted as a value", one column past its end), and on the command line (it read
   // "must be a number").
