@@ -249,6 +249,12 @@ void apply_override_at(SceneDesc& desc, const Override& o, int ordinal, bool bat
   // word that reads as a number, a boolean or a date, for a key that takes a string
   // (grains.0.name=5 was refused as not a string).
   const toml::node* v = t.get("v");
+  // (a whole number past int64's reach, which TOML cannot read, was "must be an integer")
+  const std::string_view digits = std::string_view(o.value).substr(o.value[0] == '-' || o.value[0] == '+' ? 1 : 0);
+  if (!v && spec->type == KeyType::kInt && digits.size() >= 19 && digits[0] != '0' &&
+      digits.find_first_not_of("0123456789") == std::string_view::npos)
+    throw SceneError(where, "'" + path + "' = " + o.value + " is out of range " + spec->range.str() +
+                                " (and beyond the integers', 9223372036854775807 in magnitude)");
   if (!v || (spec->type == KeyType::kString && !toml_form && !v->is_string())) {
     try {
       t = parse(toml_quoted(o.value));

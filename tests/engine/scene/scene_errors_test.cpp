@@ -99,6 +99,13 @@ TEST_CASE("out of range: the range and unit are named") {
   for (const char* n : {"9223372036854775807", "9007199254740993", "-9223372036854775807"})
     CHECK(test::scene_error(with("dimension = 3", std::string("dimension = ") + n))
               .find(std::string("'scene.dimension' = ") + n + " is out of range") != std::string::npos);
+  // Past int64 on the command line, where TOML reads no integer (it read "must be an integer").
+  CHECK_THROWS_WITH_AS(parse_scene(kGood, "bad.toml", {parse_override("scene.dimension=-9223372036854775809")}),
+                       doctest::Contains("'scene.dimension' = -9223372036854775809 is out of range [2, 3] (and beyond "
+                                         "the integers', 9223372036854775807 in magnitude)"),
+                       SceneError);
+  CHECK_THROWS_WITH_AS(parse_scene(kGood, "bad.toml", {parse_override("scene.dimension=007")}),
+                       doctest::Contains("must be an integer"), SceneError);
   // Past the doubles' range TOML reads no value: said, at the number's first column (it read "could
   // not be interpreted as a value", one column past its end), and on the command line (it read
   // "must be a number").
