@@ -142,8 +142,9 @@ TEST_CASE("a list's brackets match, a '#' inside it is refused where it stands, 
   CHECK(at("set fluid.cells [32, 32}") == "24: a '}' closes a '['");
   CHECK(at("set x {a = [1, 2}}") == "17: a '}' closes a '['");
   CHECK(at("set x [{a = 1]]") == "14: a ']' closes a '{'");
-  CHECK(at("set render.draw [\"field\" # c]") == "26: a '#' inside a list or table (quote it: a '#' starts a "
-                                                    "comment)");
+  CHECK(at("set render.draw [\"field\" # c]") ==
+        "26: a '#' inside a list or table (quote it: a '#' starts a "
+        "comment)");
   CHECK(at("set render.draw [\"field\"] # c") == "accepted");
   CHECK(parse_line("set x [\"a#b\", 'c#']")->args[1].text == "[\"a#b\", 'c#']");
   const auto tabs = parse_line("set fluid.cells [32,\t32] scene.name [\"a\tb\"]");
