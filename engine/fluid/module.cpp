@@ -214,9 +214,30 @@ void compile_lines(const SceneDesc& d, const Model& m, FluidParams& p) {
   }
 }
 
-// A bound on fluid.dt as the scene gives it: in units of L / U in the dimensionless form.
+// A bound on fluid.dt as the scene gives it: in units of L / U in the dimensionless form, rounded
+// down and strictly below it (a bound of exactly 1.25 printed as 1.25 was then refused by its
+// rounding: "nu dt sum 1/h^2 = 0.6 exceeds 0.6").
 std::string scene_step(const Model& m, const FluidParams& p, double seconds) {
-  return format_bound_below(seconds / p.time_unit(), 4) + (p.dimensionless ? " L/U" : m.unit("s"));
+  return format_bound_below(seconds / p.time_unit() * (1 - 1e-12), 4) + (p.dimensionless ? " L/U" : m.unit("s"));
+}
+
+// The largest fixed step that every stability limit allows (the explicit viscous term's or
+// Crank-Nicolson's slowest mode's, and the CFL number of the speeds known before the run), which
+// each of their refusals advises (each advised its own bound, which another limit then refused).
+double fixed_step_bound(const FluidParams& p) {
+  double bound = std::numeric_limits<double>::infinity();
+  if (const double rate = p.nu() * p.grid.inv_h2_sum(); p.viscous == Viscous::kExplicit && rate > 0)
+    bound = FluidParams::kViscousLimit / rate;
+  if (const double rate = slowest_viscous_rate(p); p.viscous == Viscous::kCrankNicolson && rate > 0)
+    bound = std::min(bound, FluidParams::kCnModeLimit / rate);
+  if (const double rate = known_rate(p); rate > 0) bound = std::min(bound, FluidParams::kCflLimit / rate);
+  return bound;
+}
+
+// x, past `limit`, to as many digits as it takes to differ from it ("0.6 exceeds 0.6").
+std::string shown_past(double x, double limit, int digits) {
+  while (digits < 17 && format_number(x, digits) == format_number(limit, digits)) ++digits;
+  return format_number(x, digits);
 }
 
 }  // namespace
@@ -339,16 +360,18 @@ void finish_fluid(const SceneDesc& d, Model& m) {
   const double inv = p.grid.inv_h2_sum();
   if (p.dt_fixed && p.viscous == Viscous::kExplicit && p.nu() * p.dt * inv > FluidParams::kViscousLimit)
     d.fail("fluid.dt",
-           "the explicit viscous term is unstable: nu dt sum 1/h^2 = " + format_number(p.nu() * p.dt * inv, 4) +
-               " exceeds " + format_number(FluidParams::kViscousLimit, 4) + "; reduce fluid.dt below " +
-               scene_step(m, p, FluidParams::kViscousLimit / (p.nu() * inv)) +
+           "the explicit viscous term is unstable: nu dt sum 1/h^2 = " +
+               shown_past(p.nu() * p.dt * inv, FluidParams::kViscousLimit, 4) + " exceeds " +
+               format_number(FluidParams::kViscousLimit, 4) + "; reduce fluid.dt below " +
+               scene_step(m, p, fixed_step_bound(p)) +
                " or use fluid.viscous = \"crank_nicolson\"");
   const double mode = p.dt * slowest_viscous_rate(p);
   if (p.dt_fixed && p.viscous == Viscous::kCrankNicolson && mode > FluidParams::kCnModeLimit)
     d.fail("fluid.dt", "Crank-Nicolson damps the box's slowest viscous mode too little at this step: nu dt k^2 = " +
-                           format_number(mode, 4) + " exceeds " + format_number(FluidParams::kCnModeLimit, 4) +
+                           shown_past(mode, FluidParams::kCnModeLimit, 4) + " exceeds " +
+                           format_number(FluidParams::kCnModeLimit, 4) +
                            " (beyond 3.75 it turns over instead of decaying); reduce fluid.dt below " +
-                           scene_step(m, p, FluidParams::kCnModeLimit / slowest_viscous_rate(p)) +
+                           scene_step(m, p, fixed_step_bound(p)) +
                            " or use fluid.viscous = \"backward_euler\"");
   // The walls' and inflows' speeds and an imposed bulk velocity bound the first steps' CFL number
   // from below, from any state (the fluid may only add to it): a fixed step past the limit with
@@ -357,10 +380,10 @@ void finish_fluid(const SceneDesc& d, Model& m) {
   // through a change is not it.
   std::string what;
   if (const double rate = known_rate(p, &what); p.dt_fixed && p.dt * rate > FluidParams::kCflLimit)
-    d.fail("fluid.dt", what + " a CFL number dt sum |U|/h = " + format_number(p.dt * rate, 6) + " above " +
-                           format_number(FluidParams::kCflLimit, 4) +
+    d.fail("fluid.dt", what + " a CFL number dt sum |U|/h = " + shown_past(p.dt * rate, FluidParams::kCflLimit, 6) +
+                           " above " + format_number(FluidParams::kCflLimit, 4) +
                            ", the stability limit of RK3 advection; reduce fluid.dt below " +
-                           scene_step(m, p, FluidParams::kCflLimit / rate) +
+                           scene_step(m, p, fixed_step_bound(p)) +
                            " at least (the flow they drive adds to it), or remove it for the adaptive step");
   const double need = estimated_memory_bytes(m), have = available_memory_bytes();
   if (need > 0.9 * have)

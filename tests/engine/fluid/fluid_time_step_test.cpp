@@ -318,3 +318,40 @@ TEST_CASE("fluid: an inflow whose velocity leaves the box is refused, in the sce
       std::string::npos);
   REQUIRE(sim->step());
 }
+
+TEST_CASE("fluid: the fixed step a refusal advises is accepted, whichever limit binds") {
+  // Each refusal advised its own limit's bound, which another then refused (Crank-Nicolson's
+  // 10.13 L/U where the lid's CFL number allows 0.0125), and a bound of exactly 1.25 printed as
+  // 1.25 was refused by its rounding ("nu dt sum 1/h^2 = 0.6 exceeds 0.6").
+  const auto advised = [](const std::string& scene, const std::vector<Override>& o) -> std::string {
+    try {
+      (void)compile(load_scene_file(test::scene_path(scene), o));
+    } catch (const SceneError& e) {
+      const std::string w = e.what();
+      const size_t at = w.find("reduce fluid.dt below ");
+      if (at == std::string::npos) return "no advice: " + w;
+      const size_t from = at + 22;
+      return w.substr(from, w.find(' ', from) - from);
+    }
+    return "accepted";
+  };
+  const std::vector<std::pair<std::string, std::vector<std::string>>> cases = {
+      {"cavity_2d", {"fluid.dt=100"}},
+      {"cavity_2d", {"fluid.cells=[16,16]", "fluid.viscous=explicit", "fluid.dt=100"}},
+      {"channel", {"fluid.bulk_velocity=1", "fluid.dt=100"}},
+      {"taylor_green_3d", {"fluid.cells=[8,8,8]", "fluid.viscous=explicit", "fluid.dt=1000"}},
+      {"taylor_green_3d", {"fluid.cells=[8,8,8]", "fluid.viscous=explicit", "fluid.reynolds=250", "fluid.dt=1000"}},
+      {"taylor_green_3d", {"fluid.cells=[4,4,4]", "fluid.viscous=explicit", "fluid.reynolds=50", "fluid.dt=1000"}},
+  };
+  for (const auto& c : cases) {
+    std::vector<Override> o;
+    for (const std::string& s : c.second) o.push_back(parse_override(s));
+    const std::string x = advised(c.first, o);
+    CAPTURE(c.first);
+    CAPTURE(x);
+    REQUIRE(!x.empty());
+    REQUIRE(x.find_first_not_of("0123456789.e-+") == std::string::npos);
+    o.back() = parse_override("fluid.dt=" + x);
+    CHECK(advised(c.first, o) == "accepted");
+  }
+}
