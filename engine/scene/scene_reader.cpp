@@ -298,12 +298,16 @@ std::string SceneDesc::missing_entry(const std::string& path) const {
   const std::string group = path.substr(0, lb);
   const auto rb = path.find(']', lb);
   const std::string digits = path.substr(lb + 1, rb == std::string::npos ? std::string::npos : rb - lb - 1);
-  if (digits.empty() || digits.size() > 9 || digits.find_first_not_of("0123456789") != std::string::npos)
+  if (digits.empty() || digits.find_first_not_of("0123456789") != std::string::npos)
     return "'" + path + "': the index of " + group + "[...] must be a whole number";
-  const int index = std::stoi(digits);
-  if (digits != std::to_string(index))  // [00] named no entry, and was "set but not used"
+  // ([00] named no entry, and was "set but not used")
+  const size_t first = std::min(digits.find_first_not_of('0'), digits.size() - 1);
+  if (first > 0)
     return "'" + path + "': write the index of " + group + "[...] without leading zeros (" + group + "[" +
-           std::to_string(index) + "])";
+           digits.substr(first) + "])";
+  if (digits.size() > 9)
+    return "no " + group + "[" + digits + "] in the scene (it has " + std::to_string(group_count(group)) + ")";
+  const int index = std::stoi(digits);
   if (index < group_count(group)) return "";
   return "no " + group + "[" + std::to_string(index) + "] in the scene (it has " + std::to_string(group_count(group)) +
          ")";

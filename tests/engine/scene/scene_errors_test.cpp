@@ -166,10 +166,12 @@ TEST_CASE("--set overrides: typed, located, and checked like the file") {
   CHECK_THROWS_WITH_AS(parse_scene(kGood, "bad.toml", {parse_override("contact.friction=-1")}),
                        doctest::Contains("--set:1:"), SceneError);
   CHECK_THROWS_AS(parse_scene(kGood, "bad.toml", {parse_override("grains.3.count=2")}), SceneError);
-  for (const char* zeros : {"grains.00.count=2", "grains[00].count=2"})  // it was "set but not used"
+  for (const char* zeros : {"grains.00.count=2", "grains[00].count=2", "grains[0000000000].count=2"})
     CHECK_THROWS_WITH_AS(parse_scene(kGood, "bad.toml", {parse_override(zeros)}),
                          doctest::Contains("write the index of grains[...] without leading zeros (grains[0])"),
                          SceneError);
+  CHECK_THROWS_WITH_AS(parse_scene(kGood, "bad.toml", {parse_override("grains[1234567890].count=2")}),
+                       doctest::Contains("no grains[1234567890] in the scene (it has 1)"), SceneError);
   CHECK_THROWS_WITH_AS(parse_scene(std::string("gravity = 1\n") + kGood, "bad.toml"),
                        doctest::Contains("bad.toml:1:1: 'gravity' is a table, not a key: its keys are gravity."),
                        SceneError);
