@@ -46,18 +46,24 @@ std::optional<Command> parse_line(std::string_view line) {
       // outside quotes is a blank (it was echoed as '?').
       std::string open;
       char quote = 0;
+      size_t quote_at = 0;  // (an unterminated quote was blamed on the list's '[')
       while (i < n) {
         const char d = line[i];
-        if (static_cast<unsigned char>(d) < 32 && d != '\t') throw ParseError(column_of(line, i), "control character");
+        if (is_control(d) && d != '\t') throw ParseError(column_of(line, i), "control character");
         t.text += quote == 0 && d == '\t' ? ' ' : d;
         ++i;
         if (quote != 0) {
-          if (quote == '"' && d == '\\' && i < n) t.text += line[i++];
-          else if (d == quote) quote = 0;
+          if (quote == '"' && d == '\\' && i < n) {
+            if (is_control(line[i]) && line[i] != '\t') throw ParseError(column_of(line, i), "control character");
+            t.text += line[i++];
+          } else if (d == quote) {
+            quote = 0;
+          }
           continue;
         }
         if (d == '"' || d == '\'') {
           quote = d;
+          quote_at = i - 1;
         } else if (d == '#') {
           throw ParseError(column_of(line, i - 1), "a '#' inside a list or table (quote it: a '#' starts a comment)");
         } else if (d == '[' || d == '{') {
@@ -70,10 +76,9 @@ std::optional<Command> parse_line(std::string_view line) {
         }
       }
       const bool list = c == '[';
+      if (quote != 0) throw ParseError(column_of(line, quote_at), "unterminated quote");
       if (!open.empty())
-        throw ParseError(t.col, quote != 0 ? "unterminated quote"
-                                : list     ? "a list without its closing ]"
-                                           : "a table without its closing }");
+        throw ParseError(t.col, list ? "a list without its closing ]" : "a table without its closing }");
       if (i < n && line[i] != ' ' && line[i] != '\t' && line[i] != '#' && line[i] != '\r' && line[i] != '\n')
         throw ParseError(column_of(line, i),
                          list ? "a list must be followed by a blank" : "a table must be followed by a blank");
@@ -364,10 +369,12 @@ std::vector<Token> expand_list(const Token& t) {
     if (i < w.size() && w[i] == ']' && out.empty()) break;  // []
     Token item;
     item.col = t.col + column_of(w, i) - 1;
-    if (i < w.size() && w[i] == '"') {
-      ++i;
-      while (i < w.size() && w[i] != '"') {
-        if (w[i] == '\\' && i + 1 < w.size()) ++i;
+    if (i < w.size() && (w[i] == '"' || w[i] == '\'')) {
+      // "double" with \ escapes, 'single' as it is, as TOML reads them (print ['t'] looked for 't'
+      // with its quotes)
+      const char quote = w[i++];
+      while (i < w.size() && w[i] != quote) {
+        if (quote == '"' && w[i] == '\\' && i + 1 < w.size()) ++i;
         item.text += w[i++];
       }
       if (i == w.size()) throw ParseError(item.col, "unterminated quote");

@@ -151,6 +151,14 @@ TEST_CASE("a list's brackets match, a '#' inside it is refused where it stands, 
   CHECK(tabs->args[1].text == "[32, 32]");
   CHECK(tabs->args[3].text == "[\"a\tb\"]");  // inside quotes a tab is the string's
   CHECK(shown_word(tabs->args[1].text) == "[32, 32]");
+  CHECK(at("set render.draw [\"field\", 'time") == "27: unterminated quote");  // at the quote, not the list
+  CHECK(at("print [\"t\x7f\"]") == "10: control character");
+  CHECK(at("print [\"t\\\x01\"]") == "11: control character");  // after a backslash too
+  const auto single = expand_list(Token{"['t', \"step\", 'a\\b']", 7, ""});  // 'single' items as TOML reads them
+  REQUIRE(single.size() == 3);
+  CHECK(single[0].text == "t");
+  CHECK(single[1].text == "step");
+  CHECK(single[2].text == "a\\b");
   CHECK(at("run until [step >= 1]") == "accepted");
   CHECK_THROWS_WITH_AS(parse_run_length(parse_line("run until [step >= 1]")->args),
                        "no brackets in a condition: OBSERVABLE OP NUMBER (t >= 0.5)", ParseError);
