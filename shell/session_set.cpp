@@ -70,6 +70,9 @@ Session::SetChange Session::read_set(const Command& c) {
     const std::string key = canonical_key(c.args[k].text);
     const KeySpec* spec = find_key_spec(normalise_key(key));
     if (!spec) throw ParseError(c.args[k].col, unknown_key_message(key));
+    // (an index with no entry, or with leading zeros, was located at the value)
+    if (const std::string missing = sim().model().desc.missing_entry(key); !missing.empty())
+      throw ParseError(c.args[k].col, missing);
     // A quoted word for a key that takes a string is the TOML string typed, escapes and all
     // ("tab\there" kept its backslash, where a scene file reads a tab).
     const Token& value = c.args[k + 1];
@@ -119,10 +122,12 @@ void Session::cmd_set(const Command& c) {
   const SetChange ch = read_set(c);
   const KeySpec* spec = find_key_spec(normalise_key(ch.changes.front().key));
   if (spec->steerable && !ch.several() && steer_set(ch)) return;
-  if (running() && ch.several()) {
-    // (a value out of its range was refused only as "stop first")
+  if (running()) {
+    // A change the scene refuses is said before "stop first" (a value out of its range, or an
+    // unequal grid spacing that only compiling finds, was refused only once the run was stopped).
+    // Compiling reads only the scene, not the running model.
     try {
-      scene_with(ch.next);
+      (void)compile(scene_with(ch.next));
     } catch (const SceneError& e) {
       throw ch.located(e);
     }

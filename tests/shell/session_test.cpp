@@ -236,8 +236,13 @@ TEST_CASE("a background run keeps the prompt, set acts at the next step boundary
   CHECK(contains(range, "column 46"));
   CHECK(contains(range, "contact.restitution"));
   CHECK_FALSE(contains(range, "stop first"));
-  CHECK_FALSE(f.run("set contact.friction 0.3 contact.restitution 0.5"));
+  CHECK_FALSE(f.run("set contact.friction 0.3 contact.restitution 0.5"));  // the chute's law has none
+  CHECK(contains(f.take_err(), "column 46: set contact.friction 0.3 contact.restitution 0.5: 'contact.restitution' "
+                               "is set but not used"));
+  CHECK_FALSE(f.run("set contact.friction 0.3 grains[1].count 10"));
   CHECK(contains(f.take_err(), "set with several keys recompiles the scene: stop first"));
+  CHECK_FALSE(f.run("set grains[1].count -1"));  // one key that is not steerable: its range first
+  CHECK(contains(f.take_err(), "out of range"));
   CHECK_FALSE(f.run("reset"));
   const double t1 = f.value("t");  // served at a step boundary
   std::this_thread::sleep_for(std::chrono::milliseconds(300));
