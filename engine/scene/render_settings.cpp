@@ -125,6 +125,9 @@ void read_render_settings(const SceneDesc& d, Model& m) {
   }
   r.periodic_images = d.boolean("render.periodic_images");
   r.every = d.has("render.every") ? d.integer("render.every") : 0;
+  // (an empty list made every frame blank, where `render FILE []` is refused)
+  if (r.draw.empty())
+    d.fail("render.draw", "an empty list draws nothing: give what to draw (grains, chains, field, ...)");
   for (const std::string& item : r.draw)
     if (const std::string why = draw_refusal(m, item); !why.empty()) d.fail("render.draw", why);
   // A magnitude is drawn on a sequential map from 0 (a vorticity's [-5, 5] kept for |u| painted the

@@ -310,6 +310,8 @@ TEST_CASE("help, params, stats, profile, render and frames print what a person r
   f.take_err();
   CHECK_FALSE(f.run("render x.png []"));  // not the scene's list
   CHECK(f.take_err().find("an empty list draws nothing") != std::string::npos);
+  CHECK_FALSE(f.run("set render.draw []"));  // nor as the scene's (every frame was blank)
+  CHECK(f.take_err().find("an empty list draws nothing") != std::string::npos);
   // What render.draw refuses for this scene (a dry one: no fluid field, no lubrication), located.
   CHECK_FALSE(f.run("render x.png grains lubrication"));
   CHECK(f.take_err().find("error: column 21: 'lubrication' draws a paste's lubrication forces") != std::string::npos);
