@@ -507,9 +507,12 @@ RunOptions Session::run_options(const RunLength& len, bool background) {
     // A value of the last step is none before the first: its clauses do not hold on a state no
     // step has made (`run until fluid.change_rate < 1e-3` held at step 0, where it reads 0), and the
     // others are tested there as always ("step >= 0 or fluid.cfl < 0.6" ran 10 steps).
+    // The state a run starts from is tested too, at whatever step ("run 3" then "run until step >= 0
+    // or fluid.cfl < 0.6" ran to step 10).
+    const int64_t first = sim_->state().step;
     opt.hooks.push_back(
-        {cheap || windows ? 1 : kEvery, [this, obs, cond, column, cheap, of_last_step](const State& st) {
-           const bool regular = cheap || st.step % kEvery == 0;
+        {cheap || windows ? 1 : kEvery, [this, obs, cond, column, cheap, of_last_step, first](const State& st) {
+           const bool regular = cheap || st.step % kEvery == 0 || st.step == first;
            if (!regular && !cond.window_closes(st.t, st.step, st.dt, kEvery - st.step % kEvery)) return;
            if (cond.holds(obs->sample(sim_->model(), st), &column, st.step == 0 ? &of_last_step : nullptr)) {
              until_end_ = UntilEnd::kMet;

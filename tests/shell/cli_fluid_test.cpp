@@ -145,7 +145,8 @@ TEST_CASE("silt play: run until on a value of the last step is not tested before
                      "\nset fluid.cells [16, 16]\nrun until fluid.change_rate < 1e3\nprint step\n"
                      "run until fluid.change_rate < 1e3\nprint step\nreset\n"
                      "run until fluid.ke >= 0\nprint step\n"
-                     "run until step >= 0 or fluid.cfl < 0.6\nprint step\n");
+                     "run until step >= 0 or fluid.cfl < 0.6\nprint step\n"
+                     "run 3\nrun until step >= 0 or fluid.cfl < 0.6\nprint step\n");
   const Result r = silt_cli("play " + script);
   INFO(r.out);
   CHECK(r.code == 0);
@@ -157,7 +158,12 @@ TEST_CASE("silt play: run until on a value of the last step is not tested before
   const size_t state = r.out.find("now t = 0 s, step 0\n", again);  // a value of the state: at once
   REQUIRE(state != std::string::npos);
   // The other terms of the condition are tested at step 0 as always (this one ran 10 steps).
-  CHECK(r.out.find("now t = 0 s, step 0\n", state + 1) != std::string::npos);
+  const size_t mixed = r.out.find("now t = 0 s, step 0\n", state + 1);
+  REQUIRE(mixed != std::string::npos);
+  // The state a run starts from is tested at any step (from step 3 this ran to step 10).
+  CHECK(r.out.find("condition met: 0 steps in", mixed) != std::string::npos);
+  CHECK(r.out.find("step 3\n", mixed) != std::string::npos);
+  CHECK(r.out.find("step 10\n", mixed) == std::string::npos);
 }
 
 TEST_CASE("silt play: the shipped cavity_reynolds.silt plays, on a smaller grid and for less time") {
