@@ -387,6 +387,8 @@ std::vector<Token> expand_list(const Token& t) {
     skip_blanks();
     if (i < w.size() && w[i] == ',') {
       ++i;
+      skip_blanks();
+      if (i < w.size() && w[i] == ']') break;  // a trailing comma, as TOML allows
       continue;
     }
     if (i < w.size() && w[i] == ']') break;

@@ -159,6 +159,9 @@ TEST_CASE("a list's brackets match, a '#' inside it is refused where it stands, 
   CHECK(single[0].text == "t");
   CHECK(single[1].text == "step");
   CHECK(single[2].text == "a\\b");
+  CHECK(expand_list(Token{"[t, step, ]", 1, ""}).size() == 2);  // a trailing comma, as TOML and set allow
+  CHECK_THROWS_AS(expand_list(Token{"[t, , ]", 1, ""}), ParseError);
+  CHECK_THROWS_AS(expand_list(Token{"[,]", 1, ""}), ParseError);
   CHECK(at("run until [step >= 1]") == "accepted");
   CHECK_THROWS_WITH_AS(parse_run_length(parse_line("run until [step >= 1]")->args),
                        "no brackets in a condition: OBSERVABLE OP NUMBER (t >= 0.5)", ParseError);
