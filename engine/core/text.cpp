@@ -14,6 +14,11 @@ std::string format_number(double x, int digits) {
   return o.str();
 }
 
+std::string format_past(double x, double limit, int digits) {
+  while (digits < 17 && format_number(x, digits) == format_number(limit, digits)) ++digits;
+  return format_number(x, digits);
+}
+
 std::string format_bound_below(double x, int digits) {
   if (!(x > 0) || !std::isfinite(x)) return format_number(x, digits);
   const double unit = std::pow(10.0, std::floor(std::log10(x)) - (digits - 1));

@@ -234,10 +234,25 @@ double fixed_step_bound(const FluidParams& p) {
   return bound;
 }
 
-// x, past `limit`, to as many digits as it takes to differ from it ("0.6 exceeds 0.6").
-std::string shown_past(double x, double limit, int digits) {
-  while (digits < 17 && format_number(x, digits) == format_number(limit, digits)) ++digits;
-  return format_number(x, digits);
+// What a fixed step refused by a viscous limit should become: below the bound of every limit at
+// once, or the other scheme that takes this step, where one does (each refusal named a scheme
+// that was then refused at the same step). A bound below 1e-12 of L / U, which check_tiny_step
+// refuses, is not advised.
+std::string viscous_step_advice(const Model& m, const FluidParams& p) {
+  const double floor = 1e-12 * p.length_scale / p.velocity_scale;
+  std::string advice;
+  if (const double bound = fixed_step_bound(p); bound > floor)
+    advice = "reduce fluid.dt below " + scene_step(m, p, bound);
+  for (const Viscous v : {Viscous::kCrankNicolson, Viscous::kBackwardEuler}) {
+    FluidParams other = p;
+    other.viscous = v;
+    if (v == p.viscous || p.dt > fixed_step_bound(other)) continue;
+    return advice + (advice.empty() ? "use" : " or use") + " fluid.viscous = \"" +
+           (v == Viscous::kCrankNicolson ? "crank_nicolson" : "backward_euler") + "\"";
+  }
+  if (!advice.empty()) return advice;
+  return std::string("no step above 1e-12 of L / U is stable with this scheme and ") +
+         (p.dimensionless ? "fluid.reynolds" : "fluid.viscosity") + ": use fluid.viscous = \"backward_euler\"";
 }
 
 }  // namespace
@@ -288,7 +303,7 @@ std::string fluid_note(const Model& m, double dt) {
   // (`check` said ok); from a state restored or steered since, it need not.
   if (const double rate = vortex_rate(p); p.dt_fixed && dt * rate > FluidParams::kCflLimit)
     add("the initial vortex (fluid.initial_velocity) alone gives a CFL number dt sum |U|/h = " +
-        format_number(dt * rate, 6) + " above " + format_number(FluidParams::kCflLimit, 4) +
+        format_past(dt * rate, FluidParams::kCflLimit, 6) + " above " + format_number(FluidParams::kCflLimit, 4) +
         " at this fixed step: a run from it fails at its first step; reduce fluid.dt below " +
         scene_step(m, p, FluidParams::kCflLimit / rate));
   // max |u(t + dt) - u(t)| is at least the rounding of u, about 2 eps max |u|: the change rate
@@ -361,18 +376,14 @@ void finish_fluid(const SceneDesc& d, Model& m) {
   if (p.dt_fixed && p.viscous == Viscous::kExplicit && p.nu() * p.dt * inv > FluidParams::kViscousLimit)
     d.fail("fluid.dt",
            "the explicit viscous term is unstable: nu dt sum 1/h^2 = " +
-               shown_past(p.nu() * p.dt * inv, FluidParams::kViscousLimit, 4) + " exceeds " +
-               format_number(FluidParams::kViscousLimit, 4) + "; reduce fluid.dt below " +
-               scene_step(m, p, fixed_step_bound(p)) +
-               " or use fluid.viscous = \"crank_nicolson\"");
+               format_past(p.nu() * p.dt * inv, FluidParams::kViscousLimit, 4) + " exceeds " +
+               format_number(FluidParams::kViscousLimit, 4) + "; " + viscous_step_advice(m, p));
   const double mode = p.dt * slowest_viscous_rate(p);
   if (p.dt_fixed && p.viscous == Viscous::kCrankNicolson && mode > FluidParams::kCnModeLimit)
     d.fail("fluid.dt", "Crank-Nicolson damps the box's slowest viscous mode too little at this step: nu dt k^2 = " +
-                           shown_past(mode, FluidParams::kCnModeLimit, 4) + " exceeds " +
+                           format_past(mode, FluidParams::kCnModeLimit, 4) + " exceeds " +
                            format_number(FluidParams::kCnModeLimit, 4) +
-                           " (beyond 3.75 it turns over instead of decaying); reduce fluid.dt below " +
-                           scene_step(m, p, fixed_step_bound(p)) +
-                           " or use fluid.viscous = \"backward_euler\"");
+                           " (beyond 3.75 it turns over instead of decaying); " + viscous_step_advice(m, p));
   // The walls' and inflows' speeds and an imposed bulk velocity bound the first steps' CFL number
   // from below, from any state (the fluid may only add to it): a fixed step past the limit with
   // them fails in its first two steps. (`check` said ok to a channel whose bulk velocity gave 6.4
@@ -380,7 +391,7 @@ void finish_fluid(const SceneDesc& d, Model& m) {
   // through a change is not it.
   std::string what;
   if (const double rate = known_rate(p, &what); p.dt_fixed && p.dt * rate > FluidParams::kCflLimit)
-    d.fail("fluid.dt", what + " a CFL number dt sum |U|/h = " + shown_past(p.dt * rate, FluidParams::kCflLimit, 6) +
+    d.fail("fluid.dt", what + " a CFL number dt sum |U|/h = " + format_past(p.dt * rate, FluidParams::kCflLimit, 6) +
                            " above " + format_number(FluidParams::kCflLimit, 4) +
                            ", the stability limit of RK3 advection; reduce fluid.dt below " +
                            scene_step(m, p, fixed_step_bound(p)) +

@@ -13,6 +13,9 @@ std::string format_number(double x, int digits = 6);
 // A positive bound to `digits` significant digits, rounded down: a value below the one printed
 // is below the bound ("reduce fluid.dt below 0.01235" for 0.012346 rounded up past it).
 std::string format_bound_below(double x, int digits);
+// x, past `limit`, to `digits` significant digits or as many more as it takes to differ from it
+// ("0.6 exceeds 0.6", "1.6 above 1.6").
+std::string format_past(double x, double limit, int digits);
 
 // Levenshtein distance (insertions, deletions, substitutions), or `limit` when it is at least
 // that: a search for the closest name stops early on names that cannot beat the best so far.

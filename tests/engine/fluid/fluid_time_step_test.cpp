@@ -323,11 +323,15 @@ TEST_CASE("fluid: the fixed step a refusal advises is accepted, whichever limit 
   // Each refusal advised its own limit's bound, which another then refused (Crank-Nicolson's
   // 10.13 L/U where the lid's CFL number allows 0.0125), and a bound of exactly 1.25 printed as
   // 1.25 was refused by its rounding ("nu dt sum 1/h^2 = 0.6 exceeds 0.6").
-  const auto advised = [](const std::string& scene, const std::vector<Override>& o) -> std::string {
+  // The step advised, or "accepted"; `scheme` gets the other viscous scheme advised, if any.
+  const auto advised = [](const std::string& scene, const std::vector<Override>& o,
+                          std::string* scheme = nullptr) -> std::string {
     try {
       (void)compile(load_scene_file(test::scene_path(scene), o));
     } catch (const SceneError& e) {
       const std::string w = e.what();
+      if (const size_t use = w.find("use fluid.viscous = \""); scheme && use != std::string::npos)
+        *scheme = w.substr(use + 21, w.find('"', use + 21) - use - 21);
       const size_t at = w.find("reduce fluid.dt below ");
       if (at == std::string::npos) return "no advice: " + w;
       const size_t from = at + 22;
@@ -342,16 +346,31 @@ TEST_CASE("fluid: the fixed step a refusal advises is accepted, whichever limit 
       {"taylor_green_3d", {"fluid.cells=[8,8,8]", "fluid.viscous=explicit", "fluid.dt=1000"}},
       {"taylor_green_3d", {"fluid.cells=[8,8,8]", "fluid.viscous=explicit", "fluid.reynolds=250", "fluid.dt=1000"}},
       {"taylor_green_3d", {"fluid.cells=[4,4,4]", "fluid.viscous=explicit", "fluid.reynolds=50", "fluid.dt=1000"}},
+      // (the other scheme advised was refused at the same step)
+      {"cavity_2d", {"fluid.cells=[16,16]", "fluid.viscous=explicit", "fluid.reynolds=0.1", "fluid.dt=0.05"}},
+      {"cavity_2d", {"fluid.cells=[16,16]", "fluid.reynolds=1", "fluid.dt=1"}},
   };
   for (const auto& c : cases) {
     std::vector<Override> o;
     for (const std::string& s : c.second) o.push_back(parse_override(s));
-    const std::string x = advised(c.first, o);
+    std::string scheme;
+    const std::string x = advised(c.first, o, &scheme);
     CAPTURE(c.first);
     CAPTURE(x);
     REQUIRE(!x.empty());
     REQUIRE(x.find_first_not_of("0123456789.e-+") == std::string::npos);
+    if (!scheme.empty()) {  // the other scheme, at the step refused
+      std::vector<Override> other = o;
+      other.insert(other.end() - 1, parse_override("fluid.viscous=" + scheme));
+      CHECK(advised(c.first, other) == "accepted");
+    }
     o.back() = parse_override("fluid.dt=" + x);
     CHECK(advised(c.first, o) == "accepted");
   }
+  // A bound below 1e-12 of L / U, which is refused as too small a step, is not advised.
+  const std::vector<Override> viscous = {parse_override("fluid.cells=[16,16]"), parse_override("fluid.viscous=explicit"),
+                                         parse_override("fluid.reynolds=1e-10"), parse_override("fluid.dt=1e3")};
+  CHECK(advised("cavity_2d", viscous) ==
+        "no advice: --set:4:10: the explicit viscous term is unstable: nu dt sum 1/h^2 = 5.12e+15 exceeds 0.6; no step "
+        "above 1e-12 of L / U is stable with this scheme and fluid.reynolds: use fluid.viscous = \"backward_euler\"");
 }
