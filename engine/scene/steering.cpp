@@ -37,7 +37,7 @@ std::string steer(Model& m, const Override& change, const SceneDesc* scene) {
   Model next = m;
   for (const Module& mod : modules()) {
     if (!mod.spec->steer || !m.module_on(mod.spec->name)) continue;
-    if (std::string why = mod.spec->steer(next, fresh); !why.empty()) return "'" + change.key + "' " + why;
+    if (std::string why = mod.spec->steer(next, fresh); !why.empty()) return "'" + change.key + "': " + why;
   }
   next.params = fresh.params;
   next.desc = std::move(fresh.desc);

@@ -406,6 +406,11 @@ TEST_CASE("paste: the roughness, the solver and the viscous number are steered b
   CHECK(steer(m, parse_override("lubrication.h_min_over_a=1e-4")) == "");
   CHECK(steer(m, parse_override("lubrication.solver=\"direct\"")) == "");
   CHECK(steer(m, parse_override("shear.viscous_number=0.01")) == "");
+  // A module's refusal reads as a sentence after the key ("'shear.rate' it would switch ...").
+  Model unsheared = test::model_from(paste_scene(60, 9));
+  CHECK(steer(unsheared, parse_override("shear.viscous_number=0.01")) ==
+        "'shear.viscous_number': it would switch the shear on or off, or between imposed rate and imposed stress: set "
+        "it when stopped");
   const auto& p = m.params.get<paste::PasteParams>();
   CHECK(p.h_min_over_a == 1e-4);
   CHECK(p.solver.method == linalg::Method::kDirect);
