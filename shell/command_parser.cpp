@@ -86,6 +86,8 @@ std::optional<Command> parse_line(std::string_view line) {
       ++i;
       bool closed = false;
       while (i < n) {
+        // (control bytes and DEL were taken inside quotes, and a file name could hold them)
+        if (is_control(line[i]) && line[i] != '\t') throw ParseError(column_of(line, i), "control character");
         if (line[i] == '\\' && i + 1 < n && (line[i + 1] == '"' || line[i + 1] == '\\')) {
           t.text += line[i + 1];
           i += 2;
@@ -108,15 +110,14 @@ std::optional<Command> parse_line(std::string_view line) {
       t.text = line.substr(i + 1, close - i - 1);
       t.raw = line.substr(i, close - i + 1);
       for (size_t k = i + 1; k < close; ++k)
-        if (static_cast<unsigned char>(line[k]) < 32 && line[k] != '\t')
-          throw ParseError(column_of(line, k), "control character");
+        if (is_control(line[k]) && line[k] != '\t') throw ParseError(column_of(line, k), "control character");
       i = close + 1;
       if (i < n && line[i] != ' ' && line[i] != '\t' && line[i] != '#' && line[i] != '\r' && line[i] != '\n')
         throw ParseError(column_of(line, i), "a quoted word must be followed by a blank");
     } else {
       while (i < n && line[i] != ' ' && line[i] != '\t' && line[i] != '\r' && line[i] != '\n') {
         if (line[i] == '"') throw ParseError(column_of(line, i), "a quote inside a word (quote the whole word)");
-        if (static_cast<unsigned char>(line[i]) < 32) throw ParseError(column_of(line, i), "control character");
+        if (is_control(line[i])) throw ParseError(column_of(line, i), "control character");
         t.text += line[i++];
       }
     }
@@ -357,7 +358,8 @@ size_t Condition::term_end(size_t k) const {
 }
 
 std::vector<Token> expand_list(const Token& t) {
-  if (t.text.empty() || t.text[0] != '[') return {t};
+  // (a quoted word is one word: print "[t, step]" printed two, at columns one too few)
+  if (t.text.empty() || t.text[0] != '[' || !t.raw.empty()) return {t};
   std::vector<Token> out;
   const std::string& w = t.text;
   size_t i = 1;

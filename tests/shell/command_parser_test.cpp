@@ -159,6 +159,10 @@ TEST_CASE("a list's brackets match, a '#' inside it is refused where it stands, 
   CHECK(single[0].text == "t");
   CHECK(single[1].text == "step");
   CHECK(single[2].text == "a\\b");
+  CHECK(expand_list(parse_line("print \"[t, step]\"")->args[0]).size() == 1);  // quoted: one word, not a list
+  CHECK(at("print \"a\x01b\"") == "9: control character");
+  CHECK(at("print st\x7f" "ep") == "9: control character");
+  CHECK(at("print 'st\x7f'") == "10: control character");
   CHECK(expand_list(Token{"[t, step, ]", 1, ""}).size() == 2);  // a trailing comma, as TOML and set allow
   CHECK_THROWS_AS(expand_list(Token{"[t, , ]", 1, ""}), ParseError);
   CHECK_THROWS_AS(expand_list(Token{"[,]", 1, ""}), ParseError);
