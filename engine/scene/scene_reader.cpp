@@ -80,6 +80,7 @@ std::string convert(const toml::node& n, const KeySpec& spec, const std::string&
     else o << " is out of range " << spec.range.str() << (spec.unit.empty() ? "" : " " + spec.unit);
     return o.str();
   };
+  auto as_given = [](const toml::node& e) { return e.is_integer() ? std::to_string(*e.value<int64_t>()) : std::string(); };
   auto check_choice = [&](const std::string& s, const toml::node& at) -> std::string {
     if (spec.choices.empty()) return "";
     for (const auto& c : spec.choices)
@@ -100,7 +101,7 @@ std::string convert(const toml::node& n, const KeySpec& spec, const std::string&
       if (!x || !std::isfinite(*x) || *x != std::floor(*x)) return type_error();
       // (an integer past the key's range and int64's, 2^63 - 1 points, is out of that range: it
       // read "must be an integer")
-      const std::string shown = n.is_integer() ? std::to_string(*n.value<int64_t>()) : std::string();
+      const std::string shown = as_given(n);
       if (!(std::abs(*x) < 9.2e18)) {
         const std::string range = check_range(*x, n, shown);
         return range.empty() ? type_error() : range;
@@ -124,7 +125,7 @@ std::string convert(const toml::node& n, const KeySpec& spec, const std::string&
       for (const toml::node& e : *n.as_array()) {
         auto x = as_number(e);
         if (!x) return type_error();
-        if (auto err = check_range(*x, e); !err.empty()) return err;
+        if (auto err = check_range(*x, e, as_given(e)); !err.empty()) return err;
         v.push_back(*x);
       }
       out = std::move(v);
@@ -139,7 +140,7 @@ std::string convert(const toml::node& n, const KeySpec& spec, const std::string&
         for (const toml::node& e : *row.as_array()) {
           auto x = as_number(e);
           if (!x) return type_error();
-          if (auto err = check_range(*x, e); !err.empty()) return err;
+          if (auto err = check_range(*x, e, as_given(e)); !err.empty()) return err;
           v.push_back(*x);
         }
         m.push_back(std::move(v));
@@ -254,6 +255,7 @@ void apply_override_at(SceneDesc& desc, const Override& o, int ordinal, bool bat
   if (!v && spec->type == KeyType::kInt && digits.size() >= 19 && digits[0] != '0' &&
       digits.find_first_not_of("0123456789") == std::string_view::npos)
     throw SceneError(where, "'" + path + "' = " + o.value + " is out of range " + spec->range.str() +
+                                (spec->unit.empty() ? "" : " " + spec->unit) +
                                 " (and beyond the integers', 9223372036854775807 in magnitude)");
   if (!v || (spec->type == KeyType::kString && !toml_form && !v->is_string())) {
     try {

@@ -104,6 +104,10 @@ TEST_CASE("out of range: the range and unit are named") {
                        doctest::Contains("'scene.dimension' = -9223372036854775809 is out of range [2, 3] (and beyond "
                                          "the integers', 9223372036854775807 in magnitude)"),
                        SceneError);
+  CHECK_THROWS_WITH_AS(parse_scene(kGood, "bad.toml", {parse_override("fluid.cells=[16, 9007199254740993]")}),
+                       doctest::Contains("'fluid.cells' = 9007199254740993 is out of range"), SceneError);
+  CHECK_THROWS_WITH_AS(parse_scene(kGood, "bad.toml", {parse_override("render.width=99999999999999999999")}),
+                       doctest::Contains("is out of range [16, 16384] px (and beyond"), SceneError);
   CHECK_THROWS_WITH_AS(parse_scene(kGood, "bad.toml", {parse_override("scene.dimension=007")}),
                        doctest::Contains("must be an integer"), SceneError);
   // Past the doubles' range TOML reads no value: said, at the number's first column (it read "could
