@@ -136,7 +136,11 @@ const ModuleSpec& module() {
     s.describe = describe_fluid;
     s.steer = steer_fluid;
     // Said once, before the first step (the adaptive step where the run starts).
-    s.notice = [](const Model& m, const State& st) { return st.step == 0 ? fluid_note(m, st.dt) : std::string(); };
+    // (a fixed step steered since the state's last step is the one the next step takes)
+    s.notice = [](const Model& m, const State& st) {
+      const FluidParams& p = m.params.get<FluidParams>();
+      return st.step == 0 ? fluid_note(m, p.dt_fixed ? p.dt : st.dt) : std::string();
+    };
     s.memory_bytes = fluid_memory_bytes;
     s.check_state = [](const Model&, const State& st) -> std::string {
       // kStatCount - 1: a checkpoint written before kChangeRate (fluid_load appends it).

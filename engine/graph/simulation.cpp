@@ -133,6 +133,10 @@ void Simulation::prepare() {
   if (ok) impl_->restart.take(state_);
   else if (impl_->unprepared) impl_->restart.take(*impl_->unprepared);
   impl_->primed = true;
+  // The notes of this state from an earlier preparation of it (before a steered change, which
+  // prepares it again) are superseded: a run printed both, the first of a step since changed.
+  const std::string here = "step " + std::to_string(state_.step) + ": ";
+  std::erase_if(impl_->notices, [&](const std::string& n) { return n.starts_with(here); });
   if (ok) collect_notices();
 }
 

@@ -10,6 +10,7 @@
 #include "fluid/module.hpp"
 #include "fluid/step.hpp"
 #include "silt/io.hpp"
+#include "silt/text.hpp"
 #include "support/scenes.hpp"
 
 using namespace silt;
@@ -199,6 +200,25 @@ TEST_CASE(
     REQUIRE(at != std::string::npos);
     CHECK(std::stod(text.substr(at + label.size())) == doctest::Approx(2).epsilon(1e-4));  // (dt with 6 decimals)
     CHECK(text.find("above 1.6 at this fixed step: a run from it fails at its first step") != std::string::npos);
+  }
+  // The note at a run's start is of the step it takes: a fixed step steered after a first
+  // preparation gave the old step's note, and the new one beside it.
+  {
+    const std::string scene =
+        "[scene]\ndimension = 2\n[domain]\nlo = [0.0, 0.0]\nhi = [1.0, 1.0]\n"
+        "periodic = [true, true]\n[fluid]\ncells = [16, 16]\nviscosity = 0.1\n"
+        "initial = \"taylor_green\"\ninitial_velocity = 3.0\ndt = 0.001\n";
+    auto sim = test::simulation_from(scene);
+    sim->prepare();
+    CHECK(sim->take_notices().empty());
+    const double past = 2.0 / vortex_rate(sim->model().params.get<FluidParams>());
+    REQUIRE(steer(sim->model_for_steering(), parse_override("fluid.dt=" + format_number(past, 17))) == "");
+    sim->prepare();
+    sim->prepare();  // (prepared twice: one note)
+    const std::vector<std::string> notes = sim->take_notices();
+    REQUIRE(notes.size() == 1);
+    INFO(notes[0]);
+    CHECK(notes[0].find("dt sum |U|/h = 2 above 1.6") != std::string::npos);
   }
   // A bulk velocity: the mean of u over the faces after the first step, so at least it somewhere.
   const std::string channel =
