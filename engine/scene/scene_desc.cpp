@@ -68,6 +68,9 @@ std::string suggest_key(std::string_view bad_path) {
     const auto rb = bad_path.find(']', lb);
     best.replace(best.find("[]"), 2, std::string(bad_path.substr(lb, rb - lb + 1)));
   }
+  // A path written without an index gets the first entry's ("grains.count" was told
+  // "grains[].count", itself refused).
+  for (auto b = best.find("[]"); b != std::string::npos; b = best.find("[]", b)) best.replace(b, 2, "[0]");
   return best;
 }
 

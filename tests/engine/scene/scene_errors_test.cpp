@@ -48,6 +48,8 @@ TEST_CASE("unknown key: location and suggestion") {
   const std::string g = test::scene_error(with("radius = 0.5", "raduis = 0.5"));
   CHECK(g.find("bad.toml:11:1") != std::string::npos);
   CHECK(g.find("did you mean 'grains[0].radius'") != std::string::npos);
+  // Without an index, the first entry's (it suggested 'grains[].count', itself refused).
+  CHECK(unknown_key_message("grains.count") == "unknown key 'grains.count'; did you mean 'grains[0].count'?");
   // A short leaf two edits from a key of another table is no suggestion.
   const std::string far = test::scene_error(with("k_n = 1e5", "k_n = 1e5\nnope = 1"));
   CHECK(far.find("unknown key 'contact.nope'") != std::string::npos);
