@@ -57,13 +57,18 @@ bool until_never_holds(const Condition& c, double t, int64_t step) {
       for (size_t j = k; j < e; ++j) {
         const Clause& cl = c.clauses[j];
         if (cl.observable != name) continue;
-        if ((cl.op == ">=" || cl.op == ">" || cl.op == "==") && cl.value >= lo) {
-          lo_strict = cl.op == ">" || (cl.value == lo && lo_strict);
-          lo = cl.value;
+        // t within kTimeSlack of a value is at it (compare): "t <= 0.0003" holds at t =
+        // 3.0000000000000003e-4 and "t < 0.0003" does not.
+        const double slack = name[0] == 't' ? kTimeSlack * std::abs(cl.value) : 0;
+        const double below = cl.op == ">" ? cl.value + slack : cl.value - slack;
+        const double above = cl.op == "<" ? cl.value - slack : cl.value + slack;
+        if ((cl.op == ">=" || cl.op == ">" || cl.op == "==") && below >= lo) {
+          lo_strict = cl.op == ">" || (below == lo && lo_strict);
+          lo = below;
         }
-        if ((cl.op == "<" || cl.op == "<=" || cl.op == "==") && cl.value <= hi) {
-          hi_strict = cl.op == "<" || (cl.value == hi && hi_strict);
-          hi = cl.value;
+        if ((cl.op == "<" || cl.op == "<=" || cl.op == "==") && above <= hi) {
+          hi_strict = cl.op == "<" || (above == hi && hi_strict);
+          hi = above;
         }
       }
       // A step count is whole: its bounds are the whole steps within them ("step == 57.5" ran without

@@ -153,7 +153,7 @@ TEST_CASE("a list's brackets match, a '#' inside it is refused where it stands, 
   CHECK(shown_word(tabs->args[1].text) == "[32, 32]");
   CHECK(at("set render.draw [\"field\", 'time") == "27: unterminated quote");  // at the quote, not the list
   CHECK(at("print [\"t\x7f\"]") == "10: control character");
-  CHECK(at("print [\"t\\\x01\"]") == "11: control character");  // after a backslash too
+  CHECK(at("print [\"t\\\x01\"]") == "11: control character");               // after a backslash too
   const auto single = expand_list(Token{"['t', \"step\", 'a\\b']", 7, ""});  // 'single' items as TOML reads them
   REQUIRE(single.size() == 3);
   CHECK(single[0].text == "t");
@@ -161,7 +161,8 @@ TEST_CASE("a list's brackets match, a '#' inside it is refused where it stands, 
   CHECK(single[2].text == "a\\b");
   CHECK(expand_list(parse_line("print \"[t, step]\"")->args[0]).size() == 1);  // quoted: one word, not a list
   CHECK(at("print \"a\x01b\"") == "9: control character");
-  CHECK(at("print st\x7f" "ep") == "9: control character");
+  CHECK(at("print st\x7f"
+           "ep") == "9: control character");
   CHECK(at("print 'st\x7f'") == "10: control character");
   CHECK(expand_list(Token{"[t, step, ]", 1, ""}).size() == 2);  // a trailing comma, as TOML and set allow
   CHECK_THROWS_AS(expand_list(Token{"[t, , ]", 1, ""}), ParseError);
@@ -169,6 +170,20 @@ TEST_CASE("a list's brackets match, a '#' inside it is refused where it stands, 
   CHECK(at("run until [step >= 1]") == "accepted");
   CHECK_THROWS_WITH_AS(parse_run_length(parse_line("run until [step >= 1]")->args),
                        "no brackets in a condition: OBSERVABLE OP NUMBER (t >= 0.5)", ParseError);
+}
+
+TEST_CASE("run until takes t within its rounding of a value to be at it") {
+  const auto cond = [](const std::string& line) { return parse_run_length(parse_line(line)->args).until; };
+  const double t = 3 * 1e-4;  // 3.0000000000000003e-4, shown as 0.0003
+  REQUIRE(t != 0.0003);
+  CHECK(cond("run until t <= 0.0003").holds({t}));
+  CHECK(cond("run until t == 0.0003").holds({t}));
+  CHECK(cond("run until t >= 0.0003").holds({t}));
+  CHECK_FALSE(cond("run until t < 0.0003").holds({t}));
+  CHECK_FALSE(cond("run until t > 0.0003").holds({t}));
+  CHECK_FALSE(cond("run until t != 0.0003").holds({t}));
+  CHECK_FALSE(cond("run until t <= 0.0003").holds({0.0003 * (1 + 1e-8)}));  // past the rounding: not at it
+  CHECK_FALSE(cond("run until step == 3").holds({3 + 1e-12}));              // a step count is exact
 }
 
 TEST_CASE("a term is tested between regular tests where its window of t and step closes before the next") {

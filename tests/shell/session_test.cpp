@@ -201,6 +201,11 @@ TEST_CASE("run lengths: steps, time, until a condition") {
   CHECK(f.value("n_contacts") == 1);
   REQUIRE(f.run("run until t >= 0.0009"));
   CHECK(f.value("step") == 900);
+  // t at the value it shows, whatever the rounding of its sum of steps: holds now, or never.
+  REQUIRE(f.run("run until t <= 0.0009 and t == 0.0009"));
+  CHECK(f.value("step") == 900);
+  CHECK_FALSE(f.run("run until t < 0.0009"));
+  CHECK(contains(f.take_err(), "can never hold"));
   CHECK_FALSE(f.run("run until kee > 1"));
   // Lengths past what a step counter holds are refused, not wrapped around.
   CHECK_FALSE(f.run("run 9e18s"));
@@ -237,8 +242,9 @@ TEST_CASE("a background run keeps the prompt, set acts at the next step boundary
   CHECK(contains(range, "contact.restitution"));
   CHECK_FALSE(contains(range, "stop first"));
   CHECK_FALSE(f.run("set contact.friction 0.3 contact.restitution 0.5"));  // the chute's law has none
-  CHECK(contains(f.take_err(), "column 46: set contact.friction 0.3 contact.restitution 0.5: 'contact.restitution' "
-                               "is set but not used"));
+  CHECK(contains(f.take_err(),
+                 "column 46: set contact.friction 0.3 contact.restitution 0.5: 'contact.restitution' "
+                 "is set but not used"));
   CHECK_FALSE(f.run("set contact.friction 0.3 grains[1].count 10"));
   CHECK(contains(f.take_err(), "set with several keys recompiles the scene: stop first"));
   CHECK_FALSE(f.run("set grains[1].count -1"));  // one key that is not steerable: its range first
