@@ -81,6 +81,9 @@ std::string describe_fluid(const Model& m) {
                    : " (target CFL " + format_number(p.cfl_target, 3) + ", at most " + format_number(p.dt_max, 4) +
                          m.unit("s") + ")")
     << "; CFL at U: " << dt * m.dim * p.velocity_scale / g.h[0] << " (limit " << FluidParams::kCflLimit
+    << (p.dt_fixed && dt * m.dim * p.velocity_scale / g.h[0] > FluidParams::kCflLimit
+            ? "; a flow at U along every axis passes it, and the run stops at the step that does"
+            : "")
     << "); viscous number nu dt sum 1/h^2 = " << p.nu() * dt * inv
     << (p.viscous == Viscous::kExplicit ? " (limit " + format_number(FluidParams::kViscousLimit, 2) + ")"
                                         : std::string(" (implicit: no limit)"))
