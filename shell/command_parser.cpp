@@ -148,7 +148,8 @@ const std::vector<CommandSpec>& command_specs() {
        "and dt, else every 10 steps (the run then stops up to 9 steps after it first holds) and in between where a "
        "term's window of t and step, such as step == N, closes before the next test; a condition that t and step have "
        "made impossible ends the run; a comparison of a value of the last step, such as fluid.change_rate, does "
-       "not hold before the first step), or until the packing is "
+       "not hold before the first step; t within 1e-9 of a value is at it, whatever its sum of steps' rounding), or "
+       "until the packing is "
        "static (the "
        "scene's run.static_* criterion), or until the fluid is steady (run.steady_tol). Alone, it runs to the scene's "
        "end (run.steps or run.time), stopping when static or steady if the scene says run.stop_when_static or "
@@ -328,6 +329,17 @@ bool Condition::has_window() const {
   return std::any_of(clauses.begin(), clauses.end(), [](const Clause& c) {
     return (c.observable == "t" || c.observable == "step") && (c.op == "<" || c.op == "<=" || c.op == "==");
   });
+}
+
+bool Condition::time_window_open(double t, int64_t step) const {
+  for (size_t first = 0, last = 0; first < clauses.size(); first = last) {
+    last = term_end(first);
+    const bool bounded = std::any_of(
+        clauses.begin() + static_cast<std::ptrdiff_t>(first), clauses.begin() + static_cast<std::ptrdiff_t>(last),
+        [](const Clause& c) { return c.observable == "t" && (c.op == "<" || c.op == "<=" || c.op == "=="); });
+    if (bounded && clock_holds(clauses, first, last, t, step)) return true;
+  }
+  return false;
 }
 
 bool Condition::window_closes(double t, int64_t step, double dt, int64_t ahead) const {

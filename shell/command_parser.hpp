@@ -94,6 +94,11 @@ struct Condition {
   // later: a window that closes before the next regular test, in which the term must be tested
   // now. Where none does, the condition needs no other observable sampled before that test.
   bool window_closes(double t, int64_t step, double dt, int64_t ahead) const;
+  // Whether a term that bounds t from above has its clauses on t and step holding at (t, step):
+  // with an adaptive step, whose next values no dt foretells, such a term is tested at every step
+  // while it may hold (a step grown by a fifth left "t >= 0.0207 and t <= 0.0255 and phi > 0"
+  // between two tests).
+  bool time_window_open(double t, int64_t step) const;
   // The end of the term that clause k begins: its clauses are [k, term_end(k)).
   size_t term_end(size_t k) const;
 };

@@ -516,9 +516,12 @@ RunOptions Session::run_options(const RunLength& len, bool background) {
     // or fluid.cfl < 0.6" ran to step 10).
     const int64_t first = sim_->state().step;
     opt.hooks.push_back(
-        {cheap || windows ? 1 : kEvery, [this, obs, cond, column, cheap, of_last_step, first](const State& st) {
+        {cheap || windows ? 1 : kEvery,
+         [this, obs, cond, column, cheap, of_last_step, first, adaptive = m.adaptive_dt](const State& st) {
            const bool regular = cheap || st.step % kEvery == 0 || st.step == first;
-           if (!regular && !cond.window_closes(st.t, st.step, st.dt, kEvery - st.step % kEvery)) return;
+           if (!regular && !cond.window_closes(st.t, st.step, st.dt, kEvery - st.step % kEvery) &&
+               !(adaptive && cond.time_window_open(st.t, st.step)))
+             return;
            if (cond.holds(obs->sample(sim_->model(), st), &column, st.step == 0 ? &of_last_step : nullptr)) {
              until_end_ = UntilEnd::kMet;
              interrupt_ = true;

@@ -172,6 +172,16 @@ TEST_CASE("a list's brackets match, a '#' inside it is refused where it stands, 
                        "no brackets in a condition: OBSERVABLE OP NUMBER (t >= 0.5)", ParseError);
 }
 
+TEST_CASE("a window of t is open while its term's clauses on t and step hold, for adaptive steps") {
+  const auto cond = [](const std::string& line) { return parse_run_length(parse_line(line)->args).until; };
+  const Condition c = cond("run until t >= 0.0207 and t <= 0.0255 and phi > 0 or ke < 0");
+  CHECK(c.time_window_open(0.0208, 9));
+  CHECK_FALSE(c.time_window_open(0.0200, 8));
+  CHECK_FALSE(c.time_window_open(0.0260, 10));
+  CHECK_FALSE(cond("run until t >= 0.02 and phi > 0").time_window_open(0.03, 9));  // not bounded above
+  CHECK_FALSE(cond("run until step <= 9 and phi > 0").time_window_open(0.03, 9));  // steps are foretold
+}
+
 TEST_CASE("run until takes t within its rounding of a value to be at it") {
   const auto cond = [](const std::string& line) { return parse_run_length(parse_line(line)->args).until; };
   const double t = 3 * 1e-4;  // 3.0000000000000003e-4, shown as 0.0003
