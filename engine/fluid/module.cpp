@@ -251,8 +251,13 @@ std::string viscous_step_advice(const Model& m, const FluidParams& p) {
            (v == Viscous::kCrankNicolson ? "crank_nicolson" : "backward_euler") + "\"";
   }
   if (!advice.empty()) return advice;
+  // (backward Euler has no viscous limit: its bound is the CFL number's, which this step passes)
+  FluidParams implicit = p;
+  implicit.viscous = Viscous::kBackwardEuler;
+  const double bound = fixed_step_bound(implicit);
   return std::string("no step above 1e-12 of L / U is stable with this scheme and ") +
-         (p.dimensionless ? "fluid.reynolds" : "fluid.viscosity") + ": use fluid.viscous = \"backward_euler\"";
+         (p.dimensionless ? "fluid.reynolds" : "fluid.viscosity") + ": use fluid.viscous = \"backward_euler\"" +
+         (bound > floor ? " with fluid.dt below " + scene_step(m, p, bound) : std::string());
 }
 
 }  // namespace
@@ -374,10 +379,9 @@ void finish_fluid(const SceneDesc& d, Model& m) {
   const FluidParams& p = m.params.get<FluidParams>();
   const double inv = p.grid.inv_h2_sum();
   if (p.dt_fixed && p.viscous == Viscous::kExplicit && p.nu() * p.dt * inv > FluidParams::kViscousLimit)
-    d.fail("fluid.dt",
-           "the explicit viscous term is unstable: nu dt sum 1/h^2 = " +
-               format_past(p.nu() * p.dt * inv, FluidParams::kViscousLimit, 4) + " exceeds " +
-               format_number(FluidParams::kViscousLimit, 4) + "; " + viscous_step_advice(m, p));
+    d.fail("fluid.dt", "the explicit viscous term is unstable: nu dt sum 1/h^2 = " +
+                           format_past(p.nu() * p.dt * inv, FluidParams::kViscousLimit, 4) + " exceeds " +
+                           format_number(FluidParams::kViscousLimit, 4) + "; " + viscous_step_advice(m, p));
   const double mode = p.dt * slowest_viscous_rate(p);
   if (p.dt_fixed && p.viscous == Viscous::kCrankNicolson && mode > FluidParams::kCnModeLimit)
     d.fail("fluid.dt", "Crank-Nicolson damps the box's slowest viscous mode too little at this step: nu dt k^2 = " +

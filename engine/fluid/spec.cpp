@@ -139,10 +139,10 @@ const ModuleSpec& module() {
     s.describe = describe_fluid;
     s.steer = steer_fluid;
     // Said once, before the first step (the adaptive step where the run starts).
-    // (a fixed step steered since the state's last step is the one the next step takes)
+    // Of the model's step, as `check` prints it: a state at step 0 holds the step of its last
+    // preparation, before a steered fluid.dt or fluid.cfl or a reset.
     s.notice = [](const Model& m, const State& st) {
-      const FluidParams& p = m.params.get<FluidParams>();
-      return st.step == 0 ? fluid_note(m, p.dt_fixed ? p.dt : st.dt) : std::string();
+      return st.step == 0 ? fluid_note(m, m.params.get<FluidParams>().dt) : std::string();
     };
     s.memory_bytes = fluid_memory_bytes;
     s.check_state = [](const Model&, const State& st) -> std::string {

@@ -219,6 +219,12 @@ TEST_CASE(
     REQUIRE(notes.size() == 1);
     INFO(notes[0]);
     CHECK(notes[0].find("dt sum |U|/h = 2 above 1.6") != std::string::npos);
+    // An adaptive step's too: a target CFL number steered at step 0 (the note read the state's step).
+    REQUIRE(steer(sim->model_for_steering(), parse_override("fluid.cfl=1e-7")) == "");
+    sim->prepare();
+    const std::vector<std::string> adaptive = sim->take_notices();
+    REQUIRE(adaptive.size() == 1);
+    CHECK(adaptive[0].find("fluid steps of") != std::string::npos);
   }
   // A bulk velocity: the mean of u over the faces after the first step, so at least it somewhere.
   const std::string channel =

@@ -368,9 +368,16 @@ TEST_CASE("fluid: the fixed step a refusal advises is accepted, whichever limit 
     CHECK(advised(c.first, o) == "accepted");
   }
   // A bound below 1e-12 of L / U, which is refused as too small a step, is not advised.
-  const std::vector<Override> viscous = {parse_override("fluid.cells=[16,16]"), parse_override("fluid.viscous=explicit"),
+  const std::vector<Override> viscous = {parse_override("fluid.cells=[16,16]"),
+                                         parse_override("fluid.viscous=explicit"),
                                          parse_override("fluid.reynolds=1e-10"), parse_override("fluid.dt=1e3")};
   CHECK(advised("cavity_2d", viscous) ==
         "no advice: --set:4:10: the explicit viscous term is unstable: nu dt sum 1/h^2 = 5.12e+15 exceeds 0.6; no step "
-        "above 1e-12 of L / U is stable with this scheme and fluid.reynolds: use fluid.viscous = \"backward_euler\"");
+        "above 1e-12 of L / U is stable with this scheme and fluid.reynolds: use fluid.viscous = \"backward_euler\" "
+        "with fluid.dt below 0.09999 L/U");
+  // Followed, that advice is taken.
+  std::vector<Override> implicit = viscous;
+  implicit[1] = parse_override("fluid.viscous=backward_euler");
+  implicit[3] = parse_override("fluid.dt=0.09999");
+  CHECK(advised("cavity_2d", implicit) == "accepted");
 }
