@@ -256,8 +256,8 @@ std::vector<std::vector<double>> explicit_positions(const SceneDesc& d, int g, i
   const auto pos = d.matrix(key(g, "positions"));
   for (const auto& p : pos)
     if (static_cast<int>(p.size()) != dim)
-      d.fail(key(g, "positions"), "'" + key(g, "positions") + "': every position needs " + std::to_string(dim) +
-                                      " coordinates");
+      d.fail(key(g, "positions"),
+             "'" + key(g, "positions") + "': every position needs " + std::to_string(dim) + " coordinates");
   if (pos.empty()) d.fail(key(g, "positions"), "'" + key(g, "positions") + "': no positions given");
   return pos;
 }

@@ -80,7 +80,9 @@ std::string convert(const toml::node& n, const KeySpec& spec, const std::string&
     else o << " is out of range " << spec.range.str() << (spec.unit.empty() ? "" : " " + spec.unit);
     return o.str();
   };
-  auto as_given = [](const toml::node& e) { return e.is_integer() ? std::to_string(*e.value<int64_t>()) : std::string(); };
+  auto as_given = [](const toml::node& e) {
+    return e.is_integer() ? std::to_string(*e.value<int64_t>()) : std::string();
+  };
   auto check_choice = [&](const std::string& s, const toml::node& at) -> std::string {
     if (spec.choices.empty()) return "";
     for (const auto& c : spec.choices)
