@@ -228,6 +228,11 @@ class Reader {
 // `batch`: one of the command line's --set list, which may not hold two alternatives.
 void apply_override_at(SceneDesc& desc, const Override& o, int ordinal, bool batch) {
   const FileLoc where{"--set", ordinal, static_cast<int>(o.key.size()) + 2};
+  // (a control byte went into a scene's name, and was echoed raw in an unknown key's message)
+  const std::string typed = o.key + "=" + o.value;
+  for (size_t i = 0; i < typed.size(); ++i)
+    if (is_control(typed[i]) && typed[i] != '\t' && typed[i] != '\n' && typed[i] != '\r')  // (TOML's blanks)
+      throw SceneError(FileLoc{"--set", ordinal, static_cast<int>(i) + 1}, "control character");
   const std::string path = canonical_key(o.key);
   const std::string norm = normalise_key(path);
   const KeySpec* spec = find_key_spec(norm);

@@ -110,6 +110,12 @@ TEST_CASE("out of range: the range and unit are named") {
                        doctest::Contains("'fluid.cells' = 9007199254740993 is out of range"), SceneError);
   CHECK_THROWS_WITH_AS(parse_scene(kGood, "bad.toml", {parse_override("render.width=99999999999999999999")}),
                        doctest::Contains("is out of range [16, 16384] px (and beyond"), SceneError);
+  // A control byte, in the key or the value, at its column (it went into a scene's name).
+  CHECK_THROWS_WITH_AS(parse_scene(kGood, "bad.toml", {parse_override("scene.name=ab\x01c")}),
+                       "--set:1:14: control character", SceneError);
+  CHECK_THROWS_WITH_AS(parse_scene(kGood, "bad.toml", {parse_override("contact.fric\x7ftion=0.3")}),
+                       "--set:1:13: control character", SceneError);
+  CHECK(parse_scene(kGood, "bad.toml", {parse_override("scene.name=a\tb")}).string("scene.name") == "a\tb");
   CHECK_THROWS_WITH_AS(parse_scene(kGood, "bad.toml", {parse_override("scene.dimension=007")}),
                        doctest::Contains("must be an integer"), SceneError);
   // Past the doubles' range TOML reads no value: said, at the number's first column (it read "could
