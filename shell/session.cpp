@@ -375,6 +375,7 @@ void Session::serve_requests(bool last) {
 }
 
 RunOptions Session::run_options(const RunLength& len, bool background) {
+  const std::string verb = background ? "start" : "run";  // (for messages)
   Simulation& s = sim();
   const Model& m = s.model();
   RunOptions opt;
@@ -385,23 +386,21 @@ RunOptions Session::run_options(const RunLength& len, bool background) {
       opt.time = len.time;
       // (steps_for says -1 beyond kMaxRunSteps)
       if (s.steps_for(opt) < 0)
-        throw std::runtime_error(std::string(background ? "start " : "run ") + format_number(len.time) +
-                                 "s: " + too_many_steps(m.dt));
+        throw std::runtime_error(verb + " " + format_number(len.time) + "s: " + too_many_steps(m.dt));
       break;
     }
     case RunLength::kUntil: {
       opt.steps = kForever;
       if (until_never_holds(len.until, s.state().t, s.state().step))
         throw std::runtime_error(
-            std::string(background ? "start" : "run") +
+            verb +
             " until: the condition can never hold: t and step only grow, and it asks them to be below where they "
             "are, above a value and below a smaller one, or a step that is not whole");
       // (`run until t >= 1e300` ran until killed: as `run 1e300s`, refused)
       if (m.adaptive_dt) break;
       const double least = until_steps_at_least(len.until, s.state().t, s.state().step, m.dt);
       if (least > static_cast<double>(kMaxRunSteps))
-        throw std::runtime_error(std::string(background ? "start" : "run") +
-                                 " until: the condition cannot hold before " + format_number(least, 3) +
+        throw std::runtime_error(verb + " until: the condition cannot hold before " + format_number(least, 3) +
                                  " steps: " + too_many_steps(m.dt));
       if (least > static_cast<double>(kLongRunSteps))
         say("warning: the run takes at least " + format_number(least, 3) + " steps of dt = " + format_number(m.dt, 4) +

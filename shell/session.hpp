@@ -114,6 +114,7 @@ class Session {
   SetChange read_set(const Command& c);
   bool steer_set(const SetChange& ch);
   void recompile_set(const SetChange& ch);
+  Model compile_set(const SetChange& ch) const;
   // (`kept`: the state kept through the change, or null)
   void set_notes(const SetChange& ch, const State* kept);
 

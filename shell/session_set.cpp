@@ -118,6 +118,17 @@ ParseError Session::SetChange::located(const SceneError& e) const {
   return ParseError(cols.front().second, typed + ": refused with " + other + ": " + e.message());
 }
 
+// The model of the scene with this change. A refusal located at another key than the one typed
+// (a value set before, the file's) says which was typed: `set render.height 8193` answered "set
+// render.width: ... 9000 x 8193", `set fluid.reynolds 0.01` "set fluid.dt: ...".
+Model Session::compile_set(const SetChange& ch) const {
+  try {
+    return compile(scene_with(ch.next));
+  } catch (const SceneError& e) {
+    throw ch.located(e);
+  }
+}
+
 void Session::cmd_set(const Command& c) {
   const SetChange ch = read_set(c);
   const KeySpec* spec = find_key_spec(normalise_key(ch.changes.front().key));
@@ -126,17 +137,12 @@ void Session::cmd_set(const Command& c) {
     // A change the scene refuses is said before "stop first" (a value out of its range, or an
     // unequal grid spacing that only compiling finds, was refused only once the run was stopped).
     // Compiling reads only the scene, not the running model.
-    try {
-      (void)compile(scene_with(ch.next));
-    } catch (const SceneError& e) {
-      throw ch.located(e);
-    }
-  }
-  if (running())
+    (void)compile_set(ch);
     throw ParseError(ch.cols.front().first,
                      ch.several() ? "set with several keys recompiles the scene: stop first"
                                   : "'" + ch.changes.front().key +
                                         "' cannot change while a run goes on (it is not steerable): stop first");
+  }
   recompile_set(ch);
 }
 
@@ -184,17 +190,7 @@ bool Session::steer_set(const SetChange& ch) {
 // X --set K=V`).
 void Session::recompile_set(const SetChange& ch) {
   Simulation& s = sim();
-  // A refusal located at another key than the one typed (a value set before, the file's) says
-  // which was typed: `set render.height 8193` answered "set render.width: ... 9000 x 8193", `set
-  // fluid.reynolds 0.01` "set fluid.dt: ...".
-  const auto compiled = [&] {
-    try {
-      return compile(scene_with(ch.next));
-    } catch (const SceneError& e) {
-      throw ch.located(e);
-    }
-  };
-  Model m = compiled();
+  Model m = compile_set(ch);
   // (grains frozen by `freeze` are kept frozen: the state was discarded as of other grains)
   const Simulation::Recompile how = s.after_recompile(m);
   const bool same = how == Simulation::Recompile::kStateKept;

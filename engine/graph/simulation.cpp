@@ -112,6 +112,11 @@ void Simulation::execute(graph::StepGraph& g, State& s) {
 
 // The forces of t = 0, so that the first half kick uses them (LAMMPS `setup`): the setup graph
 // of the modules' stages. A failure it reports (a paste's first solve) is the first step's.
+namespace {
+// A module's note as it is kept and told: "step N: " and the note.
+std::string notice_prefix(int64_t step) { return "step " + std::to_string(step) + ": "; }
+}  // namespace
+
 void Simulation::prepare() {
   if (impl_->primed) {
     refresh_steered();
@@ -135,7 +140,7 @@ void Simulation::prepare() {
   impl_->primed = true;
   // The notes of this state from an earlier preparation of it (before a steered change, which
   // prepares it again) are superseded: a run printed both, the first of a step since changed.
-  const std::string here = "step " + std::to_string(state_.step) + ": ";
+  const std::string here = notice_prefix(state_.step);
   std::erase_if(impl_->notices, [&](const std::string& n) { return n.starts_with(here); });
   if (ok) collect_notices();
 }
@@ -224,7 +229,7 @@ void Simulation::collect_notices() {
     if (note.empty()) continue;
     std::vector<std::string>& v = impl_->notices;
     if (v.size() >= kMaxNotices) v.erase(v.begin());
-    v.push_back("step " + std::to_string(state_.step) + ": " + note);
+    v.push_back(notice_prefix(state_.step) + note);
   }
 }
 
