@@ -73,10 +73,11 @@ Session::SetChange Session::read_set(const Command& c) {
     // (an index with no entry, or with leading zeros, was located at the value)
     if (const std::string missing = sim().model().desc.missing_entry(key); !missing.empty())
       throw ParseError(c.args[k].col, missing);
-    // A quoted word for a key that takes a string is the TOML string typed, escapes and all
-    // ("tab\there" kept its backslash, where a scene file reads a tab).
+    // A quoted word is the TOML string typed, escapes and all ("tab\there" kept its backslash,
+    // where a scene file reads a tab), and a string for every key: `set output.every "5"` was 5,
+    // where the scene file and --set refuse a string there.
     const Token& value = c.args[k + 1];
-    ch.changes.push_back({key, spec->type == KeyType::kString && !value.raw.empty() ? value.raw : value.text});
+    ch.changes.push_back({key, !value.raw.empty() ? value.raw : value.text});
     ch.cols.push_back({c.args[k].col, value.col});
     // (a key and one it is an alternative to: the last had replaced the first, unsaid, where a
     // scene file giving both is refused)

@@ -8,9 +8,11 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <optional>
 #include <sstream>
 #include <string_view>
 #include <system_error>
+#include <vector>
 
 #include "silt/input_files.hpp"
 #include "silt/scene.hpp"
@@ -32,6 +34,41 @@ bool beyond_doubles(const std::string& token) {
   return end == token.c_str() + token.size() && errno == ERANGE && std::isinf(x);
 }
 const char* const kBeyond = " is beyond 1e308, the largest magnitude a scene takes";
+
+// A list of strings typed with bare words as items ([field, colorbar], as the shell's `print` and
+// `render` lists take them, and as a bare word is a string on its own) with those items quoted:
+// ["field", "colorbar"]. Quoted items are kept as typed; nothing when an item is neither (a
+// bracket, a brace, a '#' or an '=' in it, or an empty one but a trailing comma's).
+std::optional<std::string> quote_bare_items(const std::string& text) {
+  const size_t open = text.find_first_not_of(" \t"), close = text.find_last_not_of(" \t");
+  if (open == std::string::npos || text[open] != '[' || text[close] != ']') return std::nullopt;
+  std::vector<std::string> items(1);
+  char quote = 0;
+  for (size_t i = open + 1; i < close; ++i) {
+    const char c = text[i];
+    if (quote) quote = c == quote && (quote == '\'' || text[i - 1] != '\\') ? 0 : quote;
+    else if (c == '"' || c == '\'') quote = c;
+    else if (c == ',') {
+      items.emplace_back();
+      continue;
+    }
+    items.back() += c;
+  }
+  if (quote) return std::nullopt;
+  std::string out = "[";
+  for (size_t k = 0; k < items.size(); ++k) {
+    const size_t b = items[k].find_first_not_of(" \t"), e = items[k].find_last_not_of(" \t");
+    if (b == std::string::npos) {
+      if (k + 1 == items.size() && k > 0) break;  // a trailing comma
+      return std::nullopt;
+    }
+    const std::string item = items[k].substr(b, e - b + 1);
+    const bool quoted = item[0] == '"' || item[0] == '\'';
+    if (!quoted && item.find_first_of("[]{}#=\"'") != std::string::npos) return std::nullopt;
+    out += (k ? ", " : "") + (quoted ? item : toml_quoted(item));
+  }
+  return out + "]";
+}
 
 // The parser's error, or for a number past the doubles' range what it is, at its first character
 // (the parser's report read "could not be interpreted as a value", one column past its end).
@@ -251,7 +288,14 @@ void apply_override_at(SceneDesc& desc, const Override& o, int ordinal, bool bat
   try {
     t = parse(o.value);
   } catch (const toml::parse_error& e) {
-    if (toml_form) throw SceneError(where, "cannot read the value of " + o.key + ": " + std::string(e.description()));
+    // (render.draw=[field] was "Error while parsing boolean: expected 'false', saw 'fi'")
+    const auto quoted = spec->type == KeyType::kStringList ? quote_bare_items(o.value) : std::nullopt;
+    try {
+      if (quoted) t = parse(*quoted);
+    } catch (const toml::parse_error&) {
+    }
+    if (toml_form && !t.get("v"))
+      throw SceneError(where, "cannot read the value of " + o.key + ": " + std::string(e.description()));
   }
   // A bare word is a string, as typed (its quotes and backslashes were read as escapes); so is a
   // word that reads as a number, a boolean or a date, for a key that takes a string

@@ -191,6 +191,25 @@ TEST_CASE("--set overrides: typed, located, and checked like the file") {
                        doctest::Contains("'contact' is a table, not a key: its keys are contact."), SceneError);
   SceneDesc s = parse_scene(kGood, "bad.toml", {parse_override("contact.model=hertz")});
   CHECK(s.string("contact.model") == "hertz");
+  // A list of strings takes bare words as items, as a bare word is a string on its own
+  // (render.draw=[grains] was "Error while parsing boolean: expected 'false', saw 'gr'").
+  for (const char* list : {"render.draw=[grains, chains]", "render.draw=[ grains,\"chains\", ]",
+                           "render.draw=['grains' , chains]"}) {
+    CAPTURE(list);
+    CHECK(parse_scene(kGood, "bad.toml", {parse_override(list)}).strings("render.draw") ==
+          std::vector<std::string>{"grains", "chains"});
+  }
+  for (const char* list : {"render.draw=[grains, [chains]]", "render.draw=[,]", "render.draw=[grains,,chains]",
+                           "render.draw=[grains # x]", "render.draw=[\"grains, chains]"}) {
+    CAPTURE(list);
+    CHECK_THROWS_WITH_AS(parse_scene(kGood, "bad.toml", {parse_override(list)}),
+                         doctest::Contains("cannot read the value of render.draw"), SceneError);
+  }
+  CHECK_THROWS_WITH_AS(parse_scene(kGood, "bad.toml", {parse_override("render.draw=[grains, chain]")}),
+                       doctest::Contains("'render.draw' = \"chain\" is not one of"), SceneError);
+  // (a list of numbers keeps TOML's reading: a bare word there is no number)
+  CHECK_THROWS_WITH_AS(parse_scene(kGood, "bad.toml", {parse_override("domain.hi=[a, 1, 1]")}),
+                       doctest::Contains("cannot read the value of domain.hi"), SceneError);
 }
 
 TEST_CASE("the schema is consistent") {
