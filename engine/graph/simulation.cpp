@@ -485,6 +485,10 @@ RunReport Simulation::run(const RunOptions& options) {
     return opt.boundary_wanted && opt.boundary_wanted();
   };
   bool complete = true;  // the state at this boundary holds its pair forces
+  // The state a run starts from is tested for equilibrium (a function of the state: `run until
+  // static` on a packing at rest ran limits.check_every steps more). The steady test is not: it is
+  // the last step's change, which a steered value leaves stale.
+  if (opt.stop_when_static && is_static()) return done(RunEnd::kStatic);
   for (int64_t k = 0; k < opt.steps; ++k) {
     if (opt.between_steps && complete) opt.between_steps();
     // An interrupt stops at the next complete boundary: at once, or after one more step.

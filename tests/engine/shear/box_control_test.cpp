@@ -52,6 +52,12 @@ TEST_CASE("a granular gas below the imposed pressure makes the box shrink, then 
   opt.stop_when_static = true;
   const RunReport r = sim->run(opt);
   REQUIRE(r.end == RunEnd::kStatic);
+  // A run from a state at rest ends at once (it ran limits.check_every steps more).
+  const int64_t at = sim->state().step;
+  const RunReport again = sim->run(opt);
+  CHECK(again.end == RunEnd::kStatic);
+  CHECK(again.steps_done == 0);
+  CHECK(sim->state().step == at);
   const Measurements m = measure(sim->model(), sim->state());
   CHECK(m.stress[0][0] == doctest::Approx(1.0).epsilon(1e-3));
   CHECK(m.stress[1][1] == doctest::Approx(1.0).epsilon(1e-3));
