@@ -395,7 +395,10 @@ RunOptions Session::run_options(const RunLength& len, bool background) {
         throw std::runtime_error(
             verb +
             " until: the condition can never hold: t and step only grow, and it asks them to be below where they "
-            "are, above a value and below a smaller one, or a step that is not whole");
+            "are, above a value and below a smaller one, or a step that is not whole (now t = " +
+            // (to 10 digits, past the 6 shown elsewhere and within the 1e-9 that t is taken to be at
+            // a value: an adaptive step's t typed back as shown, and refused, looked at its value)
+            format_number(s.state().t, 10) + m.unit("s") + ", step " + std::to_string(s.state().step) + ")");
       // (`run until t >= 1e300` ran until killed: as `run 1e300s`, refused)
       if (m.adaptive_dt) break;
       const double least = until_steps_at_least(len.until, s.state().t, s.state().step, m.dt);
@@ -521,13 +524,14 @@ RunOptions Session::run_options(const RunLength& len, bool background) {
         {cheap || windows ? 1 : kEvery,
          [this, obs, cond, column, cheap, of_last_step, first, adaptive = m.adaptive_dt](const State& st) {
            const bool regular = cheap || st.step % kEvery == 0 || st.step == first;
-           if (!regular && !cond.window_closes(st.t, st.step, st.dt, kEvery - st.step % kEvery) &&
-               !(adaptive && cond.time_window_open(st.t, st.step)))
-             return;
-           if (cond.holds(obs->sample(sim_->model(), st), &column, st.step == 0 ? &of_last_step : nullptr)) {
+           const bool sampled = regular || cond.window_closes(st.t, st.step, st.dt, kEvery - st.step % kEvery) ||
+                                (adaptive && cond.time_window_open(st.t, st.step));
+           if (sampled &&
+               cond.holds(obs->sample(sim_->model(), st), &column, st.step == 0 ? &of_last_step : nullptr)) {
              until_end_ = UntilEnd::kMet;
              interrupt_ = true;
-           } else if (regular && until_never_holds(cond, st.t, st.step)) {
+           } else if (until_never_holds(cond, st.t, st.step)) {
+             // (at every call, which costs no sample: "step == 45 and ke < 0" ran to step 50)
              until_end_ = UntilEnd::kNeverHolds;
              interrupt_ = true;
            }

@@ -9,6 +9,7 @@
 #include <thread>
 
 #include "shell/shell_fixtures.hpp"
+#include "silt/text.hpp"
 #include "support/scenes.hpp"
 
 using namespace silt;
@@ -229,6 +230,12 @@ TEST_CASE("a string set with quotes, backslashes or blanks is the string typed, 
   CHECK(contains(f.take_err(), "unknown escape sequence"));
   CHECK_FALSE(f.run("set grains.0.name [1, 2]"));  // a list is not a name
   CHECK(contains(f.take_err(), "must be a string"));
+  // A quoted word is a string for any key, as in the scene file and --set (`set output.every
+  // "5"` set 5).
+  CHECK_FALSE(f.run("set output.every \"5\""));
+  CHECK(f.take_err() == "error: column 18: set output.every: 'output.every' must be an integer\n");
+  CHECK_FALSE(f.run("set domain.hi '[1, 1, 1]'"));
+  CHECK(contains(f.take_err(), "'domain.hi' must be a list of numbers"));
 }
 
 TEST_CASE("a value set over the one that replaced its alternatives gives the file's others back, running or not") {
@@ -320,6 +327,10 @@ TEST_CASE("run until samples an observable once however many clauses name it") {
     CHECK_FALSE(f.run(never));
     CHECK(contains(f.take_err(), "the condition can never hold"));
   }
+  // It says where t and step are, t to 10 digits (an adaptive step's t typed back as shown to 6,
+  // and refused, looked at its value).
+  CHECK_FALSE(f.run("run until t < 1e-9"));
+  CHECK(contains(f.take_err(), "(now t = " + format_number(f.value("t"), 10) + " s, step 25)"));
   REQUIRE(f.run("run until step < 10 or step >= 30"));
   CHECK(f.value("step") == 30);
   // A step asked exactly beside an observable sampled every 10 steps: tested at every step (it was
@@ -330,11 +341,12 @@ TEST_CASE("run until samples an observable once however many clauses name it") {
   // went on without end).
   REQUIRE(f.run("run until step > 36 and step < 38 and ke >= 0"));
   CHECK(f.value("step") == 37);
-  // A condition that t and step make impossible as the run goes on ends it (it ran on past step 45).
+  // A condition that t and step make impossible as the run goes on ends it at the step that does
+  // (it ran on past step 45, then to the next test of ke at step 50).
   f.take_out();
   REQUIRE(f.run("run until step == 45 and ke < 0"));
   CHECK(contains(f.take_out(), "the condition can no longer hold (t and step only grow)"));
-  CHECK(f.value("step") == 50);
+  CHECK(f.value("step") == 46);
   // An unknown observable is located in the condition.
   CHECK_FALSE(f.run("run until step > 60 or kee < 1"));
   CHECK(contains(f.take_err(), "column 24: unknown observable 'kee'"));
