@@ -78,7 +78,7 @@ struct FrameWriter::Impl {
 };
 
 bool FrameWriter::owns(const std::string& path, const std::string& dir) {
-  return is_numbered_file(written_name(path), kFrames) && is_in_directory(path, dir);
+  return is_numbered_file(std::filesystem::path(path).filename().string(), kFrames) && is_in_directory(path, dir);
 }
 
 FrameWriter::FrameWriter(std::string dir, int threads) : impl_(std::make_unique<Impl>()) {

@@ -1,5 +1,6 @@
 // PNG files through libpng: 8-bit RGB written, RGBA read.
 #include <png.h>
+#include <unistd.h>
 
 #include <cerrno>
 #include <cstdio>
@@ -7,14 +8,23 @@
 #include <memory>
 
 #include "silt/errors.hpp"
+#include "silt/io.hpp"
 #include "silt/render.hpp"
 
 namespace silt::render {
 
 void write_png(const std::string& path, const Image& image) {
-  const std::string tmp = path + ".tmp";
-  std::FILE* f = std::fopen(tmp.c_str(), "wb");
-  if (!f) throw IoError("cannot write '" + path + "': " + std::strerror(errno));
+  const TempFile temp = make_temp_beside(path);
+  const std::string& tmp = temp.name;
+  std::FILE* f = temp.fd < 0 ? nullptr : ::fdopen(temp.fd, "wb");
+  if (!f) {
+    const int error = errno;
+    if (temp.fd >= 0) {
+      ::close(temp.fd);
+      std::remove(tmp.c_str());
+    }
+    throw IoError("cannot write '" + path + "': " + std::strerror(error));
+  }
   png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
   png_infop info = png ? png_create_info_struct(png) : nullptr;
   if (!png || !info || setjmp(png_jmpbuf(png))) {

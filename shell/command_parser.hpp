@@ -75,9 +75,6 @@ struct Clause {
   double value = 0;
   int col = 0;  // of the observable, for messages
 };
-// The relative distance within which `run until` takes t to be at a value (its rounding).
-constexpr double kTimeSlack = 1e-9;
-
 struct Condition {
   std::vector<Clause> clauses;
   std::vector<bool> joined_by_and;  // between clause k and k+1

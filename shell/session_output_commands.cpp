@@ -84,7 +84,7 @@ void Session::cmd_stats(const Command& c) {
   });
   std::vector<size_t> kept;
   for (size_t r = 0; r < rows.size(); ++r)
-    if (times[r] >= since) kept.push_back(r);
+    if (at_or_after(times[r], since)) kept.push_back(r);
   if (kept.empty())
     throw std::runtime_error(rows.empty() ? "no samples yet (run first)"
                                           : "no sample with t >= " + format_number(since) + " s");

@@ -1,6 +1,7 @@
 // The DEM's observables (INTERFACE.md): energies, packing, coordination, stress and fabric, grain
 // and wall values.
 #include <cmath>
+#include <limits>
 
 #include "dem/module.hpp"
 
@@ -9,6 +10,7 @@ namespace {
 
 using Ctx = ObservableContext;
 using Args = ObservableArgs;
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 // An observable read off a part of the measurements (measure_part: a pass over grains or
 // contacts).
@@ -47,9 +49,11 @@ std::vector<ObservableSpec> dem_observables() {
                [](const Measurements& x, const Args&) { return static_cast<double>(x.n_contacts); }),
       measured("pressure", "Pa", "trace of the stress / dimension", measure_part::kStress,
                [](const Measurements& x, const Args&) { return x.pressure; }),
-      measured("mu", "", "stress ratio |stress.xy| / stress.yy", measure_part::kStress,
+      // (nan where it has no value: 0 at stress.yy = 0 read as a measured frictionless state, and
+      // entered the means)
+      measured("mu", "", "stress ratio |stress.xy| / stress.yy (nan at stress.yy = 0)", measure_part::kStress,
                [](const Measurements& x, const Args&) {
-                 return x.stress[1][1] != 0 ? std::abs(x.stress[0][1]) / x.stress[1][1] : 0;
+                 return x.stress[1][1] != 0 ? std::abs(x.stress[0][1]) / x.stress[1][1] : kNaN;
                }),
       measured("stress.{a}{b}", "Pa", "grain stress tensor (contact + kinetic), compression positive",
                measure_part::kStress, [](const Measurements& x, const Args& a) { return x.stress[a.a][a.b]; }),
@@ -59,10 +63,10 @@ std::vector<ObservableSpec> dem_observables() {
        [](const Ctx& c, const Args&) { return static_cast<double>(c.s.nbr_builds); }},
       {"n_pairs", "", "listed neighbour pairs",
        [](const Ctx& c, const Args&) { return static_cast<double>(c.s.n_pairs()); }},
-      {"kappa", "", "stiffness number at the imposed (else the measured) pressure",
+      {"kappa", "", "stiffness number at the imposed (else the measured) pressure (nan at a pressure <= 0)",
        [](const Ctx& c, const Args&) {
-         return stiffness_number(
-             c.m, c.m.box_control.on ? c.m.box_control.pressure : c.meas(measure_part::kStress).pressure);
+         const double p = c.m.box_control.on ? c.m.box_control.pressure : c.meas(measure_part::kStress).pressure;
+         return p > 0 ? stiffness_number(c.m, p) : kNaN;
        }},
       {"zeta", "", "damping ratio of the lightest pair", [](const Ctx& c, const Args&) { return c.m.zeta_max; }},
       grain_observable("p[{k}].{a}", "m", "position of grain K",

@@ -421,7 +421,9 @@ RunOptions Simulation::scene_run_left() const {
   RunOptions opt;
   opt.steps = 0;
   if (model_.run_time >= 0) {
-    const double left = model_.run_time - state_.t;
+    // (a run of the scene's time ends 6.5e-12 s short of 0.5 s, by the rounding of its sum of
+    // steps: continued from there, it ran one step more)
+    const double left = at_or_after(state_.t, model_.run_time) ? 0 : model_.run_time - state_.t;
     if (left > 0 && model_.adaptive_dt) opt.time = left;
     else if (left > 0) opt.steps = steps_in(left, model_.dt);
   } else {

@@ -14,8 +14,8 @@
 //           written before a module existed (its fields absent) still reads.
 // On reading, every array's length is checked against the state's dimensions, every index
 // against its range and every floating-point value for finiteness: a file that passes the
-// checksum but not these is corrupt. The file is written to PATH.tmp,
-// flushed to disk, renamed over PATH and the directory flushed: a crash or a kill during the write
+// checksum but not these is corrupt. The file is written to a new temporary file beside PATH
+// (make_temp_beside), flushed to disk, renamed over PATH and the directory flushed: a crash or a kill during the write
 // keeps the previous file, and a crash after it keeps the new one.
 #include <fcntl.h>
 #include <unistd.h>
@@ -260,8 +260,9 @@ void write_checkpoint(const std::string& path, const Model& m, const State& s) {
   });
   const uint64_t sum = fnv1a(w.buf_.data(), w.buf_.size());
   w.put(sum);
-  const std::string tmp = path + ".tmp";
-  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  const TempFile temp = make_temp_beside(path);
+  const std::string& tmp = temp.name;
+  const int fd = temp.fd;
   if (fd < 0) throw IoError("cannot write checkpoint '" + path + "': " + std::strerror(errno));
   size_t done = 0;
   while (done < w.buf_.size()) {

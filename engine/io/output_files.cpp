@@ -31,7 +31,7 @@ void check_output_path(const std::string& path, const std::string& what, bool re
   if (::access(dir.c_str(), W_OK) != 0)
     throw IoError("cannot write " + what + " '" + path + "': " + std::strerror(errno) + " (its directory)");
   // A file made there and removed: the directory may grant writing (to root, /proc and /sys do)
-  // and refuse a new file, which a regular file's NAME.tmp is before its rename (a summary or a
+  // and refuse a new file, which a regular file's temporary file is before its rename (a summary or a
   // checkpoint was refused only after the run).
   const std::string probe = path + ".probe." + std::to_string(::getpid());
   const int fd = ::open(probe.c_str(), O_WRONLY | O_CREAT | O_EXCL, 0644);
@@ -62,44 +62,50 @@ bool same_inode(const std::string& a, const std::string& b) {
   return std::filesystem::equivalent(a, b, ec) && !ec;
 }
 
-// How writing `a` (to A.tmp, then renamed) and `b` meet: one file, or one is the other's
-// temporary file, by their names or as hard links of one file. A device or a pipe, written in
-// place, meets nothing.
-enum class Meet { kApart, kSame, kATmpIsB, kBTmpIsA };
-Meet meet(const std::string& a, const std::string& b) {
+// Whether writing `a` and `b` leaves only one: they name one file (by their names or as hard links
+// of one file). A device or a pipe, written in place, meets nothing.
+bool same_output(const std::string& a, const std::string& b) {
   namespace fs = std::filesystem;
   auto special = [](const std::string& path) {
     std::error_code ec;
     const auto st = fs::status(path, ec);
     return fs::exists(st) && !fs::is_regular_file(st) && !fs::is_directory(st);
   };
-  if (a.empty() || b.empty() || special(a) || special(b)) return Meet::kApart;
-  const std::string p = canonical_path(a).string(), q = canonical_path(b).string();
-  if (p == q || same_inode(a, b)) return Meet::kSame;
-  if (p + ".tmp" == q || same_inode(a + ".tmp", b)) return Meet::kATmpIsB;
-  if (q + ".tmp" == p || same_inode(b + ".tmp", a)) return Meet::kBTmpIsA;
-  return Meet::kApart;
+  if (a.empty() || b.empty() || special(a) || special(b)) return false;
+  return canonical_path(a) == canonical_path(b) || same_inode(a, b);
 }
 
 }  // namespace
 
-bool overwrites(const std::string& path, const std::string& file) {
-  const Meet m = meet(path, file);
-  return m == Meet::kSame || m == Meet::kATmpIsB;
-}
+bool overwrites(const std::string& path, const std::string& file) { return same_output(path, file); }
 
 std::string output_clash(const std::string& a, const std::string& b) {
-  const Meet m = meet(a, b);
-  return m == Meet::kApart  ? ""
-         : m == Meet::kSame ? "the same file"
-                            : "a file and its temporary file (NAME.tmp, written, then renamed)";
+  return same_output(a, b) ? "the same file" : "";
+}
+
+TempFile make_temp_beside(const std::string& path) {
+  // The umask, read once (umask() sets it as it reads it).
+  static const mode_t mask = [] {
+    const mode_t m = ::umask(0);
+    ::umask(m);
+    return m;
+  }();
+  TempFile t{-1, path + ".tmp.XXXXXX"};
+  t.fd = ::mkstemp(t.name.data());
+  if (t.fd >= 0 && ::fchmod(t.fd, 0666 & ~mask) != 0) {
+    const int error = errno;
+    ::close(t.fd);
+    ::unlink(t.name.c_str());
+    t.fd = -1;
+    errno = error;
+  }
+  return t;
 }
 
 std::string clashing_outputs(const std::vector<std::pair<std::string, std::string>>& outputs, const std::string& vtk) {
   for (size_t i = 0; i < outputs.size(); ++i) {
     const auto& [option, path] = outputs[i];
     if (path.empty()) continue;
-    // (each is written to its name + ".tmp", then renamed: --stats X.tmp --save X lost the stats)
     for (size_t j = 0; j < i; ++j)
       if (const std::string clash = output_clash(outputs[j].second, path); !clash.empty())
         return outputs[j].first + " and " + option + " name " + clash + ", " + path;
@@ -110,19 +116,8 @@ std::string clashing_outputs(const std::vector<std::pair<std::string, std::strin
 
 void check_not_input(const std::string& path, const std::string& input, const std::string& what,
                      const std::string& input_what) {
-  const Meet m = meet(path, input);
-  if (m != Meet::kSame && m != Meet::kATmpIsB) return;
-  throw IoError("cannot write " + what + " '" + path +
-                "': " + (m == Meet::kSame ? "it is " : "its temporary file (NAME.tmp) is ") + input_what +
-                ", which it would overwrite");
-}
-
-std::string written_name(const std::string& path) {
-  std::string name = std::filesystem::path(path).filename().string();
-  constexpr std::string_view kTmp = ".tmp";
-  if (name.size() > kTmp.size() && name.compare(name.size() - kTmp.size(), kTmp.size(), kTmp) == 0)
-    name.resize(name.size() - kTmp.size());
-  return name;
+  if (!same_output(path, input)) return;
+  throw IoError("cannot write " + what + " '" + path + "': it is " + input_what + ", which it would overwrite");
 }
 
 bool is_numbered_file(const std::string& name, const NumberedSeries& series) {
@@ -168,8 +163,9 @@ void write_text_file(const std::string& path, const std::string& text, const std
   // A regular file (or none yet) is replaced at once by a rename; anything else (/dev/stdout, a
   // pipe, a device) is written in place.
   const bool in_place = fs::exists(st) && !fs::is_regular_file(st);
-  const std::string target = in_place ? path : path + ".tmp";
-  const int fd = ::open(target.c_str(), O_WRONLY | O_CREAT | (in_place ? 0 : O_TRUNC), 0644);
+  const TempFile temp = in_place ? TempFile{::open(path.c_str(), O_WRONLY), path} : make_temp_beside(path);
+  const std::string& target = temp.name;
+  const int fd = temp.fd;
   if (fd < 0) throw IoError("cannot write " + what + " '" + path + "': " + std::strerror(errno));
   size_t done = 0;
   int error = 0;

@@ -16,23 +16,16 @@ std::string stem_of(const std::string& path) {
   return path.substr(0, dot);
 }
 
-// Where the last good state goes after a failure: NAME.last_good.ckpt beside the summary, else
-// beside the stats, else beside the final checkpoint (devices such as /dev/stdout do not count),
-// else the fallback. A name that is a file the run read or another of its outputs (a run restored
-// from NAME.last_good.ckpt that fails again, stats named so) is numbered instead:
-// NAME.last_good.1.ckpt, then .2, ...; "" when a thousand are.
-std::string last_good_path_for(const RunJobOptions& o, const std::vector<std::pair<std::string, std::string>>& inputs) {
-  std::string first = o.last_good_fallback;
-  for (const std::string* p : {&o.summary, &o.stats, &o.save}) {
-    std::error_code ec;
-    if (p->empty()) continue;
-    const auto st = std::filesystem::status(*p, ec);
-    if (std::filesystem::exists(st) && !std::filesystem::is_regular_file(st)) continue;
-    first = stem_of(*p) + ".last_good.ckpt";
-    break;
-  }
+// `first`, or when it is a file the run read, another of its outputs or something other than a
+// regular file (a directory of that name lost the last good state), NAME.1.ckpt, then .2, ... (NAME
+// its name without the extension); "" when a thousand are taken.
+std::string free_checkpoint_path(const std::string& first, const RunJobOptions& o,
+                                 const std::vector<std::pair<std::string, std::string>>& inputs) {
   if (first.empty()) return "";
   const auto taken = [&](const std::string& path) {
+    std::error_code ec;
+    const auto st = std::filesystem::status(path, ec);
+    if (std::filesystem::exists(st) && !std::filesystem::is_regular_file(st)) return true;
     for (const auto& in : inputs)
       if (overwrites(path, in.first)) return true;
     for (const std::string* p : {&o.summary, &o.stats, &o.save})
@@ -44,6 +37,24 @@ std::string last_good_path_for(const RunJobOptions& o, const std::vector<std::pa
     if (!taken(path)) return path;
   }
   return "";
+}
+
+// Where the last good state goes after a failure: NAME.last_good.ckpt beside the summary, else
+// beside the stats, else beside the final checkpoint (devices such as /dev/stdout do not count),
+// else the fallback. A name that is a file the run read or another of its outputs (a run restored
+// from NAME.last_good.ckpt that fails again, stats named so) is numbered instead:
+// NAME.last_good.1.ckpt, then .2, ... (free_checkpoint_path).
+std::string last_good_path_for(const RunJobOptions& o, const std::vector<std::pair<std::string, std::string>>& inputs) {
+  std::string first = o.last_good_fallback;
+  for (const std::string* p : {&o.summary, &o.stats, &o.save}) {
+    std::error_code ec;
+    if (p->empty()) continue;
+    const auto st = std::filesystem::status(*p, ec);
+    if (std::filesystem::exists(st) && !std::filesystem::is_regular_file(st)) continue;
+    first = stem_of(*p) + ".last_good.ckpt";
+    break;
+  }
+  return free_checkpoint_path(first, o, inputs);
 }
 
 // Writes the last good state to `path`; returns whether it could.
@@ -154,7 +165,7 @@ RunReport RunJob::run(RunOptions opt) {
                          }});
   if (profile_axis_ >= 0)
     opt.hooks.push_back({o_.every, [this](const State& s) {
-                           if (s.t < o_.average_from) return;
+                           if (!at_or_after(s.t, o_.average_from)) return;
                            VelocityProfile p =
                                velocity_profile(sim_.model(), s, profile_slabs_, profile_axis_, profile_component_);
                            if (profiles_[0].x.empty()) profiles_[0].x = std::move(p.y);
@@ -222,6 +233,11 @@ int RunJob::finish(const RunReport& rep, int interrupted) {
     } catch (const IoError& e) {
       add_output_error(e.what());
       if (code == 0) code = static_cast<int>(ExitCode::kIo);
+      // The final state is kept where it can be: under the checkpoint's name in the working
+      // directory (its own directory removed during the run lost the run).
+      const std::string there = free_checkpoint_path(std::filesystem::path(o_.save).filename().string(), o_, inputs_);
+      if (!there.empty() && write_last_good(there, m, sim_.state(), *this))
+        add_output_error("the final state was written to '" + there + "' instead");
     }
   }
   SummaryInput sum;

@@ -5,6 +5,7 @@
 #include <utility>
 
 #include "silt/io.hpp"
+#include "silt/limits.hpp"
 
 namespace silt {
 
@@ -58,7 +59,7 @@ void StatsWriter::add(const std::vector<double>& row, double t, int64_t step) {
     rows_.push_back(row);
     times_.push_back(t);
   } else {
-    if (t >= *stream_from_)
+    if (at_or_after(t, *stream_from_))
       for (size_t k = 0; k < row.size() && k < streamed_.size(); ++k) streamed_[k].add(row[k]);
     last_row_ = row;  // (kept rows have it last)
   }
@@ -77,7 +78,7 @@ BlockAverage StatsWriter::average(size_t k, double since) const {
   }
   std::vector<double> series;
   for (size_t r = 0; r < rows_.size(); ++r)
-    if (times_[r] >= since) series.push_back(rows_[r][k]);
+    if (at_or_after(times_[r], since)) series.push_back(rows_[r][k]);
   return block_average(series);
 }
 

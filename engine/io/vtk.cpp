@@ -1,8 +1,9 @@
 // VTK XML files for ParaView and OVITO: grains as a .vtu point cloud (radius, velocity, angular
 // velocity, force), contacts as .vtp lines (normal and tangential force), grid fields as .vti
-// image data, and a .pvd time index. ASCII, so that the files are readable and diffable; the
-// index is rewritten atomically.
+// image data, and a .pvd time index. ASCII, so that the files are readable and diffable; each
+// written whole or not at all (a temporary file renamed).
 #include <sys/stat.h>
+#include <unistd.h>
 #include <filesystem>
 
 #include <cerrno>
@@ -18,22 +19,33 @@
 namespace silt {
 namespace {
 
-void open_file(std::ofstream& out, const std::string& path) {
+// A VTK file is written to a temporary file beside it (make_temp_beside) and renamed onto its name
+// once every byte is out: a run killed while writing one left it cut, and a series opened by its
+// names failed on it. open_file returns the temporary file's name.
+std::string open_file(std::ofstream& out, const std::string& path) {
+  const TempFile temp = make_temp_beside(path);
+  if (temp.fd < 0) throw IoError("cannot write '" + path + "': " + std::strerror(errno));
+  ::close(temp.fd);
   errno = 0;
-  out.open(path);
-  if (!out) throw IoError("cannot write '" + path + "'" + (errno != 0 ? std::string(": ") + std::strerror(errno) : ""));
+  out.open(temp.name);
+  if (!out) {
+    const std::string why = errno != 0 ? std::string(": ") + std::strerror(errno) : std::string();
+    std::remove(temp.name.c_str());
+    throw IoError("cannot write '" + path + "'" + why);
+  }
   out.precision(9);
+  return temp.name;
 }
 
-// Closes `out`, which open_file opened on `path`: the last buffered bytes go out here, so a full
-// disk shows only now (a check before the close passed on an empty file). IoError, the partial
-// file removed, when any write failed.
-void close_file(std::ofstream& out, const std::string& path) {
+// Closes `out`, which open_file opened for `path` on `tmp`, and renames it onto `path`: the last
+// buffered bytes go out here, so a full disk shows only now (a check before the close passed on an
+// empty file). IoError, the partial file removed, when any write failed.
+void close_file(std::ofstream& out, const std::string& path, const std::string& tmp) {
   errno = 0;
   out.close();
-  if (out) return;
+  if (out && std::rename(tmp.c_str(), path.c_str()) == 0) return;
   const std::string why = errno != 0 ? std::string(": ") + std::strerror(errno) : std::string();
-  std::remove(path.c_str());
+  std::remove(tmp.c_str());
   throw IoError("cannot write '" + path + "'" + why);
 }
 
@@ -58,7 +70,7 @@ void write_vti(const std::string& path, const std::vector<GridField>& fields) {
       throw IoError("cannot write '" + path + "': field '" + f.name + "' does not fill its grid");
   }
   std::ofstream o;
-  open_file(o, path);
+  const std::string tmp = open_file(o, path);
   // Extents count points: nx cells span points 0 .. nx. The values belong to the cells.
   const std::string extent = "0 " + std::to_string(g.nx) + " 0 " + std::to_string(g.ny) + " 0 " + std::to_string(g.nz);
   o << "<?xml version=\"1.0\"?>\n<VTKFile type=\"ImageData\" version=\"1.0\" byte_order=\"LittleEndian\">\n"
@@ -78,7 +90,7 @@ void write_vti(const std::string& path, const std::vector<GridField>& fields) {
     o << kArrayEnd;
   }
   o << "      </CellData>\n    </Piece>\n  </ImageData>\n</VTKFile>\n";
-  close_file(o, path);
+  close_file(o, path, tmp);
 }
 
 VtkWriter::VtkWriter(std::string dir) : dir_(std::move(dir)) {
@@ -94,7 +106,7 @@ const NumberedSeries& VtkWriter::series() {
 }
 
 bool VtkWriter::owns(const std::string& path, const std::string& dir) {
-  const std::string name = written_name(path);
+  const std::string name = std::filesystem::path(path).filename().string();
   return (name == "index.pvd" || is_numbered_file(name, series())) && is_in_directory(path, dir);
 }
 
@@ -110,7 +122,7 @@ void VtkWriter::write(const Model& m, const State& s, const std::vector<GridFiel
   const std::string contacts = name;
   {
     std::ofstream o;
-    open_file(o, dir_ + "/" + grains);
+    const std::string tmp = open_file(o, dir_ + "/" + grains);
     o << "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\">\n"
       << "  <UnstructuredGrid>\n    <Piece NumberOfPoints=\"" << s.n << "\" NumberOfCells=\"" << s.n << "\">\n"
       << "      <Points>\n";
@@ -177,7 +189,7 @@ void VtkWriter::write(const Model& m, const State& s, const std::vector<GridFiel
     array_header(o, "UInt8", "frozen", 1);
     for (int64_t i = 0; i < s.n; ++i) o << static_cast<int>(s.particle_frozen[i]) << ' ';
     o << kArrayEnd << "      </PointData>\n    </Piece>\n  </UnstructuredGrid>\n</VTKFile>\n";
-    close_file(o, dir_ + "/" + grains);
+    close_file(o, dir_ + "/" + grains, tmp);
   }
   {
     // Contacts: one line per touching pair, from i to the image of j next to it.
@@ -199,7 +211,7 @@ void VtkWriter::write(const Model& m, const State& s, const std::vector<GridFiel
       lines.push_back(l);
     }
     std::ofstream o;
-    open_file(o, dir_ + "/" + contacts);
+    const std::string tmp = open_file(o, dir_ + "/" + contacts);
     o << "<?xml version=\"1.0\"?>\n<VTKFile type=\"PolyData\" version=\"1.0\" byte_order=\"LittleEndian\">\n"
       << "  <PolyData>\n    <Piece NumberOfPoints=\"" << 2 * lines.size() << "\" NumberOfLines=\"" << lines.size()
       << "\">\n      <Points>\n";
@@ -222,7 +234,7 @@ void VtkWriter::write(const Model& m, const State& s, const std::vector<GridFiel
     array_header(o, "Float64", "force", 3);
     for (const Line& l : lines) o << l.f[0] << ' ' << l.f[1] << ' ' << l.f[2] << ' ';
     o << kArrayEnd << "      </CellData>\n    </Piece>\n  </PolyData>\n</VTKFile>\n";
-    close_file(o, dir_ + "/" + contacts);
+    close_file(o, dir_ + "/" + contacts, tmp);
   }
   write_entry(s.t, grains, contacts, write_fields(fields));
 }
@@ -243,10 +255,10 @@ void VtkWriter::write_entry(double t, const std::string& grains, const std::stri
   entries_.push_back({t, grains, contacts, grid});
   ++count_;
   // The time index, rewritten whole and renamed into place.
-  const std::string pvd = dir_ + "/index.pvd", tmp = pvd + ".tmp";
+  const std::string pvd = dir_ + "/index.pvd";
   {
     std::ofstream o;
-    open_file(o, tmp);
+    const std::string tmp = open_file(o, pvd);
     o << "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"1.0\">\n  <Collection>\n";
     for (const Entry& e : entries_) {
       int part = 0;  // the parts a sample has, numbered in this order: grains, contacts, fields
@@ -255,12 +267,7 @@ void VtkWriter::write_entry(double t, const std::string& grains, const std::stri
           o << "    <DataSet timestep=\"" << e.t << "\" part=\"" << part++ << "\" file=\"" << *file << "\"/>\n";
     }
     o << "  </Collection>\n</VTKFile>\n";
-    close_file(o, tmp);
-  }
-  if (std::rename(tmp.c_str(), pvd.c_str()) != 0) {
-    const std::string why = std::strerror(errno);
-    std::remove(tmp.c_str());
-    throw IoError("cannot write '" + pvd + "': " + why);
+    close_file(o, pvd, tmp);
   }
 }
 

@@ -2,6 +2,7 @@
 // shear by Lees-Edwards conditions at imposed rate, inertial number or shear stress (eq. 3.12),
 // and the isotropic compression that prepares a packing (procedure O).
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <sstream>
 
@@ -74,11 +75,11 @@ std::vector<ObservableSpec> shear_observables() {
        [](const ObservableContext& c, const ObservableArgs&) { return c.s.shear_strain; }},
       {"gammadot", "1/s", "shear rate",
        [](const ObservableContext& c, const ObservableArgs&) { return c.s.shear_rate; }},
-      {"I", "", "inertial number at the imposed (else the measured sigma_yy) pressure",
+      {"I", "", "inertial number at the imposed (else the measured sigma_yy) pressure (nan at a pressure <= 0)",
        [](const ObservableContext& c, const ObservableArgs&) {
-         return inertial_number(
-             c.m, c.s.shear_rate,
-             c.m.box_control.on ? c.m.box_control.pressure : c.meas(measure_part::kStress).stress[1][1]);
+         const double p =
+             c.m.box_control.on ? c.m.box_control.pressure : c.meas(measure_part::kStress).stress[1][1];
+         return p > 0 ? inertial_number(c.m, c.s.shear_rate, p) : std::numeric_limits<double>::quiet_NaN();
        }},
   };
   o.push_back({"cycle", "", "cycles of the imposed stresses done, w t / (2 pi) (the phase, through steered w's)",

@@ -290,6 +290,11 @@ TEST_CASE("silt run --restore with the scene's length runs on to the scene's end
   CHECK(end.code == 1);
   CHECK(end.out.find("the checkpoint is at the scene's end") != std::string::npos);
   CHECK(silt_cli("run " + scene + " --quiet --restore cli_restore_end.ckpt --steps 10").code == 0);
+  // A run of a time whose sum of steps rounds a little short of it is at its end too (bounce_dry
+  // ends at t = 0.49999999999354 of 0.5 s, and went on by one step).
+  const std::string bounce = silt::test::scene_path("bounce_dry");
+  REQUIRE(silt_cli("run " + bounce + " --quiet --threads 1 --save cli_restore_bounce.ckpt").code == 0);
+  CHECK(silt_cli("run " + bounce + " --quiet --restore cli_restore_bounce.ckpt").code == 1);
   // A length of 0 steps is one (the preparation alone, as --steps 0): it read as none, exit 1.
   const Result none = silt_cli("run " + scene + " --quiet --set run.steps=0 --summary cli_restore_0.json");
   CHECK(none.code == 0);

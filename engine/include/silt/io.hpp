@@ -93,20 +93,28 @@ void check_output_path(const std::string& path, const std::string& what, bool re
 // The file `path` names as one path: absolute, normal, symbolic links resolved as far as the path
 // exists, no trailing slash; two names of one file give the same.
 std::filesystem::path canonical_path(const std::string& path);
-// Whether writing the output `path` (to PATH.tmp, then renamed) would overwrite the file `file`:
-// it is that file, or its temporary file is. A device or a pipe (written in place) overwrites nothing.
+// Whether writing the output `path` would overwrite the file `file`: it is that file (by any
+// name). A device or a pipe (written in place) overwrites nothing.
 bool overwrites(const std::string& path, const std::string& file);
-// Why two outputs, each written to NAME.tmp and renamed or streamed in place, would leave only
-// one: "the same file" or "a file and its temporary file (NAME.tmp, written, then renamed)"; ""
-// when they are apart (or either is "", a device or a pipe).
+// Why two outputs would leave only one: "the same file"; "" when they are apart (or either is "",
+// a device or a pipe).
 std::string output_clash(const std::string& a, const std::string& b);
+// A new temporary file beside `path`, to write it whole and rename it onto `path`: PATH.tmp.XXXXXX
+// made by mkstemp, with the permissions open() gives (0666 less the umask). No other file is ever
+// opened, emptied or replaced: a fixed PATH.tmp emptied a file of that name, a directory of that
+// name failed every save at the end of its run, and two runs saving to one path failed each
+// other's rename. fd < 0 (errno set) when none can be made.
+struct TempFile {
+  int fd = -1;
+  std::string name;
+};
+TempFile make_temp_beside(const std::string& path);
 // The first two of these outputs (option or name, path) that would overwrite each other, or one
 // that is a VTK file's name in the VTK directory `vtk`: "--stats and --save name the same file,
 // x", "" when none does.
 std::string clashing_outputs(const std::vector<std::pair<std::string, std::string>>& outputs, const std::string& vtk);
-// IoError when `path` is the input file `input` (the same file by another name too) or its
-// temporary file would be: an output given the scene's own name would overwrite it. `input_what`
-// names the input in the message.
+// IoError when `path` is the input file `input` (the same file by another name too): an output
+// given the scene's own name would overwrite it. `input_what` names the input in the message.
 void check_not_input(const std::string& path, const std::string& input, const std::string& what,
                      const std::string& input_what = "the scene file");
 // Before a run: the directory `dir` of a series of files (frames, VTK), made if it is not there;
@@ -117,16 +125,13 @@ void make_output_directory(const std::string& dir, const std::string& what);
 using NumberedSeries = std::vector<std::pair<std::string, std::string>>;
 // Whether `name` (a file name without its directory) is one of `series`'.
 bool is_numbered_file(const std::string& name, const NumberedSeries& series);
-// The file name of `path` without a ".tmp" ending: the name of what a file written as NAME.tmp and
-// renamed becomes (frames, the VTK index, checkpoints and summaries are written so).
-std::string written_name(const std::string& path);
 // Whether the file `path` lies in the directory `dir` (either named by any path).
 bool is_in_directory(const std::string& path, const std::string& dir);
 // Removes from `dir` the regular files named as `series`' (an earlier run's numbered files, which
 // would mix with a new run's); returns how many.
 int64_t remove_numbered_files(const std::string& dir, const NumberedSeries& series);
-// A text file written whole: to PATH.tmp renamed over PATH (a device or a pipe is written in
-// place); IoError on any failed write.
+// A text file written whole: to a temporary file (make_temp_beside) renamed over PATH (a device or
+// a pipe is written in place); IoError on any failed write.
 void write_text_file(const std::string& path, const std::string& text, const std::string& what);
 
 struct SummaryInput {

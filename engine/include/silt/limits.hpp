@@ -3,6 +3,7 @@
 // header of its own, so that the shell's command parser reads it without the engine's model.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 
 namespace silt {
@@ -13,5 +14,11 @@ inline constexpr int64_t kMaxRunSteps = 9'000'000'000'000'000'000;
 inline constexpr const char* kMaxRunStepsText = "9e18";
 // Runs of more fixed steps than this are said before they start (`silt run`, the shell's `run`).
 inline constexpr int64_t kLongRunSteps = 100'000'000;
+
+// The relative distance within which a time t, a sum of steps, is taken to be at a value: its
+// rounding (t is 9.9999999999999829e-05 after 100 steps of 1e-6 s; a billion steps' rounding).
+inline constexpr double kTimeSlack = 1e-9;
+// Whether t is at or past `since` (--average-from, `stats since`).
+inline bool at_or_after(double t, double since) { return t >= since - kTimeSlack * std::abs(since); }
 
 }  // namespace silt

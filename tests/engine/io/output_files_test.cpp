@@ -1,6 +1,7 @@
-// Output names: one path for every name of a file, and the pairs of outputs that would overwrite
-// one another (the same file, or a file and the NAME.tmp it is written to before the rename).
+// Output names: one path for every name of a file, the pairs of outputs that would overwrite one
+// another (one file by two names), and the temporary files outputs are written to before a rename.
 #include <doctest/doctest.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <filesystem>
@@ -43,28 +44,46 @@ TEST_CASE("canonical_path gives one path for every name of a file, made or not")
   CHECK(canonical_path("").is_absolute());
 }
 
-TEST_CASE("two outputs clash when they are one file or one is the other's temporary file") {
+TEST_CASE("two outputs clash when they are one file, and a temporary file is new and unique") {
   const Dir d;
   CHECK(output_clash(d / "a.csv", d / "sub/../a.csv") == "the same file");
-  CHECK(output_clash(d / "a.ckpt", d / "a.ckpt.tmp").find("temporary file") != std::string::npos);
-  CHECK(output_clash(d / "a.ckpt.tmp", d / "a.ckpt").find("temporary file") != std::string::npos);
-  CHECK(output_clash(d / "a.ckpt", d / "a.ckpt.tmp.tmp").empty());
   CHECK(output_clash(d / "a.csv", d / "b.csv").empty());
   CHECK(output_clash(d / "a.csv", "").empty());
   CHECK(output_clash("/dev/null", "/dev/null").empty());  // a device takes several
-  // Writing X overwrites X and X.tmp; nothing else.
-  CHECK(overwrites(d / "x", d / "x.tmp"));
-  CHECK_FALSE(overwrites(d / "x.tmp", d / "x"));
+  // A file is written to a temporary file made new beside it, never to a fixed NAME.tmp (which
+  // emptied a file of that name, and failed every save when a directory had it): a.ckpt and
+  // a.ckpt.tmp are two outputs apart.
+  CHECK(output_clash(d / "a.ckpt", d / "a.ckpt.tmp").empty());
+  CHECK_FALSE(overwrites(d / "x", d / "x.tmp"));
+  std::ofstream(d / "x.tmp") << "kept\n";
+  fs::create_directory(d.path / "y.tmp");
+  write_text_file(d / "x", "x\n", "summary");
+  write_text_file(d / "y", "y\n", "summary");
+  CHECK(test::read_file(d / "x.tmp") == "kept\n");
+  CHECK(test::read_file(d / "x") == "x\n");
+  CHECK(test::read_file(d / "y") == "y\n");
+  const TempFile a = make_temp_beside(d / "z"), b = make_temp_beside(d / "z");
+  REQUIRE(a.fd >= 0);
+  REQUIRE(b.fd >= 0);
+  CHECK(a.name != b.name);
+  CHECK(a.name.rfind(d / "z.tmp.", 0) == 0);
+  // With the permissions open() gives a new file (mkstemp's are 0600).
+  struct stat st {};
+  REQUIRE(::fstat(a.fd, &st) == 0);
+  const mode_t mask = ::umask(0);
+  ::umask(mask);
+  CHECK((st.st_mode & 0777) == (0666 & ~mask));
+  ::close(a.fd);
+  ::close(b.fd);
 }
 
-TEST_CASE("an output named as an input, or whose temporary file is, is refused with the reason") {
+TEST_CASE("an output named as an input is refused with the reason") {
   const Dir d;
   std::ofstream(d / "scene.toml") << "# a scene\n";
   CHECK_THROWS_WITH_AS(check_not_input(d / "sub/../scene.toml", d / "scene.toml", "checkpoint"),
                        doctest::Contains("it is the scene file"), IoError);
   std::ofstream(d / "play.tmp") << "run 1\n";
-  CHECK_THROWS_WITH_AS(check_not_input(d / "play", d / "play.tmp", "checkpoint", "a script being played"),
-                       doctest::Contains("its temporary file (NAME.tmp) is a script being played"), IoError);
+  CHECK_NOTHROW(check_not_input(d / "play", d / "play.tmp", "checkpoint", "a script being played"));
   CHECK_NOTHROW(check_not_input(d / "scene.toml.tmp", d / "scene.toml", "checkpoint"));
 }
 
@@ -73,12 +92,9 @@ TEST_CASE("a hard link is the same file, whatever its name: the scene behind one
   const Dir d;
   std::ofstream(d / "scene.toml") << "# a scene\n";
   std::filesystem::create_hard_link(d / "scene.toml", d / "link.csv");
-  std::filesystem::create_hard_link(d / "scene.toml", d / "out.json.tmp");
   CHECK(output_clash(d / "link.csv", d / "scene.toml") == "the same file");
   CHECK_THROWS_WITH_AS(check_not_input(d / "link.csv", d / "scene.toml", "stats file"),
                        doctest::Contains("it is the scene file"), IoError);
-  CHECK_THROWS_WITH_AS(check_not_input(d / "out.json", d / "scene.toml", "summary"),
-                       doctest::Contains("its temporary file (NAME.tmp) is the scene file"), IoError);
   std::ofstream(d / "other.csv") << "t\n";
   CHECK(output_clash(d / "other.csv", d / "scene.toml").empty());
 }
@@ -114,8 +130,8 @@ TEST_CASE("a run job refuses two of its outputs on one file, or on a VTK file's 
   Dir d;
   RunJobOptions same;
   same.stats = d / "out.csv";
-  same.save = d / "out.csv.tmp";
-  CHECK_THROWS_WITH_AS(RunJob(*sim, same), doctest::Contains("a file and its temporary file"), IoError);
+  same.save = d / "sub/../out.csv";
+  CHECK_THROWS_WITH_AS(RunJob(*sim, same), doctest::Contains("the same file"), IoError);
   RunJobOptions vtk;
   vtk.vtk = d / "v";
   vtk.summary = d / "v/index.pvd";
@@ -124,4 +140,21 @@ TEST_CASE("a run job refuses two of its outputs on one file, or on a VTK file's 
   apart.stats = d / "a.csv";
   apart.summary = d / "a.json";
   CHECK_NOTHROW(RunJob(*sim, apart));
+}
+
+TEST_CASE("a final checkpoint whose directory went away during the run is written under its name here") {
+  // (the run's end was lost: "cannot write checkpoint 'sub/x.ckpt': no directory 'sub'", exit 4)
+  auto sim = test::simulation_from(test::read_file(test::scene_path("collision_normal")), 1);
+  Dir d;
+  const std::string name = "silt_output_files_test_" + std::to_string(::getpid()) + ".ckpt";
+  RunJobOptions o;
+  o.save = d / ("sub/" + name);
+  RunJob job(*sim, o);
+  RunOptions opt;
+  opt.steps = 5;
+  const RunReport rep = job.run(opt);
+  fs::remove_all(d.path / "sub");
+  CHECK(job.finish(rep) == 4);
+  CHECK(state_hash(read_checkpoint(name, sim->model())) == state_hash(sim->state()));
+  fs::remove(name);
 }

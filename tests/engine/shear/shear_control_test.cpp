@@ -387,6 +387,12 @@ TEST_CASE("stiffness number and damping of the shipped shear scenes, as observab
   CHECK(test::observe(disks, s2, "kappa") == doctest::Approx(1e4).epsilon(1e-12));
   CHECK(test::observe(disks, s2, "zeta") == doctest::Approx(0.98).epsilon(1e-12));
   CHECK(test::observe(disks, s2, "I") == doctest::Approx(0.01).epsilon(1e-12));
+  // Ratios with no value are nan, not 0 (which read as a measured frictionless state, a zero
+  // inertial number where it is infinite, and entered the means): mu at stress.yy = 0 (no contact
+  // yet), kappa at a measured pressure of 0 (no box control).
+  CHECK(std::isnan(test::observe(disks, s2, "mu")));
+  const Model dry = compile(load_scene_file(test::scene_path("bounce_dry")));
+  CHECK(std::isnan(test::observe(dry, make_state(dry), "kappa")));
 }
 
 TEST_CASE("a box too light for the time step is refused at box.mass_factor, with the least it needs") {
