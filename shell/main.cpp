@@ -5,10 +5,13 @@
 
 #include "shell/cli_options.hpp"
 #include "shell/commands.hpp"
+#include "shell/escaped_output.hpp"
 #include "silt/scene.hpp"
 
 int main(int argc, char** argv) {
   using namespace silt::cli;
+  // (a file name holding ESC or BEL was echoed raw in a message, acting on the terminal)
+  const EscapedOutput out(std::cout), err(std::cerr);
   CLI::App app{"silt: dense granular matter in a viscous fluid"};
   app.set_version_flag("--version", std::string("silt ") + SILT_VERSION);
   app.require_subcommand(1);

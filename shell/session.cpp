@@ -416,6 +416,15 @@ RunOptions Session::run_options(const RunLength& len, bool background) {
         throw std::runtime_error(
             "run until static: the equilibrium criterion (run.static_*) is relative to the imposed pressure, and this "
             "scene has no box.pressure");
+      // (a cyclic scene's ran without end: 66,849 steps and on)
+      if (m.box_control.cycle != StressCycle::kNone)
+        throw std::runtime_error(
+            "run until static: the imposed stresses cycle (box.cycle), and a packing under them is never at rest: "
+            "give N, Ts or until EXPR");
+      if (m.shear.on && !m.shear.stress_controlled && m.shear.rate != 0)
+        throw std::runtime_error(
+            "run until static: the imposed shear rate (shear.rate) keeps the packing flowing: set it to 0 first, or "
+            "give N, Ts or until EXPR");
       opt.steps = kForever;
       opt.stop_when_static = true;
       break;

@@ -302,6 +302,14 @@ State read_checkpoint(const std::string& path, const Model& m, std::vector<std::
     value = r.str();
   }
   std::vector<std::string> changed = parameter_differences(params, scene_parameters(m.desc));
+  // A fluid's fields are read on the scene's grid: a domain of another size with as many cells
+  // read the velocities on another spacing (a cavity's ke four times as large), where the grains'
+  // box is the checkpoint's own.
+  if (m.module_on("fluid"))
+    for (const std::string& c : changed)
+      if (c.starts_with("domain.lo =") || c.starts_with("domain.hi ="))
+        throw IoError("checkpoint '" + path + "' holds a fluid on another domain: " + c +
+                      " (its fields would be read on another grid)");
   if (differences) *differences = changed;
   State s = make_state(m);
   const auto n_fields = r.get<uint32_t>();

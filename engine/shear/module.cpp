@@ -107,6 +107,8 @@ void setup_cycle(const SceneDesc& d, Model& m) {
   if (period == vi) d.fail("box.cycle", "give one of box.cycle_period and box.cycle_viscous_number");
   if (m.dim != 2 && kind == "alternating") d.fail("box.cycle", "the alternating cycle is defined in 2D (x and y)");
   b.cycle = kind == "alternating" ? StressCycle::kAlternating : StressCycle::kBiaxial;
+  if (d.boolean("run.stop_when_static"))
+    d.fail("run.stop_when_static", "a packing under cyclic stresses (box.cycle) is never at rest: give a run length");
   b.cycle_amplitude = d.real("box.cycle_amplitude");
   b.cycle_omega =
       period ? 2 * std::numbers::pi / d.real("box.cycle_period")

@@ -120,8 +120,8 @@ TEST_CASE("silt run: a frame that cannot be written stops the frames, the run go
   const std::string dir = "render_cli_frames";
   std::filesystem::remove_all(dir);
   std::filesystem::remove("render_cli_end.ckpt");
-  // The third frame's temporary file is taken by a directory: writing it fails mid-run.
-  std::filesystem::create_directories(dir + "/frame_000002.png.tmp");
+  // The third frame's name is taken by a directory: writing it fails mid-run.
+  std::filesystem::create_directories(dir + "/frame_000002.png/x");
   std::string out;
   const int code =
       silt_run("run " + test::scene_path("collision_normal") + " --quiet --steps 1000 --frames " + dir +

@@ -474,3 +474,12 @@ TEST_CASE("a run refused for an output keeps the VTK files of the run before") {
   CHECK(count() == before);
   std::filesystem::remove_all(dir);
 }
+
+TEST_CASE("a control byte in a message is shown escaped, not sent to the terminal") {
+  // A file name holding ESC and BEL was echoed raw: the terminal turned red and rang.
+  const Result r = silt_cli("run " + scene_path("bounce_dry") + " --restore \"$(printf 'x\\033[31my\\a.ckpt')\"");
+  CHECK(r.code == 4);
+  CHECK(r.out.find("'x\\x1b[31my\\x07.ckpt'") != std::string::npos);
+  CHECK(r.out.find('\033') == std::string::npos);
+  CHECK(r.out.find('\a') == std::string::npos);
+}

@@ -302,12 +302,22 @@ dt = 1e-4
   REQUIRE(sim.step());
   const uint64_t new_hash = silt::state_hash(sim.state());
   std::mt19937 rng(7);
+  // The save's temporary files (big.ckpt.tmp.XXXXXX), removed before each round.
+  const auto temporary = [&](bool remove) {
+    bool any = false;
+    for (const auto& e : std::filesystem::directory_iterator(dir.path()))
+      if (e.path().filename().string().rfind("big.ckpt.tmp", 0) == 0) {
+        any = true;
+        if (remove) std::filesystem::remove(e.path());
+      }
+    return any;
+  };
   int mid_write = 0, rounds = 0;
   while ((mid_write < 1 || rounds < 2) && rounds < 8) {
     ++rounds;
     silt::Simulation fresh(sim.model(), 1);
     silt::write_checkpoint(path, fresh.model(), fresh.state());  // the older checkpoint, step 0
-    std::filesystem::remove(path + ".tmp");
+    temporary(true);
     int out[2];
     REQUIRE(pipe(out) == 0);
     const pid_t child = fork();
@@ -337,7 +347,7 @@ dt = 1e-4
     if (rounds % 2 == 1) {
       std::this_thread::sleep_for(std::chrono::microseconds(std::uniform_int_distribution<int>(0, 120000)(rng)));
     } else {
-      while (!std::filesystem::exists(path + ".tmp") && std::chrono::steady_clock::now() < end)
+      while (!temporary(false) && std::chrono::steady_clock::now() < end)
         std::this_thread::sleep_for(std::chrono::microseconds(50));
       std::this_thread::sleep_for(std::chrono::microseconds(std::uniform_int_distribution<int>(0, 2000)(rng)));
     }
@@ -345,7 +355,7 @@ dt = 1e-4
     waitpid(child, nullptr, 0);
     close(out[0]);
     REQUIRE(contains(seen, "> save"));
-    if (std::filesystem::exists(path + ".tmp")) ++mid_write;  // killed between open and rename
+    if (temporary(false)) ++mid_write;  // killed between open and rename
     silt::State s;
     REQUIRE_NOTHROW(s = silt::read_checkpoint(path, sim.model()));
     const uint64_t h = silt::state_hash(s);

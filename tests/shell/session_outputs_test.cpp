@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <fstream>
 
 #include "shell/cli_fixtures.hpp"
 #include "shell/shell_fixtures.hpp"
@@ -25,6 +26,41 @@ TEST_CASE("run alone follows the scene's run length, until static stops at equil
   CHECK_FALSE(f.run("run until static"));
   CHECK(contains(f.take_err(), "no box.pressure"));
   REQUIRE(f.run("run 2"));  // an explicit length goes on
+  // Where nothing can come to rest, refused (a cyclic scene's ran without end).
+  test::TempDir dir;
+  const std::string box = R"([scene]
+dimension = 2
+[domain]
+lo = [0.0, 0.0]
+hi = [10.0, 10.0]
+periodic = [true, true]
+[contact]
+model = "linear"
+k_n = 1e3
+[[grains]]
+count = 40
+radius = 0.5
+placement = "random"
+[run]
+dt_over_tc = 0.05
+steps = 10
+[box]
+pressure = 1.0
+)";
+  std::ofstream(dir / "cycled.toml") << box << "cycle = \"biaxial\"\ncycle_period = 10.0\n";
+  std::ofstream(dir / "sheared.toml") << box << "[shear]\nrate = 0.1\n";
+  REQUIRE(f.run("load " + dir / "cycled.toml"));
+  CHECK_FALSE(f.run("run until static"));
+  CHECK(contains(f.take_err(), "the imposed stresses cycle (box.cycle), and a packing under them is never at rest"));
+  REQUIRE(f.run("load " + dir / "sheared.toml"));
+  CHECK_FALSE(f.run("run until static"));
+  CHECK(contains(f.take_err(), "the imposed shear rate (shear.rate) keeps the packing flowing"));
+  // A scene asking for it is refused at its key.
+  std::string at_rest = box;
+  at_rest.replace(at_rest.find("steps = 10"), 10, "steps = 10\nstop_when_static = true");
+  std::ofstream(dir / "cycled_static.toml") << at_rest << "cycle = \"biaxial\"\ncycle_period = 10.0\n";
+  CHECK_FALSE(f.run("load " + dir / "cycled_static.toml"));
+  CHECK(contains(f.take_err(), "a packing under cyclic stresses (box.cycle) is never at rest"));
 }
 
 TEST_CASE("stats reset, stats since T, and stats FILE every N writing as the run goes") {

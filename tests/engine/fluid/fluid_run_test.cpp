@@ -121,6 +121,15 @@ TEST_CASE("fluid: a checkpoint of another grid is refused naming the cells, not 
       doctest::Contains("the scene differs from it in fluid.cells = [8, 8] in the checkpoint, [16, 16] "
                         "in the scene"),
       IoError);
+  // As many cells on a domain of another size: the velocities would be read on another spacing
+  // (taken with a warning, a cavity's ke four times as large).
+  std::string wide = cavity(2, 8);
+  wide.replace(wide.find("hi = [1.0, 1.0]"), 15, "hi = [2.0, 2.0]");
+  auto c = test::simulation_from(wide);
+  CHECK_THROWS_WITH_AS(read_checkpoint(path, c->model()),
+                       doctest::Contains("holds a fluid on another domain: domain.hi = [1, 1] in the checkpoint, "
+                                         "[2, 2] in the scene"),
+                       IoError);
   std::filesystem::remove(path);
 }
 
