@@ -4,7 +4,9 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <functional>
 #include <iostream>
+#include <memory>
 
 namespace silt {
 namespace {
@@ -154,15 +156,27 @@ RunReport RunJob::run(RunOptions opt) {
                          {}});
   }
   opt.hooks.push_back({o_.every, [this](const State& s) { sample(s); }});
-  if (vtk_)
-    opt.hooks.push_back({o_.vtk_every > 0 ? o_.vtk_every : o_.every, [this](const State& s) {
-                           if (!vtk_error_.empty()) return;
-                           try {
-                             vtk_->write(sim_.model(), s, module_grid_fields(sim_.model(), s));
-                           } catch (const IoError& e) {
-                             vtk_error_ = e.what();
-                           }
+  // The VTK files and the caller's outputs (frames) end with the run's last state, as the stats
+  // do (--steps 250 with --every 100 wrote them for steps 0, 100 and 200 only): each remembers the
+  // step it last took.
+  std::vector<std::pair<std::function<void(const State&)>, std::shared_ptr<int64_t>>> ends;
+  auto ending = [&](const PeriodicHook& h) {
+    auto last = std::make_shared<int64_t>(-1);
+    ends.emplace_back(h.fn, last);
+    opt.hooks.push_back({h.every, [fn = h.fn, last](const State& s) {
+                           *last = s.step;
+                           fn(s);
                          }});
+  };
+  if (vtk_)
+    ending({o_.vtk_every > 0 ? o_.vtk_every : o_.every, [this](const State& s) {
+              if (!vtk_error_.empty()) return;
+              try {
+                vtk_->write(sim_.model(), s, module_grid_fields(sim_.model(), s));
+              } catch (const IoError& e) {
+                vtk_error_ = e.what();
+              }
+            }});
   if (profile_axis_ >= 0)
     opt.hooks.push_back({o_.every, [this](const State& s) {
                            if (!at_or_after(s.t, o_.average_from)) return;
@@ -171,7 +185,7 @@ RunReport RunJob::run(RunOptions opt) {
                            if (profiles_[0].x.empty()) profiles_[0].x = std::move(p.y);
                            profiles_[0].add(p.vx);
                          }});
-  for (const PeriodicHook& h : extra_) opt.hooks.push_back(h);
+  for (const PeriodicHook& h : extra_) ending(h);
   // The modules' notes go into the summary's warnings too.
   opt.on_notice = [this, tell = opt.on_notice](const std::string& n) {
     warnings_.push_back(n);
@@ -184,6 +198,9 @@ RunReport RunJob::run(RunOptions opt) {
   // show, as its checkpoint does.
   if (rep.end == RunEnd::kFailed) kept_ = sim_.last_good_state();
   sample(kept_state());
+  if (rep.end != RunEnd::kFailed)
+    for (const auto& [fn, last] : ends)
+      if (*last != sim_.state().step) sim_.within([&, f = fn] { f(sim_.state()); });
   wall_s_ += rep.wall_s;
   steps_ += rep.steps_done;
   return rep;

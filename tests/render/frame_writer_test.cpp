@@ -141,3 +141,27 @@ TEST_CASE("silt run: a frame that cannot be written stops the frames, the run go
   std::filesystem::remove_all(dir);
   std::filesystem::remove("render_cli_end.ckpt");
 }
+
+TEST_CASE("silt run: frames and VTK files end with the run's last state, as the stats do") {
+  // (--steps 250 with --every 100 drew steps 0, 100 and 200, where the stats end at 250)
+  const std::string frames = "render_cli_last_frames", vtk = "render_cli_last_vtk";
+  std::filesystem::remove_all(frames);
+  std::filesystem::remove_all(vtk);
+  std::string out;
+  REQUIRE(silt_run("run " + test::scene_path("collision_normal") + " --quiet --steps 250 --every 100 --frames " +
+                       frames + " --vtk " + vtk + " --set render.width=64 --set render.height=32",
+                   out) == 0);
+  CAPTURE(out);
+  CHECK(std::filesystem::exists(frames + "/frame_000003.png"));
+  CHECK_FALSE(std::filesystem::exists(frames + "/frame_000004.png"));
+  CHECK(std::filesystem::exists(vtk + "/grains_000003.vtu"));
+  CHECK_FALSE(std::filesystem::exists(vtk + "/grains_000004.vtu"));
+  // A run ending on a multiple of the period draws its end once.
+  REQUIRE(silt_run("run " + test::scene_path("collision_normal") + " --quiet --steps 200 --every 100 --frames " +
+                       frames + " --set render.width=64 --set render.height=32",
+                   out) == 0);
+  CHECK(std::filesystem::exists(frames + "/frame_000002.png"));
+  CHECK_FALSE(std::filesystem::exists(frames + "/frame_000003.png"));
+  std::filesystem::remove_all(frames);
+  std::filesystem::remove_all(vtk);
+}

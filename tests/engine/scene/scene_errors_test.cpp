@@ -146,6 +146,13 @@ TEST_CASE("values that do not apply are refused, not ignored") {
   const std::string e = test::scene_error(with("k_n = 1e5", "k_n = 1e5\nrestitution = 0.5"));
   CHECK(e.rfind("bad.toml:9:15: ", 0) == 0);
   CHECK(e.find("not used") != std::string::npos);
+  // A 3D camera's keys in a 2D scene (they changed no pixel).
+  std::string flat = with("dimension = 3", "dimension = 2");
+  flat = flat.substr(0, flat.find("[domain]")) +
+         "[domain]\nlo = [0, 0]\nhi = [10, 10]\n[render]\ncamera.azimuth = 10.0\n" +
+         flat.substr(flat.find("[contact]"));
+  const std::string camera = test::scene_error(flat);
+  CHECK(camera.find("render.camera.azimuth applies to 3D scenes only") != std::string::npos);
 }
 
 TEST_CASE("scenes that cannot be simulated are refused before the first step") {
