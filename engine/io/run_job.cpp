@@ -183,7 +183,7 @@ RunReport RunJob::run(RunOptions opt) {
                            VelocityProfile p =
                                velocity_profile(sim_.model(), s, profile_slabs_, profile_axis_, profile_component_);
                            if (profiles_[0].x.empty()) profiles_[0].x = std::move(p.y);
-                           profiles_[0].add(p.vx);
+                           profiles_[0].add(p.vx, p.count);
                          }});
   for (const PeriodicHook& h : extra_) ending(h);
   // The modules' notes go into the summary's warnings too.

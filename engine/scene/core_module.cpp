@@ -171,6 +171,9 @@ void finish_core(const SceneDesc& d, Model& m) {
   for (const char* key : {"output.profile_axis", "output.profile_component"})
     if (d.has(key) && d.string(key)[0] - 'x' >= m.dim)
       d.fail(key, std::string(key) + " names an axis this 2D scene does not have");
+  // (a scene with no grains gave a profile of zeros)
+  if (d.has("output.profile_axis") && m.n_grains == 0)
+    d.fail("output.profile_axis", "the velocity profile is the grains', and this scene has none");
   if (d.has("output.profile_slabs") && p.axis < 0)
     d.fail("output.profile_slabs", "output.profile_slabs needs a profile (output.profile_axis)");
   p.slabs = d.has("output.profile_slabs") ? static_cast<int>(d.integer("output.profile_slabs")) : 0;

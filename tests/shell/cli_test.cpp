@@ -459,3 +459,23 @@ TEST_CASE("silt run and check: a --set that is no KEY=VALUE is a usage error, a 
   const Result bad = silt_cli("run " + scene + " --steps 2 --quiet --set contact.friction=-1");
   CHECK(bad.code == 2);
 }
+
+TEST_CASE("a velocity profile leaves slabs with no grain empty, and needs grains") {
+  // A slab above a chute's surface read as a measured 0 +- 0; a cavity with no grains gave a
+  // profile of zeros.
+  REQUIRE(silt_cli("run " + silt::test::scene_path("bounce_dry") +
+                   " --quiet --threads 1 --steps 10 --set output.profile_axis=y --set output.profile_slabs=4 "
+                   "--summary cli_profile.json")
+              .code == 0);
+  const auto mean = nlohmann::json::parse(read_file("cli_profile.json"))["profiles"]["vx(y)"]["mean"];
+  REQUIRE(mean.size() == 4);
+  CHECK(mean[0].is_null());  // the grain, at the centre of y (radius 3 mm of 40 mm), in the middle two
+  CHECK(mean[1].is_number());
+  CHECK(mean[2].is_number());
+  CHECK(mean[3].is_null());
+  std::filesystem::remove("cli_profile.json");
+  const Result none =
+      silt_cli("check " + silt::test::scene_path("cavity_2d") + " --set output.profile_axis=y");
+  CHECK(none.code == 2);
+  CHECK(none.out.find("the velocity profile is the grains', and this scene has none") != std::string::npos);
+}

@@ -78,9 +78,12 @@ struct ProfileSeries {
   std::vector<double> x;
   std::vector<BlockAccumulator> bins;
   int64_t samples = 0;
-  void add(const std::vector<double>& values) {
+  // A sample of every bin; a bin with no grain in it (count 0) has no value in it, and is left
+  // out (a slab above a chute's surface read as a measured 0 +- 0).
+  void add(const std::vector<double>& values, const std::vector<int64_t>& counts) {
     if (bins.size() < values.size()) bins.resize(values.size());
-    for (size_t k = 0; k < values.size(); ++k) bins[k].add(values[k]);
+    for (size_t k = 0; k < values.size(); ++k)
+      if (k >= counts.size() || counts[k] > 0) bins[k].add(values[k]);
     ++samples;
   }
 };
