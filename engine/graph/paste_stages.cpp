@@ -80,7 +80,10 @@ void diagnose_paste(GraphBuilder& b) {
         f.parameter = round_off ? "lubrication.tolerance" : "lubrication.h_max_over_a";
         f.message = what + format_number(e.value(), 4) +
                     ", above lubrication.tolerance = " + format_number(p.solver.options.tolerance, 4) +
-                    (round_off ? ": more iterations do not lower it, the round-off of so ill-conditioned a Xi "
+                    (round_off ? std::string(p.solver.method == linalg::Method::kDirect
+                                                 ? ": refining the solve does not lower it"
+                                                 : ": more iterations do not lower it") +
+                                     ", the round-off of so ill-conditioned a Xi "
                                  "(h_min/a = " +
                                      format_number(p.h_min_over_a, 4) +
                                      "); raise lubrication.tolerance or lubrication.h_min_over_a"

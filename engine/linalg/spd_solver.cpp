@@ -97,10 +97,23 @@ SolveReport SpdSolver::solve_scaled(const SparseMatrix& a, const Vector& b, Vect
     // A factor of a nearly singular matrix solves it inaccurately (CHOLMOD's pivots stay positive
     // while the residual is of order one): past the tolerance a failure, as CG's is (a residual
     // of 1.6 went into the velocities unremarked).
-    Vector ax;
+    // Iterative refinement with the same factor: a few solves of the residual's equation take the
+    // residual to round-off of b where one solve leaves a few ulps more (1.05e-15 against a
+    // tolerance of 1e-15, the lowest the key takes).
+    Vector ax, r, dx;
     op.apply(x, ax);
     const double bn = b.norm();
     rep.residual = bn > 0 ? (b - ax).norm() / bn : 0;
+    for (int k = 0; k < 3 && bn > 0 && !(rep.residual <= s_.options.tolerance) && std::isfinite(rep.residual); ++k) {
+      r = b - ax;
+      if (!factor_.solve(r, dx).ok()) break;
+      const Vector refined = x + dx;
+      op.apply(refined, ax);
+      const double residual = (b - ax).norm() / bn;
+      if (!(residual < rep.residual)) break;  // it no longer lowers it
+      x = refined;
+      rep.residual = residual;
+    }
     if (!(rep.residual <= s_.options.tolerance)) {
       rep.status = std::isfinite(rep.residual) ? SolveStatus::kMaxIterations : SolveStatus::kNotFinite;
       rep.message = "the direct solve left a relative residual of " + std::to_string(rep.residual) +
