@@ -270,7 +270,7 @@ void Session::dispatch(const Command& c) {
     if (name == spec.name) return (this->*handler)(c);
 }
 
-void Session::install(Model m, const std::optional<State>& keep) {
+std::string Session::install(Model m, const std::optional<State>& keep) {
   auto next = std::make_unique<Simulation>(std::move(m), threads_);
   if (keep) {
     next->restore(*keep);
@@ -295,6 +295,7 @@ void Session::install(Model m, const std::optional<State>& keep) {
   // connections and velocities): what `print`, `save` and `hash` show before the first step, as
   // `silt run --steps 0` shows it.
   next->prepare();
+  if (keep && next->state().failure.failed) return next->state().failure.message;
   const bool same_series = keep && sim_ && next->model().observe == sim_->model().observe;
   sim_ = std::move(next);
   if (!keep) rewind_series(0);
@@ -303,7 +304,7 @@ void Session::install(Model m, const std::optional<State>& keep) {
   // overwritten.
   if (same_series) {
     rewatch();
-    return;
+    return "";
   }
   if (!stats_file_.empty()) {
     out_ << "stats file " << stats_file_ << " closed with " << stats_->rows().size() << " sample(s)\n";
@@ -312,6 +313,7 @@ void Session::install(Model m, const std::optional<State>& keep) {
   }
   stats_.emplace("", sim_->model().observe);
   rewatch();
+  return "";
 }
 
 void Session::rewind_series(int64_t step) {

@@ -121,7 +121,10 @@ class Session {
   // Helpers.
   Simulation& sim();  // throws when no scene is loaded
   void require_stopped(const std::string& what) const;
-  void install(Model m, const std::optional<State>& keep);
+  // A simulation of `m` from `keep` (else the scene's own state) in place of the current one. A
+  // kept state that cannot be solved under m (a paste's velocities solved again) installs nothing,
+  // and the failure's message is returned ("" when installed).
+  std::string install(Model m, const std::optional<State>& keep);
   // The watched observables under the model installed (off, saying why, when it has them not).
   void rewatch();
   // The scene file as loaded (or reloaded) with the changes typed since: the file is not read

@@ -212,7 +212,10 @@ void Session::recompile_set(const SetChange& ch) {
     fate += "; discarded: the run to t = " + format_number(was.t) + s.model().unit("s") + " (step " +
             std::to_string(was.step) + ") and its " + std::to_string(stats_->rows().size()) + " sample(s)";
   if (!same) fate += ")";
-  install(std::move(m), keep);
+  // (a kept state the values could not solve was installed, said nothing, and made the next `run`
+  // say "the last run failed", where the run had succeeded; refused as a steered value is)
+  if (const std::string unsolved = install(std::move(m), keep); !unsolved.empty())
+    throw std::runtime_error(ch.typed + ": refused, the state cannot be solved under it (" + unsolved + ")");
   overrides_ = ch.next;
   // (one line: what follows the values is of the change as a whole, not of its last key)
   for (size_t k = 0; k < ch.changes.size(); ++k)
