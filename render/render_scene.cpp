@@ -246,6 +246,8 @@ RenderScene build_render_scene(const Model& m, const State& s, const View& given
   if (chains) {
     const ColorScale c = add_force_chains(rs, s, v, r_mean, D == 2 ? static_cast<float>(2 * r_max) : 0.0f);
     if (bar == Bar::kChains) scale = c;
+    // (with no contact the bar showed the chains' scale over the lubrication's forces alone)
+    if (bar == Bar::kChains && c.colormap.empty() && lubrication) bar = Bar::kLubrication;
   }
   if (lubrication) {
     // Below the contacts' chains in 2D.

@@ -42,7 +42,9 @@ ColorScale add_force_chains(RenderScene& rs, const State& s, const View& v, doub
     contacts.push_back(c);
     sum += k.fn;
   });
-  const double mean = contacts.empty() ? 1.0 : sum / contacts.size();
+  // No contact, no scale: the bar goes to what else is drawn (the lubrication's forces) or none.
+  if (contacts.empty()) return {};
+  const double mean = sum / static_cast<double>(contacts.size());
   const Colormap& cm = Colormap::get("sequential");
   rs.segments.reserve(rs.segments.size() + contacts.size());
   for (const Chain& c : contacts) {
