@@ -71,16 +71,27 @@ int prepare(Simulation& sim, const RunArgs& a, RunJob& job, std::string& warning
   return 0;
 }
 
-// Two outputs written to one file would leave only the last: the two options, or "" when every
-// output file is its own (a device such as /dev/stdout may take several).
+// Two outputs written to one file would leave only the last, or an output directory would remove a
+// file the run reads: why, or "" when every file is its own (a device such as /dev/stdout may take
+// several outputs).
 std::string shared_output(const RunArgs& a) {
   const std::vector<std::pair<std::string, std::string>> files = {
       {"--stats", a.stats}, {"--summary", a.summary}, {"--save", a.save}};
-  if (std::string clash = clashing_outputs(files, a.vtk); !clash.empty()) return clash;
+  const std::string each = ": each would overwrite the other";
+  if (std::string clash = clashing_outputs(files, a.vtk); !clash.empty()) return clash + each;
   // (a stats file named as a frame in the frames' directory was overwritten by that frame)
   for (const auto& [option, path] : files)
     if (!path.empty() && render::FrameWriter::owns(path, a.frames))
-      return option + " " + path + " is a frame's name in --frames " + a.frames;
+      return option + " " + path + " is a frame's name in --frames " + a.frames + each;
+  // The files read too: --frames removes an earlier run's frames, and a checkpoint restored from
+  // DIR/frame_000000.png was removed (VTK's numbered files likewise).
+  for (const auto& [option, path] : {std::pair<std::string, std::string>{"the scene", a.scene}, {"--restore", a.restore}}) {
+    if (path.empty()) continue;
+    if (render::FrameWriter::owns(path, a.frames))
+      return option + " " + path + " is a frame's name in --frames " + a.frames + ", which removes it";
+    if (VtkWriter::owns(path, a.vtk))
+      return option + " " + path + " is a VTK file's name in --vtk " + a.vtk + ", which removes it";
+  }
   return "";
 }
 
@@ -88,7 +99,7 @@ std::string shared_output(const RunArgs& a) {
 
 int run_command(const RunArgs& a) {
   if (const std::string shared = shared_output(a); !shared.empty())
-    return report_error(shared + ": each would overwrite the other", 1);
+    return report_error(shared, 1);
   int code = 0;
   // --steps and --time replace the scene's [run] length before it is compiled, so that a run.time
   // too long for the scene's step does not refuse a run of N steps. With --time the run's length

@@ -174,6 +174,16 @@ TEST_CASE("silt run: two outputs to one file, or two alternative keys set togeth
       silt_cli("run " + scene + " --steps 20 --frames cli_frames --frame-every 10 --stats cli_frames/frame_000001.png");
   CHECK(frame.code == 1);
   CHECK(frame.out.find("is a frame's name in --frames") != std::string::npos);
+  // So is a checkpoint restored from there, which the frames' directory removed.
+  std::filesystem::create_directories("cli_frames");
+  REQUIRE(silt_cli("run " + scene + " --quiet --steps 5 --save cli_frames/frame_000000.png").code == 0);
+  const Result restored =
+      silt_cli("run " + scene + " --steps 5 --restore cli_frames/frame_000000.png --frames cli_frames");
+  CHECK(restored.code == 1);
+  CHECK(restored.out.find("--restore cli_frames/frame_000000.png is a frame's name in --frames cli_frames, which "
+                          "removes it") != std::string::npos);
+  CHECK(std::filesystem::exists("cli_frames/frame_000000.png"));
+  std::filesystem::remove_all("cli_frames");
   CHECK(silt_cli("run " + scene + " --steps 5 --vtk cli_vtk --summary ./cli_vtk/../cli_vtk/index.pvd").code == 1);
   // A directory not made yet given with its slash.
   std::filesystem::remove_all("cli_slash");
