@@ -47,7 +47,15 @@ void check_output_path(const std::string& path, const std::string& what, bool re
 std::filesystem::path canonical_path(const std::string& path) {
   namespace fs = std::filesystem;
   std::error_code ec;
-  const fs::path abs = fs::absolute(path.empty() ? "." : path, ec).lexically_normal();
+  fs::path abs = fs::absolute(path.empty() ? "." : path, ec).lexically_normal();
+  // A symbolic link to a file not made yet names that file (weakly_canonical leaves a dangling
+  // link as it is: --stats link --summary target, the link's target not there yet, wrote both to
+  // one file). Followed a few times, as a chain of links may be.
+  for (int k = 0; k < 8 && fs::is_symlink(fs::symlink_status(abs, ec)) && !fs::exists(abs, ec); ++k) {
+    const fs::path target = fs::read_symlink(abs, ec);
+    if (ec) break;
+    abs = (target.is_absolute() ? target : abs.parent_path() / target).lexically_normal();
+  }
   fs::path c = fs::weakly_canonical(abs, ec);
   if (ec) c = abs;
   // (a directory not made yet, given as "o2/", kept its slash and was not "o2")

@@ -42,6 +42,10 @@ TEST_CASE("canonical_path gives one path for every name of a file, made or not")
   CHECK(canonical_path(d / "link/a.csv") == canonical_path(d / "sub/a.csv"));
   CHECK(canonical_path("") == canonical_path("."));
   CHECK(canonical_path("").is_absolute());
+  // A link to a file not made yet is that file (two outputs through it went to one file).
+  fs::create_symlink("later.csv", d.path / "dangling");
+  CHECK(canonical_path(d / "dangling") == canonical_path(d / "later.csv"));
+  CHECK(output_clash(d / "dangling", d / "later.csv") == "the same file");
 }
 
 TEST_CASE("two outputs clash when they are one file, and a temporary file is new and unique") {
