@@ -85,7 +85,8 @@ std::string shared_output(const RunArgs& a) {
       return option + " " + path + " is a frame's name in --frames " + a.frames + each;
   // The files read too: --frames removes an earlier run's frames, and a checkpoint restored from
   // DIR/frame_000000.png was removed (VTK's numbered files likewise).
-  for (const auto& [option, path] : {std::pair<std::string, std::string>{"the scene", a.scene}, {"--restore", a.restore}}) {
+  for (const auto& [option, path] :
+       {std::pair<std::string, std::string>{"the scene", a.scene}, {"--restore", a.restore}}) {
     if (path.empty()) continue;
     if (render::FrameWriter::owns(path, a.frames))
       return option + " " + path + " is a frame's name in --frames " + a.frames + ", which removes it";
@@ -98,8 +99,7 @@ std::string shared_output(const RunArgs& a) {
 }  // namespace
 
 int run_command(const RunArgs& a) {
-  if (const std::string shared = shared_output(a); !shared.empty())
-    return report_error(shared, 1);
+  if (const std::string shared = shared_output(a); !shared.empty()) return report_error(shared, 1);
   int code = 0;
   // --steps and --time replace the scene's [run] length before it is compiled, so that a run.time
   // too long for the scene's step does not refuse a run of N steps. With --time the run's length

@@ -537,8 +537,7 @@ RunOptions Session::run_options(const RunLength& len, bool background) {
            const bool regular = cheap || st.step % kEvery == 0 || st.step == first;
            const bool sampled = regular || cond.window_closes(st.t, st.step, st.dt, kEvery - st.step % kEvery) ||
                                 (adaptive && cond.time_window_open(st.t, st.step));
-           if (sampled &&
-               cond.holds(obs->sample(sim_->model(), st), &column, st.step == 0 ? &of_last_step : nullptr)) {
+           if (sampled && cond.holds(obs->sample(sim_->model(), st), &column, st.step == 0 ? &of_last_step : nullptr)) {
              until_end_ = UntilEnd::kMet;
              interrupt_ = true;
            } else if (until_never_holds(cond, st.t, st.step)) {

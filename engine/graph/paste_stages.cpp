@@ -78,18 +78,18 @@ void diagnose_paste(GraphBuilder& b) {
       auto residual_left = [&](const std::string& what) {
         const bool round_off = e.value() < 1e-4;
         f.parameter = round_off ? "lubrication.tolerance" : "lubrication.h_max_over_a";
-        f.message = what + format_number(e.value(), 4) +
-                    ", above lubrication.tolerance = " + format_number(p.solver.options.tolerance, 4) +
-                    (round_off ? std::string(p.solver.method == linalg::Method::kDirect
-                                                 ? ": refining the solve does not lower it"
-                                                 : ": more iterations do not lower it") +
-                                     ", the round-off of so ill-conditioned a Xi "
-                                 "(h_min/a = " +
-                                     format_number(p.h_min_over_a, 4) +
-                                     "); raise lubrication.tolerance or lubrication.h_min_over_a"
-                               : ": Xi is numerically singular (something moves with almost no lubricated "
-                                 "gap resisting it); compress the grains first (prepare.compress), raise "
-                                 "lubrication.h_max_over_a, or set lubrication.stokes_drag = true");
+        f.message =
+            what + format_number(e.value(), 4) +
+            ", above lubrication.tolerance = " + format_number(p.solver.options.tolerance, 4) +
+            (round_off
+                 ? std::string(p.solver.method == linalg::Method::kDirect ? ": refining the solve does not lower it"
+                                                                          : ": more iterations do not lower it") +
+                       ", the round-off of so ill-conditioned a Xi "
+                       "(h_min/a = " +
+                       format_number(p.h_min_over_a, 4) + "); raise lubrication.tolerance or lubrication.h_min_over_a"
+                 : ": Xi is numerically singular (something moves with almost no lubricated "
+                   "gap resisting it); compress the grains first (prepare.compress), raise "
+                   "lubrication.h_max_over_a, or set lubrication.stokes_drag = true");
       };
       switch (status) {
         case linalg::SolveStatus::kMaxIterations: {

@@ -112,10 +112,10 @@ void read_render_settings(const SceneDesc& d, Model& m) {
     r.slice_component = d.string("render.slice_component");
   } else {
     // (the camera's keys too: accepted in 2D, they changed no pixel)
-    for (const char* k : {"render.slice_axis", "render.slice_normal", "render.slice_position", "render.slice_component",
-                          "render.slab_center", "render.slab_normal", "render.slab_half_width", "render.camera.azimuth",
-                          "render.camera.elevation", "render.camera.distance", "render.camera.fov",
-                          "render.camera.target"})
+    for (const char* k :
+         {"render.slice_axis", "render.slice_normal", "render.slice_position", "render.slice_component",
+          "render.slab_center", "render.slab_normal", "render.slab_half_width", "render.camera.azimuth",
+          "render.camera.elevation", "render.camera.distance", "render.camera.fov", "render.camera.target"})
       if (d.has(k)) d.fail(k, std::string(k) + " applies to 3D scenes only");
   }
   r.azimuth = d.real("render.camera.azimuth");

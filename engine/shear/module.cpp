@@ -77,8 +77,7 @@ std::vector<ObservableSpec> shear_observables() {
        [](const ObservableContext& c, const ObservableArgs&) { return c.s.shear_rate; }},
       {"I", "", "inertial number at the imposed (else the measured sigma_yy) pressure (nan at a pressure <= 0)",
        [](const ObservableContext& c, const ObservableArgs&) {
-         const double p =
-             c.m.box_control.on ? c.m.box_control.pressure : c.meas(measure_part::kStress).stress[1][1];
+         const double p = c.m.box_control.on ? c.m.box_control.pressure : c.meas(measure_part::kStress).stress[1][1];
          return p > 0 ? inertial_number(c.m, c.s.shear_rate, p) : std::numeric_limits<double>::quiet_NaN();
        }},
   };

@@ -124,30 +124,8 @@ TEST_CASE("the lubrication forces' colour bar, and a dry scene that has none to 
 
 TEST_CASE("chains and lubrication drawn with no contact yet: the bar is the lubrication's") {
   // (the bar showed the chains' "normal force / mean" over the lubrication's forces alone)
-  auto sim = test::simulation_from(R"(
-[scene]
-dimension = 2
-seed = 7
-[domain]
-lo = [0, 0]
-hi = [9, 9]
-periodic = [true, true]
-[box]
-pressure = 1.0
-controlled = [false, true]
-[shear]
-viscous_number = 0.1
-[contact]
-model = "linear"
-k_n = 1e4
-[lubrication]
-viscosity = 1.0
-[[grains]]
-count = 60
-radius_min = 0.35
-radius_max = 0.5
-placement = "random"
-)");
+  // Random disks at an imposed pressure: the box's rate moves them, and none touch yet.
+  auto sim = test::simulation_from(test::paste_disks({}));
   sim->prepare();
   View v = test::plain_view(800, 600, {"chains", "lubrication", "colorbar"});
   const RenderScene rs = build_render_scene(sim->model(), sim->state(), v);

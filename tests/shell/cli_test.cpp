@@ -484,8 +484,7 @@ TEST_CASE("a velocity profile leaves slabs with no grain empty, and needs grains
   CHECK(mean[2].is_number());
   CHECK(mean[3].is_null());
   std::filesystem::remove("cli_profile.json");
-  const Result none =
-      silt_cli("check " + silt::test::scene_path("cavity_2d") + " --set output.profile_axis=y");
+  const Result none = silt_cli("check " + silt::test::scene_path("cavity_2d") + " --set output.profile_axis=y");
   CHECK(none.code == 2);
   CHECK(none.out.find("the velocity profile is the grains', and this scene has none") != std::string::npos);
 }

@@ -200,8 +200,8 @@ TEST_CASE("--set overrides: typed, located, and checked like the file") {
   CHECK(s.string("contact.model") == "hertz");
   // A list of strings takes bare words as items, as a bare word is a string on its own
   // (render.draw=[grains] was "Error while parsing boolean: expected 'false', saw 'gr'").
-  for (const char* list : {"render.draw=[grains, chains]", "render.draw=[ grains,\"chains\", ]",
-                           "render.draw=['grains' , chains]"}) {
+  for (const char* list :
+       {"render.draw=[grains, chains]", "render.draw=[ grains,\"chains\", ]", "render.draw=['grains' , chains]"}) {
     CAPTURE(list);
     CHECK(parse_scene(kGood, "bad.toml", {parse_override(list)}).strings("render.draw") ==
           std::vector<std::string>{"grains", "chains"});
