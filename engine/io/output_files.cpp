@@ -27,7 +27,9 @@ void check_output_path(const std::string& path, const std::string& what, bool re
   }
   std::string dir = fs::path(path).parent_path().string();
   if (dir.empty()) dir = ".";
-  if (!fs::is_directory(dir, ec)) throw IoError("cannot write " + what + " '" + path + "': no directory '" + dir + "'");
+  if (!fs::is_directory(dir, ec))
+    throw IoError("cannot write " + what + " '" + path +
+                  "': " + (fs::exists(dir, ec) ? "'" + dir + "' is not a directory" : "no directory '" + dir + "'"));
   if (::access(dir.c_str(), W_OK) != 0)
     throw IoError("cannot write " + what + " '" + path + "': " + std::strerror(errno) + " (its directory)");
   // A file made there and removed: the directory may grant writing (to root, /proc and /sys do)

@@ -122,6 +122,9 @@ TEST_CASE("an output path is checked by making a file beside it, where writing i
   std::ofstream(d / "old.json") << "{}";
   CHECK_NOTHROW(check_output_path(d / "old.json", "summary"));
   CHECK_NOTHROW(check_output_path("/dev/null", "summary"));
+  // A file where its directory should be is said to be one ("no directory 'old.json'").
+  CHECK_THROWS_WITH_AS(check_output_path(d / "old.json/x.ckpt", "checkpoint"),
+                       doctest::Contains("old.json' is not a directory"), IoError);
   // Nothing is left beside them.
   int entries = 0;
   for ([[maybe_unused]] const auto& e : fs::directory_iterator(d.path)) ++entries;
