@@ -134,13 +134,18 @@ constexpr int kMaxCount = 1000;
 // characters (vi's word motions looped forever on a byte that is none, above).
 constexpr int kMaxLine = 1 << 12;
 
+// The first byte of the character that byte kMaxLine of `line` belongs to.
+int character_cut(const char* line) {
+  int cut = kMaxLine;
+  while (cut > 0 && (static_cast<unsigned char>(line[cut]) & 0xc0) == 0x80) --cut;
+  return cut;
+}
+
 void hold_line_length() {
   if (rl_end <= kMaxLine || RL_ISSTATE(RL_STATE_MULTIKEY | RL_STATE_NUMERICARG | RL_STATE_ISEARCH | RL_STATE_NSEARCH |
                                        RL_STATE_SEARCH | RL_STATE_CHARSEARCH | RL_STATE_VIMOTION))
     return;
-  int cut = kMaxLine;
-  while (cut > 0 && (static_cast<unsigned char>(rl_line_buffer[cut]) & 0xc0) == 0x80) --cut;
-  rl_delete_text(cut, rl_end);
+  rl_delete_text(character_cut(rl_line_buffer), rl_end);
   rl_point = std::min(rl_point, rl_end);
   rl_mark = std::min(rl_mark, rl_end);
   rl_ding();
@@ -340,6 +345,11 @@ void guard_keymaps() {
 }
 
 }  // namespace
+
+size_t held_line_end(const char* line) {
+  const size_t n = std::strlen(line);
+  return n <= static_cast<size_t>(kMaxLine) ? n : static_cast<size_t>(character_cut(line));
+}
 
 void guard_readline_keys() {
   guard_keymaps();

@@ -95,6 +95,7 @@ extern "C" void on_line(char* line) {
   if (!line) {
     g_eof = true;
   } else {
+    line[silt::cli::held_line_end(line)] = '\0';  // (a paste's Enter read with its last characters)
     g_pending = line;
     g_have_line = true;
     if (*line) remember(line);
