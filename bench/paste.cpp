@@ -25,6 +25,8 @@
 //                the tolerance on paste_3d_shear: cost against the error in mu.
 //   coarse3d     The coarse correction at h_min/a = 1e-5 and 1e-8: off, E exact, and E's weak
 //                couplings dropped (lubrication.coarse_drop 1e-6 to 1e-2): cost against the error.
+//   stress3d     The stress's accuracy (lubrication.stress_tolerance: off, 1e-2, 1e-4, 1e-6) at
+//                h_min/a = 1e-6, 1e-9 and 1e-12: cost against the error in mu.
 // Every row is appended to bench/results/paste.csv. --quick shortens every run (a smoke test).
 #include <algorithm>
 #include <atomic>
@@ -561,9 +563,11 @@ void knobs3d(const Args& a) {
                  {"own; refactor 30 (default)", {}},
                  {"own; refactor 40", {"lubrication.refactor_iterations=40"}},
                  {"own; refactor 60", {"lubrication.refactor_iterations=60"}},
-                 {"own; tolerance 1e-6", {"lubrication.tolerance=1e-6"}},
-                 {"own; tolerance 1e-4", {"lubrication.tolerance=1e-4"}},
-                 {"whole; tolerance 1e-4", {whole, "lubrication.tolerance=1e-4"}},
+                 // (the residual's tolerance alone: the stress's check off, which would take these on)
+                 {"own; tolerance 1e-6", {"lubrication.tolerance=1e-6", "lubrication.stress_tolerance=0"}},
+                 {"own; tolerance 1e-4", {"lubrication.tolerance=1e-4", "lubrication.stress_tolerance=0"}},
+                 {"whole; tolerance 1e-4", {whole, "lubrication.tolerance=1e-4", "lubrication.stress_tolerance=0"}},
+                 {"own; tolerance 1e-4, stress 1e-4", {"lubrication.tolerance=1e-4"}},
              });
 }
 
@@ -584,6 +588,26 @@ void coarse3d(const Args& a) {
             {"drop 1e-3", {"lubrication.coarse_drop=1e-3"}},
             {"drop 1e-2", {"lubrication.coarse_drop=1e-2"}},
         });
+  }
+}
+
+// The stress's accuracy at small gaps, where the lubrication multiplies the velocities' error by
+// up to a / h_min: the solve to the residual's tolerance alone (1e-8), and taken on until the
+// stress's estimated error is below 1e-2, 1e-4 (the default) or 1e-6 of it; each sample of mu
+// against a run to a residual of 1e-13 and a stress to 1e-8 (as far as round-off lets it).
+void stress3d(const Args& a) {
+  const double strain = a.quick ? 0.002 : 0.01;
+  for (const char* gap : {"1e-6", "1e-9", "1e-12"}) {
+    std::printf("\nStress accuracy: paste_3d_shear (4,096 spheres, h_min/a = %s), %g of strain\n", gap, strain);
+    knob_table(a, "stress3d", strain, {std::string("lubrication.h_min_over_a=") + gap},
+               {
+                   {"reference: tolerance 1e-13, stress 1e-8",
+                    {"lubrication.tolerance=1e-13", "lubrication.stress_tolerance=1e-8"}},
+                   {"stress check off", {"lubrication.stress_tolerance=0"}},
+                   {"stress 1e-2", {"lubrication.stress_tolerance=1e-2"}},
+                   {"stress 1e-4 (default)", {}},
+                   {"stress 1e-6", {"lubrication.stress_tolerance=1e-6"}},
+               });
   }
 }
 
@@ -643,8 +667,10 @@ int main(int argc, char** argv) {
       else throw std::invalid_argument("unknown option " + s);
     }
     const std::vector<std::pair<std::string, void (*)(const Args&)>> sections = {
-        {"iso", iso},   {"equilibrium", equilibrium}, {"knobs", knobs},     {"shear", shear},      {"cyclic", cyclic},
-        {"cost", cost}, {"cost3d", cost3d},           {"knobs3d", knobs3d}, {"coarse3d", coarse3d}};
+        {"iso", iso},          {"equilibrium", equilibrium}, {"knobs", knobs},
+        {"shear", shear},      {"cyclic", cyclic},           {"cost", cost},
+        {"cost3d", cost3d},    {"knobs3d", knobs3d},         {"coarse3d", coarse3d},
+        {"stress3d", stress3d}};
     std::vector<std::string> names;
     for (const auto& section : sections) names.push_back(section.first);
     bench::check_only(a.only, names);

@@ -20,6 +20,7 @@ double relative_residual(const LinearOperator& a, const Vector& b, const Vector&
 SolveReport conjugate_gradient(const LinearOperator& a, const Vector& b, Vector& x, const SolveOptions& opt,
                                const Preconditioner* m, CgWorkspace* ws) {
   SolveReport rep;
+  if (ws) ws->z_of_r = false;  // (z is M^-1 of the residual of the x it updates, the recurrence's)
   const int64_t n = a.size();
   if (x.size() != n) x = Vector::Zero(n);
   if (!all_finite(b) || !all_finite(x)) {
@@ -40,6 +41,7 @@ SolveReport conjugate_gradient(const LinearOperator& a, const Vector& b, Vector&
   auto precondition = [&] {
     if (m) m->apply(r, z);
     else z = r;
+    w.z_of_r = true;
   };
   const double target = opt.tolerance * b_norm;
   // The recurrence's residual drifts from the true one on ill-conditioned systems: when it says

@@ -56,11 +56,13 @@ SolveReport SpdSolver::restore_factor(const SparseMatrix& source, int solves_sin
 
 SolveReport SpdSolver::solve(const SparseMatrix& a, const Vector& b, Vector& x, bool pattern_changed) {
   const double big = b.size() > 0 ? b.cwiseAbs().maxCoeff() : 0.0;
+  last_exponent_ = 0;
   if (!(big > 0) || big >= 0x1p-200) return solve_scaled(a, b, x, pattern_changed);
   // 2^e times b (and x) with its largest entry in [1, 2): each entry scaled exactly (ldexp, no
   // power of two formed, which 2^1074 would not be); x back by 2^-e, exactly but where the
   // solution itself falls below a double's range.
   const int e = -std::ilogb(big);
+  last_exponent_ = e;
   auto scale = [](const Vector& v, int by) {
     return Vector(v.unaryExpr([by](double y) { return std::ldexp(y, by); }));
   };
@@ -73,6 +75,8 @@ SolveReport SpdSolver::solve(const SparseMatrix& a, const Vector& b, Vector& x, 
 
 SolveReport SpdSolver::solve_scaled(const SparseMatrix& a, const Vector& b, Vector& x, bool pattern_changed) {
   const SparseOperator op(a);
+  last_m_ = nullptr;
+  cg_.z_of_r = false;
   if (s_.method == Method::kCg) {
     // A diagonal entry that is not positive makes the matrix not positive definite at that unknown
     // (nothing resists it), which CG would find, if at all, only as a NaN or a breakdown: named
@@ -163,6 +167,7 @@ SolveReport SpdSolver::solve_scaled(const SparseMatrix& a, const Vector& b, Vect
   if (stale || corrected) first.max_iterations = std::min(first.max_iterations, 4 * threshold);
   else if (factor_.applies_single()) first.max_iterations = std::min(first.max_iterations, threshold);
   SolveReport rep = conjugate_gradient(op, b, x, first, m, &cg_);
+  last_m_ = m;
   ++solves_since_factor_;
   // The solve again from where `so_far` left it, preconditioned by p, for what is left of its
   // iterations (options.max_iterations bounds the whole solve) and at most `cap`; a failure's
@@ -173,6 +178,7 @@ SolveReport SpdSolver::solve_scaled(const SparseMatrix& a, const Vector& b, Vect
     SolveOptions rest = s_.options;
     rest.max_iterations = std::min(cap, std::max(0, s_.options.max_iterations - spent));
     SolveReport r = conjugate_gradient(op, b, x, rest, p, &cg_);
+    last_m_ = &factor_;  // (or its exact application, which the estimate need not be)
     r.iterations += spent;
     if (r.status == SolveStatus::kMaxIterations && r.iterations >= s_.options.max_iterations)
       r.message = "no convergence in " + std::to_string(s_.options.max_iterations) + " iterations (" +
@@ -199,6 +205,27 @@ SolveReport SpdSolver::solve_scaled(const SparseMatrix& a, const Vector& b, Vect
     ++double_retries_;
   }
   return rep;
+}
+
+void SpdSolver::error_estimate(const SparseMatrix& a, const Vector& b, const Vector& x, Vector& dx) {
+  if (s_.method == Method::kDirect) {
+    dx = Vector::Zero(x.size());
+    return;
+  }
+  if (cg_.z_of_r && cg_.z.size() == x.size()) {  // of the x solved, scaled as its b was
+    if (last_exponent_ == 0) dx = cg_.z;
+    else dx = cg_.z.unaryExpr([e = -last_exponent_](double y) { return std::ldexp(y, e); });
+    return;
+  }
+  Vector r;
+  SparseOperator(a).apply(x, r);
+  r = b - r;
+  if (last_m_) {
+    last_m_->apply(r, dx);
+  } else {
+    const JacobiPreconditioner jacobi(a);
+    jacobi.apply(r, dx);
+  }
 }
 
 }  // namespace silt::linalg

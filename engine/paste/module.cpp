@@ -12,6 +12,7 @@
 #include "paste/observables.hpp"
 #include "paste/params.hpp"
 #include "paste/solve.hpp"
+#include "paste/stress_accuracy.hpp"
 #include "silt/contacts.hpp"
 #include "silt/module.hpp"
 #include "silt/simulation.hpp"
@@ -37,6 +38,7 @@ std::vector<KeySpec> paste_keys() {
       {"lubrication.stepper", K::kString, Value(std::string("quasi_static")), Range::any(), "", false, S{"quasi_static", "inertial"}, "quasi_static: Xi V = F (eq. 2.19, no inertia); inertial: (M/dt + Xi) V(t+dt) = M V(t)/dt + F, any Stokes number."},
       {"lubrication.solver", K::kString, Value(std::string("factor_pcg")), Range::any(), "", true, S{"factor_pcg", "cg", "direct"}, "factor_pcg: CG preconditioned by a Cholesky factor of an earlier Xi (CHOLMOD), refactorised when a solve takes more than refactor_iterations; direct: a factorisation every step; cg: Jacobi preconditioner."},
       {"lubrication.tolerance", K::kReal, Value(1e-8), Range::closed(1e-15, 1e-2), "", true, {}, "Relative residual |F - Xi V| / |F| at which CG stops (at least 1e-15: below, round-off in the residual itself)."},
+      {"lubrication.stress_tolerance", K::kReal, Value(1e-4), Range::closed(0, 1), "", true, {}, "Relative accuracy of the grains' stress (contacts and lubrication; against its norm, or the imposed pressure or the viscous stress eta gammadot where larger): a solve is taken on past lubrication.tolerance, as far as round-off lets it, while its estimated error (the lubrication stress of the preconditioned residual) exceeds this fraction (with the factor; with solver = cg the estimate is Jacobi's, which misses the error's smooth part and reads low). At small h_min the lubrication multiplies the velocities' error by up to a / h_min: solved to 1e-8 at h_min/a = 1e-12, paste_3d_shear's stress.yy was off by up to 3,000 times its value. 0: the residual's tolerance alone. Observable solver.stress_error."},
       {"lubrication.max_iterations", K::kInt, Value(int64_t{2000}), Range::closed(1, 1e7), "", true, {}, "CG iterations of one solve at most: past them the run stops with a numerical failure."},
       {"lubrication.refactor_iterations", K::kInt, std::nullopt, Range::closed(1, 1e6), "", true, {}, "factor_pcg: a solve that took more iterations has Xi refactorised for the next (default 15 with factor_rotations = whole, 30 with own, whose fresh factor already takes about 20)."},
       {"lubrication.factor_gap_over_a", K::kReal, Value(0.5), Range::non_negative(), "", true, {}, "factor_pcg: connections with a gap below this (in units of a) enter the Cholesky factor whole, the others by their diagonal blocks only: a sparser factor, cheaper to make and to apply, for a few more iterations. h_max / a or more: the whole Xi."},
@@ -73,6 +75,7 @@ void compile_steerable(const SceneDesc& d, PasteParams& p) {
   p.cutoff = cutoff_of(d.string("lubrication.cutoff"));
   p.solver.method = method_of(d.string("lubrication.solver"));
   p.solver.options.tolerance = d.real("lubrication.tolerance");
+  p.stress_tolerance = d.real("lubrication.stress_tolerance");
   p.solver.options.max_iterations = static_cast<int>(d.integer("lubrication.max_iterations"));
   p.own_rotations = d.has("lubrication.factor_rotations") ? d.string("lubrication.factor_rotations") == "own"
                                                           : d.integer("scene.dimension") == 3;
@@ -305,8 +308,9 @@ bool whole_in(double v, double lo, double hi) { return v >= lo && v <= hi && v =
 std::string check_paste_state(const Model& m, const State& s) {
   const PasteFields f = paste_fields();
   const auto& stats = s.module_field(f.solver);
-  // A checkpoint written before the coarse correction holds one stat fewer.
-  if (!stats.empty() && stats.size() != kSolverStats && stats.size() != kCoarseColumns)
+  // A checkpoint written before the stress's error was kept holds two stats fewer, one written
+  // before the coarse correction three.
+  if (!stats.empty() && stats.size() != kSolverStats && stats.size() != kStressError && stats.size() != kCoarseColumns)
     return "paste_solver has the wrong length";
   // The solves the held factor has served, the solver's int (-1: none held).
   if (!stats.empty() && !whole_in(stats[kFactorAge], -1, std::numeric_limits<int>::max()))
@@ -435,7 +439,10 @@ const ModuleSpec& module() {
     s.describe = describe_paste;
     s.steer = steer_paste;
     s.check_state = check_paste_state;
-    s.notice = [](const Model&, const State& st) { return alone_notice(st); };
+    s.notice = [](const Model& m, const State& st) {
+      std::string alone = alone_notice(st), stress = stress_notice(m, st);
+      return alone.empty() || stress.empty() ? alone + stress : alone + "; " + stress;
+    };
     s.summary_group = "solver";
     s.summary_counts = {"solves", "iters_max", "refactorisations", "connections", "coarse_columns"};
     s.summary = [](const Model&, const State& st) -> std::vector<std::pair<std::string, double>> {
@@ -447,6 +454,7 @@ const ModuleSpec& module() {
               {"iters_max", v[kIterationsMax]},
               {"refactorisations", v[kRefactorizations]},
               {"last_residual", v[kLastResidual]},
+              {"stress_error", v[kStressError]},
               {"connections", v[kConnections]},
               {"coarse_columns", v[kCoarseColumns]}};
     };

@@ -160,6 +160,10 @@ std::vector<ObservableSpec> paste_observables() {
        [](C c, A) { return solver_stat(c, kLastIterations); }},
       {"solver.residual", "", "relative residual |F - Xi V| / |F| of the last lubrication solve",
        [](C c, A) { return solver_stat(c, kLastResidual); }},
+      {"solver.stress_error", "",
+       "estimated error of the grains' stress after the last lubrication solve, relative to it "
+       "(lubrication.stress_tolerance)",
+       [](C c, A) { return solver_stat(c, kStressError); }},
       {"solver.refactorisations", "", "Cholesky factorisations of Xi so far",
        [](C c, A) { return solver_stat(c, kRefactorizations); }},
       {"solver.iters_mean", "", "mean iterations per lubrication solve so far",

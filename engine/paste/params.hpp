@@ -36,6 +36,10 @@ struct PasteParams {
   // factor_pcg: the rows of G along which a connection resists more than this times its xi_T
   // form the coarse space of a linalg::CoarseCorrection around the factor (stiff_directions); 0: none.
   double coarse_ratio = 0;
+  // The grains' stress (contacts and lubrication) to this relative accuracy: a solve whose
+  // velocities leave it less accurate is taken further (lubrication.stress_tolerance; 0: the
+  // residual's tolerance alone).
+  double stress_tolerance = 0;
   // A Stokes drag 6 pi eta r on every grain's translation and 8 pi eta r^3 on its rotation
   // (LF_DEM's choice): makes Xi definite without pinning; off by default (the thesis has none).
   bool stokes_drag = false;

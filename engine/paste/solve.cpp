@@ -11,6 +11,8 @@
 #include "dem/forces_under.hpp"
 #include "dem/stress.hpp"
 #include "paste/contact_stiffness.hpp"
+#include "paste/stress_accuracy.hpp"
+#include "paste/unknown_scale.hpp"
 #include "shear/cycle_origin.hpp"
 
 namespace silt::paste {
@@ -40,34 +42,6 @@ linalg::SparseMatrix load_matrix(const std::vector<double>& in) {
   for (int64_t k = 0; k < nnz; ++k) a.innerIndexPtr()[k] = static_cast<int>(*o++);
   for (int64_t k = 0; k < nnz; ++k) a.valuePtr()[k] = *o++;
   return a;
-}
-
-// The unknowns' units, as the solve sees them: Xi's translation entries grow as eta a and its
-// rotation and box entries as eta a^3 (a torque or a virial over an angular velocity or a strain
-// rate), so a residual norm and the step's change criterion weigh equations of different units
-// alike, and the paste depended on its unit of length (2D disks of 1e-4 m under 100 N/m took 3 CG
-// iterations where the same grains in units of a took 2, and the run parted from theirs at the
-// fourth step). Each rotation and box strain rate is solved for times ell (a velocity: ell omega
-// is the speed of a grain's surface) and its equation divided by ell (a force): ell is the largest
-// radius a / 2 rounded to a power of two, exact in floating point (and 1 for spheres of radius 1,
-// whose bits it leaves as they were), so that grains scaled by a power of two take the same steps
-// to the bit.
-struct UnknownScale {
-  double inv_ell = 1;  // 1 / ell
-  int64_t translations_end = 0;
-  int per_grain = 1, dim = 2;
-  bool identity() const { return inv_ell == 1; }
-  // The factor s_k of unknown k: the system solved is S Xi S (S^-1 V) = S F.
-  double of(int64_t k) const { return k >= translations_end || k % per_grain >= dim ? inv_ell : 1.0; }
-};
-
-UnknownScale unknown_scale(const SystemLayout& L, double a) {
-  UnknownScale u;
-  u.inv_ell = 1 / std::exp2(std::round(std::log2(a / 2)));
-  u.translations_end = L.grains * L.per_grain;
-  u.per_grain = L.per_grain;
-  u.dim = L.dim;
-  return u;
 }
 
 // Xi <- S Xi S and b <- S b in place.
@@ -464,7 +438,10 @@ void solve_paste(const Model& m, State& s, PasteWorkspace& w, SolveAt at) {
     }
     w.solver.set_coarse_order(std::move(memory));
   }
-  const linalg::SolveReport rep = w.solver.solve(A, b, x, false);
+  linalg::SolveReport rep = w.solver.solve(A, b, x, false);
+  // The grains' stress to stress_tolerance (a direct solve is refined to round-off already).
+  const bool stress_checked = rep.ok() && p.stress_tolerance > 0 && p.solver.method != linalg::Method::kDirect;
+  const double stress_err = stress_checked ? solve_for_stress(m, p, L, cs, s, units, A, b, x, w, rep) : 0.0;
   w.solver.on_factor = nullptr;
   w.solver.factor_source = nullptr;
   w.solver.coarse_space = nullptr;
@@ -491,6 +468,12 @@ void solve_paste(const Model& m, State& s, PasteWorkspace& w, SolveAt at) {
   stats[kLastStatus] = static_cast<double>(rep.status);
   stats[kConnections] = static_cast<double>(cs.size());
   stats[kCoarseColumns] = static_cast<double>(w.solver.coarse_columns());
+  {
+    // (said once as it passes the tolerance, and once as it comes back: alone_notice's way)
+    const bool was_short = stats[kStressError] > p.stress_tolerance, short_now = stress_err > p.stress_tolerance;
+    stats[kStressNotice] = short_now == was_short ? 0.0 : short_now ? 1.0 : 2.0;
+    stats[kStressError] = stress_err;
+  }
   if (!w.solver.factor_valid()) factor.clear();
   if (!rep.ok()) {
     // The value: the residual, or for a matrix not positive definite the unknown where a

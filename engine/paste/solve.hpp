@@ -42,6 +42,9 @@ enum SolverStat {
   kLastStatus,        // linalg::SolveStatus of the last solve
   kConnections,       // connections of the last solve
   kCoarseColumns,     // columns of the factor's coarse correction in the last solve
+  kStressError,       // the last solve's estimated error of the grains' stress, relative to it
+  kStressNotice,      // 1 when that error passed lubrication.stress_tolerance at the last solve, 2 when
+                      // it came back within it, else 0 (paste_notice)
   kSolverStats
 };
 
@@ -51,6 +54,7 @@ struct PasteWorkspace final : Workspace {
   Links links;
   std::vector<int32_t> component;
   std::vector<double> scratch;  // the adaptive step's new Xi diagonal and right-hand side
+  linalg::Vector error;         // the solve's error estimate (stress_tolerance)
   bool fresh = true;            // made, or invalidated: the factor is rebuilt from the state's copy
   uint64_t factor_hash = 0;     // of the state's copy of the matrix the held factor was made from
   void invalidate() override {
@@ -61,7 +65,8 @@ struct PasteWorkspace final : Workspace {
   }
   size_t bytes() const override {
     return system.bytes() + static_cast<size_t>(solver.factor().factor_bytes() + solver.coarse().bytes()) +
-           links.c.size() * (sizeof(Connection) + sizeof(int32_t)) + scratch.capacity() * sizeof(double);
+           links.c.size() * (sizeof(Connection) + sizeof(int32_t)) +
+           (scratch.capacity() + static_cast<size_t>(error.size())) * sizeof(double);
   }
 };
 

@@ -112,6 +112,9 @@ class JacobiPreconditioner final : public Preconditioner {
 // step's solves) so that no call allocates; sized on first use.
 struct CgWorkspace {
   Vector r, z, p, ap;
+  // Whether z is M^-1 r for the r left at the end (the last call iterated): the preconditioned
+  // residual, an estimate of the solution's error that a caller may read for free.
+  bool z_of_r = false;
 };
 
 // Conjugate gradients from x (the initial guess; the solution on return). M and ws may be null.
@@ -340,6 +343,11 @@ class SpdSolver {
   int64_t double_retries() const { return double_retries_; }
   const CoarseCorrection& coarse() const { return coarse_; }
   void set_coarse_order(CoarseCorrection::OrderMemory m) { coarse_.set_order_memory(std::move(m)); }
+  // An estimate of the error of x after a solve of a x = b: dx = M^-1 (b - a x), M the
+  // preconditioner the solve used last (the factor, Jacobi's diagonal), or its CG's last
+  // preconditioned residual when that is of this x (no cost then). The direct method leaves no
+  // preconditioner: dx = 0, its solve being refined to round-off.
+  void error_estimate(const SparseMatrix& a, const Vector& b, const Vector& x, Vector& dx);
 
  private:
   SolveReport solve_scaled(const SparseMatrix& a, const Vector& b, Vector& x, bool pattern_changed);
@@ -349,6 +357,8 @@ class SpdSolver {
   bool factor_valid_ = false;
   int solves_since_factor_ = 0;
   int64_t coarse_columns_ = 0, double_retries_ = 0;
+  int last_exponent_ = 0;                   // the power of two b was solved scaled by, last
+  const Preconditioner* last_m_ = nullptr;  // the preconditioner of the last CG (this object's)
   CgWorkspace cg_;
   CoarseCorrection coarse_;
 };

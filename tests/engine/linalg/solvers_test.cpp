@@ -274,6 +274,60 @@ TEST_CASE("the direct solve refines its solution to a tolerance at round-off") {
   CHECK((b - a * x).norm() / b.norm() == doctest::Approx(rep.residual).epsilon(1e-6));
 }
 
+TEST_CASE("a solve's error estimate is its preconditioned residual, of the error's size and direction") {
+  // A factor of an older matrix (drifted by 30 %) and Jacobi's diagonal, each solve stopped at a
+  // relative residual of 1e-3. With the factor, x + dx is closer to the solution than x.
+  const SparseMatrix old = grid(30, 7), a = grid(30, 7, 0.3);
+  const Vector b = gaussian_vector(a.rows(), 11);
+  Vector exact;
+  CholeskyFactor f;
+  REQUIRE(f.factorize(a).ok());
+  REQUIRE(f.solve(b, exact).ok());
+  for (Method m : {Method::kFactorPcg, Method::kCg}) {
+    const std::string name = method_name(m);
+    CAPTURE(name);
+    SolverSettings settings;
+    settings.method = m;
+    settings.options = {1e-3, 2000};
+    settings.refactor_iterations = 1000;
+    SpdSolver solver(settings);
+    Vector x = Vector::Zero(a.rows()), dx;
+    if (m == Method::kFactorPcg) {
+      REQUIRE(solver.restore_factor(old, 0).ok());
+      solver.set_solves_since_factor(1);  // (stale: not refactorised before the solve)
+    }
+    const SolveReport r = solver.solve(a, b, x, false);
+    REQUIRE(r.ok());
+    REQUIRE(r.iterations > 0);
+    solver.error_estimate(a, b, x, dx);
+    if (m == Method::kFactorPcg) {  // an approximate inverse: the error itself, roughly
+      const Vector error = exact - x;
+      CHECK(dx.norm() > 0.1 * error.norm());
+      CHECK(dx.norm() < 10 * error.norm());
+      CHECK((exact - x - dx).norm() < 0.9 * error.norm());
+    } else {  // Jacobi's: the residual over the diagonal (which misses the error's smooth part)
+      const Vector residual = b - a * x;
+      const Vector jacobi = residual.cwiseQuotient(Vector(a.diagonal()));
+      CHECK(rel_diff(dx, jacobi) < 1e-6);
+    }
+    // Read from CG's last preconditioned residual, or made again (a solve that did not iterate,
+    // started at its solution): of the same size.
+    Vector again = x, dx_again;
+    REQUIRE(solver.solve(a, b, again, false).iterations == 0);
+    solver.error_estimate(a, b, again, dx_again);
+    CHECK(rel_diff(dx_again, dx) < 0.5);
+  }
+  // A direct solve is refined to round-off: no estimate.
+  SolverSettings direct;
+  direct.method = Method::kDirect;
+  SpdSolver solver(direct);
+  Vector x = Vector::Zero(a.rows()), dx;
+  REQUIRE(solver.solve(a, b, x, true).ok());
+  solver.error_estimate(a, b, x, dx);
+  CHECK(dx.size() == x.size());
+  CHECK(dx.norm() == 0);
+}
+
 TEST_CASE("a right-hand side far below 1 is solved to the same bits, scaled (not read as zero)") {
   // A paste under a pressure of 1e-200: |b|^2 underflowed to 0, CG returned x = 0 as converged,
   // and the grains stood still with every stress reading 0.

@@ -237,16 +237,25 @@ TEST_CASE("paste: the same bits on 1, 2 and 4 threads, and a restart continues t
     c->restore(read_checkpoint(path, c->model()));
     for (int k = 0; k < 12; ++k) REQUIRE(step(*c));
     CHECK(state_hash(c->state()) == state_hash(a->state()));
-    // A checkpoint written before the solver kept its coarse columns, one stat fewer, restores and
-    // continues to the same bits.
-    State older = read_checkpoint(path, c->model());
-    older.module_field(paste::paste_fields().solver).pop_back();
+    // A checkpoint written before the solver kept the stress's error (two stats fewer), or before
+    // it kept its coarse columns (three), restores and continues to the same bits; one stat fewer
+    // was never written.
     const std::string older_path = "paste_restart_test_older.ckpt";
-    write_checkpoint(older_path, c->model(), older);
-    auto d = test::simulation_from(scene, 1);
-    d->restore(read_checkpoint(older_path, d->model()));
-    for (int k = 0; k < 12; ++k) REQUIRE(step(*d));
-    CHECK(state_hash(d->state()) == state_hash(a->state()));
+    for (int fewer : {1, 2, 3}) {
+      CAPTURE(fewer);
+      State older = read_checkpoint(path, c->model());
+      std::vector<double>& stats = older.module_field(paste::paste_fields().solver);
+      stats.resize(stats.size() - fewer);
+      write_checkpoint(older_path, c->model(), older);
+      if (fewer == 1) {
+        CHECK_THROWS_WITH(read_checkpoint(older_path, c->model()), doctest::Contains("paste_solver"));
+        continue;
+      }
+      auto d = test::simulation_from(scene, 1);
+      d->restore(read_checkpoint(older_path, d->model()));
+      for (int k = 0; k < 12; ++k) REQUIRE(step(*d));
+      CHECK(state_hash(d->state()) == state_hash(a->state()));
+    }
     // An order whose key is not a whole number is refused.
     if (coarse) {
       State bad = read_checkpoint(path, c->model());

@@ -1,0 +1,121 @@
+// The grains' stress solved to lubrication.stress_tolerance: at small h_min the lubrication
+// multiplies the velocities' error by up to a / h_min, and a solve to the residual's tolerance
+// alone gives stresses of any sign. Against a solve taken as far as round-off lets it.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "paste/solve.hpp"
+#include "silt/observables.hpp"
+#include "silt/simulation.hpp"
+#include "support/files.hpp"
+#include "support/scenes.hpp"
+
+using namespace silt;
+
+namespace {
+
+// paste_3d_shear's spheres, 512 of them in a box of half the side (the same Phi, 0.45), at
+// h_min/a = 1e-12, with `extra` appended to [lubrication].
+std::string spheres(const std::string& extra) {
+  std::string s = test::read_file(test::scene_path("paste_3d_shear"));
+  for (auto [from, to] : {std::pair<std::string, std::string>{"count = 4096", "count = 512"},
+                          {"hi = [38.0, 38.0, 38.0]", "hi = [19.0, 19.0, 19.0]"},
+                          {"h_min_over_a = 1e-3", "h_min_over_a = 1e-12\n" + extra}}) {
+    REQUIRE(s.find(from) != std::string::npos);
+    s.replace(s.find(from), from.size(), to);
+  }
+  return s;
+}
+
+using Stress = std::array<std::array<double, 3>, 3>;
+
+double distance(const Stress& a, const Stress& b) {
+  double sum = 0;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) sum += (a[i][j] - b[i][j]) * (a[i][j] - b[i][j]);
+  return std::sqrt(sum);
+}
+
+double norm(const Stress& a) { return distance(a, Stress{}); }
+
+// The stress after each of `steps` steps, and the solver's estimate of its error.
+struct Run {
+  std::vector<Stress> stress;
+  std::vector<double> estimate;
+  std::vector<std::string> notices;
+  uint64_t hash = 0;    // of the whole state
+  uint64_t motion = 0;  // of the positions, velocities and lubrication forces alone
+};
+
+// The packing the scene's grains make compressed dry to Phi = 0.45 (prepare.phi), the same for
+// every solver's setting.
+const State& packing() {
+  static const State p = prepare_packing(test::model_from(spheres("")), 1);
+  return p;
+}
+
+Run run(const std::string& scene, int steps, int threads = 1) {
+  auto sim = std::make_unique<Simulation>(test::model_from(scene), threads);
+  sim->restore(packing());
+  Run r;
+  for (int k = 0; k < steps; ++k) {
+    REQUIRE(sim->step());
+    r.stress.push_back(measure(sim->model(), sim->state(), measure_part::kStress).stress);
+    r.estimate.push_back(sim->state().module_field(paste::paste_fields().solver)[paste::kStressError]);
+    for (std::string& n : sim->take_notices()) r.notices.push_back(std::move(n));
+  }
+  r.hash = state_hash(sim->state());
+  for (const char* f : {"particle_x", "particle_v", "particle_w", "pair_f_lub"})
+    r.motion = r.motion * 31 + field_hash(sim->state(), find_field(f)->id);
+  return r;
+}
+
+}  // namespace
+
+TEST_CASE("paste: the stress is solved to its own tolerance at h_min/a = 1e-12, where the residual's leaves it wrong") {
+  constexpr int kSteps = 3;
+  const Run reference = run(spheres("tolerance = 1e-14\nstress_tolerance = 1e-9"), kSteps);
+  const Run checked = run(spheres(""), kSteps);  // stress_tolerance 1e-4, the default
+  const Run unchecked = run(spheres("stress_tolerance = 0"), kSteps);
+  double worst_checked = 0, worst_unchecked = 0;
+  for (int k = 0; k < kSteps; ++k) {
+    CAPTURE(k);
+    const double scale = norm(reference.stress[k]);
+    REQUIRE(scale > 0);
+    worst_checked = std::max(worst_checked, distance(checked.stress[k], reference.stress[k]) / scale);
+    worst_unchecked = std::max(worst_unchecked, distance(unchecked.stress[k], reference.stress[k]) / scale);
+    // The estimate of the checked run is within its tolerance, and 0 where nothing is checked.
+    CHECK(checked.estimate[k] > 0);
+    CHECK(checked.estimate[k] <= 1e-4);
+    CHECK(unchecked.estimate[k] == 0);
+  }
+  // Measured: 6e-5 of the norm at worst with the check (its estimate is of the error's size, not
+  // a bound: 10 times the tolerance allowed), 30 times the norm without it.
+  CHECK(worst_checked < 1e-3);
+  CHECK(worst_unchecked > 0.1);
+  // Nothing said where the tolerance is met; the reference's 1e-9 is below round-off, said once.
+  CHECK(checked.notices.empty());
+  REQUIRE(reference.notices.size() == 1);
+  CHECK(reference.notices[0].find("stress is accurate to about") != std::string::npos);
+  CHECK(reference.notices[0].find("lubrication.stress_tolerance = 1e-09") != std::string::npos);
+}
+
+TEST_CASE("paste: the stress's further solves give the same bits on 1 and 2 threads") {
+  const std::string scene = spheres("");
+  CHECK(run(scene, 2, 1).hash == run(scene, 2, 2).hash);
+}
+
+TEST_CASE("paste: the stress's check takes no further solve at h_min/a = 1e-3: the same motion as without it") {
+  std::string scene = spheres("");
+  scene.replace(scene.find("h_min_over_a = 1e-12"), 20, "h_min_over_a = 1e-3");
+  const Run checked = run(scene, 3);
+  for (double e : checked.estimate) CHECK(e < 1e-6);
+  std::string off = spheres("stress_tolerance = 0");
+  off.replace(off.find("h_min_over_a = 1e-12"), 20, "h_min_over_a = 1e-3");
+  CHECK(run(off, 3).motion == checked.motion);
+}
