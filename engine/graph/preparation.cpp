@@ -108,6 +108,10 @@ State prepare_packing(const Model& m, int threads, PreparationReport* report, co
     for (int k = 0; k < s.dim; ++k)
       if (s.box.periodic[k]) s.box.len[k] *= f;
     for (auto& h : s.pair_hist) h = 0;
+    // (and the forces, of the configuration before: a paste whose first solve failed sampled this
+    // state with the compression's stress, 0.91 P, and no contact)
+    for (std::vector<double>* field : {&s.pair_f, &s.particle_f, &s.particle_t})
+      std::fill(field->begin(), field->end(), 0.0);
     s.nbr_valid = false;
   }
   return adopt_state(m, std::move(s));
