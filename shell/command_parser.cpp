@@ -302,8 +302,7 @@ bool compare(const Clause& c, double v) {
   // t is a sum of steps, whose rounding leaves it off the value it shows ("t = 0.0003" is
   // 3.0000000000000003e-4 after three steps of 1e-4, and "t <= 0.0003" never held): within 1e-9
   // of a value (a billion steps' rounding), t is at it.
-  if (c.observable == "t" && std::abs(v - c.value) <= kTimeSlack * std::abs(c.value))
-    return c.op == "<=" || c.op == ">=" || c.op == "==";
+  if (c.observable == "t" && at_time(v, c.value)) return c.op == "<=" || c.op == ">=" || c.op == "==";
   if (c.op == "<") return v < c.value;
   if (c.op == "<=") return v <= c.value;
   if (c.op == ">") return v > c.value;

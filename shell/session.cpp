@@ -59,7 +59,7 @@ bool until_never_holds(const Condition& c, double t, int64_t step) {
         if (cl.observable != name) continue;
         // t within kTimeSlack of a value is at it (compare): "t <= 0.0003" holds at t =
         // 3.0000000000000003e-4 and "t < 0.0003" does not.
-        const double slack = name[0] == 't' ? kTimeSlack * std::abs(cl.value) : 0;
+        const double slack = name[0] == 't' ? time_slack(cl.value) : 0;
         const double below = cl.op == ">" ? cl.value + slack : cl.value - slack;
         const double above = cl.op == "<" ? cl.value - slack : cl.value + slack;
         if ((cl.op == ">=" || cl.op == ">" || cl.op == "==") && below >= lo) {

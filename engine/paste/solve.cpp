@@ -470,8 +470,11 @@ void solve_paste(const Model& m, State& s, PasteWorkspace& w, SolveAt at) {
   stats[kCoarseColumns] = static_cast<double>(w.solver.coarse_columns());
   {
     // (said once as it passes the tolerance, and once as it comes back: alone_notice's way)
-    const bool was_short = stats[kStressError] > p.stress_tolerance, short_now = stress_err > p.stress_tolerance;
-    stats[kStressNotice] = short_now == was_short ? 0.0 : short_now ? 1.0 : 2.0;
+    const bool was_short = std::fmod(stats[kStressNotice], 2.0) == 1.0;
+    const bool short_now = p.stress_tolerance > 0 && stress_err > p.stress_tolerance;
+    // (a check turned off says nothing: its estimate is none)
+    const bool changed = short_now != was_short && p.stress_tolerance > 0;
+    stats[kStressNotice] = (short_now ? 1.0 : 0.0) + (changed ? 2.0 : 0.0);
     stats[kStressError] = stress_err;
   }
   if (!w.solver.factor_valid()) factor.clear();

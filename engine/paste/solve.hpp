@@ -43,8 +43,8 @@ enum SolverStat {
   kConnections,       // connections of the last solve
   kCoarseColumns,     // columns of the factor's coarse correction in the last solve
   kStressError,       // the last solve's estimated error of the grains' stress, relative to it
-  kStressNotice,      // 1 when that error passed lubrication.stress_tolerance at the last solve, 2 when
-                      // it came back within it, else 0 (paste_notice)
+  kStressNotice,      // 1 while that error is above lubrication.stress_tolerance (0 within it, or with
+                      // the check off), plus 2 when that changed at the last solve (stress_notice)
   kSolverStats
 };
 

@@ -113,9 +113,9 @@ double solve_for_stress(const Model& m, const PasteParams& p, const SystemLayout
 
 std::string stress_notice(const Model& m, const State& s) {
   const std::vector<double>& v = s.module_field(paste_fields().solver);
-  if (v.size() != kSolverStats || v[kStressNotice] == 0) return "";
+  if (v.size() != kSolverStats || v[kStressNotice] < 2) return "";
   const PasteParams& p = m.params.get<PasteParams>();
-  if (v[kStressNotice] == 2)
+  if (v[kStressNotice] == 2)  // (changed, and within)
     return "the grains' stress is within lubrication.stress_tolerance = " + format_number(p.stress_tolerance) +
            " again";
   return "the grains' stress is accurate to about " + format_number(v[kStressError]) +

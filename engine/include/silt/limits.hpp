@@ -18,7 +18,11 @@ inline constexpr int64_t kLongRunSteps = 100'000'000;
 // The relative distance within which a time t, a sum of steps, is taken to be at a value: its
 // rounding (t is 9.9999999999999829e-05 after 100 steps of 1e-6 s; a billion steps' rounding).
 inline constexpr double kTimeSlack = 1e-9;
+// How far from `value` a time is still at it.
+inline double time_slack(double value) { return kTimeSlack * std::abs(value); }
+// Whether t is at `value` (`run until t <= T` holds at t = T shown).
+inline bool at_time(double t, double value) { return std::abs(t - value) <= time_slack(value); }
 // Whether t is at or past `since` (--average-from, `stats since`).
-inline bool at_or_after(double t, double since) { return t >= since - kTimeSlack * std::abs(since); }
+inline bool at_or_after(double t, double since) { return t >= since - time_slack(since); }
 
 }  // namespace silt

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "paste/solve.hpp"
+#include "silt/model.hpp"
 #include "silt/observables.hpp"
 #include "silt/simulation.hpp"
 #include "support/files.hpp"
@@ -118,4 +119,25 @@ TEST_CASE("paste: the stress's check takes no further solve at h_min/a = 1e-3: t
   std::string off = spheres("stress_tolerance = 0");
   off.replace(off.find("h_min_over_a = 1e-12"), 20, "h_min_over_a = 1e-3");
   CHECK(run(off, 3).motion == checked.motion);
+}
+
+TEST_CASE("paste: a stress left short is said once, and once when a steered tolerance is met again") {
+  auto sim = std::make_unique<Simulation>(test::model_from(spheres("stress_tolerance = 1e-9")), 1);
+  sim->restore(packing());
+  REQUIRE(sim->step());
+  std::vector<std::string> notes = sim->take_notices();
+  REQUIRE(notes.size() == 1);  // (the first state's solve: round-off leaves 1e-7 or so)
+  CHECK(notes[0].find("accurate to about") != std::string::npos);
+  REQUIRE(sim->step());
+  CHECK(sim->take_notices().empty());
+  REQUIRE(steer(sim->model_for_steering(), parse_override("lubrication.stress_tolerance=1e-4")) == "");
+  REQUIRE(sim->step());
+  notes = sim->take_notices();
+  REQUIRE(notes.size() == 1);
+  CHECK(notes[0].find("within lubrication.stress_tolerance = 0.0001 again") != std::string::npos);
+  // Turned off, the check says nothing, and its estimate reads 0.
+  REQUIRE(steer(sim->model_for_steering(), parse_override("lubrication.stress_tolerance=0")) == "");
+  REQUIRE(sim->step());
+  CHECK(sim->take_notices().empty());
+  CHECK(sim->state().module_field(paste::paste_fields().solver)[paste::kStressError] == 0);
 }
