@@ -121,11 +121,12 @@ std::string stress_notice(const Model& m, const State& s) {
   return "the grains' stress is accurate to about " + format_number(v[kStressError]) +
          " of its size only (lubrication.stress_tolerance = " + format_number(p.stress_tolerance) +
          "): at h_min/a = " + format_number(p.h_min_over_a) +
-         " the lubrication multiplies the velocities' error by up to a / h_min, and the solve's residual was "
-         "taken down to " +
+         " the lubrication multiplies the velocities' error by up to a / h_min, and the solve went on to a residual "
+         "of " +
          format_number(v[kLastResidual]) +
-         ", as far as round-off lets it; the velocities are as accurate as that residual, the stress observables are "
-         "not (a larger h_min/a is)";
+         ", as low as it could (round-off, or lubrication.max_iterations); the velocities are as accurate as that "
+         "residual, the stress observables are not (lubrication.solver = \"direct\" solves to round-off, at a "
+         "factorisation a step; or a larger h_min/a)";
 }
 
 }  // namespace silt::paste
