@@ -214,9 +214,10 @@ void add_paste_stages(GraphBuilder& b) {
   b.light(dt);
   if (const int choose = b.find("choose_dt"); choose >= 0)
     b.after(dt, choose, "replaces the fixed step by the adaptive one");
+  const bool given = b.phase() == Phase::kResolve;  // (its notes said at once, not after a step)
   const int again = b.add(
-      "lubrication_resolve", [&w](const Model& m, State& s) { paste::lubrication_resolve(m, s, w); }, solve_reads(),
-      solve_writes());
+      "lubrication_resolve", [&w, given](const Model& m, State& s) { paste::lubrication_resolve(m, s, w, given); },
+      solve_reads(), solve_writes());
   b.after(again, dt, "solves with this step's dt");
   if (const int rate = b.find("impose_shear_rate"); rate >= 0)
     b.after(again, rate, "solves under the imposed rate as the model has it now");

@@ -213,6 +213,8 @@ void Simulation::run_again(graph::StepGraph& g) {
   state_.boundary_seen = seen;
   if (g.diagnose(model_, state_, state_.step + 1)) {
     impl_->restart.take(state_);
+    // (what the solve again made is said, as a step's is: a stress left short by a changed h_min)
+    collect_notices();
     return;
   }
   // What the failed solve left is not a state to sample: back to the state given, the restart

@@ -227,7 +227,8 @@ bool solved_under_other(const Model& m, const State& s) {
 
 namespace {
 
-void solve_paste(const Model& m, State& s, PasteWorkspace& w, SolveAt at) {
+// told: the run says what this solve leaves before any other solve (see kStressNotice).
+void solve_paste(const Model& m, State& s, PasteWorkspace& w, SolveAt at, bool told) {
   const PasteParams& p = m.params.get<PasteParams>();
   const PasteFields f = paste_fields();
   const int D = s.dim, R = s.rot;
@@ -441,7 +442,9 @@ void solve_paste(const Model& m, State& s, PasteWorkspace& w, SolveAt at) {
   linalg::SolveReport rep = w.solver.solve(A, b, x, false);
   // The grains' stress to stress_tolerance (a direct solve is refined to round-off already).
   const bool stress_checked = rep.ok() && p.stress_tolerance > 0 && p.solver.method != linalg::Method::kDirect;
-  const double stress_err = stress_checked ? solve_for_stress(m, p, L, cs, s, units, A, b, x, w, rep) : 0.0;
+  // (none estimated: nan, which reads as no value rather than as exact)
+  const double stress_err = stress_checked ? solve_for_stress(m, p, L, cs, s, units, A, b, x, w, rep)
+                                           : std::numeric_limits<double>::quiet_NaN();
   w.solver.on_factor = nullptr;
   w.solver.factor_source = nullptr;
   w.solver.coarse_space = nullptr;
@@ -469,12 +472,16 @@ void solve_paste(const Model& m, State& s, PasteWorkspace& w, SolveAt at) {
   stats[kConnections] = static_cast<double>(cs.size());
   stats[kCoarseColumns] = static_cast<double>(w.solver.coarse_columns());
   {
-    // (said once as it passes the tolerance, and once as it comes back: alone_notice's way)
-    const bool was_short = std::fmod(stats[kStressNotice], 2.0) == 1.0;
+    // Said once as it passes the tolerance, and once as it comes back (alone_notice's way): against
+    // what the run was last told, which a solve again inside a step leaves to the step's solve
+    // after it (its note was lost: the step's found nothing new since).
+    const int bits = stress_notice_bits(stats[kStressNotice]);
+    const bool was_told_short = (bits & 4) != 0;
     const bool short_now = p.stress_tolerance > 0 && stress_err > p.stress_tolerance;
     // (a check turned off says nothing: its estimate is none)
-    const bool changed = short_now != was_short && p.stress_tolerance > 0;
-    stats[kStressNotice] = (short_now ? 1.0 : 0.0) + (changed ? 2.0 : 0.0);
+    const bool changed = short_now != was_told_short && p.stress_tolerance > 0;
+    const bool now_told = told ? short_now : was_told_short;
+    stats[kStressNotice] = (short_now ? 1 : 0) + (changed ? 2 : 0) + (now_told ? 4 : 0);
     stats[kStressError] = stress_err;
   }
   if (!w.solver.factor_valid()) factor.clear();
@@ -556,13 +563,13 @@ void solve_paste(const Model& m, State& s, PasteWorkspace& w, SolveAt at) {
 
 }  // namespace
 
-void lubrication_solve(const Model& m, State& s, PasteWorkspace& w, SolveAt at) { solve_paste(m, s, w, at); }
+void lubrication_solve(const Model& m, State& s, PasteWorkspace& w, SolveAt at) { solve_paste(m, s, w, at, true); }
 
-void lubrication_resolve(const Model& m, State& s, PasteWorkspace& w) {
+void lubrication_resolve(const Model& m, State& s, PasteWorkspace& w, bool at_boundary) {
   if (!solved_under_other(m, s)) return;
   // An imposed rate enters the solve through the state's rate: impose_shear_rate (a step), or
   // adopt_state (a state given) has set it.
-  solve_paste(m, s, w, SolveAt::kAgain);
+  solve_paste(m, s, w, SolveAt::kAgain, at_boundary);
 }
 
 }  // namespace silt::paste

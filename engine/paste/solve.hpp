@@ -43,10 +43,15 @@ enum SolverStat {
   kConnections,       // connections of the last solve
   kCoarseColumns,     // columns of the factor's coarse correction in the last solve
   kStressError,       // the last solve's estimated error of the grains' stress, relative to it
-  kStressNotice,      // 1 while that error is above lubrication.stress_tolerance (0 within it, or with
-                      // the check off), plus 2 when that changed at the last solve (stress_notice)
+  kStressNotice,      // bits: 1 that error above lubrication.stress_tolerance now, 4 as the run was last
+                      // told, 2 when the two differ (said after the step: stress_notice)
   kSolverStats
 };
+
+// kStressNotice's bits (0 for a value that is not a whole number from 0 to 7: a checkpoint edited).
+inline int stress_notice_bits(double v) {
+  return v >= 0 && v <= 7 && v == static_cast<int>(v) ? static_cast<int>(v) : 0;
+}
 
 struct PasteWorkspace final : Workspace {
   linalg::SpdSolver solver;
@@ -110,7 +115,9 @@ void lubrication_solve(const Model& m, State& s, PasteWorkspace& w, SolveAt at);
 // sets later in the step): lubrication_solve(kAgain) when the quasi-static velocities in the state were
 // solved under parameters other than the model's (paste_solved_under), else nothing. The inertial
 // stepper's velocities are the grains' own and carry over a change.
-void lubrication_resolve(const Model& m, State& s, PasteWorkspace& w);
+// at_boundary: the solve of a state given (Phase::kResolve), whose notes are said at once; else
+// the first stage of a step, whose solve after it says them.
+void lubrication_resolve(const Model& m, State& s, PasteWorkspace& w, bool at_boundary = false);
 // Whether the state's quasi-static velocities were solved under other parameters than the model's,
 // or with contact forces made since under other parameters (dem/forces_under.hpp): lubrication_resolve
 // solves them again; a state restored so is solved again before its first sample (ModuleSpec::stale).
