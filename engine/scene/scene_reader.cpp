@@ -35,6 +35,61 @@ bool beyond_doubles(const std::string& token) {
 }
 const char* const kBeyond = " is beyond 1e308, the largest magnitude a scene takes";
 
+// A number written below the doubles' range (1e-400): TOML reads it as 0, which turns some keys
+// off (lubrication.stress_tolerance), so it is refused where it is written.
+const char* const kBelow = " is below 4.9e-324 in magnitude, the smallest a number takes (it would read as 0)";
+
+// The literals nodes were read from: a number's characters at its line and column (in characters,
+// as the parser counts) of `text`; the lines' starts found once.
+class Literals {
+ public:
+  explicit Literals(std::string_view text) : text_(text) {}
+  std::string_view at(const toml::source_position& p) {
+    if (starts_.empty()) {
+      starts_.push_back(0);
+      for (size_t k = 0; k < text_.size(); ++k)
+        if (text_[k] == '\n') starts_.push_back(k + 1);
+    }
+    if (p.line < 1 || p.line > starts_.size()) return {};
+    // From the last literal when this one is further on its line (an array's items come in order:
+    // a list of 90,000 positions on one line took 32 s walked from the line's start each time).
+    const bool on = p.line == line_ && p.column >= column_;
+    size_t pos = on ? pos_ : starts_[p.line - 1];
+    for (uint32_t col = on ? column_ : 1; col < p.column && pos < text_.size(); ++col) {
+      ++pos;
+      while (pos < text_.size() && (static_cast<unsigned char>(text_[pos]) & 0xC0) == 0x80) ++pos;
+    }
+    line_ = p.line;
+    column_ = p.column;
+    pos_ = pos;
+    size_t end = pos;
+    while (end < text_.size() && std::string_view("0123456789.eE+-_").find(text_[end]) != std::string_view::npos) ++end;
+    return pos < text_.size() ? text_.substr(pos, end - pos) : std::string_view();
+  }
+
+ private:
+  std::string_view text_;
+  std::vector<size_t> starts_;
+  uint32_t line_ = 0, column_ = 0;  // the last literal's, at byte pos_
+  size_t pos_ = 0;
+};
+
+// Every floating-point value of `n` that reads 0 from a literal that is not 0, refused at
+// loc(its node).
+template <class Loc>
+void refuse_underflow(const toml::node& n, Literals& text, const Loc& loc) {
+  if (const auto* t = n.as_table()) {
+    for (const auto& entry : *t) refuse_underflow(entry.second, text, loc);
+  } else if (const auto* a = n.as_array()) {
+    for (const toml::node& v : *a) refuse_underflow(v, text, loc);
+  } else if (n.is_floating_point() && *n.value<double>() == 0.0) {
+    const std::string_view lit = text.at(n.source().begin);
+    const std::string_view mantissa = lit.substr(0, lit.find_first_of("eE"));
+    if (mantissa.find_first_of("123456789") != std::string_view::npos)
+      throw SceneError(loc(n), std::string(lit) + kBelow);
+  }
+}
+
 // A list of strings typed with bare words as items ([field, colorbar], as the shell's `print` and
 // `render` lists take them, and as a bare word is a string on its own) with those items quoted:
 // ["field", "colorbar"]. Quoted items are kept as typed; nothing when an item is neither (a
@@ -301,6 +356,11 @@ void apply_override_at(SceneDesc& desc, const Override& o, int ordinal, bool bat
   // word that reads as a number, a boolean or a date, for a key that takes a string
   // (grains.0.name=5 was refused as not a string).
   const toml::node* v = t.get("v");
+  if (v) {
+    const std::string as_toml = "v = " + o.value;
+    Literals literals(as_toml);
+    refuse_underflow(*v, literals, [&](const toml::node&) { return where; });
+  }
   // (a whole number past int64's reach, which TOML cannot read, was "must be an integer")
   const std::string_view digits = std::string_view(o.value).substr(o.value[0] == '-' || o.value[0] == '+' ? 1 : 0);
   if (!v && spec->type == KeyType::kInt && digits.size() >= 19 && digits[0] != '0' &&
@@ -397,6 +457,8 @@ SceneDesc parse_scene(const std::string& text, const std::string& name, const st
   } catch (const toml::parse_error& e) {
     throw parse_error(e, name);
   }
+  Literals literals(text);
+  refuse_underflow(root, literals, [&](const toml::node& n) { return loc_of(n.source(), name); });
   Reader(desc, name).table(root, "");
   int ordinal = 1;
   for (const Override& o : overrides) apply_override_at(desc, o, ordinal++, true);

@@ -132,6 +132,15 @@ TEST_CASE("out of range: the range and unit are named") {
   // Past 1e308 the key's own range is not the reason (it read "is out of range any").
   CHECK(test::scene_error(with("k_n = 1e5", "k_n = 1.5e308")).find("k_n' = 1.5e+308 is beyond 1e308") !=
         std::string::npos);
+  // Below the doubles' range TOML reads 0, which turns some keys off: said where it is written, in
+  // a list too; a denormal is a number, and a zero written small is 0.
+  CHECK(test::scene_error(with("k_n = 1e5", "k_n = 1e-400")).rfind("bad.toml:8:7: 1e-400 is below 4.9e-324", 0) == 0);
+  CHECK(test::scene_error(with("k_n = 1e5", "k_n = 1e5\nfriction = 1_0.5e-401"))
+            .rfind("bad.toml:9:12: 1_0.5e-401 is below 4.9e-324", 0) == 0);
+  CHECK_THROWS_WITH_AS(parse_scene(kGood, "bad.toml", {parse_override("domain.hi=[1.0, 2.5e-999]")}),
+                       doctest::Contains("2.5e-999 is below 4.9e-324"), SceneError);
+  CHECK(test::scene_error(with("k_n = 1e5", "k_n = 1e-320")).find("below") == std::string::npos);
+  CHECK(test::scene_error(with("k_n = 1e5", "k_n = 0.0e-400")).find("below") == std::string::npos);
   const std::string c = test::scene_error(with("model = \"hooke\"", "model = \"hookean\""));
   CHECK(c.find("bad.toml:7:9") != std::string::npos);
   CHECK(c.find("is not one of: spring_dashpot hooke hertz linear") != std::string::npos);
