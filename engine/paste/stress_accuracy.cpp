@@ -12,10 +12,11 @@
 namespace silt::paste {
 namespace {
 
-// The sums over the connections of f_a (r_i - r_j)_b, f the force on i from j (eq. 2.24): its
-// lubrication -xi G u and, with implicit contacts, the contact's increment -dt K G u, in
-// dem::pair_virial_sums's form; for two sets of local unknowns at once, x's with the imposed shear
-// rate `rate` (the first 9 sums) and y's with none (the last 9), both in the units of the solve.
+// The sums over the connections of f_a (r_i - r_j)_b, f the force on i from j of connection_force
+// (its lubrication and, with implicit contacts, the contact's increment), in
+// dem::pair_virial_sums's form; for two sets of local unknowns at once (G made once for both), x's
+// with the imposed shear rate `rate` (the first 9 sums) and y's with none (the last 9), both in the
+// units of the solve.
 std::array<double, 18> connection_virials(const SystemLayout& L, const std::vector<Connection>& cs,
                                           const std::vector<double>& radius, const linalg::Vector& x,
                                           const linalg::Vector& y, const UnknownScale& units, double rate,
@@ -23,29 +24,22 @@ std::array<double, 18> connection_virials(const SystemLayout& L, const std::vect
   const int D = L.dim, nl = local_size(L);
   return deterministic_sums<18>(static_cast<int64_t>(cs.size()), 1024, [&](int64_t lo, int64_t hi) {
     std::array<double, 18> acc{};
-    double g[3 * 16], tan[2][3];
+    double g[3 * 16], tan[2][3], ux[16], uy[16], f[3], fc[3];
     for (int64_t k = lo; k < hi; ++k) {
       const Connection& c = cs[k];
       local_map(L, c, radius[c.i], radius[c.j], g);
       tangents(D, c.n, tan);
-      const bool stiff = implicit && (c.k_n > 0 || c.k_t > 0);
-      double gx[3] = {0, 0, 0}, gy[3] = {0, 0, 0};
       for (int q = 0; q < nl; ++q) {
         const int64_t at = local_to_global(L, c, q);
-        const double ux = at >= 0 ? x[at] * units.of(at) : rate, uy = at >= 0 ? y[at] * units.of(at) : 0.0;
-        for (int row = 0; row < D; ++row) {
-          gx[row] += g[row * nl + q] * ux;
-          gy[row] += g[row * nl + q] * uy;
-        }
+        ux[q] = at >= 0 ? x[at] * units.of(at) : rate;
+        uy[q] = at >= 0 ? y[at] * units.of(at) : 0.0;
       }
-      for (int row = 0; row < D; ++row) {
-        const double* e = row == 0 ? c.n : tan[row - 1];
-        const double resist = (row == 0 ? c.xi_n : c.xi_t) + (stiff ? (row == 0 ? c.k_n : c.k_t) : 0.0);
+      const bool stiff = implicit && (c.k_n > 0 || c.k_t > 0);
+      for (int set = 0; set < 2; ++set) {
+        fc[0] = fc[1] = fc[2] = 0;
+        connection_force_with(L, c, g, tan, set == 0 ? ux : uy, f, stiff ? fc : nullptr);
         for (int a = 0; a < D; ++a)
-          for (int b = 0; b < D; ++b) {
-            acc[3 * a + b] += resist * gx[row] * e[a] * c.r[b];
-            acc[9 + 3 * a + b] += resist * gy[row] * e[a] * c.r[b];
-          }
+          for (int b = 0; b < D; ++b) acc[9 * set + 3 * a + b] -= (f[a] + fc[a]) * c.r[b];
       }
     }
     return acc;

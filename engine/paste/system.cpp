@@ -92,11 +92,16 @@ SystemLayout make_layout(const Model& m, int64_t grains) {
 
 void connection_force(const SystemLayout& l, const Connection& c, double ri, double rj, const double* u, double* force,
                       double* contact) {
-  const int d = l.dim, n = local_size(l);
   double g[3 * 16];
   local_map(l, c, ri, rj, g);
   double tan[2][3];
-  tangents(d, c.n, tan);
+  tangents(l.dim, c.n, tan);
+  connection_force_with(l, c, g, tan, u, force, contact);
+}
+
+void connection_force_with(const SystemLayout& l, const Connection& c, const double* g, const double tan[2][3],
+                           const double* u, double* force, double* contact) {
+  const int d = l.dim, n = local_size(l);
   for (int a = 0; a < d; ++a) force[a] = 0;
   if (contact)
     for (int a = 0; a < d; ++a) contact[a] = 0;

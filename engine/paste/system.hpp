@@ -132,5 +132,9 @@ inline int64_t direction_key(int64_t n, int64_t i, int64_t j, int d) {
 // step, -dt K G u (Connection::k_n, k_t), which the solve counted in the same way.
 void connection_force(const SystemLayout& layout, const Connection& c, double ri, double rj, const double* u,
                       double* force, double* contact = nullptr);
+// The same with the connection's rows of G (local_map) and its tangents given: for a caller that
+// applies it to several sets of unknowns.
+void connection_force_with(const SystemLayout& layout, const Connection& c, const double* g, const double tan[2][3],
+                           const double* u, double* force, double* contact = nullptr);
 
 }  // namespace silt::paste
