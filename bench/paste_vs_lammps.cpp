@@ -18,7 +18,9 @@
 // did not finish a step in 20 minutes). --phis: the packing fractions the grains are compressed
 // to (prepare.phi, default the scene's 0.45; 0.60 has 5.1 contacts a grain). --set: a scene key
 // for silt's runs, as `silt run --set` (e.g. lubrication.tolerance=1e-4: LAMMPS's CG stops at
-// 1e-4, silt's at the scene's 1e-8).
+// 1e-4, silt's at the scene's 1e-8; lubrication.stokes_drag=true: lubricateU's resistance holds
+// each grain's one-body drag, 6 pi mu a on its velocity and 8 pi mu a^3 on its rotation relative
+// to the liquid's, which silt's scene, the thesis' model, leaves out; the drag is that key's).
 // --lammps-limit: seconds after which a LAMMPS run is stopped (default 1200); its row then says
 // so, with a rate of 0.
 //
@@ -169,8 +171,10 @@ void compare_at(const Options& o, const std::string& scene, const std::vector<Ov
     const Model m = compile(load_scene_file(scene, over));
     for (int threads : {1, 2}) {
       const Silt s = run_silt(m, packing, threads, o.steps);
+      // The note names the solver: the default, unless a --set chose another.
+      const bool chosen = o.set_note.find("lubrication.solver=") != std::string::npos;
       row(base, "silt", "h_min/a=" + num(x) + at, x, threads, o.steps, s.rate, s.iters, s.refactor,
-          "factor_pcg" + o.set_note);
+          chosen ? o.set_note.substr(1) : "factor_pcg" + o.set_note);
     }
     for (int ranks : {1, 2}) {
       if (!o.lammps || x < o.lammps_down_to) break;
