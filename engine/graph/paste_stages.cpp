@@ -183,8 +183,11 @@ void diagnose_paste(GraphBuilder& b) {
                 (drift ? "): a grain moves too fast for lubrication.drift_max = " + format_number(p.drift_max, 4) +
                              " of its radius a step; lower lubrication.dt_min, raise lubrication.drift_max, or "
                              "lubrication.stokes_drag = true (a drag on every grain bounds its velocity)"
-                       : "): the configuration changes too fast for the explicit positions; lower lubrication.dt_min, "
-                         "or raise lubrication.h_min_over_a (stiffer lubrication at contact)");
+                       : "): the configuration changes too fast for the explicit positions (an entry of Xi or "
+                         "of the forces by more than lubrication.dt_change = " +
+                             format_number(p.dt_change, 4) +
+                             " of the largest in one step); lower lubrication.dt_min, raise lubrication.dt_change, "
+                             "or raise lubrication.h_min_over_a (stiffer lubrication at contact)");
   });
 }
 

@@ -212,20 +212,30 @@ void SpdSolver::error_estimate(const SparseMatrix& a, const Vector& b, const Vec
     dx = Vector::Zero(x.size());
     return;
   }
-  if (cg_.z_of_r && cg_.z.size() == x.size()) {  // of the x solved, scaled as its b was
+  // dx = M^-1 r, then times the length along it that best cancels r, (dx . r) / (dx . a dx): the
+  // step CG would take from x along dx. M^-1 r alone is the error only where M is a; a factor of an
+  // earlier matrix applied after the viscosity changed 1e6 times (a packing restored into another
+  // liquid) is as good a preconditioner, but read the stress's error 1e6 times over, and Jacobi's
+  // diagonal reads the error of the softest directions low.
+  Vector r;
+  if (cg_.z_of_r && cg_.z.size() == x.size() && cg_.r.size() == x.size()) {  // of the x solved, scaled as its b was
     if (last_exponent_ == 0) dx = cg_.z;
     else dx = cg_.z.unaryExpr([e = -last_exponent_](double y) { return std::ldexp(y, e); });
-    return;
-  }
-  Vector r;
-  SparseOperator(a).apply(x, r);
-  r = b - r;
-  if (last_m_) {
-    last_m_->apply(r, dx);
+    r = last_exponent_ == 0 ? cg_.r : cg_.r.unaryExpr([e = -last_exponent_](double y) { return std::ldexp(y, e); });
   } else {
-    const JacobiPreconditioner jacobi(a);
-    jacobi.apply(r, dx);
+    SparseOperator(a).apply(x, r);
+    r = b - r;
+    if (last_m_) {
+      last_m_->apply(r, dx);
+    } else {
+      const JacobiPreconditioner jacobi(a);
+      jacobi.apply(r, dx);
+    }
   }
+  Vector adx;
+  SparseOperator(a).apply(dx, adx);
+  const double curvature = dot(dx, adx), along = dot(dx, r);
+  if (curvature > 0 && std::isfinite(curvature) && std::isfinite(along)) dx *= along / curvature;
 }
 
 }  // namespace silt::linalg

@@ -163,7 +163,7 @@ std::vector<ObservableSpec> paste_observables() {
       {"solver.stress_error", "",
        "estimated error of the grains' stress after the last lubrication solve, relative to it "
        "(lubrication.stress_tolerance; nan where none is estimated: the check off, a direct solve)",
-       [](C c, A) { return solver_stat(c, kStressError); }},
+       [](C c, A) { return stress_error_of(solver_stat(c, kStressError)); }},
       {"solver.refactorisations", "", "Cholesky factorisations of Xi so far",
        [](C c, A) { return solver_stat(c, kRefactorizations); }},
       {"solver.iters_mean", "", "mean iterations per lubrication solve so far",

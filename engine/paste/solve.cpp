@@ -482,7 +482,7 @@ void solve_paste(const Model& m, State& s, PasteWorkspace& w, SolveAt at, bool t
     const bool changed = short_now != was_told_short && p.stress_tolerance > 0;
     const bool now_told = told ? short_now : was_told_short;
     stats[kStressNotice] = (short_now ? 1 : 0) + (changed ? 2 : 0) + (now_told ? 4 : 0);
-    stats[kStressError] = stress_err;
+    stats[kStressError] = std::isnan(stress_err) ? kNoStressError : stress_err;
   }
   if (!w.solver.factor_valid()) factor.clear();
   if (!rep.ok()) {

@@ -13,6 +13,8 @@
 // connection and chooses the next step's dt.
 #pragma once
 
+#include <limits>
+
 #include "core/workspace.hpp"
 #include "paste/params.hpp"
 #include "paste/system.hpp"
@@ -47,6 +49,11 @@ enum SolverStat {
                       // told, 2 when the two differ (said after the step: stress_notice)
   kSolverStats
 };
+
+// kStressError where none was estimated (the check off, a direct solve): a state's values are
+// finite, so that a checkpoint of it restores; read as nan (stress_error_of).
+inline constexpr double kNoStressError = -1;
+inline double stress_error_of(double stored) { return stored < 0 ? std::numeric_limits<double>::quiet_NaN() : stored; }
 
 // kStressNotice's bits (0 for a value that is not a whole number from 0 to 7: a checkpoint edited).
 inline int stress_notice_bits(double v) {

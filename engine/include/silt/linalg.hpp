@@ -345,8 +345,10 @@ class SpdSolver {
   void set_coarse_order(CoarseCorrection::OrderMemory m) { coarse_.set_order_memory(std::move(m)); }
   // An estimate of the error of x after a solve of a x = b: dx = M^-1 (b - a x), M the
   // preconditioner the solve used last (the factor, Jacobi's diagonal), or its CG's last
-  // preconditioned residual when that is of this x (no cost then). The direct method leaves no
-  // preconditioner: dx = 0, its solve being refined to round-off.
+  // preconditioned residual when that is of this x, taken the length along it that best cancels
+  // the residual (one product with a): M need not be a to scale (a factor of an earlier matrix
+  // under another viscosity). The direct method leaves no preconditioner: dx = 0, its solve being
+  // refined to round-off.
   void error_estimate(const SparseMatrix& a, const Vector& b, const Vector& x, Vector& dx);
 
  private:

@@ -275,17 +275,21 @@ TEST_CASE("the direct solve refines its solution to a tolerance at round-off") {
 }
 
 TEST_CASE("a solve's error estimate is its preconditioned residual, of the error's size and direction") {
-  // A factor of an older matrix (drifted by 30 %) and Jacobi's diagonal, each solve stopped at a
-  // relative residual of 1e-3. With the factor, x + dx is closer to the solution than x.
+  // A factor of an older matrix (drifted by 30 %; and the same under a viscosity 1e6 times
+  // higher, which preconditions as well) and Jacobi's diagonal, each solve stopped at a relative
+  // residual of 1e-3. The preconditioned residual is taken the length along it that best cancels
+  // the residual: with the factor, x + dx is closer to the solution than x, whatever its scale.
   const SparseMatrix old = grid(30, 7), a = grid(30, 7, 0.3);
   const Vector b = gaussian_vector(a.rows(), 11);
   Vector exact;
   CholeskyFactor f;
   REQUIRE(f.factorize(a).ok());
   REQUIRE(f.solve(b, exact).ok());
-  for (Method m : {Method::kFactorPcg, Method::kCg}) {
+  for (const auto& [m, scale] : {std::pair{Method::kFactorPcg, 1.0}, std::pair{Method::kFactorPcg, 1e6},
+                                 std::pair{Method::kFactorPcg, 1e-6}, std::pair{Method::kCg, 1.0}}) {
     const std::string name = method_name(m);
     CAPTURE(name);
+    CAPTURE(scale);
     SolverSettings settings;
     settings.method = m;
     settings.options = {1e-3, 2000};
@@ -293,23 +297,28 @@ TEST_CASE("a solve's error estimate is its preconditioned residual, of the error
     SpdSolver solver(settings);
     Vector x = Vector::Zero(a.rows()), dx;
     if (m == Method::kFactorPcg) {
-      REQUIRE(solver.restore_factor(old, 0).ok());
+      const SparseMatrix held = old * scale;
+      REQUIRE(solver.restore_factor(held, 0).ok());
       solver.set_solves_since_factor(1);  // (stale: not refactorised before the solve)
     }
     const SolveReport r = solver.solve(a, b, x, false);
     REQUIRE(r.ok());
     REQUIRE(r.iterations > 0);
     solver.error_estimate(a, b, x, dx);
+    const Vector residual = b - a * x;
     if (m == Method::kFactorPcg) {  // an approximate inverse: the error itself, roughly
       const Vector error = exact - x;
       CHECK(dx.norm() > 0.1 * error.norm());
       CHECK(dx.norm() < 10 * error.norm());
       CHECK((exact - x - dx).norm() < 0.9 * error.norm());
-    } else {  // Jacobi's: the residual over the diagonal (which misses the error's smooth part)
-      const Vector residual = b - a * x;
+    } else {  // Jacobi's: the residual over the diagonal, at its best length
       const Vector jacobi = residual.cwiseQuotient(Vector(a.diagonal()));
-      CHECK(rel_diff(dx, jacobi) < 1e-6);
+      const Vector aj = a * jacobi;
+      CHECK(rel_diff(dx, jacobi * (jacobi.dot(residual) / jacobi.dot(aj))) < 1e-6);
     }
+    // The length: dx . (r - a dx) = 0.
+    const Vector ad = a * dx;
+    CHECK(std::abs(dx.dot(residual - ad)) < 1e-6 * std::abs(dx.dot(residual)));
     // Read from CG's last preconditioned residual, or made again (a solve that did not iterate,
     // started at its solution): of the same size.
     Vector again = x, dx_again;

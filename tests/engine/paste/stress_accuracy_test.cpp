@@ -4,12 +4,14 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <memory>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "paste/solve.hpp"
+#include "silt/io.hpp"
 #include "silt/model.hpp"
 #include "silt/observables.hpp"
 #include "silt/simulation.hpp"
@@ -67,7 +69,8 @@ Run run(const std::string& scene, int steps, int threads = 1) {
   for (int k = 0; k < steps; ++k) {
     REQUIRE(sim->step());
     r.stress.push_back(measure(sim->model(), sim->state(), measure_part::kStress).stress);
-    r.estimate.push_back(sim->state().module_field(paste::paste_fields().solver)[paste::kStressError]);
+    r.estimate.push_back(
+        paste::stress_error_of(sim->state().module_field(paste::paste_fields().solver)[paste::kStressError]));
     for (std::string& n : sim->take_notices()) r.notices.push_back(std::move(n));
   }
   r.hash = state_hash(sim->state());
@@ -139,7 +142,8 @@ TEST_CASE("paste: a stress left short is said once, and once when a steered tole
   REQUIRE(steer(sim->model_for_steering(), parse_override("lubrication.stress_tolerance=0")) == "");
   REQUIRE(sim->step());
   CHECK(sim->take_notices().empty());
-  CHECK(std::isnan(sim->state().module_field(paste::paste_fields().solver)[paste::kStressError]));
+  CHECK(
+      std::isnan(paste::stress_error_of(sim->state().module_field(paste::paste_fields().solver)[paste::kStressError])));
 }
 
 TEST_CASE("paste: a stress left short by a steered h_min is said at the solve its change makes") {
@@ -158,4 +162,25 @@ TEST_CASE("paste: a stress left short by a steered h_min is said at the solve it
   REQUIRE(notes.size() == 1);
   CHECK(notes[0].rfind("step 2: ", 0) == 0);  // (the solve again, the step's first stage)
   CHECK(notes[0].find("accurate to about") != std::string::npos);
+}
+
+TEST_CASE("paste: a state with no estimate of the stress's error (a direct solve, the check off) restores") {
+  // Its estimate was kept as nan: the checkpoint was written, and refused as corrupt when read.
+  for (const char* extra : {"solver = \"direct\"", "stress_tolerance = 0"}) {
+    CAPTURE(extra);
+    std::string scene = spheres(extra);
+    scene.replace(scene.find("h_min_over_a = 1e-12"), 20, "h_min_over_a = 1e-3");
+    auto a = std::make_unique<Simulation>(test::model_from(scene), 1);
+    a->restore(packing());
+    REQUIRE(a->step());
+    const Observer obs(a->model(), {"solver.stress_error"});
+    CHECK(std::isnan(obs.sample(a->model(), a->state())[0]));
+    const std::string path = "stress_none_test.ckpt";
+    write_checkpoint(path, a->model(), a->state());
+    auto b = std::make_unique<Simulation>(test::model_from(scene), 1);
+    b->restore(read_checkpoint(path, b->model()));
+    std::remove(path.c_str());
+    CHECK(state_hash(b->state()) == state_hash(a->state()));
+    CHECK(std::isnan(obs.sample(b->model(), b->state())[0]));
+  }
 }
