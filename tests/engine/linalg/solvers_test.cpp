@@ -12,6 +12,7 @@
 #include <cstring>
 #include <random>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "silt/linalg.hpp"
@@ -285,8 +286,10 @@ TEST_CASE("a solve's error estimate is its preconditioned residual, of the error
   CholeskyFactor f;
   REQUIRE(f.factorize(a).ok());
   REQUIRE(f.solve(b, exact).ok());
-  for (const auto& [m, scale] : {std::pair{Method::kFactorPcg, 1.0}, std::pair{Method::kFactorPcg, 1e6},
-                                 std::pair{Method::kFactorPcg, 1e-6}, std::pair{Method::kCg, 1.0}}) {
+  for (const auto& each : {std::pair{Method::kFactorPcg, 1.0}, std::pair{Method::kFactorPcg, 1e6},
+                           std::pair{Method::kFactorPcg, 1e-6}, std::pair{Method::kCg, 1.0}}) {
+    const Method m = each.first;
+    const double scale = each.second;
     const std::string name = method_name(m);
     CAPTURE(name);
     CAPTURE(scale);
