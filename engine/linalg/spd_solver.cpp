@@ -217,25 +217,26 @@ void SpdSolver::error_estimate(const SparseMatrix& a, const Vector& b, const Vec
   // earlier matrix applied after the viscosity changed 1e6 times (a packing restored into another
   // liquid) is as good a preconditioner, but read the stress's error 1e6 times over, and Jacobi's
   // diagonal reads the error of the softest directions low.
-  Vector r;
-  if (cg_.z_of_r && cg_.z.size() == x.size() && cg_.r.size() == x.size()) {  // of the x solved, scaled as its b was
-    if (last_exponent_ == 0) dx = cg_.z;
-    else dx = cg_.z.unaryExpr([e = -last_exponent_](double y) { return std::ldexp(y, e); });
-    r = last_exponent_ == 0 ? cg_.r : cg_.r.unaryExpr([e = -last_exponent_](double y) { return std::ldexp(y, e); });
+  const bool of_cg = cg_.z_of_r && cg_.z.size() == x.size() && cg_.r.size() == x.size();
+  const Vector* r = &cg_.r;
+  if (of_cg) {  // of the x solved, z and r scaled as its b was (the length is the same)
+    dx = cg_.z;
   } else {
-    SparseOperator(a).apply(x, r);
-    r = b - r;
+    SparseOperator(a).apply(x, estimate_r_);
+    estimate_r_ = b - estimate_r_;
+    r = &estimate_r_;
     if (last_m_) {
-      last_m_->apply(r, dx);
+      last_m_->apply(estimate_r_, dx);
     } else {
       const JacobiPreconditioner jacobi(a);
-      jacobi.apply(r, dx);
+      jacobi.apply(estimate_r_, dx);
     }
   }
-  Vector adx;
-  SparseOperator(a).apply(dx, adx);
-  const double curvature = dot(dx, adx), along = dot(dx, r);
-  if (curvature > 0 && std::isfinite(curvature) && std::isfinite(along)) dx *= along / curvature;
+  SparseOperator(a).apply(dx, estimate_ad_);
+  const double curvature = dot(dx, estimate_ad_), along = dot(dx, *r);
+  const double length = curvature > 0 && std::isfinite(curvature) && std::isfinite(along) ? along / curvature : 1.0;
+  const int e = of_cg ? -last_exponent_ : 0;
+  dx = dx.unaryExpr([length, e](double y) { return std::ldexp(y * length, e); });
 }
 
 }  // namespace silt::linalg

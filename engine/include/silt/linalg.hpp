@@ -362,6 +362,7 @@ class SpdSolver {
   int last_exponent_ = 0;                   // the power of two b was solved scaled by, last
   const Preconditioner* last_m_ = nullptr;  // the preconditioner of the last CG (this object's)
   CgWorkspace cg_;
+  Vector estimate_r_, estimate_ad_;  // error_estimate's residual (when CG left none) and a dx, kept
   CoarseCorrection coarse_;
 };
 
