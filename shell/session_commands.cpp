@@ -52,8 +52,7 @@ void Session::cmd_load(const Command& c) {
   overrides_.clear();
   const Model& model = sim_->model();
   out_ << "loaded " << file << ": " << model.n_grains << " grains (" << model.dim << "D), "
-       << (model.adaptive_dt ? "adaptive time step"
-                             : "dt = " + format_number(model.dt) + (model.reduced_units ? "" : " s"))
+       << (model.adaptive_dt ? step_text(model) : "dt = " + format_number(model.dt) + (model.reduced_units ? "" : " s"))
        << ", " << model.walls.size() << " wall(s)\n";
 }
 

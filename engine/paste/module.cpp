@@ -115,20 +115,31 @@ void compile_time_step(const SceneDesc& d, const Model& m, PasteParams& p) {
     d.fail(p.time_unit > 1 ? (m.box_control.on ? "box.pressure" : "shear.rate") : "lubrication.viscosity",
            "the paste's time unit (" + std::string(m.box_control.on ? "eta a^(3-d) / P" : "1 / gammadot") + ") is " +
                format_number(p.time_unit, 4) + " s, beyond what double precision resolves");
+  // The fastest of the loading's time scales: the viscous time, the shear time, the cycles' 1 / w.
+  double scale = p.time_unit;
+  if (m.shear.on && m.shear.rate != 0) scale = std::min(scale > 0 ? scale : HUGE_VAL, 1 / std::abs(m.shear.rate));
+  if (m.box_control.on && m.box_control.cycle != StressCycle::kNone && m.box_control.cycle_omega > 0)
+    scale = std::min(scale > 0 ? scale : HUGE_VAL, 1 / m.box_control.cycle_omega);
   if (d.has("lubrication.dt")) {
-    for (const char* k : {"lubrication.dt_initial", "lubrication.dt_max", "lubrication.dt_min"})
-      if (d.has(k)) d.fail(k, "lubrication.dt fixes the time step: give it or the adaptive step's bounds, not both");
+    // (the adaptive step's keys were taken and did nothing beside it)
+    for (const char* k : {"lubrication.dt_initial", "lubrication.dt_max", "lubrication.dt_min", "lubrication.dt_growth",
+                          "lubrication.dt_change", "lubrication.drift_max"})
+      if (d.has(k))
+        d.fail(k, "lubrication.dt fixes the time step: give it or the adaptive step's keys (" + std::string(k) +
+                      "), not both");
     p.fixed_dt = true;
     p.dt_initial = p.dt_min = p.dt_max = d.real("lubrication.dt");
+    // The adaptive step's floor, the same for a fixed step (1e-15 of the viscous time was taken
+    // without a word; a run of any length was then steps that moved nothing).
+    if (scale > 0 && p.dt_initial < 1e-12 * scale)
+      d.fail("lubrication.dt", "the time step " + format_number(p.dt_initial, 4) +
+                                   " s is below 1e-12 of the loading's time (" + format_number(scale, 4) +
+                                   " s), the adaptive step's smallest by default");
     if (p.time_unit == 0) p.time_unit = p.dt_initial;
     return;
   }
   const double unit = p.time_unit;
-  p.step_scale = unit;
-  if (m.shear.on && m.shear.rate != 0)
-    p.step_scale = std::min(p.step_scale > 0 ? p.step_scale : HUGE_VAL, 1 / std::abs(m.shear.rate));
-  if (m.box_control.on && m.box_control.cycle != StressCycle::kNone && m.box_control.cycle_omega > 0)
-    p.step_scale = std::min(p.step_scale > 0 ? p.step_scale : HUGE_VAL, 1 / m.box_control.cycle_omega);
+  p.step_scale = scale;
   p.dt_max = d.has("lubrication.dt_max") ? d.real("lubrication.dt_max") : (m.box_control.on ? 10 : 0.01) * unit;
   // The first step: 1e-3 of the time unit, and of the shear time 1 / gammadot or the cycles' 1 / w
   // where they are the faster (Vi > 1 under a pressure: 1e-3 of the viscous time would shear the grains by
@@ -178,6 +189,8 @@ void compile_paste(const SceneDesc& d, Model& m) {
   p.stokes_drag = d.boolean("lubrication.stokes_drag");
   compile_time_step(d, m, p);
   m.dt_key = p.fixed_dt ? "lubrication.dt" : "lubrication.dt_max";
+  m.dt_text = (p.fixed_dt ? "fixed time step " : "adaptive time step: the first ") + format_number(p.dt_initial, 5) +
+              m.unit("s");
   m.drift_key = p.fixed_dt || p.drift_max <= 0 ? "" : "lubrication.drift_max";
   // The DEM's part: contacts without dashpots (the liquid dissipates; the dry ones are kept for
   // the preparation), pairs listed out to h_max, grains never renumbered (the stored factor
@@ -299,6 +312,7 @@ std::string steer_paste(Model& m, const Model& fresh) {
   p.time_unit = unit;
   m.dt_key = fresh.dt_key;  // a fixed step set or unset: the key an overlap's report names
   m.drift_key = fresh.drift_key;
+  m.dt_text = fresh.dt_text;
   return "";
 }
 
@@ -379,6 +393,7 @@ void paste_to_dry(Model& c) {
   // The DEM's step (a failure of the compression advised lowering lubrication.dt_max, which the
   // dry compression does not use).
   c.dt_key = "run.dt";
+  c.dt_text.clear();
   c.pair_gap = 0;
   c.pair_stress_fields.clear();
   c.kinetic_stress = true;

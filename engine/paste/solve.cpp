@@ -201,7 +201,11 @@ double state_step(const PasteParams& p, const State& s) {
   // grains pressed at the old one): the step stays, grows as the adaptive step lets it, and comes
   // within the new bounds. The velocities are solved again under the new parameters
   // (lubrication_resolve).
+  // A quasi-static state before its first step, solved again under a steered scale, starts as a
+  // run of the model's would: from dt_initial. (The inertial stepper carries its velocities over
+  // with the step they were solved for, by the rule above.)
   const double r = step_rescale(p, s);
+  if (r != 1 && s.step == 0 && p.stepper == Stepper::kQuasiStatic) return p.dt_initial;
   return std::clamp(r < 1 ? dt * r : dt, p.dt_min, p.dt_max);
 }
 
@@ -555,7 +559,9 @@ void solve_paste(const Model& m, State& s, PasteWorkspace& w, SolveAt at, bool t
     if (bound < p.dt_min) s.events[step_event()].raise(kDriftLimit, bound);
     dt_next = std::max(bound, p.dt_min);
   }
-  if (!adapt && !bound_binds) return;  // the first step stays the state's (dt_initial)
+  // The first solve keeps its step and time scale too: a state saved then and given under a 1e6
+  // times larger viscosity took dt_initial of that viscosity, 1e6 times the step its velocities
+  // were solved for, and its grains ran into each other at the first step.
   s.module_field(f.dt)[0] = dt_next;
   s.module_field(f.dt_scale)[0] = p.step_scale;
   if (!adapt) s.dt = dt_next;

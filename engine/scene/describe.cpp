@@ -5,6 +5,14 @@
 
 namespace silt {
 
+std::string step_text(const Model& m) {
+  if (!m.dt_text.empty()) return m.dt_text;
+  std::ostringstream o;
+  o.precision(5);
+  o << "adaptive time step: the first " << m.dt << m.unit("s");
+  return o.str();
+}
+
 std::string describe(const Model& m) {
   std::ostringstream o;
   o.precision(5);
@@ -14,9 +22,8 @@ std::string describe(const Model& m) {
     o << "run          no run length ([run] steps or time): silt run needs --steps or --time (the shell: run N, "
          "run Ts)";
   else if (m.adaptive_dt && m.run_time >= 0)
-    o << "run          until t = " << m.run_time << m.unit("s") << " (adaptive time step)";
-  else if (m.adaptive_dt)
-    o << "run          " << m.run_steps << " steps (adaptive time step: the first " << m.dt << m.unit("s") << ")";
+    o << "run          until t = " << m.run_time << m.unit("s") << " (" << step_text(m) << ")";
+  else if (m.adaptive_dt) o << "run          " << m.run_steps << " steps (" << step_text(m) << ")";
   else o << "run          " << m.run_steps << " steps = " << m.run_steps * m.dt << m.unit("s");
   o << (m.until_static.on ? ", or until static" : "") << (m.stop_when_steady ? ", or until steady" : "") << "\n";
   o << "observe      ";

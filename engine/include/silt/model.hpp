@@ -357,6 +357,10 @@ struct Model {
   // The time step is chosen every step by a module (the paste's adaptive step): runs of a given
   // time end at the first step boundary at or past it, not after a step count.
   bool adaptive_dt = false;
+  // How `silt check` and the shell name the step of a module that chooses it (adaptive_dt): a
+  // paste's "fixed time step 0.01 s" or "adaptive time step: the first 0.001 s". Empty: an adaptive
+  // step from dt.
+  std::string dt_text;
   // The key that sets the step the DEM's failure reports advise lowering: run.dt, or that of the
   // module choosing the step (a paste's lubrication.dt_max).
   std::string dt_key = "run.dt";
@@ -425,6 +429,9 @@ inline double preparation_pressure(const Model& m) {
 
 // Human-readable description of a compiled model (`silt check`).
 std::string describe(const Model& m);
+// The step of a model whose step a module chooses (adaptive_dt), in words: dt_text, or an adaptive
+// step from dt.
+std::string step_text(const Model& m);
 
 // Stability bound of velocity Verlet for a damped oscillator of pulsation w0 and damping ratio
 // zeta: dt < (2/w0)(sqrt(1 + zeta^2) - zeta).

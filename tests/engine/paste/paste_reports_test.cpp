@@ -344,6 +344,30 @@ TEST_CASE("paste: a refused step bound or gravity is reported at the key given")
   CHECK(e3.find("a paste has no gravity") != std::string::npos);
 }
 
+TEST_CASE(
+    "paste: a fixed step is described as fixed, and refuses the adaptive step's keys and a step below its floor") {
+  // `silt check` said "(adaptive time step)" of a fixed lubrication.dt; dt_growth, dt_change and
+  // drift_max were taken beside it and did nothing; a step of 1e-20 of the viscous time was taken.
+  const auto run_line = [](const std::string& lubrication) {
+    std::string scene = loose_scene(lubrication);
+    scene.replace(scene.find("[run]\n"), 6, "[run]\nsteps = 10\n");
+    const std::string text = describe(test::simulation_from(scene, 1)->model());
+    return text.substr(text.find("\nrun "));
+  };
+  CHECK(run_line("dt = 0.01\n").find("10 steps (fixed time step 0.01 s)") != std::string::npos);
+  CHECK(run_line("").find("10 steps (adaptive time step: the first 0.00099") != std::string::npos);
+  for (const char* key : {"dt_growth = 1.3", "dt_change = 0.1", "drift_max = 0.1"}) {
+    CAPTURE(key);
+    const std::string scene = loose_scene("dt = 0.01\n" + std::string(key) + "\n");
+    const std::string e = test::scene_error(scene);
+    CHECK(e.find("lubrication.dt fixes the time step") != std::string::npos);
+    CHECK(e.find(std::string(key).substr(0, std::string(key).find(' '))) != std::string::npos);
+  }
+  const std::string e = test::scene_error(loose_scene("dt = 1e-20\n"));
+  CHECK(e.find("below 1e-12 of the loading's time") != std::string::npos);
+  CHECK(test::simulation_from(loose_scene("dt = 2e-12\n"), 1) != nullptr);
+}
+
 TEST_CASE("paste: a pressure or viscosity whose time unit double precision cannot hold is refused at its key") {
   // A pressure of 1e-320 Pa gave an infinite time unit: the run failed on its first step, with
   // inf and nan in the stats, and the message blamed lubrication.dt_max.

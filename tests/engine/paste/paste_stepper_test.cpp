@@ -507,6 +507,36 @@ TEST_CASE("paste: a state restored under other parameters moves by velocities so
   }
 }
 
+TEST_CASE("paste: a packing solved at one viscosity, given to the inertial stepper at 1e6 times it, keeps its step") {
+  // A prepared packing's first solve (quasi-static, eta = 1) saved and given to the inertial
+  // stepper at eta = 1e6: the state kept no step of its own, the first step was dt_initial of the
+  // new viscosity (1e6 times longer), and the velocities of eta = 1 over it pressed grain 0 into a
+  // neighbour by 202 % of its radius. The inertial stepper carries its velocities over, so the first
+  // step is now the one they were solved for, within the drift bound (0.05 of a radius).
+  const std::string scene = test::paste_disks({.n = 80, .L = 10, .dilation = 1.05});
+  auto qs = test::simulation_from(scene, 1);
+  qs->prepare();
+  const State solved = qs->state();
+  auto in = test::simulation_from(
+      test::paste_disks(
+          {.n = 80, .L = 10, .viscosity = 1e6, .dilation = 1.05, .lubrication = "stepper = \"inertial\"\n"}),
+      1);
+  in->restore(solved);
+  REQUIRE(step(*in));
+  CHECK(in->state().t == doctest::Approx(solved.dt).epsilon(1e-12));
+  double most = 0;  // the largest move over a radius (the box under pressure hardly moves)
+  for (int64_t i = 0; i < solved.n; ++i) {
+    double d2 = 0;
+    for (int a = 0; a < 2; ++a) {
+      const double d = in->state().particle_x[2 * i + a] - solved.particle_x[2 * i + a];
+      d2 += d * d;
+    }
+    most = std::max(most, std::sqrt(d2) / solved.particle_r[i]);
+  }
+  CHECK(most < 0.06);
+  for (int k = 0; k < 20; ++k) REQUIRE(step(*in));
+}
+
 TEST_CASE("paste: a state restored under another viscosity and steered back to its own is the state given") {
   // The shell's `set lubrication.viscosity 2`, `restore` (the velocities solved again at once under
   // 2), `set lubrication.viscosity 1`: solved again under 1 from the velocities of 2, whose CG
