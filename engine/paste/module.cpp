@@ -121,12 +121,6 @@ void compile_time_step(const SceneDesc& d, const Model& m, PasteParams& p) {
   if (m.box_control.on && m.box_control.cycle != StressCycle::kNone && m.box_control.cycle_omega > 0)
     scale = std::min(scale > 0 ? scale : HUGE_VAL, 1 / m.box_control.cycle_omega);
   if (d.has("lubrication.dt")) {
-    // (the adaptive step's keys were taken and did nothing beside it)
-    for (const char* k : {"lubrication.dt_initial", "lubrication.dt_max", "lubrication.dt_min", "lubrication.dt_growth",
-                          "lubrication.dt_change", "lubrication.drift_max"})
-      if (d.has(k))
-        d.fail(k, "lubrication.dt fixes the time step: give it or the adaptive step's keys (" + std::string(k) +
-                      "), not both");
     p.fixed_dt = true;
     p.dt_initial = p.dt_min = p.dt_max = d.real("lubrication.dt");
     // The adaptive step's floor, the same for a fixed step (1e-15 of the viscous time was taken
@@ -473,6 +467,11 @@ const ModuleSpec& module() {
               {"connections", v[kConnections]},
               {"coarse_columns", v[kCoarseColumns]}};
     };
+    // A fixed step or the adaptive step's keys (dt_growth, dt_change and drift_max were taken beside
+    // a fixed step and did nothing); the shell's `set` of one replaces the other.
+    s.rules = {KeyRule::one_of({{"lubrication.dt"},
+                                {"lubrication.dt_max", "lubrication.dt_initial", "lubrication.dt_min",
+                                 "lubrication.dt_growth", "lubrication.dt_change", "lubrication.drift_max"}})};
     s.prepare_dry = paste_to_dry;
     // No solve yet: a packing compressed dry (prepare.compress, or one given by --restore), whose
     // velocities and box rates are the compression's. The first drift needs the paste's own.

@@ -202,3 +202,33 @@ TEST_CASE("a key that is not live, set and set back after a restore, gives the c
   REQUIRE(f.run("set lubrication.h_max_over_a 0.5"));
   CHECK(f.hash() == given);
 }
+
+TEST_CASE("a paste's fixed step set in the shell replaces the adaptive step's keys, and they replace it") {
+  // lubrication.dt beside drift_max was taken, and drift_max did nothing; now the two are
+  // alternatives: a set of one removes the other, as fluid.dt and fluid.cfl.
+  test::TempDir dir;
+  std::ofstream(dir / "steered_paste.toml") << kSteeredPaste;
+  Fixture f;
+  REQUIRE(f.run("load " + (dir / "steered_paste.toml")));
+  REQUIRE(f.run("set lubrication.drift_max 0.1"));
+  REQUIRE(f.run("set lubrication.dt_max 0.5"));
+  REQUIRE(f.run("run 3"));
+  f.take_out();
+  REQUIRE(f.run("set lubrication.dt 0.002"));
+  f.take_out();
+  REQUIRE(f.run("get lubrication.drift_max"));
+  CHECK(contains(f.take_out(), "lubrication.drift_max = 0.05 (default)"));
+  REQUIRE(f.run("get lubrication.dt_max"));
+  CHECK(contains(f.take_out(), "(not set)"));
+  REQUIRE(f.run("check"));
+  CHECK(contains(f.take_out(), "time step fixed at 0.002"));
+  const double t = f.value("t");
+  REQUIRE(f.run("run 2"));
+  CHECK(f.value("t") == doctest::Approx(t + 0.004).epsilon(1e-12));
+  REQUIRE(f.run("set lubrication.drift_max 0.1"));
+  f.take_out();
+  REQUIRE(f.run("get lubrication.dt"));
+  CHECK(contains(f.take_out(), "(not set)"));
+  REQUIRE(f.run("check"));
+  CHECK(contains(f.take_out(), "time step adaptive"));
+}

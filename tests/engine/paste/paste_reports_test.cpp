@@ -360,7 +360,7 @@ TEST_CASE(
     CAPTURE(key);
     const std::string scene = loose_scene("dt = 0.01\n" + std::string(key) + "\n");
     const std::string e = test::scene_error(scene);
-    CHECK(e.find("lubrication.dt fixes the time step") != std::string::npos);
+    CHECK(e.find("give lubrication.dt or lubrication.dt_max (with ") != std::string::npos);
     CHECK(e.find(std::string(key).substr(0, std::string(key).find(' '))) != std::string::npos);
   }
   const std::string e = test::scene_error(loose_scene("dt = 1e-20\n"));
