@@ -48,6 +48,12 @@ placement = "random"
 every = 10
 )";
 
+// Writes kSteeredPaste into dir and loads it.
+bool load_steered_paste(Fixture& f, const test::TempDir& dir) {
+  std::ofstream(dir / "steered_paste.toml") << kSteeredPaste;
+  return f.run("load " + (dir / "steered_paste.toml"));
+}
+
 // Waits (at most 60 s) until the background run has done `more` steps past `from`.
 void wait_for_steps(Fixture& f, double from, double more) {
   const auto t0 = std::chrono::steady_clock::now();
@@ -59,9 +65,8 @@ void wait_for_steps(Fixture& f, double from, double more) {
 
 TEST_CASE("the shell steers a running paste: h_min, the viscous number and the pressure") {
   test::TempDir dir;
-  std::ofstream(dir / "steered_paste.toml") << kSteeredPaste;
   Fixture f;
-  REQUIRE(f.run("load " + (dir / "steered_paste.toml")));
+  REQUIRE(load_steered_paste(f, dir));
   REQUIRE(f.run("start 1000000"));
   REQUIRE(f.s.running());
   wait_for_steps(f, 0, 5);
@@ -142,9 +147,8 @@ TEST_CASE("a steered value the paste cannot be solved under is refused, and a la
   // The failed re-solve was left in the state: `set` said the value was set, and every later
   // `run` was refused, even after the value was put back.
   test::TempDir dir;
-  std::ofstream(dir / "steered_paste.toml") << kSteeredPaste;
   Fixture f;
-  REQUIRE(f.run("load " + (dir / "steered_paste.toml")));
+  REQUIRE(load_steered_paste(f, dir));
   REQUIRE(f.run("run 5"));
   // (a pressure of 1e300, which this test set here before, presses the contacts by more than a
   // diameter: refused now, naming the stiffness number)
@@ -188,10 +192,9 @@ TEST_CASE("a key that is not live, set and set back after a restore, gives the c
   // The recompile carried the state solved under the other value, which was then solved again
   // under the first value from there: another hash (the live keys already came back to it).
   test::TempDir dir;
-  std::ofstream(dir / "steered_paste.toml") << kSteeredPaste;
   const std::string ckpt = dir / "steered_paste.ckpt";
   Fixture f;
-  REQUIRE(f.run("load " + (dir / "steered_paste.toml")));
+  REQUIRE(load_steered_paste(f, dir));
   REQUIRE(f.run("run 5"));
   REQUIRE(f.run("save " + ckpt));
   REQUIRE(f.run("restore " + ckpt));
@@ -207,9 +210,8 @@ TEST_CASE("a paste's fixed step set in the shell replaces the adaptive step's ke
   // lubrication.dt beside drift_max was taken, and drift_max did nothing; now the two are
   // alternatives: a set of one removes the other, as fluid.dt and fluid.cfl.
   test::TempDir dir;
-  std::ofstream(dir / "steered_paste.toml") << kSteeredPaste;
   Fixture f;
-  REQUIRE(f.run("load " + (dir / "steered_paste.toml")));
+  REQUIRE(load_steered_paste(f, dir));
   REQUIRE(f.run("set lubrication.drift_max 0.1"));
   REQUIRE(f.run("set lubrication.dt_max 0.5"));
   REQUIRE(f.run("run 3"));
