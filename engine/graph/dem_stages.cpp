@@ -15,6 +15,7 @@
 #include "dem/stages.hpp"
 #include "graph/adders.hpp"
 #include "silt/module.hpp"
+#include "silt/observables.hpp"
 #include "silt/text.hpp"
 
 namespace silt::graph {
@@ -116,9 +117,25 @@ void diagnose_dem(GraphBuilder& b) {
     if (m.velocities_solved) {
       // The step moved the grains with solved velocities: the DEM's inertial limit is not theirs.
       // (An adaptive paste's step is bounded by the drift: the bound is the key to lower.)
-      f.parameter = m.drift_key.empty() ? m.dt_key : m.drift_key;
-      f.message = what + ": the step of " + format_number(s.dt, 4) + m.unit("s") +
-                  " moved the grains into each other; lower " + f.parameter;
+      // Unless the contacts are soft for the pressure: they deflect by about a / kappa (Peyneau eq.
+      // 1.32), 2 / kappa of a radius at the mean force. Above a fifth of limits.max_overlap (kappa
+      // below 50 by default), a force chain's contacts reach it whatever the step (a sheared paste
+      // given box.pressure = 1e3 on k_n = 1e4, kappa = 10, was told to lower drift_max, which failed
+      // the same way).
+      const double kappa = m.box_control.on ? stiffness_number(m, m.box_control.pressure) : 0.0;
+      if (kappa > 0 && 2 / kappa > m.limits.max_overlap / 5) {
+        f.parameter = m.kappa_softest_key;
+        f.message = what +
+                    ": the contacts are too soft for box.pressure = " + format_number(m.box_control.pressure, 4) +
+                    m.unit("Pa") + " (stiffness number kappa = " + format_number(kappa, 3) +
+                    ": at the mean force they deflect by about 2 / kappa = " + format_number(200 / kappa, 3) +
+                    "% of a radius); " + (m.contact.law == NormalLaw::kSpringDashpot ? "shorten " : "raise ") +
+                    f.parameter + " or lower box.pressure (packings are run at kappa 1e3 and more)";
+      } else {
+        f.parameter = m.drift_key.empty() ? m.dt_key : m.drift_key;
+        f.message = what + ": the step of " + format_number(s.dt, 4) + m.unit("s") +
+                    " moved the grains into each other; lower " + f.parameter;
+      }
     } else if (s.dt > m.dt_stable) {
       f.parameter = m.dt_key;
       f.message = what + ": the time step " + format_number(s.dt, 4) + m.unit("s") + " exceeds the stability limit " +

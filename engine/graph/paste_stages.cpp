@@ -213,7 +213,9 @@ void add_paste_stages(GraphBuilder& b) {
     return;
   }
   const paste::PasteFields f = paste::paste_fields();
-  const int dt = b.add("paste_dt", &paste::paste_dt, {fid::dt, f.dt, f.dt_scale}, {fid::dt});
+  // (a state before its first step: its first step from its velocities, as the first solve's)
+  const int dt = b.add("paste_dt", &paste::paste_dt,
+                       {fid::dt, fid::step, fid::particle_v, fid::particle_r, f.dt, f.dt_scale}, {fid::dt});
   b.light(dt);
   if (const int choose = b.find("choose_dt"); choose >= 0)
     b.after(dt, choose, "replaces the fixed step by the adaptive one");

@@ -189,6 +189,14 @@ std::array<double, 11> solve_parameters(const Model& m) {
           m.shear.stress};
 }
 
+// The first step of a run of the model from the state's velocities: dt_initial, shorter where they
+// would move a grain farther than drift_max of its radius in it (as the first solve bounds it).
+double first_step(const PasteParams& p, const State& s) {
+  if (p.fixed_dt || p.drift_max <= 0) return p.dt_initial;
+  const double fastest = fastest_rate(s);
+  return fastest * p.dt_initial > p.drift_max ? std::max(p.drift_max / fastest, p.dt_min) : p.dt_initial;
+}
+
 // The step of the state (paste_dt), under the model's time scale (paste_dt, below); dt_initial in a
 // state without one.
 double state_step(const PasteParams& p, const State& s) {
@@ -201,11 +209,12 @@ double state_step(const PasteParams& p, const State& s) {
   // grains pressed at the old one): the step stays, grows as the adaptive step lets it, and comes
   // within the new bounds. The velocities are solved again under the new parameters
   // (lubrication_resolve).
-  // A quasi-static state before its first step, solved again under a steered scale, starts as a
-  // run of the model's would: from dt_initial. (The inertial stepper carries its velocities over
-  // with the step they were solved for, by the rule above.)
+  // A quasi-static state before its first step starts as a run of the model from its velocities
+  // would, under a steered scale or dt_initial too (`set lubrication.dt_initial 0.1` before the
+  // first step was described and not taken). The inertial stepper carries its velocities over with
+  // the step they were solved for, by the rule above.
+  if (s.step == 0 && p.stepper == Stepper::kQuasiStatic) return first_step(p, s);
   const double r = step_rescale(p, s);
-  if (r != 1 && s.step == 0 && p.stepper == Stepper::kQuasiStatic) return p.dt_initial;
   return std::clamp(r < 1 ? dt * r : dt, p.dt_min, p.dt_max);
 }
 
@@ -544,9 +553,11 @@ void solve_paste(const Model& m, State& s, PasteWorkspace& w, SolveAt at, bool t
   s.module_field(f.solved_under).assign(under.begin(), under.end());
   const std::vector<double>& forces = s.module_field(dem::forces_under_field());
   s.module_field(f.forces_under).assign(forces.begin(), forces.end());
-  // (the first state's solve: its velocities move the grains over the first step, bounded as well)
-  const bool first = at == SolveAt::kFirst && !p.fixed_dt;
-  if (!adapt && !first) return;
+  // (the first state's solve, and a solve again under steered parameters: its velocities move the
+  // grains over this step, bounded as well; a paste_3d_shear restored at 1e-6 times its viscosity,
+  // under the same 1 / gammadot, solved its grains 1e6 times faster and overlapped them at once)
+  const bool bounded = at != SolveAt::kStep && !p.fixed_dt;
+  if (!adapt && !bounded) return;
   if (adapt && step_change > p.dt_change && dt <= p.dt_min)
     s.events[step_event()].raise(kChangeLimit, dt * p.dt_change / step_change);
   // The drift: the velocities just solved move the grains over the next step. (The matrix of an
@@ -556,7 +567,9 @@ void solve_paste(const Model& m, State& s, PasteWorkspace& w, SolveAt at, bool t
   const bool bound_binds = fastest * dt_next > p.drift_max;
   if (bound_binds) {
     const double bound = p.drift_max / fastest;
-    if (bound < p.dt_min) s.events[step_event()].raise(kDriftLimit, bound);
+    // (a solve again at a boundary, of a state given or a change while stopped, only shortens the
+    // step: a step it cannot take fails as that step, and the change itself is not refused)
+    if (bound < p.dt_min && !(at == SolveAt::kAgain && told)) s.events[step_event()].raise(kDriftLimit, bound);
     dt_next = std::max(bound, p.dt_min);
   }
   // The first solve keeps its step and time scale too: a state saved then and given under a 1e6
