@@ -46,6 +46,7 @@ struct Session::SetChange {
   std::string typed = "set";              // as typed, for messages
   std::vector<Override> next;             // the changes typed so far, with these last
   std::vector<std::string> replaced;      // the keys these are alternatives to
+  std::vector<std::string> dropped;       // those of them the scene or an earlier set gave
   bool was_fixed = false;                 // the step before: fixed, and its value
   double dt_was = 0;
   std::vector<std::pair<std::string, std::string>> computed_was;
@@ -93,7 +94,10 @@ Session::SetChange Session::read_set(const Command& c) {
   // Each replaces an earlier value of its key, and the values of the keys it is an alternative to
   // (fluid.reynolds replaces fluid.viscosity).
   for (const Override& o : ch.changes)
-    for (const std::string& k : alternatives_of(o.key)) ch.replaced.push_back(k);
+    for (const std::string& k : alternatives_of(o.key)) {
+      ch.replaced.push_back(k);
+      if (sim().model().desc.has(k)) ch.dropped.push_back(k);
+    }
   ch.next = overrides_;
   ch.next.erase(std::remove_if(ch.next.begin(), ch.next.end(),
                                [&](const Override& o) { return ch.typed_now(o.key) || ch.replaced_by(o.key); }),
@@ -229,6 +233,12 @@ void Session::recompile_set(const SetChange& ch) {
 // in units of L / U, and a channel's step doubled without a word), a packing kept from before.
 void Session::set_notes(const SetChange& ch, const State* kept) {
   const Model& m = sim().model();  // (a recompile installs another simulation)
+  // (`set lubrication.dt` removed a scene's lubrication.dt_max and drift_max without a word)
+  if (!ch.dropped.empty()) {
+    out_ << "note: " << (ch.several() ? std::string("these values replace") : ch.changes[0].key + " replaces");
+    for (size_t k = 0; k < ch.dropped.size(); ++k) out_ << (k ? ", " : " ") << ch.dropped[k];
+    out_ << ", " << (ch.dropped.size() == 1 ? "an alternative" : "alternatives") << " given before\n";
+  }
   // (a lid's speed set in a scene given by fluid.reynolds changed the viscosity, and the shell
   // said only the speed)
   for (const auto& now : computed_values(m)) {

@@ -129,7 +129,9 @@ std::string describe_dem(const Model& m) {
                                                       group_name(m, pair.group_j) + ", their lightest pair";
   o << "time         t_c = " << m.t_contact << s << " (" << tc_meaning << "; " << groups << " m* = " << pair.m_eff
     << m.unit("kg") << ", " << damping << ")\n";
-  o << "             dt = " << m.dt << s << " = t_c/" << m.t_contact / m.dt << "; stability limit " << m.dt_stable << s
+  // (where a module solves the velocities, the DEM's step is its dry preparation's alone)
+  o << "             dt = " << m.dt << s << " = t_c/" << m.t_contact / m.dt
+    << (m.velocities_solved ? " in the dry preparation" : "") << "; stability limit " << m.dt_stable << s
     << " for one contact" << (m.dt_stable_tangential ? ", its tangential spring" : "")
     << " (dt/limit = " << m.dt / m.dt_stable << ")\n";
   o << "             a grain held by z contacts is stable below about limit/sqrt(z): " << m.dt_stable / std::sqrt(6.0)

@@ -218,7 +218,7 @@ void add_paste_stages(GraphBuilder& b) {
                        {fid::dt, fid::step, fid::particle_v, fid::particle_r, f.dt, f.dt_scale}, {fid::dt});
   b.light(dt);
   if (const int choose = b.find("choose_dt"); choose >= 0)
-    b.after(dt, choose, "replaces the fixed step by the adaptive one");
+    b.after(dt, choose, "replaces the DEM's step by the paste's (lubrication.dt, or the adaptive one)");
   const bool given = b.phase() == Phase::kResolve;  // (its notes said at once, not after a step)
   const int again = b.add(
       "lubrication_resolve", [&w, given](const Model& m, State& s) { paste::lubrication_resolve(m, s, w, given); },

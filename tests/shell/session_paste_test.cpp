@@ -217,7 +217,8 @@ TEST_CASE("a paste's fixed step set in the shell replaces the adaptive step's ke
   REQUIRE(f.run("run 3"));
   f.take_out();
   REQUIRE(f.run("set lubrication.dt 0.002"));
-  f.take_out();
+  CHECK(contains(f.take_out(),
+                 "note: lubrication.dt replaces lubrication.dt_max, lubrication.drift_max, alternatives given before"));
   REQUIRE(f.run("get lubrication.drift_max"));
   CHECK(contains(f.take_out(), "lubrication.drift_max = 0.05 (default)"));
   REQUIRE(f.run("get lubrication.dt_max"));
@@ -228,7 +229,7 @@ TEST_CASE("a paste's fixed step set in the shell replaces the adaptive step's ke
   REQUIRE(f.run("run 2"));
   CHECK(f.value("t") == doctest::Approx(t + 0.004).epsilon(1e-12));
   REQUIRE(f.run("set lubrication.drift_max 0.1"));
-  f.take_out();
+  CHECK(contains(f.take_out(), "note: lubrication.drift_max replaces lubrication.dt, an alternative given before"));
   REQUIRE(f.run("get lubrication.dt"));
   CHECK(contains(f.take_out(), "(not set)"));
   REQUIRE(f.run("check"));

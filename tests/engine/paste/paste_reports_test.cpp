@@ -236,6 +236,26 @@ TEST_CASE("paste: a step that moves the grains into each other names the paste's
   CHECK(sim->state().failure.parameter == "lubrication.dt");
 }
 
+TEST_CASE("paste: an overlap under a pressure the contacts are too soft for names their stiffness") {
+  // A paste given box.pressure = 1e3 on k_n = 1e4 (kappa = 10: a contact deflects by about 20 % of
+  // a radius at the mean force) failed on an overlap advising a lower drift_max, under which it
+  // failed the same way; a fresh run of it fails in its dry compression naming contact.k_n.
+  auto sim = test::simulation_from(loose_scene(""), 1);
+  for (int k = 0; k < 5; ++k) REQUIRE(sim->step());
+  std::string soft = loose_scene("");
+  soft.replace(soft.find("pressure = 1.0"), 14, "pressure = 1e3");
+  auto pressed = test::simulation_from(soft, 1);
+  pressed->restore(sim->state());
+  bool failed = false;
+  for (int k = 0; k < 2000 && !failed; ++k) failed = !pressed->step();
+  REQUIRE(failed);
+  const StepFailure& f = pressed->state().failure;
+  CAPTURE(f.message);
+  CHECK(f.parameter == "contact.k_n");
+  CHECK(f.message.find("the contacts are too soft for box.pressure = 1000") != std::string::npos);
+  CHECK(f.message.find("(stiffness number kappa = 10:") != std::string::npos);
+}
+
 TEST_CASE("paste: a solve again under a steered viscosity that does not converge names lubrication_resolve") {
   // It was reported as lubrication_solve, a stage that had not run yet in that step.
   auto sim = test::simulation_from(loose_scene("solver = \"cg\""), 1);

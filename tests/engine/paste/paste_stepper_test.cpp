@@ -542,12 +542,14 @@ TEST_CASE("paste: velocities solved again under a steered viscosity are bounded 
   // change: restored at 1e-6 times its viscosity, its velocities solved again were 1e6 times
   // faster, the step stayed, and the grains overlapped at the next step (paste_3d_shear by 125 %).
   // The solve again bounds the step as the first solve does; and a state before its first step
-  // takes a dt_initial set after its first solve, as `silt check` says. (This loose 2D paste's
-  // contact forces are too weak for the first part to fail without the bound; the second does.)
-  std::string scene = test::paste_disks({.n = 80, .L = 10, .dilation = 1.0});
+  // takes a dt_initial set after its first solve, as `silt check` says. (The disks compressed to
+  // Phi = 0.75 and stopped there: their contact forces do not balance, and drive the grains at a
+  // speed 1 / eta.)
+  std::string scene = test::paste_disks({.n = 80, .L = 10, .dilation = 1.0, .phi = 0.75});  // (unbalanced contacts)
   scene.replace(scene.find("[box]\npressure = 1.0\n"), 20, "[shear]\nrate = 0.1\n");
   scene.replace(scene.find("dilation = "), 0, "pressure = 1.0\n");
   auto run = test::simulation_from(scene, 1);
+  run->restore(prepare_packing(run->model(), 1, nullptr, nullptr));  // (compressed to Phi = 0.75)
   for (int k = 0; k < 5; ++k) REQUIRE(step(*run));
   const State saved = run->state();
   auto thin = test::simulation_from(scene, 1);
