@@ -46,8 +46,10 @@ struct Session::SetChange {
   std::string typed = "set";              // as typed, for messages
   std::vector<Override> next;             // the changes typed so far, with these last
   std::vector<std::string> replaced;      // the keys these are alternatives to
-  std::vector<std::string> dropped;       // those of them the scene or an earlier set gave
-  bool was_fixed = false;                 // the step before: fixed, and its value
+  // The keys of the alternatives these touch, on every side, and whether each was given before
+  // (by the scene or an earlier set): those the change removes, and those it brings back.
+  std::vector<std::pair<std::string, bool>> sides;
+  bool was_fixed = false;  // the step before: fixed, and its value
   double dt_was = 0;
   std::vector<std::pair<std::string, std::string>> computed_was;
 
@@ -93,11 +95,19 @@ Session::SetChange Session::read_set(const Command& c) {
   }
   // Each replaces an earlier value of its key, and the values of the keys it is an alternative to
   // (fluid.reynolds replaces fluid.viscosity).
-  for (const Override& o : ch.changes)
-    for (const std::string& k : alternatives_of(o.key)) {
-      ch.replaced.push_back(k);
-      if (sim().model().desc.has(k)) ch.dropped.push_back(k);
+  for (const Override& o : ch.changes) {
+    const std::vector<std::string> others = alternatives_of(o.key);
+    ch.replaced.insert(ch.replaced.end(), others.begin(), others.end());
+    std::vector<std::string> all = others;  // (and the keys of o's own side: the others' alternatives)
+    if (!others.empty()) {
+      const std::vector<std::string> own = alternatives_of(others.front());
+      all.insert(all.end(), own.begin(), own.end());
     }
+    for (const std::string& k : all) {
+      const bool listed = std::any_of(ch.sides.begin(), ch.sides.end(), [&](const auto& e) { return e.first == k; });
+      if (!listed && !ch.typed_now(k)) ch.sides.push_back({k, sim().model().desc.has(k)});
+    }
+  }
   ch.next = overrides_;
   ch.next.erase(std::remove_if(ch.next.begin(), ch.next.end(),
                                [&](const Override& o) { return ch.typed_now(o.key) || ch.replaced_by(o.key); }),
@@ -234,10 +244,25 @@ void Session::recompile_set(const SetChange& ch) {
 void Session::set_notes(const SetChange& ch, const State* kept) {
   const Model& m = sim().model();  // (a recompile installs another simulation)
   // (`set lubrication.dt` removed a scene's lubrication.dt_max and drift_max without a word)
-  if (!ch.dropped.empty()) {
+  // (and a set of the first side again brought back the scene's values of it without a word)
+  std::vector<std::string> dropped, back;
+  for (const auto& [key, before] : ch.sides) {
+    if (before && !m.desc.has(key)) dropped.push_back(key);
+    if (!before && m.desc.has(key)) back.push_back(key);
+  }
+  const auto list = [this](const std::vector<std::string>& keys) {
+    for (size_t k = 0; k < keys.size(); ++k) out_ << (k ? ", " : " ") << keys[k];
+  };
+  if (!dropped.empty()) {
     out_ << "note: " << (ch.several() ? std::string("these values replace") : ch.changes[0].key + " replaces");
-    for (size_t k = 0; k < ch.dropped.size(); ++k) out_ << (k ? ", " : " ") << ch.dropped[k];
-    out_ << ", " << (ch.dropped.size() == 1 ? "an alternative" : "alternatives") << " given before\n";
+    list(dropped);
+    out_ << ", " << (dropped.size() == 1 ? "an alternative" : "alternatives") << " given before\n";
+  }
+  if (!back.empty()) {
+    out_ << "note: the scene's";
+    list(back);
+    out_ << (back.size() == 1 ? " applies" : " apply") << " again (the alternative that had replaced "
+         << (back.size() == 1 ? "it" : "them") << " is gone)\n";
   }
   // (a lid's speed set in a scene given by fluid.reynolds changed the viscosity, and the shell
   // said only the speed)

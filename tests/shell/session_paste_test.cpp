@@ -234,4 +234,15 @@ TEST_CASE("a paste's fixed step set in the shell replaces the adaptive step's ke
   CHECK(contains(f.take_out(), "(not set)"));
   REQUIRE(f.run("check"));
   CHECK(contains(f.take_out(), "time step adaptive"));
+  // A scene's own adaptive key, replaced by lubrication.dt, comes back when it goes: said.
+  std::string own = kSteeredPaste;
+  own.replace(own.find("h_min_over_a = 1e-2\n"), 20, "h_min_over_a = 1e-2\ndt_max = 0.5\n");
+  std::ofstream(dir / "own_step.toml") << own;
+  REQUIRE(f.run("load " + (dir / "own_step.toml")));
+  REQUIRE(f.run("set lubrication.dt 0.002"));
+  CHECK(contains(f.take_out(), "note: lubrication.dt replaces lubrication.dt_max, an alternative given before"));
+  REQUIRE(f.run("set lubrication.dt_growth 1.3"));
+  const std::string out = f.take_out();
+  CHECK(contains(out, "note: lubrication.dt_growth replaces lubrication.dt, an alternative given before"));
+  CHECK(contains(out, "note: the scene's lubrication.dt_max applies again"));
 }
