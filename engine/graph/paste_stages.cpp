@@ -61,6 +61,14 @@ Access solve_writes() {
           f.dt_scale,      f.solved_under,  f.pair_f_implicit, f.forces_under};
 }
 
+// And the state's step: the first solve's (which the state shows before it), or one the drift
+// bound shortens after a solve again under changed parameters.
+Access solve_and_step_writes() {
+  Access a = solve_writes();
+  a.push_back(fid::dt);
+  return a;
+}
+
 void diagnose_paste(GraphBuilder& b) {
   // A failed solve, in the step's solve or in the one again under changed parameters.
   for (const auto& solve : {std::pair{paste::solve_event(), "lubrication_solve"},
@@ -199,11 +207,7 @@ void add_paste_stages(GraphBuilder& b) {
     const int solve = b.add(
         "lubrication_solve",
         [&w](const Model& m, State& s) { paste::lubrication_solve(m, s, w, paste::SolveAt::kFirst); }, solve_reads(),
-        [] {
-          Access a = solve_writes();
-          a.push_back(fid::dt);  // the first step's, which the state shows before it
-          return a;
-        }());
+        solve_and_step_writes());
     b.after(solve, b.find("sum_forces"), "solves with the contact forces of the first state");
     b.after(solve, b.find("restore_springs"), "implicit contacts: the springs as the first step starts them");
     b.after(solve, b.find("record_forces_under"), "keeps the parameters of the contact forces it solved with");
@@ -222,7 +226,7 @@ void add_paste_stages(GraphBuilder& b) {
   const bool given = b.phase() == Phase::kResolve;  // (its notes said at once, not after a step)
   const int again = b.add(
       "lubrication_resolve", [&w, given](const Model& m, State& s) { paste::lubrication_resolve(m, s, w, given); },
-      solve_reads(), solve_writes());
+      solve_reads(), solve_and_step_writes());
   b.after(again, dt, "solves with this step's dt");
   if (const int rate = b.find("impose_shear_rate"); rate >= 0)
     b.after(again, rate, "solves under the imposed rate as the model has it now");
