@@ -191,10 +191,16 @@ std::array<double, 11> solve_parameters(const Model& m) {
 
 // The first step of a run of the model from the state's velocities: dt_initial, shorter where they
 // would move a grain farther than drift_max of its radius in it (as the first solve bounds it).
+// The step dt, shortened where the fastest grain (max |V_i| / r_i) would move more than drift_max of
+// its radius in it, to no less than dt_min: the one rule of the first solve, of a solve again and of
+// a state before its first step (which must agree to the bit).
+double drift_bounded(const PasteParams& p, double fastest, double dt) {
+  return fastest * dt > p.drift_max ? std::max(p.drift_max / fastest, p.dt_min) : dt;
+}
+
 double first_step(const PasteParams& p, const State& s) {
   if (p.fixed_dt || p.drift_max <= 0) return p.dt_initial;
-  const double fastest = fastest_rate(s);
-  return fastest * p.dt_initial > p.drift_max ? std::max(p.drift_max / fastest, p.dt_min) : p.dt_initial;
+  return drift_bounded(p, fastest_rate(s), p.dt_initial);
 }
 
 // The step of the state (paste_dt), under the model's time scale (paste_dt, below); dt_initial in a
@@ -564,14 +570,11 @@ void solve_paste(const Model& m, State& s, PasteWorkspace& w, SolveAt at, bool t
   // inertial or implicit-contact solve was made with the step before this bound; where it binds,
   // the velocities are those of a slightly longer step, the positions still move by at most this.)
   const double fastest = p.drift_max > 0 ? fastest_rate(s) : 0;  // max |V_i| / r_i
-  const bool bound_binds = fastest * dt_next > p.drift_max;
-  if (bound_binds) {
-    const double bound = p.drift_max / fastest;
-    // (a solve again at a boundary, of a state given or a change while stopped, only shortens the
-    // step: a step it cannot take fails as that step, and the change itself is not refused)
-    if (bound < p.dt_min && !(at == SolveAt::kAgain && told)) s.events[step_event()].raise(kDriftLimit, bound);
-    dt_next = std::max(bound, p.dt_min);
-  }
+  // (a solve again at a boundary, of a state given or a change while stopped, only shortens the
+  // step: a step it cannot take fails as that step, and the change itself is not refused)
+  if (fastest * dt_next > p.drift_max && p.drift_max / fastest < p.dt_min && !(at == SolveAt::kAgain && told))
+    s.events[step_event()].raise(kDriftLimit, p.drift_max / fastest);
+  dt_next = drift_bounded(p, fastest, dt_next);
   // The first solve keeps its step and time scale too: a state saved then and given under a 1e6
   // times larger viscosity took dt_initial of that viscosity, 1e6 times the step its velocities
   // were solved for, and its grains ran into each other at the first step.
