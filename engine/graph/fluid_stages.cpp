@@ -23,10 +23,11 @@ void diagnose_fluid(GraphBuilder& b) {
     f.stage = "fluid_load";
     if (e.first() == 0) {
       f.parameter = p.dt_fixed ? "fluid.dt" : "fluid.cfl";
-      f.message = "the fluid's CFL number dt sum |u|/h = " + format_past(e.value(), fluid::FluidParams::kCflLimit, 4) +
-                  " at step " + std::to_string(s.step) + " exceeds " + format_number(fluid::FluidParams::kCflLimit, 4) +
-                  ", the stability limit of RK3 advection; " +
-                  (p.dt_fixed ? "reduce fluid.dt, or remove it for the adaptive step" : "reduce fluid.cfl");
+      f.message =
+          "the fluid's CFL number dt sum |u|/h = " + format_past(e.value(), fluid::FluidParams::kCflLimit, 4) +
+          " at step " + std::to_string(s.step) + " exceeds " + format_number(fluid::FluidParams::kCflLimit, 4) +
+          ", the stability limit of RK3 advection; " +
+          (p.dt_fixed ? "reduce fluid.dt, or give fluid.cfl instead of it for the adaptive step" : "reduce fluid.cfl");
     } else {
       f.parameter = "fluid.viscous";
       f.message = "the explicit viscous term is unstable at this step: nu dt sum 1/h^2 = " +
