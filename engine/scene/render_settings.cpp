@@ -24,6 +24,16 @@ void check_span(const SceneDesc& d, const char* key, const std::vector<double>& 
     d.fail(key, "the span hi - lo = " + format_number(v[1] - v[0]) + " is not a finite number: give a narrower range");
 }
 
+// What frames show where the scene does not say: the grains, and a fluid's field under them (a
+// fluid alone drew white frames, the grains it has none of and a speed colour bar).
+std::vector<std::string> default_draw(const Model& m) {
+  std::vector<std::string> draw;
+  if (m.module_on("fluid")) draw.push_back("field");
+  if (m.n_grains > 0 || draw.empty()) draw.push_back("grains");
+  for (const char* item : {"colorbar", "time", "scalebar"}) draw.push_back(item);
+  return draw;
+}
+
 }  // namespace
 
 void read_render_settings(const SceneDesc& d, Model& m) {
@@ -36,7 +46,7 @@ void read_render_settings(const SceneDesc& d, Model& m) {
            "render.width x render.height = " + std::to_string(r.width) + " x " + std::to_string(r.height) + " = " +
                std::to_string(static_cast<int64_t>(r.width) * r.height / 1000000) +
                " Mpx is above the limit of 64 Mpx (8192 x 8192; a frame needs about 16 bytes per pixel)");
-  r.draw = d.strings("render.draw");
+  r.draw = d.has("render.draw") ? d.strings("render.draw") : default_draw(m);
   // Unset: speed, or flat when chains or a field are drawn (the renderer decides, so that
   // `render FILE chains` in the shell gets the force-chain picture too).
   r.color_by = d.has("render.color_by") ? d.string("render.color_by") : "";
@@ -163,8 +173,8 @@ std::vector<KeySpec> render_keys() {
       // ---- render
       {"render.width", K::kInt, Value(int64_t{1280}), Range::closed(16, 16384), "px", false, {}, "Frame width (width x height at most 64 Mpx, e.g. 8192 x 8192)."},
       {"render.height", K::kInt, Value(int64_t{720}), Range::closed(16, 16384), "px", false, {}, "Frame height."},
-      {"render.draw", K::kStringList, Value(std::vector<std::string>{"grains", "colorbar", "time", "scalebar"}), Range::any(), "", true,
-       S{"grains", "chains", "lubrication", "field", "colorbar", "time", "scalebar", "box"}, "What frames show (lubrication: the lubrication forces of a paste, apart from the contacts' chains)."},
+      {"render.draw", K::kStringList, std::nullopt, Range::any(), "", true,
+       S{"grains", "chains", "lubrication", "field", "colorbar", "time", "scalebar", "box"}, "What frames show (default: grains, colorbar, time, scalebar; with a fluid its field first, and no grains where there are none; lubrication: the lubrication forces of a paste, apart from the contacts' chains)."},
       {"render.color_by", K::kString, std::nullopt, Range::any(), "", true,
        S{"flat", "speed", "vx", "vy", "vz", "height", "id", "group", "frozen"}, "Quantity that colours the grains (default: speed, or flat when chains or a field are drawn)."},
       {"render.colormap", K::kString, Value(std::string("sequential")), Range::any(), "", true, S{"sequential", "diverging"}, "Colormap of the grains (assets/*.csv)."},
@@ -192,6 +202,13 @@ std::vector<KeySpec> render_keys() {
       {"render.every", K::kInt, std::nullopt, Range::closed(1, 1e12), "", true, {}, "Steps between frames (default: output.every)."},
   };
   // clang-format on
+  for (KeySpec& k : s)
+    if (k.path == "render.draw")
+      k.computed = [](const Model& m) {
+        std::string list;
+        for (const std::string& item : m.render.draw) list += (list.empty() ? "" : ", ") + item;
+        return list;
+      };
   return s;
 }
 

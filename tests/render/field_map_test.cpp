@@ -3,6 +3,8 @@
 
 #include <cmath>
 #include <numbers>
+#include <string>
+#include <vector>
 
 #include "render/render_support.hpp"
 #include "support/scenes.hpp"
@@ -182,4 +184,15 @@ TEST_CASE("[render] slice_normal: any direction, normalised, through the domain 
   CHECK(test::scene_error(std::string(kCube) + "[render]\nslice_normal = [1, 1, 0]\nslice_position = -0.1\n")
             .find("misses the domain") != std::string::npos);
   CHECK(test::scene_error(std::string(kCube) + "[render]\nslice_axis = \"z\"\nslice_position = 4.0\n") == "");
+}
+
+TEST_CASE("[render] draw: the grains by default, and a fluid's field where the scene has a fluid and no grains") {
+  using List = std::vector<std::string>;
+  CHECK(test::model_from(kCube).render.draw == List{"grains", "colorbar", "time", "scalebar"});
+  // (a fluid alone drew white frames: the grains it has none of, under a speed colour bar)
+  const std::string fluid =
+      "[scene]\ndimension = 2\n[domain]\nlo = [0.0, 0.0]\nhi = [1.0, 1.0]\n[fluid]\ncells = [8, 8]\n"
+      "reynolds = 100.0\n[fluid.boundary]\ny_hi_velocity = [1.0, 0.0]\n";
+  CHECK(test::model_from(fluid).render.draw == List{"field", "colorbar", "time", "scalebar"});
+  CHECK(test::model_from(fluid + "[render]\ndraw = [\"grains\", \"time\"]\n").render.draw == List{"grains", "time"});
 }
