@@ -1,5 +1,6 @@
 #include "shell/scene_loading.hpp"
 
+#include <algorithm>
 #include <iostream>
 
 #include "shell/commands.hpp"
@@ -11,12 +12,34 @@ int report_error(const std::string& message, int code) {
   return code;
 }
 
+namespace {
+
+// The file's values a --set replaced, by the key set (the shell's `set` says the same; the command
+// line dropped a scene's fluid.dt under --set fluid.dt_max without a word).
+void note_replaced(const SceneDesc& d) {
+  std::vector<std::string> done;
+  for (const auto& entry : d.replaced) {
+    const std::string& by = entry.second;
+    if (std::find(done.begin(), done.end(), by) != done.end()) continue;
+    done.push_back(by);
+    std::vector<std::string> keys;
+    for (const auto& other : d.replaced)
+      if (other.second == by) keys.push_back(other.first);
+    std::cerr << "silt: note: --set " << by << " replaces the scene's";
+    for (size_t k = 0; k < keys.size(); ++k) std::cerr << (k ? ", " : " ") << keys[k];
+    std::cerr << (keys.size() == 1 ? ", an alternative to it\n" : ", alternatives to it\n");
+  }
+}
+
+}  // namespace
+
 std::optional<Model> load_model(const std::string& scene, const std::vector<std::string>& sets, int& code,
                                 const std::optional<Override>& length) {
   try {
     std::vector<Override> overrides;
     for (const std::string& s : sets) overrides.push_back(parse_override(s));
     SceneDesc desc = load_scene_file(scene, overrides);
+    note_replaced(desc);
     if (!length) return compile(desc);
     SceneDesc replaced = desc;
     apply_override(replaced, *length);

@@ -290,6 +290,13 @@ void Session::set_notes(const SetChange& ch, const State* kept) {
   if (kept && kept->step == 0 && m.prepare.compress &&
       std::any_of(ch.changes.begin(), ch.changes.end(), [](const Override& o) { return enters_preparation(o.key); }))
     out_ << kPreparationKept;
+  // (a first step, a seed or an initial field set past the start was taken, "(state kept)", and did
+  // nothing)
+  if (kept && kept->step > 0)
+    for (const Override& o : ch.changes)
+      if (const KeySpec* spec = find_key_spec(normalise_key(o.key)); spec && spec->initial)
+        out_ << "note: " << o.key << " makes the state at t = 0 only: the state kept (step " << kept->step
+             << ") goes on as it was; `reset` starts again with it\n";
 }
 
 }  // namespace silt::shell

@@ -42,6 +42,8 @@ const ModuleSpec& module() {
     s.name = "dem";
     s.doc = "soft-sphere grains: contact laws, walls, neighbour lists, velocity Verlet";
     s.keys = dem_keys();
+    mark_initial(s.keys,
+                 {"grains[].velocity", "grains[].temperature", "grains[].velocities", "grains[].angular_velocities"});
     s.observables = dem_observables();
     // Grains make the DEM; a scene of a fluid alone has none.
     s.enabled = [](const SceneDesc& d) { return d.group_count("grains") > 0 || !d.has_table("fluid"); };

@@ -116,6 +116,7 @@ const ModuleSpec& module() {
     s.name = "fluid";
     s.doc = "incompressible Navier-Stokes on a staggered grid (RK3, projection by fast transforms)";
     s.keys = fluid_keys();
+    mark_initial(s.keys, {"fluid.initial", "fluid.initial_velocity"});
     // One drive: a flow rate given over a scene's pressure gradient replaces it (before, the
     // pressure gradient kept driving while the bulk velocity set the velocity scale).
     // A fixed step or the adaptive one's target and cap: fluid.dt given over a scene's fluid.cfl

@@ -376,6 +376,12 @@ State read_checkpoint(const std::string& path, const Model& m, std::vector<std::
     if (changed.size() > kShown) why += "; and " + std::to_string(changed.size() - kShown) + " more";
     throw IoError(why);
   }
+  // (a first step or an initial field given over a state past its start was a difference like
+  // another, where the state goes on without it)
+  if (differences && s.step > 0)
+    for (std::string& d : *differences)
+      if (const KeySpec* spec = find_key_spec(normalise_key(d.substr(0, d.find(" = ")))); spec && spec->initial)
+        d += " (it makes the state at t = 0 only: this one, at step " + std::to_string(s.step) + ", goes on as it was)";
   return s;
 }
 

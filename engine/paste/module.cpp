@@ -401,6 +401,7 @@ const ModuleSpec& module() {
     s.name = "paste";
     s.doc = "lubricated granular paste: lubrication and contacts, every velocity from one implicit solve";
     s.keys = paste_keys();
+    mark_initial(s.keys, {"lubrication.dt_initial"});
     for (KeySpec& k : s.keys)
       if (k.path == "lubrication.coarse_ratio")
         k.computed = [](const Model& m) {

@@ -216,6 +216,7 @@ const ModuleSpec& core_module() {
     s.name = "core";
     s.doc = "time, the box, gravity, run length and outputs";
     s.keys = core_keys();
+    mark_initial(s.keys, {"scene.seed"});
     s.rules = core_rules();
     s.observables = core_observables();
     s.compile = compile_core;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <sstream>
 
+#include "core/assert.hpp"
 #include "silt/model.hpp"
 #include "silt/scene.hpp"
 #include "silt/text.hpp"
@@ -267,6 +268,14 @@ void SceneDesc::check_rules() const {
 
 void SceneDesc::erase_alternatives_of(const std::string& key) {
   for (const std::string& k : alternatives_of(key)) entries.erase(k);
+}
+
+void mark_initial(std::vector<KeySpec>& keys, std::initializer_list<std::string_view> paths) {
+  for (std::string_view path : paths) {
+    const auto it = std::find_if(keys.begin(), keys.end(), [&](const KeySpec& k) { return k.path == path; });
+    SILT_ASSERT(it != keys.end(), "mark_initial: no key " + std::string(path));
+    it->initial = true;
+  }
 }
 
 std::vector<std::string> alternatives_of(const std::string& key) {

@@ -382,11 +382,16 @@ void apply_override_at(SceneDesc& desc, const Override& o, int ordinal, bool bat
   const std::string err = convert(*t.get("v"), *spec, path, e.value, err_loc, "--set");
   if (!err.empty()) throw SceneError(where, err);
   // As the shell's `set`: a key replaces the keys of the file it is an alternative to (run.dt
-  // run.dt_over_tc); two of them on the command line would leave the last alone, unsaid.
-  for (const std::string& other : batch ? alternatives_of(path) : std::vector<std::string>{})
-    if (const auto it = desc.entries.find(other); it != desc.entries.end() && it->second.loc.file == "--set")
+  // run.dt_over_tc), which the command line says; two of them on the command line would leave the
+  // last alone, unsaid.
+  for (const std::string& other : batch ? alternatives_of(path) : std::vector<std::string>{}) {
+    const auto it = desc.entries.find(other);
+    if (it == desc.entries.end()) continue;
+    if (it->second.loc.file == "--set")
       throw SceneError(where, "'" + path + "' and '" + other + "' (--set " + std::to_string(it->second.loc.line) +
                                   ") are alternatives: give one of them");
+    desc.replaced.emplace_back(other, path);
+  }
   desc.entries[path] = std::move(e);
   desc.erase_alternatives_of(path);
 }

@@ -85,6 +85,35 @@ TEST_CASE("silt play: a fluid's initial field changed before the first step make
   CHECK(r.out.find("the state at t = 0 made again") != std::string::npos);
   CHECK(r.out.find("fluid.ke = 1 J") != std::string::npos);
   CHECK(r.out.find("fluid.initial_velocity = 0.5 (state kept)") != std::string::npos);  // once stepped
+  // (and it did nothing without a word)
+  CHECK(r.out.find("note: fluid.initial_velocity makes the state at t = 0 only: the state kept (step 2) goes on as "
+                   "it was; `reset` starts again with it") != std::string::npos);
+}
+
+TEST_CASE("silt run and check: a --set that replaces the scene's alternative key says so") {
+  // The file's fluid.dt went under --set fluid.dt_max, and the cavity's reynolds under --set
+  // fluid.viscosity, without a word (the shell's `set` says it, a file giving both is refused).
+  const Result dt = silt_cli("run " + scene_path("channel") + " --set fluid.dt_max=0.001 --steps 2 --quiet");
+  CHECK(dt.code == 0);
+  CHECK(dt.out.find("silt: note: --set fluid.dt_max replaces the scene's fluid.dt, an alternative to it") !=
+        std::string::npos);
+  const Result nu = silt_cli("check " + scene_path("cavity_2d") + " --set fluid.viscosity=0.01");
+  CHECK(nu.code == 0);
+  CHECK(nu.out.find("silt: note: --set fluid.viscosity replaces the scene's fluid.reynolds") != std::string::npos);
+  const Result same = silt_cli("check " + scene_path("cavity_2d") + " --set fluid.reynolds=400");
+  CHECK(same.out.find("note:") == std::string::npos);
+}
+
+TEST_CASE(
+    "silt run --restore: an initial value that differs from the checkpoint's says it does nothing past the start") {
+  const std::string ckpt = "cli_fluid_initial_restore.ckpt";
+  REQUIRE(silt_cli("run " + scene_path("taylor_green_2d") + " --steps 2 --quiet --save " + ckpt).code == 0);
+  const Result r = silt_cli("run " + scene_path("taylor_green_2d") + " --restore " + ckpt +
+                            " --set fluid.initial_velocity=2 --steps 1 --quiet");
+  CHECK(r.code == 0);
+  CHECK(r.out.find("fluid.initial_velocity = 1 in the checkpoint, 2 in the scene (it makes the state at t = 0 only: "
+                   "this one, at step 2, goes on as it was)") != std::string::npos);
+  std::filesystem::remove(ckpt);
 }
 
 TEST_CASE("silt play: the shell steers the cavity's Reynolds number while it runs") {

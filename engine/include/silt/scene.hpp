@@ -71,6 +71,9 @@ struct KeySpec {
   // The unit where the scene's form decides it (fluid.dt is in units of L / U when the scene gives
   // fluid.reynolds); empty: `unit`.
   std::function<std::string(const Model&)> unit_in;
+  // Makes the state at t = 0 only (a seed, initial velocities, the first time step): a state kept
+  // through a change of it goes on as it was, which the shell says.
+  bool initial = false;
   std::string module;  // the module that owns the key (set when the schema is assembled)
 };
 
@@ -101,6 +104,8 @@ const std::vector<KeyRule>& scene_rules();
 std::vector<std::string> alternatives_of(const std::string& key);
 // The spec of a key path, with array indices normalised ("grains[3].radius" -> "grains[]...").
 const KeySpec* find_key_spec(std::string_view path);
+// Marks the keys of `paths` as making the state at t = 0 only (KeySpec::initial).
+void mark_initial(std::vector<KeySpec>& keys, std::initializer_list<std::string_view> paths);
 // A key's unit in a compiled model: its unit_in where it has one, none in reduced units.
 std::string key_unit(const KeySpec& spec, const Model& m);
 std::string normalise_key(std::string_view path);
@@ -132,6 +137,8 @@ class SceneDesc {
   std::map<std::string, SceneEntry> entries;  // concrete paths: "grains[0].radius"
   std::map<std::string, int> group_counts;    // "grains" -> number of [[grains]] tables
   std::map<std::string, FileLoc> tables;      // "domain", "grains[0]" -> where the table starts
+  // The file's keys a --set replaced, each with the key set (an alternative to it, KeyRule::one_of).
+  std::vector<std::pair<std::string, std::string>> replaced;
 
   bool has(std::string_view path) const;
   // The first of `paths` the scene gives, else `fallback`: where to report an error that more
