@@ -135,3 +135,29 @@ TEST_CASE("paste: the same paste in another unit of length takes the same steps"
   for (int k = 0; k < 15; ++k) REQUIRE(sim.step());
   CHECK(measure(m, sim.state()).phi > phi0);
 }
+
+TEST_CASE("paste: a packing at rest keeps a step of its time scale, run past equilibrium") {
+  // At rest the net forces decay toward round-off, and each step's decay read as a change of the
+  // right-hand side of order one: the step shrank without end (paste_iso with implicit contacts,
+  // 600 eta/P past static, took 900,000 steps down to 4e-4 eta/P). Changes below the net force the
+  // equilibrium criterion resolves (run.static_force_tol) no longer shrink it; the packing stays at
+  // rest.
+  const Model m = test::model_from(test::paste_disks(
+      {.n = 80, .L = 10, .h_min = 1e-3, .dilation = 1.05, .seed = 11, .lubrication = "contacts = \"implicit\"\n"}));
+  Simulation sim(m, 1);
+  sim.restore(prepare_packing(m, 1, nullptr, nullptr));
+  RunOptions to_rest;
+  to_rest.steps = 20000;
+  to_rest.stop_when_static = true;
+  REQUIRE(sim.run(to_rest).end == RunEnd::kStatic);
+  const double phi = measure(m, sim.state()).phi, t0 = sim.state().t;
+  RunOptions past;
+  past.steps = 20000;
+  past.time = 600;
+  const RunReport rep = sim.run(past);
+  REQUIRE(rep.end == RunEnd::kDone);
+  CHECK(sim.state().t >= t0 + 600);
+  CHECK(rep.steps_done < 1000);
+  CHECK(sim.is_static());
+  CHECK(measure(m, sim.state()).phi == doctest::Approx(phi).epsilon(1e-8));
+}
