@@ -7,6 +7,7 @@
 // wall_forces) -> sum_forces, then restore_springs. The forces of a state made under other
 // parameters (dem/forces_under.hpp), made again before its step: the same without the neighbour
 // update, when forces_stale finds them so.
+#include <cmath>
 #include <memory>
 
 #include "dem/contact_candidates.hpp"
@@ -72,6 +73,16 @@ Access kick_reads(const Model& m) {
   return r;
 }
 const Access kKickWrites = {fid::particle_f, fid::particle_t, fid::particle_v, fid::particle_w};
+
+// The contacts grain i (an index) holds: with grains (the listed pairs that touch) and walls.
+int64_t contacts_of(const Model& m, const State& s, int64_t i) {
+  int64_t z = 0;
+  for (int64_t k = 0; k < s.n_pairs(); ++k)
+    if (s.pair_touch[k] && (s.pair_i[k] == i || s.pair_j[k] == i)) ++z;
+  for (int w = 0; w < s.n_walls; ++w)
+    if (m.walls[w].gap(m.dim, &s.particle_x[m.dim * i], s.particle_r[i]) < 0) ++z;
+  return z;
+}
 
 void diagnose_dem(GraphBuilder& b) {
   // A grain id in a step's kick or drift: a time step too large for the contacts it meets.
@@ -151,6 +162,17 @@ void diagnose_dem(GraphBuilder& b) {
                   ", where the integration softens the contacts (a grain held by z of them is stable below about "
                   "limit/sqrt(z)); " +
                   step_advice(m);
+    } else if (const int64_t z = contacts_of(m, s, i);
+               z > 1 && s.dt > m.dt_stable / std::sqrt(static_cast<double>(z))) {
+      // Held by z contacts the grain is stable below about limit / sqrt(z) (a hexagonal lattice at
+      // dt_over_tc = 0.4, 0.63 of one contact's limit, was told its contacts were too soft, and
+      // stiffer ones, with the step in units of their time, failed the same way).
+      f.parameter = m.dt_key;
+      f.message = what + ": the time step " + format_number(s.dt, 4) + m.unit("s") + " is " +
+                  format_number(s.dt / m.dt_stable, 3) + " of one contact's stability limit " +
+                  format_number(m.dt_stable, 4) + m.unit("s") +
+                  ", above limit/sqrt(z) = " + format_number(m.dt_stable / std::sqrt(static_cast<double>(z)), 4) +
+                  m.unit("s") + " for its z = " + std::to_string(z) + " contacts; " + step_advice(m);
     } else {
       const int groups = static_cast<int>(m.materials.size()), g = s.particle_group[i];
       f.parameter =

@@ -276,6 +276,35 @@ TEST_CASE("an overlap at a step near the stability limit asks for a shorter step
   CHECK(f.message.find("reduce run.dt_over_tc") != std::string::npos);
 }
 
+TEST_CASE("an overlap at a step beyond limit / sqrt(z) of a grain's contacts asks for a shorter step") {
+  // A hexagonal lattice of touching disks, stirred, at dt_over_tc = 0.4 (0.63 of one contact's
+  // limit): it was told its contacts were too soft, and stiffer ones, the step in units of their
+  // contact time, failed the same way.
+  auto hex = [](const std::string& k_n, const std::string& dt_over_tc) {
+    return "[scene]\ndimension = 2\n[domain]\nlo = [0.0, 0.0]\nhi = [10.0, 8.660254037844386]\n"
+           "periodic = [true, true]\n[contact]\nmodel = \"linear\"\nk_n = " +
+           k_n +
+           "\n[[grains]]\nradius = 0.5001\nplacement = \"lattice\"\nlattice = \"hex\"\nspacing = 1.0\n"
+           "velocity = \"gaussian\"\ntemperature = 1e-2\n[run]\ndt_over_tc = " +
+           dt_over_tc + "\n";
+  };
+  for (const char* k_n : {"1e4", "1e7"}) {
+    INFO("k_n = " << k_n);
+    auto sim = test::simulation_from(hex(k_n, "0.4"));
+    REQUIRE(sim->model().dt / sim->model().dt_stable < 0.9);
+    bool ok = true;
+    for (int k = 0; k < 2000 && ok; ++k) ok = sim->step();
+    REQUIRE_FALSE(ok);
+    const StepFailure& f = sim->state().failure;
+    CHECK(f.parameter == "run.dt_over_tc");
+    CHECK(f.message.find("above limit/sqrt(z)") != std::string::npos);
+    CHECK(f.message.find("reduce run.dt_over_tc") != std::string::npos);
+  }
+  // At a tenth of the contact time it runs.
+  auto slow = test::simulation_from(hex("1e4", "0.1"));
+  for (int k = 0; k < 2000; ++k) REQUIRE(slow->step());
+}
+
 TEST_CASE("a step lost in the rounding of the time stops the run at advance_clock") {
   // A paste at a viscosity of 1e-300 ran with t frozen, status ok; here the DEM's 1e-3 s step at
   // t = 1e16 s, below the spacing of doubles there (2 s).
