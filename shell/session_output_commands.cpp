@@ -99,8 +99,9 @@ void Session::cmd_stats(const Command& c) {
     for (size_t r : kept) series.push_back(rows[r][k]);
     const BlockAverage b = block_average(series);
     const auto [mean, err] = mean_and_error(b.mean, b.err);
+    // (a nan sample, mu where stress.yy is 0 at t = 0, made the mean nan without a word)
     t.add({names[k], units.units()[k], mean, err, b.converged ? "" : "(lower bound)", format_value(series.back()),
-           std::to_string(b.n)});
+           std::to_string(b.n) + (b.nans > 0 && b.nans < b.n ? " (" + std::to_string(b.nans) + " nan)" : "")});
   }
   t.print(out_);
 }

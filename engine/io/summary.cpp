@@ -57,8 +57,15 @@ void write_summary(const std::string& path, const SummaryInput& in, const Simula
   json obs = json::object();
   const auto& names = stats.names();
   j["average_from"] = in.average_from;
+  std::vector<std::string> warnings = in.warnings;
   for (size_t k = 0; k < names.size(); ++k) {
     const BlockAverage b = stats.average(k, in.average_from);
+    // (one undefined sample, mu where stress.yy is 0 at t = 0, made the mean null without a word)
+    if (b.nans > 0 && b.nans < b.n)
+      warnings.push_back(names[k] + ": " + std::to_string(b.nans) + " of its " + std::to_string(b.n) + " samples " +
+                         (b.nans == 1 ? "is" : "are") +
+                         " nan (undefined there), so its mean and error are null; --average-from a time past them "
+                         "averages the others");
     json o;
     o["mean"] = b.n ? json(b.mean) : json(nullptr);
     o["err"] = b.n > 1 ? json(b.err) : json(nullptr);
@@ -111,7 +118,7 @@ void write_summary(const std::string& path, const SummaryInput& in, const Simula
     if (in.failure.failed) f["during"] = "preparation";
     j["failure"] = f;
   }
-  j["warnings"] = in.warnings;
+  j["warnings"] = warnings;
   write_text_file(path, j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n", "summary");
 }
 

@@ -42,6 +42,7 @@ BlockAverage block_average(const std::vector<double>& x) {
 }
 
 void BlockAccumulator::add(double x) {
+  if (std::isnan(x)) ++nans_;
   if (levels_.empty()) x0_ = x;
   sum_ += x;
   double v = x;
@@ -65,6 +66,7 @@ void BlockAccumulator::add(double x) {
 BlockAverage BlockAccumulator::result() const {
   BlockAverage out;
   out.n = count();
+  out.nans = nans_;
   if (out.n == 0) return out;
   // The mean from the plain sum (an infinite or NaN sample makes it so, as block_average's);
   // the spreads from the sums relative to the first sample.

@@ -488,3 +488,17 @@ TEST_CASE("a velocity profile leaves slabs with no grain empty, and needs grains
   CHECK(none.code == 2);
   CHECK(none.out.find("the velocity profile is the grains', and this scene has none") != std::string::npos);
 }
+
+TEST_CASE("silt run: an observable with nan samples among the others says why its mean is null") {
+  // mu is nan where stress.yy is 0, at t = 0 of a packing: its mean was null with no word.
+  const Result r =
+      silt_cli("run " + silt::test::scene_path("pack_2d") +
+               " --threads 1 --quiet --steps 4000 --every 1000 --observe t,mu --summary cli_nan_mean.json");
+  REQUIRE(r.code == 0);
+  const auto j = nlohmann::json::parse(read_file("cli_nan_mean.json"));
+  CHECK(j["observables"]["mu"]["mean"].is_null());
+  bool said = false;
+  for (const auto& w : j["warnings"]) said |= w.get<std::string>().starts_with("mu: 2 of its 5 samples are nan");
+  CHECK(said);
+  std::filesystem::remove("cli_nan_mean.json");
+}

@@ -13,6 +13,7 @@ struct BlockAverage {
   double mean = 0;
   double err = 0;
   int64_t n = 0;
+  int64_t nans = 0;        // NaN samples among the n (the mean is then NaN)
   int64_t block = 1;       // samples per block at the chosen level
   bool converged = false;  // false: too few samples for the correlation time (err is a lower bound)
 };
@@ -40,6 +41,7 @@ class BlockAccumulator {
   std::vector<Level> levels_;
   double x0_ = 0;
   long double sum_ = 0;  // of the values themselves
+  int64_t nans_ = 0;
 };
 
 }  // namespace silt

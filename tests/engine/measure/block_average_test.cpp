@@ -1,6 +1,7 @@
 // Block averaging on synthetic correlated series with a known error of the mean.
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -136,6 +137,7 @@ TEST_CASE("block averaging of NaN and infinite samples: no error to report") {
     if (!std::isnan(sum)) CHECK(b.mean == sum / static_cast<double>(x.size()));
     CHECK(std::isnan(b.err));
     CHECK_FALSE(b.converged);
+    CHECK(b.nans == std::count_if(x.begin(), x.end(), [](double v) { return std::isnan(v); }));
   }
 }
 
