@@ -36,15 +36,20 @@ std::vector<std::string> split_names(const std::string& list) {
 // Procedure O before the run (Model::prepare): the prepared packing replaces the initial state.
 // Returns an exit code, 0 when the run can go on; a failure or an interruption is written up by
 // the job (summary, last good state). `warning` is set when the packing is not static.
-int prepare(Simulation& sim, const RunArgs& a, RunJob& job, std::string& warning) {
+// `from`: a compression's state before its end (restored), which the compression goes on with.
+int prepare(Simulation& sim, const RunArgs& a, RunJob& job, std::string& warning, const State* from) {
   const Model& model = sim.model();
   PreparationReport prep;
   g_interrupt = false;
   State packed;
   {
     StopSignals stop(&g_interrupt);
-    if (!a.quiet) std::cerr << "silt: preparing: isotropic compression at P = " << preparation_pressure(model) << "\n";
-    packed = prepare_packing(model, a.threads, &prep, &g_interrupt);
+    if (!a.quiet) {
+      std::cerr << "silt: preparing: isotropic compression at P = " << preparation_pressure(model);
+      if (from) std::cerr << ", going on from step " << from->step << " of " << a.restore;
+      std::cerr << "\n";
+    }
+    packed = prepare_packing(model, a.threads, &prep, &g_interrupt, from);
   }
   if (prep.end == RunEnd::kFailed || prep.end == RunEnd::kInterrupted) {
     if (prep.end == RunEnd::kFailed)
@@ -63,9 +68,9 @@ int prepare(Simulation& sim, const RunArgs& a, RunJob& job, std::string& warning
                  prep.end == RunEnd::kStatic ? ", static" : "");
   if (prep.end != RunEnd::kStatic && !prep.reached_phi) {
     // Said now as well as in the summary: what follows starts from a packing still moving.
+    // (the compression's phi: the state's is after prepare.dilation)
     warning = "prepare.max_steps: the compression did not reach equilibrium in " + std::to_string(prep.steps) +
-              " steps (phi = " + format_number(measure(model, sim.state(), measure_part::kGrains).phi, 5) +
-              "); the run starts from a packing still in motion";
+              " steps (phi = " + format_number(prep.phi, 5) + "); the run starts from a packing still in motion";
     std::cerr << "silt: warning: " << warning << "\n";
   }
   return 0;
@@ -153,12 +158,20 @@ int run_command(const RunArgs& a) {
     }
     for (const std::string& w : restore_warnings) std::cerr << "silt: warning: " << w << "\n";
   }
+  // A compression's last good state (a failed preparation's) is compressed on, not run as it is:
+  // the scene's run started shearing a half-compressed packing from its step 21,599.
+  const bool resume = !a.restore.empty() && in_compression(sim.state());
+  if (resume && !model.prepare.compress)
+    return report_error("--restore " + a.restore + ": a compression's state before its end (step " +
+                            std::to_string(sim.state().step) +
+                            "), and this scene prepares none: give prepare.compress = true to go on compressing it",
+                        1);
   // The scene's own length runs to its end from the state it starts from (a restored one
   // continues to the scene's end, as the shell's `restore X`, `run` does; it ran the whole length
   // again). An adaptive step runs the scene's time, not a step count made from the first step.
   if (scene_length) {
     const RunOptions left = sim.scene_run_left();
-    if (left.time < 0 && left.steps <= 0 && !a.restore.empty())
+    if (left.time < 0 && left.steps <= 0 && !a.restore.empty() && !resume)
       return report_error("the checkpoint is at the scene's end (t = " + format_number(sim.state().t) +
                               model.unit("s") + ", step " + std::to_string(sim.state().step) +
                               "): give --steps or --time to go on",
@@ -179,8 +192,16 @@ int run_command(const RunArgs& a) {
   if (job->vtk_removed() > 0)
     std::cerr << "silt: " << job->vtk_removed() << " VTK file(s) of an earlier run removed from " << a.vtk << "\n";
   std::string prep_warning;
-  if (a.restore.empty() && model.prepare.compress) {
-    if (const int prep_code = prepare(sim, a, *job, prep_warning); prep_code != 0) return prep_code;
+  if ((a.restore.empty() || resume) && model.prepare.compress) {
+    // (a copy: the preparation's end replaces the simulation's state)
+    const std::optional<State> from = resume ? std::optional<State>(sim.state()) : std::nullopt;
+    if (const int prep_code = prepare(sim, a, *job, prep_warning, from ? &*from : nullptr); prep_code != 0)
+      return prep_code;
+    if (resume && scene_length) {  // the scene's whole run, from the packing at t = 0
+      const RunOptions left = sim.scene_run_left();
+      opt.steps = left.steps;
+      opt.time = left.time;
+    }
   }
   std::unique_ptr<render::FrameWriter> frames;
   if (!a.frames.empty()) {

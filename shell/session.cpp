@@ -270,26 +270,29 @@ void Session::dispatch(const Command& c) {
     if (name == spec.name) return (this->*handler)(c);
 }
 
+State Session::compressed(const Model& m, const State* from) {
+  PreparationReport rep;
+  interrupt_ = false;
+  State packed = prepare_packing(m, threads_, &rep, &interrupt_, from);
+  interrupt_ = false;
+  // A numerical failure, exit 3 in `silt play` as in `silt run` (it exited 2).
+  if (rep.end == RunEnd::kFailed)
+    throw RunFailure("the preparation (prepare.compress) failed: " + rep.failure +
+                     (sim_ ? "; the scene and its state are as they were" : "; nothing was loaded"));
+  out_ << "prepared: isotropic compression, " << rep.steps << " steps in " << rep.wall_s << " s"
+       << (rep.end == RunEnd::kStatic ? ", static"
+           : rep.reached_phi          ? ", at prepare.phi"
+                                      : ", not static (prepare.max_steps or interrupted)")
+       << "\n";
+  return packed;
+}
+
 std::string Session::install(Model m, const std::optional<State>& keep) {
   auto next = std::make_unique<Simulation>(std::move(m), threads_);
   if (keep) {
     next->restore(*keep);
   } else if (next->model().prepare.compress) {
-    PreparationReport rep;
-    interrupt_ = false;
-    State packed = prepare_packing(next->model(), threads_, &rep, &interrupt_);
-    interrupt_ = false;
-    // A numerical failure, exit 3 in `silt play` as in `silt run` (it exited 2).
-    if (rep.end == RunEnd::kFailed)
-      throw RunFailure("the preparation (prepare.compress) failed: " + rep.failure +
-                       (sim_ ? "; the scene and its state are as they were" : "; nothing was loaded"));
-    next->restore(std::move(packed));
-    out_ << "prepared: isotropic compression, " << rep.steps << " steps in " << rep.wall_s << " s"
-         << (rep.end == RunEnd::kStatic ? ", static"
-             : rep.reached_phi          ? ", at prepare.phi"
-                                        : ", not static (prepare.max_steps or interrupted)")
-         << "\n";
-    interrupt_ = false;
+    next->restore(compressed(next->model(), nullptr));
   }
   // The state a run would start from (the forces of t = 0, the fluid's initial velocity, a paste's
   // connections and velocities): what `print`, `save` and `hash` show before the first step, as

@@ -125,6 +125,9 @@ class Session {
   // kept state that cannot be solved under m (a paste's velocities solved again) installs nothing,
   // and the failure's message is returned ("" when installed).
   std::string install(Model m, const std::optional<State>& keep);
+  // The packing the model's compression prepares, from a fresh state or going on from `from` (a
+  // compression's state before its end); a failure throws, the shell's state as it was.
+  State compressed(const Model& m, const State* from);
   // The watched observables under the model installed (off, saying why, when it has them not).
   void rewatch();
   // The scene file as loaded (or reloaded) with the changes typed since: the file is not read

@@ -333,6 +333,16 @@ void Session::cmd_restore(const Command& c) {
   std::vector<std::string> differences;  // run parameters other than the checkpoint's: allowed, shown
   const std::string file = input_path(c.args[0].text);
   State st = read_checkpoint(file, s.model(), &differences);
+  // A compression's last good state (a failed preparation's in `silt run`) is compressed on, as
+  // `silt run --restore` does, not run as it is.
+  if (in_compression(st)) {
+    if (!s.model().prepare.compress)
+      throw std::runtime_error("restore " + file + ": a compression's state before its end (step " +
+                               std::to_string(st.step) +
+                               "), and this scene prepares none: set prepare.compress true to go on compressing it");
+    out_ << "going on with the compression of " << file << " from its step " << st.step << "\n";
+    st = compressed(s.model(), &st);
+  }
   if (std::find(restored_.begin(), restored_.end(), file) == restored_.end()) restored_.push_back(file);
   s.restore(std::move(st));
   s.prepare();  // a checkpoint of a state never stepped (a fresh paste's): as install() does

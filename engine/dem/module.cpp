@@ -54,7 +54,10 @@ const ModuleSpec& module() {
     s.fields = {{"dem_forces_under", Extent::kFree, "",
                  "the parameters of every force on the grains that particle_f and the pair and wall forces were made "
                  "under (dem/forces_under.hpp): others in the model make them again before the step; the first "
-                 "state's forces, refresh_forces"}};
+                 "state's forces, refresh_forces"},
+                {"dem_compression", Extent::kFree, "",
+                 "[1] in a state of the dry compression that prepares a packing (prepare.compress) before its end: "
+                 "the compression's last good state, which a restore goes on compressing; empty otherwise"}};
     s.force_parameters = contact_parameters;
     s.stale = forces_under_other;
     s.carry = carry_frozen;

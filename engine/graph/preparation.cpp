@@ -43,11 +43,36 @@ State adopt_state(const Model& m, State s) {
   return s;
 }
 
-State prepare_packing(const Model& m, int threads, PreparationReport* report, const std::atomic<bool>* interrupt) {
+namespace {
+
+FieldId compression_field() {
+  static const FieldId id = find_field("dem_compression")->id;
+  return id;
+}
+
+}  // namespace
+
+bool in_compression(const State& s) {
+  const std::vector<double>& mark = s.module_field(compression_field());
+  return !mark.empty() && mark[0] != 0;
+}
+
+State prepare_packing(const Model& m, int threads, PreparationReport* report, const std::atomic<bool>* interrupt,
+                      const State* from) {
   const Model c = compression_model(m);
   Simulation sim(c, threads);
+  // A compression's state before its end goes on from its step (the scene's run started from a
+  // half-compressed packing: a restored last good state of a failed compression was run as it was).
+  int64_t done = 0;
+  if (from) {
+    State s = *from;
+    s.module_field(compression_field()).clear();
+    done = std::min(s.step, m.prepare.max_steps);
+    sim.restore(adopt_state(c, std::move(s)));
+  }
+  const int64_t budget = m.prepare.max_steps - done;
   RunOptions opt;
-  opt.steps = m.prepare.max_steps;
+  opt.steps = budget;
   opt.stop_when_static = true;
   opt.interrupt = interrupt;
   RunReport rep;
@@ -59,8 +84,8 @@ State prepare_packing(const Model& m, int threads, PreparationReport* report, co
     // from below 0.45 to 0.564).
     int64_t chunk_steps = c.limits.check_every;
     double phi = measure(c, sim.state(), measure_part::kGrains).phi;
-    while (rep.steps_done < m.prepare.max_steps) {
-      opt.steps = std::min(chunk_steps, m.prepare.max_steps - rep.steps_done);
+    while (rep.steps_done < budget) {
+      opt.steps = std::min(chunk_steps, budget - rep.steps_done);
       const RunReport chunk = sim.run(opt);
       rep.steps_done += chunk.steps_done;
       rep.wall_s += chunk.wall_s;
@@ -81,7 +106,7 @@ State prepare_packing(const Model& m, int threads, PreparationReport* report, co
     rep = sim.run(opt);
   }
   if (report) {
-    report->steps = rep.steps_done;
+    report->steps = done + rep.steps_done;
     report->wall_s = rep.wall_s;
     report->end = rep.end;
     report->reached_phi = reached;
@@ -90,7 +115,9 @@ State prepare_packing(const Model& m, int threads, PreparationReport* report, co
     if (rep.end == RunEnd::kFailed) {
       report->failure_detail = sim.state().failure;
       report->last_good = sim.last_good_state();
+      if (report->last_good) report->last_good->module_field(compression_field()) = {1.0};
     }
+    report->phi = measure(c, sim.state(), measure_part::kGrains).phi;
   }
   State s = sim.state();
   s.t = 0;

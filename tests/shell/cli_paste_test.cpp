@@ -3,6 +3,7 @@
 // grains with no lubricated connection named in the run's output and summary.
 #include <doctest/doctest.h>
 
+#include <filesystem>
 #include <nlohmann/json.hpp>
 
 #include "shell/cli_fixtures.hpp"
@@ -101,4 +102,57 @@ TEST_CASE("a paste's dry compression that fails names the dry model's parameters
   CHECK_FALSE(has(r.out, "lubrication.dt"));
   std::remove("cli_paste_prep_fail.json");
   std::remove("cli_paste_prep_fail.last_good.ckpt");
+}
+
+TEST_CASE("silt run --restore: a failed compression's last good state is compressed on, the same packing to the bit") {
+  // The last good state of a compression that failed (limits.max_overlap of 1e-3 reached at step
+  // 3,371) was run as it was: the scene's run started from a half-compressed packing at its step.
+  // Restored, the compression goes on from its step: the packing is an uninterrupted one's.
+  const std::string dir = "cli_paste_resume";
+  std::filesystem::create_directories(dir);
+  const std::string scene = quarter_paste_scene("paste_iso", dir), lg = dir + "/failed.last_good.ckpt";
+  const Result failed = silt_cli("run " + scene + " --threads 1 --quiet --set limits.max_overlap=1e-3 --steps 10 " +
+                                 "--summary " + dir + "/failed.json");
+  REQUIRE(failed.code == 3);
+  REQUIRE(has(failed.out, "the compression's last good state written to"));
+  const Result resumed =
+      silt_cli("run " + scene + " --threads 1 --restore " + lg + " --steps 0 --save " + dir + "/resumed.ckpt");
+  CHECK(resumed.code == 0);
+  CHECK(has(resumed.out, "going on from step 3370 of " + lg));
+  REQUIRE(silt_cli("run " + scene + " --threads 1 --quiet --steps 0 --save " + dir + "/fresh.ckpt").code == 0);
+  CHECK(read_file(dir + "/resumed.ckpt") == read_file(dir + "/fresh.ckpt"));
+  // The shell's restore goes on with it too; a scene that prepares nothing refuses it.
+  const Result shell =
+      silt_cli("play " + write_file(dir + "/restore.silt", "load " + scene + "\nhash\nrestore " + lg + "\nhash\n"));
+  CHECK(shell.code == 0);
+  CHECK(has(shell.out, "going on with the compression of " + lg + " from its step 3370"));
+  const auto first = shell.out.find("state hash "), second = shell.out.rfind("state hash ");
+  REQUIRE(first != second);
+  CHECK(shell.out.substr(first, 27) == shell.out.substr(second, 27));
+  std::string plain = read_file(scene);
+  plain.replace(plain.find("compress = true\nphi = 0.8"), 25, "compress = false");
+  plain.replace(plain.find("dilation = 1.1\n"), 15, "");
+  const Result refused =
+      silt_cli("run " + write_file(dir + "/plain.toml", plain) + " --threads 1 --quiet --restore " + lg + " --steps 1");
+  CHECK(refused.code == 1);
+  CHECK(has(refused.out, "a compression's state before its end (step 3370), and this scene prepares none"));
+  std::filesystem::remove_all(dir);
+}
+
+TEST_CASE("silt run: a compression cut short by prepare.max_steps says its own solid fraction, not the dilated one") {
+  // It quoted the packing after prepare.dilation: 0.3605 at 1.1, 0.19387 at 1.5, of one compression.
+  const std::string dir = "cli_paste_max_steps";
+  std::filesystem::create_directories(dir);
+  const std::string scene = quarter_paste_scene("paste_iso", dir);
+  std::string said[2];
+  for (int k = 0; k < 2; ++k) {
+    const Result r = silt_cli("run " + scene + " --threads 1 --quiet --set prepare.max_steps=10 --steps 0 " +
+                              "--set prepare.dilation=" + (k ? "1.5" : "1.0"));
+    // (at 1.5 the grains are then too far apart for h_max: the paste's first solve refuses them, exit 3)
+    const auto at = r.out.find("did not reach equilibrium in 10 steps (phi = ");
+    REQUIRE(at != std::string::npos);
+    said[k] = r.out.substr(at, r.out.find(')', at) - at);
+  }
+  CHECK(said[0] == said[1]);
+  std::filesystem::remove_all(dir);
 }

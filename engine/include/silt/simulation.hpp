@@ -191,12 +191,18 @@ struct PreparationReport {
   double wall_s = 0;
   std::string failure;
   StepFailure failure_detail;      // when end == kFailed
-  std::optional<State> last_good;  // when end == kFailed: the compression's last good state
+  std::optional<State> last_good;  // when end == kFailed: the compression's last good state (in_compression)
   Profile profile;                 // the compression's wall time per stage (the packing's state starts with none)
+  double phi = 0;                  // the solid fraction the compression ended at (before prepare.dilation)
 };
 Model compression_model(const Model& m);
+// The prepared packing: the compression of a fresh state, or of `from`, a compression's state before
+// its end (its last good state, in_compression), which it goes on with.
 State prepare_packing(const Model& m, int threads, PreparationReport* report = nullptr,
-                      const std::atomic<bool>* interrupt = nullptr);
+                      const std::atomic<bool>* interrupt = nullptr, const State* from = nullptr);
+// Whether the state is a compression's before its end (a preparation's last good state, which a
+// restore goes on compressing rather than running the scene from).
+bool in_compression(const State& s);
 // A state saved under other run parameters (a prepared packing, a checkpoint of the same grains),
 // made ready for `m`: its boundary conditions and imposed rates.
 State adopt_state(const Model& m, State s);
