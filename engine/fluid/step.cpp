@@ -12,6 +12,7 @@
 #include "fluid/operators.hpp"
 #include "fluid/pressure_solve.hpp"
 #include "fluid/stencil_kernels.hpp"
+#include "silt/text.hpp"
 
 namespace silt::fluid {
 namespace {
@@ -232,6 +233,46 @@ double cfl_number(const FluidParams& p, const State& s, double dt) {
     rate += std::max(mx[0], boundary_speed(g, a)) / g.h[a];  // a NaN of the field stays
   }
   return dt * rate;
+}
+
+FastestFace fastest_face(const FluidParams& p, const State& s) {
+  const Grid& g = p.grid;
+  FastestFace out;
+  double best = -1;
+  int64_t at = -1;
+  for (int a = 0; a < g.dim; ++a) {
+    const auto& u = s.module_field(fluid_fields().u[a]);
+    for (int64_t q = 0; q < static_cast<int64_t>(u.size()); ++q) {  // (a failure's, once: serial)
+      const double rate = std::isfinite(u[q]) ? std::abs(u[q]) / g.h[a] : HUGE_VAL;
+      if (rate > best) {
+        best = rate;
+        out.axis = a;
+        at = q;
+        out.u = u[q];
+      }
+      if (rate == HUGE_VAL) break;
+    }
+    if (best == HUGE_VAL) break;
+  }
+  if (out.axis < 0) return out;
+  const auto d = g.face_dims(out.axis);
+  const std::array<int64_t, 3> idx{at % d[0], (at / d[0]) % d[1], at / (d[0] * d[1])};
+  for (int b = 0; b < g.dim; ++b) {
+    out.cell[b] = std::min(idx[b], g.n[b] - 1);
+    out.x[b] = g.lo[b] + (static_cast<double>(idx[b]) + (b == out.axis ? 0.0 : 0.5)) * g.h[b];
+  }
+  return out;
+}
+
+std::string face_text(const Model& m, const FastestFace& f) {
+  if (f.axis < 0) return "";
+  std::string cell, x;
+  for (int b = 0; b < m.dim; ++b) {
+    cell += (b ? ", " : "") + std::to_string(f.cell[b]);
+    x += (b ? ", " : "") + format_number(f.x[b], 4);
+  }
+  return " at cell (" + cell + "), x = (" + x + ")" + m.unit("m") + ": " + std::string(1, "uvw"[f.axis]) + " = " +
+         format_number(f.u, 4) + m.unit("m/s");
 }
 
 double slowest_viscous_rate(const FluidParams& p) {

@@ -16,6 +16,7 @@
 
 #include <array>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "core/large_array.hpp"
@@ -136,6 +137,18 @@ double adaptive_dt(const FluidParams& p, double rate);
 // the boundaries, a cavity at Re = 1e6 took a second step of dt_max = h^2 / nu = 41 L / U, whose
 // CFL number was 0 at its start, and its kinetic energy came out 1.3e8 times U^2 L^2.)
 double cfl_number(const FluidParams& p, const State& s, double dt);
+// Where the state's flow is fastest, the CFL number's largest term |u_a| / h_a (or its first
+// non-finite velocity), for a failure to name: the face's axis, the cell it bounds from below
+// (the last cell for the high wall's faces), its centre and the velocity there.
+struct FastestFace {
+  int axis = -1;
+  std::array<int64_t, 3> cell{};
+  std::array<double, 3> x{};
+  double u = 0;
+};
+FastestFace fastest_face(const FluidParams& p, const State& s);
+// " at cell (i, j[, k]), x = (...): u_a = V" for a failure's message (units from the model).
+std::string face_text(const Model& m, const FastestFace& f);
 // max |velocity_a| imposed on the box's faces (walls' and inflows' velocities; 0 for periodic).
 double boundary_speed(const Grid& g, int a);
 // sum_a boundary_speed(a) / h_a: the rate of a fluid at rest between its walls, lids and inflows.

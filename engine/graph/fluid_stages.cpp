@@ -5,6 +5,8 @@
 //                                            -> fluid_project
 //
 // and in the setup graph, fluid_initial: the initial velocity of a fresh state.
+#include <cmath>
+
 #include "fluid/step.hpp"
 #include "graph/adders.hpp"
 #include "silt/text.hpp"
@@ -23,10 +25,13 @@ void diagnose_fluid(GraphBuilder& b) {
     f.stage = "fluid_load";
     if (e.first() == 0) {
       f.parameter = p.dt_fixed ? "fluid.dt" : "fluid.cfl";
+      // (where: the contract names the particle or the cell, and the message named neither)
+      const std::string where = fluid::face_text(m, fluid::fastest_face(p, s));
       f.message =
           "the fluid's CFL number dt sum |u|/h = " + format_past(e.value(), fluid::FluidParams::kCflLimit, 4) +
           " at step " + std::to_string(s.step) + " exceeds " + format_number(fluid::FluidParams::kCflLimit, 4) +
-          ", the stability limit of RK3 advection; " +
+          ", the stability limit of RK3 advection (fastest" + (where.empty() ? std::string(" at the walls") : where) +
+          "); " +
           (p.dt_fixed ? "reduce fluid.dt, or give fluid.cfl instead of it for the adaptive step" : "reduce fluid.cfl");
     } else {
       f.parameter = "fluid.viscous";
@@ -55,7 +60,9 @@ void diagnose_fluid(GraphBuilder& b) {
                   (driven ? "lower " + gradient : "reduce " + step_key);
       return;
     }
+    const fluid::FastestFace first = fluid::fastest_face(p, s);
     f.message = "the fluid velocity is no longer finite at step " + std::to_string(s.step) +
+                (std::isfinite(first.u) ? std::string() : " (first" + fluid::face_text(m, first) + ")") +
                 ": the flow is under-resolved or the step too large; reduce " + step_key + ", or use more fluid.cells" +
                 (driven ? ", or a lower " + gradient : "");
   });

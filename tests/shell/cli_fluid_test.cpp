@@ -50,6 +50,8 @@ TEST_CASE("silt run: a fluid step past the CFL limit exits 3 naming fluid.dt, or
   CHECK(r.code == 3);
   CHECK(r.out.find("fluid.dt") != std::string::npos);
   CHECK(r.out.find("CFL") != std::string::npos);
+  // Where (the contract's "the particle or cell"): the fastest face of the flow, below the lid.
+  CHECK(r.out.find("(fastest at cell (17, 31), x = (0.5312, 0.9844) m: u = ") != std::string::npos);
   // The lid alone gives 6.4, in units of L / U = 1 s: refused at the key (`silt check` said ok).
   const Result lid = silt_cli("check " + scene_path("cavity_2d") + " --set fluid.cells=[32,32] --set fluid.dt=0.2");
   CHECK(lid.code == 2);
