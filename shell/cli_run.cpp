@@ -218,11 +218,19 @@ int run_command(const RunArgs& a) {
                               : a.every > 0            ? a.every
                                                        : model.sample_every;
   std::string frame_error;
+  // What a frame could not draw, each said once (a frame too narrow for its colour bar dropped it
+  // without a word; the shell's `render` says it).
+  std::vector<std::string> frame_warnings;
   if (frames)
     job->add_hook({frame_every, [&](const State& s) {
                      if (!frame_error.empty()) return;
                      try {
-                       frames->submit(render::build_render_scene(model, s, model.render));
+                       render::RenderScene rs = render::build_render_scene(model, s, model.render);
+                       for (const std::string& w : rs.warnings)
+                         if (frame_warnings.size() < 5 &&
+                             std::find(frame_warnings.begin(), frame_warnings.end(), w) == frame_warnings.end())
+                           frame_warnings.push_back(w);
+                       frames->submit(std::move(rs));
                      } catch (const std::exception& e) {
                        frame_error = e.what();
                      }
@@ -250,6 +258,10 @@ int run_command(const RunArgs& a) {
   const RunReport rep = job->run(opt);
   progress.update(sim.state());
   progress.finish();
+  for (const std::string& w : frame_warnings) {
+    std::cerr << "silt: warning: frames: " << w << "\n";
+    job->add_warning("frames: " + w);
+  }
   if (frames) {
     frames->finish();
     if (frame_error.empty()) frame_error = frames->error();

@@ -502,3 +502,18 @@ TEST_CASE("silt run: an observable with nan samples among the others says why it
   CHECK(said);
   std::filesystem::remove("cli_nan_mean.json");
 }
+
+TEST_CASE("silt run --frames: what a frame could not draw is said once, and in the summary") {
+  // A frame too narrow for its colour bar dropped it without a word (the shell's render said it).
+  const Result r = silt_cli("run " + silt::test::scene_path("pack_2d") +
+                            " --threads 1 --quiet --steps 2000 --frames cli_narrow_frames --frame-every 1000 "
+                            "--set render.width=200 --set render.height=300 --summary cli_narrow_frames.json");
+  REQUIRE(r.code == 0);
+  const std::string said = "silt: warning: frames: a frame 200 px wide has no colour bar (it needs 210 px)";
+  CHECK(r.out.find(said) != std::string::npos);
+  CHECK(r.out.find(said) == r.out.rfind(said));
+  const auto j = nlohmann::json::parse(read_file("cli_narrow_frames.json"));
+  CHECK(j["warnings"].dump().find("a frame 200 px wide has no colour bar") != std::string::npos);
+  std::filesystem::remove_all("cli_narrow_frames");
+  std::filesystem::remove("cli_narrow_frames.json");
+}
