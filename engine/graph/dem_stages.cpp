@@ -12,6 +12,7 @@
 
 #include "dem/contact_candidates.hpp"
 #include "dem/contact_setup.hpp"
+#include "dem/escaped.hpp"
 #include "dem/forces_under.hpp"
 #include "dem/stages.hpp"
 #include "graph/adders.hpp"
@@ -190,6 +191,14 @@ void diagnose_dem(GraphBuilder& b) {
   });
   b.diagnose(event::kRunaway, [step_advice](const Model& m, const State& s, const EventSlot& e, StepFailure& f) {
     f.stage = "energy_check";
+    // A grain falling out through an open face gains the energy without bound: not the step's
+    // fault (a smaller one failed at the same time).
+    if (const std::string out = dem::escaped_grain(m, s); !out.empty()) {
+      f.parameter = "walls";
+      f.message = "kinetic energy " + format_number(e.value(), 4) + m.unit("J") + " beyond the energy the scene can " +
+                  "supply: " + out + "; " + dem::kEscapeAdvice;
+      return;
+    }
     f.parameter = m.dt_key;
     f.message = "kinetic energy " + format_number(e.value(), 4) + m.unit("J") + " exceeds " +
                 format_number(m.limits.energy_factor, 4) + " times the energy the scene can supply (" +

@@ -8,6 +8,7 @@
 // reads it: the one place the model's rate becomes the state's while stepping.
 #include <cmath>
 
+#include "dem/escaped.hpp"
 #include "graph/adders.hpp"
 #include "shear/cycle_origin.hpp"
 #include "shear/stages.hpp"
@@ -85,9 +86,14 @@ void add_shear_stages(GraphBuilder& b) {
       return;
     }
     f.message = "the box length along " + axis + " fell to " + format_number(e.value(), 4) +
-                ", below twice the interaction range " + format_number(2 * mm.interaction_range(), 4) +
-                ": use more grains or a lower box.pressure";
-    (void)s;
+                ", below twice the interaction range " + format_number(2 * mm.interaction_range(), 4);
+    // (grains that left through an open face let the box close on nothing: not the pressure's fault)
+    if (const std::string out = dem::escaped_grain(mm, s); !out.empty()) {
+      f.parameter = "walls";
+      f.message += ": " + out + "; " + dem::kEscapeAdvice;
+      return;
+    }
+    f.message += ": use more grains or a lower box.pressure";
   });
   if (!box_stage) return;
   const int kick =

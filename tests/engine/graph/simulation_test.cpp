@@ -305,6 +305,26 @@ TEST_CASE("an overlap at a step beyond limit / sqrt(z) of a grain's contacts ask
   for (int k = 0; k < 2000; ++k) REQUIRE(slow->step());
 }
 
+TEST_CASE("a grain that falls out through an open face is named, not the time step") {
+  // No wall below and no periodicity: the grain fell for ever until its kinetic energy passed the
+  // scene's, and the run advised a smaller run.dt, with which it failed at the same time.
+  for (const char* dt : {"1e-3", "1e-4"}) {
+    INFO("dt = " << dt);
+    auto sim = test::simulation_from(
+        "[scene]\ndimension = 3\n[domain]\nlo = [0.0, 0.0, 0.0]\nhi = [0.1, 0.1, 0.1]\n[gravity]\nmagnitude = 9.81\n"
+        "[contact]\nmodel = \"hooke\"\nk_n = 1000.0\n[[grains]]\nradius = 0.005\ndensity = 1000.0\n"
+        "placement = \"explicit\"\npositions = [[0.05, 0.05, 0.05]]\n[run]\ndt = " +
+        std::string(dt) + "\n");
+    bool ok = true;
+    for (int k = 0; k < 40000 && ok; ++k) ok = sim->step();
+    REQUIRE_FALSE(ok);
+    const StepFailure& f = sim->state().failure;
+    CHECK(f.parameter == "walls");
+    CHECK(f.message.find("grain 0 left the domain through its z_lo face") != std::string::npos);
+    CHECK(f.message.find("reduce run.dt") == std::string::npos);
+  }
+}
+
 TEST_CASE("a step lost in the rounding of the time stops the run at advance_clock") {
   // A paste at a viscosity of 1e-300 ran with t frozen, status ok; here the DEM's 1e-3 s step at
   // t = 1e16 s, below the spacing of doubles there (2 s).
