@@ -125,6 +125,19 @@ void setup_energy_scale(Model& m) {
   m.limits.energy_per_s2 = 0.5 * mass * g_periodic2;
 }
 
+// A friction with no tangential spring: the tangential dashpot is a fraction of the spring's
+// critical damping, so there is no tangential force at all (kt_over_kn = 0 with mu = 0.5 and a
+// tangential damping of 1 slid an oblique impact on as if frictionless, without a word).
+void refuse_friction_without_spring(const SceneDesc& d, const Model& m) {
+  if (m.contact.kt_ratio > 0) return;
+  bool walls = false;
+  for (const ContactParams& w : m.wall_contact) walls = walls || w.friction > 0;
+  if (!m.pair_friction() && !walls) return;
+  d.fail("contact.kt_over_kn",
+         "contact.kt_over_kn = 0 leaves no tangential force (the tangential dashpot is a fraction of the spring's "
+         "critical damping), so the friction given would do nothing: give kt_over_kn > 0, or friction 0");
+}
+
 }  // namespace
 
 void compile_dem(const SceneDesc& d, Model& m) {
@@ -133,6 +146,7 @@ void compile_dem(const SceneDesc& d, Model& m) {
   setup_walls(d, m);
   setup_grains(d, m);
   setup_materials(d, m);
+  refuse_friction_without_spring(d, m);
   setup_inertial_mass(m);
   m.scene_hash = system_fingerprint(m);
   setup_neighbors(d, m);

@@ -79,9 +79,19 @@ std::string friction_text(const Model& m) {
     hi = seen ? std::max(hi, f) : f;
     seen = true;
   }
-  if (lo == hi) return "mu = " + format_number(lo, 5);
-  return "mu = " + format_number(lo, 5) + " to " + format_number(hi, 5) +
-         " by pair of groups (the smaller of the two groups')";
+  std::string text = lo == hi ? "mu = " + format_number(lo, 5)
+                              : "mu = " + format_number(lo, 5) + " to " + format_number(hi, 5) +
+                                    " by pair of groups (the smaller of the two groups')";
+  // The walls' (a wall's own friction, else the grain's group's): a group's 0.5 on a wall was
+  // taken while `check` said the scene's 0.05.
+  if (m.wall_contact.empty()) return text;
+  double wlo = m.wall_contact[0].friction, whi = wlo;
+  for (const ContactParams& w : m.wall_contact) {
+    wlo = std::min(wlo, w.friction);
+    whi = std::max(whi, w.friction);
+  }
+  if (wlo == lo && whi == hi) return text;
+  return text + "; on the walls mu = " + format_number(wlo, 5) + (wlo == whi ? "" : " to " + format_number(whi, 5));
 }
 
 }  // namespace

@@ -27,7 +27,7 @@ std::vector<KeySpec> dem_keys() {
       // ---- walls
       {"walls[].point", K::kRealList, std::nullopt, Range::any(), "m", false, {}, "A point of the planar wall."},
       {"walls[].normal", K::kRealList, std::nullopt, Range::any(), "", false, {}, "Normal of the wall, pointing into the domain."},
-      {"walls[].friction", K::kReal, std::nullopt, Range::closed(0, 10), "", true, {}, "Grain-wall friction (default: contact.friction)."},
+      {"walls[].friction", K::kReal, std::nullopt, Range::closed(0, 10), "", true, {}, "Grain-wall friction (default: the friction of the grain's group, grains[].friction, else contact.friction)."},
       {"walls[].young_modulus", K::kReal, std::nullopt, Range::positive(), "Pa", false, {}, "hertz: the wall's Young modulus (default: the grains'); the pair's E~ is 2 / ((1 - nu_g^2)/E_g + (1 - nu_w^2)/E_w)."},
       {"walls[].poisson_ratio", K::kReal, std::nullopt, Range::open(-1, 0.5), "", false, {}, "hertz: the wall's Poisson ratio (default: contact.poisson_ratio)."},
       {"walls[].rigid", K::kBool, Value(false), Range::any(), "", false, {}, "hertz, hooke, linear: a wall that does not deform (Hertz: E~ doubles against it; springs: twice the grain's k_n, the series rule's limit)."},

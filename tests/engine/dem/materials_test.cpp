@@ -579,3 +579,29 @@ positions = [[0, 0, 0]]
   CHECK(h.contact.e_tilde == doctest::Approx(7e10 / (1 - 0.04)).epsilon(1e-14));
   CHECK(h.pair_contact.empty());  // one material: [contact]'s law itself
 }
+
+TEST_CASE("materials: a wall without a friction of its own takes the grain's group's, and check says so") {
+  // A group's mu = 0.5 on a wall was taken (a slide decelerated at 0.5 g) while `check` said the
+  // scene's 0.05, and the key's text said the wall's default was contact.friction.
+  const std::string slide =
+      "[scene]\ndimension = 3\n[domain]\nlo = [-1.0, -0.02, 0.0]\nhi = [1.0, 0.02, 0.1]\n[gravity]\nmagnitude = 10.0\n"
+      "[contact]\nmodel = \"hooke\"\nk_n = 1000.0\ngamma_n = 2000.0\nfriction = 0.05\n[[walls]]\npoint = [0.0, 0.0, "
+      "0.0]\n"
+      "normal = [0.0, 0.0, 1.0]\n[[grains]]\nradius = 1e-3\ndensity = 1000.0\nfriction = 0.5\nplacement = "
+      "\"explicit\"\n"
+      "positions = [[0.0, 0.0, 0.0009999581]]\nvelocity = \"explicit\"\nvelocities = [[1.0, 0.0, 0.0]]\n[run]\ndt = "
+      "1e-5\n";
+  const Model m = test::model_from(slide);
+  REQUIRE(m.wall_contact.size() == 1);
+  CHECK(m.wall_contact[0].friction == 0.5);
+  CHECK(dem::describe_dem(m).find("mu = 0.05; on the walls mu = 0.5") != std::string::npos);
+  // Sliding at 1 m/s on it, the grain slows at mu g = 5 m/s^2 (about 0.2 of the way to rolling).
+  Simulation sim(m, 1);
+  for (int k = 0; k < 500; ++k) REQUIRE(sim.step());
+  CHECK(sim.state().particle_v[0] == doctest::Approx(1 - 5 * 500 * 1e-5).epsilon(1e-3));
+  // And a friction that no tangential spring would carry is refused where the spring is given.
+  CHECK(test::scene_error(slide) == "");
+  std::string no_spring = slide;
+  no_spring.replace(no_spring.find("friction = 0.05\n"), 16, "friction = 0.05\nkt_over_kn = 0.0\n");
+  CHECK(test::scene_error(no_spring).find("contact.kt_over_kn = 0 leaves no tangential force") != std::string::npos);
+}
