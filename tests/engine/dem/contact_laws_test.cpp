@@ -216,6 +216,27 @@ TEST_CASE("check prints the restitution of one collision under the scene's law, 
         doctest::Approx(std::exp(-std::acos(-1.0) * zeta / std::sqrt(1 - zeta * zeta))).epsilon(1e-3));
 }
 
+TEST_CASE("check prints the restitution at the run's time step where it departs from the law's") {
+  // Heavily damped, velocity Verlet at t_c/50 gives 0.005 where the law gives 0.01 (and 3.7e-8
+  // for 0.001): `check` said only the law's. Two grains meeting at the start of a step, as the
+  // printed collision does, part at the printed speed.
+  const Model m =
+      compile(load_scene_file(test::scene_path("collision_normal"),
+                              {parse_override("contact.restitution=0.01"), parse_override("run.dt_over_tc=0.02"),
+                               parse_override("contact.friction=0")}));
+  const std::string text = describe(m);
+  const size_t at = text.find(" at this time step (dt = t_c/50");
+  REQUIRE(at != std::string::npos);
+  const double stepped = std::stod(text.substr(text.rfind("; ", at) + 2));
+  CHECK(printed_restitution(m) == doctest::Approx(0.01).epsilon(0.01));
+  CHECK(stepped == doctest::Approx(0.005).epsilon(0.01));
+  Simulation sim(m, 1);
+  CHECK(test::head_on_collision(sim, 1.0).restitution == doctest::Approx(stepped).epsilon(1e-3));
+  // Lightly damped, the two agree: only the law's is printed.
+  const Model light = compile(load_scene_file(test::scene_path("collision_normal")));
+  CHECK(describe(light).find("at this time step") == std::string::npos);
+}
+
 TEST_CASE("pure laws: linear family coefficients and reduced radius") {
   ContactParams p;
   p.k0 = 2e5;
