@@ -191,7 +191,10 @@ void check_box_mass(const SceneDesc& d, const Model& m) {
                        ? m.k_max * std::sqrt(m.contact.hertz_ref_overlap / m.limits.max_overlap)
                        : m.k_max;
   const double stiffness = m.dim * n_free * k * n4 * a_over_len * a_over_len;
-  const double limit = 2 * std::sqrt(b.mass / stiffness);
+  // Half the estimate's bound: the box couples to the grains' own modes, and a mass just above the
+  // estimate's least (pack_2d at 1.01 times it, shear2d_dry at 1.01) ran away within a few hundred
+  // steps where twice it held.
+  const double limit = std::sqrt(b.mass / stiffness);
   if (!(stiffness > 0) || m.dt <= limit) return;
   const double least = b.mass_factor * (m.dt / limit) * (m.dt / limit);
   d.fail(d.first_given({"box.mass_factor", "box.pressure", "shear.stress"}, "box.mass_factor"),
