@@ -37,6 +37,20 @@ bool enters_preparation(const std::string& key) {
   return true;
 }
 
+// What a value taken does not change in this model, or "": a paste's step and box are solved with
+// its grains (run.dt set in a running paste replied "from the next step" and changed nothing), and
+// the shell's frames keep the cadence of `frames DIR every N`.
+std::string inert_note(const Model& m, const std::string& key) {
+  if (m.velocities_solved && (key == "run.dt" || key == "run.dt_over_tc"))
+    return key + " sets the step of the dry preparation only: the paste's is lubrication.dt, or its adaptive keys";
+  if (m.velocities_solved && key == "box.mass_factor")
+    return "box.mass_factor acts in the dry preparation only: the paste solves its box's strain rates with the "
+           "grains' velocities";
+  if (key == "render.every")
+    return "render.every is silt run's frame cadence: the shell's frames keep theirs (`frames DIR every N`)";
+  return "";
+}
+
 }  // namespace
 
 // One `set` as typed, and what the model was before it (for the notes after it).
@@ -243,6 +257,8 @@ void Session::recompile_set(const SetChange& ch) {
 // in units of L / U, and a channel's step doubled without a word), a packing kept from before.
 void Session::set_notes(const SetChange& ch, const State* kept) {
   const Model& m = sim().model();  // (a recompile installs another simulation)
+  for (const Override& o : ch.changes)
+    if (const std::string inert = inert_note(m, o.key); !inert.empty()) out_ << "note: " << inert << "\n";
   // (`set lubrication.dt` removed a scene's lubrication.dt_max and drift_max without a word)
   // (and a set of the first side again brought back the scene's values of it without a word)
   std::vector<std::string> dropped, back;

@@ -156,3 +156,20 @@ TEST_CASE("silt run: a compression cut short by prepare.max_steps says its own s
   CHECK(said[0] == said[1]);
   std::filesystem::remove_all(dir);
 }
+
+TEST_CASE("silt play: a value a paste does not use while it runs is said to act elsewhere") {
+  // run.dt set in a running paste replied "from the next step" and changed nothing: the paste's
+  // step is its own. So with box.mass_factor (its box is solved), and render.every in the shell.
+  const std::string dir = "cli_paste_inert";
+  std::filesystem::create_directories(dir);
+  const std::string scene = quarter_paste_scene("paste_cyclic_alternating", dir);
+  const Result r =
+      silt_cli("play " + write_file(dir + "/inert.silt", "load " + scene +
+                                                             "\nrun 2\nset run.dt 1e-5\nset box.mass_factor 5"
+                                                             "\nset render.every 10\n"));
+  CHECK(r.code == 0);
+  CHECK(has(r.out, "note: run.dt sets the step of the dry preparation only"));
+  CHECK(has(r.out, "note: box.mass_factor acts in the dry preparation only"));
+  CHECK(has(r.out, "note: render.every is silt run's frame cadence"));
+  std::filesystem::remove_all(dir);
+}
