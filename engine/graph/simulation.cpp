@@ -15,6 +15,7 @@
 #include "dem/module.hpp"
 #include "graph/restart_point.hpp"
 #include "graph/step_graph.hpp"
+#include "measure/equilibrium.hpp"
 #include "silt/module.hpp"
 #include "silt/observables.hpp"
 #include "silt/text.hpp"
@@ -377,9 +378,7 @@ bool Simulation::is_static() const {
   if (!m.box_control.on) return false;
   const Measurements meas = measure(m, state_, measure_part::kGrains | measure_part::kStress);
   const double P = m.box_control.pressure;
-  const double a = m.a_max;
-  const double force_unit = std::pow(a, m.dim - 1) * P;
-  if (meas.max_net_force > m.until_static.force_tol * force_unit) return false;
+  if (meas.max_net_force > static_force(m)) return false;
   // The stress the contacts carry: with lubrication the box equation holds the total at P at every
   // step, and equilibrium is when the contacts alone carry it (Peyneau 2009 sec. 2.3.2).
   for (int k = 0; k < m.dim; ++k)
@@ -392,7 +391,7 @@ bool Simulation::is_static() const {
   // the forces and the stresses (Peyneau 2009 sec. 2.3.2).
   if (m.velocities_solved) return true;
   const int64_t n_free = m.n_grains - m.n_frozen;
-  return (meas.ke - meas.ke_rot) / std::max<int64_t>(1, n_free) <= m.until_static.ke_tol * std::pow(a, m.dim) * P;
+  return (meas.ke - meas.ke_rot) / std::max<int64_t>(1, n_free) <= m.until_static.ke_tol * std::pow(m.a_max, m.dim) * P;
 }
 
 bool Simulation::is_steady() const {

@@ -1,6 +1,7 @@
 // Dimensionless numbers of a flow: the inertial, stiffness and viscous numbers.
 #include <cmath>
 
+#include "measure/equilibrium.hpp"
 #include "silt/observables.hpp"
 #include "silt/text.hpp"
 
@@ -22,6 +23,11 @@ std::string stiffness_number_text(const Model& m, double pressure) {
   const double soft = stiffness_number(m, pressure), stiff = stiffness_number(m, pressure, true);
   if (soft == stiff) return format_number(soft, 5);
   return format_number(soft, 5) + " to " + format_number(stiff, 5) + " by pair of groups";
+}
+
+double static_force(const Model& m) {
+  if (!m.box_control.on) return 0;
+  return m.until_static.force_tol * (std::pow(m.a_max, m.dim - 1) * m.box_control.pressure);
 }
 
 double viscous_stress(const Model& m, double eta, double rate) {
