@@ -152,9 +152,15 @@ int run_command(const RunArgs& a) {
   const Model& model = sim.model();
   if (!a.restore.empty()) {
     try {
-      sim.restore(read_checkpoint(a.restore, model, &restore_warnings));
+      std::vector<uint8_t> frozen;  // grains the checkpoint's run froze (`freeze`), frozen here too
+      State st = read_checkpoint(a.restore, model, &restore_warnings, &frozen);
+      if (const int64_t n = sim.freeze_grains(frozen); n > 0)
+        std::cerr << "silt: " << n << " grain(s) frozen in the checkpoint (by `freeze`) are frozen in this run too\n";
+      sim.restore(std::move(st));
     } catch (const IoError& e) {
       return report_error(e.what(), 4);
+    } catch (const std::invalid_argument& e) {
+      return report_error("--restore " + a.restore + ": " + e.what(), 1);
     }
     for (const std::string& w : restore_warnings) std::cerr << "silt: warning: " << w << "\n";
   }

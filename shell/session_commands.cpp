@@ -332,14 +332,17 @@ void Session::cmd_restore(const Command& c) {
   Simulation& s = sim();
   std::vector<std::string> differences;  // run parameters other than the checkpoint's: allowed, shown
   const std::string file = input_path(c.args[0].text);
-  State st = read_checkpoint(file, s.model(), &differences);
+  std::vector<uint8_t> frozen;  // grains the checkpoint's session froze (`freeze`), frozen here too
+  State st = read_checkpoint(file, s.model(), &differences, &frozen);
   // A compression's last good state (a failed preparation's in `silt run`) is compressed on, as
   // `silt run --restore` does, not run as it is.
+  if (in_compression(st) && !s.model().prepare.compress)
+    throw std::runtime_error("restore " + file + ": a compression's state before its end (step " +
+                             std::to_string(st.step) +
+                             "), and this scene prepares none: set prepare.compress true to go on compressing it");
+  if (const int64_t n = s.freeze_grains(frozen); n > 0)
+    out_ << n << " grain(s) frozen in " << file << " (by freeze) are frozen here too\n";
   if (in_compression(st)) {
-    if (!s.model().prepare.compress)
-      throw std::runtime_error("restore " + file + ": a compression's state before its end (step " +
-                               std::to_string(st.step) +
-                               "), and this scene prepares none: set prepare.compress true to go on compressing it");
     out_ << "going on with the compression of " << file << " from its step " << st.step << "\n";
     st = compressed(s.model(), &st);
   }

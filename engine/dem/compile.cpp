@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <cmath>
 
-#include "core/rng.hpp"
 #include "dem/contact_laws.hpp"
 #include "dem/contact_setup.hpp"
 #include "dem/grain_setup.hpp"
@@ -63,22 +62,6 @@ void setup_inertial_mass(Model& m) {
       volume += grain_volume(m.dim, m.init.radius[i]);
     }
   m.m_a = mass / volume * grain_volume(m.dim, 0.5 * m.a_max);
-}
-
-// Identity of the system a checkpoint belongs to: dimension, periodicity, walls and every
-// grain's size, mass, group and frozen flag. Run parameters (friction, time step, pressure, ...)
-// are not part of it, so a prepared packing can be restored and run with other values.
-uint64_t system_fingerprint(const Model& m) {
-  uint64_t h = fnv1a(&m.dim, sizeof m.dim);
-  h = fnv1a(&m.n_grains, sizeof m.n_grains, h);
-  h = fnv1a(m.box.periodic.data(), sizeof(bool) * 3, h);
-  const size_t nw = m.walls.size();
-  h = fnv1a(&nw, sizeof nw, h);
-  h = fnv1a(m.init.radius.data(), sizeof(double) * m.init.radius.size(), h);
-  h = fnv1a(m.init.mass.data(), sizeof(double) * m.init.mass.size(), h);
-  h = fnv1a(m.init.frozen.data(), m.init.frozen.size(), h);
-  h = fnv1a(m.init.group.data(), sizeof(int32_t) * m.init.group.size(), h);
-  return h;
 }
 
 void setup_neighbors(const SceneDesc& d, Model& m) {
@@ -148,7 +131,7 @@ void compile_dem(const SceneDesc& d, Model& m) {
   setup_materials(d, m);
   refuse_friction_without_spring(d, m);
   setup_inertial_mass(m);
-  m.scene_hash = system_fingerprint(m);
+  m.scene_hash = system_fingerprint(m, m.init.frozen);
   setup_neighbors(d, m);
   derive_contact_scales(d, m);
   m.propose_dt(0.02 * m.t_contact);
@@ -157,7 +140,7 @@ void compile_dem(const SceneDesc& d, Model& m) {
 void refresh_frozen(Model& m) {
   m.n_frozen = std::count(m.init.frozen.begin(), m.init.frozen.end(), 1);
   setup_inertial_mass(m);
-  m.scene_hash = system_fingerprint(m);
+  m.scene_hash = system_fingerprint(m, m.init.frozen);
   setup_energy_scale(m);
 }
 

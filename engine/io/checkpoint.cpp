@@ -20,6 +20,7 @@
 #include <fcntl.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <array>
 #include <cerrno>
 #include <cmath>
@@ -83,8 +84,31 @@ std::string difference(const System& saved, const System& now) {
     if (saved.walls[k] != now.walls[k])
       return "wall " + std::to_string(k) + ": " +
              both(wall_text(saved.walls[k], saved.dim), wall_text(now.walls[k], now.dim));
-  if (saved.fingerprint != now.fingerprint) return "the grains differ (sizes, masses, groups or frozen flags)";
-  return "";
+  return "";  // the grains themselves are compared once the state is read (frozen_difference)
+}
+
+// What differs between the grains of a checkpoint (its fingerprint and its state's frozen flags)
+// and the scene's, "" when nothing. `freed` counts the grains frozen in the scene and free in the
+// checkpoint, `frozen` (by grain id) the grains frozen in the checkpoint and free in the scene.
+std::string grains_difference(uint64_t saved, const State& s, const Model& m, std::vector<uint8_t>& frozen,
+                              int64_t& freed) {
+  freed = 0;
+  frozen.assign(m.init.frozen.size(), 0);
+  if (saved == m.scene_hash) return "";
+  std::vector<uint8_t> flags(m.init.frozen.size(), 0);
+  for (int64_t i = 0; i < s.n; ++i) flags[s.particle_id[i]] = s.particle_frozen[i];
+  if (system_fingerprint(m, flags) != saved) return "the grains differ (sizes, masses or groups)";
+  int64_t more = 0;
+  for (size_t id = 0; id < flags.size(); ++id) {
+    frozen[id] = flags[id] && !m.init.frozen[id];
+    more += frozen[id];
+    freed += !flags[id] && m.init.frozen[id];
+  }
+  std::string why = "the grains are the scene's, but ";
+  if (more) why += std::to_string(more) + " of them are frozen in the checkpoint and free in the scene";
+  if (more && freed) why += ", and ";
+  if (freed) why += std::to_string(freed) + " frozen in the scene are free in the checkpoint";
+  return why;
 }
 
 // The parameters of the checkpoint that differ from the scene's, as warnings.
@@ -290,10 +314,12 @@ void write_checkpoint(const std::string& path, const Model& m, const State& s) {
   sync_directory(path);
 }
 
-State read_checkpoint(const std::string& path, const Model& m, std::vector<std::string>* differences) {
+State read_checkpoint(const std::string& path, const Model& m, std::vector<std::string>* differences,
+                      std::vector<uint8_t>* frozen) {
   const std::vector<char> buf = ckpt::read_checked(path);
   Reader r = ckpt::body(buf, path);
-  if (const std::string diff = difference(get_system(r), system_of(m)); !diff.empty())
+  const System saved = get_system(r);
+  if (const std::string diff = difference(saved, system_of(m)); !diff.empty())
     throw IoError("checkpoint '" + path + "' was written for a different system: " + diff);
   r.str();  // the scene's name, also among the parameters (scene.name)
   std::vector<std::pair<std::string, std::string>> params(r.count(8));  // two lengths each
@@ -376,6 +402,18 @@ State read_checkpoint(const std::string& path, const Model& m, std::vector<std::
     if (changed.size() > kShown) why += "; and " + std::to_string(changed.size() - kShown) + " more";
     throw IoError(why);
   }
+  // Grains frozen since the scene's start (the shell's `freeze`) belong to the state: a caller that
+  // freezes them too takes them, and nothing else.
+  std::vector<uint8_t> more;
+  int64_t freed = 0;
+  if (const std::string diff = grains_difference(saved.fingerprint, s, m, more, freed); !diff.empty()) {
+    const bool only_more = freed == 0 && std::find(more.begin(), more.end(), 1) != more.end();
+    if (!frozen || !only_more)
+      throw IoError(
+          "checkpoint '" + path + "' was written for a different system: " + diff +
+          (only_more ? " (frozen by `freeze`: the shell's restore and silt run --restore freeze them too)" : ""));
+  }
+  if (frozen) *frozen = std::move(more);
   // (a first step or an initial field given over a state past its start was a difference like
   // another, where the state goes on without it)
   if (differences && s.step > 0)

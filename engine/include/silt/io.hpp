@@ -198,8 +198,12 @@ void write_checkpoint(const std::string& path, const Model& m, const State& s);
 // Throws IoError for unreadable, corrupt, other-system or other-version files (saying what
 // differs, or which version was found). Parameters of the scene that differ from those recorded
 // (other run parameters, steered values) are not an error: `differences` receives them as
-// "contact.friction = 0.1 in the checkpoint, 0.5 in the scene".
-State read_checkpoint(const std::string& path, const Model& m, std::vector<std::string>* differences = nullptr);
+// "contact.friction = 0.1 in the checkpoint, 0.5 in the scene". Grains frozen in the checkpoint
+// and free in the scene (the shell's `freeze` before it was saved) make another system, unless
+// `frozen` is given: it then receives them (1 by grain id), for Simulation::freeze_grains before
+// the state is restored.
+State read_checkpoint(const std::string& path, const Model& m, std::vector<std::string>* differences = nullptr,
+                      std::vector<uint8_t>* frozen = nullptr);
 // Every key of the schema, with the indices of the scene's tables, and its resolved value as text
 // (given, else the default; "" when neither): what checkpoints record.
 std::vector<std::pair<std::string, std::string>> scene_parameters(const SceneDesc& d);

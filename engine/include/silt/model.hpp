@@ -260,7 +260,7 @@ struct Model {
     const std::string name = unit_name(si);
     return name.empty() ? name : " " + name;
   }
-  uint64_t scene_hash = 0;  // of the grains, walls and periodicity: checkpoints refuse other systems
+  uint64_t scene_hash = 0;  // system_fingerprint(*this, init.frozen): checkpoints refuse other systems
   SceneDesc desc;           // what the file said (for `check`, `params`, `get`)
 
   // The modules the scene turns on (silt/module.hpp), in the order of the module list; core and
@@ -432,6 +432,12 @@ std::string describe(const Model& m);
 // The step of a model whose step a module chooses (adaptive_dt), in words: dt_text, or an adaptive
 // step from dt.
 std::string step_text(const Model& m);
+
+// Identity of the system a checkpoint belongs to: dimension, periodicity, the number of walls and
+// every grain's size, mass and group, with `frozen` (by grain id) as its frozen flags. Run
+// parameters (friction, time step, pressure, ...) are not part of it, so a prepared packing can be
+// restored and run with other values.
+uint64_t system_fingerprint(const Model& m, const std::vector<uint8_t>& frozen);
 
 // Stability bound of velocity Verlet for a damped oscillator of pulsation w0 and damping ratio
 // zeta: dt < (2/w0)(sqrt(1 + zeta^2) - zeta).

@@ -150,6 +150,9 @@ class Simulation {
   // them (a checkpoint saved now belongs to a new system, for [[grains]] frozen_from). Refused
   // (std::invalid_argument) under a deforming box. Returns how many were frozen.
   int64_t freeze(int axis, bool below, double value);
+  // The grains flagged in `by_id` (1 by grain id) frozen in the model, as freeze() freezes them,
+  // before a checkpoint that froze them is restored (read_checkpoint's `frozen`). Returns how many.
+  int64_t freeze_grains(const std::vector<uint8_t>& by_id);
   // Bytes held now: the state, the restart point, the modules' workspaces.
   size_t memory_bytes() const;
   // Runs fn on the simulation's threads and no others (its arena): a measurement made between

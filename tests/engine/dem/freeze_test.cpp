@@ -2,6 +2,7 @@
 // `freeze`), saved, and taken by another scene as a frozen group (grains[].frozen_from).
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cstdio>
 
 #include "silt/io.hpp"
@@ -102,6 +103,39 @@ TEST_CASE("freeze: grains below a height stop for good, and the system becomes a
   // Under a deforming box it is refused.
   auto sheared = test::simulation_from(test::frictional_gas(3, 0.5, 0.0, 0.0), 1);
   CHECK_THROWS_AS(sheared->freeze(2, true, 1.0), std::invalid_argument);
+}
+
+TEST_CASE(
+    "freeze: a checkpoint saved after it restores in a new simulation of the scene, which freezes the grains too") {
+  // The frozen flags were part of the system's identity: the scene's own simulation refused the
+  // checkpoint ("the grains differ"), so a session's freeze could not be continued in another.
+  const std::string file = "freeze_test_after.ckpt", before = "freeze_test_before.ckpt";
+  auto sim = test::simulation_from(kPour, 1);
+  for (int k = 0; k < 200; ++k) REQUIRE(sim->step());
+  write_checkpoint(before, sim->model(), sim->state());
+  const int64_t n = sim->freeze(2, true, 3.0);
+  REQUIRE(n > 0);
+  write_checkpoint(file, sim->model(), sim->state());
+  for (int k = 0; k < 100; ++k) REQUIRE(sim->step());
+  auto again = test::simulation_from(kPour, 1);
+  CHECK_THROWS_WITH_AS(
+      read_checkpoint(file, again->model()),
+      doctest::Contains((std::to_string(n) + " of them are frozen in the checkpoint and free in the scene").c_str()),
+      IoError);
+  std::vector<uint8_t> frozen;
+  State st = read_checkpoint(file, again->model(), nullptr, &frozen);
+  CHECK(std::count(frozen.begin(), frozen.end(), 1) == n);
+  CHECK(again->freeze_grains(frozen) == n);
+  CHECK(again->model().scene_hash == sim->model().scene_hash);
+  again->restore(std::move(st));
+  for (int k = 0; k < 100; ++k) REQUIRE(again->step());
+  CHECK(state_hash(again->state()) == state_hash(sim->state()));
+  // The other way, grains frozen in the simulation and free in the checkpoint, is another system.
+  CHECK_THROWS_WITH_AS(
+      read_checkpoint(before, again->model(), nullptr, &frozen),
+      doctest::Contains((std::to_string(n) + " frozen in the scene are free in the checkpoint").c_str()), IoError);
+  std::remove(file.c_str());
+  std::remove(before.c_str());
 }
 
 TEST_CASE("frozen_from: a checkpoint's grains in a region become a frozen group of another scene") {
