@@ -16,6 +16,7 @@
 #include "dem/forces_under.hpp"
 #include "dem/stages.hpp"
 #include "graph/adders.hpp"
+#include "shear/collisions.hpp"
 #include "silt/module.hpp"
 #include "silt/observables.hpp"
 #include "silt/text.hpp"
@@ -185,8 +186,12 @@ void diagnose_dem(GraphBuilder& b) {
               : dem::stiffness_key(m.desc, m.contact.law);
       // A shorter contact time is a stiffer spring (k ~ 1 / t_c^2); a larger modulus or k_n is.
       const bool by_time = m.contact.law == NormalLaw::kSpringDashpot;
-      f.message = what + ": the contacts are too soft for the loads or the impacts; " +
-                  (by_time ? "decrease " : "increase ") + f.parameter + " (stiffer contacts) or reduce the loads";
+      // The collisions of an imposed shear (shear.inertial_number = 10 was told only to stiffen).
+      if (const std::string sheared = wall < 0 ? shear::shear_overlap_advice(m, s, f.parameter) : ""; !sheared.empty())
+        f.message = what + ": " + sheared;
+      else
+        f.message = what + ": the contacts are too soft for the loads or the impacts; " +
+                    (by_time ? "decrease " : "increase ") + f.parameter + " (stiffer contacts) or reduce the loads";
     }
   });
   b.diagnose(event::kRunaway, [step_advice](const Model& m, const State& s, const EventSlot& e, StepFailure& f) {

@@ -6,6 +6,7 @@
 #include <numbers>
 #include <sstream>
 
+#include "shear/collisions.hpp"
 #include "shear/cycle_origin.hpp"
 #include "shear/module.hpp"
 #include "shear/stages.hpp"
@@ -252,6 +253,25 @@ void check_box_pressure(const SceneDesc& d, const Model& m) {
     check_stress_against_contacts(d, m, "shear.stress", "the shear stress", m.shear.stress);
 }
 
+// Collisions at the imposed rate that press the grains past limits.max_overlap even at the mean
+// speed difference (shear_collision, ratio 1 and more) fail for certain, and are refused; below it
+// `check` prints the ratio and a failure explains it (shear2d_dry at I = 10, ratio 0.71, failed at
+// step 28 and was told only to stiffen its contacts). The value that brings the ratio to 0.3
+// (shear/collisions.cpp) scales with it: the overlap goes as the speed, Hertz's as its 4/5 power.
+void check_shear_collisions(const SceneDesc& d, const Model& m) {
+  if (m.velocities_solved) return;
+  const ShearCollision c = shear_collision(m);
+  if (!(c.ratio >= 1)) return;
+  const std::string key = d.first_given({"shear.rate", "shear.inertial_number"}, "shear.rate");
+  const double exponent = m.contact.law == NormalLaw::kHertz ? 1.25 : 1.0;
+  d.fail(key, "the imposed shear makes neighbours meet at about gammadot 2 r_max = " + format_number(c.speed, 3) +
+                  m.unit("m/s") + ", where an undamped collision of the heaviest grains presses them by " +
+                  format_number(c.ratio, 3) + " of limits.max_overlap, at which the run fails: lower " + key + " to " +
+                  format_number(std::abs(d.real(key)) * std::pow(0.3 / c.ratio, exponent), 3) +
+                  ", where they press by 0.3 of it, or make the contacts stiffer (" +
+                  stiffer_by(m, m.kappa_softest_key, c.ratio, 0.3) + ")");
+}
+
 void check_shear_step(const SceneDesc& d, const Model& m) {
   check_box_pressure(d, m);
   check_box_mass(d, m);
@@ -262,7 +282,7 @@ void check_shear_step(const SceneDesc& d, const Model& m) {
   // starts at 1e-3 of the shear time and follows what changes.
   if (!m.shear.on || m.shear.stress_controlled || m.adaptive_dt) return;
   const double slip = std::abs(m.shear.rate) * m.dt * 2 * m.r_max, most = m.limits.max_overlap * m.r_min;
-  if (slip <= most) return;
+  if (slip <= most) return check_shear_collisions(d, m);
   const std::string key = d.first_given({"shear.rate", "shear.inertial_number", "shear.viscous_number"}, "shear.rate");
   d.fail(key, "the shear rate " + format_number(m.shear.rate, 4) +
                   " 1/s streams neighbouring grains past each other by " + format_number(slip, 3) +
@@ -305,6 +325,11 @@ std::string describe_shear(const Model& m) {
     o << "shear        Lees-Edwards, flow along x, gradient along y; ";
     if (m.shear.stress_controlled) o << "imposed shear stress " << m.shear.stress << m.unit("Pa") << " (eq. 3.12)\n";
     else o << "imposed rate gammadot = " << m.shear.rate << m.unit("1/s") << "\n";
+    // (a paste's grains move at solved velocities: no free collisions)
+    if (const ShearCollision c = shear_collision(m); c.ratio > 0 && !m.velocities_solved)
+      o << "             neighbours meet at about gammadot 2 r_max = " << c.speed << m.unit("m/s")
+        << ": an undamped collision of the heaviest grains presses by " << c.ratio
+        << " of limits.max_overlap (sheared runs were seen to fail from 0.5 to 0.9 of it)\n";
   }
   if (m.prepare.compress)
     o << "prepare      isotropic compression at " << preparation_pressure(m) << m.unit("Pa") << " until "

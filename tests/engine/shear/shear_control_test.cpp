@@ -7,8 +7,10 @@
 #include <memory>
 #include <string>
 
+#include "shear/collisions.hpp"
 #include "silt/observables.hpp"
 #include "silt/scene.hpp"
+#include "silt/text.hpp"
 #include "support/scenes.hpp"
 
 using namespace silt;
@@ -365,13 +367,53 @@ TEST_CASE(
     s.replace(s.find("rate = 0.5"), 10, "rate = " + rate);
     return test::scene_error(s);
   };
-  CHECK(at("990").empty());
-  CHECK(at("-990").empty());
+  // (Below it the step is not what refuses it: the collisions of neighbours meeting at 990 m/s are.)
+  CHECK(at("990").find("streams") == std::string::npos);
+  CHECK(at("-990").find("neighbours meet at about gammadot 2 r_max = 990") != std::string::npos);
   const std::string e = at("1010");
   CHECK(e.rfind("bad.toml:8:", 0) == 0);  // at shear.rate
   CHECK(e.find("streams neighbouring grains past each other by 0.101 m") != std::string::npos);
   CHECK(e.find("lower the rate below 1000 1/s") != std::string::npos);
   CHECK(at("-1e300").find("lower the rate below 1000 1/s") != std::string::npos);
+}
+
+TEST_CASE("an imposed shear whose collisions press the heaviest grains past the failing overlap is refused") {
+  // shear.inertial_number = 10 on shear2d_dry was taken and failed 27 steps later. Neighbours meet
+  // at gammadot 2 r_max; undamped, a linear pair of reduced mass m/2 is pressed by v sqrt(m* / k_n),
+  // Hertz's by (15 m* v^2 / (4 E~ sqrt(2 R*)))^(2/5); the run fails at limits.max_overlap r_max.
+  const auto with = [](const std::string& from, const std::string& to) {
+    std::string s = kShearedSpheres;
+    s.replace(s.find(from), from.size(), to);
+    return s;
+  };
+  const Model linear = test::model_from(kShearedSpheres);
+  const double m_eff = linear.init.mass[0] / 2, most = 0.2 * 0.5;
+  CHECK(shear::shear_collision(linear).speed == doctest::Approx(0.5));
+  CHECK(shear::shear_collision(linear).ratio == doctest::Approx(0.5 * std::sqrt(m_eff / 1e5) / most).epsilon(1e-9));
+  const std::string hertz_contact = "model = \"hertz\"\nyoung_modulus = 1e6\npoisson_ratio = 0";
+  const Model hertz = test::model_from(with("model = \"hooke\"\nk_n = 1e5", hertz_contact));
+  const double h = std::pow(15 * m_eff * 0.25 / (4 * 1e6 * std::sqrt(0.5)), 0.4);
+  CHECK(shear::shear_collision(hertz).ratio == doctest::Approx(h / most).epsilon(1e-9));
+  // The rate of ratio 1 (the overlap goes as the speed): refused just above it, at the rate's key.
+  const double at_one = 0.5 / shear::shear_collision(linear).ratio;
+  CHECK(test::scene_error(with("rate = 0.5", "rate = " + format_number(0.99 * at_one, 6))).empty());
+  const std::string e = test::scene_error(with("rate = 0.5", "rate = " + format_number(1.01 * at_one, 6)));
+  CHECK(e.rfind("bad.toml:8:", 0) == 0);
+  CHECK(e.find("presses them by 1.01 of limits.max_overlap") != std::string::npos);
+  CHECK(e.find("lower shear.rate to " + format_number(0.3 * at_one, 3)) != std::string::npos);
+  CHECK(e.find("contact.k_n 11.3 times larger") != std::string::npos);  // (1.01 / 0.3)^2
+  // Below, check says how hard they press.
+  CHECK(describe(linear).find("neighbours meet at about gammadot 2 r_max = 0.5") != std::string::npos);
+  // And a run that fails on them says so: a gas sheared at 12 1/s, ratio 0.75 (k_n 1e4, heaviest
+  // grains of radius 0.5 and mass pi / 4), fails within a hundred steps.
+  auto gas = test::simulation_from(test::frictional_gas(2, 12.0, 0.0, 0.06), 1);
+  for (int k = 0; k < 1000 && gas->step(); ++k) {
+  }
+  const std::string why = gas->state().failure.message;
+  CHECK(why.find("overlaps a neighbour") != std::string::npos);
+  CHECK(why.find("neighbours meet at about gammadot 2 r_max = 12 m/s") != std::string::npos);
+  CHECK(why.find("presses them by 0.75 of limits.max_overlap") != std::string::npos);
+  CHECK(why.find("contact.k_n 6.25 times larger brings it to 0.3) or lower shear.rate") != std::string::npos);
 }
 
 TEST_CASE("stiffness number and damping of the shipped shear scenes, as observables") {
