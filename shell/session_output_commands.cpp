@@ -1,5 +1,6 @@
 // The shell's outputs during runs: the samples of the observables (`stats`), frames and VTK files.
 #include <algorithm>
+#include <filesystem>
 
 #include "shell/session.hpp"
 #include "shell/table.hpp"
@@ -68,12 +69,18 @@ void Session::cmd_stats(const Command& c) {
     check_not_inputs(a[0].text, "stats");
     check_not_restored(a[0].text, "stats");
     check_not_series_file(a[0].text, "stats");
+    // (an existing file was replaced without a word)
+    std::error_code ec;
+    const bool replaces = std::filesystem::is_regular_file(a[0].text, ec) && a[0].text != stats_file_;
+    const auto old_bytes = replaces ? std::filesystem::file_size(a[0].text, ec) : 0;
     stats_.emplace(reseries(*stats_, a[0].text));
     stats_error_noted_ = false;
     stats_file_ = a[0].text;
     stats_every_ = every;
     out_ << "stats to " << stats_file_ << " (" << stats_->rows().size() << " sample(s) so far), every "
-         << (every > 0 ? every : sim().model().sample_every) << " steps\n";
+         << (every > 0 ? every : sim().model().sample_every) << " steps";
+    if (replaces) out_ << "; it replaces the file that was there (" << old_bytes << " bytes)";
+    out_ << "\n";
     return;
   }
   std::vector<std::vector<double>> rows;

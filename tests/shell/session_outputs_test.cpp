@@ -91,6 +91,11 @@ TEST_CASE("stats reset, stats since T, and stats FILE every N writing as the run
   CHECK_FALSE(f.run("stats every"));  // it started a file named "every"
   CHECK(contains(f.take_err(), "'every' is a word of the command, not a file"));
   CHECK_FALSE(std::filesystem::exists("every"));
+  // A file already there is replaced, and the reply says so (it said nothing).
+  REQUIRE(f.run("stats " + (dir / "s.csv")));
+  CHECK(contains(f.take_out(), "; it replaces the file that was there (" + std::to_string(csv.size()) + " bytes)"));
+  REQUIRE(f.run("stats " + (dir / "new.csv")));
+  CHECK_FALSE(contains(f.take_out(), "replaces"));
 }
 
 TEST_CASE("the VTK index's times run forward after a restore goes back, the files of the branch left kept") {
