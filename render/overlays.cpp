@@ -58,8 +58,7 @@ void fill(Image& img, int x0, int y0, int w, int h, Rgba c) {
 
 }  // namespace
 
-// Width in pixels of a string (for right-aligned labels).
-static int text_width(const std::string& text, int size) {
+int text_width(const std::string& text, int size) {
   Font& f = Font::get();
   std::lock_guard<std::mutex> lock(f.mutex);
   FT_Set_Pixel_Sizes(f.face, 0, static_cast<FT_UInt>(size));
@@ -69,7 +68,9 @@ static int text_width(const std::string& text, int size) {
   return w;
 }
 
-static void draw_text(Image& img, const TextItem& t) {
+namespace {
+
+void draw_text(Image& img, const TextItem& t) {
   Font& f = Font::get();
   std::lock_guard<std::mutex> lock(f.mutex);
   FT_Set_Pixel_Sizes(f.face, 0, static_cast<FT_UInt>(t.size));
@@ -86,36 +87,41 @@ static void draw_text(Image& img, const TextItem& t) {
   }
 }
 
-static std::string label(double x) {
+std::string label(double x) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.3g", x);
   return buf;
 }
 
+// A colour bar with its limits, its zero where it spans one, and its label above it.
+void draw_bar(Image& image, const ColorBar& b, Rgba ink) {
+  const Colormap& cm = Colormap::get(b.colormap);
+  // Top row is hi, bottom row is lo.
+  for (int y = 0; y < b.height; ++y) {
+    const Rgba c = cm.at(1.0 - static_cast<double>(y) / std::max(1, b.height - 1));
+    fill(image, b.x, b.y + y, b.width, 1, c);
+  }
+  fill(image, b.x - 1, b.y - 1, b.width + 2, 1, ink);
+  fill(image, b.x - 1, b.y + b.height, b.width + 2, 1, ink);
+  fill(image, b.x - 1, b.y - 1, 1, b.height + 2, ink);
+  fill(image, b.x + b.width, b.y - 1, 1, b.height + 2, ink);
+  const int tx = b.x + b.width + 5;
+  draw_text(image, {label(b.hi), tx, b.y + 6, 12, ink});
+  draw_text(image, {label(b.lo), tx, b.y + b.height + 4, 12, ink});
+  if (b.lo < 0 && b.hi > 0)
+    draw_text(image, {"0", tx, b.y + static_cast<int>(b.height * b.hi / (b.hi - b.lo)) + 4, 12, ink});
+  const int w = text_width(b.label, 13);
+  draw_text(image, {b.label, std::max(0, std::min(image.width - w - 2, b.x + b.width / 2 - w / 2)), b.y - b.label_above,
+                    13, ink});
+}
+
+}  // namespace
+
 void compose_overlays(const RenderScene& scene, Image& image) {
   const bool dark = scene.background.r + scene.background.g + scene.background.b < 384;
   const Rgba ink = dark ? Rgba{235, 235, 235, 255} : Rgba{20, 20, 20, 255};
-  if (scene.colorbar.on) {
-    const ColorBar& b = scene.colorbar;
-    const Colormap& cm = Colormap::get(b.colormap);
-    // Top row is hi, bottom row is lo.
-    for (int y = 0; y < b.height; ++y) {
-      const Rgba c = cm.at(1.0 - static_cast<double>(y) / std::max(1, b.height - 1));
-      fill(image, b.x, b.y + y, b.width, 1, c);
-    }
-    fill(image, b.x - 1, b.y - 1, b.width + 2, 1, ink);
-    fill(image, b.x - 1, b.y + b.height, b.width + 2, 1, ink);
-    fill(image, b.x - 1, b.y - 1, 1, b.height + 2, ink);
-    fill(image, b.x + b.width, b.y - 1, 1, b.height + 2, ink);
-    const int tx = b.x + b.width + 5;
-    draw_text(image, {label(b.hi), tx, b.y + 6, 12, ink});
-    draw_text(image, {label(b.lo), tx, b.y + b.height + 4, 12, ink});
-    if (b.lo < 0 && b.hi > 0)
-      draw_text(image, {"0", tx, b.y + static_cast<int>(b.height * b.hi / (b.hi - b.lo)) + 4, 12, ink});
-    const int w = text_width(b.label, 13);
-    draw_text(image,
-              {b.label, std::max(0, std::min(image.width - w - 2, b.x + b.width / 2 - w / 2)), b.y - 8, 13, ink});
-  }
+  for (const ColorBar* b : {&scene.colorbar, &scene.lubrication_bar})
+    if (b->on) draw_bar(image, *b, ink);
   if (scene.scalebar.on) {
     const ScaleBar& s = scene.scalebar;
     fill(image, s.x, s.y, s.width_px, 4, ink);

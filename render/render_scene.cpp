@@ -5,6 +5,7 @@
 
 #include "render/camera.hpp"
 #include "render/scene_parts.hpp"
+#include "silt/contacts.hpp"
 #include "silt/module.hpp"
 
 namespace silt::render {
@@ -210,17 +211,46 @@ RenderScene build_render_scene(const Model& m, const State& s, const View& given
             : lubrication        ? Bar::kLubrication
                                  : Bar::kNone;
   // The bar is drawn in a margin of its own: a frame too narrow to keep the domain beside it has
-  // none (it was drawn over the grains, the margin given up for the domain).
+  // none (it was drawn over the grains, the margin given up for the domain). Chains and
+  // lubrication drawn together have a bar each, the lubrication's left of the chains' (only the
+  // chains' was drawn, and the lubrication forces' colours could not be read).
   constexpr int kBarMargin = 110, kLeastDomain = 100;
+  bool lubrication_bar = bar == Bar::kChains && lubrication;
+  if (lubrication_bar) {  // (no contact yet: the one bar is the lubrication's, below)
+    bool touching = false;
+    for_each_contact(s, [&](const Contact& k) { touching = touching || k.fn > 0; });
+    lubrication_bar = touching;
+  }
+  if (lubrication_bar && v.width < 2 * kBarMargin + kLeastDomain) {
+    rs.warnings.push_back("a frame " + std::to_string(v.width) +
+                          " px wide has room for one colour bar, the chains': the lubrication forces' needs " +
+                          std::to_string(2 * kBarMargin + kLeastDomain) + " px");
+    lubrication_bar = false;
+  }
   if (bar != Bar::kNone && v.width < kBarMargin + kLeastDomain) {
     rs.warnings.push_back("a frame " + std::to_string(v.width) + " px wide has no colour bar (it needs " +
                           std::to_string(kBarMargin + kLeastDomain) + " px)");
     bar = Bar::kNone;
   }
   Margins mg;
-  if (bar != Bar::kNone) mg.right = kBarMargin;
-  if (v.wants("time")) mg.top = 36;
+  if (bar != Bar::kNone) mg.right = kBarMargin * (lubrication_bar ? 2 : 1);
+  // The time and the step on one line, or on two where the frame is too narrow for one (the step
+  // was cut off).
+  std::vector<std::string> time_lines;
+  if (v.wants("time")) {
+    char t_text[64];
+    std::snprintf(t_text, sizeof t_text, "t = %.6g%s", s.t, m.reduced_units ? "" : " s");
+    const std::string step_text = "step " + std::to_string(s.step);
+    const std::string one = std::string(t_text) + "    " + step_text;
+    time_lines = text_width(one, 16) <= v.width - 24 ? std::vector<std::string>{one}
+                                                     : std::vector<std::string>{t_text, step_text};
+    mg.top = 16 + 20 * static_cast<int>(time_lines.size());
+  }
   if (v.wants("scalebar")) mg.bottom = 40;
+  // Two bars' labels, wider than the bars are apart, one above the other: the bars start lower.
+  constexpr int kLabelStep = 16;
+  const auto bar_top = [&] { return mg.top + 20 + (lubrication_bar ? kLabelStep : 0); };
+  const auto bar_height = [&] { return std::max(20, v.height - bar_top() - mg.bottom - 20); };
   double r_mean = 0;
   for (double r : s.particle_r) r_mean += r / std::max<int64_t>(1, s.n);
   const double r_max = s.n ? *std::max_element(s.particle_r.begin(), s.particle_r.end()) : 0.0;
@@ -247,13 +277,20 @@ RenderScene build_render_scene(const Model& m, const State& s, const View& given
     const ColorScale c = add_force_chains(rs, s, v, r_mean, D == 2 ? static_cast<float>(2 * r_max) : 0.0f);
     if (bar == Bar::kChains) scale = c;
     // (with no contact the bar showed the chains' scale over the lubrication's forces alone)
-    if (bar == Bar::kChains && c.colormap.empty() && lubrication) bar = Bar::kLubrication;
+    if (bar == Bar::kChains && c.colormap.empty() && lubrication) {
+      bar = Bar::kLubrication;
+      lubrication_bar = false;
+    }
   }
   if (lubrication) {
     // Below the contacts' chains in 2D.
     const ColorScale c = add_lubrication_chains(rs, s, v, r_mean, D == 2 ? static_cast<float>(1.5 * r_max) : 0.0f);
     if (c.label.empty()) rs.warnings.push_back("no lubrication forces to draw in this scene");
     else if (bar == Bar::kLubrication) scale = c;
+    else if (lubrication_bar)
+      rs.lubrication_bar = {
+          true,          v.width - 90 - kBarMargin, bar_top(), 18, bar_height(), c.colormap, c.lo, c.hi, c.label,
+          8 + kLabelStep};
   }
   if (draw_field) {
     const ColorScale f = add_field(rs, *field, v, D, static_cast<float>(-2 * r_max), !m.reduced_units);
@@ -262,19 +299,12 @@ RenderScene build_render_scene(const Model& m, const State& s, const View& given
   if (v.wants("box")) add_box_outline(rs, s, D == 2 ? static_cast<float>(4 * r_max) : 0.0f);
 
   // Overlays (no bar where what it was for has nothing drawn: lubrication in a dry state).
-  if (bar != Bar::kNone && !scale.colormap.empty()) {
-    rs.colorbar = {
-        true,           v.width - 90, mg.top + 20, 18,         std::max(20, v.height - mg.top - mg.bottom - 40),
-        scale.colormap, scale.lo,     scale.hi,    scale.label};
-  }
+  if (bar != Bar::kNone && !scale.colormap.empty())
+    rs.colorbar = {true, v.width - 90, bar_top(), 18, bar_height(), scale.colormap, scale.lo, scale.hi, scale.label};
   const Rgba ink =
       (v.background[0] + v.background[1] + v.background[2]) > 1.5 ? Rgba{20, 20, 20, 255} : Rgba{235, 235, 235, 255};
-  if (v.wants("time")) {
-    char buf[96];
-    std::snprintf(buf, sizeof buf, "t = %.6g%s    step %lld", s.t, m.reduced_units ? "" : " s",
-                  static_cast<long long>(s.step));
-    rs.texts.push_back({buf, 12, 24, 16, ink});
-  }
+  for (size_t k = 0; k < time_lines.size(); ++k)
+    rs.texts.push_back({time_lines[k], 12, 24 + 20 * static_cast<int>(k), 16, ink});
   if (v.wants("scalebar") && rs.camera.pixels_per_unit > 0) {
     // 2D: a fifth of the box. 3D: lengths at the target's depth (in the plane through it facing
     // the camera), about a sixth of the width seen there; also in 2D when a fifth of the box is

@@ -133,3 +133,26 @@ TEST_CASE("chains and lubrication drawn with no contact yet: the bar is the lubr
   REQUIRE(rs.colorbar.on);
   CHECK(rs.colorbar.label == "lubrication force / mean");
 }
+
+TEST_CASE("chains and lubrication drawn together: a colour bar each, where the frame has room for two") {
+  // (only the chains' bar was drawn: the lubrication forces' colours could not be read)
+  auto sim = test::simulation_from(test::kLubricatedFive);
+  sim->prepare();
+  View v = test::plain_view(800, 600, {"chains", "lubrication", "colorbar"});
+  const RenderScene rs = build_render_scene(sim->model(), sim->state(), v);
+  REQUIRE(rs.colorbar.on);
+  CHECK(rs.colorbar.label == "normal force / mean");
+  REQUIRE(rs.lubrication_bar.on);
+  CHECK(rs.lubrication_bar.label == "lubrication force / mean");
+  CHECK(rs.lubrication_bar.x + 100 < rs.colorbar.x);
+  // Their labels, wider than the bars are apart, one above the other.
+  CHECK(rs.lubrication_bar.y - rs.lubrication_bar.label_above + 13 <= rs.colorbar.y - rs.colorbar.label_above);
+  CHECK(rs.camera.domain_px[0] + rs.camera.domain_px[2] <= rs.lubrication_bar.x);  // beside the domain
+  // Too narrow for two: the chains' alone, and a warning.
+  v.width = 300;
+  const RenderScene narrow = build_render_scene(sim->model(), sim->state(), v);
+  CHECK(narrow.colorbar.on);
+  CHECK_FALSE(narrow.lubrication_bar.on);
+  REQUIRE(narrow.warnings.size() == 1);
+  CHECK(narrow.warnings[0].find("room for one colour bar, the chains'") != std::string::npos);
+}

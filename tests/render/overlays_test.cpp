@@ -138,6 +138,25 @@ TEST_CASE("the time and step are drawn, and another time draws other pixels") {
   CHECK(region_differs(t1, frame({"grains", "time"})) == 0);  // the same time, the same pixels
 }
 
+TEST_CASE("a frame too narrow for the time and the step on one line has them on two, whole") {
+  // (the step was cut off at the frame's edge)
+  auto sim = test::simulation_from(kRow);
+  sim->state().t = 0.125;
+  sim->state().step = 123456;
+  auto texts = [&](int width) {
+    return build_render_scene(sim->model(), sim->state(), test::plain_view(width, 200, {"grains", "time"})).texts;
+  };
+  const auto wide = texts(400);
+  REQUIRE(wide.size() == 1);
+  CHECK(wide[0].text == "t = 0.125 s    step 123456");
+  const auto narrow = texts(160);
+  REQUIRE(narrow.size() == 2);
+  CHECK(narrow[0].text == "t = 0.125 s");
+  CHECK(narrow[1].text == "step 123456");
+  CHECK(narrow[1].y > narrow[0].y);
+  for (const TextItem& t : narrow) CHECK(t.x + text_width(t.text, t.size) <= 160);
+}
+
 TEST_CASE("in 3D the scale bar measures lengths at the target's depth") {
   auto sim = test::simulation_from(chute_like(10));
   View v = test::plain_view(900, 600, {"grains", "scalebar"});

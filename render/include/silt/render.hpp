@@ -85,6 +85,7 @@ struct ColorBar {
   std::string colormap;
   double lo = 0, hi = 1;
   std::string label;
+  int label_above = 8;  // pixels from the bar's top up to its label's baseline
 };
 
 struct ScaleBar {
@@ -125,6 +126,7 @@ struct RenderScene {
   std::array<int, 4> clip{0, 0, 0, 0};  // pixel scissor x, y (from the bottom), w, h; w = 0: none
   std::vector<TextItem> texts;
   ColorBar colorbar;
+  ColorBar lubrication_bar;  // the lubrication forces' own, left of the chains' bar where both are drawn
   ScaleBar scalebar;
   std::vector<std::string> warnings;  // e.g. NaN values in a field
   bool cull_hidden = true;            // 3D: skip the grains and chains that opaque grains hide wholly (same picture)
@@ -162,6 +164,8 @@ class Rasterizer {
 
 // Text (FreeType, DejaVu Sans), colour bar and scale bar, drawn into the image.
 void compose_overlays(const RenderScene& scene, Image& image);
+// Width in pixels of `text` in the overlays' font at `size` pixels.
+int text_width(const std::string& text, int size);
 
 // A complete frame: build, rasterize, overlays.
 Image render_frame(Rasterizer& r, const Model& m, const State& s, const View& v, const GridField* field = nullptr);
