@@ -54,7 +54,7 @@ std::vector<KeySpec> paste_keys() {
       {"lubrication.dt_max", K::kReal, std::nullopt, Range::positive(), "s", true, {}, "Largest time step (default 10 viscous times eta/P, eta a/P in 2D; 0.01 / gammadot under shear without a pressure)."},
       {"lubrication.dt_min", K::kReal, std::nullopt, Range::positive(), "s", true, {}, "Smallest time step: an adaptive step that wants less stops the run (default 1e-12 of the time unit)."},
       {"lubrication.dt_growth", K::kReal, Value(1.2), Range::closed(1, 1.5), "", true, {}, "Factor of the time step each step while nothing changes by more than dt_change (sec. 2.2.4: 1.1 to 1.5; 1 keeps it fixed)."},
-      {"lubrication.dt_change", K::kReal, Value(0.01), Range::open_closed(0, 1), "", true, {}, "Largest change of a diagonal entry of Xi or of a right-hand side entry in one step, relative to the largest entry, before the step shrinks."},
+      {"lubrication.dt_change", K::kReal, Value(0.01), Range::open_closed(0, 1), "", true, {}, "Largest change of a diagonal entry of Xi or of a right-hand side entry in one step, relative to the largest entry (the forces' against the inertial stepper's whole right-hand side M V / dt + F), before the step shrinks."},
       {"lubrication.drift_max", K::kReal, Value(0.05), Range::closed(0, 1), "", true, {}, "Largest displacement of a grain in one adaptive step relative to the affine flow, in units of its radius: the step after a solve is at most drift_max r / |V| for every grain (0: no bound). Xi is near singular where a few grains, held by a chain of connections, can roll on each other; their velocities then jump, which Xi's entries do not show."},
   };
   // clang-format on
