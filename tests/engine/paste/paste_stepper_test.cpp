@@ -217,6 +217,31 @@ TEST_CASE("paste: the inertial stepper's adaptive step follows a rebound in and 
   CHECK(sim->state().dt == doctest::Approx(1e-2));  // apart, the step grew back to dt_max
 }
 
+TEST_CASE("paste: two disks coasting to a stop in the liquid stop where the lubrication law says") {
+  // Equal disks of radius R and mass m at a gap h0 closing at u0, held by xi_N = 3 pi eta R^2 / (2 h)
+  // alone (eq. 1.28 above h_min; no contact is reached): m* dh'/dt = -xi_N h' integrates to
+  // h_stop = h0 exp(-m* u0 / (1.5 pi eta R^2)), with m* = m / 2. The first step was dt_initial,
+  // 1e-3 of the shear time and 30 times m / xi: it took the disks' momentum away, and they stopped
+  // 45 % short of the distance (h_stop 0.149 against 0.1027).
+  std::string scene = kMeetingPair;
+  const auto replace = [&scene](const std::string& from, const std::string& to) {
+    scene.replace(scene.find(from), from.size(), to);
+  };
+  replace("[[9.0, 10.0], [11.0, 10.0]]", "[[9.4, 10.0], [10.6, 10.0]]");
+  replace("[[0.5, 0.0], [-0.5, 0.0]]", "[[1.0, 0.0], [-1.0, 0.0]]");
+  replace("{paste}",
+          "[shear]\nrate = 1e-3\n[lubrication]\nviscosity = 1\nh_min_over_a = 1e-3\nstepper = "
+          "\"inertial\"\ndt_change = 1e-3\n");
+  auto sim = test::simulation_from(scene, 1);
+  while (sim->state().t < 3) REQUIRE(sim->step());
+  const State& s = sim->state();
+  const double R = 0.5, m_eff = std::numbers::pi * R * R / 2, h0 = 0.2;
+  const double h_stop = h0 * std::exp(-m_eff * 2.0 / (1.5 * std::numbers::pi * R * R));
+  const double h = std::abs(s.particle_x[2] - s.particle_x[0]) - 2 * R;
+  CHECK(std::abs(s.particle_v[0]) < 1e-5);
+  CHECK(h0 - h == doctest::Approx(h0 - h_stop).epsilon(0.04));  // 3 %: first order in the step
+}
+
 TEST_CASE("paste: the same bits on 1, 2 and 4 threads, and a restart continues them") {
   // Above Model::kSortMin grains the flow executor and the parallel loops are used. Disks sheared
   // at an imposed rate in a fixed box; then paste_3d_shear's spheres, 512 of them, at h_min/a =
