@@ -45,11 +45,6 @@ std::string needs_rate(const Model& m, const ObservableArgs&) {
              : "it divides by the shear rate, which is 0 here (shear.rate): it has no value; leave it out";
 }
 
-std::string needs_shear(const Model& m, const ObservableArgs&) {
-  if (std::string why = needs_sheared(m, {}); !why.empty()) return why;
-  return needs_pressure(m, {});
-}
-
 double solver_stat(const ObservableContext& c, SolverStat k) {
   const auto& v = c.s.module_field(paste_fields().solver);
   return v.size() == kSolverStats ? v[k] : 0.0;
@@ -127,8 +122,16 @@ std::vector<ObservableSpec> paste_observables() {
   using C = const ObservableContext&;
   using A = const ObservableArgs&;
   std::vector<ObservableSpec> o = {
-      {"Vi", "", "viscous number eta gammadot / P (Peyneau 2009 eq. 1.34; eta gammadot a / P in 2D)",
-       [](C c, A) { return viscous_number(c.m, params(c.m).eta, c.s.shear_rate, imposed_pressure(c.m)); }},
+      // (at a fixed volume over the measured sigma_yy, as I is: INTERFACE.md gives Vi where a rate is
+      // imposed, and it was refused there)
+      {"Vi", "",
+       "viscous number eta gammadot / P (Peyneau 2009 eq. 1.34; eta gammadot a / P in 2D) at the imposed (else "
+       "the measured sigma_yy) pressure (nan at a pressure <= 0)",
+       [](C c, A) {
+         const double p = c.m.box_control.on ? imposed_pressure(c.m) : c.meas(measure_part::kStress).stress[1][1];
+         return p > 0 ? viscous_number(c.m, params(c.m).eta, c.s.shear_rate, p)
+                      : std::numeric_limits<double>::quiet_NaN();
+       }},
       {"mobilisation", "", "friction mobilisation <|F_T| / F_N> over the contacts",
        [](C c, A) { return friction_mobilisation(c.s); }},
       {"p_cont_ratio", "",
@@ -181,7 +184,7 @@ std::vector<ObservableSpec> paste_observables() {
                        "where lubrication.stokes_drag is on)",
                        [](C c, int64_t i, A a) { return hydrodynamic_force(c.m, c.s, i, a.a); }),
   };
-  o[0].check = needs_shear;
+  o[0].check = needs_sheared;
   o[2].check = needs_pressure;
   o[3].check = needs_pressure;
   o[4].check = needs_rate;  // eta_eff: a rate, at an imposed pressure or a fixed volume

@@ -319,7 +319,9 @@ std::string describe_shear(const Model& m) {
       if (m.box_control.controlled[k])
         o << " L"
           << "xyz"[k];
-    o << ", box mass " << m.box_control.mass << m.unit("kg") << "\n";
+    // (a paste's box rates are solved with the grains' velocities: no mass; box.mass_factor unused)
+    if (m.velocities_solved) o << ", its rates solved with the grains' velocities\n";
+    else o << ", box mass " << m.box_control.mass << m.unit("kg") << "\n";
   }
   if (m.shear.on) {
     o << "shear        Lees-Edwards, flow along x, gradient along y; ";
