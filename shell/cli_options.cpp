@@ -56,19 +56,6 @@ CLI::Validator path_given() {
       "PATH", "path");
 }
 
-CLI::Validator finite_number() {
-  return CLI::Validator(
-      [](std::string& in) -> std::string {
-        const auto x = shell::parse_number(in);
-        if (!x) return "'" + in + "' is not a finite number";
-        char buf[32];
-        std::snprintf(buf, sizeof buf, "%.17g", *x);
-        in = buf;
-        return "";
-      },
-      "X", "finite number");
-}
-
 CLI::Validator key_value() {
   return CLI::Validator(
       [](std::string& in) -> std::string {

@@ -20,8 +20,6 @@ CLI::Validator observable_list();
 // A file or directory name that is not empty ("$OUT" of an unset variable wrote nothing, and an
 // empty --restore started from t = 0, without a word).
 CLI::Validator path_given();
-// Any finite number (no nan, no inf).
-CLI::Validator finite_number();
 // A scene override KEY=VALUE (its value is checked against the scene later, a scene error).
 CLI::Validator key_value();
 

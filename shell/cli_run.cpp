@@ -163,6 +163,9 @@ int run_command(const RunArgs& a) {
       return report_error("--restore " + a.restore + ": " + e.what(), 1);
     }
     for (const std::string& w : restore_warnings) std::cerr << "silt: warning: " << w << "\n";
+    // (it did so without a word, where a stats file or a summary named so is refused)
+    if (overwrites(a.save, a.restore))
+      std::cerr << "silt: note: --save " << a.save << " replaces the checkpoint restored (a run continued in place)\n";
   }
   // A compression's last good state (a failed preparation's) is compressed on, not run as it is:
   // the scene's run started shearing a half-compressed packing from its step 21,599.

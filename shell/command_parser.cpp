@@ -275,7 +275,8 @@ const CommandSpec& check_command(const Command& c) {
 }
 
 std::optional<double> parse_number(std::string_view s) {
-  if (s.empty() || s.size() > 64) return std::nullopt;
+  // (strtod reads hexadecimal: `--time 0x10` ran 16 s)
+  if (s.empty() || s.size() > 64 || s.find_first_of("xXpP") != std::string_view::npos) return std::nullopt;
   const std::string str(s);
   char* end = nullptr;
   errno = 0;

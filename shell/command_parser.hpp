@@ -120,7 +120,7 @@ std::vector<Token> expand_list(const Token& t);
 // The arguments from `from` on with every list expanded.
 std::vector<Token> expand_lists(const std::vector<Token>& args, size_t from = 0);
 
-// A number in full (no trailing garbage); nullopt otherwise.
+// A decimal number in full (no trailing garbage, no hexadecimal); nullopt otherwise.
 std::optional<double> parse_number(std::string_view s);
 // A whole number from `least` to kMaxRunSteps (steps, "every N"); nullopt otherwise.
 std::optional<int64_t> parse_count(std::string_view s, int64_t least);

@@ -42,8 +42,8 @@ int main(int argc, char** argv) {
       ->check(observable_list());
   r->add_option("--every", run.every, "Sample every N steps (default: the scene's)")->transform(whole_number(1));
   r->add_option("--summary", run.summary, "Summary JSON written at the end")->check(path_given());
-  r->add_option("--average-from", run.average_from, "Means and errors over samples with t >= T")
-      ->transform(finite_number());
+  r->add_option("--average-from", run.average_from, "Means and errors over samples with t >= T: 40, 40s")
+      ->transform(seconds());
   r->add_flag("--quiet", run.quiet, "No progress line");
   auto* frames = r->add_option("--frames", run.frames,
                                "Write PNG frames DIR/frame_000000.png, ... (the scene's [render] settings)")

@@ -1,5 +1,6 @@
 #include "silt/run_job.hpp"
 #include "silt/module.hpp"
+#include "silt/text.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -270,6 +271,10 @@ int RunJob::finish(const RunReport& rep, int interrupted) {
     sum.warnings.push_back("run.stop_when_static: no equilibrium within the run length");
   if (m.stop_when_steady && rep.end == RunEnd::kDone)
     sum.warnings.push_back("run.stop_when_steady: no steady state within the run length");
+  // (every mean was null, without a word)
+  if (!at_or_after(sim_.state().t, o_.average_from))
+    sum.warnings.push_back("the averages start at t = " + format_number(o_.average_from) +
+                           ", after the run's end (t = " + format_number(sim_.state().t) + "): no sample is averaged");
   return write_outputs(sum, code);
 }
 

@@ -284,13 +284,28 @@ TEST_CASE("the command line reads numbers as the shell does, with silt's message
   REQUIRE(r.code == 0);
   CHECK(read_json(dir / "s.json")["sim_time"].get<double>() >= 0.5);
   for (const char* bad :
-       {"--steps 1.5", "--steps -3", "--time -1", "--average-from nan", "--threads 0", "--threads 1e9", "--every 0"}) {
+       {"--steps 1.5", "--steps -3", "--time -1", "--average-from nan", "--threads 0", "--threads 1e9", "--every 0",
+        "--time 0x10", "--steps 0x10"}) {  // (strtod's hexadecimal: --time 0x10 ran 16 s)
     CAPTURE(bad);
     r = silt_cli(run + " " + bad);
     CHECK(r.code == 1);
     CHECK(r.out.size() < 200);  // no 300-digit bounds
     CHECK(contains(r.out, "is not a"));
   }
+  // --average-from takes seconds as --time does, and one past the run's end says that nothing is
+  // averaged (every mean was null without a word).
+  r = silt_cli(run + " --steps 10 --average-from 1e6s");
+  REQUIRE(r.code == 0);
+  const auto late = read_json(dir / "s.json");
+  CHECK(late["average_from"] == 1e6);
+  bool said = false;
+  for (const auto& w : late["warnings"]) said = said || contains(w.get<std::string>(), "after the run's end");
+  CHECK(said);
+  // A final checkpoint that replaces the one restored is allowed (a run continued in place), and said.
+  REQUIRE(silt_cli(run + " --steps 10 --save " + (dir / "c.ckpt")).code == 0);
+  r = silt_cli(run + " --steps 10 --restore " + (dir / "c.ckpt") + " --save " + (dir / "c.ckpt"));
+  REQUIRE(r.code == 0);
+  CHECK(contains(r.out, "replaces the checkpoint restored (a run continued in place)"));
   // More threads than cores: granted the cores, said in silt's words; the summary has the grant.
   r = silt_cli(run + " --steps 100 --threads 4096");
   REQUIRE(r.code == 0);
