@@ -136,6 +136,15 @@ Found find(const std::string& name, const Model& m) {
     f.error = "observable '" + name + "' does not apply to this scene (it needs a module the scene does not enable)";
     return f;
   }
+  // A name of the other dimension (stress.zz, p[0].z in 2D) was "unknown", though documented.
+  for (const Module& mod : modules())
+    for (const ObservableSpec& o : mod.spec->observables) {
+      ObservableArgs args;
+      if (!match(o.pattern, name, m.dim == 2 ? 3 : 2, args)) continue;
+      f.error = "observable '" + name + "' is of a " + (m.dim == 2 ? "3D" : "2D") + " scene, and this one is " +
+                std::to_string(m.dim) + "D";
+      return f;
+    }
   f.error = "unknown observable '" + name + "'";
   std::string best;
   size_t best_d = 3;

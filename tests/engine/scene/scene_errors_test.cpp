@@ -182,6 +182,10 @@ TEST_CASE("scenes that cannot be simulated are refused before the first step") {
   // Unknown observable with a suggestion.
   const std::string ob = test::scene_error(with("[run]", "[output]\nobserve = [\"t\", \"kee\"]\n[run]"));
   CHECK(ob.find("unknown observable 'kee'; did you mean 'ke'") != std::string::npos);
+  // A name of a 3D scene in a 2D one (it was "unknown", though documented).
+  const Model disks = test::model_from(test::frictional_gas(2, 0.0, 0.0, 0.06));
+  for (const char* name : {"stress.zz", "p[0].z", "momentum.z"})
+    CHECK(check_observable(name, disks).find("is of a 3D scene, and this one is 2D") != std::string::npos);
 }
 
 TEST_CASE("--set overrides: typed, located, and checked like the file") {
