@@ -24,6 +24,51 @@ BcType bc_type(const std::string& s) {
   return BcType::kNoSlip;
 }
 
+// The cells of a grid scaled alike along every axis to take about `room` bytes where it needs
+// `need`: the memory is about proportional to the cells (the caller leaves a margin: at 0.9 of
+// the memory free, 4000^3 cells scaled to 442^3, which needed 21 GiB of 23).
+std::string fitting_cells(const Model& m, const Grid& g, double need, double room) {
+  const double f = std::pow(room / need, 1.0 / m.dim);
+  std::string text = "at most about [";
+  for (int a = 0; a < m.dim; ++a)
+    text += (a ? ", " : "") + format_number(std::floor(static_cast<double>(g.n[a]) * f), 15);
+  return text + "]";
+}
+
+// What gives every axis x's spacing: the cells that do where the domain's lengths are whole
+// multiples of it, else the domain lengths that the nearest whole numbers of cells would need.
+std::string same_spacing_advice(const Model& m, const Grid& g) {
+  std::string cells = "[" + std::to_string(g.n[0]), lengths;
+  bool whole = true;
+  for (int a = 1; a < m.dim; ++a) {
+    const double n = m.box.len[a] / g.h[0], k = std::max(1.0, std::round(n));
+    whole = whole && std::abs(n - k) <= 1e-9 * n;
+    cells += ", " + format_number(k, 15);
+    if (std::abs(n - k) > 1e-9 * n)
+      lengths += std::string(lengths.empty() ? "" : ", ") + format_number(k * g.h[0], 10) + " m along " +
+                 std::string(1, "xyz"[a]) + " (" + format_number(k, 15) + " cells)";
+  }
+  cells += "]";
+  if (whole) return "give fluid.cells = " + cells;
+  std::string text = "no whole number of cells of " + format_number(g.h[0], 10) + " m fits the domain: make it " +
+                     lengths + ", or give other cells along x";
+  // The count along x nearest to the one given whose spacing divides every length.
+  const auto fits = [&](int64_t nx) {
+    std::string c = "[" + std::to_string(nx);
+    for (int a = 1; a < m.dim; ++a) {
+      const double n = m.box.len[a] * static_cast<double>(nx) / m.box.len[0], k = std::round(n);
+      if (k < 1 || std::abs(n - k) > 1e-9 * n) return std::string();
+      c += ", " + format_number(k, 15);
+    }
+    return c + "]";
+  };
+  for (int64_t j = 1; j <= 4 * g.n[0] && j <= 100000; ++j)
+    for (const int64_t nx : {g.n[0] - j, g.n[0] + j})
+      if (nx >= 1)
+        if (const std::string c = fits(nx); !c.empty()) return text + " (fluid.cells = " + c + ")";
+  return text;
+}
+
 // Grid: cells, uniform spacing, and the condition of each face.
 void compile_grid(const SceneDesc& d, const Model& m, Grid& g) {
   g.dim = m.dim;
@@ -42,11 +87,12 @@ void compile_grid(const SceneDesc& d, const Model& m, Grid& g) {
     d.fail(d.first_given({"domain.hi", "domain.lo"}, "domain.hi"),
            "the grid's cells, of " + format_number(g.cell_volume(), 4) + (m.dim == 3 ? " m^3" : " m^2") +
                " each, are beyond what double precision resolves (the fluid's integrals over them would be 0 or inf)");
+  // (the refusal named the two spacings only, and to 4 digits they looked equal at 1e-7 apart)
   for (int a = 1; a < m.dim; ++a)
     if (std::abs(g.h[a] - g.h[0]) > 1e-9 * g.h[0])
-      d.fail("fluid.cells", "the grid spacing must be the same along every axis: " + format_number(g.h[0], 4) +
-                                " m along x, " + format_number(g.h[a], 4) + " m along " + std::string(1, "xyz"[a]) +
-                                " (domain length / cells)");
+      d.fail("fluid.cells", "the grid spacing must be the same along every axis (to 1e-9 of it): " +
+                                format_number(g.h[0], 10) + " m along x, " + format_number(g.h[a], 10) + " m along " +
+                                std::string(1, "xyz"[a]) + " (domain length / cells); " + same_spacing_advice(m, g));
   for (int a = 0; a < m.dim; ++a) {
     for (int side = 0; side < 2; ++side) {
       const std::string key = std::string("fluid.boundary.") + face_names()[2 * a + side];
@@ -407,7 +453,8 @@ void finish_fluid(const SceneDesc& d, Model& m) {
   if (need > 0.9 * have)
     d.fail("fluid.cells", "the fluid needs about " + format_number(need / (1 << 30), 3) + " GiB (" +
                               format_number(static_cast<double>(p.grid.cells()), 4) + " cells); the machine has " +
-                              format_number(have / (1 << 30), 3) + " GiB available: use fewer cells");
+                              format_number(have / (1 << 30), 3) + " GiB available: use fewer cells (" +
+                              fitting_cells(m, p.grid, need, 0.8 * have) + ")");
 }
 
 }  // namespace silt::fluid

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <numbers>
 
+#include "core/machine.hpp"
 #include "core/simd_level.hpp"
 #include "fluid/module.hpp"
 #include "fluid/step.hpp"
@@ -304,6 +305,15 @@ TEST_CASE("fluid: scene errors are located at their key") {
   INFO(err);
   CHECK(err.find("bad.toml:7:9") != std::string::npos);  // the fluid.cells value
   CHECK(err.find("spacing") != std::string::npos);
+  // ... and says what would do: the cells where they fit the domain, else the domain's lengths and
+  // the nearest cells along x that fit (it named the two spacings only).
+  CHECK(err.find("give fluid.cells = [16, 16]") != std::string::npos);
+  std::string long_box = cavity(2, 16);
+  long_box.replace(long_box.find("hi = [1.0, 1.0]"), 15, "hi = [1.9, 1.0]");
+  const std::string off = test::scene_error(long_box);
+  INFO(off);
+  CHECK(off.find("make it 0.95 m along y (8 cells), or give other cells along x (fluid.cells = [19, 10])") !=
+        std::string::npos);
   const std::string inflow_only =
       "[scene]\ndimension = 2\n[domain]\nlo = [0.0, 0.0]\nhi = [1.0, 1.0]\n[fluid]\ncells = [8, 8]\n"
       "viscosity = 0.1\n[fluid.boundary]\nx_lo = \"no_slip\"\ny_lo = \"inflow\"\ny_lo_velocity = [0.0, 1.0]\n";
@@ -352,6 +362,12 @@ TEST_CASE("fluid: scene errors are located at their key") {
   const std::string big = test::scene_error(cavity(3, 4000));
   INFO(big);
   CHECK(big.find("GiB") != std::string::npos);
+  // With the cells that would fit, alike along every axis (it said "use fewer cells").
+  const auto at = big.find("use fewer cells (at most about [");
+  REQUIRE(at != std::string::npos);
+  const double n = std::stod(big.substr(at + 32));
+  CHECK(n > 100);
+  CHECK(estimated_memory_bytes(test::model_from(cavity(3, static_cast<int>(n)))) < available_memory_bytes());
   // Grains in a fluid scene: refused at [fluid] (the step graph found two stages writing dt and
   // reported an internal error, after `silt check` had printed the scene).
   const std::string grains = test::scene_error(cavity(2, 8) +
