@@ -3,6 +3,8 @@
 #include "fluid/multigrid.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <string>
 #include <utility>
 
 #include "linalg/vector_ops.hpp"
@@ -101,6 +103,35 @@ struct MultigridPreconditioner::Level {
   std::array<std::vector<Taps>, 3> up, down;
 };
 
+bool coarsens(const Grid& g, const MultigridOptions& opt) {
+  bool coarsen = g.cells() > opt.coarsest_cells;
+  for (int a = 0; a < g.dim; ++a) coarsen = coarsen && g.n[a] % 2 == 0 && g.n[a] >= 4;
+  return coarsen;
+}
+
+int64_t coarsest_level_cells(const Grid& g, const MultigridOptions& opt) {
+  Grid cur = g;
+  while (coarsens(cur, opt))
+    for (int a = 0; a < cur.dim; ++a) cur.n[a] /= 2;
+  return cur.cells();
+}
+
+std::string coarsening_note(const Grid& g, const MultigridOptions& opt) {
+  const int64_t coarsest = coarsest_level_cells(g, opt);
+  if (coarsest <= opt.max_direct_cells) return "";
+  // Per axis the nearest count with a power of two that takes it down to 8 cells or so.
+  std::string counts;
+  for (int a = 0; a < g.dim; ++a) {
+    const double n = static_cast<double>(g.n[a]);
+    const double q = std::exp2(std::max(0.0, std::ceil(std::log2(n / 8))));
+    counts += (a ? ", " : "") + std::to_string(static_cast<int64_t>(std::max(1.0, std::round(n / q)) * q));
+  }
+  return "the multigrid levels halve every axis while its count is even, and this grid's coarsest has " +
+         std::to_string(coarsest) + " cells, too many to solve (above " + std::to_string(opt.max_direct_cells) +
+         "): it is smoothed, and CG needs many iterations; cells with a power of two as a factor, such as [" + counts +
+         "], coarsen, or give fluid.projection = \"fft\"";
+}
+
 MultigridPreconditioner::MultigridPreconditioner(const Grid& g, double sigma, const MultigridOptions& opt)
     : opt_(opt), singular_(poisson_singular(g, sigma)) {
   Grid cur = g;
@@ -119,8 +150,7 @@ MultigridPreconditioner::MultigridPreconditioner(const Grid& g, double sigma, co
     lv.b = Vector::Zero(n);
     lv.r = Vector::Zero(n);
     if (!lv.red_black) lv.tmp = Vector::Zero(n);
-    bool coarsen = n > opt_.coarsest_cells;
-    for (int a = 0; a < cur.dim; ++a) coarsen = coarsen && cur.n[a] % 2 == 0 && cur.n[a] >= 4;
+    const bool coarsen = coarsens(cur, opt_);
     if (coarsen) {
       for (int a = 0; a < 3; ++a) {
         if (a < cur.dim) {

@@ -28,6 +28,7 @@
 #pragma once
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "fluid/grid.hpp"
@@ -53,6 +54,12 @@ struct MultigridOptions {
   int64_t max_direct_cells = 16384;  // the coarsest level is solved by Cholesky up to this size,
   int coarse_sweeps = 30;            // and beyond it by this many symmetric sweeps
 };
+
+// Whether the hierarchy halves `g` once more (the rule above); the cells of its coarsest level; and
+// "" where that level is solved directly, else what makes it large and which cells would not.
+bool coarsens(const Grid& g, const MultigridOptions& opt);
+int64_t coarsest_level_cells(const Grid& g, const MultigridOptions& opt = {});
+std::string coarsening_note(const Grid& g, const MultigridOptions& opt = {});
 
 class MultigridPreconditioner final : public linalg::Preconditioner {
  public:

@@ -3,6 +3,7 @@
 #include <sstream>
 
 #include "fluid/module.hpp"
+#include "fluid/multigrid.hpp"
 #include "fluid/step.hpp"
 #include "silt/text.hpp"
 
@@ -99,6 +100,9 @@ std::string describe_fluid(const Model& m) {
     o << "             driven at a bulk velocity " << p.bulk_velocity << m.unit("m/s") << " along "
       << "xyz"[p.drive_axis] << "\n";
   if (const std::string note = fluid_note(m, p.dt); !note.empty()) o << "             note: " << note << "\n";
+  // (a 1021^2 cavity under multigrid CG ran 30 s and failed without a word of its grid)
+  if (p.projection == Projection::kMultigridCg)
+    if (const std::string note = coarsening_note(g); !note.empty()) o << "             note: " << note << "\n";
   return o.str();
 }
 

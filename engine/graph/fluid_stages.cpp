@@ -7,6 +7,7 @@
 // and in the setup graph, fluid_initial: the initial velocity of a fresh state.
 #include <cmath>
 
+#include "fluid/multigrid.hpp"
 #include "fluid/step.hpp"
 #include "graph/adders.hpp"
 #include "silt/text.hpp"
@@ -78,6 +79,7 @@ void diagnose_fluid(GraphBuilder& b) {
                 " above fluid.tolerance = " + format_number(p.tolerance, 4) +
                 (stalled ? "; the residual stalls at round-off there on this grid: raise fluid.tolerance"
                          : "; raise fluid.max_iterations or fluid.tolerance, or use fluid.projection = \"fft\"");
+    if (const std::string note = fluid::coarsening_note(p.grid); !note.empty()) f.message += "; " + note;
   });
 }
 

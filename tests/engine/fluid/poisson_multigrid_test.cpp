@@ -285,3 +285,21 @@ TEST_CASE("fluid poisson: the same bits on 1 and 2 threads") {
     CHECK(std::memcmp(x[0].data(), x[1].data(), sizeof(double) * static_cast<size_t>(x[0].size())) == 0);
   }
 }
+
+TEST_CASE("fluid multigrid: the coarsest level of a grid, and a grid that does not coarsen said with counts that do") {
+  // (a 1021^2 cavity under multigrid CG ran 30 s and failed without a word of its grid: its only
+  // level, a million cells, is smoothed, not solved)
+  const auto coarsest = [](std::array<int64_t, 3> n, int dim) {
+    return coarsest_level_cells(make_grid(dim, n, {0.1, 0.1, 0.1}, Boxes::kNeumann));
+  };
+  CHECK(coarsest({64, 64, 1}, 2) == 64);  // halved while above 64 cells
+  CHECK(coarsest({96, 64, 1}, 2) == 24);  // 6 x 4
+  CHECK(coarsest({1021, 1021, 1}, 2) == 1021 * 1021);
+  CHECK(coarsest({6, 6, 6}, 3) == 27);  // 3 is odd
+  CHECK(coarsening_note(make_grid(2, {1024, 1024, 1}, {0.1, 0.1, 0.1}, Boxes::kNeumann)).empty());
+  CHECK(coarsening_note(make_grid(2, {131, 131, 1}, {0.1, 0.1, 0.1}, Boxes::kNeumann)).find("[128, 128]") !=
+        std::string::npos);
+  const std::string note = coarsening_note(make_grid(2, {1021, 1021, 1}, {0.1, 0.1, 0.1}, Boxes::kNeumann));
+  CHECK(note.find("coarsest has 1042441 cells") != std::string::npos);
+  CHECK(note.find("such as [1024, 1024]") != std::string::npos);
+}
