@@ -135,9 +135,22 @@ void diagnose_paste(GraphBuilder& b) {
             break;
           }
           if (at_unknown) f.particle = s.particle_id[col / pg];
+          const std::string where = at_unknown ? " at grain " + std::to_string(f.particle) : std::string();
+          // With the drag on, nothing moves free: the resistances overflowed, or span more than
+          // double precision holds (a viscosity of 1e300 with the drag on was told to set it).
+          if (p.stokes_drag) {
+            const double xi_top = paste::xi_normal(p.h_min_over_a * p.a, p.a / 2, p.law());
+            f.parameter = "lubrication.h_min_over_a";
+            f.message = "the resistance matrix is not positive definite" + where +
+                        " although every grain has its Stokes drag: its resistances, up to " +
+                        (std::isfinite(xi_top) ? format_number(xi_top, 3) : std::string("more than 1e308")) +
+                        " N s/m at h_min (lubrication.viscosity = " + format_number(p.eta, 4) +
+                        " Pa s), are beyond what double precision resolves; raise lubrication.h_min_over_a or "
+                        "bring the viscosity nearer the loads' scale";
+            break;
+          }
           f.parameter = "lubrication.stokes_drag";
-          f.message = std::string("the resistance matrix is not positive definite") +
-                      (at_unknown ? " at grain " + std::to_string(f.particle) : std::string()) +
+          f.message = "the resistance matrix is not positive definite" + where +
                       ": something moves without any lubricated gap changing; set lubrication.stokes_drag = true";
           break;
         }
