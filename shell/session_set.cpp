@@ -4,6 +4,7 @@
 #include <optional>
 
 #include "shell/session.hpp"
+#include "silt/module.hpp"
 #include "silt/text.hpp"
 
 namespace silt::shell {
@@ -37,18 +38,12 @@ bool enters_preparation(const std::string& key) {
   return true;
 }
 
-// What a value taken does not change in this model, or "": a paste's step and box are solved with
-// its grains (run.dt set in a running paste replied "from the next step" and changed nothing), and
-// the shell's frames keep the cadence of `frames DIR every N`.
+// What a value taken does not change in this model, or "": the modules' (a paste's step and box
+// are solved with its grains), and the shell's frames, which keep the cadence of `frames DIR every N`.
 std::string inert_note(const Model& m, const std::string& key) {
-  if (m.velocities_solved && (key == "run.dt" || key == "run.dt_over_tc"))
-    return key + " sets the step of the dry preparation only: the paste's is lubrication.dt, or its adaptive keys";
-  if (m.velocities_solved && key == "box.mass_factor")
-    return "box.mass_factor acts in the dry preparation only: the paste solves its box's strain rates with the "
-           "grains' velocities";
   if (key == "render.every")
     return "render.every is silt run's frame cadence: the shell's frames keep theirs (`frames DIR every N`)";
-  return "";
+  return inert_key_note(m, key);
 }
 
 }  // namespace

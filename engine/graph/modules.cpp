@@ -90,6 +90,13 @@ bool carry_running(Model& fresh, const Model& m) {
   return true;
 }
 
+std::string inert_key_note(const Model& m, const std::string& key) {
+  for (const Module& mod : list())
+    if (mod.spec->inert && m.module_on(mod.spec->name))
+      if (std::string note = mod.spec->inert(m, key); !note.empty()) return note;
+  return "";
+}
+
 bool has_steady_test(const Model& m) {
   for (const Module& mod : list())
     if (mod.spec->steady && m.module_on(mod.spec->name)) return true;

@@ -296,6 +296,19 @@ std::string describe_paste(const Model& m) {
   return o.str();
 }
 
+// The DEM's step and the box's mass act in the dry preparation only: a paste solves its step and
+// its box's strain rates with the grains' velocities (run.dt set in a running paste replied "from
+// the next step" and changed nothing).
+std::string inert_in_paste(const Model& m, const std::string& key) {
+  if (!m.velocities_solved) return "";
+  if (key == "run.dt" || key == "run.dt_over_tc")
+    return key + " sets the step of the dry preparation only: the paste's is lubrication.dt, or its adaptive keys";
+  if (key == "box.mass_factor")
+    return "box.mass_factor acts in the dry preparation only: the paste solves its box's strain rates with the "
+           "grains' velocities";
+  return "";
+}
+
 std::string steer_paste(Model& m, const Model& fresh) {
   PasteParams& p = m.params.get<PasteParams>();
   const PasteParams& f = fresh.params.get<PasteParams>();
@@ -448,6 +461,7 @@ const ModuleSpec& module() {
     s.memory_bytes = paste_memory_bytes;
     s.describe = describe_paste;
     s.steer = steer_paste;
+    s.inert = inert_in_paste;
     s.check_state = check_paste_state;
     s.notice = [](const Model& m, const State& st) {
       std::string alone = alone_notice(st), stress = stress_notice(m, st);

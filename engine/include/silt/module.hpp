@@ -48,6 +48,9 @@ struct ModuleSpec {
   // Take over the steerable parts of a freshly compiled model (live steering): "" when done,
   // else why the change cannot be made while running (then the model is left as it was).
   std::function<std::string(Model& m, const Model& fresh)> steer;
+  // Where a key taken (`set` in the shell) acts not at all in this model, or "": run.dt in a paste,
+  // whose step is its own (it replied "from the next step" and changed nothing).
+  std::function<std::string(const Model& m, const std::string& key)> inert;
   // What a running model holds that its scene does not say (grains frozen by `freeze`), taken
   // into a model compiled again from the scene (`fresh`) from the running one (`m`).
   std::function<void(Model& fresh, const Model& m)> carry;
@@ -128,6 +131,8 @@ std::vector<LineSample> module_lines(const Model& m, const State& s);
 // scene (ModuleSpec::carry): true when it then describes the same system as `m` (the same
 // fingerprint), else `fresh` is left as compiled.
 bool carry_running(Model& fresh, const Model& m);
+// What the enabled modules say of a key that acts not at all in this model (ModuleSpec::inert), or "".
+std::string inert_key_note(const Model& m, const std::string& key);
 // Whether a module the model enables has a steady-state test (ModuleSpec::steady).
 bool has_steady_test(const Model& m);
 // Adds a module after the built-in ones (a module of a test, or of a user's build). Its fields and
