@@ -5,11 +5,21 @@
 
 #include "render/camera.hpp"
 #include "render/scene_parts.hpp"
-#include "silt/contacts.hpp"
 #include "silt/module.hpp"
 
 namespace silt::render {
 namespace {
+
+// A label's width in the overlays' font, or an estimate where the font cannot be read: the layout
+// of a frame is built where nothing is drawn too (the shell's frames hook, the writer's sink),
+// and an error of the font there escaped a background run.
+int label_width(const std::string& text, int size) {
+  try {
+    return text_width(text, size);
+  } catch (const RenderError&) {
+    return static_cast<int>(text.size()) * size * 6 / 10;
+  }
+}
 
 Rgba rgba_of(const double* c, double alpha = 1.0) {
   auto b = [](double x) { return static_cast<uint8_t>(std::lround(255 * std::clamp(x, 0.0, 1.0))); };
@@ -210,17 +220,44 @@ RenderScene build_render_scene(const Model& m, const State& s, const View& given
             : chains             ? Bar::kChains
             : lubrication        ? Bar::kLubrication
                                  : Bar::kNone;
+  double r_mean = 0;
+  for (double r : s.particle_r) r_mean += r / std::max<int64_t>(1, s.n);
+  const double r_max = s.n ? *std::max_element(s.particle_r.begin(), s.particle_r.end()) : 0.0;
+
+  // Content, before the camera (none of it depends on it): the margins follow what was drawn. In
+  // 2D, from back to front along z: the field, the disks, the chains, the box.
+  ColorScale scale, lubrication_scale;
+  if (grains) {
+    const ColorScale g = add_grains(rs, m, s, v, color_by, alpha, draw_field && D == 3);
+    if (bar == Bar::kGrains) scale = g;
+  }
+  if (chains) {
+    const ColorScale c = add_force_chains(rs, s, v, r_mean, D == 2 ? static_cast<float>(2 * r_max) : 0.0f);
+    if (bar == Bar::kChains) scale = c;
+    // (with no contact the bar showed the chains' scale over the lubrication's forces alone)
+    if (bar == Bar::kChains && c.colormap.empty() && lubrication) bar = Bar::kLubrication;
+  }
+  if (lubrication) {
+    // Below the contacts' chains in 2D.
+    const ColorScale c = add_lubrication_chains(rs, s, v, r_mean, D == 2 ? static_cast<float>(1.5 * r_max) : 0.0f);
+    if (c.label.empty()) rs.warnings.push_back("no lubrication forces to draw in this scene");
+    else if (bar == Bar::kLubrication) scale = c;
+    else lubrication_scale = c;
+  }
+  if (draw_field) {
+    const ColorScale f = add_field(rs, *field, v, D, static_cast<float>(-2 * r_max), !m.reduced_units);
+    if (bar == Bar::kField) scale = f;
+  }
+  if (v.wants("box")) add_box_outline(rs, s, D == 2 ? static_cast<float>(4 * r_max) : 0.0f);
+  // No bar where what it was for has nothing drawn (lubrication in a dry state).
+  if (scale.colormap.empty()) bar = Bar::kNone;
+
   // The bar is drawn in a margin of its own: a frame too narrow to keep the domain beside it has
   // none (it was drawn over the grains, the margin given up for the domain). Chains and
   // lubrication drawn together have a bar each, the lubrication's left of the chains' (only the
   // chains' was drawn, and the lubrication forces' colours could not be read).
   constexpr int kBarMargin = 110, kLeastDomain = 100;
-  bool lubrication_bar = bar == Bar::kChains && lubrication;
-  if (lubrication_bar) {  // (no contact yet: the one bar is the lubrication's, below)
-    bool touching = false;
-    for_each_contact(s, [&](const Contact& k) { touching = touching || k.fn > 0; });
-    lubrication_bar = touching;
-  }
+  bool lubrication_bar = bar == Bar::kChains && !lubrication_scale.colormap.empty();
   if (lubrication_bar && v.width < 2 * kBarMargin + kLeastDomain) {
     rs.warnings.push_back("a frame " + std::to_string(v.width) +
                           " px wide has room for one colour bar, the chains': the lubrication forces' needs " +
@@ -242,18 +279,11 @@ RenderScene build_render_scene(const Model& m, const State& s, const View& given
     std::snprintf(t_text, sizeof t_text, "t = %.6g%s", s.t, m.reduced_units ? "" : " s");
     const std::string step_text = "step " + std::to_string(s.step);
     const std::string one = std::string(t_text) + "    " + step_text;
-    time_lines = text_width(one, 16) <= v.width - 24 ? std::vector<std::string>{one}
-                                                     : std::vector<std::string>{t_text, step_text};
+    time_lines = label_width(one, 16) <= v.width - 24 ? std::vector<std::string>{one}
+                                                      : std::vector<std::string>{t_text, step_text};
     mg.top = 16 + 20 * static_cast<int>(time_lines.size());
   }
   if (v.wants("scalebar")) mg.bottom = 40;
-  // Two bars' labels, wider than the bars are apart, one above the other: the bars start lower.
-  constexpr int kLabelStep = 16;
-  const auto bar_top = [&] { return mg.top + 20 + (lubrication_bar ? kLabelStep : 0); };
-  const auto bar_height = [&] { return std::max(20, v.height - bar_top() - mg.bottom - 20); };
-  double r_mean = 0;
-  for (double r : s.particle_r) r_mean += r / std::max<int64_t>(1, s.n);
-  const double r_max = s.n ? *std::max_element(s.particle_r.begin(), s.particle_r.end()) : 0.0;
 
   // Camera.
   if (D == 2) {
@@ -267,40 +297,19 @@ RenderScene build_render_scene(const Model& m, const State& s, const View& given
     rs.camera = orbit_3d(target, corners, v.azimuth, v.elevation, v.distance, v.fov, v.width, v.height, mg);
   }
 
-  // Content. In 2D, from back to front along z: the field, the disks, the chains, the box.
-  ColorScale scale;
-  if (grains) {
-    const ColorScale g = add_grains(rs, m, s, v, color_by, alpha, draw_field && D == 3);
-    if (bar == Bar::kGrains) scale = g;
+  // Overlays. Two bars' labels, wider than the bars are apart, one above the other: the bars start
+  // lower.
+  constexpr int kLabelStep = 16;
+  const int bar_top = mg.top + 20 + (lubrication_bar ? kLabelStep : 0);
+  const int bar_height = std::max(20, v.height - bar_top - mg.bottom - 20);
+  if (lubrication_bar) {
+    const ColorScale& c = lubrication_scale;
+    rs.lubrication_bar = {
+        true, v.width - 90 - kBarMargin, bar_top, 18, bar_height, c.colormap, c.lo, c.hi, c.label, 8 + kLabelStep};
   }
-  if (chains) {
-    const ColorScale c = add_force_chains(rs, s, v, r_mean, D == 2 ? static_cast<float>(2 * r_max) : 0.0f);
-    if (bar == Bar::kChains) scale = c;
-    // (with no contact the bar showed the chains' scale over the lubrication's forces alone)
-    if (bar == Bar::kChains && c.colormap.empty() && lubrication) {
-      bar = Bar::kLubrication;
-      lubrication_bar = false;
-    }
-  }
-  if (lubrication) {
-    // Below the contacts' chains in 2D.
-    const ColorScale c = add_lubrication_chains(rs, s, v, r_mean, D == 2 ? static_cast<float>(1.5 * r_max) : 0.0f);
-    if (c.label.empty()) rs.warnings.push_back("no lubrication forces to draw in this scene");
-    else if (bar == Bar::kLubrication) scale = c;
-    else if (lubrication_bar)
-      rs.lubrication_bar = {
-          true,          v.width - 90 - kBarMargin, bar_top(), 18, bar_height(), c.colormap, c.lo, c.hi, c.label,
-          8 + kLabelStep};
-  }
-  if (draw_field) {
-    const ColorScale f = add_field(rs, *field, v, D, static_cast<float>(-2 * r_max), !m.reduced_units);
-    if (bar == Bar::kField) scale = f;
-  }
-  if (v.wants("box")) add_box_outline(rs, s, D == 2 ? static_cast<float>(4 * r_max) : 0.0f);
 
-  // Overlays (no bar where what it was for has nothing drawn: lubrication in a dry state).
-  if (bar != Bar::kNone && !scale.colormap.empty())
-    rs.colorbar = {true, v.width - 90, bar_top(), 18, bar_height(), scale.colormap, scale.lo, scale.hi, scale.label};
+  if (bar != Bar::kNone)
+    rs.colorbar = {true, v.width - 90, bar_top, 18, bar_height, scale.colormap, scale.lo, scale.hi, scale.label};
   const Rgba ink =
       (v.background[0] + v.background[1] + v.background[2]) > 1.5 ? Rgba{20, 20, 20, 255} : Rgba{235, 235, 235, 255};
   for (size_t k = 0; k < time_lines.size(); ++k)

@@ -154,6 +154,8 @@ int run_command(const RunArgs& a) {
     try {
       std::vector<uint8_t> frozen;  // grains the checkpoint's run froze (`freeze`), frozen here too
       State st = read_checkpoint(a.restore, model, &restore_warnings, &frozen);
+      if (in_compression(st) && std::find(frozen.begin(), frozen.end(), 1) != frozen.end())
+        return report_error("--restore " + a.restore + ": a compression's state with grains frozen by freeze", 1);
       if (const int64_t n = sim.freeze_grains(frozen); n > 0)
         std::cerr << "silt: " << n << " grain(s) frozen in the checkpoint (by `freeze`) are frozen in this run too\n";
       sim.restore(std::move(st));

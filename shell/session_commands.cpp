@@ -340,6 +340,10 @@ void Session::cmd_restore(const Command& c) {
     throw std::runtime_error("restore " + file + ": a compression's state before its end (step " +
                              std::to_string(st.step) +
                              "), and this scene prepares none: set prepare.compress true to go on compressing it");
+  // (a compression holds no frozen grains: refused before the model takes them, which a failed
+  // compression would have left frozen over a state where they are free)
+  if (in_compression(st) && std::find(frozen.begin(), frozen.end(), 1) != frozen.end())
+    throw std::runtime_error("restore " + file + ": a compression's state with grains frozen by freeze");
   if (const int64_t n = s.freeze_grains(frozen); n > 0)
     out_ << n << " grain(s) frozen in " << file << " (by freeze) are frozen here too\n";
   if (in_compression(st)) {

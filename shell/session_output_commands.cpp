@@ -73,13 +73,15 @@ void Session::cmd_stats(const Command& c) {
     std::error_code ec;
     const bool replaces = std::filesystem::is_regular_file(a[0].text, ec) && a[0].text != stats_file_;
     const auto old_bytes = replaces ? std::filesystem::file_size(a[0].text, ec) : 0;
+    const bool sized = replaces && !ec;
     stats_.emplace(reseries(*stats_, a[0].text));
     stats_error_noted_ = false;
     stats_file_ = a[0].text;
     stats_every_ = every;
     out_ << "stats to " << stats_file_ << " (" << stats_->rows().size() << " sample(s) so far), every "
          << (every > 0 ? every : sim().model().sample_every) << " steps";
-    if (replaces) out_ << "; it replaces the file that was there (" << old_bytes << " bytes)";
+    if (replaces)
+      out_ << "; it replaces the file that was there" << (sized ? " (" + std::to_string(old_bytes) + " bytes)" : "");
     out_ << "\n";
     return;
   }

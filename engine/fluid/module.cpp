@@ -31,7 +31,7 @@ std::string fitting_cells(const Model& m, const Grid& g, double need, double roo
   const double f = std::pow(room / need, 1.0 / m.dim);
   std::string text = "at most about [";
   for (int a = 0; a < m.dim; ++a)
-    text += (a ? ", " : "") + format_number(std::floor(static_cast<double>(g.n[a]) * f), 15);
+    text += (a ? ", " : "") + format_number(std::max(1.0, std::floor(static_cast<double>(g.n[a]) * f)), 15);
   return text + "]";
 }
 

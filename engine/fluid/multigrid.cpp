@@ -119,17 +119,22 @@ int64_t coarsest_level_cells(const Grid& g, const MultigridOptions& opt) {
 std::string coarsening_note(const Grid& g, const MultigridOptions& opt) {
   const int64_t coarsest = coarsest_level_cells(g, opt);
   if (coarsest <= opt.max_direct_cells) return "";
-  // Per axis the nearest count with a power of two that takes it down to 8 cells or so.
+  // The nearest counts with one power of two as a common factor whose coarsest level is solved
+  // (each axis alone left [4001, 7] at [4096, 7], which does not coarsen either).
   std::string counts;
-  for (int a = 0; a < g.dim; ++a) {
-    const double n = static_cast<double>(g.n[a]);
-    const double q = std::exp2(std::max(0.0, std::ceil(std::log2(n / 8))));
-    counts += (a ? ", " : "") + std::to_string(static_cast<int64_t>(std::max(1.0, std::round(n / q)) * q));
+  for (int64_t q = 2; q <= (int64_t{1} << 20) && counts.empty(); q *= 2) {
+    Grid c = g;
+    for (int a = 0; a < g.dim; ++a)
+      c.n[a] = std::max<int64_t>(1, std::llround(static_cast<double>(g.n[a]) / static_cast<double>(q))) * q;
+    if (coarsest_level_cells(c, opt) > opt.max_direct_cells) continue;
+    for (int a = 0; a < g.dim; ++a) counts += (a ? ", " : "") + std::to_string(c.n[a]);
   }
   return "the multigrid levels halve every axis while its count is even, and this grid's coarsest has " +
          std::to_string(coarsest) + " cells, too many to solve (above " + std::to_string(opt.max_direct_cells) +
-         "): it is smoothed, and CG needs many iterations; cells with a power of two as a factor, such as [" + counts +
-         "], coarsen, or give fluid.projection = \"fft\"";
+         "): it is smoothed, and CG needs many iterations; " +
+         (counts.empty() ? std::string()
+                         : "cells with a power of two as a factor, such as [" + counts + "], coarsen, or ") +
+         "give fluid.projection = \"fft\"";
 }
 
 MultigridPreconditioner::MultigridPreconditioner(const Grid& g, double sigma, const MultigridOptions& opt)

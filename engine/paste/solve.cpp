@@ -86,12 +86,15 @@ double momentum_rate(const State& s, const UnknownScale& units, int pg, double d
 }
 
 // The shortest viscous relaxation time m / xi of a moving grain (xi its largest translational
-// diagonal entry of Xi, `val` holding Xi alone); infinity where no grain moves or none is held.
-double fastest_relaxation(const State& s, const ResistanceSystem& system, const double* val, int pg) {
+// diagonal entry of Xi, `val` holding Xi alone, and its Stokes drag); infinity where no grain moves
+// or none is held.
+double fastest_relaxation(const PasteParams& p, const State& s, const ResistanceSystem& system, const double* val,
+                          int pg) {
   const int D = s.dim;
   double shortest = std::numeric_limits<double>::infinity();
   for (int64_t i = 0; i < s.n; ++i) {
-    double v2 = 0, xi = 0;
+    // (the Stokes drag, on the diagonal after this is read, holds a grain with no connection)
+    double v2 = 0, xi = p.stokes_drag ? 6 * std::numbers::pi * p.eta * s.particle_r[i] : 0.0;
     for (int a = 0; a < D; ++a) {
       v2 += s.particle_v[D * i + a] * s.particle_v[D * i + a];
       xi = std::max(xi, val[system.diagonal_position(i * pg + a)]);
@@ -356,7 +359,7 @@ void solve_paste(const Model& m, State& s, PasteWorkspace& w, SolveAt at, bool t
   // disks coasting at eta = 1 took a first step of dt_initial, 1e-3 of the shear time and 30 times
   // m / xi, which took their momentum away: they stopped at a gap 45 % larger than the closed form's.
   if (inertial && at == SolveAt::kFirst && !(dt_field > 0) && !p.fixed_dt)
-    dt = std::max(p.dt_min, std::min(dt, std::sqrt(p.dt_change) * fastest_relaxation(s, w.system, val, pg)));
+    dt = std::max(p.dt_min, std::min(dt, std::sqrt(p.dt_change) * fastest_relaxation(p, s, w.system, val, pg)));
   const bool adapt = at == SolveAt::kStep && !p.fixed_dt;
   // The state's step before the first is the paste's (it showed the DEM's contact-time step).
   if (at == SolveAt::kFirst) s.dt = dt;

@@ -297,7 +297,10 @@ TEST_CASE("fluid multigrid: the coarsest level of a grid, and a grid that does n
   CHECK(coarsest({1021, 1021, 1}, 2) == 1021 * 1021);
   CHECK(coarsest({6, 6, 6}, 3) == 27);  // 3 is odd
   CHECK(coarsening_note(make_grid(2, {1024, 1024, 1}, {0.1, 0.1, 0.1}, Boxes::kNeumann)).empty());
-  CHECK(coarsening_note(make_grid(2, {131, 131, 1}, {0.1, 0.1, 0.1}, Boxes::kNeumann)).find("[128, 128]") !=
+  CHECK(coarsening_note(make_grid(2, {131, 131, 1}, {0.1, 0.1, 0.1}, Boxes::kNeumann)).find("[132, 132]") !=
+        std::string::npos);  // 33^2 at the coarsest
+  // One factor for every axis, and a suggestion that does coarsen ([4096, 7] did not).
+  CHECK(coarsening_note(make_grid(2, {4001, 7, 1}, {0.1, 0.1, 0.1}, Boxes::kNeumann)).find("[4002, 8]") !=
         std::string::npos);
   const std::string note = coarsening_note(make_grid(2, {1021, 1021, 1}, {0.1, 0.1, 0.1}, Boxes::kNeumann));
   CHECK(note.find("coarsest has 1042441 cells") != std::string::npos);

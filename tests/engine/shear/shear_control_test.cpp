@@ -369,6 +369,7 @@ TEST_CASE(
   };
   // (Below it the step is not what refuses it: the collisions of neighbours meeting at 990 m/s are.)
   CHECK(at("990").find("streams") == std::string::npos);
+  CHECK(at("990").find("neighbours meet at about gammadot 2 r_max = 990") != std::string::npos);
   CHECK(at("-990").find("neighbours meet at about gammadot 2 r_max = 990") != std::string::npos);
   const std::string e = at("1010");
   CHECK(e.rfind("bad.toml:8:", 0) == 0);  // at shear.rate
