@@ -174,8 +174,9 @@ void finish_core(const SceneDesc& d, Model& m) {
   // (a scene with no grains gave a profile of zeros)
   if (d.has("output.profile_axis") && m.n_grains == 0)
     d.fail("output.profile_axis", "the velocity profile is the grains', and this scene has none");
-  if (d.has("output.profile_slabs") && p.axis < 0)
-    d.fail("output.profile_slabs", "output.profile_slabs needs a profile (output.profile_axis)");
+  // (profile_component without a profile was taken and did nothing)
+  for (const char* key : {"output.profile_slabs", "output.profile_component"})
+    if (d.has(key) && p.axis < 0) d.fail(key, std::string(key) + " needs a profile (output.profile_axis)");
   p.slabs = d.has("output.profile_slabs") ? static_cast<int>(d.integer("output.profile_slabs")) : 0;
 }
 

@@ -143,6 +143,10 @@ void read_render_settings(const SceneDesc& d, Model& m) {
     d.fail("render.draw", "an empty list draws nothing: give what to draw (grains, chains, field, ...)");
   for (const std::string& item : r.draw)
     if (const std::string why = draw_refusal(m, item); !why.empty()) d.fail("render.draw", why);
+  // (the keys of the fluid's field in a scene without one were taken and changed no pixel)
+  if (!m.module_on("fluid"))
+    for (const char* k : {"render.field", "render.field_range"})
+      if (d.has(k)) d.fail(k, std::string(k) + " sets how a fluid's field is drawn, and this scene has no fluid");
   // A magnitude is drawn on a sequential map from 0 (a vorticity's [-5, 5] kept for |u| painted the
   // cavity one colour).
   const bool magnitude = r.field == "velocity" && (D == 2 || r.slice_component == "magnitude");

@@ -275,6 +275,12 @@ TEST_CASE("colour ranges whose span overflows and zero slab normals are refused 
   CHECK(test::scene_error(std::string(test::kRow) + "[render]\nfield_range = [-1e308, 1e308]\n").find("span") !=
         std::string::npos);
   CHECK(test::scene_error(std::string(test::kRow) + "[render]\nrange = [-1e307, 1e307]\n").empty());
+  // A fluid field's keys in a scene without a fluid (taken, they changed no pixel), and a profile's
+  // component without a profile.
+  CHECK(test::scene_error(std::string(test::kRow) + "[render]\nfield = \"pressure\"\n")
+            .find("render.field sets how a fluid's field is drawn, and this scene has no fluid") != std::string::npos);
+  CHECK_THROWS_WITH_AS(compile(parse_scene(test::kRow, "row.toml", {parse_override("output.profile_component=y")})),
+                       doctest::Contains("output.profile_component needs a profile (output.profile_axis)"), SceneError);
   // A zero slab normal put every grain in the slab; a tiny one is a direction.
   const std::string cube = R"([scene]
 dimension = 3
