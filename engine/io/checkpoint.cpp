@@ -84,7 +84,7 @@ std::string difference(const System& saved, const System& now) {
     if (saved.walls[k] != now.walls[k])
       return "wall " + std::to_string(k) + ": " +
              both(wall_text(saved.walls[k], saved.dim), wall_text(now.walls[k], now.dim));
-  return "";  // the grains themselves are compared once the state is read (frozen_difference)
+  return "";  // the grains themselves are compared once the state is read (grains_difference)
 }
 
 // What differs between the grains of a checkpoint (its fingerprint and its state's frozen flags)

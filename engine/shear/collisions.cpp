@@ -11,7 +11,8 @@ namespace silt::shear {
 
 ShearCollision shear_collision(const Model& m) {
   ShearCollision c;
-  if (!m.shear.on || m.shear.stress_controlled || m.n_grains == 0) return c;
+  // (a paste's grains move at solved velocities: no free collisions)
+  if (!m.shear.on || m.shear.stress_controlled || m.n_grains == 0 || m.velocities_solved) return c;
   double heaviest = 0;
   for (int64_t i = 0; i < m.n_grains; ++i)
     if (!m.init.frozen[i]) heaviest = std::max(heaviest, m.init.mass[i]);
@@ -30,6 +31,16 @@ ShearCollision shear_collision(const Model& m) {
   return c;
 }
 
+std::string collision_text(const Model& m, const ShearCollision& c) {
+  return "the imposed shear makes neighbours meet at about gammadot 2 r_max = " + format_number(c.speed, 3) +
+         m.unit("m/s") + ", where an undamped collision of the heaviest grains presses them by " +
+         format_number(c.ratio, 3) + " of limits.max_overlap";
+}
+
+double rate_for(const Model& m, double value, double ratio, double target) {
+  return value * std::pow(target / ratio, m.contact.law == NormalLaw::kHertz ? 1.25 : 1.0);
+}
+
 std::string stiffer_by(const Model& m, const std::string& key, double ratio, double target) {
   const double f = ratio / target;
   if (m.contact.law == NormalLaw::kSpringDashpot) return key + " " + format_number(f, 3) + " times shorter";
@@ -41,22 +52,19 @@ std::string shear_overlap_advice(const Model& m, const State& s, const std::stri
   const ShearCollision c = shear_collision(m);
   // A packing sheared from rest at once: its contacts are pressed by the affine strain before the
   // box, driven by the pressure, can dilate (shear2d_dry at I = 2 to 5 failed at strains 0.2 to
-  // 0.5; prepared with prepare.dilation = 1.3 it ran 20,000 steps at I = 5). Else the collisions,
-  // where they press by more than 0.35 of the limit (to 0.3: at I = 7 dilated, contacts made stiff enough for
-  // 0.4 ran 14,401 steps and failed; for 0.3, 40,000 steps).
-  // (at a ratio below 0.1, I = 1 on shear2d_dry, a packing sheared from rest runs: the failure is
-  // the contacts' own then)
+  // 0.5; prepared with prepare.dilation = 1.3 it ran 20,000 steps at I = 5), from a ratio of 0.1
+  // (below, I = 1 on shear2d_dry, a packing sheared from rest runs: the failure is the contacts'
+  // own then). Else the collisions, where they press by more than 0.35 of the limit, brought to
+  // 0.3 (at I = 7 dilated, contacts made stiff enough for 0.4 ran 14,401 steps and failed; for 0.3,
+  // 40,000 steps).
   const bool undilated =
       std::abs(s.shear_strain) < 1 && m.prepare.compress && m.prepare.dilation < 1.3 && c.ratio > 0.1;
   if (!(c.ratio > 0) || (!undilated && !(c.ratio > 0.35))) return "";
   const std::string rate_key =
       m.desc.first_given({"shear.rate", "shear.inertial_number", "shear.viscous_number"}, "shear.rate");
-  std::string text =
-      "the imposed shear makes neighbours meet at about gammadot 2 r_max = " + format_number(c.speed, 3) +
-      m.unit("m/s") + ", where an undamped collision of the heaviest grains presses them by " +
-      format_number(c.ratio, 3) +
-      " of limits.max_overlap (the flow's fluctuations make collisions faster: sheared runs were seen to "
-      "fail from 0.5 to 0.9 of it)";
+  std::string text = collision_text(m, c) +
+                     " (the flow's fluctuations make collisions faster: sheared runs were seen to fail from 0.5 to "
+                     "0.9 of it)";
   if (undilated)
     text += "; at a strain of " + format_number(std::abs(s.shear_strain), 2) +
             " the packing has not dilated yet: a packing sheared from rest at this rate presses its contacts before "

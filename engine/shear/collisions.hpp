@@ -19,7 +19,15 @@ struct ShearCollision {
   double speed = 0;  // gammadot 2 r_max
   double ratio = 0;  // the undamped overlap at that speed, over limits.max_overlap r_max
 };
-ShearCollision shear_collision(const Model& m);
+ShearCollision shear_collision(const Model& m);  // zero where no rate is imposed, or in a paste
+
+// "the imposed shear makes neighbours meet at about gammadot 2 r_max = V, where an undamped
+// collision of the heaviest grains presses them by R of limits.max_overlap": the refusal's and the
+// failure's words.
+std::string collision_text(const Model& m, const ShearCollision& c);
+// The imposed rate's `value` scaled to bring `ratio` to `target` (the overlap goes as the speed,
+// Hertz's as its 4/5 power).
+double rate_for(const Model& m, double value, double ratio, double target);
 
 // The factor by which the contacts' stiffness must grow to bring `ratio` to `target`, as the key of
 // that stiffness takes it: k_n (the overlap goes as 1/sqrt(k_n)) times f^2, a Hertz modulus

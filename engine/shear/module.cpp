@@ -259,15 +259,11 @@ void check_box_pressure(const SceneDesc& d, const Model& m) {
 // step 28 and was told only to stiffen its contacts). The value that brings the ratio to 0.3
 // (shear/collisions.cpp) scales with it: the overlap goes as the speed, Hertz's as its 4/5 power.
 void check_shear_collisions(const SceneDesc& d, const Model& m) {
-  if (m.velocities_solved) return;
   const ShearCollision c = shear_collision(m);
   if (!(c.ratio >= 1)) return;
   const std::string key = d.first_given({"shear.rate", "shear.inertial_number"}, "shear.rate");
-  const double exponent = m.contact.law == NormalLaw::kHertz ? 1.25 : 1.0;
-  d.fail(key, "the imposed shear makes neighbours meet at about gammadot 2 r_max = " + format_number(c.speed, 3) +
-                  m.unit("m/s") + ", where an undamped collision of the heaviest grains presses them by " +
-                  format_number(c.ratio, 3) + " of limits.max_overlap, at which the run fails: lower " + key + " to " +
-                  format_number(std::abs(d.real(key)) * std::pow(0.3 / c.ratio, exponent), 3) +
+  d.fail(key, collision_text(m, c) + ", at which the run fails: lower " + key + " to " +
+                  format_number(rate_for(m, std::abs(d.real(key)), c.ratio, 0.3), 3) +
                   ", where they press by 0.3 of it, or make the contacts stiffer (" +
                   stiffer_by(m, m.kappa_softest_key, c.ratio, 0.3) + ")");
 }
@@ -327,8 +323,7 @@ std::string describe_shear(const Model& m) {
     o << "shear        Lees-Edwards, flow along x, gradient along y; ";
     if (m.shear.stress_controlled) o << "imposed shear stress " << m.shear.stress << m.unit("Pa") << " (eq. 3.12)\n";
     else o << "imposed rate gammadot = " << m.shear.rate << m.unit("1/s") << "\n";
-    // (a paste's grains move at solved velocities: no free collisions)
-    if (const ShearCollision c = shear_collision(m); c.ratio > 0 && !m.velocities_solved)
+    if (const ShearCollision c = shear_collision(m); c.ratio > 0)
       o << "             neighbours meet at about gammadot 2 r_max = " << c.speed << m.unit("m/s")
         << ": an undamped collision of the heaviest grains presses by " << c.ratio
         << " of limits.max_overlap (sheared runs were seen to fail from 0.5 to 0.9 of it)\n";
